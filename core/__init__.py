@@ -1,0 +1,1 @@
+"""PAL Trainer core: the pure pipeline parse → interpret → simulate → grade, and the CLI."""

@@ -1,0 +1,119 @@
+"""`paltrainer check|run`: the command-line shell around the pipeline.
+
+Exit codes (a contract other tools rely on): 0 no errors, 1 the program has errors,
+2 usage or I/O error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Sequence
+
+from core.diagnostics import Diagnostic, Severity, has_errors
+from core.interpreter.state import RunSetup
+from core.pipeline import DEFAULT_DIALECT, DIALECTS, diagnostics_json, run, toolpath_json
+from core.tools import DEFAULT_TOOLS, Tool, ToolTable
+from core.trace import trace_lines
+
+EXIT_OK, EXIT_ERRORS, EXIT_USAGE = 0, 1, 2
+
+_SEVERITY_DE = {Severity.ERROR: "Fehler", Severity.WARNING: "Warnung", Severity.INFO: "Hinweis"}
+
+
+class UsageError(Exception):
+    pass
+
+
+def _tool_arg(text: str) -> Tool:
+    """`N=D`: tool N is an end mill of diameter D mm."""
+    try:
+        number, diameter = text.split("=", 1)
+        tool = Tool(int(number), "end_mill", float(diameter), f"Schaftfräser Ø{float(diameter):g}")
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"»{text}«: erwartet N=D, z. B. 1=25 (Werkzeug T1, Durchmesser 25 mm) / expected N=D"
+        ) from None
+    if tool.number < 1 or not 0 < tool.diameter <= 1000:
+        raise argparse.ArgumentTypeError(f"»{text}«: Werkzeugnummer ≥ 1 und Durchmesser > 0 / tool ≥ 1, diameter > 0")
+    return tool
+
+
+def _parser() -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    common.add_argument("file", help="NC-Programm / NC program")
+    common.add_argument("--dialect", default=DEFAULT_DIALECT, choices=sorted(DIALECTS),
+                        help=f"Dialekt / dialect (Standard: {DEFAULT_DIALECT})")
+    common.add_argument("--tool", action="append", type=_tool_arg, default=[], metavar="N=D",
+                        help="Werkzeug N ist ein Schaftfräser mit Durchmesser D mm (mehrfach möglich)")
+    common.add_argument("--skip-blocks", action="store_true",
+                        help="Ausblendsätze (/) überspringen / skip blocks marked with /")
+    common.add_argument("--json", action="store_true", help="Ausgabe als JSON / output as JSON")
+    common.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache der Meldungen / language")
+
+    parser = argparse.ArgumentParser(prog="paltrainer", description="PAL Trainer – PAL-Programme prüfen und ausführen")
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("check", parents=[common], help="Programm prüfen: alle Fehler mit Zeile und Spalte")
+    sub.add_parser("run", parents=[common], help="Programm ausführen: die Werkzeugbahn")
+    return parser
+
+
+def read_program(path: str) -> str:
+    """The program text: UTF-8, else Windows-1252 (what German school PCs write)."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError as err:
+        raise UsageError(f"Datei »{path}« kann nicht gelesen werden: {err.strerror} / cannot read file") from None
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError:
+        return data.decode("cp1252", errors="replace")
+
+
+def _format(path: str, d: Diagnostic, lang: str) -> str:
+    s = d.span
+    label = _SEVERITY_DE[d.severity] if lang == "de" else d.severity.value
+    text = d.message if lang == "de" else d.message_en
+    return f"{path}:{s.line}:{s.column}: {label} {d.code}: {text}"
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    try:
+        args = _parser().parse_args(argv)
+    except SystemExit as exc:  # argparse: --help exits 0, usage errors exit 2
+        return int(exc.code) if isinstance(exc.code, int) else EXIT_USAGE
+    try:
+        text = read_program(args.file)
+    except UsageError as err:
+        print(err, file=sys.stderr)
+        return EXIT_USAGE
+    tools: ToolTable = DEFAULT_TOOLS
+    for tool in args.tool:
+        tools = tools.with_tool(tool)
+    setup = RunSetup(tools=tools, skip_blocks=args.skip_blocks)
+    toolpath = run(text, args.dialect, setup)
+    diagnostics = toolpath.diagnostics
+    if args.command == "check":
+        if args.json:
+            print(json.dumps(diagnostics_json(diagnostics), ensure_ascii=False, indent=1))
+        else:
+            for d in diagnostics:
+                print(_format(args.file, d, args.lang))
+            errors = sum(d.severity is Severity.ERROR for d in diagnostics)
+            print(f"{errors} Fehler, {len(diagnostics) - errors} weitere Meldungen" if args.lang == "de"
+                  else f"{errors} errors, {len(diagnostics) - errors} other diagnostics", file=sys.stderr)
+    else:
+        if args.json:
+            print(json.dumps(toolpath_json(toolpath), ensure_ascii=False))
+        else:
+            for line in trace_lines(toolpath):
+                print(line)
+            for d in diagnostics:
+                print(_format(args.file, d, args.lang), file=sys.stderr)
+    return EXIT_ERRORS if has_errors(diagnostics) else EXIT_OK
+
+
+if __name__ == "__main__":
+    sys.exit(main())

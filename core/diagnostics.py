@@ -1,0 +1,210 @@
+"""Diagnostics: the one catalogue of every message the pipeline can produce, and the type that carries one.
+
+A code is stable and never reused (tests assert codes, not wording). Each entry has a default
+severity and a German and an English text with `{named}` parameters. The letter after the
+dialect prefix tells the default severity: E error, W warning, I info.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Any
+
+from core.syntax.blocks import Span
+
+
+class Severity(str, Enum):
+    ERROR = "error"
+    WARNING = "warning"
+    INFO = "info"
+
+
+@dataclass(frozen=True, slots=True)
+class Entry:
+    severity: Severity
+    de: str
+    en: str
+
+
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
+
+CATALOGUE: dict[str, Entry] = {
+    # --- input and limits -------------------------------------------------------------
+    "PAL-E001": Entry(E, "Unerwartetes Zeichen »{char}«.", "Unexpected character '{char}'."),
+    "PAL-E002": Entry(E, "Ungültige Zahl »{text}« bei Adresse {address}.",
+                      "Malformed number '{text}' for address {address}."),
+    "PAL-E003": Entry(E, "Unbekannte Adresse »{address}«.", "Unknown address '{address}'."),
+    "PAL-E004": Entry(E, "Satz ist zu lang ({length} Zeichen, höchstens {limit}); er wird nicht ausgeführt.",
+                      "Block is too long ({length} characters, at most {limit}); it is not executed."),
+    "PAL-E005": Entry(E, "Programm ist zu groß ({size} Zeichen, höchstens {limit}); es wird nicht ausgeführt.",
+                      "Program is too large ({size} characters, at most {limit}); it is not executed."),
+    "PAL-E006": Entry(E, "Programm hat zu viele Sätze ({count}, höchstens {limit}); "
+                         "die Sätze ab Zeile {line} werden nicht ausgeführt.",
+                      "Program has too many blocks ({count}, at most {limit}); "
+                      "blocks from line {line} on are not executed."),
+    "PAL-E007": Entry(E, "Unerwartetes »{token}«: {expected} erwartet.",
+                      "Unexpected '{token}': expected {expected}."),
+    "PAL-E008": Entry(E, "Steuerzeichen oder Binärdaten im Programmtext (Zeichencode {char_code}).",
+                      "Control character or binary data in the program text (character code {char_code})."),
+    "PAL-E009": Entry(E, "Zuweisung an »{address}« ist nicht möglich; nur Parameter P1…P999 "
+                         "können einen Wert erhalten.",
+                      "Cannot assign to '{address}'; only parameters P1…P999 can be assigned."),
+    "PAL-E010": Entry(E, "Dezimalkomma in »{text}«: Dezimalzahlen werden mit Punkt geschrieben ({fixed}).",
+                      "Decimal comma in '{text}': decimals are written with a point ({fixed})."),
+    "PAL-E011": Entry(E, "Die Satznummer muss eine ganze Zahl sein (»N{raw}«).",
+                      "The block number must be a whole number ('N{raw}')."),
+    "PAL-E012": Entry(E, "Zu viele Meldungen; weitere werden nicht angezeigt (höchstens {limit}).",
+                      "Too many diagnostics; further ones are not shown (at most {limit})."),
+    "PAL-E013": Entry(E, "Ausgeführte Sätze überschreiten die Grenze von {limit}; das Programm wird "
+                         "hier abgebrochen (Endlosschleife?).",
+                      "Executed blocks exceed the limit of {limit}; the program is stopped here "
+                      "(endless loop?)."),
+    "PAL-E014": Entry(E, "Ausdruck ist zu tief geschachtelt (höchstens {limit} Ebenen).",
+                      "Expression is nested too deeply (at most {limit} levels)."),
+    "PAL-E015": Entry(E, "Wert {value} bei {address} liegt außerhalb des zulässigen Bereichs ±{limit}.",
+                      "Value {value} of {address} is outside the allowed range ±{limit}."),
+    # --- block structure ------------------------------------------------------------------
+    "PAL-E101": Entry(E, "Adresse {address} ist mit {command} nicht erlaubt.",
+                      "Address {address} is not allowed with {command}."),
+    "PAL-E102": Entry(E, "Pflichtadresse {address} fehlt bei {command}.",
+                      "Mandatory address {address} is missing for {command}."),
+    "PAL-E103": Entry(E, "{first} und {second} gehören zur selben Gruppe ({group}) und dürfen nicht "
+                         "im selben Satz stehen.",
+                      "{first} and {second} belong to the same group ({group_en}) and cannot be in one block."),
+    "PAL-E104": Entry(E, "Mehr als zwei G-Befehle in einem Satz ({count}).",
+                      "More than two G commands in one block ({count})."),
+    "PAL-E105": Entry(E, "Unbekannter G-Befehl {code}.", "Unknown G command {code}."),
+    "PAL-E106": Entry(E, "Adresse {address} steht mehrfach im Satz.",
+                      "Address {address} appears more than once in the block."),
+    "PAL-E107": Entry(E, "{first} und {second} geben dieselbe Achse zweimal an.",
+                      "{first} and {second} give the same axis twice."),
+    "PAL-E108": Entry(E, "{address} braucht eine ganze Zahl, nicht »{raw}«.",
+                      "{address} needs a whole number, not '{raw}'."),
+    "PAL-E109": Entry(E, "{address} darf nicht negativ sein ({raw}).", "{address} must not be negative ({raw})."),
+    "PAL-E110": Entry(E, "{command} gibt es in der PAL-Fräsen-Syntax nicht (nur Ebene G17).",
+                      "{command} does not exist in PAL milling (plane G17 only)."),
+    "PAL-E111": Entry(E, "{address} braucht einen Wert.", "{address} needs a value."),
+    "PAL-E112": Entry(E, "Korrekturschalter TC{value} gibt es nicht (TC1 bis TC9).",
+                      "Offset memory TC{value} does not exist (TC1 to TC9)."),
+    "PAL-E113": Entry(E, "Parameter P{number} gibt es nicht (P1 bis P999).",
+                      "Parameter P{number} does not exist (P1 to P999)."),
+    "PAL-E114": Entry(E, "Division durch null im Ausdruck.", "Division by zero in the expression."),
+    "PAL-E115": Entry(E, "{address} ist hier nur mit einer Zahl erlaubt, nicht mit einem Ausdruck.",
+                      "{address} takes a number here, not an expression."),
+    "PAL-W101": Entry(W, "Sätze nach M30 (Programmende) werden nicht ausgeführt.",
+                      "Blocks after M30 (end of program) are not executed."),
+    "PAL-W102": Entry(W, "Programmende M30 fehlt.", "End of program M30 is missing."),
+    "PAL-W103": Entry(W, "Unbekannte M-Funktion M{code}; sie hat keine Wirkung.",
+                      "Unknown M function M{code}; it has no effect."),
+    "PAL-I101": Entry(I, "{address} ist unter {mode} nicht üblich; es wird als {meaning} ausgeführt.",
+                      "{address} is unusual under {mode}; it is executed as {meaning}."),
+    "PAL-W105": Entry(W, "{address} hat bei {command} keine Wirkung.", "{address} has no effect with {command}."),
+    "PAL-W106": Entry(W, "Parameter P{number} wird gelesen, bevor ihm ein Wert zugewiesen wurde (gilt als 0).",
+                      "Parameter P{number} is read before it was assigned (taken as 0)."),
+    # --- geometry -------------------------------------------------------------------------
+    "PAL-E201": Entry(E, "Kreisbogen ohne Lösung: {reason}.", "Arc has no solution: {reason_en}."),
+    "PAL-E202": Entry(E, "Kreisendpunktfehler: Start- und Endpunkt haben vom Mittelpunkt verschiedene "
+                         "Abstände ({r_start} mm und {r_end} mm, erlaubt sind {tolerance} mm Unterschied).",
+                      "Circle end point error: start and end point lie at different distances from the "
+                      "centre ({r_start} mm and {r_end} mm, tolerance {tolerance} mm)."),
+    "PAL-E203": Entry(E, "Kreisbogen ist unterbestimmt: {command} braucht Endpunkt und Mittelpunkt "
+                         "(I/J oder IA/JA) oder Radius R.",
+                      "Arc is underdetermined: {command} needs an end point and a centre (I/J or IA/JA) "
+                      "or a radius R."),
+    "PAL-E204": Entry(E, "{address} ist in der Ebene G17 nicht erlaubt; der Mittelpunkt wird mit I/J "
+                         "bzw. IA/JA angegeben.",
+                      "{address} is not allowed in plane G17; give the centre with I/J or IA/JA."),
+    "PAL-E205": Entry(E, "Ein Vollkreis lässt sich nicht mit R programmieren; Mittelpunkt mit I/J angeben.",
+                      "A full circle cannot be programmed with R; give the centre with I/J."),
+    "PAL-E206": Entry(E, "Kreisbogen mit Radius 0: der Mittelpunkt liegt auf dem Startpunkt.",
+                      "Arc of radius 0: the centre lies on the start point."),
+    "PAL-E207": Entry(E, "{command} mit {address}{raw} braucht eine Zielkoordinate X, Y oder Z.",
+                      "{command} with {address}{raw} needs a target coordinate X, Y or Z."),
+    # --- technology -----------------------------------------------------------------------
+    "PAL-E301": Entry(E, "Vorschubbewegung mit Vorschub F0: es ist kein Vorschub programmiert.",
+                      "Feed move with feed F0: no feed has been programmed."),
+    "PAL-E302": Entry(E, "Vorschubbewegung bei stehender Spindel (M3 oder M4 fehlt).",
+                      "Feed move with the spindle stopped (M3 or M4 missing)."),
+    "PAL-E303": Entry(E, "Vorschubbewegung ohne Werkzeug in der Spindel.",
+                      "Feed move with no tool in the spindle."),
+    "PAL-E304": Entry(E, "Werkzeug T{tool} steht nicht in der Werkzeugtabelle.",
+                      "Tool T{tool} is not in the tool table."),
+    "PAL-E305": Entry(E, "Verweilzeit in Umdrehungen (O2) bei Drehzahl S0.",
+                      "Dwell in revolutions (O2) with spindle speed S0."),
+    "PAL-E306": Entry(E, "Spindel M3/M4 mit Drehzahl S0.", "Spindle M3/M4 with speed S0."),
+    "PAL-E307": Entry(E, "{address} ist nur im Satz mit M6 erlaubt (Maschine mit Werkzeugmagazin).",
+                      "{address} is only allowed in the block with M6 (machine with tool magazine)."),
+    "PAL-E308": Entry(E, "M6 ohne vorgewähltes Werkzeug T.", "M6 without a preselected tool T."),
+    "PAL-E309": Entry(E, "Zoll-Maßangabe G70 wird nicht unterstützt; PAL arbeitet in Millimetern (G71).",
+                      "Inch dimensions G70 are not supported; PAL works in millimetres (G71)."),
+    # --- not supported yet ----------------------------------------------------------------
+    "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
+                      "{feature_en} is not supported yet; {effect_en}"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Diagnostic:
+    """One finding about the program: a stable code, a severity, a source span and its texts."""
+
+    code: str
+    severity: Severity
+    span: Span
+    message: str
+    message_en: str
+    params: dict[str, Any] = field(default_factory=dict, compare=False)
+
+    def to_json(self) -> dict[str, Any]:
+        s = self.span
+        return {
+            "code": self.code,
+            "severity": self.severity.value,
+            "line": s.line,
+            "column": s.column,
+            "end_line": s.end_line,
+            "end_column": s.end_column,
+            "message": self.message,
+            "message_en": self.message_en,
+        }
+
+
+def diag(code: str, span: Span, severity: Severity | None = None, /, **params: Any) -> Diagnostic:
+    """Build the diagnostic `code` of the catalogue with its texts filled from `params`."""
+    entry = CATALOGUE[code]
+    texts = {k: _fmt(v) for k, v in params.items()}
+    return Diagnostic(
+        code=code,
+        severity=severity or entry.severity,
+        span=span,
+        message=entry.de.format(**texts),
+        message_en=entry.en.format(**texts),
+        params=params,
+    )
+
+
+def _fmt(value: Any) -> str:
+    """Numbers as a machinist writes them: no trailing zeros, point as decimal separator."""
+    if isinstance(value, float):
+        text = f"{value:.4f}".rstrip("0").rstrip(".")
+        return "0" if text == "-0" else text
+    return str(value)
+
+
+def has_errors(diagnostics: list[Diagnostic]) -> bool:
+    return any(d.severity is Severity.ERROR for d in diagnostics)
+
+
+def catalogue_markdown() -> str:
+    """docs/diagnostics.md, generated from the catalogue (tests keep the two in step)."""
+    rows = ["# Diagnostics", "",
+            "Every message PAL Trainer can give, generated from `core/diagnostics.py` "
+            "(`python -m core.diagnostics > docs/diagnostics.md`). Codes are stable and never reused.",
+            "", "| Code | Severity | Deutsch | English |", "|---|---|---|---|"]
+    for code, e in CATALOGUE.items():
+        rows.append(f"| {code} | {e.severity.value} | {e.de} | {e.en} |")
+    return "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":
+    print(catalogue_markdown(), end="")

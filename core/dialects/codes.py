@@ -1,0 +1,78 @@
+"""The shape of a dialect's code table: what each G/M code and each address means.
+
+One table per dialect drives the interpreter's checks (allowed and mandatory words, modal
+groups, order of execution), and later the API's help endpoint and the editor's hover text.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import Enum
+
+
+class Support(str, Enum):
+    """How far the interpreter implements a code or address."""
+
+    YES = "yes"
+    PLANNED = "planned"  # parses and is checked; executing it yields "not supported yet"
+
+
+@dataclass(frozen=True, slots=True)
+class Code:
+    """A G or M code: its modal group, the words it takes and its help texts."""
+
+    name: str  # "G1", "M3"
+    group: str | None  # modal group; None for a non-modal code
+    help_de: str
+    help_en: str
+    words: frozenset[str] = frozenset()  # addresses the code allows in its block
+    required: tuple[tuple[str, ...], ...] = ()  # each inner tuple: one of these is mandatory
+    owns_block: bool = False  # the block's address words belong to this code (motion, G4, G22 …)
+    alone: bool = False  # must stand alone in its block (G50, G53)
+    sets: tuple[str, ...] = ()  # modal codes it activates, when not just itself (M13 = M3 + M8)
+    support: Support = Support.YES
+    feature_de: str = ""  # the feature's name in "not supported yet" diagnostics
+    feature_en: str = ""
+
+
+@dataclass(frozen=True, slots=True)
+class Address:
+    """An address letter (or letter pair) and what its value means."""
+
+    name: str
+    help_de: str
+    help_en: str
+    integer: bool = False  # the value must be a whole number
+    flag: bool = False  # may be written without a value (G66 X Y)
+
+
+@dataclass(frozen=True, slots=True)
+class Group:
+    """A modal group: at most one member per block; the last one programmed stays active."""
+
+    name: str
+    label_de: str
+    label_en: str
+    members: tuple[str, ...]
+    switch_on: str | None  # active at program start
+
+
+@dataclass(frozen=True)
+class CodeTable:
+    """Everything the interpreter needs to know about the words of one dialect."""
+
+    codes: dict[str, Code]
+    addresses: dict[str, Address]
+    groups: tuple[Group, ...]
+    always_allowed: frozenset[str]  # addresses allowed in every block
+    group_of: dict[str, str] = field(init=False)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "group_of", {m: g.name for g in self.groups for m in g.members})
+
+    def activates(self, code: Code) -> tuple[str, ...]:
+        """The modal group members that `code` switches on."""
+        return code.sets or ((code.name,) if code.name in self.group_of else ())
+
+    def group(self, name: str) -> Group:
+        return next(g for g in self.groups if g.name == name)

@@ -1,0 +1,203 @@
+"""PAL milling (PAL-Codierung Fräsen, 3-axis, plane G17): the code table.
+
+Source: ../shared/spec/pal-milling.md and the rulings of ../shared/spec/DECISIONS.md. Codes
+marked PLANNED parse and are checked for their words, and executing them yields a "not
+supported yet" diagnostic until their issue lands.
+"""
+
+from __future__ import annotations
+
+from core.dialects.codes import Address, Code, CodeTable, Group, Support
+
+P = Support.PLANNED
+
+LINEAR = frozenset({"X", "Y", "Z", "XI", "YI", "ZI", "XA", "YA", "ZA"})
+Z_ONLY = frozenset({"Z", "ZI", "ZA"})
+CENTRE = frozenset({"I", "J", "K", "IA", "JA", "KA"})
+POLE = frozenset({"I", "J", "IA", "JA"})
+TOOL_WORDS = frozenset({"T", "TC", "TR", "TL"})
+
+GROUPS = (
+    Group("motion", "Wegbedingung", "motion", ("G0", "G1", "G2", "G3", "G10", "G11", "G12", "G13"), "G1"),
+    Group("plane", "Ebene", "plane", ("G17",), "G17"),
+    Group("compensation", "Fräserradiuskorrektur", "cutter radius compensation", ("G40", "G41", "G42"), "G40"),
+    Group("dimensions", "Maßangabe", "dimensions", ("G90", "G91"), "G90"),
+    Group("zero_offset", "Nullpunkt", "zero offset", ("G53", "G54", "G55", "G56", "G57"), "G54"),
+    Group("units", "Maßeinheit", "units", ("G70", "G71"), "G71"),
+    Group("feed_mode", "Vorschubart", "feed mode", ("G94", "G95"), "G94"),
+    Group("spindle_mode", "Drehzahlart", "spindle mode", ("G96", "G97"), "G97"),
+    Group("spindle", "Spindel", "spindle", ("M3", "M4", "M5"), "M5"),
+    Group("coolant", "Kühlmittel", "coolant", ("M8", "M9"), "M9"),
+    Group("workpiece_change", "M60", "M60", ("M60",), "M60"),
+    Group("program_end", "Programmende", "end of program", ("M17", "M30"), None),
+)
+
+
+def _motion(name: str, de: str, en: str, words: frozenset[str], **kw: object) -> Code:
+    return Code(name, "motion", de, en, words=words, owns_block=True, **kw)  # type: ignore[arg-type]
+
+
+_CODES = [
+    _motion("G0", "Gerade im Eilgang", "straight line at rapid traverse", LINEAR | TOOL_WORDS | {"E"}),
+    _motion("G1", "Geradeninterpolation mit Vorschub", "linear interpolation at feed",
+            LINEAR | TOOL_WORDS | {"D", "AS", "RN", "H", "E"}),
+    _motion("G2", "Kreisinterpolation im Uhrzeigersinn", "circular interpolation clockwise",
+            LINEAR | CENTRE | {"R", "AO", "RN", "O", "H", "E"}),
+    _motion("G3", "Kreisinterpolation gegen den Uhrzeigersinn", "circular interpolation counter-clockwise",
+            LINEAR | CENTRE | {"R", "AO", "RN", "O", "H", "E"}),
+    Code("G4", None, "Verweilzeit", "dwell", words=frozenset({"U", "O"}), required=(("U",),), owns_block=True),
+    Code("G9", None, "Genauhalt für diesen Satz", "exact stop for this block"),
+    _motion("G10", "Gerade im Eilgang in Polarkoordinaten", "rapid straight line in polar coordinates",
+            POLE | Z_ONLY | TOOL_WORDS | {"RP", "AP", "AI", "E"}, required=(("RP",), ("AP", "AI")),
+            support=P, feature_de="Polarkoordinaten (G10)", feature_en="Polar coordinates (G10)"),
+    _motion("G11", "Gerade mit Vorschub in Polarkoordinaten", "feed straight line in polar coordinates",
+            POLE | Z_ONLY | TOOL_WORDS | {"RP", "AP", "AI", "RN", "E"}, required=(("RP",), ("AP", "AI")),
+            support=P, feature_de="Polarkoordinaten (G11)", feature_en="Polar coordinates (G11)"),
+    _motion("G12", "Kreisbogen im Uhrzeigersinn in Polarkoordinaten", "clockwise arc in polar coordinates",
+            POLE | Z_ONLY | {"AP", "AI", "RN", "E"}, required=(("AP", "AI"),),
+            support=P, feature_de="Polarkoordinaten (G12)", feature_en="Polar coordinates (G12)"),
+    _motion("G13", "Kreisbogen gegen den Uhrzeigersinn in Polarkoordinaten",
+            "counter-clockwise arc in polar coordinates",
+            POLE | Z_ONLY | {"AP", "AI", "RN", "E"}, required=(("AP", "AI"),),
+            support=P, feature_de="Polarkoordinaten (G13)", feature_en="Polar coordinates (G13)"),
+    Code("G17", "plane", "Arbeitsebene X-Y", "working plane X-Y"),
+    Code("G22", None, "Unterprogrammaufruf", "subprogram call", words=frozenset({"L", "H"}),
+         required=(("L",),), owns_block=True, support=P,
+         feature_de="Unterprogrammaufruf G22", feature_en="Subprogram call G22"),
+    Code("G23", None, "Programmabschnittswiederholung", "repeat a program section",
+         words=frozenset({"N", "H"}), required=(("N",),), owns_block=True, support=P,
+         feature_de="Programmabschnittswiederholung G23", feature_en="Section repeat G23"),
+    Code("G29", None, "Programmsprung", "program jump", words=frozenset({"N", "P", "O"}),
+         required=(("N",),), owns_block=True, support=P,
+         feature_de="Programmsprung G29", feature_en="Program jump G29"),
+    Code("G40", "compensation", "Fräserradiuskorrektur aus", "cutter radius compensation off"),
+    Code("G41", "compensation", "Fräserradiuskorrektur links der Kontur", "cutter radius compensation left",
+         support=P, feature_de="Fräserradiuskorrektur G41", feature_en="Cutter radius compensation G41"),
+    Code("G42", "compensation", "Fräserradiuskorrektur rechts der Kontur", "cutter radius compensation right",
+         support=P, feature_de="Fräserradiuskorrektur G42", feature_en="Cutter radius compensation G42"),
+    Code("G45", None, "Lineares tangentiales Anfahren", "linear tangential approach",
+         words=LINEAR | {"D", "W", "E"}, required=(("D",), ("X", "XI", "XA"), ("Y", "YI", "YA")),
+         owns_block=True, support=P, feature_de="Anfahren G45", feature_en="Approach G45"),
+    Code("G46", None, "Lineares tangentiales Abfahren", "linear tangential departure",
+         words=Z_ONLY | {"D", "W"}, required=(("D",),), owns_block=True, support=P,
+         feature_de="Abfahren G46", feature_en="Departure G46"),
+    Code("G47", None, "Tangentiales Anfahren im Viertelkreis", "tangential approach on a quarter circle",
+         words=LINEAR | {"R", "W", "E"}, required=(("R",), ("X", "XI", "XA"), ("Y", "YI", "YA")),
+         owns_block=True, support=P, feature_de="Anfahren G47", feature_en="Approach G47"),
+    Code("G48", None, "Tangentiales Abfahren im Viertelkreis", "tangential departure on a quarter circle",
+         words=Z_ONLY | {"R", "W"}, required=(("R",),), owns_block=True, support=P,
+         feature_de="Abfahren G48", feature_en="Departure G48"),
+    Code("G50", None, "Inkrementelle Verschiebungen und Drehungen aufheben",
+         "cancel incremental shifts and rotations", owns_block=True, alone=True, support=P,
+         feature_de="Aufheben von Verschiebungen G50", feature_en="Cancelling shifts G50"),
+    Code("G53", "zero_offset", "Alle Nullpunktverschiebungen aufheben (Maschinenkoordinaten)",
+         "cancel all zero offsets (machine coordinates)", owns_block=True, alone=True, support=P,
+         feature_de="Maschinenkoordinaten G53", feature_en="Machine coordinates G53"),
+    Code("G54", "zero_offset", "Einstellbare Nullpunktverschiebung 1", "settable zero offset 1"),
+    *(
+        Code(f"G{n}", "zero_offset", f"Einstellbare Nullpunktverschiebung {n - 53}",
+             f"settable zero offset {n - 53}", support=P,
+             feature_de=f"Nullpunktverschiebung G{n}", feature_en=f"Zero offset G{n}")
+        for n in (55, 56, 57)
+    ),
+    Code("G58", None, "Verschiebung und Drehung in Polarkoordinaten", "polar zero shift and rotation",
+         words=frozenset({"RP", "AP", "ZA", "AR"}), owns_block=True, support=P,
+         feature_de="Nullpunktverschiebung G58", feature_en="Zero shift G58"),
+    Code("G59", None, "Verschiebung und Drehung kartesisch", "Cartesian zero shift and rotation",
+         words=frozenset({"XA", "YA", "ZA", "AR"}), owns_block=True, support=P,
+         feature_de="Nullpunktverschiebung G59", feature_en="Zero shift G59"),
+    Code("G66", None, "Spiegeln an X und/oder Y; G66 allein hebt auf", "mirror about X and/or Y; G66 alone cancels",
+         words=frozenset({"X", "Y"}), owns_block=True, support=P,
+         feature_de="Spiegeln G66", feature_en="Mirroring G66"),
+    Code("G67", None, "Skalieren", "scaling", owns_block=True, support=P,
+         feature_de="Skalieren G67", feature_en="Scaling G67"),
+    Code("G70", "units", "Maßangaben in Zoll", "dimensions in inches"),
+    Code("G71", "units", "Maßangaben in Millimetern", "dimensions in millimetres"),
+    Code("G90", "dimensions", "Absolutmaß", "absolute dimensions"),
+    Code("G91", "dimensions", "Kettenmaß (inkremental)", "incremental dimensions"),
+    Code("G94", "feed_mode", "Vorschub in mm/min", "feed in mm/min"),
+    Code("G95", "feed_mode", "Vorschub in mm pro Umdrehung", "feed in mm per revolution"),
+    Code("G96", "spindle_mode", "Konstante Schnittgeschwindigkeit", "constant cutting speed"),
+    Code("G97", "spindle_mode", "Konstante Drehzahl", "constant spindle speed"),
+    Code("M3", "spindle", "Spindel ein im Uhrzeigersinn", "spindle on clockwise"),
+    Code("M4", "spindle", "Spindel ein gegen den Uhrzeigersinn", "spindle on counter-clockwise"),
+    Code("M5", "spindle", "Spindel aus (am Satzende)", "spindle stop (at block end)"),
+    Code("M6", None, "Werkzeugwechsel", "tool change"),
+    Code("M8", "coolant", "Kühlmittel ein", "coolant on"),
+    Code("M9", "coolant", "Kühlmittel aus (am Satzende)", "coolant off (at block end)"),
+    Code("M13", None, "Spindel ein im Uhrzeigersinn und Kühlmittel ein", "spindle clockwise and coolant on",
+         sets=("M3", "M8")),
+    Code("M14", None, "Spindel ein gegen den Uhrzeigersinn und Kühlmittel ein",
+         "spindle counter-clockwise and coolant on", sets=("M4", "M8")),
+    Code("M15", None, "Spindel aus und Kühlmittel aus (am Satzende)", "spindle and coolant off (at block end)",
+         sets=("M5", "M9")),
+    Code("M17", "program_end", "Unterprogrammende", "end of subprogram", support=P,
+         feature_de="Unterprogrammende M17", feature_en="End of subprogram M17"),
+    Code("M30", "program_end", "Programmende", "end of program"),
+    Code("M60", "workpiece_change", "Ohne Wirkung (Einschaltzustand)", "no effect (switch-on state)"),
+]
+
+# G codes of the PAL cycles (not in the seeds): recognised so that they say "not supported yet".
+_CODES += [
+    Code(f"G{n}", None, "Zyklus", "cycle", owns_block=True, support=P,
+         feature_de=f"Zyklus G{n}", feature_en=f"Cycle G{n}")
+    for n in range(72, 90)
+]
+
+_ADDRESSES = [
+    Address("N", "Satznummer", "block number", integer=True),
+    Address("G", "Wegbedingung (G-Befehl)", "preparatory function (G code)", integer=True),
+    Address("M", "Zusatzfunktion (M-Befehl)", "miscellaneous function (M code)", integer=True),
+    Address("F", "Vorschub", "feed"),
+    Address("S", "Spindeldrehzahl", "spindle speed"),
+    Address("T", "Werkzeugspeicherplatz", "tool place in the magazine", integer=True),
+    Address("TC", "Korrekturschalter (Korrekturspeicher 1 bis 9)", "offset memory 1 to 9", integer=True),
+    Address("TR", "Zusätzliche Radiuskorrektur (inkremental)", "additional radius correction"),
+    Address("TL", "Zusätzliche Längenkorrektur (inkremental)", "additional length correction"),
+    Address("X", "X-Koordinate des Zielpunkts", "X coordinate of the target", flag=True),
+    Address("Y", "Y-Koordinate des Zielpunkts", "Y coordinate of the target", flag=True),
+    Address("Z", "Z-Koordinate des Zielpunkts", "Z coordinate of the target"),
+    Address("XI", "X-Weg inkremental (nur dieser Satz)", "X distance, incremental (this block only)"),
+    Address("YI", "Y-Weg inkremental (nur dieser Satz)", "Y distance, incremental (this block only)"),
+    Address("ZI", "Z-Weg inkremental (nur dieser Satz)", "Z distance, incremental (this block only)"),
+    Address("XA", "X-Koordinate absolut (nur dieser Satz)", "X coordinate, absolute (this block only)"),
+    Address("YA", "Y-Koordinate absolut (nur dieser Satz)", "Y coordinate, absolute (this block only)"),
+    Address("ZA", "Z-Koordinate absolut (nur dieser Satz)", "Z coordinate, absolute (this block only)"),
+    Address("I", "Mittelpunkt X, inkremental vom Startpunkt", "centre X, incremental from the start point"),
+    Address("J", "Mittelpunkt Y, inkremental vom Startpunkt", "centre Y, incremental from the start point"),
+    Address("K", "Mittelpunkt Z, inkremental (nicht in G17)", "centre Z, incremental (not in G17)"),
+    Address("IA", "Mittelpunkt X, absolut", "centre X, absolute"),
+    Address("JA", "Mittelpunkt Y, absolut", "centre Y, absolute"),
+    Address("KA", "Mittelpunkt Z, absolut (nicht in G17)", "centre Z, absolute (not in G17)"),
+    Address("R", "Radius (R+ kürzerer, R- längerer Bogen)", "radius (R+ shorter, R- longer arc)"),
+    Address("AO", "Öffnungswinkel des Kreisbogens", "opening angle of the arc"),
+    Address("AS", "Anstiegswinkel der Geraden", "rise angle of the line"),
+    Address("D", "Länge der Geraden bzw. der An-/Abfahrbewegung", "length of the line or of the approach"),
+    Address("H", "Lösungsauswahl bzw. Anzahl der Durchläufe", "solution choice or number of runs",
+            integer=True),
+    Address("O", "Auswahl (Bogenlänge, Vergleich, Einheit)", "selection (arc length, comparison, unit)",
+            integer=True),
+    Address("RN", "Übergangselement: RN+ Verrundung, RN- Fase", "transition: RN+ rounding, RN- chamfer"),
+    Address("E", "Vorschub für Übergangselemente bzw. Eintauchvorschub", "feed on transitions or plunge feed"),
+    Address("U", "Verweilzeit (Sekunden oder Umdrehungen)", "dwell (seconds or revolutions)"),
+    Address("L", "Unterprogrammnummer", "subprogram number", integer=True),
+    Address("P", "Parameter P1 bis P999", "parameter P1 to P999", integer=True),
+    Address("RP", "Polarradius", "polar radius"),
+    Address("AP", "Polarwinkel (absolut)", "polar angle (absolute)"),
+    Address("AI", "Polarwinkel inkremental", "polar angle increment"),
+    Address("AR", "Drehwinkel des Koordinatensystems", "rotation angle of the coordinate system"),
+    Address("W", "Rückzugsebene in der Zustellachse (absolut)", "infeed-axis clearance plane (absolute)"),
+]
+
+TABLE = CodeTable(
+    codes={c.name: c for c in _CODES},
+    addresses={a.name: a for a in _ADDRESSES},
+    groups=GROUPS,
+    always_allowed=frozenset({"F", "S", "M"}),
+)
+
+# Addresses that RN/AS/D/AO/H/O contour geometry brings; executing them is a later issue.
+CONTOUR_WORDS = {"RN": ("Das Übergangselement RN", "The transition element RN"),
+                 "AS": ("Anstiegswinkel AS", "Rise angle AS"),
+                 "D": ("Längenangabe D", "Length D"),
+                 "AO": ("Öffnungswinkel AO", "Opening angle AO")}

@@ -1,0 +1,1 @@
+"""Pure plane and space geometry: lines, arcs, intersections, offsets."""

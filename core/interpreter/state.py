@@ -1,0 +1,57 @@
+"""The interpreter's state: one table of modal groups plus the technology values, and the set-up of a run.
+
+A `ModalState` is immutable; a block that changes nothing modal shares its predecessor's
+object, so keeping the state of every line costs one reference per line.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from core.dialects.codes import CodeTable
+from core.limits import DEFAULT_LIMITS, Limits
+from core.tools import DEFAULT_TOOLS, ToolTable
+from core.toolpath import Vec3
+
+
+@dataclass(frozen=True, slots=True)
+class ModalState:
+    """What is active: the code of each modal group (None: group not set) and the technology values."""
+
+    codes: dict[str, str | None]  # group name → active code, e.g. "motion" → "G1"; never mutated
+    feed: float = 0.0  # F
+    speed: float = 0.0  # S
+    tool: int | None = None  # tool in the spindle; None: none
+    tc: int = 1
+    tr: float = 0.0
+    tl: float = 0.0
+
+    def active(self, group: str) -> str | None:
+        """The active code of `group`, e.g. active("motion") == "G1"."""
+        return self.codes.get(group)
+
+    @property
+    def spindle_on(self) -> bool:
+        return self.codes.get("spindle") in ("M3", "M4")
+
+    def to_json(self) -> dict[str, object]:
+        return {"codes": dict(self.codes), "feed": self.feed, "speed": self.speed, "tool": self.tool,
+                "tc": self.tc, "tr": self.tr, "tl": self.tl}
+
+
+def switch_on_state(table: CodeTable) -> ModalState:
+    """The state at program start (Einschaltzustand): each group's switch-on code, F0, S0, no tool."""
+    return ModalState({g.name: g.switch_on for g in table.groups})
+
+
+@dataclass(frozen=True, slots=True)
+class RunSetup:
+    """Everything a run needs besides the program: tools, limits, options, start position."""
+
+    tools: ToolTable = DEFAULT_TOOLS
+    limits: Limits = DEFAULT_LIMITS
+    skip_blocks: bool = False  # True: blocks marked with "/" are skipped (the skip switch is on)
+    start: Vec3 = (250.0, 150.0, 250.0)  # the tool-change position the PAL examples end at
+    arc_tolerance: float = 0.01  # mm: end-point radius may differ this much from the start radius
+    tool_changer: Literal["pickup"] = "pickup"

@@ -1,0 +1,69 @@
+"""The pipeline's front door: the dialects, and text → diagnostics / toolpath in one call.
+
+The CLI and the server call these functions; they hold no logic of their own.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from core.diagnostics import Diagnostic
+from core.dialects.codes import CodeTable
+from core.dialects.pal_mill import TABLE as PAL_MILL_TABLE
+from core.interpreter import BlockExecutor, Toolpath, interpret
+from core.interpreter.pal_mill import execute_block as pal_mill_block
+from core.interpreter.state import RunSetup
+from core.syntax.blocks import Program
+from core.syntax.parser import parser_for
+
+
+@dataclass(frozen=True)
+class Dialect:
+    name: str
+    title_de: str
+    title_en: str
+    grammar: str  # core/syntax/<grammar>.lark
+    table: CodeTable
+    execute: BlockExecutor
+
+
+DIALECTS: dict[str, Dialect] = {
+    "pal-mill": Dialect("pal-mill", "PAL Fräsen", "PAL milling", "pal_mill", PAL_MILL_TABLE, pal_mill_block),
+}
+DEFAULT_DIALECT = "pal-mill"
+
+
+def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> tuple[Program, list[Diagnostic]]:
+    setup = setup or RunSetup()
+    return parser_for(DIALECTS[dialect].grammar).parse_program(text, setup.limits)
+
+
+def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> Toolpath:
+    """Parse and interpret `text`; the diagnostics of both stages are in the result, sorted by position."""
+    setup = setup or RunSetup()
+    d = DIALECTS[dialect]
+    program, diagnostics = parser_for(d.grammar).parse_program(text, setup.limits)
+    toolpath = interpret(program, d.table, d.execute, setup, diagnostics)
+    toolpath.diagnostics.sort(key=lambda x: (x.span.line, x.span.column))
+    return toolpath
+
+
+def check(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> list[Diagnostic]:
+    return run(text, dialect, setup).diagnostics
+
+
+def diagnostics_json(diagnostics: list[Diagnostic]) -> dict[str, Any]:
+    return {"diagnostics": [x.to_json() for x in diagnostics]}
+
+
+def toolpath_json(toolpath: Toolpath) -> dict[str, Any]:
+    """The shape of `paltrainer run --json` and of POST /api/v1/run."""
+    p = toolpath.final_position
+    return {
+        "moves": [m.to_json() for m in toolpath.moves],
+        "dwells": [x.to_json() for x in toolpath.dwells],
+        "tool_changes": [x.to_json() for x in toolpath.tool_changes],
+        "diagnostics": [x.to_json() for x in toolpath.diagnostics],
+        "final": {"position": [round(p[0], 6), round(p[1], 6), round(p[2], 6)]},
+    }

@@ -1,0 +1,1 @@
+"""Syntax: the lark grammars (one per dialect), the parser, and the Block/Word/Span types."""

@@ -1,0 +1,274 @@
+"""Text → Program: splits a program into lines and parses each line as one block.
+
+The grammar of a dialect lives in a `.lark` file beside this module (LALR, contextual lexer).
+Each line is parsed on its own, so a bad block yields its diagnostic and the others still
+parse. Lines made only of plain words (`N10 G1 X5 Y-3 F150 ; comment`), by far the most common
+kind, take a fast path: one regular expression assembled from the grammar's own terminals.
+Every other line (assignments, expressions, flags, errors) goes through lark. Both paths build
+the same blocks; tests/test_parser.py checks that they agree.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+from pathlib import Path
+
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from core.diagnostics import Diagnostic, diag
+from core.limits import Limits
+from core.syntax.blocks import Assignment, BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
+
+_CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f\ufffd]")
+_LOOSE_WORD = re.compile(r"([A-Z]+)[ \t]*([-+0-9.,]+)")
+
+# How the parser names a terminal in "expected ..." messages: (German, English).
+_TERMINAL_NAMES: dict[str, tuple[str, str]] = {
+    "ADDRESS": ("eine Adresse", "an address"),
+    "NUMBER": ("eine Zahl", "a number"),
+    "UNUM": ("eine Zahl", "a number"),
+    "PREF": ("ein Parameter", "a parameter"),
+    "LPAR": ("»(«", "'('"),
+    "RPAR": ("»)«", "')'"),
+    "NEG": ("»-«", "'-'"),
+    "ADDOP": ("»+« oder »-«", "'+' or '-'"),
+    "MULOP": ("»*« oder »/«", "'*' or '/'"),
+    "EQUAL": ("»=«", "'='"),
+    "COMMENT": ("ein Kommentar", "a comment"),
+    "$END": ("das Satzende", "the end of the block"),
+}
+
+
+class BlockParser:
+    """Parses the lines of one dialect's grammar into blocks."""
+
+    def __init__(self, grammar_file: Path) -> None:
+        self._lark = Lark(
+            grammar_file.read_text(encoding="utf-8"),
+            start="line",
+            parser="lalr",
+            lexer="contextual",
+            maybe_placeholders=False,
+        )
+        term = {t.name: t.pattern.to_regexp() for t in self._lark.terminals}
+        ws = "[ \t]*"
+        word = f"({term['ADDRESS']}){ws}({term['NUMBER']})"
+        self._fast_line = re.compile(
+            f"{ws}(?P<skip>{term['SKIP']})?(?P<body>(?:{ws}{word})*){ws}(?P<comment>{term['COMMENT']})?"
+        )
+        self._fast_word = re.compile(word)
+
+    # -- whole programs --------------------------------------------------------------------
+
+    def parse_program(self, text: str, limits: Limits) -> tuple[Program, list[Diagnostic]]:
+        """Parse every line of `text`; never raises on user input."""
+        diagnostics: list[Diagnostic] = []
+        if len(text) > limits.max_program_chars:
+            diagnostics.append(
+                diag("PAL-E005", Span(1, 1, 1, 1), size=len(text), limit=limits.max_program_chars)
+            )
+            return Program([], 0), diagnostics
+        lines = text.split("\n")
+        if lines and lines[-1] == "":
+            lines.pop()  # a final newline ends the last line, it does not start a new one
+        line_count = len(lines)
+        if line_count > limits.max_blocks:
+            diagnostics.append(
+                diag(
+                    "PAL-E006",
+                    Span(limits.max_blocks + 1, 1, limits.max_blocks + 1, 1),
+                    count=line_count,
+                    limit=limits.max_blocks,
+                    line=limits.max_blocks + 1,
+                )
+            )
+            lines = lines[: limits.max_blocks]
+        blocks = [self.parse_line(raw, n, limits, diagnostics) for n, raw in enumerate(lines, 1)]
+        return Program(blocks, line_count), diagnostics
+
+    # -- one line --------------------------------------------------------------------------
+
+    def parse_line(self, raw: str, line: int, limits: Limits, diagnostics: list[Diagnostic]) -> Block:
+        """Parse one line into a block, appending any diagnostics."""
+        if raw.endswith("\r"):
+            raw = raw[:-1]
+        if len(raw) > limits.max_line_length:
+            diagnostics.append(
+                diag(
+                    "PAL-E004",
+                    Span(line, 1, line, limits.max_line_length + 1),
+                    length=len(raw),
+                    limit=limits.max_line_length,
+                )
+            )
+            return Block(line, raw[: limits.max_line_length], None, (), ok=False)
+        text = raw.upper() if raw.isascii() else "".join(c.upper() if c.isascii() else c for c in raw)
+        fast = self._fast_line.fullmatch(text)
+        if fast is not None:
+            return self._fast_block(raw, text, line, fast, diagnostics)
+        bad = _CONTROL.search(text)
+        if bad is not None:
+            col = bad.start() + 1
+            diagnostics.append(diag("PAL-E008", Span(line, col, line, col + 1), char_code=ord(bad.group())))
+            return Block(line, raw, None, (), ok=False)
+        try:
+            tree = self._lark.parse(text)
+        except UnexpectedInput as err:
+            diagnostics.append(self._syntax_diagnostic(err, text, line))
+            return Block(line, raw, None, (), ok=False)
+        try:
+            return self._tree_block(raw, line, tree, diagnostics)
+        except _TooDeep as err:
+            diagnostics.append(diag("PAL-E014", Span(line, err.column, line, len(raw) + 1), limit=MAX_EXPR_DEPTH))
+            return Block(line, raw, None, (), ok=False)
+
+    def _fast_block(
+        self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
+    ) -> Block:
+        words = [
+            Word(w[1], float(w[2]), w[2], line, w.start() + 1, w.end() + 1)
+            for w in self._fast_word.finditer(text, m.start("body"), m.end("body"))
+        ]
+        skip = m.group("skip")
+        comment_start = m.start("comment")
+        return _finish_block(
+            raw,
+            line,
+            words,
+            (),
+            None if skip is None else _skip_level(skip),
+            None if comment_start < 0 else raw[comment_start + 1 :].strip(),
+            None,
+            diagnostics,
+        )
+
+    def _tree_block(self, raw: str, line: int, tree: Tree[Token], diagnostics: list[Diagnostic]) -> Block:
+        words: list[Word] = []
+        assignments: list[Assignment] = []
+        skip: int | None = None
+        comment: str | None = None
+        header: str | None = None
+        for child in tree.children:
+            if isinstance(child, Token):
+                if child.type == "SKIP":
+                    skip = _skip_level(str(child))
+                elif child.type == "COMMENT":
+                    comment = raw[child.column : child.end_column - 1].strip()  # type: ignore[operator]
+                elif child.type == "HEADER":
+                    header = raw[child.column : child.end_column - 1].strip()  # type: ignore[operator]
+                continue
+            addr: Token = child.children[0]  # type: ignore[assignment]
+            start: int = addr.column  # type: ignore[assignment]
+            if child.data == "word":
+                num: Token = child.children[1]  # type: ignore[assignment]
+                words.append(Word(str(addr), float(num), str(num), line, start, num.end_column))  # type: ignore[arg-type]
+            elif child.data == "flag":
+                words.append(Word(str(addr), None, "", line, start, addr.end_column))  # type: ignore[arg-type]
+            elif child.data == "exprword":
+                expr = _expr(child.children[1])  # type: ignore[arg-type]
+                words.append(Word(str(addr), None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start,
+                                  expr[-1], expr))
+            else:  # assign
+                num = child.children[1]  # type: ignore[assignment]
+                expr = _expr(child.children[2])  # type: ignore[arg-type]
+                if str(addr) != "P" or not num.isdigit():
+                    diagnostics.append(
+                        diag("PAL-E009", Span(line, start, line, expr[-1]), address=f"{addr}{num}")
+                    )
+                    continue
+                assignments.append(Assignment(int(num), expr, line, start, expr[-1]))
+        return _finish_block(raw, line, words, tuple(assignments), skip, comment, header, diagnostics)
+
+    def _syntax_diagnostic(self, err: UnexpectedInput, text: str, line: int) -> Diagnostic:
+        """Turn lark's exception into the most helpful diagnostic for the trainee."""
+        for m in _LOOSE_WORD.finditer(text):
+            value = m.group(2)
+            if self._fast_word.fullmatch(m.group(0).replace(" ", "").replace("\t", "")):
+                continue
+            span = Span(line, m.start(2) + 1, line, m.end(2) + 1)
+            fixed = value.replace(",", ".")
+            if "," in value and self._fast_word.fullmatch(m.group(1) + fixed):
+                return diag("PAL-E010", span, text=f"{m.group(1)}{value}", fixed=f"{m.group(1)}{fixed}")
+            return diag("PAL-E002", span, text=value, address=m.group(1))
+        col = getattr(err, "column", None)
+        if isinstance(err, UnexpectedCharacters) or col is None or col < 1:
+            col = col if isinstance(col, int) and col >= 1 else len(text) + 1
+            char = text[col - 1] if col <= len(text) else " "
+            return diag("PAL-E001", Span(line, col, line, col + 1), char=char)
+        if isinstance(err, (UnexpectedToken, UnexpectedEOF)):
+            token = getattr(err, "token", None)
+            expected = sorted(getattr(err, "expected", ()) or ())
+            de = " oder ".join(sorted({_TERMINAL_NAMES.get(t, (t, t))[0] for t in expected})) or "nichts"
+            en = " or ".join(sorted({_TERMINAL_NAMES.get(t, (t, t))[1] for t in expected})) or "nothing"
+            shown = "Satzende" if token is None or token.type == "$END" else str(token)
+            end = col + max(1, len(shown) if token is not None and token.type != "$END" else 1)
+            d = diag("PAL-E007", Span(line, col, line, end), token=shown, expected=de)
+            en_msg = diag("PAL-E007", d.span, token=shown if shown != "Satzende" else "end of block",
+                          expected=en).message_en
+            return Diagnostic(d.code, d.severity, d.span, d.message, en_msg, d.params)
+        return diag("PAL-E001", Span(line, col, line, col + 1), char=text[col - 1 : col] or " ")
+
+
+def _finish_block(
+    raw: str,
+    line: int,
+    words: list[Word],
+    assignments: tuple[Assignment, ...],
+    skip: int | None,
+    comment: str | None,
+    header: str | None,
+    diagnostics: list[Diagnostic],
+) -> Block:
+    """Take a leading N word as the block number."""
+    number: int | None = None
+    if words and words[0].address == "N" and words[0].value is not None:
+        first = words[0]
+        if first.raw.isdigit():
+            number = int(first.raw)
+        else:
+            diagnostics.append(diag("PAL-E011", first.span, raw=first.raw))
+        words = words[1:]
+    return Block(line, raw, number, tuple(words), assignments, skip, comment, header)
+
+
+def _skip_level(token: str) -> int:
+    return int(token[1:]) if len(token) > 1 else 0
+
+
+MAX_EXPR_DEPTH = 200  # depth of one expression's tree (operators and signs)
+
+
+class _TooDeep(Exception):
+    def __init__(self, column: int) -> None:
+        self.column = column
+
+
+def _expr(node: Tree[Token] | Token, depth: int = 0) -> Expr:
+    """Convert an expression subtree; every node carries its column range."""
+    if isinstance(node, Token):  # a parenthesised single token is inlined by `?factor`
+        raise TypeError(node)
+    if depth > MAX_EXPR_DEPTH:
+        raise _TooDeep(1)
+    kind = node.data
+    if kind == "num":
+        tok: Token = node.children[0]  # type: ignore[assignment]
+        return Num(float(tok), tok.column, tok.end_column)  # type: ignore[arg-type]
+    if kind == "pref":
+        tok = node.children[0]  # type: ignore[assignment]
+        return ParamRef(int(tok[1:]), tok.column, tok.end_column)  # type: ignore[arg-type]
+    if kind == "neg":
+        sign: Token = node.children[0]  # type: ignore[assignment]
+        operand = _expr(node.children[1], depth + 1)
+        return Neg(operand, sign.column, operand[-1])  # type: ignore[arg-type]
+    left = _expr(node.children[0], depth + 1)
+    op: Token = node.children[1]  # type: ignore[assignment]
+    right = _expr(node.children[2], depth + 1)
+    return BinOp(str(op), left, right, left[-2], right[-1])
+
+
+@cache
+def parser_for(grammar: str) -> BlockParser:
+    """The (cached) parser of grammar file `<grammar>.lark` in this package."""
+    return BlockParser(Path(__file__).with_name(f"{grammar}.lark"))

@@ -1,0 +1,100 @@
+"""The canonical commands the interpreter emits — the contract between interpreter and consumers.
+
+Coordinates are workpiece coordinates in mm; angles in degrees. A `Move` is a straight rapid
+move, a straight feed move or an arc (helix when Z changes). Arcs stay arcs: linearising them
+is the consumer's job. For an arc, `center` is the centre at the start's Z, `direction` is "cw"
+or "ccw" as seen from +Z (plane G17), `radius` is the distance start–centre in the plane and
+`angle` the swept angle (360 for a full circle). `feed` is in mm/min under G94 and mm per
+revolution under G95 (`feed_unit`). `spindle` is the programmed speed S while the spindle
+turns and 0 while it stands. Every command carries the span of the block that made it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from core.syntax.blocks import Span
+
+Vec3 = tuple[float, float, float]
+MoveKind = Literal["rapid", "feed", "arc"]
+
+
+def _r(v: float) -> float:
+    """Round for output: 6 decimals is 1 nm, far below any machine's resolution."""
+    r = round(v, 6)
+    return 0.0 if r == 0 else r
+
+
+def _v(p: Vec3) -> list[float]:
+    return [_r(p[0]), _r(p[1]), _r(p[2])]
+
+
+@dataclass(frozen=True, slots=True)
+class Move:
+    kind: MoveKind
+    start: Vec3
+    end: Vec3
+    feed: float
+    feed_unit: Literal["mm/min", "mm/rev"]
+    spindle: float
+    spindle_direction: Literal["cw", "ccw"] | None
+    coolant: bool
+    tool: int | None
+    span: Span
+    center: Vec3 | None = None
+    direction: Literal["cw", "ccw"] | None = None
+    radius: float | None = None
+    angle: float | None = None
+    exact_stop: bool = False
+
+    @property
+    def line(self) -> int:
+        return self.span.line
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "line": self.span.line,
+            "kind": self.kind,
+            "start": _v(self.start),
+            "end": _v(self.end),
+            "center": None if self.center is None else _v(self.center),
+            "direction": self.direction,
+            "radius": None if self.radius is None else _r(self.radius),
+            "angle": None if self.angle is None else _r(self.angle),
+            "feed": self.feed,
+            "feed_unit": self.feed_unit,
+            "spindle": self.spindle,
+            "spindle_direction": self.spindle_direction,
+            "coolant": self.coolant,
+            "tool": self.tool,
+            "exact_stop": self.exact_stop,
+        }
+
+
+@dataclass(frozen=True, slots=True)
+class Dwell:
+    """The tool stands still at `position` for `seconds` (G4)."""
+
+    position: Vec3
+    seconds: float
+    span: Span
+
+    def to_json(self) -> dict[str, Any]:
+        return {"line": self.span.line, "position": _v(self.position), "seconds": _r(self.seconds)}
+
+
+@dataclass(frozen=True, slots=True)
+class ToolChange:
+    """Tool `tool` (None: spindle emptied with T0) is loaded with offset memory `tc` and corrections."""
+
+    tool: int | None
+    tc: int
+    tr: float
+    tl: float
+    position: Vec3
+    span: Span
+
+    def to_json(self) -> dict[str, Any]:
+        return {"line": self.span.line, "tool": self.tool, "tc": self.tc, "tr": self.tr, "tl": self.tl,
+                "position": _v(self.position)}

@@ -1,0 +1,36 @@
+"""The golden-trace printer: one line per canonical command, for the CLI and the corpus tests."""
+
+from __future__ import annotations
+
+from core.interpreter import Toolpath
+from core.toolpath import Dwell, Move, Vec3
+
+
+def _n(v: float) -> str:
+    text = f"{v:.4f}".rstrip("0").rstrip(".")
+    return "0" if text in ("-0", "") else text
+
+
+def _p(p: Vec3) -> str:
+    return f"X{_n(p[0])} Y{_n(p[1])} Z{_n(p[2])}"
+
+
+def trace_lines(toolpath: Toolpath) -> list[str]:
+    """The commands in program order, e.g. `7 arc cw X70 Y23.6 Z-2 -> X56.4 Y10 Z-2 C X50 Y30 R20.999 A54.5107`."""
+    out = []
+    for c in toolpath.commands:
+        if isinstance(c, Move):
+            text = f"{c.span.line} {c.kind}"
+            if c.direction:
+                text += f" {c.direction}"
+            text += f" {_p(c.start)} -> {_p(c.end)}"
+            if c.center is not None and c.radius is not None and c.angle is not None:
+                text += f" C X{_n(c.center[0])} Y{_n(c.center[1])} R{_n(c.radius)} A{_n(c.angle)}"
+            if c.kind != "rapid":
+                text += f" F{_n(c.feed)} S{_n(c.spindle)}"
+            out.append(text)
+        elif isinstance(c, Dwell):
+            out.append(f"{c.span.line} dwell {_n(c.seconds)}s at {_p(c.position)}")
+        else:
+            out.append(f"{c.span.line} tool T{c.tool if c.tool is not None else 0} TC{c.tc} TR{_n(c.tr)} TL{_n(c.tl)}")
+    return out

@@ -1,0 +1,25 @@
+%100 ; Drei L-Nuten und eine Bogennut
+; Rohteil 80 x 70 x 30, Nullpunkt: linke untere Ecke der Oberseite
+; Langlochfraeser T2 Durchmesser 6 mm (= Nutbreite), Nuttiefe 2 mm
+N10 T2 TC1 M6
+N20 S1800 F50 M3
+N30 G0 X15 Y10 Z2
+N40 G1 Z-2
+N50 G1 X30
+N60 G1 Y20
+N70 G0 Z2
+N80 G0 X30 Y30
+N90 G1 Z-2
+N100 G1 XI15
+N110 G1 YI10
+N120 G0 Z2
+N130 G0 X45 Y50
+N140 G1 Z-2
+N150 G1 X60
+N160 G1 Y60
+N170 G0 Z2
+N180 G0 X55 Y10
+N190 G1 Z-2
+N200 G3 X70 Y25 R15
+N210 G0 Z2
+N220 G0 X250 Y150 Z250 M30

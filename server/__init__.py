@@ -1,0 +1,1 @@
+"""The web shell around the core pipeline (FastAPI). Nothing here computes geometry."""

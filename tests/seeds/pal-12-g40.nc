@@ -1,0 +1,11 @@
+; PAL-12 G40-Bild: Werkzeugmittelpunkt auf der programmierten Kontur (Fragment, mit M30 ergaenzt)
+N10 T1 TC1 M6
+N20 F250 S2000 M3
+N30 G0 X-10 Y-50 Z2
+N40 G40 G1 X15 Y15
+N50 G1 Z-10
+N60 G1 X15 Y75
+N70 G2 X55 Y75 I20 J0
+N80 G1 X55 Y-15
+N90 G1 X-10 Y50 Z5
+N100 M30

@@ -1,0 +1,88 @@
+"""The block parser: words with spans, numbers, comments, headers, skip blocks, assignments."""
+
+from __future__ import annotations
+
+import pytest
+
+from core.diagnostics import Diagnostic
+from core.limits import Limits
+from core.syntax.blocks import Block
+from core.syntax.parser import parser_for
+
+PARSER = parser_for("pal_mill")
+LIMITS = Limits()
+
+
+def parse(text: str) -> tuple[Block, list[Diagnostic]]:
+    d: list[Diagnostic] = []
+    return PARSER.parse_line(text, 1, LIMITS, d), d
+
+
+def slow(text: str) -> Block:
+    """The same line through lark only, bypassing the fast path."""
+    d: list[Diagnostic] = []
+    upper = text.upper()
+    return PARSER._tree_block(text, 1, PARSER._lark.parse(upper), d)  # noqa: SLF001
+
+
+def test_words_with_spans_and_block_number() -> None:
+    block, diags = parse("N70 G2 X56.4 Y10 I-20 J6.4")
+    assert diags == []
+    assert block.number == 70
+    assert [(w.address, w.value) for w in block.words] == [
+        ("G", 2), ("X", 56.4), ("Y", 10), ("I", -20), ("J", 6.4)]
+    x = block.words[1]
+    assert (x.span.line, x.span.column, x.span.end_column) == (1, 8, 13)
+
+
+def test_two_letter_addresses_match_longest_first() -> None:
+    block, _ = parse("G1 XI5 YA-3 RN-15 TC2 AS85 IA50")
+    assert [w.address for w in block.words] == ["G", "XI", "YA", "RN", "TC", "AS", "IA"]
+
+
+@pytest.mark.parametrize("text,value", [("G01", 1), ("T01", 1), ("X+5", 5), ("X-.5", -0.5), ("X5.", 5), ("X007.50", 7.5)])
+def test_numbers_with_leading_zeros_and_signs(text: str, value: float) -> None:
+    block, diags = parse(text)
+    assert diags == [] and block.words[0].value == value
+
+
+def test_comment_header_and_skip() -> None:
+    block, _ = parse("/ N10 G1 X5 ; Kontur fräsen")
+    assert block.skip == 0 and block.number == 10 and block.comment == "Kontur fräsen"
+    header, _ = parse("%100 ; Hauptprogramm")
+    assert header.header == "100" and header.comment == "Hauptprogramm"
+
+
+def test_lowercase_is_accepted() -> None:
+    block, diags = parse("n10 g1 x5 rn-2")
+    assert diags == [] and [w.address for w in block.words] == ["G", "X", "RN"]
+
+
+def test_parameter_assignments_with_precedence() -> None:
+    block, diags = parse("N40 P12=P12+1 P2=(P1+2)*3")
+    assert diags == [] and [a.param for a in block.assignments] == [12, 2]
+    from core.interpreter.params import evaluate
+
+    assert evaluate(block.assignments[1].expr, {1: 4.0}, 1, []) == 18
+
+
+def test_value_less_flags_for_mirroring() -> None:
+    block, _ = parse("G66 X Y")
+    assert [(w.address, w.value) for w in block.words[1:]] == [("X", None), ("Y", None)]
+
+
+@pytest.mark.parametrize(
+    "line",
+    ["N10 G1 X-3.5 Y+.5 ; c", "G01X10Y20", "N120 G0 X250 Y150 Z250 M30", "/1 N5 M3", "T1 TC1 M6",
+     "N70 G2 X56.4 Y10 I-20 J6.4 F150", "  G1   X1  ", "", "; only a comment", "X 10"],
+)
+def test_fast_path_and_grammar_agree(line: str) -> None:
+    fast, diags = parse(line)
+    assert diags == []
+    assert fast == slow(line)
+
+
+def test_error_points_at_the_bad_word_and_other_blocks_still_parse() -> None:
+    program, diags = PARSER.parse_program("N10 G1 X5\nN20 G1 Y1..5\nN30 G1 Z2\n", LIMITS)
+    assert [(d.code, d.span.line, d.span.column) for d in diags] == [("PAL-E002", 2, 9)]
+    assert [b.ok for b in program.blocks] == [True, False, True]
