@@ -1,4 +1,4 @@
-"""`paltrainer check|run`: the command-line shell around the pipeline.
+"""`paltrainer check|run|…`: the command-line shell around the pipeline.
 
 Exit codes (a contract other tools rely on): 0 no errors, 1 the program has errors,
 2 usage or I/O error.
@@ -9,8 +9,9 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from collections.abc import Sequence
+from importlib.metadata import entry_points
 from pathlib import Path
-from typing import Sequence
 
 from core.diagnostics import Diagnostic, Severity, has_errors
 from core.interpreter.state import RunSetup
@@ -57,6 +58,11 @@ def _parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("check", parents=[common], help="Programm prüfen: alle Fehler mit Zeile und Spalte")
     sub.add_parser("run", parents=[common], help="Programm ausführen: die Werkzeugbahn")
+    # Further commands (simulate, serve, admin …) come from the entry-point group "paltrainer.commands":
+    # each entry is a function register(subparsers, common) that adds its parser and sets `handler`,
+    # a function (args) -> exit code. So the shells around core plug in without core importing them.
+    for entry in sorted(entry_points(group="paltrainer.commands"), key=lambda e: e.name):
+        entry.load()(sub, common)
     return parser
 
 
@@ -79,21 +85,31 @@ def _format(path: str, d: Diagnostic, lang: str) -> str:
     return f"{path}:{s.line}:{s.column}: {label} {d.code}: {text}"
 
 
+def setup_from_args(args: argparse.Namespace, tools: ToolTable = DEFAULT_TOOLS) -> RunSetup:
+    """The run set-up the common options describe (--tool, --skip-blocks)."""
+    for tool in args.tool:
+        tools = tools.with_tool(tool)
+    return RunSetup(tools=tools, skip_blocks=args.skip_blocks)
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
     except SystemExit as exc:  # argparse: --help exits 0, usage errors exit 2
         return int(exc.code) if isinstance(exc.code, int) else EXIT_USAGE
+    handler = getattr(args, "handler", None)
+    if handler is not None:
+        try:
+            return int(handler(args))
+        except UsageError as err:
+            print(err, file=sys.stderr)
+            return EXIT_USAGE
     try:
         text = read_program(args.file)
     except UsageError as err:
         print(err, file=sys.stderr)
         return EXIT_USAGE
-    tools: ToolTable = DEFAULT_TOOLS
-    for tool in args.tool:
-        tools = tools.with_tool(tool)
-    setup = RunSetup(tools=tools, skip_blocks=args.skip_blocks)
-    toolpath = run(text, args.dialect, setup)
+    toolpath = run(text, args.dialect, setup_from_args(args))
     diagnostics = toolpath.diagnostics
     if args.command == "check":
         if args.json:

@@ -198,8 +198,8 @@ def has_errors(diagnostics: list[Diagnostic]) -> bool:
 def catalogue_markdown() -> str:
     """docs/diagnostics.md, generated from the catalogue (tests keep the two in step)."""
     rows = ["# Diagnostics", "",
-            "Every message PAL Trainer can give, generated from `core/diagnostics.py` "
-            "(`python -m core.diagnostics > docs/diagnostics.md`). Codes are stable and never reused.",
+            ("Every message PAL Trainer can give, generated from `core/diagnostics.py` "
+             "(`python -m core.diagnostics > docs/diagnostics.md`). Codes are stable and never reused."),
             "", "| Code | Severity | Deutsch | English |", "|---|---|---|---|"]
     for code, e in CATALOGUE.items():
         rows.append(f"| {code} | {e.severity.value} | {e.de} | {e.en} |")

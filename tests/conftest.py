@@ -22,7 +22,7 @@ def errors(toolpath: Toolpath) -> list[tuple[str, int]]:
 
 
 @pytest.fixture
-def seed() -> "type[SeedReader]":
+def seed() -> type[SeedReader]:
     return SeedReader
 
 

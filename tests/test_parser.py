@@ -22,7 +22,7 @@ def slow(text: str) -> Block:
     """The same line through lark only, bypassing the fast path."""
     d: list[Diagnostic] = []
     upper = text.upper()
-    return PARSER._tree_block(text, 1, PARSER._lark.parse(upper), d)  # noqa: SLF001
+    return PARSER._tree_block(text, 1, PARSER._lark.parse(upper), d)
 
 
 def test_words_with_spans_and_block_number() -> None:

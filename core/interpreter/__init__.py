@@ -19,7 +19,7 @@ from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 class BlockExecutor(Protocol):
     def __call__(self, setup: RunSetup, state: ModalState, position: Vec3, block: Block,
-                 params: dict[int, float]) -> "BlockOutcome": ...
+                 params: dict[int, float]) -> BlockOutcome: ...
 
 
 class BlockOutcome(Protocol):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Literal
 
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
@@ -18,13 +19,14 @@ from core.geometry.arcs import centre_by_radius, centre_on_bisector, centres_fro
 from core.interpreter.params import evaluate
 from core.interpreter.state import ModalState, RunSetup
 from core.syntax.blocks import Block, Span, Word
-from core.toolpath import Dwell, Move, ToolChange, Vec3
+from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 
 Command = Move | Dwell | ToolChange
 
 _AXES = (("X", "XI", "XA"), ("Y", "YI", "YA"), ("Z", "ZI", "ZA"))
 _AXIS_WORDS = frozenset(a for spellings in _AXES for a in spellings)
 _OWNER_DUPLICATES = {"G23": {"N"}, "G29": {"P"}}  # addresses a code takes twice
+_TECHNOLOGY_WORDS = TABLE.always_allowed | TOOL_WORDS  # a block of only these moves nothing
 _END_OF_BLOCK = {"M5": ("spindle", "M5"), "M9": ("coolant", "M9")}
 
 
@@ -51,19 +53,20 @@ def execute_block(
     new_params = params
     if block.assignments:
         new_params = dict(params)
-        for a in block.assignments:
-            if not 1 <= a.param <= 999:
-                d.append(diag("PAL-E113", a.span, number=a.param))
+        for asg in block.assignments:
+            if not 1 <= asg.param <= 999:
+                d.append(diag("PAL-E113", asg.span, number=asg.param))
                 continue
-            value = evaluate(a.expr, new_params, a.line, d)
-            if value is not None and _in_range(value, f"P{a.param}", a.span, setup, d):
-                new_params[a.param] = value
+            value = evaluate(asg.expr, new_params, asg.line, d)
+            if value is not None and _in_range(value, f"P{asg.param}", asg.span, setup, d):
+                new_params[asg.param] = value
 
     # -- sort the words ----------------------------------------------------------------------
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
     words: dict[str, list[Word]] = {}
     values: dict[str, float] = {}
+    limit = setup.limits.max_abs_value
     for w in block.words:
         a = w.address
         if a == "G" or a == "M":
@@ -84,7 +87,8 @@ def execute_block(
             continue  # a flag; checked below
         else:
             v = w.value
-        if not _in_range(v, a, w.span, setup, d):
+        if not -limit <= v <= limit:  # also catches NaN and infinity
+            _in_range(v, a, w.span, setup, d)
             continue
         if spec.integer and v != int(v):
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
@@ -113,7 +117,7 @@ def execute_block(
 
     # -- which addresses the block may hold -----------------------------------------------
     motion = owner if owner is not None and owner.group == "motion" else None
-    if owner is None and any(a not in TABLE.always_allowed and a not in TOOL_WORDS for a in words):
+    if owner is None and not words.keys() <= _TECHNOLOGY_WORDS:
         motion = TABLE.codes[state.active("motion") or "G1"]
         allowed = motion.words
         command_name = f"{motion.name} (modal)"
@@ -147,7 +151,7 @@ def execute_block(
             if not any(a in words for a in one_of):
                 d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
     for a in ("F", "S", "U", "H", "D"):
-        if values.get(a, 0.0) < 0:
+        if a in values and values[a] < 0:
             d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
     if "TC" in values and not 1 <= values["TC"] <= 9:
         d.append(diag("PAL-E112", words["TC"][0].span, value=words["TC"][0].raw))
@@ -305,23 +309,15 @@ def _target(state: ModalState, position: Vec3, values: dict[str, float],
 def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
             values: dict[str, float], span: Span, exact: bool, d: list[Diagnostic]) -> Move | None:
     end = _target(state, position, values, words, d)
-    feed_unit = "mm/rev" if state.active("feed_mode") == "G95" else "mm/min"
     spindle_code = state.active("spindle")
     spindle_on = spindle_code in ("M3", "M4")
-    tech = dict(
-        feed=state.feed, feed_unit=feed_unit, spindle=state.speed if spindle_on else 0.0,
-        spindle_direction=("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
-        coolant=state.active("coolant") == "M8", tool=state.tool, span=span,
-    )
-    if name == "G0":
+    if name == "G0" or name == "G1":
         if end == position:
             return None
-        return Move("rapid", position, end, exact_stop=True, **tech)  # type: ignore[arg-type]
-    if name == "G1":
-        if end == position:
-            return None
+        if name == "G0":
+            return _move(state, "rapid", position, end, span, spindle_code, exact_stop=True)
         _check_cutting(state, spindle_on, span, d)
-        return Move("feed", position, end, exact_stop=exact, **tech)  # type: ignore[arg-type]
+        return _move(state, "feed", position, end, span, spindle_code, exact_stop=exact)
     # G2 / G3 in the plane X-Y
     clockwise = name == "G2"
     arc = _arc_centre(setup, position, end, values, words, clockwise, name, span, d)
@@ -330,8 +326,20 @@ def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words
     centre, radius = arc
     angle = sweep((position[0], position[1]), (end[0], end[1]), centre, clockwise)
     _check_cutting(state, spindle_on, span, d)
-    return Move("arc", position, end, center=(centre[0], centre[1], position[2]),  # type: ignore[arg-type]
-                direction="cw" if clockwise else "ccw", radius=radius, angle=angle, exact_stop=exact, **tech)
+    return _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
+                 center=(centre[0], centre[1], position[2]), direction="cw" if clockwise else "ccw",
+                 radius=radius, angle=angle)
+
+
+def _move(state: ModalState, kind: MoveKind, start: Vec3, end: Vec3, span: Span, spindle_code: str | None,
+          exact_stop: bool, center: Vec3 | None = None, direction: Literal["cw", "ccw"] | None = None,
+          radius: float | None = None, angle: float | None = None) -> Move:
+    """A move carrying the technology active in `state`."""
+    spindle_on = spindle_code == "M3" or spindle_code == "M4"
+    return Move(kind, start, end, state.feed, "mm/rev" if state.active("feed_mode") == "G95" else "mm/min",
+                state.speed if spindle_on else 0.0,
+                ("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
+                state.active("coolant") == "M8", state.tool, span, center, direction, radius, angle, exact_stop)
 
 
 def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diagnostic]) -> None:

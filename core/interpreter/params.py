@@ -7,7 +7,7 @@ warning; division by zero is an error (DECISIONS.md §6).
 from __future__ import annotations
 
 from core.diagnostics import Diagnostic, diag
-from core.syntax.blocks import BinOp, Expr, Neg, Num, ParamRef, Span
+from core.syntax.blocks import Expr, Neg, Num, ParamRef, Span
 
 
 def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic]) -> float | None:

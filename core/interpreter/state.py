@@ -11,8 +11,8 @@ from typing import Literal
 
 from core.dialects.codes import CodeTable
 from core.limits import DEFAULT_LIMITS, Limits
-from core.tools import DEFAULT_TOOLS, ToolTable
 from core.toolpath import Vec3
+from core.tools import DEFAULT_TOOLS, ToolTable
 
 
 @dataclass(frozen=True, slots=True)

@@ -8,7 +8,7 @@ These types are what the parser produces and the interpreter consumes. They carr
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import NamedTuple, Union
+from typing import NamedTuple
 
 
 class Span(NamedTuple):
@@ -54,7 +54,7 @@ class BinOp(NamedTuple):
     end_column: int
 
 
-Expr = Union[Num, ParamRef, Neg, BinOp]
+Expr = Num | ParamRef | Neg | BinOp
 
 
 class Word(NamedTuple):

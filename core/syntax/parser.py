@@ -92,8 +92,7 @@ class BlockParser:
 
     def parse_line(self, raw: str, line: int, limits: Limits, diagnostics: list[Diagnostic]) -> Block:
         """Parse one line into a block, appending any diagnostics."""
-        if raw.endswith("\r"):
-            raw = raw[:-1]
+        raw = raw.removesuffix("\r")
         if len(raw) > limits.max_line_length:
             diagnostics.append(
                 diag(
@@ -127,8 +126,9 @@ class BlockParser:
     def _fast_block(
         self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
     ) -> Block:
+        new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
         words = [
-            Word(w[1], float(w[2]), w[2], line, w.start() + 1, w.end() + 1)
+            new(Word, (w[1], float(w[2]), w[2], line, w.start() + 1, w.end() + 1, None))
             for w in self._fast_word.finditer(text, m.start("body"), m.end("body"))
         ]
         skip = m.group("skip")
@@ -167,12 +167,12 @@ class BlockParser:
             elif child.data == "flag":
                 words.append(Word(str(addr), None, "", line, start, addr.end_column))  # type: ignore[arg-type]
             elif child.data == "exprword":
-                expr = _expr(child.children[1])  # type: ignore[arg-type]
+                expr = _expr(child.children[1])
                 words.append(Word(str(addr), None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start,
                                   expr[-1], expr))
             else:  # assign
                 num = child.children[1]  # type: ignore[assignment]
-                expr = _expr(child.children[2])  # type: ignore[arg-type]
+                expr = _expr(child.children[2])
                 if str(addr) != "P" or not num.isdigit():
                     diagnostics.append(
                         diag("PAL-E009", Span(line, start, line, expr[-1]), address=f"{addr}{num}")
