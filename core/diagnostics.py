@@ -121,6 +121,40 @@ CATALOGUE: dict[str, Entry] = {
                       "Arc of radius 0: the centre lies on the start point."),
     "PAL-E207": Entry(E, "{command} mit {address}{raw} braucht eine Zielkoordinate X, Y oder Z.",
                       "{command} with {address}{raw} needs a target coordinate X, Y or Z."),
+    "PAL-E208": Entry(E, "Übergangselement RN{raw} passt nicht zwischen Zeile {first} und Zeile {second}: "
+                         "{reason}.",
+                      "Transition element RN{raw} does not fit between line {first} and line {second}: "
+                      "{reason_en}."),
+    "PAL-E209": Entry(E, "Nach dem Übergangselement RN in Zeile {line} folgt kein Konturelement (G1, G2, G3, "
+                         "G11, G12, G13 in der Ebene).",
+                      "The transition element RN in line {line} is not followed by a contour element (G1, G2, "
+                      "G3, G11, G12, G13 in the plane)."),
+    "PAL-E210": Entry(E, "Gerade ohne Lösung: {reason}.", "Line has no solution: {reason_en}."),
+    "PAL-E211": Entry(E, "Gerade ist überbestimmt: höchstens zwei von X, Y, D, AS (außer Z) angeben.",
+                      "Line is overdetermined: give at most two of X, Y, D, AS (besides Z)."),
+    "PAL-E212": Entry(E, "Gerade ist unterbestimmt: {address} allein legt keinen Endpunkt fest.",
+                      "Line is underdetermined: {address} alone does not fix an end point."),
+    "PAL-E213": Entry(E, "{address} muss größer als 0 sein ({raw}).", "{address} must be greater than 0 ({raw})."),
+    "PAL-E214": Entry(E, "Innenbogen mit Radius {radius} mm ist kleiner als der Fräserradius {tool_radius} mm.",
+                      "Inside arc of radius {radius} mm is smaller than the cutter radius {tool_radius} mm."),
+    "PAL-E215": Entry(E, "Konturelement verschwindet oder kehrt sich um, wenn der Fräserradius {tool_radius} mm "
+                         "berücksichtigt wird.",
+                      "Contour element vanishes or reverses when the cutter radius {tool_radius} mm is applied."),
+    "PAL-E216": Entry(E, "{address} darf bei aktiver Fräserradiuskorrektur (G41/G42) nicht geändert werden.",
+                      "{address} must not be changed while cutter radius compensation (G41/G42) is active."),
+    "PAL-E217": Entry(E, "Die Kontur lässt sich an dieser Ecke nicht um den Fräserradius {tool_radius} mm "
+                         "versetzen (Zeile {first} und Zeile {second}).",
+                      "The contour cannot be offset by the cutter radius {tool_radius} mm at this corner "
+                      "(line {first} and line {second})."),
+    "PAL-E218": Entry(E, "Nach {command} folgt kein Konturelement in der Ebene; die Korrektur kann nicht "
+                         "angefahren werden.",
+                      "No contour element in the plane follows {command}; compensation cannot be started."),
+    "PAL-E219": Entry(E, "{command} muss zusammen mit {needed} im selben Satz stehen.",
+                      "{command} must be in the same block as {needed}."),
+    "PAL-E220": Entry(E, "Fräserradiuskorrektur ohne Werkzeug: zuerst ein Werkzeug einwechseln (T).",
+                      "Cutter radius compensation without a tool: load a tool first (T)."),
+    "PAL-E221": Entry(E, "Der Startpunkt liegt im Pol; {command} braucht einen Radius größer 0.",
+                      "The start point lies on the pole; {command} needs a radius greater than 0."),
     # --- technology -----------------------------------------------------------------------
     "PAL-E301": Entry(E, "Vorschubbewegung mit Vorschub F0: es ist kein Vorschub programmiert.",
                       "Feed move with feed F0: no feed has been programmed."),
@@ -138,6 +172,46 @@ CATALOGUE: dict[str, Entry] = {
     "PAL-E308": Entry(E, "M6 ohne vorgewähltes Werkzeug T.", "M6 without a preselected tool T."),
     "PAL-E309": Entry(E, "Zoll-Maßangabe G70 wird nicht unterstützt; PAL arbeitet in Millimetern (G71).",
                       "Inch dimensions G70 are not supported; PAL works in millimetres (G71)."),
+    # --- simulation ------------------------------------------------------------------------
+    "SIM-E001": Entry(E, "Eilgang ins Material: {volume} mm³ werden im Eilgang abgetragen (Kollision).",
+                      "Rapid move into the material: {volume} mm³ removed at rapid traverse (collision)."),
+    "SIM-E002": Entry(E, "T{tool} schneidet nicht über Mitte und taucht hier ins Material ein; zum Eintauchen "
+                         "einen über Mitte schneidenden Fräser (z. B. Langlochfräser) verwenden oder außerhalb "
+                         "des Werkstücks zustellen.",
+                      "T{tool} is not centre-cutting and plunges into the material here; use a centre-cutting "
+                      "tool (e.g. a slot drill) or feed in outside the workpiece."),
+    "SIM-E003": Entry(E, "Schnitttiefe {depth} mm ist größer als die Schneidenlänge {length} mm von T{tool}: "
+                         "der Schaft berührt das Werkstück.",
+                      "Depth of cut {depth} mm exceeds the cutting length {length} mm of T{tool}: "
+                      "the shank touches the workpiece."),
+    "SIM-E004": Entry(E, "Der Werkzeughalter berührt das Werkstück: T{tool} ragt {length} mm aus dem Halter, "
+                         "die Schnitttiefe ist {depth} mm.",
+                      "The tool holder touches the workpiece: T{tool} sticks out {length} mm, "
+                      "the depth of cut is {depth} mm."),
+    "SIM-E005": Entry(E, "Das Werkzeug fährt bis Z{z} unter die Unterseite des Rohteils (Z{base}) in den "
+                         "Maschinentisch.",
+                      "The tool goes down to Z{z}, below the bottom of the stock (Z{base}), into the machine table."),
+    "SIM-E006": Entry(E, "Zerspanung bei stehender Spindel: {volume} mm³ werden ohne Drehzahl abgetragen.",
+                      "Cutting with the spindle stopped: {volume} mm³ removed without spindle speed."),
+    "SIM-E007": Entry(E, "Bewegung ohne Werkzeug ins Werkstück: die Spindel stößt an.",
+                      "Move into the workpiece with no tool: the spindle collides."),
+    "SIM-E008": Entry(E, "Zerspanung mit Vorschub F0: {volume} mm³ werden ohne Vorschub abgetragen.",
+                      "Cutting with feed F0: {volume} mm³ removed without a feed."),
+    "SIM-E009": Entry(E, "Werkzeug T{tool} steht nicht in der Werkzeugtabelle der Simulation; seine Bewegungen "
+                         "tragen nichts ab.",
+                      "Tool T{tool} is not in the simulation's tool table; its moves remove nothing."),
+    "SIM-E010": Entry(E, "Simulation abgebrochen: mehr als {limit} Zellen-Aktualisierungen (Grenze); das Ergebnis "
+                         "ist ab hier unvollständig.",
+                      "Simulation stopped: more than {limit} cell updates (limit); the result is incomplete "
+                      "from here on."),
+    "SIM-W001": Entry(W, "T{tool} hat in der Werkzeugtabelle Ø{actual} mm, die Aufgabe sieht Ø{expected} mm vor.",
+                      "T{tool} has Ø{actual} mm in the tool table, the exercise expects Ø{expected} mm."),
+    "SIM-W002": Entry(W, "Rasterweite von {requested} mm auf {used} mm vergröbert: das Rohteil hätte sonst mehr "
+                         "als {limit} Zellen.",
+                      "Cell size coarsened from {requested} mm to {used} mm: the stock would otherwise have more "
+                      "than {limit} cells."),
+    "SIM-W003": Entry(W, "Zu viele Simulationsmeldungen; weitere werden nicht angezeigt (höchstens {limit}).",
+                      "Too many simulation events; further ones are not shown (at most {limit})."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),

@@ -1,7 +1,8 @@
 """The canonical commands the interpreter emits — the contract between interpreter and consumers.
 
 Coordinates are workpiece coordinates in mm; angles in degrees. A `Move` is a straight rapid
-move, a straight feed move or an arc (helix when Z changes). Arcs stay arcs: linearising them
+move, a straight feed move or an arc (helix when Z changes). `end` is where the tool centre goes; `programmed_end` the contour
+point the program gave before cutter radius compensation (the same without compensation). Arcs stay arcs: linearising them
 is the consumer's job. For an arc, `center` is the centre at the start's Z, `direction` is "cw"
 or "ccw" as seen from +Z (plane G17), `radius` is the distance start–centre in the plane and
 `angle` the swept angle (360 for a full circle). `feed` is in mm/min under G94 and mm per
@@ -47,6 +48,7 @@ class Move:
     radius: float | None = None
     angle: float | None = None
     exact_stop: bool = False
+    programmed_end: Vec3 | None = None  # the contour point before compensation (None: same as end)
 
     @property
     def line(self) -> int:
@@ -69,6 +71,7 @@ class Move:
             "coolant": self.coolant,
             "tool": self.tool,
             "exact_stop": self.exact_stop,
+            "programmed_end": _v(self.programmed_end if self.programmed_end is not None else self.end),
         }
 
 

@@ -5,9 +5,19 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-ToolKind = Literal["end_mill", "slot_drill"]
+ToolKind = Literal["end_mill", "slot_drill", "ball_nose", "torus", "twist_drill", "spot_drill"]
 
-KIND_NAMES_DE = {"end_mill": "Schaftfräser", "slot_drill": "Langlochfräser"}
+KIND_NAMES_DE = {"end_mill": "Schaftfräser", "slot_drill": "Langlochfräser", "ball_nose": "Radiusfräser",
+                 "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer"}
+
+
+@dataclass(frozen=True, slots=True)
+class ToolOffset:
+    """Offset memory TC`tc` of a tool: the radius and length the control works with (mm)."""
+
+    tc: int
+    radius: float
+    length: float
 
 
 @dataclass(frozen=True, slots=True)
@@ -16,10 +26,37 @@ class Tool:
     kind: ToolKind
     diameter: float  # mm
     name: str = ""
+    # Shape, for the stock simulation; None means the default named in each property below.
+    cutting_length: float | None = None  # mm from the tip; default 2 × diameter
+    overall_length: float | None = None  # mm from the tip to the holder; default cutting length + 40
+    shank_diameter: float | None = None  # mm; default the diameter
+    centre_cutting: bool = True  # False: cannot plunge (Schaftfräser "nicht über Mitte schneidend")
+    corner_radius: float = 0.0  # mm; torus; a ball-nose mill's is its radius
+    point_angle: float = 0.0  # degrees; drills (118 twist drill, 90 spot drill)
+    offsets: tuple[ToolOffset, ...] = ()  # offset memories TC1…TC9; missing ones: radius, overall length
 
     @property
     def radius(self) -> float:
         return self.diameter / 2
+
+    @property
+    def flute_length(self) -> float:
+        return self.cutting_length if self.cutting_length is not None else 2 * self.diameter
+
+    @property
+    def length(self) -> float:
+        return self.overall_length if self.overall_length is not None else self.flute_length + 40
+
+    @property
+    def shank(self) -> float:
+        return self.shank_diameter if self.shank_diameter is not None else self.diameter
+
+    def offset(self, tc: int) -> ToolOffset:
+        """Offset memory TC`tc`; one not in the table holds the tool's own radius and length."""
+        for o in self.offsets:
+            if o.tc == tc:
+                return o
+        return ToolOffset(tc, self.radius, self.length)
 
 
 @dataclass(frozen=True)

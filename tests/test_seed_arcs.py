@@ -53,10 +53,14 @@ def test_r21_variant_centre_matches_the_spec_derivation() -> None:
     assert arc.center[1] == pytest.approx(30.00076, abs=1e-5)
 
 
-def test_g2_example_as_printed_reports_only_the_missing_compensation(seed: type[SeedReader]) -> None:
+def test_g2_example_as_printed_runs_with_compensation(seed: type[SeedReader]) -> None:
     tp = seed.run("pal-05-g2-kreisbogen.nc")
-    assert errors(tp) == [("PAL-E901", 5)]  # G41 not supported yet: said, not silent
-    assert [m.kind for m in tp.moves] == ["rapid", "rapid", "rapid", "feed", "arc", "feed", "rapid"]
+    assert errors(tp) == []
+    arcs = [m for m in tp.moves if m.kind == "arc"]
+    # the contour arc R21 becomes R21 + 12.5 about the same centre (tool left, outside of the arc)
+    (contour,) = [a for a in arcs if a.line == 8 and a.center is not None and a.center[:2] == pytest.approx((50, 30))]
+    assert contour.radius == pytest.approx(33.499, abs=TOL)
+    assert contour.programmed_end == pytest.approx((56.4, 10, -2), abs=TOL)
     assert tp.final_position == (250, 150, 250)
 
 

@@ -12,6 +12,7 @@ from typing import Protocol
 
 from core.diagnostics import Diagnostic, diag
 from core.dialects.codes import CodeTable
+from core.interpreter.contour import Planned, finish
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.syntax.blocks import Block, Program, Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
@@ -23,11 +24,16 @@ class BlockExecutor(Protocol):
 
 
 class BlockOutcome(Protocol):
-    state: ModalState
-    position: Vec3
-    commands: list[Move | Dwell | ToolChange]
-    diagnostics: list[Diagnostic]
-    ended: bool
+    @property
+    def state(self) -> ModalState: ...
+    @property
+    def position(self) -> Vec3: ...
+    @property
+    def commands(self) -> list[Planned | Dwell | ToolChange]: ...
+    @property
+    def diagnostics(self) -> list[Diagnostic]: ...
+    @property
+    def ended(self) -> bool: ...
 
 
 @dataclass(slots=True)
@@ -69,7 +75,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     executed = 0
     last_line = 0
     states, positions = result.line_states, result.line_positions
-    commands, moves, dwells, changes = result.commands, result.moves, result.dwells, result.tool_changes
+    planned: list[Planned | Dwell | ToolChange] = []
     for block in program.blocks:
         if block.ok and not block.is_empty and block.header is None:
             last_line = block.line
@@ -84,14 +90,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                     ended_at = block.line  # stopped: a missing M30 is no news
                     break
                 out = execute(setup, state, position, block, params)
-                commands.extend(out.commands)
-                for c in out.commands:
-                    if type(c) is Move:
-                        moves.append(c)
-                    elif type(c) is Dwell:
-                        dwells.append(c)
-                    else:
-                        changes.append(c)  # type: ignore[arg-type]
+                planned.extend(out.commands)
                 if out.diagnostics:
                     diags.extend(out.diagnostics)
                 state, position = out.state, out.position
@@ -102,6 +101,14 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     if ended_at is None and (program.blocks or not diags):  # a rejected program needs no second word
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
+    result.commands = finish(planned, diags)
+    for c in result.commands:
+        if type(c) is Move:
+            result.moves.append(c)
+        elif type(c) is Dwell:
+            result.dwells.append(c)
+        else:
+            result.tool_changes.append(c)  # type: ignore[arg-type]
     if len(diags) > limits.max_diagnostics:
         cut = diags[limits.max_diagnostics - 1]
         del diags[limits.max_diagnostics - 1:]

@@ -8,24 +8,28 @@ G codes; switch-on M codes (M3, M4, M8 …); the motion or dwell; M5/M9 at the b
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Literal
 
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
-from core.dialects.pal_mill import CONTOUR_WORDS, TABLE, TOOL_WORDS
-from core.geometry.arcs import centre_by_radius, centre_on_bisector, centres_from_radius, sweep
+from core.dialects.pal_mill import TABLE, TOOL_WORDS
+from core.geometry.arcs import arc_solutions, choose_arc, sweep
+from core.geometry.elements import angle_of
+from core.interpreter.contour import Approach, Departure, Planned
 from core.interpreter.params import evaluate
 from core.interpreter.state import ModalState, RunSetup
 from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 
-Command = Move | Dwell | ToolChange
+Command = Planned | Dwell | ToolChange
 
 _AXES = (("X", "XI", "XA"), ("Y", "YI", "YA"), ("Z", "ZI", "ZA"))
 _AXIS_WORDS = frozenset(a for spellings in _AXES for a in spellings)
 _OWNER_DUPLICATES = {"G23": {"N"}, "G29": {"P"}}  # addresses a code takes twice
+_GEOMETRY_WORDS = _AXIS_WORDS | {"I", "J", "IA", "JA", "R", "AO", "AS", "D", "RP", "AP", "AI", "K", "KA"}
 _TECHNOLOGY_WORDS = TABLE.always_allowed | TOOL_WORDS  # a block of only these moves nothing
 _END_OF_BLOCK = {"M5": ("spindle", "M5"), "M9": ("coolant", "M9")}
 
@@ -150,7 +154,7 @@ def execute_block(
         for one_of in code.required:
             if not any(a in words for a in one_of):
                 d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
-    for a in ("F", "S", "U", "H", "D"):
+    for a in ("F", "S", "U", "H", "E", "RP"):
         if a in values and values[a] < 0:
             d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
     if "TC" in values and not 1 <= values["TC"] <= 9:
@@ -166,6 +170,22 @@ def execute_block(
                 d.append(diag("PAL-E204", words[a][0].span, address=a))
     if any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
         d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
+    in_block = {c.name for _, c in gs}
+    compensating = state.active("compensation") in ("G41", "G42")
+    if compensating and "G40" not in in_block:
+        for a in ("T", "TC", "TR", "TL"):
+            if a in words:
+                d.append(diag("PAL-E216", words[a][0].span, address=a))
+    for code_name, needed in (("G45", ("G41", "G42")), ("G47", ("G41", "G42")), ("G46", ("G40",)),
+                              ("G48", ("G40",))):
+        if code_name in in_block and not in_block.intersection(needed):
+            d.append(diag("PAL-E219", next(w.span for w, c in gs if c.name == code_name), command=code_name,
+                          needed=" oder ".join(needed)))
+    for a in ("D", "AO", "R") if owner is not None and owner.name in ("G45", "G46", "G47", "G48") else ("D", "AO"):
+        if a in values and values[a] <= 0:
+            d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
+    if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
+        d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
     if any(c.name == "G70" for _, c in gs):
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
 
@@ -179,13 +199,6 @@ def execute_block(
             d.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
             if skips:
                 return out
-    if motion is not None:
-        for a, (de, en) in CONTOUR_WORDS.items():
-            if a in words:
-                skips = a != "RN"
-                d.append(_not_supported(words[a][0].span, de, en, skips))
-                if skips:
-                    return out
 
     # -- commit: technology and modes at block start ------------------------------------------
     codes = state.codes
@@ -209,7 +222,7 @@ def execute_block(
         codes = {**codes, **changes}
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
-        state = ModalState(codes, feed, speed, tool, tc, tr, tl)
+        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole)
     if "T" in values:
         out.commands.append(ToolChange(tool, tc, tr, tl, position, span))
     if changes.get("spindle") in ("M3", "M4") and speed == 0:
@@ -225,18 +238,25 @@ def execute_block(
             else:
                 seconds = values["U"] * 60.0 / state.speed
         out.commands.append(Dwell(position, seconds, span))
-    elif motion is not None and any(a in _AXIS_WORDS or a in ("I", "J", "IA", "JA", "R") for a in words):
-        exact = any(c.name == "G9" for _, c in gs)
-        move = _motion(setup, state, position, motion.name, words, values, span, exact, d)
+    elif owner is not None and owner.name in ("G45", "G46", "G47", "G48"):
+        planned = _approach_or_departure(setup, state, position, owner.name, words, values, span, d)
+        out.commands.append(planned)
+        position = planned.move.end
+    elif motion is not None and words.keys() & _GEOMETRY_WORDS:
+        exact = "G9" in in_block
+        move, pole = _motion(setup, state, position, motion.name, words, values, span, exact, d)
+        if pole is not None and pole != state.pole:
+            state = dataclasses.replace(state, pole=pole)
         if move is not None:
-            out.commands.append(move)
+            rn = values.get("RN", 0.0)
+            out.commands.append(Planned(move, rn, words["RN"][0].raw if "RN" in words else "", values.get("E"),
+                                        *_compensation(setup, state)))
             position = move.end
 
     # -- block end: M5, M9, M30 ---------------------------------------------------------------
     ends = {g: m for _, c in ms for m in TABLE.activates(c) if (g := TABLE.group_of[m]) and m in _END_OF_BLOCK}
     if ends:
-        state = ModalState({**state.codes, **ends}, state.feed, state.speed, state.tool, state.tc, state.tr,
-                           state.tl)
+        state = dataclasses.replace(state, codes={**state.codes, **ends})
     for w, code in ms:
         if code.name == "M30":
             out.ended = True
@@ -307,28 +327,125 @@ def _target(state: ModalState, position: Vec3, values: dict[str, float],
 
 
 def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
-            values: dict[str, float], span: Span, exact: bool, d: list[Diagnostic]) -> Move | None:
+            values: dict[str, float], span: Span, exact: bool,
+            d: list[Diagnostic]) -> tuple[Move | None, tuple[float, float] | None]:
+    """The programmed move of a motion block, and the pole it programs (G10–G13)."""
     end = _target(state, position, values, words, d)
     spindle_code = state.active("spindle")
     spindle_on = spindle_code in ("M3", "M4")
+    pole: tuple[float, float] | None = None
+    if name in ("G10", "G11", "G12", "G13"):
+        pole = _pole(state, position, values)
+        found = _polar_end(position, end, pole, name, values, span, d)
+        if found is None:
+            return None, pole
+        end = found
+        name = {"G10": "G0", "G11": "G1", "G12": "G2", "G13": "G3"}[name]
+        if name in ("G2", "G3"):
+            values = {**values, "IA": pole[0], "JA": pole[1], "X": end[0], "Y": end[1]}
+            values.pop("I", None)
+            values.pop("J", None)
+            words = {**words, "X": words.get("AP") or words["AI"], "Y": words.get("AP") or words["AI"]}
+    elif name == "G1" and ("D" in values or "AS" in values):
+        found = _line_end(position, end, values, words, span, d)
+        if found is None:
+            return None, None
+        end = found
     if name == "G0" or name == "G1":
         if end == position:
-            return None
+            return None, pole
         if name == "G0":
-            return _move(state, "rapid", position, end, span, spindle_code, exact_stop=True)
+            return _move(state, "rapid", position, end, span, spindle_code, exact_stop=True), pole
         _check_cutting(state, spindle_on, span, d)
-        return _move(state, "feed", position, end, span, spindle_code, exact_stop=exact)
-    # G2 / G3 in the plane X-Y
+        return _move(state, "feed", position, end, span, spindle_code, exact_stop=exact), pole
     clockwise = name == "G2"
-    arc = _arc_centre(setup, position, end, values, words, clockwise, name, span, d)
+    arc = _arc(setup, position, end, values, words, clockwise, name, span, d)
     if arc is None:
-        return None
-    centre, radius = arc
-    angle = sweep((position[0], position[1]), (end[0], end[1]), centre, clockwise)
+        return None, pole
+    centre, arc_end, radius = arc
+    end = (arc_end[0], arc_end[1], end[2])
+    angle = sweep((position[0], position[1]), arc_end, centre, clockwise)
     _check_cutting(state, spindle_on, span, d)
     return _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
                  center=(centre[0], centre[1], position[2]), direction="cw" if clockwise else "ccw",
-                 radius=radius, angle=angle)
+                 radius=radius, angle=angle), pole
+
+
+def _pole(state: ModalState, position: Vec3, values: dict[str, float]) -> tuple[float, float]:
+    """The pole of a polar block: I/J from the start, IA/JA absolute, else the last pole (DECISIONS §5)."""
+    px = values["IA"] if "IA" in values else position[0] + values["I"] if "I" in values else state.pole[0]
+    py = values["JA"] if "JA" in values else position[1] + values["J"] if "J" in values else state.pole[1]
+    return (px, py)
+
+
+def _polar_end(position: Vec3, end: Vec3, pole: tuple[float, float], name: str, values: dict[str, float],
+               span: Span, d: list[Diagnostic]) -> Vec3 | None:
+    start_angle = math.degrees(math.atan2(position[1] - pole[1], position[0] - pole[0]))
+    angle = values["AP"] if "AP" in values else start_angle + values.get("AI", 0.0)
+    if name in ("G10", "G11"):
+        radius = values["RP"]
+    else:
+        radius = math.dist((position[0], position[1]), pole)
+        if radius < 1e-6:
+            d.append(diag("PAL-E221", span, command=name))
+            return None
+    a = math.radians(angle)
+    return (pole[0] + radius * math.cos(a), pole[1] + radius * math.sin(a), end[2])
+
+
+def _line_end(position: Vec3, end: Vec3, values: dict[str, float], words: dict[str, list[Word]], span: Span,
+              d: list[Diagnostic]) -> Vec3 | None:
+    """G1 end point from two of X, Y, D (length in the plane), AS (angle to +X); H picks one of two."""
+    has_x = any(a in words for a in _AXES[0])
+    has_y = any(a in words for a in _AXES[1])
+    given = [n for n, ok in (("X", has_x), ("Y", has_y), ("D", "D" in values), ("AS", "AS" in values)) if ok]
+    if len(given) > 2:
+        d.append(diag("PAL-E211", span))
+        return None
+    if len(given) < 2:
+        d.append(diag("PAL-E212", span, address=given[0]))
+        return None
+    sx, sy = position[0], position[1]
+    ex, ey = end[0], end[1]
+    if "AS" in values:
+        a = math.radians(values["AS"])
+        ca, sa = math.cos(a), math.sin(a)
+        if "D" in values:
+            ex, ey = sx + values["D"] * ca, sy + values["D"] * sa
+        elif has_x:
+            if abs(ca) < 1e-9:
+                d.append(diag("PAL-E210", span, reason="die Gerade mit AS verläuft parallel zur Y-Achse",
+                              reason_en="the line with AS runs parallel to the Y axis"))
+                return None
+            ey = sy + (ex - sx) * sa / ca
+        else:
+            if abs(sa) < 1e-9:
+                d.append(diag("PAL-E210", span, reason="die Gerade mit AS verläuft parallel zur X-Achse",
+                              reason_en="the line with AS runs parallel to the X axis"))
+                return None
+            ex = sx + (ey - sy) * ca / sa
+    else:
+        length = values["D"]
+        if has_x:
+            h2 = length * length - (ex - sx) ** 2
+            if h2 < -1e-9:
+                d.append(diag("PAL-E210", span, reason=f"D{length:g} ist kürzer als der X-Weg {abs(ex - sx):g}",
+                              reason_en=f"D{length:g} is shorter than the X distance {abs(ex - sx):g}"))
+                return None
+            h = math.sqrt(max(h2, 0.0))
+            candidates = [(ex, sy + h), (ex, sy - h)]
+        else:
+            h2 = length * length - (ey - sy) ** 2
+            if h2 < -1e-9:
+                d.append(diag("PAL-E210", span, reason=f"D{length:g} ist kürzer als der Y-Weg {abs(ey - sy):g}",
+                              reason_en=f"D{length:g} is shorter than the Y distance {abs(ey - sy):g}"))
+                return None
+            h = math.sqrt(max(h2, 0.0))
+            candidates = [(sx + h, ey), (sx - h, ey)]
+        # H1: the smaller rise angle (counter-clockwise from +X, in [0°, 360°)), H2 the larger (DECISIONS §4)
+        pick = max if int(values.get("H", 1)) == 2 else min
+        ex, ey = pick(candidates, key=lambda p: angle_of((p[0] - sx, p[1] - sy)))
+    return (ex, ey, end[2])
 
 
 def _move(state: ModalState, kind: MoveKind, start: Vec3, end: Vec3, span: Span, spindle_code: str | None,
@@ -351,70 +468,88 @@ def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diag
         d.append(diag("PAL-E302", span))
 
 
-def _arc_centre(setup: RunSetup, position: Vec3, end: Vec3, values: dict[str, float],
-                words: dict[str, list[Word]], clockwise: bool, name: str, span: Span,
-                d: list[Diagnostic]) -> tuple[tuple[float, float], float] | None:
-    """Centre and radius of a G2/G3 arc from end point plus I/J, IA/JA or R (and over-determined forms)."""
+def _arc(setup: RunSetup, position: Vec3, end: Vec3, values: dict[str, float], words: dict[str, list[Word]],
+         clockwise: bool, name: str, span: Span,
+         d: list[Diagnostic]) -> tuple[tuple[float, float], tuple[float, float], float] | None:
+    """Centre, end and radius of a G2/G3 arc from any three of X, Y, I/IA, J/JA, R, AO (a fourth must agree).
+
+    I/J without an end point is a full circle. Of several solutions the sign of R (written out) or
+    else O1/O2 picks the shorter or longer arc, then H1/H2 the smaller or larger start tangent angle.
+    """
     s = (position[0], position[1])
-    e = (end[0], end[1])
-    has_x = any(a in values for a in _AXES[0])
-    has_y = any(a in values for a in _AXES[1])
+    has_x = any(a in words for a in _AXES[0])
+    has_y = any(a in words for a in _AXES[1])
     cx = values["IA"] if "IA" in values else (s[0] + values["I"] if "I" in values else None)
     cy = values["JA"] if "JA" in values else (s[1] + values["J"] if "J" in values else None)
     r_word = words["R"][0] if "R" in words else None
+    radius = abs(values["R"]) if "R" in values else None
+    ao = values.get("AO")
+    given = sum((has_x, has_y, cx is not None, cy is not None, radius is not None, ao is not None))
     tol = setup.arc_tolerance
-    present = [has_x, has_y, cx is not None, cy is not None, r_word is not None]
-    if not has_x and not has_y and cx is not None and cy is not None and r_word is None:
-        e = s  # full circle about the centre (helix if Z moves)
-    elif not (has_x and has_y):
-        if sum(present) >= 3:
-            d.append(_not_supported(span, "Diese Kombination von Kreisadressen",
-                                    "This combination of arc addresses", True))
-        else:
-            d.append(diag("PAL-E203", span, command=name))
-        return None
-    elif sum(present) < 3:
+    full_circle = not has_x and not has_y and cx is not None and cy is not None and ao is None
+    if given < 3 and not full_circle:
         d.append(diag("PAL-E203", span, command=name))
         return None
-
-    full = math.dist(s, e) < 1e-6
-    if r_word is not None:
-        radius = abs(values["R"])
-        if full:
-            d.append(diag("PAL-E205", r_word.span))
-            return None
-        # The sign of R written out wins over O; R+ (or O1) is the shorter arc, R- (or O2) the longer.
-        longer = r_word.raw.startswith("-") or (not r_word.raw.startswith("+") and int(values.get("O", 1)) == 2)
-        if cx is None and cy is None:
-            centre = centre_by_radius(s, e, radius, clockwise, longer)
-            if centre is None:
-                chord = math.dist(s, e)
-                d.append(diag("PAL-E201", r_word.span,
-                              reason=f"Radius {radius:g} mm ist kleiner als die halbe Sehne {chord / 2:.3f} mm",
-                              reason_en=f"radius {radius:g} mm is less than half the chord {chord / 2:.3f} mm"))
-                return None
-            return centre, radius
-        # over-determined: R plus centre data must match one of the radius solutions
-        for c in centres_from_radius(s, e, radius):
-            if (cx is None or abs(c[0] - cx) <= tol) and (cy is None or abs(c[1] - cy) <= tol):
-                return c, radius
-        r_s = math.dist(s, (cx if cx is not None else s[0], cy if cy is not None else s[1]))
-        d.append(diag("PAL-E202", span, r_start=radius, r_end=r_s, tolerance=tol))
+    if r_word is not None and (full_circle or (has_x and has_y and math.dist(s, (end[0], end[1])) < 1e-6)):
+        d.append(diag("PAL-E205", r_word.span))
         return None
-    if cx is not None and cy is not None:
-        centre = (cx, cy)
-    else:
-        found = centre_on_bisector(s, e, cx, cy)
-        if found is None:
-            d.append(diag("PAL-E201", span, reason="kein Mittelpunkt liegt gleich weit von Start- und Endpunkt",
-                              reason_en="no centre lies equally far from start and end point"))
-            return None
-        centre = found
-    r_start, r_end = math.dist(s, centre), math.dist(e, centre)
-    if r_start < 1e-6:
+    if cx is not None and cy is not None and math.dist(s, (cx, cy)) < 1e-6:
         d.append(diag("PAL-E206", span))
         return None
-    if abs(r_start - r_end) > tol:
-        d.append(diag("PAL-E202", span, r_start=round(r_start, 4), r_end=round(r_end, 4), tolerance=tol))
+    solutions = arc_solutions(s, clockwise, end[0] if has_x else None, end[1] if has_y else None, cx, cy,
+                              radius, ao, tol)
+    if given >= 4 or full_circle:
+        if len(solutions) == 1:
+            c, e = solutions[0]
+            return c, e, math.dist(s, c)
+        if cx is not None and cy is not None and has_x and has_y and radius is None and ao is None:
+            r_s, r_e = math.dist(s, (cx, cy)), math.dist((end[0], end[1]), (cx, cy))
+            d.append(diag("PAL-E202", span, r_start=round(r_s, 4), r_end=round(r_e, 4), tolerance=tol))
+        else:
+            d.append(diag("PAL-E202", span, r_start=round(radius or math.dist(s, (cx or s[0], cy or s[1])), 4),
+                          r_end="?", tolerance=tol))
         return None
-    return centre, r_start
+    if not solutions:
+        if radius is not None and has_x and has_y:
+            chord = math.dist(s, (end[0], end[1]))
+            d.append(diag("PAL-E201", r_word.span if r_word else span,
+                          reason=f"Radius {radius:g} mm ist kleiner als die halbe Sehne {chord / 2:.3f} mm",
+                          reason_en=f"radius {radius:g} mm is less than half the chord {chord / 2:.3f} mm"))
+        else:
+            d.append(diag("PAL-E201", span, reason="die angegebenen Adressen passen zu keinem Kreisbogen",
+                          reason_en="the given addresses fit no arc"))
+        return None
+    # The sign of R written out wins over O; R+ (or O1) is the shorter arc, R- (or O2) the longer.
+    if r_word is not None and r_word.raw[:1] in "+-":
+        longer = r_word.raw.startswith("-")
+    else:
+        longer = int(values.get("O", 1)) == 2
+    chosen = choose_arc(s, clockwise, solutions, longer, int(values.get("H", 1)) == 2)
+    assert chosen is not None
+    c, e = chosen
+    return c, e, math.dist(s, c)
+
+
+def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
+    """Side (+1 left, -1 right, 0 off) and effective tool radius (table radius + TR) of `state`."""
+    code = state.active("compensation")
+    side = 1 if code == "G41" else -1 if code == "G42" else 0
+    tool = setup.tools.get(state.tool) if state.tool is not None else None
+    return side, (tool.radius + state.tr) if tool is not None and side else 0.0
+
+
+def _approach_or_departure(setup: RunSetup, state: ModalState, position: Vec3, name: str,
+                           words: dict[str, list[Word]], values: dict[str, float], span: Span,
+                           d: list[Diagnostic]) -> Planned:
+    """G45/G47 (with G41/G42) to the first contour point, or G46/G48 (with G40) off the last one."""
+    end = _target(state, position, values, words, d)
+    z = end[2] if any(a in values for a in _AXES[2]) else None
+    size = values["D"] if name in ("G45", "G46") else values["R"]
+    w = values.get("W")
+    if name in ("G45", "G47"):
+        move = _move(state, "feed" if state.active("motion") != "G0" else "rapid", position, end, span,
+                     state.active("spindle"), exact_stop=False)
+        side, radius = _compensation(setup, state)
+        return Planned(move, side=side, radius=radius, approach=Approach(name, size, w, values.get("E"), z))
+    move = _move(state, "feed", position, position, span, state.active("spindle"), exact_stop=False)
+    return Planned(move, departure=Departure(name, size, w, z))

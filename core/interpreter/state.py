@@ -26,6 +26,7 @@ class ModalState:
     tc: int = 1
     tr: float = 0.0
     tl: float = 0.0
+    pole: tuple[float, float] = (0.0, 0.0)  # of G10–G13: the last one programmed, at first the workpiece zero
 
     def active(self, group: str) -> str | None:
         """The active code of `group`, e.g. active("motion") == "G1"."""
@@ -37,7 +38,7 @@ class ModalState:
 
     def to_json(self) -> dict[str, object]:
         return {"codes": dict(self.codes), "feed": self.feed, "speed": self.speed, "tool": self.tool,
-                "tc": self.tc, "tr": self.tr, "tl": self.tl}
+                "tc": self.tc, "tr": self.tr, "tl": self.tl, "pole": list(self.pole)}
 
 
 def switch_on_state(table: CodeTable) -> ModalState:
