@@ -260,3 +260,16 @@ def test_rn_without_following_contour_element() -> None:
 def test_rn_feed_e_on_the_inserted_element() -> None:
     tp = run(READY + "G0 X0 Y0 Z0\nG1 X10 RN2 E50\nG1 Y10\nM30")
     assert [m.feed for m in tp.moves if m.kind != "rapid"] == [150, 50, 150]
+
+
+def test_compensation_radius_is_offset_memory_plus_tr() -> None:
+    from core.interpreter.state import RunSetup
+    from core.tools import DEFAULT_TOOLS, Tool, ToolOffset
+
+    tools = DEFAULT_TOOLS.with_tool(Tool(8, "end_mill", 10.0, offsets=(ToolOffset(2, 4.9, 80.0),)))
+    program = "T8 TC{tc} TR{tr} M6\nS1000 F100 M3\nG0 X0 Y-20 Z0\nG41 G1 X0 Y0\nG1 X50\nG40 G0 Y50\nM30"
+    for tc, tr, expected in ((1, 0, 5.0), (2, 0, 4.9), (2, 0.1, 5.0), (1, -0.2, 4.8)):
+        tp = run(program.format(tc=tc, tr=tr), setup=RunSetup(tools=tools))
+        assert errors(tp) == []
+        contour = next(m for m in tp.moves if m.line == 5)
+        assert contour.end[1] == pytest.approx(expected), (tc, tr)  # tool left of +X: Y = +radius

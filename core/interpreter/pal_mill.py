@@ -531,11 +531,11 @@ def _arc(setup: RunSetup, position: Vec3, end: Vec3, values: dict[str, float], w
 
 
 def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
-    """Side (+1 left, -1 right, 0 off) and effective tool radius (table radius + TR) of `state`."""
+    """Side (+1 left, -1 right, 0 off) and effective tool radius (offset memory TC + TR) of `state`."""
     code = state.active("compensation")
     side = 1 if code == "G41" else -1 if code == "G42" else 0
     tool = setup.tools.get(state.tool) if state.tool is not None else None
-    return side, (tool.radius + state.tr) if tool is not None and side else 0.0
+    return side, (tool.offset(state.tc).radius + state.tr) if tool is not None and side else 0.0
 
 
 def _approach_or_departure(setup: RunSetup, state: ModalState, position: Vec3, name: str,
