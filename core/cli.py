@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from collections.abc import Sequence
 from importlib.metadata import entry_points
@@ -51,6 +52,8 @@ def _parser() -> argparse.ArgumentParser:
                         help="Werkzeug N ist ein Schaftfräser mit Durchmesser D mm (mehrfach möglich)")
     common.add_argument("--skip-blocks", action="store_true",
                         help="Ausblendsätze (/) überspringen / skip blocks marked with /")
+    common.add_argument("--lib", metavar="DIR",
+                        help="Unterprogramm-Bibliothek: L<n>.nc in DIR ist Unterprogramm L<n> / subprogram library")
     common.add_argument("--json", action="store_true", help="Ausgabe als JSON / output as JSON")
     common.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache der Meldungen / language")
 
@@ -86,10 +89,25 @@ def _format(path: str, d: Diagnostic, lang: str) -> str:
 
 
 def setup_from_args(args: argparse.Namespace, tools: ToolTable = DEFAULT_TOOLS) -> RunSetup:
-    """The run set-up the common options describe (--tool, --skip-blocks)."""
+    """The run set-up the common options describe (--tool, --skip-blocks, --lib)."""
     for tool in args.tool:
         tools = tools.with_tool(tool)
-    return RunSetup(tools=tools, skip_blocks=args.skip_blocks)
+    return RunSetup(tools=tools, skip_blocks=args.skip_blocks, subprograms=read_library(args.lib))
+
+
+def read_library(folder: str | None) -> tuple[tuple[int, str], ...]:
+    """The subprograms of a library folder: file L<n>.nc (any case) is subprogram L<n>."""
+    if folder is None:
+        return ()
+    path = Path(folder)
+    if not path.is_dir():
+        raise UsageError(f"Bibliothek »{folder}« ist kein Ordner / library is not a folder")
+    found = []
+    for f in sorted(path.iterdir()):
+        m = re.fullmatch(r"[lL](\d+)\.nc", f.name, flags=re.IGNORECASE)
+        if m is not None and f.is_file():
+            found.append((int(m.group(1)), read_program(str(f))))
+    return tuple(found)
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -106,10 +124,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             return EXIT_USAGE
     try:
         text = read_program(args.file)
+        setup = setup_from_args(args)
     except UsageError as err:
         print(err, file=sys.stderr)
         return EXIT_USAGE
-    toolpath = run(text, args.dialect, setup_from_args(args))
+    toolpath = run(text, args.dialect, setup)
     diagnostics = toolpath.diagnostics
     if args.command == "check":
         if args.json:

@@ -212,6 +212,25 @@ CATALOGUE: dict[str, Entry] = {
                       "than {limit} cells."),
     "SIM-W003": Entry(W, "Zu viele Simulationsmeldungen; weitere werden nicht angezeigt (höchstens {limit}).",
                       "Too many simulation events; further ones are not shown (at most {limit})."),
+    # --- program flow and transforms ------------------------------------------------------
+    "PAL-E401": Entry(E, "Unterprogramm L{number} ist nicht vorhanden.", "Subprogram L{number} does not exist."),
+    "PAL-E402": Entry(E, "M17 (Unterprogrammende) steht nicht in einem Unterprogramm.",
+                      "M17 (end of subprogram) is not inside a subprogram."),
+    "PAL-E403": Entry(E, "M30 (Programmende) in Unterprogramm L{number}; ein Unterprogramm endet mit M17.",
+                      "M30 (end of program) in subprogram L{number}; a subprogram ends with M17."),
+    "PAL-E404": Entry(E, "Unterprogramm L{number} ruft sich selbst auf (Rekursion).",
+                      "Subprogram L{number} calls itself (recursion)."),
+    "PAL-E405": Entry(E, "Unterprogramme sind zu tief verschachtelt (höchstens {limit} Ebenen).",
+                      "Subprograms are nested too deeply (at most {limit} levels)."),
+    "PAL-E406": Entry(E, "Satznummer N{number} ist im Programm nicht vorhanden.",
+                      "Block number N{number} does not exist in the program."),
+    "PAL-E407": Entry(E, "Der Endsatz N{end} steht vor dem Anfangssatz N{start}.",
+                      "The end block N{end} comes before the start block N{start}."),
+    "PAL-E408": Entry(E, "{command} ist bei aktivem Spiegeln (G66) nicht erlaubt.",
+                      "{command} is not allowed while mirroring (G66) is active."),
+    "PAL-E409": Entry(E, "Unterprogramm L{number} endet ohne M17.", "Subprogram L{number} ends without M17."),
+    "PAL-E410": Entry(E, "Vergleich O{value} gibt es nicht (O1 =, O2 ≠, O3 >, O4 <).",
+                      "Comparison O{value} does not exist (O1 =, O2 ≠, O3 >, O4 <)."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),
@@ -220,7 +239,10 @@ CATALOGUE: dict[str, Entry] = {
 
 @dataclass(frozen=True, slots=True)
 class Diagnostic:
-    """One finding about the program: a stable code, a severity, a source span and its texts."""
+    """One finding about the program: a stable code, a severity, a source span and its texts.
+
+    `source` names the library subprogram (e.g. "L200") the span points into; None: the program file.
+    """
 
     code: str
     severity: Severity
@@ -228,10 +250,11 @@ class Diagnostic:
     message: str
     message_en: str
     params: dict[str, Any] = field(default_factory=dict, compare=False)
+    source: str | None = None
 
     def to_json(self) -> dict[str, Any]:
         s = self.span
-        return {
+        data: dict[str, Any] = {
             "code": self.code,
             "severity": self.severity.value,
             "line": s.line,
@@ -241,6 +264,9 @@ class Diagnostic:
             "message": self.message,
             "message_en": self.message_en,
         }
+        if self.source is not None:
+            data["source"] = self.source
+        return data
 
 
 def diag(code: str, span: Span, severity: Severity | None = None, /, **params: Any) -> Diagnostic:

@@ -5,6 +5,7 @@ The CLI and the server call these functions; they hold no logic of their own.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
@@ -43,8 +44,14 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
     """Parse and interpret `text`; the diagnostics of both stages are in the result, sorted by position."""
     setup = setup or RunSetup()
     d = DIALECTS[dialect]
-    program, diagnostics = parser_for(d.grammar).parse_program(text, setup.limits)
-    toolpath = interpret(program, d.table, d.execute, setup, diagnostics)
+    parser = parser_for(d.grammar)
+    program, diagnostics = parser.parse_program(text, setup.limits)
+    library = {}
+    for number, sub_text in setup.subprograms:
+        sub, sub_diagnostics = parser.parse_program(sub_text, setup.limits)
+        library[number] = sub
+        diagnostics += [dataclasses.replace(x, source=f"L{number}") for x in sub_diagnostics]
+    toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library)
     toolpath.diagnostics.sort(key=lambda x: (x.span.line, x.span.column))
     return toolpath
 

@@ -49,6 +49,8 @@ class Move:
     angle: float | None = None
     exact_stop: bool = False
     programmed_end: Vec3 | None = None  # the contour point before compensation (None: same as end)
+    source: str | None = None  # the library subprogram of the block ("L200"); None: the program file
+    call_stack: tuple[tuple[str | None, int], ...] = ()  # calling blocks (source, line), outermost first
 
     @property
     def line(self) -> int:
@@ -72,6 +74,8 @@ class Move:
             "tool": self.tool,
             "exact_stop": self.exact_stop,
             "programmed_end": _v(self.programmed_end if self.programmed_end is not None else self.end),
+            "source": self.source,
+            "call_stack": [{"source": src, "line": line} for src, line in self.call_stack],
         }
 
 

@@ -7,6 +7,8 @@ dialect's block executor (core/interpreter/pal_mill.py).
 
 from __future__ import annotations
 
+import dataclasses
+import re
 from dataclasses import dataclass, field
 from typing import Protocol
 
@@ -34,6 +36,12 @@ class BlockOutcome(Protocol):
     def diagnostics(self) -> list[Diagnostic]: ...
     @property
     def ended(self) -> bool: ...
+    @property
+    def sub_end(self) -> bool: ...
+    @property
+    def flow(self) -> tuple[str, int, int] | None: ...
+    @property
+    def repeat(self) -> tuple[int, int, int] | None: ...
 
 
 @dataclass(slots=True)
@@ -61,57 +69,222 @@ class Toolpath:
         return self.line_states[i], self.line_positions[i]
 
 
+@dataclass(slots=True)
+class Unit:
+    """One program of a run: the main program or a subprogram L<number>."""
+
+    number: int | None  # None: the main program
+    source: str | None  # None: the program file; "L200": a file of the program library
+    blocks: list[Block]
+    numbers: dict[int, int] = field(default_factory=dict)  # block number N → index of its first block
+
+    def __post_init__(self) -> None:
+        for i, b in enumerate(self.blocks):
+            if b.number is not None:
+                self.numbers.setdefault(b.number, i)
+
+    @property
+    def name(self) -> str:
+        return "Hauptprogramm" if self.number is None else f"L{self.number}"
+
+
+_SUB_HEADER = re.compile(r"L\s*(\d+)")
+
+
+def split_units(program: Program) -> tuple[Unit, dict[int, Unit]]:
+    """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header."""
+    main: list[Block] = []
+    subs: dict[int, Unit] = {}
+    current = main
+    for b in program.blocks:
+        m = _SUB_HEADER.fullmatch(b.header or "")
+        if m is not None:
+            current = []
+            subs.setdefault(int(m.group(1)), Unit(int(m.group(1)), None, current))
+            continue
+        current.append(b)
+    for u in subs.values():
+        u.__post_init__()
+    return Unit(None, None, main), subs
+
+
+@dataclass(slots=True)
+class _Call:
+    unit: Unit  # the caller
+    return_index: int
+    callee: Unit
+    remaining: int  # runs of the callee still to come after this one
+    line: int  # the calling block
+    source: str | None
+
+
+@dataclass(slots=True)
+class _Repeat:
+    unit: Unit
+    start: int
+    end: int
+    remaining: int
+    return_index: int
+
+
 def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup: RunSetup,
-              diagnostics: list[Diagnostic] | None = None) -> Toolpath:
-    """Execute every block of `program`; never raises on user input."""
+              diagnostics: list[Diagnostic] | None = None, library: dict[int, Program] | None = None) -> Toolpath:
+    """Execute the program from its first block, following calls, repeats and jumps; never raises on user input."""
     limits = setup.limits
     result = Toolpath(diagnostics=list(diagnostics or []))
     diags = result.diagnostics
     state = result.initial = switch_on_state(table)
     position = setup.start
     params = result.params
-    ended_at: int | None = None
-    warned_after_end = False
+    main, subs = split_units(program)
+    for number, prog in (library or {}).items():
+        subs.setdefault(number, Unit(number, f"L{number}", prog.blocks))
+    n_lines = len(program.blocks)
+    states: list[ModalState | None] = [None] * n_lines
+    positions: list[Vec3 | None] = [None] * n_lines
+    planned: list[Planned | Dwell | ToolChange] = []
+    calls: list[_Call] = []
+    repeats: list[_Repeat] = []
+    unit, index = main, 0
+    ended = False
     executed = 0
     last_line = 0
-    states, positions = result.line_states, result.line_positions
-    planned: list[Planned | Dwell | ToolChange] = []
-    for block in program.blocks:
-        if block.ok and not block.is_empty and block.header is None:
+
+    def report(d: Diagnostic) -> None:
+        diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
+
+    while True:
+        if index >= len(unit.blocks):
+            if not calls:
+                break
+            report(diag("PAL-E409", Span(unit.blocks[-1].line if unit.blocks else 1, 1, 1, 1),
+                        number=unit.number))
+            frame = calls.pop()
+            unit, index = frame.unit, frame.return_index
+            continue
+        block = unit.blocks[index]
+        here = index
+        index += 1
+        if not block.ok or block.is_empty or block.header is not None:
+            continue
+        if unit is main:
             last_line = block.line
-            if ended_at is not None:
-                if not warned_after_end:
-                    diags.append(diag("PAL-W101", block.span))
-                    warned_after_end = True
-            elif block.skip is None or not setup.skip_blocks:
-                executed += 1
-                if executed > limits.max_executed_blocks:
-                    diags.append(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
-                    ended_at = block.line  # stopped: a missing M30 is no news
-                    break
-                out = execute(setup, state, position, block, params)
-                planned.extend(out.commands)
-                if out.diagnostics:
-                    diags.extend(out.diagnostics)
-                state, position = out.state, out.position
-                if out.ended:
-                    ended_at = block.line
-        states.append(state)
-        positions.append(position)
-    if ended_at is None and (program.blocks or not diags):  # a rejected program needs no second word
+        if block.skip is not None and setup.skip_blocks:
+            continue
+        executed += 1
+        if executed > limits.max_executed_blocks:
+            report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
+            ended = True  # stopped: a missing M30 is no news
+            break
+        out = execute(setup, state, position, block, params)
+        if calls:
+            stack = tuple((c.source, c.line) for c in calls)
+            for c in out.commands:
+                if isinstance(c, Planned):
+                    c.move = dataclasses.replace(c.move, source=unit.source, call_stack=stack)
+        planned.extend(out.commands)
+        for d in out.diagnostics:
+            report(d)
+        state, position = out.state, out.position
+        if unit.source is None:
+            states[block.line - 1] = state
+            positions[block.line - 1] = position
+        # -- program flow -----------------------------------------------------------------------
+        if out.flow is not None and out.flow[0] == "call":
+            number, count = out.flow[1], out.flow[2]
+            callee = subs.get(number)
+            if callee is None:
+                report(diag("PAL-E401", block.span, number=number))
+            elif callee is unit or any(c.callee is callee for c in calls):
+                report(diag("PAL-E404", block.span, number=number))
+            elif len(calls) >= setup.max_call_depth:
+                report(diag("PAL-E405", block.span, limit=setup.max_call_depth))
+            elif count >= 1:
+                calls.append(_Call(unit, index, callee, count - 1, block.line, unit.source))
+                unit, index = callee, 0
+            continue
+        if out.flow is not None:  # a G29 jump that is taken
+            target = unit.numbers.get(out.flow[1])
+            if target is None:
+                report(diag("PAL-E406", block.span, number=out.flow[1]))
+            else:
+                index = target
+            continue
+        if out.repeat is not None:
+            first, last, count = out.repeat
+            start, end = unit.numbers.get(first), unit.numbers.get(last)
+            if start is None or end is None:
+                report(diag("PAL-E406", block.span, number=first if start is None else last))
+            elif end < start:
+                report(diag("PAL-E407", block.span, start=first, end=last))
+            elif count >= 1:
+                repeats.append(_Repeat(unit, start, end, count, index))
+                index = start
+            continue
+        if repeats and repeats[-1].unit is unit and repeats[-1].end == here:
+            top = repeats[-1]
+            top.remaining -= 1
+            if top.remaining > 0:
+                index = top.start
+            else:
+                repeats.pop()
+                index = top.return_index
+        if out.sub_end:
+            if not calls:
+                report(diag("PAL-E402", block.span))
+            else:
+                frame = calls[-1]
+                if frame.remaining > 0:
+                    frame.remaining -= 1
+                    index = 0
+                else:
+                    calls.pop()
+                    unit, index = frame.unit, frame.return_index
+            continue
+        if out.ended:
+            if calls:
+                report(diag("PAL-E403", block.span, number=unit.number))
+            ended = True
+            rest = next((b for b in unit.blocks[index:] if b.ok and not b.is_empty and b.header is None), None)
+            if unit is main and rest is not None:
+                diags.append(diag("PAL-W101", rest.span))
+            break
+    if not ended and (program.blocks or not diags):  # a rejected program needs no second word
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     result.commands = finish(planned, diags)
-    for c in result.commands:
-        if type(c) is Move:
-            result.moves.append(c)
-        elif type(c) is Dwell:
-            result.dwells.append(c)
+    for command in result.commands:
+        if type(command) is Move:
+            result.moves.append(command)
+        elif type(command) is Dwell:
+            result.dwells.append(command)
+        elif type(command) is ToolChange:
+            result.tool_changes.append(command)
+    # lines not executed hold the state of the line before them
+    current_state, current_position = result.initial, setup.start
+    for i in range(n_lines):
+        if states[i] is None:
+            states[i], positions[i] = current_state, current_position
         else:
-            result.tool_changes.append(c)  # type: ignore[arg-type]
+            current_state, current_position = states[i], positions[i]  # type: ignore[assignment]
+    result.line_states = states  # type: ignore[assignment]
+    result.line_positions = positions  # type: ignore[assignment]
+    _dedupe(diags)
     if len(diags) > limits.max_diagnostics:
         cut = diags[limits.max_diagnostics - 1]
         del diags[limits.max_diagnostics - 1:]
         diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
     result.final_position = position
     return result
+
+
+def _dedupe(diags: list[Diagnostic]) -> None:
+    """A block run many times (loops, subprograms) reports each finding once."""
+    seen: set[tuple[str, Span, str | None]] = set()
+    keep = []
+    for d in diags:
+        key = (d.code, d.span, d.source)
+        if key not in seen:
+            seen.add(key)
+            keep.append(d)
+    diags[:] = keep

@@ -19,6 +19,7 @@ from core.dialects.pal_mill import TABLE, TOOL_WORDS
 from core.geometry.arcs import arc_solutions, choose_arc, sweep
 from core.geometry.elements import angle_of
 from core.interpreter.contour import Approach, Departure, Planned
+from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
 from core.interpreter.state import ModalState, RunSetup
 from core.syntax.blocks import Block, Span, Word
@@ -43,6 +44,9 @@ class Outcome:
     commands: list[Command] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     ended: bool = False  # M30 executed
+    sub_end: bool = False  # M17 executed
+    flow: tuple[str, int, int] | None = None  # ("call", L, H) for G22, ("jump", N, 0) for a G29 taken
+    repeat: tuple[int, int, int] | None = None  # G23: start N, end N, count H
 
 
 def execute_block(
@@ -186,6 +190,21 @@ def execute_block(
             d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
     if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
         d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
+    if owner is not None and owner.name in ("G58", "G59") and (state.frame.mirror_x or state.frame.mirror_y):
+        d.append(diag("PAL-E408", owner_word.span if owner_word else span, command=owner.name))
+    if owner is not None and owner.name == "G58" and ("RP" in words) != ("AP" in words):
+        d.append(diag("PAL-E102", owner_word.span if owner_word else span,
+                      address="AP" if "RP" in words else "RP", command="G58"))
+    if owner is not None and owner.name == "G29" and "P" in words:
+        if len(words["P"]) != 2 or "O" not in values:
+            d.append(diag("PAL-E102", owner_word.span if owner_word else span, address="P O P", command="G29"))
+        elif values["O"] not in (1, 2, 3, 4):
+            d.append(diag("PAL-E410", words["O"][0].span, value=words["O"][0].raw))
+        for w in words["P"]:
+            if w.value is not None and not 1 <= w.value <= 999:
+                d.append(diag("PAL-E113", w.span, number=w.raw))
+    if owner is not None and owner.name == "G23" and len(words.get("N", ())) != 2:
+        d.append(diag("PAL-E102", owner_word.span if owner_word else span, address="N N", command="G23"))
     if any(c.name == "G70" for _, c in gs):
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
 
@@ -222,7 +241,10 @@ def execute_block(
         codes = {**codes, **changes}
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
-        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole)
+        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame)
+    frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
+    if frame is not state.frame:
+        state = dataclasses.replace(state, frame=frame)
     if "T" in values:
         out.commands.append(ToolChange(tool, tc, tr, tl, position, span))
     if changes.get("spindle") in ("M3", "M4") and speed == 0:
@@ -239,19 +261,34 @@ def execute_block(
                 seconds = values["U"] * 60.0 / state.speed
         out.commands.append(Dwell(position, seconds, span))
     elif owner is not None and owner.name in ("G45", "G46", "G47", "G48"):
-        planned = _approach_or_departure(setup, state, position, owner.name, words, values, span, d)
+        planned = _approach_or_departure(setup, state, state.frame.to_program(position), owner.name, words,
+                                         values, span, d)
+        planned.move = state.frame.map_move(planned.move)
+        planned.side = -planned.side if state.frame.flips else planned.side
         out.commands.append(planned)
         position = planned.move.end
     elif motion is not None and words.keys() & _GEOMETRY_WORDS:
         exact = "G9" in in_block
-        move, pole = _motion(setup, state, position, motion.name, words, values, span, exact, d)
+        frame = state.frame
+        here = position if frame.identity else frame.to_program(position)
+        move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, d)
         if pole is not None and pole != state.pole:
             state = dataclasses.replace(state, pole=pole)
         if move is not None:
+            move = frame.map_move(move)
+            side, radius = _compensation(setup, state)
             rn = values.get("RN", 0.0)
             out.commands.append(Planned(move, rn, words["RN"][0].raw if "RN" in words else "", values.get("E"),
-                                        *_compensation(setup, state)))
+                                        -side if frame.flips else side, radius))
             position = move.end
+    elif owner is not None and owner.name == "G22":
+        out.flow = ("call", int(values["L"]), int(values.get("H", 1)))
+    elif owner is not None and owner.name == "G23":
+        first_n, last_n = (int(n.value or 0) for n in words["N"])
+        out.repeat = (first_n, last_n, int(values.get("H", 1)))
+    elif (owner is not None and owner.name == "G29"
+          and ("P" not in words or _compare(new_params, words["P"], int(values["O"])))):
+        out.flow = ("jump", int(values["N"]), 0)
 
     # -- block end: M5, M9, M30 ---------------------------------------------------------------
     ends = {g: m for _, c in ms for m in TABLE.activates(c) if (g := TABLE.group_of[m]) and m in _END_OF_BLOCK}
@@ -260,11 +297,44 @@ def execute_block(
     for w, code in ms:
         if code.name == "M30":
             out.ended = True
+        elif code.name == "M17":
+            out.sub_end = True
     if new_params is not params:
         params.clear()
         params.update(new_params)
     out.state, out.position = state, position
     return out
+
+
+def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
+    """The condition of G29 P<a> O<op> P<b>: O1 =, O2 ≠, O3 >, O4 <."""
+    a, b = (params.get(int(w.value or 0), 0.0) for w in operands)
+    return (a == b, a != b, a > b, a < b)[op - 1]
+
+
+def _frame(setup: RunSetup, frame: Frame, zero: str | None, owner: Code | None, words: dict[str, list[Word]],
+           values: dict[str, float]) -> Frame:
+    """The frame after this block's G53–G59, G50 and G66 (in that order)."""
+    if zero is not None:
+        # a zero point (G54–G57) or machine coordinates (G53) cancels shifts, rotations and mirroring
+        g54 = setup.zero_offset("G54")
+        base = setup.zero_offset(zero) if zero != "G53" else (0.0, 0.0, 0.0)
+        new = Frame(base=(base[0] - g54[0], base[1] - g54[1], base[2] - g54[2]))
+        frame = frame if new == frame else new
+    if owner is None:
+        return frame
+    if owner.name == "G50":
+        return Frame(base=frame.base)
+    if owner.name == "G58":
+        rp, ap = values.get("RP", 0.0), math.radians(values.get("AP", 0.0))
+        return frame.shifted(rp * math.cos(ap), rp * math.sin(ap), values.get("ZA", 0.0), values.get("AR", 0.0))
+    if owner.name == "G59":
+        return frame.shifted(values.get("XA", 0.0), values.get("YA", 0.0), values.get("ZA", 0.0),
+                             values.get("AR", 0.0))
+    if owner.name == "G66":
+        # G66 X mirrors about the X axis: Y changes sign; G66 Y: X changes sign; G66 alone: off
+        return dataclasses.replace(frame, mirror_x="Y" in words, mirror_y="X" in words)
+    return frame
 
 
 def _in_range(value: float, address: str, span: Span, setup: RunSetup, d: list[Diagnostic]) -> bool:

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from core.dialects.codes import CodeTable
+from core.interpreter.frames import IDENTITY, Frame
 from core.limits import DEFAULT_LIMITS, Limits
 from core.toolpath import Vec3
 from core.tools import DEFAULT_TOOLS, ToolTable
@@ -27,6 +28,7 @@ class ModalState:
     tr: float = 0.0
     tl: float = 0.0
     pole: tuple[float, float] = (0.0, 0.0)  # of G10–G13: the last one programmed, at first the workpiece zero
+    frame: Frame = IDENTITY  # how program coordinates map into the workpiece frame (G53–G59, G66)
 
     def active(self, group: str) -> str | None:
         """The active code of `group`, e.g. active("motion") == "G1"."""
@@ -38,7 +40,9 @@ class ModalState:
 
     def to_json(self) -> dict[str, object]:
         return {"codes": dict(self.codes), "feed": self.feed, "speed": self.speed, "tool": self.tool,
-                "tc": self.tc, "tr": self.tr, "tl": self.tl, "pole": list(self.pole)}
+                "tc": self.tc, "tr": self.tr, "tl": self.tl, "pole": list(self.pole),
+                "frame": {"origin": list(self.frame.origin), "rotation": self.frame.rotation,
+                          "mirror_x": self.frame.mirror_x, "mirror_y": self.frame.mirror_y}}
 
 
 def switch_on_state(table: CodeTable) -> ModalState:
@@ -56,3 +60,10 @@ class RunSetup:
     start: Vec3 = (250.0, 150.0, 250.0)  # the tool-change position the PAL examples end at
     arc_tolerance: float = 0.01  # mm: end-point radius may differ this much from the start radius
     tool_changer: Literal["pickup"] = "pickup"
+    # machine coordinates of the settable zero points G54…G57 (from the machine or exercise set-up)
+    zero_offsets: tuple[tuple[str, Vec3], ...] = ()
+    subprograms: tuple[tuple[int, str], ...] = ()  # program library: L number → program text
+    max_call_depth: int = 8  # subprogram nesting (DECISIONS §7)
+
+    def zero_offset(self, code: str) -> Vec3:
+        return dict(self.zero_offsets).get(code, (0.0, 0.0, 0.0))
