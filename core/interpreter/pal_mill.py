@@ -150,10 +150,11 @@ def execute_block(
     if owner is not None and owner.alone and len(gs) + len(ms) > 1:
         other = next(w for w, c in gs + ms if c is not owner)
         d.append(diag("PAL-E101", other.span, address=str(other), command=command_name))
-    for spellings in _AXES:
-        present = [s for s in spellings if s in words]
-        if len(present) > 1:
-            d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
+    if len(words) > 1:  # an axis may be given in two spellings
+        for spellings in _AXES:
+            present = [s for s in spellings if s in words]
+            if len(present) > 1:
+                d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
     for w, code in gs:
         for one_of in code.required:
             if not any(a in words for a in one_of):
@@ -172,43 +173,25 @@ def execute_block(
         for a in ("K", "KA"):
             if a in words:
                 d.append(diag("PAL-E204", words[a][0].span, address=a))
-    if any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
+    if ms and any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
         d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
     in_block = {c.name for _, c in gs}
-    compensating = state.active("compensation") in ("G41", "G42")
+    compensating = state.codes["compensation"] != "G40"
     if compensating and "G40" not in in_block:
         for a in ("T", "TC", "TR", "TL"):
             if a in words:
                 d.append(diag("PAL-E216", words[a][0].span, address=a))
-    for code_name, needed in (("G45", ("G41", "G42")), ("G47", ("G41", "G42")), ("G46", ("G40",)),
-                              ("G48", ("G40",))):
-        if code_name in in_block and not in_block.intersection(needed):
-            d.append(diag("PAL-E219", next(w.span for w, c in gs if c.name == code_name), command=code_name,
-                          needed=" oder ".join(needed)))
-    for a in ("D", "AO", "R") if owner is not None and owner.name in ("G45", "G46", "G47", "G48") else ("D", "AO"):
+    if owner is not None and owner.name in _CHECKED_OWNERS:
+        _check_owner(owner, owner_word or gs[0][0], in_block, words, values, state, d)
+    for a in ("D", "AO"):
         if a in values and values[a] <= 0:
             d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
     if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
         d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
-    if owner is not None and owner.name in ("G58", "G59") and (state.frame.mirror_x or state.frame.mirror_y):
-        d.append(diag("PAL-E408", owner_word.span if owner_word else span, command=owner.name))
-    if owner is not None and owner.name == "G58" and ("RP" in words) != ("AP" in words):
-        d.append(diag("PAL-E102", owner_word.span if owner_word else span,
-                      address="AP" if "RP" in words else "RP", command="G58"))
-    if owner is not None and owner.name == "G29" and "P" in words:
-        if len(words["P"]) != 2 or "O" not in values:
-            d.append(diag("PAL-E102", owner_word.span if owner_word else span, address="P O P", command="G29"))
-        elif values["O"] not in (1, 2, 3, 4):
-            d.append(diag("PAL-E410", words["O"][0].span, value=words["O"][0].raw))
-        for w in words["P"]:
-            if w.value is not None and not 1 <= w.value <= 999:
-                d.append(diag("PAL-E113", w.span, number=w.raw))
-    if owner is not None and owner.name == "G23" and len(words.get("N", ())) != 2:
-        d.append(diag("PAL-E102", owner_word.span if owner_word else span, address="N N", command="G23"))
-    if any(c.name == "G70" for _, c in gs):
+    if gs and any(c.name == "G70" for _, c in gs):
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
 
-    if any(x.severity is Severity.ERROR for x in d):
+    if d and any(x.severity is Severity.ERROR for x in d):
         return out  # the block is not executed; the state stays as it was
 
     # -- what is not implemented yet -------------------------------------------------------
@@ -242,9 +225,10 @@ def execute_block(
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
         state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame)
-    frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
-    if frame is not state.frame:
-        state = dataclasses.replace(state, frame=frame)
+    if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
+        frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
+        if frame is not state.frame:
+            state = dataclasses.replace(state, frame=frame)
     if "T" in values:
         out.commands.append(ToolChange(tool, tc, tr, tl, position, span))
     if changes.get("spindle") in ("M3", "M4") and speed == 0:
@@ -304,6 +288,35 @@ def execute_block(
         params.update(new_params)
     out.state, out.position = state, position
     return out
+
+
+_CHECKED_OWNERS = frozenset({"G23", "G29", "G45", "G46", "G47", "G48", "G58", "G59"})
+
+
+def _check_owner(owner: Code, owner_word: Word, in_block: set[str], words: dict[str, list[Word]],
+                 values: dict[str, float], state: ModalState, d: list[Diagnostic]) -> None:
+    """The rules of the block-owning codes that a table of allowed words cannot say."""
+    name, span = owner.name, owner_word.span
+    needed = {"G45": ("G41", "G42"), "G47": ("G41", "G42"), "G46": ("G40",), "G48": ("G40",)}.get(name)
+    if needed is not None:
+        if not in_block.intersection(needed):
+            d.append(diag("PAL-E219", span, command=name, needed=" oder ".join(needed)))
+        if "R" in values and values["R"] <= 0:
+            d.append(diag("PAL-E213", words["R"][0].span, address="R", raw=words["R"][0].raw))
+    if name in ("G58", "G59") and (state.frame.mirror_x or state.frame.mirror_y):
+        d.append(diag("PAL-E408", span, command=name))
+    if name == "G58" and ("RP" in words) != ("AP" in words):
+        d.append(diag("PAL-E102", span, address="AP" if "RP" in words else "RP", command="G58"))
+    if name == "G29" and "P" in words:
+        if len(words["P"]) != 2 or "O" not in values:
+            d.append(diag("PAL-E102", span, address="P O P", command="G29"))
+        elif values["O"] not in (1, 2, 3, 4):
+            d.append(diag("PAL-E410", words["O"][0].span, value=words["O"][0].raw))
+        for w in words["P"]:
+            if w.value is not None and not 1 <= w.value <= 999:
+                d.append(diag("PAL-E113", w.span, number=w.raw))
+    if name == "G23" and len(words.get("N", ())) != 2:
+        d.append(diag("PAL-E102", span, address="N N", command="G23"))
 
 
 def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
