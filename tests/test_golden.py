@@ -1,0 +1,37 @@
+"""Golden traces: every seed program's canonical commands and diagnostics, one line each.
+
+The expected files were checked against the seeds' published numbers (see test_contour.py,
+test_seed_arcs.py, test_flow.py); this test keeps every other coordinate from drifting.
+Regenerate after an intended change with `UPDATE_GOLDEN=1 pytest tests/test_golden.py` and
+review the diff.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from core.pipeline import run
+from core.trace import trace_lines
+
+ROOT = Path(__file__).parents[1]
+PROGRAMS = sorted((ROOT / "tests" / "seeds").glob("*.nc")) + sorted((ROOT / "exercises").rglob("*.nc"))
+GOLDEN = Path(__file__).with_name("golden")
+
+
+def render(path: Path) -> str:
+    tp = run(path.read_text(encoding="utf-8"))
+    lines = trace_lines(tp) + [f"! {d.code} {d.span.line}:{d.span.column}" for d in tp.diagnostics]
+    return "\n".join(lines) + "\n"
+
+
+@pytest.mark.parametrize("path", PROGRAMS, ids=[p.stem for p in PROGRAMS])
+def test_golden_trace(path: Path) -> None:
+    expected = GOLDEN / f"{path.stem}.trace"
+    actual = render(path)
+    if os.environ.get("UPDATE_GOLDEN") == "1":
+        expected.write_text(actual, encoding="utf-8")
+    assert expected.exists(), f"no golden trace for {path.name}: run with UPDATE_GOLDEN=1"
+    assert actual == expected.read_text(encoding="utf-8")
