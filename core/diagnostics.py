@@ -112,9 +112,9 @@ CATALOGUE: dict[str, Entry] = {
                          "(I/J oder IA/JA) oder Radius R.",
                       "Arc is underdetermined: {command} needs an end point and a centre (I/J or IA/JA) "
                       "or a radius R."),
-    "PAL-E204": Entry(E, "{address} ist in der Ebene G17 nicht erlaubt; der Mittelpunkt wird mit I/J "
-                         "bzw. IA/JA angegeben.",
-                      "{address} is not allowed in plane G17; give the centre with I/J or IA/JA."),
+    "PAL-E204": Entry(E, "{address} ist in der Ebene {plane} nicht erlaubt; der Mittelpunkt wird mit {centre} "
+                         "angegeben.",
+                      "{address} is not allowed in plane {plane}; give the centre with {centre}."),
     "PAL-E205": Entry(E, "Ein Vollkreis lässt sich nicht mit R programmieren; Mittelpunkt mit I/J angeben.",
                       "A full circle cannot be programmed with R; give the centre with I/J."),
     "PAL-E206": Entry(E, "Kreisbogen mit Radius 0: der Mittelpunkt liegt auf dem Startpunkt.",

@@ -3,8 +3,9 @@
 Coordinates are workpiece coordinates in mm; angles in degrees. A `Move` is a straight rapid
 move, a straight feed move or an arc (helix when Z changes). `end` is where the tool centre goes; `programmed_end` the contour
 point the program gave before cutter radius compensation (the same without compensation). Arcs stay arcs: linearising them
-is the consumer's job. For an arc, `center` is the centre at the start's Z, `direction` is "cw"
-or "ccw" as seen from +Z (plane G17), `radius` is the distance start–centre in the plane and
+is the consumer's job. For an arc, `center` is the centre at the start's height along the plane's
+third axis, `direction` is "cw" or "ccw" as seen from that axis (+Z for the plane G17; `plane` says
+which), `radius` is the distance start–centre in the plane and
 `angle` the swept angle (360 for a full circle). `feed` is in mm/min under G94 and mm per
 revolution under G95 (`feed_unit`). `spindle` is the programmed speed S while the spindle
 turns and 0 while it stands. Every command carries the span of the block that made it.
@@ -48,6 +49,7 @@ class Move:
     radius: float | None = None
     angle: float | None = None
     exact_stop: bool = False
+    plane: str = "G17"  # the arc's plane: G17 X-Y, G18 Z-X, G19 Y-Z (direction seen from its third axis)
     programmed_end: Vec3 | None = None  # the contour point before compensation (None: same as end)
     source: str | None = None  # the library subprogram of the block ("L200"); None: the program file
     call_stack: tuple[tuple[str | None, int], ...] = ()  # calling blocks (source, line), outermost first
@@ -73,6 +75,7 @@ class Move:
             "coolant": self.coolant,
             "tool": self.tool,
             "exact_stop": self.exact_stop,
+            "plane": self.plane,
             "programmed_end": _v(self.programmed_end if self.programmed_end is not None else self.end),
             "source": self.source,
             "call_stack": [{"source": src, "line": line} for src, line in self.call_stack],

@@ -65,10 +65,13 @@ class CodeTable:
     addresses: dict[str, Address]
     groups: tuple[Group, ...]
     always_allowed: frozenset[str]  # addresses allowed in every block
+    tool_words: frozenset[str] = frozenset({"T"})  # the words of a tool change
     group_of: dict[str, str] = field(init=False)
+    technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "group_of", {m: g.name for g in self.groups for m in g.members})
+        object.__setattr__(self, "technology_words", self.always_allowed | self.tool_words)
 
     def activates(self, code: Code) -> tuple[str, ...]:
         """The modal group members that `code` switches on."""

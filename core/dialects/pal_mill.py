@@ -176,4 +176,5 @@ TABLE = CodeTable(
     addresses={a.name: a for a in _ADDRESSES},
     groups=GROUPS,
     always_allowed=frozenset({"F", "S", "M"}),
+    tool_words=TOOL_WORDS,
 )

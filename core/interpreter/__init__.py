@@ -14,7 +14,7 @@ from typing import Protocol
 
 from core.diagnostics import Diagnostic, diag
 from core.dialects.codes import CodeTable
-from core.interpreter.contour import Planned, finish
+from core.interpreter.contour import Item, Planned, finish
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.syntax.blocks import Block, Program, Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
@@ -31,7 +31,7 @@ class BlockOutcome(Protocol):
     @property
     def position(self) -> Vec3: ...
     @property
-    def commands(self) -> list[Planned | Dwell | ToolChange]: ...
+    def commands(self) -> list[Item]: ...
     @property
     def diagnostics(self) -> list[Diagnostic]: ...
     @property
@@ -142,7 +142,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     n_lines = len(program.blocks)
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines
-    planned: list[Planned | Dwell | ToolChange] = []
+    planned: list[Item] = []
     calls: list[_Call] = []
     repeats: list[_Repeat] = []
     unit, index = main, 0

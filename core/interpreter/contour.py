@@ -21,6 +21,7 @@ from core.geometry.elements import (
     Transition,
     add,
     chamfer,
+    dot,
     end_tangent,
     intersections,
     left,
@@ -32,6 +33,8 @@ from core.geometry.elements import (
     with_end,
     with_start,
 )
+from core.geometry.planes import from_plane, to_plane
+from core.syntax.blocks import Span
 from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 
 
@@ -68,6 +71,9 @@ class Planned:
     radius: float = 0.0  # effective tool radius (table + TR)
     approach: Approach | None = None
     departure: Departure | None = None
+    chamfer_by_length: bool = False  # a negative rn is the chamfer's own length (Beckhoff #CHF)
+    rapid_ok: bool = False  # the transition may join rapid moves (Beckhoff G301/G302)
+    blend_span: Span | None = None  # the block that asked for the transition, when not this one
 
     @property
     def in_plane(self) -> bool:
@@ -112,46 +118,113 @@ def _z_at(m: Move) -> tuple[float, float]:
 
 # -- stage 1: transition elements RN ---------------------------------------------------------
 
-def insert_transitions(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Planned | Dwell | ToolChange]:
-    """Put RN roundings and chamfers into the programmed contour."""
-    out: list[Planned | Dwell | ToolChange] = list(items)
+@dataclass(frozen=True, slots=True)
+class Blend:
+    """A chamfer or rounding programmed in a block of its own (Beckhoff G301/G302) for the corner
+    between the motion blocks before and after it."""
+
+    size: float  # > 0 rounding radius, < 0 chamfer width
+    raw: str
+    feed: float | None
+    span: Span
+
+
+Item = Planned | Dwell | ToolChange | Blend
+
+
+def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
+    """Put RN roundings and chamfers into the programmed contour, in the plane of the second element."""
+    out: list[Item] = []
+    for item in items:  # a Blend block applies to the end of the motion before it
+        if isinstance(item, Blend):
+            prev = next((k for k in range(len(out) - 1, -1, -1) if isinstance(out[k], Planned)), None)
+            if prev is None:
+                d.append(diag("PAL-E209", item.span, line=item.span.line))
+            else:
+                before = out[prev]
+                assert isinstance(before, Planned)
+                out[prev] = dataclasses.replace(before, rn=item.size, rn_raw=item.raw, rn_feed=item.feed,
+                                                rapid_ok=True, blend_span=item.span)
+            continue
+        out.append(item)
     i = 0
     while i < len(out):
         p = out[i]
-        if not isinstance(p, Planned) or p.rn == 0 or not p.in_plane:
+        if not isinstance(p, Planned) or p.rn == 0:
             i += 1
             continue
         j = i + 1
         while j < len(out) and not isinstance(out[j], Planned):
             j += 1
         nxt = out[j] if j < len(out) else None
-        if not isinstance(nxt, Planned) or not nxt.is_contour or nxt.side != p.side:
-            d.append(diag("PAL-E209", p.move.span, line=p.move.span.line))
+        where = p.blend_span or p.move.span
+        if (not isinstance(nxt, Planned) or not nxt.in_plane or nxt.side != p.side
+                or not (nxt.is_contour or p.rapid_ok)):
+            d.append(diag("PAL-E209", where, line=where.line))
             i += 1
             continue
-        e1, e2 = element_of(p.move), element_of(nxt.move)
-        t: Transition | None = rounding(e1, e2, p.rn) if p.rn > 0 else chamfer(e1, e2, -p.rn)
+        plane = nxt.move.plane
+        first_move, next_move = to_plane_move(p.move, plane), to_plane_move(nxt.move, plane)
+        e1, e2 = element_of(first_move), element_of(next_move)
+        t: Transition | None = None
+        if not _in_plane(first_move):
+            why, why_en = f"der Satz davor liegt nicht in der Ebene {plane}", f"the block before is not in plane {plane}"
+        elif p.rn > 0:
+            t = rounding(e1, e2, p.rn)
+        else:
+            width = -p.rn
+            if p.chamfer_by_length:  # the chamfer's own length → its legs along the elements
+                cos_half = math.cos(math.acos(max(-1.0, min(1.0, dot(end_tangent(e1), start_tangent(e2))))) / 2)
+                width = width / (2 * cos_half) if cos_half > 1e-9 else math.inf
+            t = chamfer(e1, e2, width)
         if t is None:
-            if turn(e1, e2) == 0.0:
+            if _in_plane(first_move) and turn(e1, e2) == 0.0:
                 why, why_en = "die Elemente gehen tangential ineinander über", "the elements meet tangentially"
-            else:
+            elif _in_plane(first_move):
                 why, why_en = "es ist zu groß für die Nachbarelemente", "it is too large for its neighbours"
-            d.append(diag("PAL-E208", p.move.span, raw=p.rn_raw, first=p.move.span.line,
+            d.append(diag("PAL-E208", where, raw=p.rn_raw, first=p.move.span.line,
                           second=nxt.move.span.line, reason=why, reason_en=why_en))
             i += 1
             continue
-        z0, z1 = _z_at(p.move)
-        first = dataclasses.replace(p, move=move_of(p.move, t.first, z0, z1), rn=0.0)
-        inserted = dataclasses.replace(
-            p, rn=0.0, move=move_of(p.move, t.inserted, z1, z1,
-                                    feed=p.rn_feed if p.rn_feed is not None else p.move.feed))
-        nz0, nz1 = _z_at(nxt.move)
-        second = dataclasses.replace(nxt, move=move_of(nxt.move, t.second, nz0, nz1))
+        z0, z1 = _z_at(first_move)
+        feed = p.rn_feed if p.rn_feed is not None else p.move.feed
+        first = dataclasses.replace(p, move=from_plane_move(move_of(first_move, t.first, z0, z1), plane), rn=0.0)
+        inserted_move = move_of(first_move, t.inserted, z1, z1, feed=feed)
+        if p.blend_span is not None:
+            inserted_move = dataclasses.replace(inserted_move, span=p.blend_span)
+        inserted = dataclasses.replace(p, rn=0.0, move=from_plane_move(inserted_move, plane))
+        nz0, nz1 = _z_at(next_move)
+        second = dataclasses.replace(nxt, move=from_plane_move(move_of(next_move, t.second, nz0, nz1), plane))
         out[i] = first
         out[j] = second
         out.insert(i + 1, inserted)
         i += 1
     return out
+
+
+def _in_plane(m: Move) -> bool:
+    """Whether a move, in plane coordinates, moves in the plane (u, v)."""
+    return m.kind == "arc" or (m.start[0], m.start[1]) != (m.end[0], m.end[1])
+
+
+def to_plane_move(m: Move, plane: str) -> Move:
+    """`m` in the coordinates (u, v, w) of `plane` (identity for G17)."""
+    if plane == "G17":
+        return m
+    return dataclasses.replace(
+        m, start=to_plane(m.start, plane), end=to_plane(m.end, plane),
+        center=None if m.center is None else to_plane(m.center, plane),
+        programmed_end=None if m.programmed_end is None else to_plane(m.programmed_end, plane), plane=plane)
+
+
+def from_plane_move(m: Move, plane: str) -> Move:
+    """The inverse of to_plane_move: back to (x, y, z), the arc keeping its plane."""
+    if plane == "G17":
+        return m
+    return dataclasses.replace(
+        m, start=from_plane(m.start, plane), end=from_plane(m.end, plane),
+        center=None if m.center is None else from_plane(m.center, plane),
+        programmed_end=None if m.programmed_end is None else from_plane(m.programmed_end, plane), plane=plane)
 
 
 # -- stage 2: cutter radius compensation -----------------------------------------------------
@@ -348,10 +421,26 @@ def _depart(p: Planned, start: Vec3, side: int, out: list[Command]) -> Vec3:
     return pos
 
 
-def finish(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Command]:
-    """Both stages in order: transitions on the programmed contour, then compensation."""
-    if not any(isinstance(p, Planned) and (p.rn or p.side) for p in items):
-        return [p.move if isinstance(p, Planned) else p for p in items]
-    return compensate(insert_transitions(items, d), d)
+def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
+    """Both stages in order: transitions on the programmed contour, then compensation in each plane."""
+    if not any(isinstance(p, Blend) or (isinstance(p, Planned) and (p.rn or p.side)) for p in items):
+        return [p.move if isinstance(p, Planned) else p for p in items if not isinstance(p, Blend)]
+    contour = insert_transitions(items, d)
+    out: list[Command] = []
+    segment: list[Planned | Dwell | ToolChange] = []
+    plane = "G17"
+    for item in contour + [None]:
+        if item is None or (isinstance(item, Planned) and item.move.plane != plane):
+            if segment:  # compensation runs in the plane of its moves; a plane change ends a segment
+                mapped = [dataclasses.replace(q, move=to_plane_move(q.move, plane)) if isinstance(q, Planned)
+                          else q for q in segment]
+                out += [from_plane_move(c, plane) if isinstance(c, Move) else c for c in compensate(mapped, d)]
+            segment = []
+            if item is None:
+                break
+            plane = item.move.plane
+        if not isinstance(item, Blend):
+            segment.append(item)
+    return out
 
 

@@ -14,24 +14,24 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 from core.diagnostics import Diagnostic, Severity, diag
-from core.dialects.codes import Code, Support
-from core.dialects.pal_mill import TABLE, TOOL_WORDS
+from core.dialects.codes import Code, CodeTable, Support
+from core.dialects.pal_mill import TABLE
 from core.geometry.arcs import arc_solutions, choose_arc, sweep
 from core.geometry.elements import angle_of
-from core.interpreter.contour import Approach, Departure, Planned
+from core.geometry.planes import AXES, from_plane, to_plane
+from core.interpreter.contour import Approach, Departure, Item, Planned
 from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
 from core.interpreter.state import ModalState, RunSetup
 from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 
-Command = Planned | Dwell | ToolChange
+Command = Item
 
 _AXES = (("X", "XI", "XA"), ("Y", "YI", "YA"), ("Z", "ZI", "ZA"))
 _AXIS_WORDS = frozenset(a for spellings in _AXES for a in spellings)
 _OWNER_DUPLICATES = {"G23": {"N"}, "G29": {"P"}}  # addresses a code takes twice
 _GEOMETRY_WORDS = _AXIS_WORDS | {"I", "J", "IA", "JA", "R", "AO", "AS", "D", "RP", "AP", "AI", "K", "KA"}
-_TECHNOLOGY_WORDS = TABLE.always_allowed | TOOL_WORDS  # a block of only these moves nothing
 _END_OF_BLOCK = {"M5": ("spindle", "M5"), "M9": ("coolant", "M9")}
 
 
@@ -50,7 +50,8 @@ class Outcome:
 
 
 def execute_block(
-    setup: RunSetup, state: ModalState, position: Vec3, block: Block, params: dict[int, float]
+    setup: RunSetup, state: ModalState, position: Vec3, block: Block, params: dict[int, float],
+    table: CodeTable = TABLE,
 ) -> Outcome:
     """Execute `block` from `state` at `position`. `params` (P1…P999) is updated only on success."""
     out = Outcome(state, position)
@@ -78,11 +79,11 @@ def execute_block(
     for w in block.words:
         a = w.address
         if a == "G" or a == "M":
-            code = _code_word(w, d)
+            code = _code_word(w, table, d)
             if code is not None:
                 (gs if a == "G" else ms).append((w, code))
             continue
-        spec = TABLE.addresses.get(a)
+        spec = table.addresses.get(a)
         if spec is None:
             d.append(diag("PAL-E003", w.address_span, address=a))
             continue
@@ -109,11 +110,11 @@ def execute_block(
     owner_word: Word | None = None
     seen_groups: dict[str, Word] = {}
     for w, code in gs + ms:
-        for member in TABLE.activates(code):
-            g = TABLE.group_of[member]
+        for member in table.activates(code):
+            g = table.group_of[member]
             if g in seen_groups:
                 first = seen_groups[g]
-                label = TABLE.group(g)
+                label = table.group(g)
                 d.append(diag("PAL-E103", w.span, first=str(first), second=str(w), group=label.label_de,
                               group_en=label.label_en))
             seen_groups[g] = w
@@ -125,27 +126,27 @@ def execute_block(
 
     # -- which addresses the block may hold -----------------------------------------------
     motion = owner if owner is not None and owner.group == "motion" else None
-    if owner is None and not words.keys() <= _TECHNOLOGY_WORDS:
-        motion = TABLE.codes[state.active("motion") or "G1"]
+    if owner is None and not words.keys() <= table.technology_words:
+        motion = table.codes[state.active("motion") or "G1"]
         allowed = motion.words
         command_name = f"{motion.name} (modal)"
     elif owner is not None:
         allowed = owner.words
         command_name = str(owner_word)
     else:
-        allowed = TOOL_WORDS
+        allowed = table.tool_words
         command_name = ""  # every word is allowed here, so no message names it
     for a, ws in words.items():
         if owner is not None and owner.alone:
             d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
             continue
-        if a not in allowed and a not in TABLE.always_allowed:
+        if a not in allowed and a not in table.always_allowed:
             d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
             continue
         if len(ws) > 1 and not (owner is not None and a in _OWNER_DUPLICATES.get(owner.name, ())):
             d.append(diag("PAL-E106", ws[1].span, address=a))
         for w in ws:
-            if w.value is None and w.expr is None and not (TABLE.addresses[a].flag and owner and owner.name == "G66"):
+            if w.value is None and w.expr is None and not (table.addresses[a].flag and owner and owner.name == "G66"):
                 d.append(diag("PAL-E111", w.span, address=a))
     if owner is not None and owner.alone and len(gs) + len(ms) > 1:
         other = next(w for w, c in gs + ms if c is not owner)
@@ -169,10 +170,14 @@ def execute_block(
         new_tool = int(values["T"])
         if new_tool != 0 and setup.tools.get(new_tool) is None:
             d.append(diag("PAL-E304", words["T"][0].span, tool=new_tool))
+    arc_plane = "G17"
     if motion is not None and motion.name in ("G2", "G3"):
-        for a in ("K", "KA"):
+        arc_plane = _arc_plane(state, words, table)
+        pw = PLANE_WORDS[arc_plane]
+        for a in _CENTRE_WORDS - pw.centre_words:
             if a in words:
-                d.append(diag("PAL-E204", words[a][0].span, address=a))
+                d.append(diag("PAL-E204", words[a][0].span, address=a, plane=arc_plane,
+                              centre="/".join(w for w in pw.centre_words if w in table.addresses)))
     if ms and any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
         d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
     in_block = {c.name for _, c in gs}
@@ -204,7 +209,7 @@ def execute_block(
 
     # -- commit: technology and modes at block start ------------------------------------------
     codes = state.codes
-    changes = {TABLE.group_of[m]: m for _, c in gs + ms for m in TABLE.activates(c) if m not in _END_OF_BLOCK}
+    changes = {table.group_of[m]: m for _, c in gs + ms for m in table.activates(c) if m not in _END_OF_BLOCK}
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
     if "F" in values:
         feed = values["F"]
@@ -255,7 +260,7 @@ def execute_block(
         exact = "G9" in in_block
         frame = state.frame
         here = position if frame.identity else frame.to_program(position)
-        move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, d)
+        move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, arc_plane, d)
         if pole is not None and pole != state.pole:
             state = dataclasses.replace(state, pole=pole)
         if move is not None:
@@ -275,7 +280,7 @@ def execute_block(
         out.flow = ("jump", int(values["N"]), 0)
 
     # -- block end: M5, M9, M30 ---------------------------------------------------------------
-    ends = {g: m for _, c in ms for m in TABLE.activates(c) if (g := TABLE.group_of[m]) and m in _END_OF_BLOCK}
+    ends = {g: m for _, c in ms for m in table.activates(c) if (g := table.group_of[m]) and m in _END_OF_BLOCK}
     if ends:
         state = dataclasses.replace(state, codes={**state.codes, **ends})
     for w, code in ms:
@@ -358,7 +363,7 @@ def _in_range(value: float, address: str, span: Span, setup: RunSetup, d: list[D
     return False
 
 
-def _code_word(w: Word, d: list[Diagnostic]) -> Code | None:
+def _code_word(w: Word, table: CodeTable, d: list[Diagnostic]) -> Code | None:
     """The code table entry of a G or M word, or None after a diagnostic."""
     if w.value is None or w.expr is not None:
         d.append(diag("PAL-E111", w.span, address=w.address) if w.expr is None
@@ -368,7 +373,7 @@ def _code_word(w: Word, d: list[Diagnostic]) -> Code | None:
         d.append(diag("PAL-E108", w.span, address=w.address, raw=w.raw))
         return None
     name = f"{w.address}{int(w.value)}"
-    code = TABLE.codes.get(name)
+    code = table.codes.get(name)
     if code is None:
         if name in ("G18", "G19"):
             d.append(diag("PAL-E110", w.span, command=name))
@@ -410,7 +415,7 @@ def _target(state: ModalState, position: Vec3, values: dict[str, float],
 
 
 def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
-            values: dict[str, float], span: Span, exact: bool,
+            values: dict[str, float], span: Span, exact: bool, arc_plane: str,
             d: list[Diagnostic]) -> tuple[Move | None, tuple[float, float] | None]:
     """The programmed move of a motion block, and the pole it programs (G10–G13)."""
     end = _target(state, position, values, words, d)
@@ -442,16 +447,17 @@ def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words
         _check_cutting(state, spindle_on, span, d)
         return _move(state, "feed", position, end, span, spindle_code, exact_stop=exact), pole
     clockwise = name == "G2"
-    arc = _arc(setup, position, end, values, words, clockwise, name, span, d)
+    s_uvw, e_uvw = to_plane(position, arc_plane), to_plane(end, arc_plane)
+    arc = _arc(setup, s_uvw, e_uvw, PLANE_WORDS[arc_plane], values, words, clockwise, name, span, d)
     if arc is None:
         return None, pole
     centre, arc_end, radius = arc
-    end = (arc_end[0], arc_end[1], end[2])
-    angle = sweep((position[0], position[1]), arc_end, centre, clockwise)
+    end = from_plane((arc_end[0], arc_end[1], e_uvw[2]), arc_plane)
+    angle = sweep((s_uvw[0], s_uvw[1]), arc_end, centre, clockwise)
     _check_cutting(state, spindle_on, span, d)
     return _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
-                 center=(centre[0], centre[1], position[2]), direction="cw" if clockwise else "ccw",
-                 radius=radius, angle=angle), pole
+                 center=from_plane((centre[0], centre[1], s_uvw[2]), arc_plane),
+                 direction="cw" if clockwise else "ccw", radius=radius, angle=angle, plane=arc_plane), pole
 
 
 def _pole(state: ModalState, position: Vec3, values: dict[str, float]) -> tuple[float, float]:
@@ -533,13 +539,14 @@ def _line_end(position: Vec3, end: Vec3, values: dict[str, float], words: dict[s
 
 def _move(state: ModalState, kind: MoveKind, start: Vec3, end: Vec3, span: Span, spindle_code: str | None,
           exact_stop: bool, center: Vec3 | None = None, direction: Literal["cw", "ccw"] | None = None,
-          radius: float | None = None, angle: float | None = None) -> Move:
+          radius: float | None = None, angle: float | None = None, plane: str | None = None) -> Move:
     """A move carrying the technology active in `state`."""
     spindle_on = spindle_code == "M3" or spindle_code == "M4"
     return Move(kind, start, end, state.feed, "mm/rev" if state.active("feed_mode") == "G95" else "mm/min",
                 state.speed if spindle_on else 0.0,
                 ("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
-                state.active("coolant") == "M8", state.tool, span, center, direction, radius, angle, exact_stop)
+                state.active("coolant") == "M8", state.tool, span, center, direction, radius, angle, exact_stop,
+                plane or state.codes.get("plane") or "G17")
 
 
 def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diagnostic]) -> None:
@@ -551,19 +558,20 @@ def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diag
         d.append(diag("PAL-E302", span))
 
 
-def _arc(setup: RunSetup, position: Vec3, end: Vec3, values: dict[str, float], words: dict[str, list[Word]],
-         clockwise: bool, name: str, span: Span,
+def _arc(setup: RunSetup, position: Vec3, end: Vec3, pw: PlaneWords, values: dict[str, float],
+         words: dict[str, list[Word]], clockwise: bool, name: str, span: Span,
          d: list[Diagnostic]) -> tuple[tuple[float, float], tuple[float, float], float] | None:
-    """Centre, end and radius of a G2/G3 arc from any three of X, Y, I/IA, J/JA, R, AO (a fourth must agree).
+    """Centre, end and radius, in plane coordinates (u, v), of a G2/G3 arc from any three of the plane's two
+    end-point axes, its two centre coordinates (incremental or absolute), R and AO; a fourth must agree.
 
-    I/J without an end point is a full circle. Of several solutions the sign of R (written out) or
-    else O1/O2 picks the shorter or longer arc, then H1/H2 the smaller or larger start tangent angle.
+    The centre alone (no end point) is a full circle. Of several solutions the sign of R (written out)
+    or else O1/O2 picks the shorter or longer arc, then H1/H2 the smaller or larger start tangent angle.
     """
     s = (position[0], position[1])
-    has_x = any(a in words for a in _AXES[0])
-    has_y = any(a in words for a in _AXES[1])
-    cx = values["IA"] if "IA" in values else (s[0] + values["I"] if "I" in values else None)
-    cy = values["JA"] if "JA" in values else (s[1] + values["J"] if "J" in values else None)
+    has_x = any(a in words for a in pw.u)
+    has_y = any(a in words for a in pw.v)
+    cx = _centre(values, pw.cu, s[0])
+    cy = _centre(values, pw.cv, s[1])
     r_word = words["R"][0] if "R" in words else None
     radius = abs(values["R"]) if "R" in values else None
     ao = values.get("AO")
@@ -611,6 +619,49 @@ def _arc(setup: RunSetup, position: Vec3, end: Vec3, values: dict[str, float], w
     assert chosen is not None
     c, e = chosen
     return c, e, math.dist(s, c)
+
+
+@dataclass(frozen=True, slots=True)
+class PlaneWords:
+    """The words of arcs in one plane: end-point axes u and v, centre words (incremental, absolute)."""
+
+    u: tuple[str, ...]
+    v: tuple[str, ...]
+    cu: tuple[str, str]
+    cv: tuple[str, str]
+
+    @property
+    def centre_words(self) -> frozenset[str]:
+        return frozenset((*self.cu, *self.cv))
+
+
+PLANE_WORDS = {
+    "G17": PlaneWords(_AXES[0], _AXES[1], ("I", "IA"), ("J", "JA")),
+    "G18": PlaneWords(_AXES[2], _AXES[0], ("K", "KA"), ("I", "IA")),
+    "G19": PlaneWords(_AXES[1], _AXES[2], ("J", "JA"), ("K", "KA")),
+}
+_CENTRE_WORDS = frozenset({"I", "J", "K", "IA", "JA", "KA"})
+
+
+def _arc_plane(state: ModalState, words: dict[str, list[Word]], table: CodeTable) -> str:
+    """The plane of an arc: the modal one, unless the block's two end-point axes name another
+    (an arc "outside the selected plane", where the dialect has more than one plane)."""
+    plane = state.codes.get("plane") or "G17"
+    if "G18" not in table.codes:
+        return plane
+    axes = frozenset(i for i, spellings in enumerate(_AXES) if any(a in words for a in spellings))
+    if len(axes) == 2:
+        for name, (i, j, _) in AXES.items():
+            if axes == {i, j}:
+                return name
+    return plane
+
+
+def _centre(values: dict[str, float], words: tuple[str, str], start: float) -> float | None:
+    incremental, absolute = words
+    if absolute in values:
+        return values[absolute]
+    return start + values[incremental] if incremental in values else None
 
 
 def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
