@@ -121,9 +121,9 @@ CATALOGUE: dict[str, Entry] = {
                       "Arc of radius 0: the centre lies on the start point."),
     "PAL-E207": Entry(E, "{command} mit {address}{raw} braucht eine Zielkoordinate X, Y oder Z.",
                       "{command} with {address}{raw} needs a target coordinate X, Y or Z."),
-    "PAL-E208": Entry(E, "Übergangselement RN{raw} passt nicht zwischen Zeile {first} und Zeile {second}: "
+    "PAL-E208": Entry(E, "Übergangselement {element} passt nicht zwischen Zeile {first} und Zeile {second}: "
                          "{reason}.",
-                      "Transition element RN{raw} does not fit between line {first} and line {second}: "
+                      "Transition element {element} does not fit between line {first} and line {second}: "
                       "{reason_en}."),
     "PAL-E209": Entry(E, "Nach dem Übergangselement RN in Zeile {line} folgt kein Konturelement (G1, G2, G3, "
                          "G11, G12, G13 in der Ebene).",
@@ -231,6 +231,11 @@ CATALOGUE: dict[str, Entry] = {
     "PAL-E409": Entry(E, "Unterprogramm L{number} endet ohne M17.", "Subprogram L{number} ends without M17."),
     "PAL-E410": Entry(E, "Vergleich O{value} gibt es nicht (O1 =, O2 ≠, O3 >, O4 <).",
                       "Comparison O{value} does not exist (O1 =, O2 ≠, O3 >, O4 <)."),
+    # --- Beckhoff --------------------------------------------------------------------------
+    "PAL-E501": Entry(E, "Das erste {command} braucht ein I-Wort ungleich 0 (Fasenbreite bzw. Radius); die "
+                         "Decodierung wird abgebrochen.",
+                      "The first {command} needs an I word other than 0 (chamfer width or radius); decoding "
+                      "stops."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),

@@ -7,11 +7,15 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 from core.diagnostics import Diagnostic
+from core.dialects.beckhoff import TABLE as BECKHOFF_TABLE
+from core.dialects.beckhoff import VALUED_CODES as BECKHOFF_VALUED
 from core.dialects.codes import CodeTable
 from core.dialects.pal_mill import TABLE as PAL_MILL_TABLE
+from core.dialects.sinumerik_iso import TABLE as ISO_TABLE
 from core.interpreter import BlockExecutor, Toolpath, interpret
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
@@ -27,24 +31,31 @@ class Dialect:
     grammar: str  # core/syntax/<grammar>.lark
     table: CodeTable
     execute: BlockExecutor
+    valued_codes: frozenset[str] = frozenset()  # codes the grammar takes with a value (G301=20)
 
 
 DIALECTS: dict[str, Dialect] = {
     "pal-mill": Dialect("pal-mill", "PAL Fräsen", "PAL milling", "pal_mill", PAL_MILL_TABLE, pal_mill_block),
+    # ISO words are PAL's words without the PAL-only addresses: the same grammar, another table
+    "sinumerik-iso": Dialect("sinumerik-iso", "SINUMERIK 808D ISO Fräsen", "SINUMERIK 808D ISO milling",
+                             "pal_mill", ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE)),
+    "beckhoff": Dialect("beckhoff", "Beckhoff TwinCAT CNC", "Beckhoff TwinCAT CNC", "beckhoff", BECKHOFF_TABLE,
+                        partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED),
 }
 DEFAULT_DIALECT = "pal-mill"
 
 
 def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> tuple[Program, list[Diagnostic]]:
     setup = setup or RunSetup()
-    return parser_for(DIALECTS[dialect].grammar).parse_program(text, setup.limits)
+    d = DIALECTS[dialect]
+    return parser_for(d.grammar, d.valued_codes).parse_program(text, setup.limits)
 
 
 def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> Toolpath:
     """Parse and interpret `text`; the diagnostics of both stages are in the result, sorted by position."""
     setup = setup or RunSetup()
     d = DIALECTS[dialect]
-    parser = parser_for(d.grammar)
+    parser = parser_for(d.grammar, d.valued_codes)
     program, diagnostics = parser.parse_program(text, setup.limits)
     library = {}
     for number, sub_text in setup.subprograms:

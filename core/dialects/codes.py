@@ -66,6 +66,8 @@ class CodeTable:
     groups: tuple[Group, ...]
     always_allowed: frozenset[str]  # addresses allowed in every block
     tool_words: frozenset[str] = frozenset({"T"})  # the words of a tool change
+    max_g_words: int | None = None  # G words allowed in one block (PAL: 2)
+    strict_technology: bool = False  # a cut with no tool or a stopped spindle is an error (else a warning)
     group_of: dict[str, str] = field(init=False)
     technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
 

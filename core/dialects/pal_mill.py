@@ -177,4 +177,6 @@ TABLE = CodeTable(
     groups=GROUPS,
     always_allowed=frozenset({"F", "S", "M"}),
     tool_words=TOOL_WORDS,
+    max_g_words=2,
+    strict_technology=True,
 )

@@ -65,7 +65,7 @@ class Planned:
 
     move: Move
     rn: float = 0.0  # RN at the end: > 0 rounding radius, < 0 chamfer width
-    rn_raw: str = ""
+    rn_raw: str = ""  # as written, for messages: "RN-15", "G301 I20", "#CHF=35"
     rn_feed: float | None = None  # E: feed on the inserted element
     side: int = 0  # +1 tool left of the contour (G41), -1 right (G42), 0 off (G40)
     radius: float = 0.0  # effective tool radius (table + TR)
@@ -167,7 +167,16 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
         first_move, next_move = to_plane_move(p.move, plane), to_plane_move(nxt.move, plane)
         e1, e2 = element_of(first_move), element_of(next_move)
         t: Transition | None = None
-        if not _in_plane(first_move):
+        if not _in_plane(first_move) and p.rn < 0 and p.move.kind != "arc" and nxt.move.kind != "arc":
+            # the block before has no extent in the plane: a chamfer between two lines lies on the lines
+            pair = _chamfer_in_space(p, nxt)
+            if pair is not None:
+                out[i], inserted3, out[j] = pair
+                out.insert(i + 1, inserted3)
+                i += 1
+                continue
+            why, why_en = "es ist zu groß für die Nachbarelemente", "it is too large for its neighbours"
+        elif not _in_plane(first_move):
             why, why_en = f"der Satz davor liegt nicht in der Ebene {plane}", f"the block before is not in plane {plane}"
         elif p.rn > 0:
             t = rounding(e1, e2, p.rn)
@@ -182,7 +191,7 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
                 why, why_en = "die Elemente gehen tangential ineinander über", "the elements meet tangentially"
             elif _in_plane(first_move):
                 why, why_en = "es ist zu groß für die Nachbarelemente", "it is too large for its neighbours"
-            d.append(diag("PAL-E208", where, raw=p.rn_raw, first=p.move.span.line,
+            d.append(diag("PAL-E208", where, element=p.rn_raw, first=p.move.span.line,
                           second=nxt.move.span.line, reason=why, reason_en=why_en))
             i += 1
             continue
@@ -200,6 +209,29 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
         out.insert(i + 1, inserted)
         i += 1
     return out
+
+
+def _chamfer_in_space(p: Planned, nxt: Planned) -> tuple[Planned, Planned, Planned] | None:
+    """A chamfer between two straight moves in space: its ends lie `width` from the corner on each line."""
+    a, corner, b = p.move.start, p.move.end, nxt.move.end
+    len1, len2 = math.dist(a, corner), math.dist(corner, b)
+    if len1 < 1e-9 or len2 < 1e-9:
+        return None
+    t1 = tuple((corner[k] - a[k]) / len1 for k in range(3))
+    t2 = tuple((b[k] - corner[k]) / len2 for k in range(3))
+    width = -p.rn
+    if p.chamfer_by_length:
+        cos_half = math.cos(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(t1, t2, strict=True))))) / 2)
+        width = width / (2 * cos_half) if cos_half > 1e-9 else math.inf
+    if width >= len1 - 1e-6 or width >= len2 - 1e-6:
+        return None
+    p1: Vec3 = (corner[0] - width * t1[0], corner[1] - width * t1[1], corner[2] - width * t1[2])
+    p2: Vec3 = (corner[0] + width * t2[0], corner[1] + width * t2[1], corner[2] + width * t2[2])
+    feed = p.rn_feed if p.rn_feed is not None else p.move.feed
+    inserted = dataclasses.replace(p.move, start=p1, end=p2, feed=feed, span=p.blend_span or p.move.span)
+    return (dataclasses.replace(p, move=dataclasses.replace(p.move, end=p1), rn=0.0),
+            dataclasses.replace(p, move=inserted, rn=0.0),
+            dataclasses.replace(nxt, move=dataclasses.replace(nxt.move, start=p2)))
 
 
 def _in_plane(m: Move) -> bool:

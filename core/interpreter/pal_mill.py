@@ -19,7 +19,7 @@ from core.dialects.pal_mill import TABLE
 from core.geometry.arcs import arc_solutions, choose_arc, sweep
 from core.geometry.elements import angle_of
 from core.geometry.planes import AXES, from_plane, to_plane
-from core.interpreter.contour import Approach, Departure, Item, Planned
+from core.interpreter.contour import Approach, Blend, Departure, Item, Planned
 from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
 from core.interpreter.state import ModalState, RunSetup
@@ -104,8 +104,8 @@ def execute_block(
         values.setdefault(a, v)
 
     # -- G codes: count, groups, the code that owns the block -------------------------------
-    if len(gs) > 2:
-        d.append(diag("PAL-E104", gs[2][0].span, count=len(gs)))
+    if table.max_g_words is not None and len(gs) > table.max_g_words:
+        d.append(diag("PAL-E104", gs[table.max_g_words][0].span, count=len(gs)))
     owner: Code | None = None
     owner_word: Word | None = None
     seen_groups: dict[str, Word] = {}
@@ -172,7 +172,8 @@ def execute_block(
             d.append(diag("PAL-E304", words["T"][0].span, tool=new_tool))
     arc_plane = "G17"
     if motion is not None and motion.name in ("G2", "G3"):
-        arc_plane = _arc_plane(state, words, table)
+        modal_plane = next((c.name for _, c in gs if c.group == "plane"), None) or state.codes.get("plane")
+        arc_plane = _arc_plane(modal_plane or "G17", words, table)
         pw = PLANE_WORDS[arc_plane]
         for a in _CENTRE_WORDS - pw.centre_words:
             if a in words:
@@ -229,7 +230,7 @@ def execute_block(
         codes = {**codes, **changes}
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
-        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame)
+        state = dataclasses.replace(state, codes=codes, feed=feed, speed=speed, tool=tool, tc=tc, tr=tr, tl=tl)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
         frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
         if frame is not state.frame:
@@ -260,16 +261,28 @@ def execute_block(
         exact = "G9" in in_block
         frame = state.frame
         here = position if frame.identity else frame.to_program(position)
-        move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, arc_plane, d)
+        move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, arc_plane,
+                             table.strict_technology, d)
         if pole is not None and pole != state.pole:
             state = dataclasses.replace(state, pole=pole)
         if move is not None:
             move = frame.map_move(move)
             side, radius = _compensation(setup, state)
-            rn = values.get("RN", 0.0)
-            out.commands.append(Planned(move, rn, words["RN"][0].raw if "RN" in words else "", values.get("E"),
-                                        -side if frame.flips else side, radius))
+            rn, element, by_length = _transition(values, words)
+            out.commands.append(Planned(move, rn, element, values.get("E", values.get("#FRC")),
+                                        -side if frame.flips else side, radius, chamfer_by_length=by_length,
+                                        rapid_ok="RN" not in values))
             position = move.end
+    elif owner is not None and owner.name in ("G301", "G302"):
+        size = values.get("I", state.blend)
+        if size <= 0:
+            d.append(diag("PAL-E501", owner_word.span if owner_word else span, command=owner.name))
+            out.ended = True  # an error that stops decoding
+        else:
+            state = dataclasses.replace(state, blend=size)
+            element = f"{owner.name} I{size:g}"
+            out.commands.append(Blend(size if owner.name == "G302" else -size, element,
+                                      values.get("#FRC", state.feed), span))
     elif owner is not None and owner.name == "G22":
         out.flow = ("call", int(values["L"]), int(values.get("H", 1)))
     elif owner is not None and owner.name == "G23":
@@ -284,7 +297,7 @@ def execute_block(
     if ends:
         state = dataclasses.replace(state, codes={**state.codes, **ends})
     for w, code in ms:
-        if code.name == "M30":
+        if code.name in ("M30", "M2"):
             out.ended = True
         elif code.name == "M17":
             out.sub_end = True
@@ -415,7 +428,7 @@ def _target(state: ModalState, position: Vec3, values: dict[str, float],
 
 
 def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
-            values: dict[str, float], span: Span, exact: bool, arc_plane: str,
+            values: dict[str, float], span: Span, exact: bool, arc_plane: str, strict: bool,
             d: list[Diagnostic]) -> tuple[Move | None, tuple[float, float] | None]:
     """The programmed move of a motion block, and the pole it programs (G10–G13)."""
     end = _target(state, position, values, words, d)
@@ -444,7 +457,7 @@ def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words
             return None, pole
         if name == "G0":
             return _move(state, "rapid", position, end, span, spindle_code, exact_stop=True), pole
-        _check_cutting(state, spindle_on, span, d)
+        _check_cutting(state, spindle_on, span, d, strict)
         return _move(state, "feed", position, end, span, spindle_code, exact_stop=exact), pole
     clockwise = name == "G2"
     s_uvw, e_uvw = to_plane(position, arc_plane), to_plane(end, arc_plane)
@@ -454,7 +467,7 @@ def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words
     centre, arc_end, radius = arc
     end = from_plane((arc_end[0], arc_end[1], e_uvw[2]), arc_plane)
     angle = sweep((s_uvw[0], s_uvw[1]), arc_end, centre, clockwise)
-    _check_cutting(state, spindle_on, span, d)
+    _check_cutting(state, spindle_on, span, d, strict)
     return _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
                  center=from_plane((centre[0], centre[1], s_uvw[2]), arc_plane),
                  direction="cw" if clockwise else "ccw", radius=radius, angle=angle, plane=arc_plane), pole
@@ -549,13 +562,16 @@ def _move(state: ModalState, kind: MoveKind, start: Vec3, end: Vec3, span: Span,
                 plane or state.codes.get("plane") or "G17")
 
 
-def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diagnostic]) -> None:
+def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diagnostic],
+                   strict: bool = True) -> None:
+    """Feed 0 is always an error; a cut with no tool or a stopped spindle is one in PAL, a warning elsewhere."""
     if state.feed == 0:
         d.append(diag("PAL-E301", span))
+    severity = None if strict else Severity.WARNING
     if state.tool is None:
-        d.append(diag("PAL-E303", span))
+        d.append(diag("PAL-E303", span, severity))
     elif not spindle_on:
-        d.append(diag("PAL-E302", span))
+        d.append(diag("PAL-E302", span, severity))
 
 
 def _arc(setup: RunSetup, position: Vec3, end: Vec3, pw: PlaneWords, values: dict[str, float],
@@ -643,10 +659,9 @@ PLANE_WORDS = {
 _CENTRE_WORDS = frozenset({"I", "J", "K", "IA", "JA", "KA"})
 
 
-def _arc_plane(state: ModalState, words: dict[str, list[Word]], table: CodeTable) -> str:
-    """The plane of an arc: the modal one, unless the block's two end-point axes name another
+def _arc_plane(plane: str, words: dict[str, list[Word]], table: CodeTable) -> str:
+    """The plane of an arc: the selected one, unless the block's two end-point axes name another
     (an arc "outside the selected plane", where the dialect has more than one plane)."""
-    plane = state.codes.get("plane") or "G17"
     if "G18" not in table.codes:
         return plane
     axes = frozenset(i for i, spellings in enumerate(_AXES) if any(a in words for a in spellings))
@@ -662,6 +677,20 @@ def _centre(values: dict[str, float], words: tuple[str, str], start: float) -> f
     if absolute in values:
         return values[absolute]
     return start + values[incremental] if incremental in values else None
+
+
+# the words that ask for a transition at the end of a motion block: (sign, chamfer by length)
+_TRANSITION_WORDS = {"RN": (1.0, False), "G302": (1.0, False), "#RND": (1.0, False), "G301": (-1.0, False),
+                     "#CHR": (-1.0, False), "#CHF": (-1.0, True)}
+
+
+def _transition(values: dict[str, float], words: dict[str, list[Word]]) -> tuple[float, str, bool]:
+    """RN (signed: + rounding, - chamfer), or Beckhoff's G301=/G302=/#CHR/#CHF/#RND: size, text, by length."""
+    for name, (sign, by_length) in _TRANSITION_WORDS.items():
+        if name in values:
+            w = words[name][0]
+            return sign * values[name] if name != "RN" else values[name], f"{name}{w.raw}", by_length
+    return 0.0, "", False
 
 
 def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:

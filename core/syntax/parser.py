@@ -44,7 +44,8 @@ _TERMINAL_NAMES: dict[str, tuple[str, str]] = {
 class BlockParser:
     """Parses the lines of one dialect's grammar into blocks."""
 
-    def __init__(self, grammar_file: Path) -> None:
+    def __init__(self, grammar_file: Path, valued_codes: frozenset[str] = frozenset()) -> None:
+        self._valued = valued_codes  # codes written with a value, as Beckhoff's G301=20
         self._lark = Lark(
             grammar_file.read_text(encoding="utf-8"),
             start="line",
@@ -173,6 +174,10 @@ class BlockParser:
             else:  # assign
                 num = child.children[1]  # type: ignore[assignment]
                 expr = _expr(child.children[2])
+                if num.isdigit() and f"{addr}{int(num)}" in self._valued:
+                    words.append(Word(f"{addr}{int(num)}", None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line,
+                                      start, expr[-1], expr))
+                    continue
                 if str(addr) != "P" or not num.isdigit():
                     diagnostics.append(
                         diag("PAL-E009", Span(line, start, line, expr[-1]), address=f"{addr}{num}")
@@ -269,6 +274,6 @@ def _expr(node: Tree[Token] | Token, depth: int = 0) -> Expr:
 
 
 @cache
-def parser_for(grammar: str) -> BlockParser:
+def parser_for(grammar: str, valued_codes: frozenset[str] = frozenset()) -> BlockParser:
     """The (cached) parser of grammar file `<grammar>.lark` in this package."""
-    return BlockParser(Path(__file__).with_name(f"{grammar}.lark"))
+    return BlockParser(Path(__file__).with_name(f"{grammar}.lark"), valued_codes)

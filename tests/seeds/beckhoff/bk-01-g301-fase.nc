@@ -1,0 +1,7 @@
+N90 G00 G90 X0 Y0 ; Startpunkt angenommen (im Handbuch nicht angegeben)
+N100 G00 G91 X100 Y0
+N110 G01 Y100 F200
+N120 G301 I20
+N130 X-60
+N140 G00 G90 X0 Y0
+N150 M30
