@@ -65,7 +65,12 @@ def _parser() -> argparse.ArgumentParser:
     # each entry is a function register(subparsers, common) that adds its parser and sets `handler`,
     # a function (args) -> exit code. So the shells around core plug in without core importing them.
     for entry in sorted(entry_points(group="paltrainer.commands"), key=lambda e: e.name):
-        entry.load()(sub, common)
+        try:
+            register = entry.load()
+        except ImportError as err:  # a shell whose dependencies are missing must not take the others down
+            print(f"paltrainer {entry.name}: nicht verfügbar / not available ({err})", file=sys.stderr)
+            continue
+        register(sub, common)
     return parser
 
 

@@ -57,9 +57,9 @@ def test_run_json_shape(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_tool_option_overrides_the_table(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    path = write(tmp_path, "T7 M6\nM30\n")
+    path = write(tmp_path, "T17 M6\nM30\n")
     assert main(["check", path]) == 1
-    assert main(["check", path, "--tool", "7=10"]) == 0
+    assert main(["check", path, "--tool", "17=10"]) == 0
 
 
 def test_usage_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
