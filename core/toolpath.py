@@ -13,6 +13,7 @@ turns and 0 while it stands. Every command carries the span of the block that ma
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -57,6 +58,22 @@ class Move:
     @property
     def line(self) -> int:
         return self.span.line
+
+    def points(self, tolerance: float) -> list[Vec3]:
+        """Points along the move from start to end; an arc as chords that stray at most `tolerance` mm."""
+        if self.kind != "arc" or self.center is None or self.radius is None or self.angle is None:
+            return [self.start, self.end]
+        from core.geometry.planes import from_plane, to_plane
+
+        s, e, c = (to_plane(p, self.plane) for p in (self.start, self.end, self.center))
+        r = self.radius
+        step = 2 * math.acos(max(-1.0, min(1.0, 1 - tolerance / r))) if r > tolerance else math.pi / 2
+        n = max(1, math.ceil(math.radians(self.angle) / max(step, 1e-6)))
+        a0 = math.atan2(s[1] - c[1], s[0] - c[0])
+        sweep = math.radians(self.angle) * (-1 if self.direction == "cw" else 1)
+        pts = [from_plane((c[0] + r * math.cos(a0 + sweep * k / n), c[1] + r * math.sin(a0 + sweep * k / n),
+                           s[2] + (e[2] - s[2]) * k / n), self.plane) for k in range(n)]
+        return pts + [self.end]
 
     def to_json(self) -> dict[str, Any]:
         return {

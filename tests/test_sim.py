@@ -255,3 +255,20 @@ def test_invalid_stock_and_resolution_are_value_errors() -> None:
         Stock(0, 0, 0, 80, 70, 0)
     with pytest.raises(ValueError):
         simulate(run(PAL01_BY_HAND), PAL_STOCK, resolution=0)
+
+
+def test_arc_in_the_plane_g18_cuts_a_half_cylinder_groove() -> None:
+    # ISO: a Ø6 slot drill runs a half circle R10 in the Z-X plane at Y35, clockwise seen from +Y: downwards
+    from core.pipeline import run as run_program
+    from core.sim import Stock, simulate
+
+    tp = run_program("T2 M6\nS1000 F100 M3\nG0 X30 Y35 Z5\nG1 Z0\nG18 G02 Z0 X50 K0 I10\nG0 Z50\nM30",
+                     "sinumerik-iso")
+    assert [d.code for d in tp.diagnostics if d.severity.value == "error"] == []
+    result = simulate(tp, Stock(0, 0, -30, 80, 70, 0), resolution=0.2)
+    # the flat Ø6 end of the tool sweeps the half circle below Z0: depth at X40 is the radius 10
+    hm = result.heightmap
+    i, j = int((40 - hm.grid.x0) / hm.grid.dx), int((35 - hm.grid.y0) / hm.grid.dy)
+    assert hm.heights[j, i] == pytest.approx(-10, abs=0.3)  # the lowest point of the arc, at X40
+    i_edge = int((31 - hm.grid.x0) / hm.grid.dx)  # 1 mm in from the start: the circle is shallow there
+    assert -10 < hm.heights[j, i_edge] < -3

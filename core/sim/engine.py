@@ -8,6 +8,7 @@ only where they can fire. Events are diagnostics from the catalogue, with the li
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -188,7 +189,13 @@ class _Run:
 
     def all(self, toolpath: Toolpath, expected: Mapping[int, float]) -> None:
         for c in toolpath.commands:
-            if isinstance(c, Move):
+            if isinstance(c, Move) and c.kind == "arc" and c.plane != "G17":
+                # arcs in the planes G18/G19 (ISO, Beckhoff) as chords within a quarter cell
+                pts = c.points(self.grid.dx / 4)
+                for a, b in zip(pts, pts[1:], strict=False):
+                    self.move(dataclasses.replace(c, kind="feed", start=a, end=b, center=None, direction=None,
+                                                  radius=None, angle=None))
+            elif isinstance(c, Move):
                 self.move(c)
             elif isinstance(c, Dwell):
                 self._time(self.current, c.seconds)
