@@ -9,6 +9,7 @@ only where they can fire. Events are diagnostics from the catalogue, with the li
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import math
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -192,7 +193,7 @@ class _Run:
             if isinstance(c, Move) and c.kind == "arc" and c.plane != "G17":
                 # arcs in the planes G18/G19 (ISO, Beckhoff) as chords within a quarter cell
                 pts = c.points(self.grid.dx / 4)
-                for a, b in zip(pts, pts[1:], strict=False):
+                for a, b in itertools.pairwise(pts):
                     self.move(dataclasses.replace(c, kind="feed", start=a, end=b, center=None, direction=None,
                                                   radius=None, angle=None))
             elif isinstance(c, Move):
