@@ -10,7 +10,7 @@ from __future__ import annotations
 import dataclasses
 import re
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import Any, Protocol
 
 from core.diagnostics import Diagnostic, diag
 from core.dialects.codes import CodeTable
@@ -22,7 +22,7 @@ from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 class BlockExecutor(Protocol):
     def __call__(self, setup: RunSetup, state: ModalState, position: Vec3, block: Block,
-                 params: dict[int, float]) -> BlockOutcome: ...
+                 params: dict[int, float], *, cache: dict[Any, Any] | None = None) -> BlockOutcome: ...
 
 
 class BlockOutcome(Protocol):
@@ -144,6 +144,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     positions: list[Vec3 | None] = [None] * n_lines
     planned: list[Item] = []
     calls: list[_Call] = []
+    cache: dict[Any, Any] = {}  # the executor's reading of blocks run more than once
     repeats: list[_Repeat] = []
     unit, index = main, 0
     ended = False
@@ -176,7 +177,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
             ended = True  # stopped: a missing M30 is no news
             break
-        out = execute(setup, state, position, block, params)
+        out = execute(setup, state, position, block, params, cache=cache)
         if calls:
             stack = tuple((c.source, c.line) for c in calls)
             for c in out.commands:

@@ -24,7 +24,7 @@ class Frame:
 
     @property
     def identity(self) -> bool:
-        return self == IDENTITY
+        return self is IDENTITY or self == IDENTITY
 
     @property
     def flips(self) -> bool:

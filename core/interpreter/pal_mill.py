@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
-from typing import Literal
+from typing import Any, Literal
 
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, CodeTable, Support
@@ -51,7 +51,7 @@ class Outcome:
 
 def execute_block(
     setup: RunSetup, state: ModalState, position: Vec3, block: Block, params: dict[int, float],
-    table: CodeTable = TABLE,
+    table: CodeTable = TABLE, cache: dict[Any, Any] | None = None,
 ) -> Outcome:
     """Execute `block` from `state` at `position`. `params` (P1…P999) is updated only on success."""
     out = Outcome(state, position)
@@ -70,118 +70,21 @@ def execute_block(
             if value is not None and _in_range(value, f"P{asg.param}", asg.span, setup, d):
                 new_params[asg.param] = value
 
-    # -- sort the words ----------------------------------------------------------------------
-    gs: list[tuple[Word, Code]] = []
-    ms: list[tuple[Word, Code]] = []
-    words: dict[str, list[Word]] = {}
-    values: dict[str, float] = {}
-    limit = setup.limits.max_abs_value
-    for w in block.words:
-        a = w.address
-        if a == "G" or a == "M":
-            code = _code_word(w, table, d)
-            if code is not None:
-                (gs if a == "G" else ms).append((w, code))
-            continue
-        spec = table.addresses.get(a)
-        if spec is None:
-            d.append(diag("PAL-E003", w.address_span, address=a))
-            continue
-        words.setdefault(a, []).append(w)
-        if w.expr is not None:
-            v = evaluate(w.expr, new_params, w.line, d)
-            if v is None:
-                continue
-        elif w.value is None:
-            continue  # a flag; checked below
-        else:
-            v = w.value
-        if not -limit <= v <= limit:  # also catches NaN and infinity
-            _in_range(v, a, w.span, setup, d)
-            continue
-        if spec.integer and v != int(v):
-            d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
-        values.setdefault(a, v)
+    # -- read the words: everything that depends on the block alone (cached for loops) ---------
+    key = (id(block), state.codes.get("motion"), state.codes.get("plane"))
+    reading = cache.get(key) if cache is not None else None
+    if reading is None:
+        reading = _read(block, table, setup, new_params, state.codes.get("motion"), state.codes.get("plane"))
+        if cache is not None and reading.cacheable:
+            cache[key] = reading
+    d.extend(reading.diagnostics)
+    gs, ms, words, values = reading.gs, reading.ms, reading.words, reading.values
+    owner, owner_word, motion = reading.owner, reading.owner_word, reading.motion
+    new_tool, arc_plane = reading.new_tool, reading.arc_plane
 
-    # -- G codes: count, groups, the code that owns the block -------------------------------
-    if table.max_g_words is not None and len(gs) > table.max_g_words:
-        d.append(diag("PAL-E104", gs[table.max_g_words][0].span, count=len(gs)))
-    owner: Code | None = None
-    owner_word: Word | None = None
-    seen_groups: dict[str, Word] = {}
-    for w, code in gs + ms:
-        for member in table.activates(code):
-            g = table.group_of[member]
-            if g in seen_groups:
-                first = seen_groups[g]
-                label = table.group(g)
-                d.append(diag("PAL-E103", w.span, first=str(first), second=str(w), group=label.label_de,
-                              group_en=label.label_en))
-            seen_groups[g] = w
-        if code.owns_block:
-            if owner is not None and owner.group != code.group or (owner is not None and code.group is None):
-                d.append(diag("PAL-E103", w.span, first=str(owner_word), second=str(w), group="Satzfunktion",
-                              group_en="block function"))
-            owner, owner_word = code, w
-
-    # -- which addresses the block may hold -----------------------------------------------
-    motion = owner if owner is not None and owner.group == "motion" else None
-    if owner is None and not words.keys() <= table.technology_words:
-        motion = table.codes[state.active("motion") or "G1"]
-        allowed = motion.words
-        command_name = f"{motion.name} (modal)"
-    elif owner is not None:
-        allowed = owner.words
-        command_name = str(owner_word)
-    else:
-        allowed = table.tool_words
-        command_name = ""  # every word is allowed here, so no message names it
-    for a, ws in words.items():
-        if owner is not None and owner.alone:
-            d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
-            continue
-        if a not in allowed and a not in table.always_allowed:
-            d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
-            continue
-        if len(ws) > 1 and not (owner is not None and a in _OWNER_DUPLICATES.get(owner.name, ())):
-            d.append(diag("PAL-E106", ws[1].span, address=a))
-        for w in ws:
-            if w.value is None and w.expr is None and not (table.addresses[a].flag and owner and owner.name == "G66"):
-                d.append(diag("PAL-E111", w.span, address=a))
-    if owner is not None and owner.alone and len(gs) + len(ms) > 1:
-        other = next(w for w, c in gs + ms if c is not owner)
-        d.append(diag("PAL-E101", other.span, address=str(other), command=command_name))
-    if len(words) > 1:  # an axis may be given in two spellings
-        for spellings in _AXES:
-            present = [s for s in spellings if s in words]
-            if len(present) > 1:
-                d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
-    for w, code in gs:
-        for one_of in code.required:
-            if not any(a in words for a in one_of):
-                d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
-    for a in ("F", "S", "U", "H", "E", "RP"):
-        if a in values and values[a] < 0:
-            d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
-    if "TC" in values and not 1 <= values["TC"] <= 9:
-        d.append(diag("PAL-E112", words["TC"][0].span, value=words["TC"][0].raw))
-    new_tool: int | None = None
-    if "T" in values:
-        new_tool = int(values["T"])
-        if new_tool != 0 and setup.tools.get(new_tool) is None:
-            d.append(diag("PAL-E304", words["T"][0].span, tool=new_tool))
-    arc_plane = "G17"
-    if motion is not None and motion.name in ("G2", "G3"):
-        modal_plane = next((c.name for _, c in gs if c.group == "plane"), None) or state.codes.get("plane")
-        arc_plane = _arc_plane(modal_plane or "G17", words, table)
-        pw = PLANE_WORDS[arc_plane]
-        for a in _CENTRE_WORDS - pw.centre_words:
-            if a in words:
-                d.append(diag("PAL-E204", words[a][0].span, address=a, plane=arc_plane,
-                              centre="/".join(w for w in pw.centre_words if w in table.addresses)))
     if ms and any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
         d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
-    in_block = {c.name for _, c in gs}
+    in_block = reading.in_block
     compensating = state.codes["compensation"] != "G40"
     if compensating and "G40" not in in_block:
         for a in ("T", "TC", "TR", "TL"):
@@ -189,19 +92,12 @@ def execute_block(
                 d.append(diag("PAL-E216", words[a][0].span, address=a))
     if owner is not None and owner.name in _CHECKED_OWNERS:
         _check_owner(owner, owner_word or gs[0][0], in_block, words, values, state, d)
-    for a in ("D", "AO"):
-        if a in values and values[a] <= 0:
-            d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
-    if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
-        d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
-    if gs and any(c.name == "G70" for _, c in gs):
-        d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
 
     if d and any(x.severity is Severity.ERROR for x in d):
         return out  # the block is not executed; the state stays as it was
 
     # -- what is not implemented yet -------------------------------------------------------
-    for w, code in gs + ms:
+    for w, code in reading.planned:
         if code.support is Support.PLANNED:
             skips = code.owns_block
             d.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
@@ -210,7 +106,7 @@ def execute_block(
 
     # -- commit: technology and modes at block start ------------------------------------------
     codes = state.codes
-    changes = {table.group_of[m]: m for _, c in gs + ms for m in table.activates(c) if m not in _END_OF_BLOCK}
+    changes = {g: m for g, m in reading.activations if codes.get(g) != m}
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
     if "F" in values:
         feed = values["F"]
@@ -257,7 +153,7 @@ def execute_block(
         planned.side = -planned.side if state.frame.flips else planned.side
         out.commands.append(planned)
         position = planned.move.end
-    elif motion is not None and words.keys() & _GEOMETRY_WORDS:
+    elif motion is not None and reading.moves:
         exact = "G9" in in_block
         frame = state.frame
         here = position if frame.identity else frame.to_program(position)
@@ -293,7 +189,7 @@ def execute_block(
         out.flow = ("jump", int(values["N"]), 0)
 
     # -- block end: M5, M9, M30 ---------------------------------------------------------------
-    ends = {g: m for _, c in ms for m in table.activates(c) if (g := table.group_of[m]) and m in _END_OF_BLOCK}
+    ends = reading.ends
     if ends:
         state = dataclasses.replace(state, codes={**state.codes, **ends})
     for w, code in ms:
@@ -308,10 +204,12 @@ def execute_block(
     return out
 
 
+_NON_NEGATIVE = ("F", "S", "U", "H", "E", "RP")
+_SPELLINGS = frozenset({"XI", "YI", "ZI", "XA", "YA", "ZA"})
 _CHECKED_OWNERS = frozenset({"G23", "G29", "G45", "G46", "G47", "G48", "G58", "G59"})
 
 
-def _check_owner(owner: Code, owner_word: Word, in_block: set[str], words: dict[str, list[Word]],
+def _check_owner(owner: Code, owner_word: Word, in_block: frozenset[str], words: dict[str, list[Word]],
                  values: dict[str, float], state: ModalState, d: list[Diagnostic]) -> None:
     """The rules of the block-owning codes that a table of allowed words cannot say."""
     name, span = owner.name, owner_word.span
@@ -335,6 +233,158 @@ def _check_owner(owner: Code, owner_word: Word, in_block: set[str], words: dict[
                 d.append(diag("PAL-E113", w.span, number=w.raw))
     if name == "G23" and len(words.get("N", ())) != 2:
         d.append(diag("PAL-E102", span, address="N N", command="G23"))
+
+
+@dataclass(slots=True)
+class Reading:
+    """What a block says, before any state: its words sorted and checked. Not mutated once made."""
+
+    gs: list[tuple[Word, Code]]
+    ms: list[tuple[Word, Code]]
+    words: dict[str, list[Word]]
+    values: dict[str, float]
+    owner: Code | None
+    owner_word: Word | None
+    motion: Code | None
+    new_tool: int | None
+    arc_plane: str
+    diagnostics: list[Diagnostic]
+    cacheable: bool
+    in_block: frozenset[str]  # the names of its G codes
+    planned: list[tuple[Word, Code]]  # codes not supported yet
+    activations: list[tuple[str, str]]  # (modal group, code) switched at the block start
+    ends: dict[str, str]  # modal group → code switched at the block end (M5, M9)
+    moves: bool  # it has words of geometry  # no parameter expression: the same block always reads the same
+
+
+def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int, float], modal_motion: str | None,
+          modal_plane: str | None) -> Reading:
+    """Sort and check the words of `block` (`modal_motion`/`modal_plane`: what is active before it)."""
+    d: list[Diagnostic] = []
+    # -- sort the words ----------------------------------------------------------------------
+    gs: list[tuple[Word, Code]] = []
+    ms: list[tuple[Word, Code]] = []
+    words: dict[str, list[Word]] = {}
+    values: dict[str, float] = {}
+    limit = setup.limits.max_abs_value
+    for w in block.words:
+        a = w.address
+        if a == "G" or a == "M":
+            code = _code_word(w, table, d)
+            if code is not None:
+                (gs if a == "G" else ms).append((w, code))
+            continue
+        spec = table.addresses.get(a)
+        if spec is None:
+            d.append(diag("PAL-E003", w.address_span, address=a))
+            continue
+        words.setdefault(a, []).append(w)
+        if w.expr is not None:
+            v = evaluate(w.expr, new_params, w.line, d)
+            if v is None:
+                continue
+        elif w.value is None:
+            continue  # a flag; checked below
+        else:
+            v = w.value
+        if not -limit <= v <= limit:  # also catches NaN and infinity
+            _in_range(v, a, w.span, setup, d)
+            continue
+        if spec.integer and v != int(v):
+            d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
+        values.setdefault(a, v)
+
+    # -- G codes: count, groups, the code that owns the block -------------------------------
+    if table.max_g_words is not None and len(gs) > table.max_g_words:
+        d.append(diag("PAL-E104", gs[table.max_g_words][0].span, count=len(gs)))
+    owner: Code | None = None
+    owner_word: Word | None = None
+    seen_groups: dict[str, Word] = {}
+    for w, code in gs + ms if len(gs) + len(ms) > 1 else ():  # one code cannot conflict with itself
+        for member in table.activates(code):
+            g = table.group_of[member]
+            if g in seen_groups:
+                first = seen_groups[g]
+                label = table.group(g)
+                d.append(diag("PAL-E103", w.span, first=str(first), second=str(w), group=label.label_de,
+                              group_en=label.label_en))
+            seen_groups[g] = w
+    for w, code in gs:
+        if code.owns_block:
+            if owner is not None and owner.group != code.group or (owner is not None and code.group is None):
+                d.append(diag("PAL-E103", w.span, first=str(owner_word), second=str(w), group="Satzfunktion",
+                              group_en="block function"))
+            owner, owner_word = code, w
+
+    # -- which addresses the block may hold -----------------------------------------------
+    motion = owner if owner is not None and owner.group == "motion" else None
+    if owner is None and not words.keys() <= table.technology_words:
+        motion = table.codes[modal_motion or "G1"]
+        allowed = motion.words
+        command_name = f"{motion.name} (modal)"
+    elif owner is not None:
+        allowed = owner.words
+        command_name = str(owner_word)
+    else:
+        allowed = table.tool_words
+        command_name = ""  # every word is allowed here, so no message names it
+    for a, ws in words.items():
+        if owner is not None and owner.alone:
+            d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
+            continue
+        if a not in allowed and a not in table.always_allowed:
+            d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
+            continue
+        if len(ws) > 1 and not (owner is not None and a in _OWNER_DUPLICATES.get(owner.name, ())):
+            d.append(diag("PAL-E106", ws[1].span, address=a))
+        for w in ws:
+            if w.value is None and w.expr is None and not (table.addresses[a].flag and owner and owner.name == "G66"):
+                d.append(diag("PAL-E111", w.span, address=a))
+    if owner is not None and owner.alone and len(gs) + len(ms) > 1:
+        other = next(w for w, c in gs + ms if c is not owner)
+        d.append(diag("PAL-E101", other.span, address=str(other), command=command_name))
+    if not words.keys().isdisjoint(_SPELLINGS):  # an axis may be given in two spellings
+        for spellings in _AXES:
+            present = [s for s in spellings if s in words]
+            if len(present) > 1:
+                d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
+    for w, code in gs if any(c.required for _, c in gs) else ():
+        for one_of in code.required:
+            if not any(a in words for a in one_of):
+                d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
+    for a in () if values.keys().isdisjoint(_NON_NEGATIVE) else _NON_NEGATIVE:
+        if a in values and values[a] < 0:
+            d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
+    if "TC" in values and not 1 <= values["TC"] <= 9:
+        d.append(diag("PAL-E112", words["TC"][0].span, value=words["TC"][0].raw))
+    new_tool: int | None = None
+    if "T" in values:
+        new_tool = int(values["T"])
+        if new_tool != 0 and setup.tools.get(new_tool) is None:
+            d.append(diag("PAL-E304", words["T"][0].span, tool=new_tool))
+    arc_plane = "G17"
+    if motion is not None and motion.name in ("G2", "G3"):
+        plane = next((c.name for _, c in gs if c.group == "plane"), None) or modal_plane
+        arc_plane = _arc_plane(plane or "G17", words, table)
+        pw = PLANE_WORDS[arc_plane]
+        for a in _CENTRE_WORDS - pw.centre_words:
+            if a in words:
+                d.append(diag("PAL-E204", words[a][0].span, address=a, plane=arc_plane,
+                              centre="/".join(w for w in pw.centre_words if w in table.addresses)))
+    for a in ("D", "AO"):
+        if a in values and values[a] <= 0:
+            d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
+    if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
+        d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
+    if gs and any(c.name == "G70" for _, c in gs):
+        d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
+    activations = [(table.group_of[m], m) for _, c in gs + ms for m in table.activates(c)]
+    return Reading(gs, ms, words, values, owner, owner_word, motion, new_tool, arc_plane, d,
+                   all(w.expr is None for w in block.words), frozenset(c.name for _, c in gs),
+                   [(w, c) for w, c in gs + ms if c.support is Support.PLANNED],
+                   [(g, m) for g, m in activations if m not in _END_OF_BLOCK],
+                   {g: m for g, m in activations if m in _END_OF_BLOCK},
+                   not words.keys().isdisjoint(_GEOMETRY_WORDS))
 
 
 def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
@@ -686,6 +736,8 @@ _TRANSITION_WORDS = {"RN": (1.0, False), "G302": (1.0, False), "#RND": (1.0, Fal
 
 def _transition(values: dict[str, float], words: dict[str, list[Word]]) -> tuple[float, str, bool]:
     """RN (signed: + rounding, - chamfer), or Beckhoff's G301=/G302=/#CHR/#CHF/#RND: size, text, by length."""
+    if values.keys().isdisjoint(_TRANSITION_WORDS):
+        return 0.0, "", False
     for name, (sign, by_length) in _TRANSITION_WORDS.items():
         if name in values:
             w = words[name][0]
@@ -695,7 +747,9 @@ def _transition(values: dict[str, float], words: dict[str, list[Word]]) -> tuple
 
 def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
     """Side (+1 left, -1 right, 0 off) and effective tool radius (offset memory TC + TR) of `state`."""
-    code = state.active("compensation")
+    code = state.codes["compensation"]
+    if code == "G40":
+        return 0, 0.0
     side = 1 if code == "G41" else -1 if code == "G42" else 0
     tool = setup.tools.get(state.tool) if state.tool is not None else None
     return side, (tool.offset(state.tc).radius + state.tr) if tool is not None and side else 0.0
