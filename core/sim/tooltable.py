@@ -104,7 +104,11 @@ def parse_tool_table(text: str) -> ToolTable:
         raise ToolTableError(f"Werkzeugtabelle: kein gültiges YAML ({exc}) / tool table: not valid YAML") from None
     if not isinstance(data, dict) or not isinstance(data.get("tools"), list):
         raise ToolTableError("Werkzeugtabelle: erwartet »tools:« mit einer Liste / tool table: expected 'tools:' with a list")
-    entries = cast(list[object], data["tools"])
+    return tools_from_entries(cast(list[object], data["tools"]))
+
+
+def tools_from_entries(entries: list[object]) -> ToolTable:
+    """The tools of an already-read `tools:` list (as in tool tables and exercise files)."""
     if len(entries) > MAX_TOOLS:
         raise ToolTableError(f"Werkzeugtabelle: mehr als {MAX_TOOLS} Werkzeuge / tool table: more than {MAX_TOOLS} tools")
     tools: dict[int, Tool] = {}

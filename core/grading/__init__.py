@@ -1,0 +1,265 @@
+"""The grader: a submission against an exercise's reference, criterion by criterion (pure, deterministic).
+
+Both programs run through the same pipeline (interpret, then simulate on the exercise's stock at its
+resolution); the machined parts are compared cell by cell with a tolerance band, so equivalent
+programs (arc by R instead of I/J, RN instead of an explicit arc, incremental instead of absolute)
+score the same. Every criterion carries its points, a German and an English message and the lines
+it concerns.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+import numpy.typing as npt
+
+from core.diagnostics import Diagnostic, Severity
+from core.exercises import Criterion, Exercise
+from core.interpreter import Toolpath
+from core.interpreter.state import RunSetup
+from core.pipeline import run
+from core.sim import SimResult, simulate
+from core.toolpath import Move
+
+SAFETY_EVENTS = {"SIM-E001", "SIM-E002", "SIM-E003", "SIM-E004", "SIM-E005", "SIM-E006", "SIM-E007", "SIM-E008"}
+SAFE_CLEARANCE = 10.0  # mm above the stock top counts as a safe end position
+
+
+@dataclass(frozen=True, slots=True)
+class CriterionResult:
+    id: str
+    passed: bool
+    points: int
+    max_points: int
+    message: str
+    message_en: str
+    lines: tuple[int, ...]
+    hidden: bool
+
+    def to_json(self) -> dict[str, Any]:
+        return {"id": self.id, "status": "passed" if self.passed else "failed", "points": self.points,
+                "max_points": self.max_points, "message": self.message, "message_en": self.message_en,
+                "lines": list(self.lines), "hidden": self.hidden}
+
+
+@dataclass(frozen=True, slots=True)
+class GradeResult:
+    exercise: str
+    score: int
+    max_score: int
+    criteria: tuple[CriterionResult, ...]
+    diagnostics: tuple[Diagnostic, ...]
+
+    def to_json(self, view: Literal["instructor", "student"] = "instructor") -> dict[str, Any]:
+        """The contract of `paltrainer grade --json`; students do not see hidden criteria."""
+        shown = [c for c in self.criteria if view == "instructor" or not c.hidden]
+        return {"exercise": self.exercise, "score": self.score, "max_score": self.max_score,
+                "criteria": [c.to_json() for c in shown], "diagnostics": [d.to_json() for d in self.diagnostics]}
+
+
+@dataclass(frozen=True, slots=True)
+class _Run:
+    toolpath: Toolpath
+    sim: SimResult
+
+
+def _execute(exercise: Exercise, text: str) -> _Run:
+    tools = exercise.tool_table()
+    setup = RunSetup(tools=tools, zero_offsets=tuple(exercise.zero_offsets.items()),
+                     subprograms=tuple(exercise.subprograms.items()))
+    toolpath = run(text, exercise.dialect, setup)
+    sim = simulate(toolpath, exercise.stock.stock(), tools, exercise.resolution)
+    return _Run(toolpath, sim)
+
+
+def grade(exercise: Exercise, program: str) -> GradeResult:
+    """Grade `program` against `exercise`. The same inputs always give the same result."""
+    reference = _execute(exercise, exercise.reference)
+    submission = _execute(exercise, program)
+    results = [_judge(c, exercise, program, reference, submission) for c in exercise.rubric]
+    score = sum(r.points for r in results)
+    return GradeResult(exercise.id, score, sum(c.points for c in exercise.rubric), tuple(results),
+                       tuple(submission.toolpath.diagnostics))
+
+
+def _result(c: Criterion, passed: bool, de: str, en: str, lines: list[int] | tuple[int, ...] = ()) -> CriterionResult:
+    return CriterionResult(c.id, passed, c.points if passed else 0, c.points, de, en,
+                           tuple(sorted(set(lines))), c.hidden)
+
+
+def _judge(c: Criterion, ex: Exercise, program: str, ref: _Run, sub: _Run) -> CriterionResult:
+    tp = sub.toolpath
+    cutting = [m for m in tp.moves if m.kind != "rapid"]
+    if c.id == "syntax":
+        errors = [d for d in tp.diagnostics if d.severity is Severity.ERROR]
+        if not errors:
+            return _result(c, True, "Das Programm ist fehlerfrei.", "The program has no errors.")
+        first = errors[0]
+        return _result(c, False, f"{len(errors)} Fehler im Programm, der erste in Zeile {first.span.line}: "
+                       f"{first.message}", f"{len(errors)} errors in the program, the first in line "
+                       f"{first.span.line}: {first.message_en}", [d.span.line for d in errors])
+    if c.id == "geometry":
+        return _geometry(c, ref, sub)
+    if c.id == "safety":
+        events = [e for e in sub.sim.events if e.code in SAFETY_EVENTS]
+        if not events:
+            return _result(c, True, "Keine Kollision und kein gefährlicher Schnitt.", "No collision, no unsafe cut.")
+        e = events[0]
+        return _result(c, False, f"Zeile {e.span.line}: {e.message}", f"Line {e.span.line}: {e.message_en}",
+                       [x.span.line for x in events if x.span.line])
+    if c.id == "technology":
+        return _technology(c, ex, cutting)
+    if c.id == "tool_change":
+        first_cut = cutting[0].line if cutting else None
+        changed = [t for t in tp.tool_changes if t.tool is not None]
+        ok = bool(changed) and (first_cut is None or _before(tp, changed[0], cutting[0]))
+        return _result(c, ok, "Werkzeug vor dem ersten Schnitt eingewechselt." if ok else
+                       "Kein Werkzeugwechsel (T … M6) vor dem ersten Schnitt.",
+                       "Tool changed before the first cut." if ok else "No tool change (T … M6) before the first cut.",
+                       [] if ok or first_cut is None else [first_cut])
+    if c.id == "spindle_on":
+        stopped = [m.line for m in cutting if m.spindle == 0]
+        return _result(c, not stopped, "Die Spindel läuft bei allen Vorschubbewegungen." if not stopped else
+                       f"Vorschubbewegung bei stehender Spindel in Zeile {stopped[0]}.",
+                       "The spindle turns during every feed move." if not stopped else
+                       f"Feed move with the spindle stopped in line {stopped[0]}.", stopped)
+    if c.id == "compensation_off":
+        last = len(tp.line_states)
+        state = tp.state_at(last)[0] if last else None
+        ok = state is None or state.active("compensation") in ("G40", None)
+        return _result(c, ok, "Die Fräserradiuskorrektur ist am Ende abgewählt (G40)." if ok else
+                       "Die Fräserradiuskorrektur ist am Programmende noch aktiv: G40 fehlt.",
+                       "Cutter radius compensation is off at the end (G40)." if ok else
+                       "Cutter radius compensation is still on at the end: G40 is missing.")
+    if c.id == "safe_position":
+        z = tp.final_position[2]
+        top = ex.stock.max[2]
+        ok = z >= top + SAFE_CLEARANCE
+        return _result(c, ok, f"Das Werkzeug endet auf Z{z:g}, sicher über dem Werkstück." if ok else
+                       f"Das Werkzeug endet auf Z{z:g}, weniger als {SAFE_CLEARANCE:g} mm über dem Werkstück.",
+                       f"The tool ends at Z{z:g}, safely above the part." if ok else
+                       f"The tool ends at Z{z:g}, less than {SAFE_CLEARANCE:g} mm above the part.")
+    if c.id == "program_end":
+        missing = any(d.code == "PAL-W102" for d in tp.diagnostics)
+        return _result(c, not missing, "Das Programm endet mit M30." if not missing else "M30 (Programmende) fehlt.",
+                       "The program ends with M30." if not missing else "M30 (end of program) is missing.")
+    # locked_lines
+    given = ex.start_program.splitlines()
+    mine = program.splitlines()
+    edited = [n for n in ex.locked_lines if n > len(mine) or mine[n - 1].strip() != given[n - 1].strip()]
+    return _result(c, not edited, "Die vorgegebenen Zeilen sind unverändert." if not edited else
+                   f"Vorgegebene Zeilen wurden geändert: {', '.join(map(str, edited))}.",
+                   "The given lines are unchanged." if not edited else
+                   f"Given lines were changed: {', '.join(map(str, edited))}.", edited)
+
+
+def _before(tp: Toolpath, change: object, move: Move) -> bool:
+    commands = tp.commands
+    return commands.index(change) < commands.index(move)  # type: ignore[arg-type]
+
+
+def _geometry(c: Criterion, ref: _Run, sub: _Run) -> CriterionResult:
+    """Over-cut (material removed that must stay) and residual (material left that must go) outside the band."""
+    tol = c.tolerance if c.tolerance is not None else 0.05
+    hr, hs = ref.sim.heightmap, sub.sim.heightmap
+    grid = hr.grid
+    # The band: tol in height, and sideways tol but at least one cell (an edge that falls on a cell
+    # centre may land on either side of it). A cell is over-cut only if it lies deeper than every
+    # reference cell that near (along X and Y), and left standing only if it is higher than every one.
+    reach = max(1, math.ceil(tol / grid.dx - 1e-9))
+    lowest, highest = _neighbourhood(hr.heights, reach)
+    area = grid.dx * grid.dy
+    over = np.clip(lowest - tol - hs.heights, 0.0, None)
+    left = np.clip(hs.heights - highest - tol, 0.0, None)
+    over_volume, left_volume = float(over.sum()) * area, float(left.sum()) * area
+    diff = hs.heights - hr.heights
+    allowance = 4 * area * tol  # a few cells at the band's edge
+    if over_volume <= allowance and left_volume <= allowance:
+        return _result(c, True, "Das Werkstück entspricht der Zeichnung.", "The part matches the drawing.")
+    gouge = over_volume > allowance  # a gouge is the graver fault: name it first
+    worst = np.unravel_index(int(np.argmax(over if gouge else left)), diff.shape)
+    j, i = int(worst[0]), int(worst[1])
+    x, y = grid.x0 + (i + 0.5) * grid.dx, grid.y0 + (j + 0.5) * grid.dy
+    depth = abs(float(diff[j, i]))  # against the reference cell itself
+    line = _line_at(sub.toolpath, x, y) if gouge else None
+    where, where_en = (f" (Zeile {line})", f" (line {line})") if line else ("", "")
+    parts_de, parts_en = [], []
+    if gouge:
+        parts_de.append(f"Zu viel Material abgetragen: {over_volume:.1f} mm³; die größte Abweichung ist {depth:.2f} mm "
+                        f"zu tief bei X{x:.1f} Y{y:.1f}{where}.")
+        parts_en.append(f"Too much material removed: {over_volume:.1f} mm³; the largest deviation is {depth:.2f} mm "
+                        f"too deep at X{x:.1f} Y{y:.1f}{where_en}.")
+    if left_volume > allowance:
+        if gouge:
+            parts_de.append(f"Außerdem stehen {left_volume:.1f} mm³ Material, die weg müssen.")
+            parts_en.append(f"Also, {left_volume:.1f} mm³ of material that must go are left standing.")
+        else:
+            parts_de.append(f"Material stehen gelassen: {left_volume:.1f} mm³; die größte Abweichung ist {depth:.2f} mm "
+                            f"zu hoch bei X{x:.1f} Y{y:.1f}.")
+            parts_en.append(f"Material left standing: {left_volume:.1f} mm³; the largest deviation is {depth:.2f} mm "
+                            f"too high at X{x:.1f} Y{y:.1f}.")
+    return _result(c, False, " ".join(parts_de), " ".join(parts_en), [line] if line else [])
+
+
+def _neighbourhood(h: npt.NDArray[np.float64], reach: int) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """The lowest and the highest height of every cell and its neighbours along X and Y up to `reach` cells.
+
+    A cross, not a square: sideways the band is then at most `reach` cells wide in every direction
+    (a square would let a diagonal edge move 1.4 cells).
+    """
+    padded = np.pad(h, reach, mode="edge")
+    ny, nx = h.shape
+    lowest, highest = h.copy(), h.copy()
+    for k in range(1, reach + 1):
+        for dj, di in ((k, 0), (-k, 0), (0, k), (0, -k)):
+            window = padded[reach + dj:reach + dj + ny, reach + di:reach + di + nx]
+            np.minimum(lowest, window, out=lowest)
+            np.maximum(highest, window, out=highest)
+    return lowest, highest
+
+
+def _line_at(tp: Toolpath, x: float, y: float) -> int | None:
+    """The block of the lowest cutting move that passes over (x, y) within the tool's reach."""
+    best: tuple[float, int] | None = None
+    for m in tp.moves:
+        if m.kind == "rapid":
+            continue
+        reach = 20.0
+        pts = m.points(0.05)
+        for a, b in itertools.pairwise(pts):
+            d = _segment_distance((x, y), a, b)
+            if d <= reach:
+                z = min(a[2], b[2])
+                key = (z + d * 1e-3, m.line)
+                if best is None or key < best:
+                    best = key
+    return best[1] if best else None
+
+
+def _segment_distance(p: tuple[float, float], a: tuple[float, float, float], b: tuple[float, float, float]) -> float:
+    dx, dy = b[0] - a[0], b[1] - a[1]
+    n = dx * dx + dy * dy
+    t = 0.0 if n == 0 else max(0.0, min(1.0, ((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / n))
+    return math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
+
+
+def _technology(c: Criterion, ex: Exercise, cutting: list[Move]) -> CriterionResult:
+    if not ex.cutting_data:
+        return _result(c, True, "Keine Schnittdaten vorgegeben.", "No cutting data prescribed.")
+    tol = c.tolerance if c.tolerance is not None else 0.1
+    wanted = {d.tool: d for d in ex.cutting_data}
+    for m in cutting:
+        data = wanted.get(m.tool) if m.tool is not None else None
+        if data is None:
+            return _result(c, False, f"Zeile {m.line}: Werkzeug T{m.tool} ist in der Aufgabe nicht vorgesehen.",
+                           f"Line {m.line}: tool T{m.tool} is not the one the task prescribes.", [m.line])
+        for name, have, want in (("S", m.spindle, data.speed), ("F", m.feed, data.feed)):
+            if abs(have - want) > tol * want:
+                return _result(c, False, f"Zeile {m.line}: {name}{have:g} statt {name}{want:g} für T{m.tool}.",
+                               f"Line {m.line}: {name}{have:g} instead of {name}{want:g} for T{m.tool}.", [m.line])
+    return _result(c, True, "Werkzeug, Drehzahl und Vorschub wie vorgegeben.",
+                   "Tool, spindle speed and feed as prescribed.")
