@@ -126,7 +126,7 @@ def execute_block(
         codes = {**codes, **changes}
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
-        state = dataclasses.replace(state, codes=codes, feed=feed, speed=speed, tool=tool, tc=tc, tr=tr, tl=tl)
+        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame, state.blend)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
         frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
         if frame is not state.frame:
@@ -191,7 +191,8 @@ def execute_block(
     # -- block end: M5, M9, M30 ---------------------------------------------------------------
     ends = reading.ends
     if ends:
-        state = dataclasses.replace(state, codes={**state.codes, **ends})
+        state = ModalState({**state.codes, **ends}, state.feed, state.speed, state.tool, state.tc, state.tr, state.tl,
+                           state.pole, state.frame, state.blend)
     for w, code in ms:
         if code.name in ("M30", "M2"):
             out.ended = True
