@@ -144,7 +144,9 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     positions: list[Vec3 | None] = [None] * n_lines
     planned: list[Item] = []
     calls: list[_Call] = []
-    cache: dict[Any, Any] = {}  # the executor's reading of blocks run more than once
+    # the executor keeps its reading of blocks once the program first goes back (a call, a repeat, a
+    # jump): until then every block runs once and keeping them would only cost
+    cache: dict[Any, Any] | None = None
     repeats: list[_Repeat] = []
     unit, index = main, 0
     ended = False
@@ -191,6 +193,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             states[block.line - 1] = state
             positions[block.line - 1] = position
         # -- program flow -----------------------------------------------------------------------
+        if cache is None and (out.flow is not None or out.repeat is not None or out.sub_end):
+            cache = {}
         if out.flow is not None and out.flow[0] == "call":
             number, count = out.flow[1], out.flow[2]
             callee = subs.get(number)

@@ -71,11 +71,15 @@ def execute_block(
                 new_params[asg.param] = value
 
     # -- read the words: everything that depends on the block alone (cached for loops) ---------
-    key = (id(block), state.codes.get("motion"), state.codes.get("plane"))
-    reading = cache.get(key) if cache is not None else None
-    if reading is None:
-        reading = _read(block, table, setup, new_params, state.codes.get("motion"), state.codes.get("plane"))
-        if cache is not None and reading.cacheable:
+    codes = state.codes
+    if cache is None:
+        reading = _read(block, table, setup, new_params, codes.get("motion"), codes.get("plane"))
+    else:
+        key = (id(block), codes.get("motion"), codes.get("plane"))
+        cached: Reading | None = cache.get(key)
+        reading = cached if cached is not None else _read(block, table, setup, new_params, codes.get("motion"),
+                                                          codes.get("plane"))
+        if cached is None and reading.cacheable:
             cache[key] = reading
     d.extend(reading.diagnostics)
     gs, ms, words, values = reading.gs, reading.ms, reading.words, reading.values
@@ -267,6 +271,7 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     ms: list[tuple[Word, Code]] = []
     words: dict[str, list[Word]] = {}
     values: dict[str, float] = {}
+    flags: list[Word] = []
     limit = setup.limits.max_abs_value
     for w in block.words:
         a = w.address
@@ -285,7 +290,8 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             if v is None:
                 continue
         elif w.value is None:
-            continue  # a flag; checked below
+            flags.append(w)  # a flag; checked below
+            continue
         else:
             v = w.value
         if not -limit <= v <= limit:  # also catches NaN and infinity
@@ -322,28 +328,27 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     if owner is None and not words.keys() <= table.technology_words:
         motion = table.codes[modal_motion or "G1"]
         allowed = motion.words
-        command_name = f"{motion.name} (modal)"
     elif owner is not None:
         allowed = owner.words
-        command_name = str(owner_word)
     else:
         allowed = table.tool_words
-        command_name = ""  # every word is allowed here, so no message names it
-    for a, ws in words.items():
-        if owner is not None and owner.alone:
-            d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
-            continue
-        if a not in allowed and a not in table.always_allowed:
-            d.append(diag("PAL-E101", ws[0].span, address=a, command=command_name))
-            continue
-        if len(ws) > 1 and not (owner is not None and a in _OWNER_DUPLICATES.get(owner.name, ())):
-            d.append(diag("PAL-E106", ws[1].span, address=a))
-        for w in ws:
-            if w.value is None and w.expr is None and not (table.addresses[a].flag and owner and owner.name == "G66"):
-                d.append(diag("PAL-E111", w.span, address=a))
-    if owner is not None and owner.alone and len(gs) + len(ms) > 1:
+    alone = owner is not None and owner.alone
+    refused = words.keys() if alone else words.keys() - allowed - table.always_allowed
+    if refused:
+        command_name = str(owner_word) if owner is not None else f"{motion.name} (modal)" if motion else ""
+        for a in [a for a in words if a in refused]:
+            d.append(diag("PAL-E101", words[a][0].span, address=a, command=command_name))
+    if len(words) < len(block.words) - len(gs) - len(ms):  # an address given twice
+        twice = _OWNER_DUPLICATES.get(owner.name, set()) if owner is not None else set()
+        for a, ws in words.items():
+            if len(ws) > 1 and a not in refused and a not in twice:
+                d.append(diag("PAL-E106", ws[1].span, address=a))
+    for w in flags:
+        if w.address not in refused and not (table.addresses[w.address].flag and owner and owner.name == "G66"):
+            d.append(diag("PAL-E111", w.span, address=w.address))
+    if alone and len(gs) + len(ms) > 1:
         other = next(w for w, c in gs + ms if c is not owner)
-        d.append(diag("PAL-E101", other.span, address=str(other), command=command_name))
+        d.append(diag("PAL-E101", other.span, address=str(other), command=str(owner_word)))
     if not words.keys().isdisjoint(_SPELLINGS):  # an axis may be given in two spellings
         for spellings in _AXES:
             present = [s for s in spellings if s in words]
@@ -654,6 +659,13 @@ def _arc(setup: RunSetup, position: Vec3, end: Vec3, pw: PlaneWords, values: dic
     if cx is not None and cy is not None and math.dist(s, (cx, cy)) < 1e-6:
         d.append(diag("PAL-E206", span))
         return None
+    if has_x and has_y and cx is not None and cy is not None and radius is None and ao is None:
+        # the usual form, end point and centre: the end must lie on the circle (Kreisendpunktfehler)
+        r_s, r_e = math.dist(s, (cx, cy)), math.dist((end[0], end[1]), (cx, cy))
+        if abs(r_s - r_e) > tol:
+            d.append(diag("PAL-E202", span, r_start=round(r_s, 4), r_end=round(r_e, 4), tolerance=tol))
+            return None
+        return (cx, cy), (end[0], end[1]), r_s
     solutions = arc_solutions(s, clockwise, end[0] if has_x else None, end[1] if has_y else None, cx, cy,
                               radius, ao, tol)
     if given >= 4 or full_circle:
