@@ -70,10 +70,14 @@ class CodeTable:
     strict_technology: bool = False  # a cut with no tool or a stopped spindle is an error (else a warning)
     group_of: dict[str, str] = field(init=False)
     technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
+    pairs: dict[str, tuple[tuple[str, str], ...]] = field(init=False)  # code → (group, member) it switches
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "group_of", {m: g.name for g in self.groups for m in g.members})
+        group_of = {m: g.name for g in self.groups for m in g.members}
+        object.__setattr__(self, "group_of", group_of)
         object.__setattr__(self, "technology_words", self.always_allowed | self.tool_words)
+        object.__setattr__(self, "pairs", {name: tuple((group_of[m], m) for m in self.activates(code))
+                                           for name, code in self.codes.items()})
 
     def activates(self, code: Code) -> tuple[str, ...]:
         """The modal group members that `code` switches on."""

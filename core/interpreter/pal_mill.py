@@ -169,9 +169,9 @@ def execute_block(
             move = frame.map_move(move)
             side, radius = _compensation(setup, state)
             rn, element, by_length = _transition(values, words)
-            out.commands.append(Planned(move, rn, element, values.get("E", values.get("#FRC")),
-                                        -side if frame.flips else side, radius, chamfer_by_length=by_length,
-                                        rapid_ok="RN" not in values))
+            out.commands.append(Planned(move, rn, element, values.get("E") or values.get("#FRC"),
+                                        -side if frame.flips else side, radius, None, None, by_length,
+                                        "RN" not in values))
             position = move.end
     elif owner is not None and owner.name in ("G301", "G302"):
         size = values.get("I", state.blend)
@@ -272,6 +272,7 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     words: dict[str, list[Word]] = {}
     values: dict[str, float] = {}
     flags: list[Word] = []
+    has_expr = False
     limit = setup.limits.max_abs_value
     for w in block.words:
         a = w.address
@@ -286,6 +287,7 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             continue
         words.setdefault(a, []).append(w)
         if w.expr is not None:
+            has_expr = True
             v = evaluate(w.expr, new_params, w.line, d)
             if v is None:
                 continue
@@ -354,7 +356,7 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             present = [s for s in spellings if s in words]
             if len(present) > 1:
                 d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
-    for w, code in gs if any(c.required for _, c in gs) else ():
+    for w, code in gs:
         for one_of in code.required:
             if not any(a in words for a in one_of):
                 d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
@@ -377,20 +379,28 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             if a in words:
                 d.append(diag("PAL-E204", words[a][0].span, address=a, plane=arc_plane,
                               centre="/".join(w for w in pw.centre_words if w in table.addresses)))
-    for a in ("D", "AO"):
-        if a in values and values[a] <= 0:
-            d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
+    if "D" in values or "AO" in values:
+        for a in ("D", "AO"):
+            if a in values and values[a] <= 0:
+                d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
     if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
         d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
-    if gs and any(c.name == "G70" for _, c in gs):
+    names = frozenset(c.name for _, c in gs)
+    if "G70" in names:
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
-    activations = [(table.group_of[m], m) for _, c in gs + ms for m in table.activates(c)]
-    return Reading(gs, ms, words, values, owner, owner_word, motion, new_tool, arc_plane, d,
-                   all(w.expr is None for w in block.words), frozenset(c.name for _, c in gs),
-                   [(w, c) for w, c in gs + ms if c.support is Support.PLANNED],
-                   [(g, m) for g, m in activations if m not in _END_OF_BLOCK],
-                   {g: m for g, m in activations if m in _END_OF_BLOCK},
-                   not words.keys().isdisjoint(_GEOMETRY_WORDS))
+    activations: list[tuple[str, str]] = []
+    ends: dict[str, str] = {}
+    planned: list[tuple[Word, Code]] = []
+    for w, c in gs + ms:
+        for g, m in table.pairs[c.name]:
+            if m in _END_OF_BLOCK:
+                ends[g] = m
+            else:
+                activations.append((g, m))
+        if c.support is Support.PLANNED:
+            planned.append((w, c))
+    return Reading(gs, ms, words, values, owner, owner_word, motion, new_tool, arc_plane, d, not has_expr, names,
+                   planned, activations, ends, not words.keys().isdisjoint(_GEOMETRY_WORDS))
 
 
 def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
