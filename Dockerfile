@@ -1,0 +1,24 @@
+# PAL Trainer server: `paltrainer serve` on 0.0.0.0:8000, data (SQLite file, secret key) in the volume /data.
+FROM python:3.11-slim
+
+ENV PYTHONDONTWRITEBYTECODE=1 \
+    PYTHONUNBUFFERED=1 \
+    PIP_NO_CACHE_DIR=1 \
+    PALTRAINER_DATA_DIR=/data \
+    PALTRAINER_EXERCISES_DIR=/app/exercises
+
+WORKDIR /app
+COPY pyproject.toml README.md ./
+COPY core ./core
+COPY server ./server
+COPY exercises ./exercises
+RUN pip install --no-cache-dir . \
+    && useradd --system --uid 10001 --home-dir /app paltrainer \
+    && mkdir -p /data && chown paltrainer /data
+
+USER paltrainer
+VOLUME ["/data"]
+EXPOSE 8000
+HEALTHCHECK --interval=30s --timeout=5s --start-period=30s \
+    CMD ["python", "-c", "import urllib.request; urllib.request.urlopen('http://127.0.0.1:8000/readyz', timeout=4)"]
+CMD ["paltrainer", "serve", "--host", "0.0.0.0", "--port", "8000", "--proxy-headers"]

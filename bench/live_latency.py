@@ -1,0 +1,239 @@
+"""Keystroke-to-diagnostics latency of the live WebSocket (/api/v1/live), over a real socket.
+
+Run from the repository root:
+
+    python bench/live_latency.py                      # starts `paltrainer serve` on 127.0.0.1, both scenarios
+    python bench/live_latency.py --quick              # fewer keystrokes
+    python bench/live_latency.py --url ws://127.0.0.1:8000/api/v1/live   # against a running server
+
+Scenario 1: one session edits a 500-block PAL program; each keystroke changes one line and the
+client waits for the update that carries that keystroke's version before typing the next one.
+Scenario 2: 50 sessions edit their own copy of the program at the same time, each typing one
+keystroke every --interval seconds (with ±50 % random jitter), independently of the answers;
+by default at 0.3 s (a fast typist, all 50 typing at once), 0.5 s, 1 s and 2 s.
+Latency = time from sending a keystroke's edit to receiving the first update whose version is at
+least that keystroke's version (the server answers only the newest version when edits pile up).
+This prints figures; it is a benchmark, not a test. Only 127.0.0.1 is contacted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import datetime
+import json
+import os
+import platform
+import random
+import signal
+import socket
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+from websockets.asyncio.client import ClientConnection, connect
+
+SEED = 20261122
+TARGET_SINGLE_P95_MS = 20.0
+TARGET_CONCURRENT_P95_MS = 100.0
+
+
+def program(blocks: int = 500) -> list[str]:
+    """A valid PAL milling program of `blocks` lines: tool change, then pockets of G1/G2/G3 moves."""
+    r = random.Random(SEED)
+    lines = ["N10 T1 TC1 M6", "N20 S1200 F150 M3", "N30 G0 X10 Y10 Z2", "N40 G1 Z-2"]
+    x, y = 10.0, 10.0
+    while len(lines) < blocks - 1:
+        n = (len(lines) + 1) * 10
+        k = r.random()
+        if k < 0.7:
+            x, y = r.randint(5, 75), r.randint(5, 65)
+            lines.append(f"N{n} G1 X{x:g} Y{y:g}")
+        else:
+            nx = min(75.0, x + 10) if x < 40 else max(5.0, x - 10)
+            lines.append(f"N{n} G{r.choice((2, 3))} X{nx:g} Y{y:g} R10")
+            x = nx
+    lines.append(f"N{len(lines) * 10 + 10} G0 Z50 M30")
+    return lines
+
+
+def keystrokes(lines: list[str], rng: random.Random) -> Iterator[tuple[int, str]]:
+    """(line, new text) per keystroke: a line in the body is retyped character by character."""
+    while True:
+        n = rng.randint(5, len(lines) - 1)
+        target = lines[n - 1]
+        base = target.split(" ", 1)[0]  # block number
+        for i in range(len(base), len(target) + 1):
+            yield n, target[:i]
+
+
+@contextmanager
+def server(workers: int) -> Iterator[str]:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    data = tempfile.mkdtemp(prefix="paltrainer-bench-")
+    env = {**os.environ, "PALTRAINER_DATA_DIR": data, "PALTRAINER_WORKERS": str(workers),
+           "PALTRAINER_LOG_LEVEL": "WARNING", "PALTRAINER_LOAD_EXERCISES": "false"}
+    env.pop("DATABASE_URL", None)
+    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/readyz", timeout=1) as r:
+                    if r.status == 200:
+                        break
+            except OSError:
+                pass
+            if proc.poll() is not None or time.monotonic() > deadline:
+                raise SystemExit("server did not start")
+            time.sleep(0.2)
+        yield f"ws://127.0.0.1:{port}/api/v1/live"
+    finally:
+        proc.send_signal(signal.SIGINT)
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+
+
+class Session:
+    """One editor: sends edits, and matches each update to the keystrokes it answers."""
+
+    def __init__(self, ws: ClientConnection, lines: list[str]) -> None:
+        self.ws, self.lines = ws, list(lines)
+        self.version = 0
+        self.pending: dict[int, float] = {}  # version → send time
+        self.latencies: list[float] = []
+        self.newest = asyncio.Event()
+
+    async def open(self) -> None:
+        await self.ws.send(json.dumps({"type": "open", "version": 0, "text": "\n".join(self.lines) + "\n"}))
+        msg = json.loads(await self.ws.recv())
+        assert msg["type"] == "update" and msg["version"] == 0, msg
+
+    async def edit(self, line: int, text: str) -> int:
+        self.version += 1
+        self.pending[self.version] = time.perf_counter()
+        await self.ws.send(json.dumps({"type": "edit", "version": self.version, "line": line, "text": text}))
+        return self.version
+
+    async def reader(self) -> None:
+        async for raw in self.ws:
+            now = time.perf_counter()
+            msg = json.loads(raw)
+            if msg["type"] != "update":
+                raise RuntimeError(f"server error: {msg}")
+            for v in [v for v in self.pending if v <= msg["version"]]:
+                self.latencies.append((now - self.pending.pop(v)) * 1000)
+            if not self.pending:
+                self.newest.set()
+
+
+async def single(url: str, n: int) -> list[float]:
+    lines = program()
+    rng = random.Random(SEED)
+    async with connect(url, max_size=None, compression=None) as ws:
+        s = Session(ws, lines)
+        await s.open()
+        task = asyncio.create_task(s.reader())
+        keys = keystrokes(lines, rng)
+        for _ in range(20):  # warm-up, not counted
+            s.newest.clear()
+            await s.edit(*next(keys))
+            await s.newest.wait()
+        s.latencies.clear()
+        for _ in range(n):
+            s.newest.clear()
+            await s.edit(*next(keys))
+            await s.newest.wait()
+        task.cancel()
+        return s.latencies
+
+
+async def concurrent(url: str, sessions: int, per_session: int, interval: float) -> tuple[list[float], float]:
+    lines = program()
+
+    async def one(i: int, start: asyncio.Event) -> list[float]:
+        rng = random.Random(SEED + i)
+        async with connect(url, max_size=None, compression=None) as ws:
+            s = Session(ws, lines)
+            await s.open()
+            task = asyncio.create_task(s.reader())
+            await start.wait()
+            await asyncio.sleep(rng.uniform(0, interval))
+            keys = keystrokes(lines, rng)
+            for _ in range(per_session):
+                await s.edit(*next(keys))
+                await asyncio.sleep(interval * rng.uniform(0.5, 1.5))
+            s.newest.clear()
+            if s.pending:
+                await asyncio.wait_for(s.newest.wait(), 30)
+            task.cancel()
+            return s.latencies
+
+    start = asyncio.Event()
+    tasks = [asyncio.create_task(one(i, start)) for i in range(sessions)]
+    await asyncio.sleep(2.0)  # all sessions open before typing starts
+    t0 = time.perf_counter()
+    start.set()
+    results = await asyncio.gather(*tasks)
+    return [x for r in results for x in r], time.perf_counter() - t0
+
+
+def pct(values: list[float], p: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, round(p / 100 * (len(ordered) - 1)))]
+
+
+def report(name: str, lat: list[float], target: float) -> bool:
+    p50, p95, p99 = pct(lat, 50), pct(lat, 95), pct(lat, 99)
+    ok = p95 < target
+    print(f"{name:<34} n={len(lat):>5}  p50 {p50:6.1f} ms  p95 {p95:6.1f} ms  p99 {p99:6.1f} ms  "
+          f"max {max(lat):6.1f} ms  mean {statistics.fmean(lat):6.1f} ms  target p95 < {target:g} ms: "
+          f"{'PASS' if ok else 'FAIL'}")
+    return ok
+
+
+async def main_async(args: argparse.Namespace, url: str) -> bool:
+    ok = True
+    n = 100 if args.quick else 400
+    lat = await single(url, n)
+    ok &= report("1 session, 500 blocks", lat, TARGET_SINGLE_P95_MS)
+    per = 15 if args.quick else 40
+    for interval in (float(x) for x in args.interval.split(",")):
+        lat, seconds = await concurrent(url, args.sessions, per, interval)
+        ok &= report(f"{args.sessions} sessions, one key per {interval:g} s", lat, TARGET_CONCURRENT_P95_MS)
+        print(f"  {args.sessions} sessions × {per} keystrokes, one every {interval:g} s ± 50 % per session: "
+              f"{args.sessions / interval:.0f} keystrokes/s offered, {len(lat) / seconds:.0f} keystrokes/s answered")
+    return ok
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--url", help="ws:// URL of a running server's /api/v1/live (default: start one)")
+    parser.add_argument("--workers", type=int, default=2, help="worker processes of the started server")
+    parser.add_argument("--sessions", type=int, default=50)
+    parser.add_argument("--interval", default="0.3,0.5,1,2",
+                        help="seconds between one session's keystrokes; a comma list runs scenario 2 once for each")
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args()
+    print(f"{datetime.date.today()}  Python {platform.python_version()}  {platform.system()} {platform.machine()}, "
+          f"{os.cpu_count()} cores; program: {len(program())} blocks")
+    if args.url:
+        ok = asyncio.run(main_async(args, args.url))
+    else:
+        with server(args.workers) as url:
+            ok = asyncio.run(main_async(args, url))
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,107 @@
+"""The FastAPI application: settings, database (migrated on start), worker processes, routes under /api/v1."""
+
+from __future__ import annotations
+
+import gc
+import json
+import logging
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
+from typing import Any
+
+from fastapi import APIRouter, FastAPI
+from fastapi.middleware.cors import CORSMiddleware
+from fastapi.openapi.utils import get_openapi
+from fastapi.responses import RedirectResponse
+
+from server import errors, live
+from server.config import Settings
+from server.db import Database, migrate
+from server.middleware import RequestMiddleware
+from server.ratelimit import RateLimiter
+from server.routes import auth, exercises, health, pipeline, submissions
+from server.seed import load_exercises
+from server.workers import Workers
+
+log = logging.getLogger("paltrainer.server")
+API_PREFIX = "/api/v1"
+
+
+def prepare_database(settings: Settings) -> Database:
+    """Migrate to the newest schema and load the built-in exercises."""
+    database = Database(settings)
+    migrate(database.engine)
+    if settings.load_exercises:
+        with database.session() as db:
+            n = load_exercises(db, settings.exercises_dir)
+        log.info("exercises loaded", extra={"job": f"{n} built-in"})
+    return database
+
+
+def install_openapi(app: FastAPI) -> None:
+    """FastAPI documents its validation errors as HTTPValidationError; ours have the ErrorBody shape."""
+
+    def openapi() -> dict[str, Any]:
+        if app.openapi_schema is None:
+            doc = get_openapi(title=app.title, version=app.version, description=app.description, routes=app.routes)
+            schemas = doc.setdefault("components", {}).setdefault("schemas", {})
+            schemas.pop("HTTPValidationError", None)
+            schemas.pop("ValidationError", None)
+            text = json.dumps(doc).replace("#/components/schemas/HTTPValidationError", "#/components/schemas/ErrorBody")
+            doc = json.loads(text)
+            error = {"application/json": {"schema": {"$ref": "#/components/schemas/ErrorBody"}}}
+            for methods in doc.get("paths", {}).values():
+                for op in methods.values():
+                    for status, resp in op.get("responses", {}).items():
+                        if status.startswith(("4", "5")):
+                            resp["content"] = error
+            app.openapi_schema = doc
+        return app.openapi_schema
+
+    app.openapi = openapi  # type: ignore[method-assign]
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    settings = settings or Settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        app.state.db = prepare_database(settings)
+        app.state.workers.start()
+        gc.collect()
+        gc.freeze()  # what start-up loaded stays: full collections need not walk it again
+        try:
+            yield
+        finally:
+            app.state.workers.stop()
+            app.state.db.engine.dispose()
+
+    app = FastAPI(
+        title="PAL Trainer API",
+        version="1",
+        description="Check, run and simulate PAL programs; exercises, submissions, accounts. "
+                    "Errors: `{\"error\": {\"code\", \"message\" (German), \"message_en\", \"details\"}}`.",
+        lifespan=lifespan,
+    )
+    app.state.settings = settings
+    app.state.limiter = RateLimiter()
+    app.state.workers = Workers(settings.workers, settings.job_seconds)
+    errors.install(app)
+    api = APIRouter(prefix=API_PREFIX)
+    for module in (pipeline, auth, exercises, submissions):
+        api.include_router(module.router)
+    api.include_router(live.router)
+    app.include_router(api)
+    app.include_router(health.router)
+
+    @app.get("/", include_in_schema=False)
+    def root() -> RedirectResponse:
+        return RedirectResponse("/docs")
+
+    install_openapi(app)
+    if settings.cors_origins:
+        app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origins, allow_credentials=True,
+                           allow_methods=["GET", "POST", "PATCH", "DELETE"],
+                           allow_headers=["Authorization", "Content-Type", "X-API-Key", "X-Request-ID"])
+    app.add_middleware(RequestMiddleware, max_body_bytes=settings.max_body_bytes)
+    return app

@@ -1,0 +1,145 @@
+"""`paltrainer serve` and `paltrainer admin create-user|create-api-key|revoke-api-key|list-api-keys`.
+
+Both honour the same settings as the server (DATABASE_URL, PALTRAINER_DATA_DIR, …); `admin`
+migrates the database first, so it also works before the server has ever started.
+"""
+
+from __future__ import annotations
+
+import argparse
+import getpass
+import os
+import sys
+from typing import Any
+
+from server.models import ROLES, SCOPES
+
+
+def _serve(args: argparse.Namespace) -> int:
+    import uvicorn
+
+    from server.app import create_app
+    from server.config import Settings
+    from server.logs import configure
+
+    settings = Settings()
+    configure(settings.log_level)
+    app = create_app(settings)
+    print(f"PAL Trainer: http://{args.host}:{args.port}/docs  (API unter /api/v1, Daten: "
+          f"{'DATABASE_URL' if settings.database_url else settings.data_dir.resolve()})", file=sys.stderr)
+    uvicorn.run(app, host=args.host, port=args.port, log_config=None, ws_max_size=settings.max_body_bytes, ws_per_message_deflate=False,
+                proxy_headers=args.proxy_headers, forwarded_allow_ips=os.environ.get("FORWARDED_ALLOW_IPS"))
+    return 0
+
+
+def register_serve(subparsers: Any, common: argparse.ArgumentParser) -> None:
+    p = subparsers.add_parser("serve", help="Webserver starten / start the web server",
+                              description="Startet die Web-App und die REST-API (Einstellungen: docs/server.md).")
+    p.add_argument("--host", default="127.0.0.1", help="Adresse / address (Standard 127.0.0.1)")
+    p.add_argument("--port", type=int, default=8000, help="Port (Standard 8000)")
+    p.add_argument("--proxy-headers", action="store_true",
+                   help="X-Forwarded-* eines Reverse-Proxys übernehmen / trust a reverse proxy's headers")
+    p.set_defaults(handler=_serve)
+
+
+def _database() -> Any:
+    from server.app import prepare_database
+    from server.config import Settings
+
+    settings = Settings()
+    return prepare_database(settings.model_copy(update={"load_exercises": False}))
+
+
+def _create_user(args: argparse.Namespace) -> int:
+    from server import services
+    from server.errors import ApiError
+
+    password = args.password
+    if password is None:
+        password = getpass.getpass("Passwort / password: ")
+    if len(password) < 8:
+        print("Das Passwort braucht mindestens 8 Zeichen / password needs at least 8 characters", file=sys.stderr)
+        return 2
+    database = _database()
+    with database.session() as db:
+        try:
+            user = services.create_user(db, args.name, password, args.role)
+        except ApiError as err:
+            print(f"{err.message} / {err.message_en}", file=sys.stderr)
+            return 1
+    print(f"Benutzer {user.username} ({user.role}) angelegt / user created")
+    return 0
+
+
+def _create_api_key(args: argparse.Namespace) -> int:
+    from server import repository as repo
+    from server import services
+
+    database = _database()
+    with database.session() as db:
+        owner = None
+        if args.user is not None:
+            owner = repo.user_by_name(db, args.user)
+            if owner is None:
+                print(f"Benutzer »{args.user}« nicht gefunden / user not found", file=sys.stderr)
+                return 1
+        scopes = sorted({s for group in args.scope for s in group.split(",") if s})
+        record, secret = services.create_api_key(db, args.name, scopes, owner)
+    print(secret)
+    print(f"API-Schlüssel {record.prefix} ({', '.join(scopes)}) – wird nur jetzt angezeigt / shown only now",
+          file=sys.stderr)
+    return 0
+
+
+def _list_api_keys(args: argparse.Namespace) -> int:
+    from server import repository as repo
+
+    database = _database()
+    with database.session() as db:
+        for k in repo.list_api_keys(db):
+            state = "revoked" if k.revoked_at else "active"
+            used = k.last_used_at.isoformat() if k.last_used_at else "-"
+            print(f"{k.id}\t{k.prefix}\t{k.name}\t{','.join(k.scopes)}\t{state}\tlast used {used}")
+    return 0
+
+
+def _revoke_api_key(args: argparse.Namespace) -> int:
+    from server import repository as repo
+
+    database = _database()
+    with database.session() as db:
+        key = repo.api_key_by_prefix(db, args.prefix)
+        if key is None:
+            print(f"API-Schlüssel {args.prefix} nicht gefunden / API key not found", file=sys.stderr)
+            return 1
+        repo.revoke_api_key(db, key)
+    print(f"API-Schlüssel {args.prefix} widerrufen / revoked")
+    return 0
+
+
+def _scope(text: str) -> str:
+    for s in text.split(","):
+        if s and s not in SCOPES:
+            raise argparse.ArgumentTypeError(f"»{s}«: erlaubt sind / allowed: {', '.join(SCOPES)}")
+    return text
+
+
+def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
+    p = subparsers.add_parser("admin", help="Benutzer und API-Schlüssel verwalten / manage users and API keys")
+    sub = p.add_subparsers(dest="admin_command", required=True)
+    u = sub.add_parser("create-user", help="Benutzer anlegen / create a user")
+    u.add_argument("name")
+    u.add_argument("--role", choices=ROLES, default="student")
+    u.add_argument("--password", help="ohne: wird abgefragt / without: asked for")
+    u.set_defaults(handler=_create_user)
+    k = sub.add_parser("create-api-key", help="API-Schlüssel anlegen (wird einmal ausgegeben) / create an API key")
+    k.add_argument("name")
+    k.add_argument("--scope", action="append", type=_scope, required=True,
+                   help=f"mehrfach oder mit Komma / repeatable or comma-separated: {', '.join(SCOPES)}")
+    k.add_argument("--user", help="Der Schlüssel handelt für diesen Benutzer / the key acts for this user")
+    k.set_defaults(handler=_create_api_key)
+    lk = sub.add_parser("list-api-keys", help="API-Schlüssel auflisten / list API keys")
+    lk.set_defaults(handler=_list_api_keys)
+    r = sub.add_parser("revoke-api-key", help="API-Schlüssel widerrufen / revoke an API key")
+    r.add_argument("prefix", help="the key's id after pal_, e.g. 1a2b3c4d")
+    r.set_defaults(handler=_revoke_api_key)

@@ -1,0 +1,63 @@
+"""The server's settings: pydantic-settings, read from environment variables (documented in docs/server.md)."""
+
+from __future__ import annotations
+
+import secrets
+from functools import cached_property
+from pathlib import Path
+
+from pydantic import AliasChoices, Field
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+from core.exercises import EXERCISES_DIR
+
+
+class Settings(BaseSettings):
+    """Every setting has an environment variable `PALTRAINER_<NAME>`; the database URL also `DATABASE_URL`."""
+
+    model_config = SettingsConfigDict(env_prefix="PALTRAINER_", extra="ignore")
+
+    database_url: str | None = Field(
+        default=None, validation_alias=AliasChoices("DATABASE_URL", "PALTRAINER_DATABASE_URL")
+    )
+    data_dir: Path = Path("data")
+    secret_key: str | None = None  # None: generated once and kept in <data_dir>/secret_key
+    free_practice: bool = True  # check/run/simulate and the live socket without an account
+    load_exercises: bool = True
+    exercises_dir: Path = EXERCISES_DIR  # the repository's exercises/ next to core/
+    token_minutes: int = 12 * 60
+    cookie_secure: bool = False  # True behind HTTPS
+    cors_origins: list[str] = []
+    workers: int = 2  # worker processes for check/run/simulate/live
+    job_seconds: float = 10.0  # time limit of one run/check/simulate/grade
+    max_body_bytes: int = 1_000_000
+    max_program_chars: int = 200_000
+    max_live_lines: int = 20_000
+    rate_login_per_minute: int = 10
+    rate_check_per_minute: int = 120  # check and run
+    rate_simulate_per_minute: int = 30
+    rate_submit_per_minute: int = 20
+    log_level: str = "INFO"
+
+    @cached_property
+    def url(self) -> str:
+        """The SQLAlchemy URL: DATABASE_URL (postgresql:// is driven by psycopg 3) or the SQLite file."""
+        if self.database_url:
+            url = self.database_url
+            for prefix in ("postgres://", "postgresql://"):
+                if url.startswith(prefix):
+                    return "postgresql+psycopg://" + url[len(prefix):]
+            return url
+        return f"sqlite:///{(self.data_dir / 'paltrainer.sqlite3').resolve()}"
+
+    def jwt_secret(self) -> str:
+        if self.secret_key:
+            return self.secret_key
+        path = self.data_dir / "secret_key"
+        if path.exists():
+            return path.read_text(encoding="utf-8").strip()
+        self.data_dir.mkdir(parents=True, exist_ok=True)
+        key = secrets.token_urlsafe(48)
+        path.write_text(key, encoding="utf-8")
+        path.chmod(0o600)
+        return key

@@ -1,0 +1,169 @@
+"""Request dependencies: the database session, who is asking (user or API key), role/scope rules, rate limits."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass
+from typing import Annotated
+
+from fastapi import Depends, Request
+from fastapi.security import APIKeyHeader, HTTPAuthorizationCredentials, HTTPBearer
+from sqlalchemy.orm import Session
+
+from server import repository as repo
+from server.config import Settings
+from server.db import Database
+from server.errors import ApiError
+from server.models import ApiKey, User
+from server.ratelimit import RateLimiter
+from server.security import hash_api_key, read_token, same_hash, split_api_key
+from server.workers import Workers
+
+SESSION_COOKIE = "paltrainer_session"
+
+_bearer = HTTPBearer(auto_error=False, description="A token from POST /api/v1/auth/token, or an API key")
+_api_key_header = APIKeyHeader(name="X-API-Key", auto_error=False, description="An API key")
+
+
+def get_settings(request: Request) -> Settings:
+    settings: Settings = request.app.state.settings
+    return settings
+
+
+def get_workers(request: Request) -> Workers:
+    workers: Workers = request.app.state.workers
+    return workers
+
+
+def get_db(request: Request) -> Iterator[Session]:
+    database: Database = request.app.state.db
+    with database.session() as session:
+        yield session
+
+
+DbSession = Annotated[Session, Depends(get_db)]
+AppSettings = Annotated[Settings, Depends(get_settings)]
+AppWorkers = Annotated[Workers, Depends(get_workers)]
+
+
+@dataclass(frozen=True)
+class Principal:
+    """Who a request is: a user, or an API key (acting for its owner, if it has one, within its scopes)."""
+
+    user: User | None = None
+    api_key: ApiKey | None = None
+
+    @property
+    def user_id(self) -> int | None:
+        return self.user.id if self.user is not None else None
+
+    @property
+    def identity(self) -> str:
+        if self.api_key is not None:
+            return f"key:{self.api_key.prefix}"
+        return f"user:{self.user.id}" if self.user is not None else "anonymous"
+
+    def has_scope(self, scope: str) -> bool:
+        return self.api_key is None or scope in self.api_key.scopes
+
+    def is_instructor(self) -> bool:
+        """Users with role instructor or admin; keys acting for such a user count when the scope allows."""
+        return self.user is not None and self.user.role in ("instructor", "admin")
+
+    def is_admin(self) -> bool:
+        return self.user is not None and self.user.role == "admin" and self.api_key is None
+
+
+ANONYMOUS = Principal()
+
+
+def resolve(db: Session, settings: Settings, token: str | None, api_key: str | None,
+            cookie: str | None) -> Principal:
+    """The principal of a request's credentials; ApiError 401 on bad ones, ANONYMOUS with none."""
+    key = api_key or (token if token and split_api_key(token) else None)
+    if key is not None:
+        prefix = split_api_key(key)
+        record = repo.api_key_by_prefix(db, prefix) if prefix else None
+        if record is None or record.revoked_at is not None or not same_hash(record.key_hash, hash_api_key(key)):
+            raise ApiError("BAD_API_KEY", headers={"WWW-Authenticate": "Bearer"})
+        repo.touch_api_key(db, record)
+        owner = repo.user_by_id(db, record.owner_id) if record.owner_id is not None else None
+        return Principal(user=owner, api_key=record)
+    jwt_text = token or cookie
+    if jwt_text:
+        claims = read_token(settings.jwt_secret(), jwt_text)
+        user = repo.user_by_id(db, int(claims["sub"])) if claims and str(claims["sub"]).isdigit() else None
+        if user is None:
+            raise ApiError("BAD_TOKEN", headers={"WWW-Authenticate": "Bearer"})
+        return Principal(user=user)
+    return ANONYMOUS
+
+
+def get_principal(
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+    bearer: Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)],
+    api_key: Annotated[str | None, Depends(_api_key_header)],
+) -> Principal:
+    principal = resolve(db, settings, bearer.credentials if bearer else None, api_key,
+                        request.cookies.get(SESSION_COOKIE))
+    request.state.principal = principal.identity
+    return principal
+
+
+OptionalPrincipal = Annotated[Principal, Depends(get_principal)]
+
+
+def require_login(principal: OptionalPrincipal) -> Principal:
+    if principal is ANONYMOUS:
+        raise ApiError("NOT_AUTHENTICATED", headers={"WWW-Authenticate": "Bearer"})
+    return principal
+
+
+CurrentPrincipal = Annotated[Principal, Depends(require_login)]
+
+
+def require_scope(scope: str) -> Callable[[Principal], Principal]:
+    def check(principal: CurrentPrincipal) -> Principal:
+        if not principal.has_scope(scope):
+            raise ApiError("MISSING_SCOPE", scope=scope)
+        return principal
+
+    return check
+
+
+def require_admin(principal: CurrentPrincipal) -> Principal:
+    if not principal.is_admin():
+        raise ApiError("FORBIDDEN")
+    return principal
+
+
+def practice_principal(principal: OptionalPrincipal, settings: AppSettings) -> Principal:
+    """check/run/simulate: anyone while free practice is on; else a user or a key with scope practice."""
+    if principal is ANONYMOUS:
+        if not settings.free_practice:
+            raise ApiError("FREE_PRACTICE_OFF", headers={"WWW-Authenticate": "Bearer"})
+    elif not principal.has_scope("practice"):
+        raise ApiError("MISSING_SCOPE", scope="practice")
+    return principal
+
+
+PracticePrincipal = Annotated[Principal, Depends(practice_principal)]
+
+
+def client_address(request: Request) -> str:
+    return request.client.host if request.client else "-"
+
+
+def rate_limit(bucket: str, setting: str) -> Callable[[Request, Principal, Settings], None]:
+    """A dependency that counts one request in `bucket` for the principal (or the address if anonymous)."""
+
+    def check(request: Request, principal: OptionalPrincipal, settings: AppSettings) -> None:
+        limiter: RateLimiter = request.app.state.limiter
+        who = principal.identity if principal is not ANONYMOUS else f"ip:{client_address(request)}"
+        wait = limiter.hit(bucket, who, int(getattr(settings, setting)))
+        if wait:
+            raise ApiError("RATE_LIMITED", headers={"Retry-After": str(wait)}, retry_after=wait)
+
+    return check

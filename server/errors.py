@@ -1,0 +1,133 @@
+"""The API's errors: one catalogue of stable codes with German and English texts, and their JSON shape.
+
+Every error response is `{"error": {"code", "message", "message_en", "details"}}` with an HTTP status
+that means what it says; FastAPI's own validation and HTTP errors are converted to the same shape.
+"""
+
+from __future__ import annotations
+
+import logging
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+from pydantic import BaseModel
+from starlette.exceptions import HTTPException as StarletteHTTPException
+
+log = logging.getLogger("paltrainer.server")
+
+# code → (HTTP status, German, English)
+CATALOGUE: dict[str, tuple[int, str, str]] = {
+    "VALIDATION": (422, "Die Anfrage ist ungültig: {detail}", "The request is invalid: {detail}"),
+    "UNKNOWN_DIALECT": (422, "Unbekannter Dialekt »{dialect}«.", "Unknown dialect '{dialect}'."),
+    "BAD_STOCK": (422, "Rohteil: zwei Ecken min und max mit je X, Y, Z; max größer als min in jeder Achse.",
+                  "Stock: two corners min and max with X, Y, Z each; max greater than min on every axis."),
+    "NOT_AUTHENTICATED": (401, "Anmeldung erforderlich.", "Authentication required."),
+    "BAD_CREDENTIALS": (401, "Benutzername oder Passwort ist falsch.", "Wrong user name or password."),
+    "BAD_TOKEN": (401, "Das Token ist ungültig oder abgelaufen.", "The token is invalid or has expired."),
+    "BAD_API_KEY": (401, "Der API-Schlüssel ist ungültig oder widerrufen.", "The API key is invalid or revoked."),
+    "FORBIDDEN": (403, "Dafür fehlt die Berechtigung.", "You are not allowed to do this."),
+    "MISSING_SCOPE": (403, "Dem API-Schlüssel fehlt der Bereich »{scope}«.", "The API key lacks the scope '{scope}'."),
+    "FREE_PRACTICE_OFF": (401, "Freies Üben ist abgeschaltet; bitte anmelden.",
+                          "Free practice is switched off; please log in."),
+    "NOT_FOUND": (404, "Nicht gefunden.", "Not found."),
+    "EXERCISE_NOT_FOUND": (404, "Aufgabe »{exercise}« nicht gefunden.", "Exercise '{exercise}' not found."),
+    "SUBMISSION_NOT_FOUND": (404, "Abgabe {submission} nicht gefunden.", "Submission {submission} not found."),
+    "USER_NOT_FOUND": (404, "Benutzer »{user}« nicht gefunden.", "User '{user}' not found."),
+    "API_KEY_NOT_FOUND": (404, "API-Schlüssel {key} nicht gefunden.", "API key {key} not found."),
+    "METHOD_NOT_ALLOWED": (405, "Diese Methode ist hier nicht erlaubt.", "Method not allowed here."),
+    "EXERCISE_EXISTS": (409, "Eine Aufgabe mit der Kennung »{exercise}« gibt es schon.",
+                        "An exercise with the slug '{exercise}' already exists."),
+    "USER_EXISTS": (409, "Den Benutzer »{user}« gibt es schon.", "The user '{user}' already exists."),
+    "EXERCISE_HAS_SUBMISSIONS": (409, "Die Aufgabe hat Abgaben und kann nicht gelöscht werden.",
+                                 "The exercise has submissions and cannot be deleted."),
+    "BODY_TOO_LARGE": (413, "Die Anfrage ist zu groß ({size} Bytes, höchstens {limit}).",
+                       "The request is too large ({size} bytes, at most {limit})."),
+    "PROGRAM_TOO_LARGE": (413, "Das Programm ist zu lang ({size} Zeichen, höchstens {limit}).",
+                          "The program is too long ({size} characters, at most {limit})."),
+    "RATE_LIMITED": (429, "Zu viele Anfragen; bitte in {retry_after} s erneut versuchen.",
+                     "Too many requests; please retry in {retry_after} s."),
+    "TIME_LIMIT": (503, "Die Berechnung hat das Zeitlimit von {seconds} s überschritten.",
+                   "The computation exceeded the time limit of {seconds} s."),
+    "NOT_READY": (503, "Der Server ist nicht bereit: {detail}", "The server is not ready: {detail}"),
+    "INTERNAL": (500, "Interner Fehler (Anfrage {request_id}).", "Internal error (request {request_id})."),
+}
+
+
+class ErrorDetail(BaseModel):
+    code: str
+    message: str
+    message_en: str
+    details: dict[str, Any] = {}
+
+
+class ErrorBody(BaseModel):
+    """The body of every error response."""
+
+    error: ErrorDetail
+
+
+class ApiError(Exception):
+    """An error with a stable code from the catalogue; the handler turns it into JSON."""
+
+    def __init__(self, code: str, headers: dict[str, str] | None = None, **params: Any) -> None:
+        status, de, en = CATALOGUE[code]
+        super().__init__(code)
+        self.code, self.status, self.params, self.headers = code, status, params, headers
+        self.message, self.message_en = de.format(**params), en.format(**params)
+
+    def body(self) -> dict[str, Any]:
+        return {"error": {"code": self.code, "message": self.message, "message_en": self.message_en,
+                          "details": {k: v for k, v in self.params.items() if k != "detail"}}}
+
+
+def error_response(err: ApiError) -> JSONResponse:
+    return JSONResponse(err.body(), status_code=err.status, headers=err.headers)
+
+
+_DESCRIPTIONS = {401: "Not authenticated", 403: "Forbidden", 404: "Not found", 409: "Conflict",
+                 413: "Too large", 422: "Invalid request", 429: "Rate limited", 503: "Time limit or not ready"}
+
+
+def responses(*statuses: int) -> dict[int | str, dict[str, Any]]:
+    """OpenAPI `responses=` for the given error statuses, all with the ErrorBody schema."""
+    return {s: {"model": ErrorBody, "description": _DESCRIPTIONS[s]} for s in statuses}
+
+
+def _validation_text(exc: RequestValidationError) -> tuple[str, list[dict[str, Any]]]:
+    errors = []
+    for e in exc.errors():
+        loc = ".".join(str(p) for p in e.get("loc", ()) if p != "body")
+        errors.append({"field": loc, "type": e.get("type", ""), "message": e.get("msg", "")})
+    text = "; ".join(f"{x['field']}: {x['message']}" if x["field"] else x["message"] for x in errors[:5])
+    return text, errors
+
+
+def install(app: FastAPI) -> None:
+    @app.exception_handler(ApiError)
+    async def _api_error(request: Request, exc: ApiError) -> JSONResponse:
+        return error_response(exc)
+
+    @app.exception_handler(RequestValidationError)
+    async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
+        text, errors = _validation_text(exc)
+        err = ApiError("VALIDATION", detail=text)
+        body = err.body()
+        body["error"]["details"] = {"errors": errors}
+        return JSONResponse(body, status_code=422)
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(request: Request, exc: StarletteHTTPException) -> JSONResponse:
+        code = {401: "NOT_AUTHENTICATED", 403: "FORBIDDEN", 404: "NOT_FOUND", 405: "METHOD_NOT_ALLOWED"}.get(
+            exc.status_code, "VALIDATION")
+        if code == "VALIDATION":
+            err = ApiError(code, detail=str(exc.detail))
+            return JSONResponse(err.body(), status_code=exc.status_code)
+        return error_response(ApiError(code))
+
+    @app.exception_handler(Exception)
+    async def _internal(request: Request, exc: Exception) -> JSONResponse:
+        request_id = getattr(request.state, "request_id", "-")
+        log.error("unhandled error", exc_info=exc, extra={"request_id": request_id})
+        return error_response(ApiError("INTERNAL", request_id=request_id))

@@ -1,0 +1,161 @@
+"""Every database query of the server: routes and the CLI call these, never SQL of their own."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from datetime import datetime
+from typing import Any
+
+from sqlalchemy import func, or_, select
+from sqlalchemy.orm import Session
+
+from server.models import ApiKey, Exercise, Submission, User, now
+
+# --- users -------------------------------------------------------------------------------
+
+
+def user_by_name(db: Session, username: str) -> User | None:
+    return db.scalars(select(User).where(User.username == username)).first()
+
+
+def user_by_id(db: Session, user_id: int) -> User | None:
+    return db.get(User, user_id)
+
+
+def create_user(db: Session, username: str, password_hash: str, role: str) -> User:
+    user = User(username=username, password_hash=password_hash, role=role)
+    db.add(user)
+    db.commit()
+    return user
+
+
+def list_users(db: Session) -> Sequence[User]:
+    return db.scalars(select(User).order_by(User.username)).all()
+
+
+def set_password(db: Session, user: User, password_hash: str) -> None:
+    user.password_hash = password_hash
+    db.commit()
+
+
+# --- API keys ----------------------------------------------------------------------------
+
+
+def create_api_key(db: Session, name: str, prefix: str, key_hash: str, scopes: list[str],
+                   owner_id: int | None) -> ApiKey:
+    key = ApiKey(name=name, prefix=prefix, key_hash=key_hash, scopes=scopes, owner_id=owner_id)
+    db.add(key)
+    db.commit()
+    return key
+
+
+def api_key_by_prefix(db: Session, prefix: str) -> ApiKey | None:
+    return db.scalars(select(ApiKey).where(ApiKey.prefix == prefix)).first()
+
+
+def api_key_by_id(db: Session, key_id: int) -> ApiKey | None:
+    return db.get(ApiKey, key_id)
+
+
+def list_api_keys(db: Session, owner_id: int | None = None) -> Sequence[ApiKey]:
+    q = select(ApiKey).order_by(ApiKey.id)
+    if owner_id is not None:
+        q = q.where(ApiKey.owner_id == owner_id)
+    return db.scalars(q).all()
+
+
+def touch_api_key(db: Session, key: ApiKey) -> None:
+    key.last_used_at = now()
+    db.commit()
+
+
+def revoke_api_key(db: Session, key: ApiKey) -> None:
+    if key.revoked_at is None:
+        key.revoked_at = now()
+        db.commit()
+
+
+# --- exercises ---------------------------------------------------------------------------
+
+
+def list_exercises(db: Session) -> Sequence[Exercise]:
+    return db.scalars(select(Exercise).order_by(Exercise.slug)).all()
+
+
+def exercise_by_slug(db: Session, slug: str) -> Exercise | None:
+    return db.scalars(select(Exercise).where(Exercise.slug == slug)).first()
+
+
+def exercise_by_id(db: Session, exercise_id: int) -> Exercise | None:
+    return db.get(Exercise, exercise_id)
+
+
+def create_exercise(db: Session, fields: dict[str, Any], owner_id: int | None, builtin: bool = False) -> Exercise:
+    exercise = Exercise(**fields, owner_id=owner_id, builtin=builtin)
+    db.add(exercise)
+    db.commit()
+    return exercise
+
+
+def update_exercise(db: Session, exercise: Exercise, fields: dict[str, Any]) -> Exercise:
+    for name, value in fields.items():
+        setattr(exercise, name, value)
+    db.commit()
+    return exercise
+
+
+def exercise_has_submissions(db: Session, exercise: Exercise) -> bool:
+    n = db.scalar(select(func.count()).select_from(Submission).where(Submission.exercise_id == exercise.id))
+    return bool(n)
+
+
+def delete_exercise(db: Session, exercise: Exercise) -> None:
+    db.delete(exercise)
+    db.commit()
+
+
+# --- submissions -------------------------------------------------------------------------
+
+
+def create_submission(db: Session, **fields: Any) -> Submission:
+    submission = Submission(**fields)
+    db.add(submission)
+    db.commit()
+    return submission
+
+
+def submission_by_id(db: Session, submission_id: int) -> Submission | None:
+    return db.get(Submission, submission_id)
+
+
+def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int | None = None,
+                     api_key_id: int | None = None, exercise_slug: str | None = None,
+                     everything: bool = False) -> Sequence[tuple[Submission, Exercise, User | None]]:
+    """Submissions with their exercise and author, newest first, filtered by who may see them.
+
+    `user_id`: the author's own; `owner_id`: those to exercises that user owns; `api_key_id`: those
+    made through that key; `everything`: all (admins).
+    """
+    q = (select(Submission, Exercise, User).join(Exercise, Submission.exercise_id == Exercise.id)
+         .outerjoin(User, Submission.user_id == User.id))
+    if not everything:
+        conds = []
+        if user_id is not None:
+            conds.append(Submission.user_id == user_id)
+        if owner_id is not None:
+            conds.append(Exercise.owner_id == owner_id)
+        if api_key_id is not None:
+            conds.append(Submission.api_key_id == api_key_id)
+        if not conds:
+            return []
+        q = q.where(or_(*conds))
+    if exercise_slug is not None:
+        q = q.where(Exercise.slug == exercise_slug)
+    rows = db.execute(q.order_by(Submission.created_at.desc(), Submission.id.desc())).all()
+    return [(r[0], r[1], r[2]) for r in rows]
+
+
+def ready(db: Session) -> datetime:
+    """A trivial query: the database answers."""
+    db.execute(select(1))
+    return now()

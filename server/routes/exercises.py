@@ -1,0 +1,45 @@
+"""Exercises: everyone with scope exercises:read lists and reads; instructors manage their own, admins all."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Depends, Response
+
+from server import repository as repo
+from server import services
+from server.deps import AppSettings, CurrentPrincipal, DbSession, Principal, require_scope
+from server.errors import responses
+from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate
+
+router = APIRouter(prefix="/exercises", tags=["exercises"])
+Reader = Annotated[Principal, Depends(require_scope("exercises:read"))]
+
+
+@router.get("", response_model=list[ExerciseOut], responses=responses(401, 403))
+def list_exercises(db: DbSession, principal: Reader) -> list[ExerciseOut]:
+    return [services.exercise_out(db, e, principal) for e in repo.list_exercises(db)]
+
+
+@router.get("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404))
+def get_exercise(slug: str, db: DbSession, principal: Reader) -> ExerciseOut:
+    """Reference program and hidden criteria only for the exercise's owner and admins."""
+    return services.exercise_out(db, services.get_exercise(db, slug), principal)
+
+
+@router.post("", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 409, 413, 422))
+def create_exercise(body: ExerciseCreate, db: DbSession, settings: AppSettings,
+                    principal: CurrentPrincipal) -> ExerciseOut:
+    return services.exercise_out(db, services.create_exercise(db, settings, principal, body), principal)
+
+
+@router.patch("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404, 413, 422))
+def update_exercise(slug: str, body: ExerciseUpdate, db: DbSession, settings: AppSettings,
+                    principal: CurrentPrincipal) -> ExerciseOut:
+    return services.exercise_out(db, services.update_exercise(db, settings, principal, slug, body), principal)
+
+
+@router.delete("/{slug}", status_code=204, responses=responses(401, 403, 404, 409))
+def delete_exercise(slug: str, db: DbSession, principal: CurrentPrincipal) -> Response:
+    services.delete_exercise(db, principal, slug)
+    return Response(status_code=204)

@@ -1,0 +1,47 @@
+"""Submissions: create (→ the grade, diagnostics and a run summary), list what one may see, one in detail,
+CSV export for instructors."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, Depends, Query
+from fastapi.responses import PlainTextResponse
+
+from server import services
+from server.deps import AppSettings, AppWorkers, CurrentPrincipal, DbSession, rate_limit
+from server.errors import responses
+from server.schemas import SubmissionCreate, SubmissionOut
+
+router = APIRouter(prefix="/submissions", tags=["submissions"])
+
+
+@router.post("", response_model=SubmissionOut, status_code=201,
+             responses=responses(401, 403, 404, 413, 422, 429, 503),
+             dependencies=[Depends(rate_limit("submit", "rate_submit_per_minute"))])
+async def create_submission(body: SubmissionCreate, db: DbSession, settings: AppSettings, workers: AppWorkers,
+                            principal: CurrentPrincipal) -> SubmissionOut:
+    return await services.create_submission(db, settings, workers, principal, body)
+
+
+@router.get("", response_model=list[SubmissionOut], responses=responses(401, 403, 404))
+def list_submissions(db: DbSession, principal: CurrentPrincipal,
+                     exercise: str | None = Query(default=None, description="Only this exercise's")
+                     ) -> list[SubmissionOut]:
+    """Students: their own; instructors: also those to their exercises; admins: all."""
+    return [services.submission_out(s, e, u, False, principal)
+            for s, e, u in services.visible_submissions(db, principal, exercise)]
+
+
+@router.get("/export.csv", response_class=PlainTextResponse, responses={
+    200: {"content": {"text/csv": {"schema": {"type": "string"}}}, "description": "CSV, one row per submission"},
+    **responses(401, 403, 404)})
+def export_csv(db: DbSession, principal: CurrentPrincipal,
+               exercise: str | None = Query(default=None, description="Only this exercise's")) -> PlainTextResponse:
+    """Instructors: the submissions to their exercises; admins: all."""
+    text = services.submissions_csv(db, principal, exercise)
+    return PlainTextResponse(text, media_type="text/csv; charset=utf-8",
+                             headers={"Content-Disposition": 'attachment; filename="submissions.csv"'})
+
+
+@router.get("/{submission_id}", response_model=SubmissionOut, responses=responses(401, 403, 404))
+def get_submission(submission_id: int, db: DbSession, principal: CurrentPrincipal) -> SubmissionOut:
+    return services.get_submission(db, principal, submission_id)

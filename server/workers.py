@@ -1,0 +1,246 @@
+"""CPU-bound work (check, run, simulate, the live re-runs) in worker processes, never on the event loop.
+
+The jobs are plain top-level functions of plain data, so they cross the process boundary by pickle.
+A job that exceeds the time limit is abandoned: its pool is torn down and a fresh one started.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import gc
+import importlib.util
+import logging
+import multiprocessing
+from collections import OrderedDict, defaultdict
+from concurrent.futures import Future, ProcessPoolExecutor
+from typing import Any, TypeVar
+
+from core.diagnostics import Severity
+from core.exercises import Exercise as ExerciseDocument
+from core.grading import grade
+from core.interpreter.state import RunSetup
+from core.pipeline import diagnostics_json, run, toolpath_json
+from core.tools import DEFAULT_TOOLS, Tool, ToolTable
+from server.errors import ApiError
+
+log = logging.getLogger("paltrainer.server")
+T = TypeVar("T")
+
+HAS_SIM = importlib.util.find_spec("core.sim") is not None
+
+
+_DOCUMENTS: OrderedDict[str, ExerciseDocument] = OrderedDict()
+
+
+def exercise_document(spec: dict[str, Any]) -> ExerciseDocument | None:
+    """The validated exercise of a spec (kept per worker by its key, as live edits repeat it)."""
+    data = spec.get("exercise")
+    if data is None:
+        return None
+    key = str(spec.get("exercise_key", ""))
+    doc = _DOCUMENTS.get(key) if key else None
+    if doc is None:
+        doc = ExerciseDocument.model_validate(data)
+        if key:
+            _DOCUMENTS[key] = doc
+            while len(_DOCUMENTS) > 200:
+                _DOCUMENTS.popitem(last=False)
+    return doc
+
+
+def make_setup(spec: dict[str, Any], base: ToolTable = DEFAULT_TOOLS) -> RunSetup:
+    """The RunSetup a request describes: an exercise's tools, zero offsets and subprograms, or the
+    default table; then the request's own tools on top; and whether "/" blocks are skipped."""
+    exercise = exercise_document(spec)
+    extra: dict[str, Any] = {}
+    if exercise is not None:
+        table = exercise.tool_table()
+        extra = {"zero_offsets": tuple(exercise.zero_offsets.items()),
+                 "subprograms": tuple(exercise.subprograms.items())}
+    else:
+        table = ToolTable({}) if spec.get("replace_tools") else base
+    for t in spec.get("tools") or ():
+        table = table.with_tool(Tool(int(t["number"]), t.get("kind", "end_mill"), float(t["diameter"]),
+                                     t.get("name", "")))
+    return RunSetup(tools=table, skip_blocks=bool(spec.get("skip_blocks", False)), **extra)
+
+
+# --- jobs (run inside a worker process) -----------------------------------------------------
+
+
+def job_warm() -> bool:
+    """Load the grammars, then freeze what is loaded: the collector no longer walks the grammar tables
+    on every full collection (which doubled some runs' time), and collects the old generation seldom."""
+    run("N10 G0 X0 Y0 Z2\nN20 M30\n")
+    gc.collect()
+    gc.freeze()
+    gc.set_threshold(100_000, 50, 1000)
+    return True
+
+
+def job_check(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    return diagnostics_json(run(text, dialect, make_setup(spec)).diagnostics)
+
+
+def job_run(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    return toolpath_json(run(text, dialect, make_setup(spec)))
+
+
+def job_simulate(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """`paltrainer simulate --json` for a program: spec["stock"] is {"min": [x, y, z], "max": [x, y, z]}."""
+    from core.sim import DEFAULT_SIM_TOOLS, Stock, simulate, simulation_json
+
+    setup = make_setup(spec, DEFAULT_SIM_TOOLS)
+    lo, hi = spec["stock"]["min"], spec["stock"]["max"]
+    stock = Stock(lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])
+    result = simulate(run(text, dialect, setup), stock, setup.tools, spec["resolution"])
+    return simulation_json(result)
+
+
+def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """A submission's result: its diagnostics, a summary of its run and, for an exercise the grader
+    can read, the grade (`paltrainer grade --json`, all criteria; None otherwise)."""
+    toolpath = run(text, dialect, make_setup(spec))
+    exercise = exercise_document(spec)
+    grading = grade(exercise, text).to_json("instructor") if exercise is not None else None
+    diags = [d.to_json() for d in toolpath.diagnostics]
+    kinds: dict[str, int] = defaultdict(int)
+    for m in toolpath.moves:
+        kinds[m.kind] += 1
+    return {
+        "diagnostics": diags,
+        "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics),
+        "warnings": sum(d.severity is Severity.WARNING for d in toolpath.diagnostics),
+        "summary": {"moves": len(toolpath.moves), "rapid": kinds["rapid"], "feed": kinds["feed"],
+                    "arc": kinds["arc"], "tool_changes": len(toolpath.tool_changes),
+                    "dwells": len(toolpath.dwells)},
+        "grading": grading,
+    }
+
+
+class _LiveCache:
+    """One live document's last result in this worker: per line, its diagnostics and its commands."""
+
+    __slots__ = ("commands", "diagnostics", "gen")
+
+    def __init__(self, gen: int, diagnostics: dict[int, tuple[Any, ...]], commands: dict[int, tuple[Any, ...]]) -> None:
+        self.gen, self.diagnostics, self.commands = gen, diagnostics, commands
+
+
+_LIVE: OrderedDict[str, _LiveCache] = OrderedDict()
+_LIVE_MAX = 500  # documents kept per worker process; the oldest is dropped first
+
+
+def _by_line(items: Any) -> dict[int, tuple[Any, ...]]:
+    out: dict[int, list[Any]] = defaultdict(list)
+    for x in items:
+        out[x.span.line].append(x)
+    return {k: tuple(v) for k, v in out.items()}
+
+
+def _path_json(commands: tuple[Any, ...]) -> dict[str, list[dict[str, Any]]]:
+    entry: dict[str, list[dict[str, Any]]] = {"moves": [], "dwells": [], "tool_changes": []}
+    for c in commands:
+        kind = type(c).__name__
+        entry["moves" if kind == "Move" else "dwells" if kind == "Dwell" else "tool_changes"].append(c.to_json())
+    return entry
+
+
+def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """Re-run live document `doc` and answer the lines whose result differs from generation `base_gen`.
+
+    The worker keeps each document's last result (a pool of one process per slot keeps a document
+    on one process). If it does not hold generation `base_gen` (a new or restarted worker), the
+    answer is complete (`full`): every line that has something.
+    """
+    toolpath = run(text, dialect, make_setup(spec))
+    diagnostics, commands = _by_line(toolpath.diagnostics), _by_line(toolpath.commands)
+    cached = _LIVE.pop(doc, None)
+    full = cached is None or cached.gen != base_gen
+    old_d = {} if full or cached is None else cached.diagnostics
+    old_c = {} if full or cached is None else cached.commands
+    _LIVE[doc] = _LiveCache(gen, diagnostics, commands)
+    while len(_LIVE) > _LIVE_MAX:
+        _LIVE.popitem(last=False)
+    d_out = {n: [x.to_json() for x in diagnostics.get(n, ())] for n in old_d.keys() | diagnostics.keys()
+             if old_d.get(n) != diagnostics.get(n)}
+    empty: tuple[Any, ...] = ()
+    c_out = {n: _path_json(commands.get(n, empty)) for n in old_c.keys() | commands.keys()
+             if old_c.get(n) != commands.get(n)}
+    p = toolpath.final_position
+    return {"full": full, "gen": gen, "diagnostics": d_out, "toolpath": c_out,
+            "final": [round(p[0], 6), round(p[1], 6), round(p[2], 6)]}
+
+
+def job_live_close(doc: str) -> None:
+    _LIVE.pop(doc, None)
+
+
+# --- the pool -------------------------------------------------------------------------------
+
+
+class Workers:
+    """Worker processes with a time limit per job: one single-process pool per slot, so that a live
+    document can stay on one process (`affinity`) while other jobs go to the least busy slot."""
+
+    def __init__(self, processes: int, seconds: float) -> None:
+        self.processes, self.seconds = max(1, processes), seconds
+        self._pools: list[ProcessPoolExecutor] = []
+        self._busy: list[int] = []
+        self._documents = [0] * self.processes  # live documents per slot
+
+    @staticmethod
+    def _new_pool() -> tuple[ProcessPoolExecutor, Future[bool]]:
+        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        return pool, pool.submit(job_warm)
+
+    def start(self) -> None:
+        started = [self._new_pool() for _ in range(self.processes)]
+        self._pools = [pool for pool, _ in started]
+        self._busy = [0] * self.processes
+        for _, warm in started:
+            warm.result()
+
+    def stop(self) -> None:
+        pools, self._pools = self._pools, []
+        for pool in pools:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+    @property
+    def alive(self) -> bool:
+        return bool(self._pools)
+
+    def _restart(self, slot: int) -> None:
+        pool = self._pools[slot]
+        for proc in list(getattr(pool, "_processes", {}).values()):
+            proc.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        self._pools[slot] = self._new_pool()[0]
+
+    def take_slot(self) -> int:
+        """The slot for a new live document: the one holding the fewest; give it back with `release_slot`."""
+        slot = min(range(self.processes), key=self._documents.__getitem__)
+        self._documents[slot] += 1
+        return slot
+
+    def release_slot(self, slot: int) -> None:
+        self._documents[slot] = max(0, self._documents[slot] - 1)
+
+    async def call(self, fn: Any, *args: Any, affinity: int | None = None) -> Any:
+        """Run `fn(*args)` in a worker; TIME_LIMIT (503) when it takes longer than the limit."""
+        if not self._pools:
+            raise ApiError("NOT_READY", detail="workers not started")
+        slot = affinity % self.processes if affinity is not None else min(range(self.processes),
+                                                                           key=self._busy.__getitem__)
+        pool = self._pools[slot]
+        future: Future[Any] = pool.submit(fn, *args)
+        self._busy[slot] += 1
+        try:
+            return await asyncio.wait_for(asyncio.wrap_future(future), self.seconds)
+        except TimeoutError:
+            log.warning("job over time limit, restarting its worker", extra={"job": fn.__name__})
+            if self._pools and self._pools[slot] is pool:
+                self._restart(slot)
+            raise ApiError("TIME_LIMIT", seconds=self.seconds) from None
+        finally:
+            self._busy[slot] -= 1
