@@ -6,7 +6,7 @@ The CLI and the server call these functions; they hold no logic of their own.
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
 
@@ -19,7 +19,7 @@ from core.dialects.sinumerik_iso import TABLE as ISO_TABLE
 from core.interpreter import BlockExecutor, Toolpath, interpret
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
-from core.syntax.blocks import Program
+from core.syntax.blocks import Block, Program
 from core.syntax.parser import parser_for
 
 
@@ -51,18 +51,29 @@ def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = No
     return parser_for(d.grammar, d.valued_codes).parse_program(text, setup.limits)
 
 
-def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> Toolpath:
+@dataclass
+class Memo:
+    """What one run keeps for the next run of the same document, changed in a few lines (the live editor):
+    the parsed lines and the executor's reading of each block. Use one memo per document, dialect and set-up.
+    """
+
+    lines: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = field(default_factory=dict)
+    readings: dict[Any, Any] = field(default_factory=dict)
+
+
+def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None, memo: Memo | None = None) -> Toolpath:
     """Parse and interpret `text`; the diagnostics of both stages are in the result, sorted by position."""
     setup = setup or RunSetup()
     d = DIALECTS[dialect]
     parser = parser_for(d.grammar, d.valued_codes)
-    program, diagnostics = parser.parse_program(text, setup.limits)
+    program, diagnostics = parser.parse_program(text, setup.limits, memo.lines if memo is not None else None)
     library = {}
     for number, sub_text in setup.subprograms:
         sub, sub_diagnostics = parser.parse_program(sub_text, setup.limits)
         library[number] = sub
         diagnostics += [dataclasses.replace(x, source=f"L{number}") for x in sub_diagnostics]
-    toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library)
+    toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
+                         memo.readings if memo is not None else None)
     toolpath.diagnostics.sort(key=lambda x: (x.span.line, x.span.column))
     return toolpath
 

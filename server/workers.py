@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import gc
 import importlib.util
+import json
 import logging
 import multiprocessing
 from collections import OrderedDict, defaultdict
@@ -19,7 +20,7 @@ from core.diagnostics import Severity
 from core.exercises import Exercise as ExerciseDocument
 from core.grading import grade
 from core.interpreter.state import RunSetup
-from core.pipeline import diagnostics_json, run, toolpath_json
+from core.pipeline import Memo, diagnostics_json, run, toolpath_json
 from core.tools import DEFAULT_TOOLS, Tool, ToolTable
 from server.errors import ApiError
 
@@ -119,12 +120,15 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
 
 
 class _LiveCache:
-    """One live document's last result in this worker: per line, its diagnostics and its commands."""
+    """One live document's last result in this worker: per line, its diagnostics and its commands, and
+    the pipeline's memo (parsed lines, block readings) for the next run of the same dialect and set-up."""
 
-    __slots__ = ("commands", "diagnostics", "gen")
+    __slots__ = ("commands", "diagnostics", "gen", "memo", "memo_key")
 
-    def __init__(self, gen: int, diagnostics: dict[int, tuple[Any, ...]], commands: dict[int, tuple[Any, ...]]) -> None:
+    def __init__(self, gen: int, diagnostics: dict[int, tuple[Any, ...]], commands: dict[int, tuple[Any, ...]],
+                 memo: Memo, memo_key: str) -> None:
         self.gen, self.diagnostics, self.commands = gen, diagnostics, commands
+        self.memo, self.memo_key = memo, memo_key
 
 
 _LIVE: OrderedDict[str, _LiveCache] = OrderedDict()
@@ -153,13 +157,15 @@ def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: d
     on one process). If it does not hold generation `base_gen` (a new or restarted worker), the
     answer is complete (`full`): every line that has something.
     """
-    toolpath = run(text, dialect, make_setup(spec))
-    diagnostics, commands = _by_line(toolpath.diagnostics), _by_line(toolpath.commands)
     cached = _LIVE.pop(doc, None)
+    memo_key = json.dumps([dialect, spec], sort_keys=True, default=str)
+    memo = cached.memo if cached is not None and cached.memo_key == memo_key else Memo()
+    toolpath = run(text, dialect, make_setup(spec), memo)
+    diagnostics, commands = _by_line(toolpath.diagnostics), _by_line(toolpath.commands)
     full = cached is None or cached.gen != base_gen
     old_d = {} if full or cached is None else cached.diagnostics
     old_c = {} if full or cached is None else cached.commands
-    _LIVE[doc] = _LiveCache(gen, diagnostics, commands)
+    _LIVE[doc] = _LiveCache(gen, diagnostics, commands, memo, memo_key)
     while len(_LIVE) > _LIVE_MAX:
         _LIVE.popitem(last=False)
     d_out = {n: [x.to_json() for x in diagnostics.get(n, ())] for n in old_d.keys() | diagnostics.keys()

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import random
+from pathlib import Path
 
 from core.interpreter.state import RunSetup
 from core.limits import Limits
@@ -54,3 +55,20 @@ def test_a_million_blocks_with_the_default_limits() -> None:
     found = dict(codes(run("X1\n" * 1_000_000)))
     assert found["PAL-E006"] == 200_001 and found["PAL-E013"] == 100_001
     assert "PAL-W102" not in found
+
+
+def test_a_memo_gives_the_same_result_as_a_fresh_run() -> None:
+    """The live editor re-runs a document with its memo; every edit must give exactly a fresh run's result."""
+    from core.pipeline import Memo
+    from core.toolpath import Move
+
+    base = (Path(__file__).with_name("seeds") / "pal-15-g45-g46.nc").read_text(encoding="utf-8").splitlines()
+    memo = Memo()
+    edits = [base, base[:6] + ["N55 G1 X20 RN3"] + base[6:], [*base[:3], "N35 G91 G0 X1", *base[3:]],
+             [line.replace("RN10", "RN12") for line in base], base[:-1], base]
+    for lines in edits:
+        text = "\n".join(lines)
+        fresh, memoised = run(text), run(text, memo=memo)
+        assert [m.to_json() for m in memoised.moves if isinstance(m, Move)] == [m.to_json() for m in fresh.moves]
+        assert [d.to_json() for d in memoised.diagnostics] == [d.to_json() for d in fresh.diagnostics]
+    assert len(memo.lines) == len(base)

@@ -128,8 +128,13 @@ class _Repeat:
 
 
 def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup: RunSetup,
-              diagnostics: list[Diagnostic] | None = None, library: dict[int, Program] | None = None) -> Toolpath:
-    """Execute the program from its first block, following calls, repeats and jumps; never raises on user input."""
+              diagnostics: list[Diagnostic] | None = None, library: dict[int, Program] | None = None,
+              readings: dict[Any, Any] | None = None) -> Toolpath:
+    """Execute the program from its first block, following calls, repeats and jumps; never raises on user input.
+
+    `readings` is the executor's reading of blocks kept from an earlier run of the same blocks (see
+    core.pipeline.Memo); it is pruned to this program's blocks.
+    """
     limits = setup.limits
     result = Toolpath(diagnostics=list(diagnostics or []))
     diags = result.diagnostics
@@ -146,7 +151,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     calls: list[_Call] = []
     # the executor keeps its reading of blocks once the program first goes back (a call, a repeat, a
     # jump): until then every block runs once and keeping them would only cost
-    cache: dict[Any, Any] | None = None
+    cache: dict[Any, Any] | None = readings
     repeats: list[_Repeat] = []
     unit, index = main, 0
     ended = False
@@ -274,6 +279,10 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             current_state, current_position = states[i], positions[i]  # type: ignore[assignment]
     result.line_states = states  # type: ignore[assignment]
     result.line_positions = positions  # type: ignore[assignment]
+    if readings is not None:  # keep only what this program's blocks can use again
+        alive = {id(b) for b in program.blocks}
+        for key in [k for k in readings if k[0] not in alive]:
+            del readings[key]
     _dedupe(diags)
     if len(diags) > limits.max_diagnostics:
         cut = diags[limits.max_diagnostics - 1]

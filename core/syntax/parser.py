@@ -63,8 +63,14 @@ class BlockParser:
 
     # -- whole programs --------------------------------------------------------------------
 
-    def parse_program(self, text: str, limits: Limits) -> tuple[Program, list[Diagnostic]]:
-        """Parse every line of `text`; never raises on user input."""
+    def parse_program(self, text: str, limits: Limits,
+                      memo: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] | None = None,
+                      ) -> tuple[Program, list[Diagnostic]]:
+        """Parse every line of `text`; never raises on user input.
+
+        `memo` (line number and text → block and its diagnostics) lets a program that changed in a few
+        lines reuse the others (the live editor); it is updated to hold exactly this program's lines.
+        """
         diagnostics: list[Diagnostic] = []
         if len(text) > limits.max_program_chars:
             diagnostics.append(
@@ -86,7 +92,21 @@ class BlockParser:
                 )
             )
             lines = lines[: limits.max_blocks]
-        blocks = [self.parse_line(raw, n, limits, diagnostics) for n, raw in enumerate(lines, 1)]
+        if memo is None:
+            blocks = [self.parse_line(raw, n, limits, diagnostics) for n, raw in enumerate(lines, 1)]
+            return Program(blocks, line_count), diagnostics
+        kept: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = {}
+        blocks = []
+        for n, raw in enumerate(lines, 1):
+            known = memo.get((n, raw))
+            if known is None:
+                found: list[Diagnostic] = []
+                known = (self.parse_line(raw, n, limits, found), found)
+            kept[(n, raw)] = known
+            blocks.append(known[0])
+            diagnostics.extend(known[1])
+        memo.clear()
+        memo.update(kept)
         return Program(blocks, line_count), diagnostics
 
     # -- one line --------------------------------------------------------------------------
