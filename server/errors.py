@@ -40,6 +40,12 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "EXERCISE_EXISTS": (409, "Eine Aufgabe mit der Kennung »{exercise}« gibt es schon.",
                         "An exercise with the slug '{exercise}' already exists."),
     "USER_EXISTS": (409, "Den Benutzer »{user}« gibt es schon.", "The user '{user}' already exists."),
+    "IDEMPOTENCY_CONFLICT": (409, "Dieser Idempotency-Key wurde schon für eine andere Abgabe verwendet.",
+                             "This Idempotency-Key was already used for a different submission."),
+    "EXERCISE_INVALID": (422, "Die Aufgabe ist ungültig: {detail}", "The exercise is invalid: {detail}"),
+    "REFERENCE_NOT_CLEAN": (422, ("Die Musterlösung erreicht nicht die volle Punktzahl ({score} von {max_score}): "
+                                  "{detail}"),
+                            "The reference does not score full marks ({score} of {max_score}): {detail_en}"),
     "EXERCISE_HAS_SUBMISSIONS": (409, "Die Aufgabe hat Abgaben und kann nicht gelöscht werden.",
                                  "The exercise has submissions and cannot be deleted."),
     "BODY_TOO_LARGE": (413, "Die Anfrage ist zu groß ({size} Bytes, höchstens {limit}).",

@@ -85,3 +85,5 @@ class Submission(Base):
     result: Mapped[dict[str, Any]] = mapped_column(JSON)
     grading: Mapped[dict[str, Any] | None] = mapped_column(JSON, nullable=True)
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+    # "<k|u><api key or user id>:<Idempotency-Key header>": a repeated request returns this submission
+    idempotency_key: Mapped[str | None] = mapped_column(String(300), nullable=True, unique=True, index=True)

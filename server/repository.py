@@ -128,6 +128,10 @@ def submission_by_id(db: Session, submission_id: int) -> Submission | None:
     return db.get(Submission, submission_id)
 
 
+def submission_by_idempotency_key(db: Session, key: str) -> Submission | None:
+    return db.scalars(select(Submission).where(Submission.idempotency_key == key)).first()
+
+
 def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int | None = None,
                      api_key_id: int | None = None, exercise_slug: str | None = None,
                      everything: bool = False) -> Sequence[tuple[Submission, Exercise, User | None]]:

@@ -291,6 +291,15 @@ class RunSummary(BaseModel):
     dwells: int
 
 
+class LmsResult(BaseModel):
+    """A grade as a learning platform takes it (Moodle, ILIAS): points, maximum, and a comment for the learner."""
+
+    score: int
+    maximum: int
+    comment: str = Field(description="German: the criteria that lost points, with their messages")
+    comment_en: str
+
+
 class SubmissionOut(BaseModel):
     id: int
     exercise: str
@@ -307,3 +316,4 @@ class SubmissionOut(BaseModel):
     summary: RunSummary
     diagnostics: list[DiagnosticOut] | None = Field(description="The check diagnostics (detail views only)")
     program: str | None = Field(description="The program (detail views only)")
+    lms: LmsResult | None = Field(default=None, description="The grade for a learning platform; null if not graded")

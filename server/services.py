@@ -8,6 +8,7 @@ from typing import Any
 
 from sqlalchemy.orm import Session
 
+from core.exercises import Exercise as ExerciseDocument
 from core.pipeline import DIALECTS
 from server import repository as repo
 from server.config import Settings
@@ -20,6 +21,7 @@ from server.schemas import (
     ExerciseCreate,
     ExerciseOut,
     ExerciseUpdate,
+    LmsResult,
     ProgramRequest,
     SimulateRequest,
     SubmissionCreate,
@@ -28,8 +30,8 @@ from server.schemas import (
     utc,
 )
 from server.security import hash_password, new_api_key, verify_password
-from server.seed import document_from_fields
-from server.workers import Workers, job_submission
+from server.seed import document_from_fields, exercise_fields
+from server.workers import Workers, job_submission, job_validate_exercise
 
 # --- pipeline requests ----------------------------------------------------------------------
 
@@ -187,6 +189,26 @@ def create_exercise(db: Session, settings: Settings, principal: Principal, body:
     return repo.create_exercise(db, {**fields, "document": document_from_fields(fields)}, principal.user_id)
 
 
+async def import_exercise(db: Session, settings: Settings, workers: Workers, principal: Principal,
+                          text: str) -> Exercise:
+    """An instructor's exercise file (YAML or JSON, docs/exercises.md), validated: the file itself, and its
+    reference must score full marks."""
+    require_instructor(principal)
+    if len(text) > settings.max_program_chars * 2:
+        raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=settings.max_program_chars * 2)
+    checked = await workers.call(job_validate_exercise, text)
+    if "invalid" in checked:
+        raise ApiError("EXERCISE_INVALID", detail=checked["invalid"])
+    if "reference" in checked:
+        ref = checked["reference"]
+        raise ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
+                       detail_en=ref["detail_en"])
+    document = ExerciseDocument.model_validate(checked["document"])
+    if repo.exercise_by_slug(db, document.id) is not None:
+        raise ApiError("EXERCISE_EXISTS", exercise=document.id)
+    return repo.create_exercise(db, exercise_fields(document), principal.user_id)
+
+
 EXERCISE_FIELDS = ("slug", "title_de", "title_en", "task_de", "task_en", "dialect", "stock", "tools",
                    "reference_program", "rubric", "hidden_criteria")
 
@@ -237,14 +259,40 @@ def submission_out(submission: Submission, exercise: Exercise, author: User | No
         error_count=submission.error_count, warning_count=submission.warning_count, grading=grading,
         score=grading["score"] if grading else None,
         summary=result["summary"], diagnostics=result["diagnostics"] if detail else None,
-        program=submission.program if detail else None,
+        program=submission.program if detail else None, lms=lms_result(grading),
     )
 
 
+def lms_result(grading: dict[str, Any] | None) -> LmsResult | None:
+    """The grade as a learning platform takes it; the comment names what lost points (as the reader may see it)."""
+    if grading is None:
+        return None
+    lost = [c for c in grading.get("criteria", []) if c.get("status") != "passed"]
+    if lost:
+        comment = " ".join(f"{c['message']} (−{c['max_points'] - c['points']})" for c in lost)
+        comment_en = " ".join(f"{c['message_en']} (−{c['max_points'] - c['points']})" for c in lost)
+    else:
+        comment, comment_en = "Alle Kriterien erfüllt.", "All criteria met."
+    return LmsResult(score=int(grading["score"]), maximum=int(grading["max_score"]), comment=comment,
+                     comment_en=comment_en)
+
+
 async def create_submission(db: Session, settings: Settings, workers: Workers, principal: Principal,
-                            body: SubmissionCreate) -> SubmissionOut:
+                            body: SubmissionCreate, idempotency_key: str | None = None) -> tuple[SubmissionOut, bool]:
+    """Grade and store a submission; with an idempotency key already used by the same caller, the stored one
+    (and False: nothing new was made)."""
     if not principal.has_scope("submissions:write"):
         raise ApiError("MISSING_SCOPE", scope="submissions:write")
+    stored_key = None
+    if idempotency_key:
+        who = f"k{principal.api_key.id}" if principal.api_key else f"u{principal.user_id}"
+        stored_key = f"{who}:{idempotency_key}"
+        earlier = repo.submission_by_idempotency_key(db, stored_key)
+        if earlier is not None:
+            earlier_exercise = db.get(Exercise, earlier.exercise_id)
+            if earlier_exercise is None or earlier_exercise.slug != body.exercise or earlier.program != body.program:
+                raise ApiError("IDEMPOTENCY_CONFLICT")
+            return submission_out(earlier, earlier_exercise, principal.user, True, principal), False
     exercise = get_exercise(db, body.exercise)
     check_program(settings, body.program, exercise.dialect)
     result = await workers.call(job_submission, body.program, exercise.dialect,
@@ -255,8 +303,9 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
         external_user=body.external_user if principal.api_key else None, program=body.program,
         dialect=exercise.dialect, error_count=result["errors"], warning_count=result["warnings"],
         result={"diagnostics": result["diagnostics"], "summary": result["summary"]}, grading=result["grading"],
+        idempotency_key=stored_key,
     )
-    return submission_out(submission, exercise, principal.user, True, principal)
+    return submission_out(submission, exercise, principal.user, True, principal), True
 
 
 def visible_submissions(db: Session, principal: Principal,

@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 
 from core.diagnostics import Severity
 from core.exercises import Exercise as ExerciseDocument
+from core.exercises import ExerciseError, parse_exercise
 from core.grading import grade
 from core.interpreter.state import RunSetup
 from core.pipeline import Memo, diagnostics_json, run, toolpath_json
@@ -117,6 +118,22 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
                     "dwells": len(toolpath.dwells)},
         "grading": grading,
     }
+
+
+def job_validate_exercise(text: str) -> dict[str, Any]:
+    """An uploaded exercise (YAML or JSON, the format of docs/exercises.md) checked as an author's upload must be:
+    valid, and its reference scoring full marks. Answers {"document"} or {"invalid"} or {"reference"}."""
+    try:
+        exercise = parse_exercise(text)
+    except ExerciseError as err:
+        return {"invalid": str(err)}
+    result = grade(exercise, exercise.reference)
+    if result.score < result.max_score:
+        lost = [c for c in result.criteria if not c.passed]
+        return {"reference": {"score": result.score, "max_score": result.max_score,
+                              "detail": " ".join(c.message for c in lost),
+                              "detail_en": " ".join(c.message_en for c in lost)}}
+    return {"document": exercise.model_dump(mode="json")}
 
 
 class _LiveCache:

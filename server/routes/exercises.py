@@ -4,11 +4,11 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Depends, Response
+from fastapi import APIRouter, Depends, Request, Response
 
 from server import repository as repo
 from server import services
-from server.deps import AppSettings, CurrentPrincipal, DbSession, Principal, require_scope
+from server.deps import AppSettings, AppWorkers, CurrentPrincipal, DbSession, Principal, require_scope
 from server.errors import responses
 from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate
 
@@ -31,6 +31,20 @@ def get_exercise(slug: str, db: DbSession, principal: Reader) -> ExerciseOut:
 def create_exercise(body: ExerciseCreate, db: DbSession, settings: AppSettings,
                     principal: CurrentPrincipal) -> ExerciseOut:
     return services.exercise_out(db, services.create_exercise(db, settings, principal, body), principal)
+
+
+@router.post("/import", response_model=ExerciseOut, status_code=201,
+             responses=responses(401, 403, 409, 413, 422, 503),
+             openapi_extra={"requestBody": {"required": True, "content": {
+                 "application/yaml": {"schema": {"type": "string"}},
+                 "application/json": {"schema": {"type": "object"}}}}})
+async def import_exercise(request: Request, db: DbSession, settings: AppSettings, workers: AppWorkers,
+                          principal: CurrentPrincipal) -> ExerciseOut:
+    """Create an exercise from a file in the exercise format (docs/exercises.md), YAML or JSON, with the
+    reference inline. It is validated, and its reference must score full marks; the messages say why not."""
+    text = (await request.body()).decode("utf-8", errors="replace")
+    exercise = await services.import_exercise(db, settings, workers, principal, text)
+    return services.exercise_out(db, exercise, principal)
 
 
 @router.patch("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404, 413, 422))

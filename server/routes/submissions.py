@@ -3,7 +3,7 @@ CSV export for instructors."""
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Depends, Query
+from fastapi import APIRouter, Depends, Header, Query, Response
 from fastapi.responses import PlainTextResponse
 
 from server import services
@@ -15,11 +15,20 @@ router = APIRouter(prefix="/submissions", tags=["submissions"])
 
 
 @router.post("", response_model=SubmissionOut, status_code=201,
-             responses=responses(401, 403, 404, 413, 422, 429, 503),
+             responses={200: {"model": SubmissionOut, "description": "A repeated request (same Idempotency-Key)"},
+                        **responses(401, 403, 404, 409, 413, 422, 429, 503)},
              dependencies=[Depends(rate_limit("submit", "rate_submit_per_minute"))])
 async def create_submission(body: SubmissionCreate, db: DbSession, settings: AppSettings, workers: AppWorkers,
-                            principal: CurrentPrincipal) -> SubmissionOut:
-    return await services.create_submission(db, settings, workers, principal, body)
+                            principal: CurrentPrincipal, response: Response,
+                            idempotency_key: str | None = Header(
+                                default=None, max_length=200,
+                                description="Repeating a request with the same key (per user or API key) returns "
+                                            "the submission made the first time (200) instead of a new one")
+                            ) -> SubmissionOut:
+    submission, created = await services.create_submission(db, settings, workers, principal, body, idempotency_key)
+    if not created:
+        response.status_code = 200
+    return submission
 
 
 @router.get("", response_model=list[SubmissionOut], responses=responses(401, 403, 404))
