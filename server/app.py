@@ -7,19 +7,20 @@ import json
 import logging
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from pathlib import Path
 from typing import Any
 
 from fastapi import APIRouter, FastAPI
 from fastapi.middleware.cors import CORSMiddleware
 from fastapi.openapi.utils import get_openapi
-from fastapi.responses import RedirectResponse
+from fastapi.staticfiles import StaticFiles
 
 from server import errors, live
 from server.config import Settings
 from server.db import Database, migrate
 from server.middleware import RequestMiddleware
 from server.ratelimit import RateLimiter
-from server.routes import auth, exercises, health, pipeline, submissions
+from server.routes import auth, dialects, exercises, health, pages, pipeline, submissions
 from server.seed import load_exercises
 from server.workers import Workers
 
@@ -61,6 +62,9 @@ def install_openapi(app: FastAPI) -> None:
     app.openapi = openapi  # type: ignore[method-assign]
 
 
+STATIC = Path(__file__).resolve().parent / "static"  # the built editor (web/: npm run build)
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     settings = settings or Settings()
 
@@ -88,15 +92,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.workers = Workers(settings.workers, settings.job_seconds)
     errors.install(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, exercises, submissions):
+    for module in (pipeline, auth, exercises, submissions, dialects):
         api.include_router(module.router)
     api.include_router(live.router)
     app.include_router(api)
     app.include_router(health.router)
-
-    @app.get("/", include_in_schema=False)
-    def root() -> RedirectResponse:
-        return RedirectResponse("/docs")
+    app.include_router(pages.router)
+    app.mount("/static", StaticFiles(directory=STATIC, check_dir=False), name="static")
 
     install_openapi(app)
     if settings.cors_origins:

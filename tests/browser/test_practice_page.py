@@ -1,0 +1,99 @@
+"""The browser IDE in a real browser (Debian's Chromium driven by Playwright): the practice page shows the
+editor, and a bad block gets its German diagnostic, underlined and listed, while typing."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Iterator
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).parents[2]
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+BUNDLE = ROOT / "server" / "static" / "app.js"
+
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)"),
+]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
+    port = free_port()
+    env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path_factory.mktemp("data")), "PALTRAINER_WORKERS": "1",
+           "PALTRAINER_LOAD_EXERCISES": "false"}
+    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(200):
+            try:
+                with urllib.request.urlopen(f"{url}/readyz", timeout=1):
+                    break
+            except OSError:
+                time.sleep(0.1)
+        else:
+            pytest.fail("the server did not start")
+        yield url
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[object]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=[
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync"])
+        yield b
+        b.close()
+
+
+def test_practice_page_shows_live_diagnostics(server: str, browser: object) -> None:
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/practice")
+    page.wait_for_selector(".cm-content")
+    # the sample program is clean (the first answer may wait for the worker to start)
+    page.wait_for_selector(".diag-none", timeout=15000)
+    # type a bad block after N80: a decimal comma
+    page.click(".cm-line >> nth=7")
+    page.keyboard.press("End")
+    page.keyboard.press("Enter")
+    page.keyboard.type("N85 G1 X1,5")
+    item = page.wait_for_selector(".diag-error", timeout=5000)
+    assert "Zeile 9" in item.inner_text() and "PAL-E010" in item.inner_text()
+    assert "Dezimalkomma" in item.inner_text()
+    page.wait_for_selector(".cm-lintRange-error", timeout=5000)
+    # correcting it clears the message
+    page.keyboard.press("Backspace")
+    page.keyboard.press("Backspace")
+    page.keyboard.type(".5")
+    page.wait_for_selector(".diag-none", timeout=5000)
+    page.close()
+
+
+def test_hover_help_in_german(server: str, browser: object) -> None:
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/practice")
+    page.wait_for_selector(".cm-content")
+    page.hover(".cm-line >> nth=5 >> text=G1")
+    tip = page.wait_for_selector(".pal-help", timeout=5000)
+    assert "Geradeninterpolation" in tip.inner_text()
+    page.close()

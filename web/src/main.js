@@ -1,0 +1,198 @@
+// The PAL Trainer editor: CodeMirror 6 with a PAL mode, live diagnostics from the server's
+// WebSocket /api/v1/live, hover help and completion from the dialect's code table
+// (GET /api/v1/dialects/{name}), German editor phrases. No geometry here: the server computes it.
+
+import { EditorState, Compartment } from "@codemirror/state";
+import {
+  EditorView, keymap, lineNumbers, highlightActiveLine, highlightActiveLineGutter, hoverTooltip,
+  drawSelection,
+} from "@codemirror/view";
+import { defaultKeymap, history, historyKeymap } from "@codemirror/commands";
+import { StreamLanguage, HighlightStyle, syntaxHighlighting } from "@codemirror/language";
+import { tags } from "@lezer/highlight";
+import { setDiagnostics, lintGutter } from "@codemirror/lint";
+import { autocompletion } from "@codemirror/autocomplete";
+import { searchKeymap } from "@codemirror/search";
+
+// -- the PAL mode: block numbers, G/M codes, addresses, numbers, comments -----------------------
+const palMode = StreamLanguage.define({
+  name: "pal",
+  token(stream) {
+    if (stream.eatSpace()) return null;
+    if (stream.peek() === ";") { stream.skipToEnd(); return "comment"; }
+    if (stream.sol() && stream.match(/^%.*/)) return "meta";
+    if (stream.match(/^\/[0-9]?/)) return "meta";
+    if (stream.match(/^N[0-9]+/i)) return "labelName";
+    if (stream.match(/^[GM][0-9]+/i)) return "keyword";
+    if (stream.match(/^#?[A-Z]+(?==)/i)) return "propertyName";
+    if (stream.match(/^[A-Z]+/i)) return "propertyName";
+    if (stream.match(/^[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)/)) return "number";
+    stream.next();
+    return "operator";
+  },
+});
+
+const palHighlight = HighlightStyle.define([
+  { tag: tags.comment, color: "#6a737d", fontStyle: "italic" },
+  { tag: tags.keyword, color: "#0b5cad", fontWeight: "bold" },
+  { tag: tags.labelName, color: "#8250df" },
+  { tag: tags.propertyName, color: "#953800" },
+  { tag: tags.number, color: "#116329" },
+  { tag: tags.meta, color: "#cf222e" },
+]);
+
+// German editor phrases (CodeMirror's own texts)
+const germanPhrases = EditorState.phrases.of({
+  "Find": "Suchen", "Replace": "Ersetzen", "next": "weiter", "previous": "zurück", "all": "alle",
+  "match case": "Groß/klein", "regexp": "Regulärer Ausdruck", "by word": "Ganzes Wort",
+  "replace": "ersetzen", "replace all": "alle ersetzen", "close": "schließen",
+  "Go to line": "Gehe zu Zeile", "go": "los", "Diagnostics": "Meldungen", "No diagnostics": "Keine Meldungen",
+});
+
+// -- help from the dialect's code table --------------------------------------------------------
+let help = { codes: {}, addresses: {} };
+
+async function loadHelp(dialect) {
+  const r = await fetch(`/api/v1/dialects/${dialect}`);
+  if (!r.ok) return;
+  const data = await r.json();
+  help = { codes: {}, addresses: {} };
+  for (const c of data.codes) help.codes[c.name] = c;
+  for (const a of data.addresses) help.addresses[a.name] = a;
+}
+
+function wordAt(text, pos) {
+  const re = /(#?[A-Z]+)([+-]?[0-9.]*)/gi;
+  let m;
+  while ((m = re.exec(text)) !== null) {
+    if (m.index <= pos && pos <= m.index + m[0].length) return m;
+  }
+  return null;
+}
+
+const hoverHelp = hoverTooltip((view, pos) => {
+  const line = view.state.doc.lineAt(pos);
+  const m = wordAt(line.text, pos - line.from);
+  if (!m) return null;
+  const address = m[1].toUpperCase();
+  const code = (address === "G" || address === "M") && m[2] ? help.codes[`${address}${parseInt(m[2], 10)}`] : null;
+  const entry = code || help.addresses[address];
+  if (!entry) return null;
+  return {
+    pos: line.from + m.index, end: line.from + m.index + m[0].length, above: true,
+    create() {
+      const dom = document.createElement("div");
+      dom.className = "pal-help";
+      dom.textContent = `${entry.name}: ${entry.help_de}`;
+      return { dom };
+    },
+  };
+});
+
+function completeAddresses(context) {
+  const word = context.matchBefore(/#?[A-Z]*/i);
+  if (!word || (word.from === word.to && !context.explicit)) return null;
+  const options = [
+    ...Object.values(help.codes).map((c) => ({ label: c.name, detail: c.help_de, type: "keyword" })),
+    ...Object.values(help.addresses).map((a) => ({ label: a.name, detail: a.help_de, type: "property" })),
+  ];
+  return { from: word.from, options };
+}
+
+// -- live diagnostics over the WebSocket -------------------------------------------------------
+class Live {
+  constructor(view, dialect, onUpdate) {
+    this.view = view;
+    this.dialect = dialect;
+    this.onUpdate = onUpdate;
+    this.version = 0;
+    this.byLine = new Map();
+    this.timer = null;
+    this.connect();
+  }
+
+  connect() {
+    const scheme = location.protocol === "https:" ? "wss" : "ws";
+    this.ws = new WebSocket(`${scheme}://${location.host}/api/v1/live`);
+    this.ws.onopen = () => {
+      this.version += 1;
+      this.byLine.clear();
+      this.ws.send(JSON.stringify({ type: "open", version: this.version, text: this.text(), dialect: this.dialect }));
+    };
+    this.ws.onmessage = (event) => this.receive(JSON.parse(event.data));
+    this.ws.onclose = () => setTimeout(() => this.connect(), 1000);
+  }
+
+  text() { return this.view.state.doc.toString(); }
+
+  changed() {  // the editor calls this on every change: send the text after a short pause
+    clearTimeout(this.timer);
+    this.timer = setTimeout(() => {
+      if (this.ws.readyState !== WebSocket.OPEN) return;
+      this.version += 1;
+      this.ws.send(JSON.stringify({ type: "sync", version: this.version, text: this.text() }));
+    }, 120);
+  }
+
+  receive(msg) {
+    if (msg.type !== "update" || msg.version < this.version) return;  // stale: a newer one follows
+    for (const entry of msg.diagnostics) this.byLine.set(entry.line, entry.items);
+    const doc = this.view.state.doc;
+    const diagnostics = [];
+    for (const [, items] of this.byLine) {
+      for (const d of items) {
+        if (d.line > doc.lines) continue;
+        const line = doc.line(d.line);
+        const from = Math.min(line.from + d.column - 1, line.to);
+        const endLine = doc.line(Math.min(d.end_line, doc.lines));
+        const to = Math.max(from, Math.min(endLine.from + d.end_column - 1, endLine.to));
+        diagnostics.push({
+          from, to, severity: d.severity === "info" ? "info" : d.severity,
+          message: `${d.code}: ${d.message}`, source: d.code,
+        });
+      }
+    }
+    this.view.dispatch(setDiagnostics(this.view.state, diagnostics));
+    this.onUpdate(diagnostics, msg);
+  }
+}
+
+// -- the page ------------------------------------------------------------------------------------
+export async function mountEditor(parent, { text = "", dialect = "pal-mill", list = null } = {}) {
+  await loadHelp(dialect);
+  let live = null;
+  const language = new Compartment();
+  const view = new EditorView({
+    parent,
+    state: EditorState.create({
+      doc: text,
+      extensions: [
+        lineNumbers(), highlightActiveLineGutter(), highlightActiveLine(), drawSelection(), history(),
+        keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
+        language.of(palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
+        autocompletion({ override: [completeAddresses] }), germanPhrases,
+        EditorView.updateListener.of((u) => { if (u.docChanged && live) live.changed(); }),
+      ],
+    }),
+  });
+  live = new Live(view, dialect, (diagnostics) => {
+    if (!list) return;
+    list.replaceChildren(...diagnostics.map((d) => {
+      const li = document.createElement("li");
+      li.className = `diag diag-${d.severity}`;
+      const line = view.state.doc.lineAt(d.from).number;
+      li.textContent = `Zeile ${line}: ${d.message}`;
+      li.onclick = () => view.dispatch({ selection: { anchor: d.from }, scrollIntoView: true });
+      return li;
+    }));
+    if (!diagnostics.length) {
+      const li = document.createElement("li");
+      li.className = "diag diag-none";
+      li.textContent = "Keine Meldungen.";
+      list.append(li);
+    }
+  });
+  return view;
+}
+
+window.PalTrainer = { mountEditor };
