@@ -155,3 +155,11 @@ def test_cli_dialect_option(tmp_path: Path) -> None:
 
     assert main(["check", str(BECKHOFF / "bk-04-g301-g302-wert.nc"), "--dialect", "beckhoff"]) == 0
     assert main(["check", str(BECKHOFF / "bk-04-g301-g302-wert.nc")]) == 1  # not PAL
+
+
+def test_beckhoff_element_after_g00_is_run_at_rapid() -> None:
+    tp = run("G00 X0 Y0 Z0\nG00 X50\nG301 I10\nG00 Y50\nM30", "beckhoff")
+    assert errors(tp) == []
+    chamfer = next(m for m in tp.moves if m.line == 3)
+    assert chamfer.kind == "rapid"
+    assert chamfer.start[:2] == pytest.approx((40, 0)) and chamfer.end[:2] == pytest.approx((50, 10))
