@@ -267,6 +267,10 @@ class ExerciseOut(BaseModel):
     updated_at: Time
     reference_program: str | None = Field(description="Only for the owner and admins; null otherwise")
     hidden_criteria: dict[str, Any] | None = Field(description="Only for the owner and admins; null otherwise")
+    kind: str = Field(default="write", description="write | complete | fix (docs/exercises.md)")
+    start_program: str = Field(default="", description="What the trainee starts from (kinds complete and fix)")
+    locked_lines: list[int] = Field(default=[], description="Lines of start_program that must stay (kind complete)")
+    cutting_data: list[dict[str, Any]] = Field(default=[], description="Prescribed S and F per tool")
 
 
 # --- submissions -----------------------------------------------------------------------------

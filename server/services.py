@@ -31,7 +31,7 @@ from server.schemas import (
 )
 from server.security import hash_password, new_api_key, verify_password
 from server.seed import document_from_fields, exercise_fields
-from server.workers import Workers, job_submission, job_validate_exercise
+from server.workers import Workers, job_picture, job_submission, job_validate_exercise
 
 # --- pipeline requests ----------------------------------------------------------------------
 
@@ -163,7 +163,25 @@ def exercise_out(db: Session, exercise: Exercise, principal: Principal) -> Exerc
         owner=owner.username if owner else None, builtin=exercise.builtin, created_at=exercise.created_at,
         updated_at=exercise.updated_at, reference_program=exercise.reference_program if full else None,
         hidden_criteria=exercise.hidden_criteria if full else None,
+        **_document_view(exercise.document),
     )
+
+
+def _document_view(document: dict[str, Any] | None) -> dict[str, Any]:
+    """What the exercise page shows from the grader's document: kind, start program, cutting data."""
+    if not document:
+        return {}
+    return {"kind": document.get("kind", "write"), "start_program": document.get("start_program", ""),
+            "locked_lines": document.get("locked_lines", []), "cutting_data": document.get("cutting_data", [])}
+
+
+async def exercise_picture(db: Session, workers: Workers, slug: str) -> bytes:
+    """A top view of the finished part (the reference machined on the stock), darker where deeper."""
+    exercise = get_exercise(db, slug)
+    if exercise.document is None:
+        raise ApiError("NOT_FOUND")
+    picture: bytes = await workers.call(job_picture, exercise.document)
+    return picture
 
 
 def get_exercise(db: Session, slug: str) -> Exercise:

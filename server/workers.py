@@ -120,6 +120,18 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
     }
 
 
+def job_picture(document: dict[str, Any]) -> bytes:
+    """The finished part of an exercise as a top-view depth image (PNG)."""
+    from core.sim import depth_png, simulate
+
+    exercise = ExerciseDocument.model_validate(document)
+    tools = exercise.tool_table()
+    setup = RunSetup(tools=tools, zero_offsets=tuple(exercise.zero_offsets.items()),
+                     subprograms=tuple(exercise.subprograms.items()))
+    result = simulate(run(exercise.reference, exercise.dialect, setup), exercise.stock.stock(), tools, 0.2)
+    return depth_png(result.heightmap, max_pixels=640)
+
+
 def job_validate_exercise(text: str) -> dict[str, Any]:
     """An uploaded exercise (YAML or JSON, the format of docs/exercises.md) checked as an author's upload must be:
     valid, and its reference scoring full marks. Answers {"document"} or {"invalid"} or {"reference"}."""

@@ -27,6 +27,14 @@ def get_exercise(slug: str, db: DbSession, principal: Reader) -> ExerciseOut:
     return services.exercise_out(db, services.get_exercise(db, slug), principal)
 
 
+@router.get("/{slug}/picture.png", response_class=Response, responses={
+    200: {"content": {"image/png": {}}, "description": "Top view of the finished part"}, **responses(401, 403, 404)})
+async def exercise_picture(slug: str, db: DbSession, workers: AppWorkers, principal: Reader) -> Response:
+    """The finished part seen from above (the reference machined on the stock), darker where deeper."""
+    return Response(await services.exercise_picture(db, workers, slug), media_type="image/png",
+                    headers={"Cache-Control": "private, max-age=300"})
+
+
 @router.post("", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 409, 413, 422))
 def create_exercise(body: ExerciseCreate, db: DbSession, settings: AppSettings,
                     principal: CurrentPrincipal) -> ExerciseOut:

@@ -1,5 +1,6 @@
-"""The browser IDE in a real browser (Debian's Chromium driven by Playwright): the practice page shows the
-editor, and a bad block gets its German diagnostic, underlined and listed, while typing."""
+"""The browser IDE in a real browser (Debian's Chromium driven by Playwright) against a server the test starts
+on 127.0.0.1: live diagnostics while typing, German hover help, logging in, an exercise page, submitting and
+the score. Screenshots go to the test's output folder (PALTRAINER_SCREENSHOTS, else a temporary one)."""
 
 from __future__ import annotations
 
@@ -24,6 +25,16 @@ pytestmark = [
 ]
 
 
+PASSWORD = "ein langes Passwort"
+SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS", "")) if os.environ.get("PALTRAINER_SCREENSHOTS") else None
+
+
+def shot(page: object, name: str, tmp: Path) -> None:
+    folder = SHOTS or tmp
+    folder.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(folder / f"{name}.png"))  # type: ignore[attr-defined]
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -35,7 +46,9 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
     port = free_port()
     env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path_factory.mktemp("data")), "PALTRAINER_WORKERS": "1",
-           "PALTRAINER_LOAD_EXERCISES": "false"}
+           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
+    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "schueler", "--role", "student",
+                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
     proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
                             cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     url = f"http://127.0.0.1:{port}"
@@ -96,4 +109,34 @@ def test_hover_help_in_german(server: str, browser: object) -> None:
     page.hover(".cm-line >> nth=5 >> text=G1")
     tip = page.wait_for_selector(".pal-help", timeout=5000)
     assert "Geradeninterpolation" in tip.inner_text()
+    page.close()
+
+
+def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: Path) -> None:
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/exercises/pal-01-g1-gerade")
+    page.wait_for_url("**/login?next=*")  # not logged in: to the login page, and back afterwards
+    page.fill("input[name=username]", "schueler")
+    page.fill("input[name=password]", PASSWORD)
+    page.click("button[type=submit]")
+    page.wait_for_url("**/exercises/pal-01-g1-gerade")
+    page.wait_for_selector("text=Kontur aus zwei Geraden")
+    page.wait_for_selector("text=Rohteil 80 × 70 × 30 mm")
+    page.wait_for_selector("figure img")
+    page.wait_for_selector(".cm-content")
+    reference = (ROOT / "exercises" / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8")
+    page.click(".cm-content")
+    page.keyboard.insert_text(reference.replace("N70 G1 Y84", "N70 G1 Y8,4"))
+    started = time.perf_counter()
+    item = page.wait_for_selector(".diag-error", timeout=5000)
+    assert "Zeile 8" in item.inner_text() and "PAL-E010" in item.inner_text()
+    assert time.perf_counter() - started < 1.0 + 0.2  # the pause before sending is part of it
+    shot(page, "exercise-error", tmp_path)
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(reference)
+    page.wait_for_selector(".diag-none", timeout=5000)
+    page.click("#submit")
+    score = page.wait_for_selector(".score", timeout=15000)
+    assert score.inner_text() == "100 von 100 Punkten"
+    shot(page, "exercise-graded", tmp_path)
     page.close()

@@ -77,3 +77,24 @@ def test_idempotent_submission_and_lms_result(api: Api) -> None:
         "score": 100, "maximum": 100, "comment": "Alle Kriterien erfüllt.", "comment_en": "All criteria met."}
     fetched = api.client.get(f"/api/v1/submissions/{first.json()['id']}", headers=key).json()
     assert fetched["lms"]["score"] == 98
+
+
+def test_exercise_page_data_and_picture(api: Api) -> None:
+    owner, student = api.user("instructor"), api.user()
+    slug = unique("upload-")
+    assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
+                           headers=auth(owner)).status_code == 201
+    seen = api.client.get(f"/api/v1/exercises/{slug}", headers=auth(student)).json()
+    assert seen["kind"] == "write" and seen["cutting_data"] == [{"tool": 1, "speed": 1200.0, "feed": 150.0}]
+    assert seen["reference_program"] is None  # students never see the reference
+    picture = api.client.get(f"/api/v1/exercises/{slug}/picture.png", headers=auth(student))
+    assert picture.status_code == 200 and picture.headers["content-type"] == "image/png"
+    assert picture.content.startswith(b"\x89PNG")
+    assert api.client.get(f"/api/v1/exercises/{slug}/picture.png").status_code == 401
+    help_ = api.client.get("/api/v1/dialects/beckhoff").json()
+    assert {"#CHR", "G301"} <= {a["name"] for a in help_["addresses"]}
+    assert next(c for c in help_["codes"] if c["name"] == "G302")["help_de"].startswith("Radius")
+    assert api.client.get("/api/v1/dialects/klingon").status_code == 404
+    for path in ("/", "/practice", "/login", "/instructor", f"/exercises/{slug}"):
+        page = api.client.get(path)
+        assert page.status_code == 200 and page.text.startswith("<!doctype html>") and 'lang="de"' in page.text

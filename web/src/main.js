@@ -101,9 +101,10 @@ function completeAddresses(context) {
 
 // -- live diagnostics over the WebSocket -------------------------------------------------------
 class Live {
-  constructor(view, dialect, onUpdate) {
+  constructor(view, dialect, exercise, onUpdate) {
     this.view = view;
     this.dialect = dialect;
+    this.exercise = exercise;
     this.onUpdate = onUpdate;
     this.version = 0;
     this.byLine = new Map();
@@ -117,7 +118,9 @@ class Live {
     this.ws.onopen = () => {
       this.version += 1;
       this.byLine.clear();
-      this.ws.send(JSON.stringify({ type: "open", version: this.version, text: this.text(), dialect: this.dialect }));
+      this.ws.send(JSON.stringify({
+        type: "open", version: this.version, text: this.text(), dialect: this.dialect, exercise: this.exercise,
+      }));
     };
     this.ws.onmessage = (event) => this.receive(JSON.parse(event.data));
     this.ws.onclose = () => setTimeout(() => this.connect(), 1000);
@@ -158,7 +161,7 @@ class Live {
 }
 
 // -- the page ------------------------------------------------------------------------------------
-export async function mountEditor(parent, { text = "", dialect = "pal-mill", list = null } = {}) {
+export async function mountEditor(parent, { text = "", dialect = "pal-mill", list = null, exercise = null } = {}) {
   await loadHelp(dialect);
   let live = null;
   const language = new Compartment();
@@ -175,7 +178,7 @@ export async function mountEditor(parent, { text = "", dialect = "pal-mill", lis
       ],
     }),
   });
-  live = new Live(view, dialect, (diagnostics) => {
+  live = new Live(view, dialect, exercise, (diagnostics) => {
     if (!list) return;
     list.replaceChildren(...diagnostics.map((d) => {
       const li = document.createElement("li");
@@ -194,5 +197,3 @@ export async function mountEditor(parent, { text = "", dialect = "pal-mill", lis
   });
   return view;
 }
-
-window.PalTrainer = { mountEditor };

@@ -1,0 +1,135 @@
+// The pages around the editor: login, exercise list, exercise page with submission, instructor view.
+// Every text the user reads is German; the API gives German and English messages.
+
+import { mountEditor } from "./main.js";
+
+const KIND_DE = {
+  end_mill: "Schaftfräser", slot_drill: "Langlochfräser", ball_nose: "Radiusfräser", torus: "Eckradiusfräser",
+  twist_drill: "Spiralbohrer", spot_drill: "NC-Anbohrer",
+};
+
+async function api(path, options = {}) {
+  const r = await fetch(`/api/v1${path}`, { credentials: "same-origin", ...options });
+  const body = r.headers.get("content-type")?.includes("json") ? await r.json() : null;
+  return { ok: r.ok, status: r.status, body };
+}
+
+function el(tag, props = {}, ...children) {
+  const node = document.createElement(tag);
+  Object.assign(node, props);
+  node.append(...children.filter((c) => c !== null && c !== undefined));
+  return node;
+}
+
+function table(head, rows) {
+  return el("table", {},
+    el("thead", {}, el("tr", {}, ...head.map((h) => el("th", {}, h)))),
+    el("tbody", {}, ...rows.map((r) => el("tr", {}, ...r.map((c) => el("td", {}, String(c)))))));
+}
+
+export async function mountLogin(form, message) {
+  form.onsubmit = async (event) => {
+    event.preventDefault();
+    const data = Object.fromEntries(new FormData(form));
+    const r = await api("/auth/login", {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data),
+    });
+    if (r.ok) {
+      location.href = new URLSearchParams(location.search).get("next") || "/";
+    } else {
+      message.textContent = r.body?.error?.message || "Anmeldung fehlgeschlagen.";
+    }
+  };
+}
+
+export async function mountExerciseList(parent) {
+  const r = await api("/exercises");
+  if (r.status === 401) {
+    location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
+    return;
+  }
+  const kinds = { write: "Programm schreiben", complete: "Programm ergänzen", fix: "Fehler finden" };
+  parent.replaceChildren(el("ul", { className: "exercises" }, ...r.body.map((e) => el("li", {},
+    el("a", { href: `/exercises/${e.slug}` }, e.title_de),
+    el("span", { className: "meta" }, ` ${kinds[e.kind] || ""} · ${e.dialect}`)))));
+}
+
+export async function mountExercise(root, slug) {
+  const r = await api(`/exercises/${slug}`);
+  if (r.status === 401) {
+    location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
+    return;
+  }
+  if (!r.ok) {
+    root.replaceChildren(el("p", { className: "error" }, r.body?.error?.message || "Aufgabe nicht gefunden."));
+    return;
+  }
+  const ex = r.body;
+  document.title = `PAL Trainer – ${ex.title_de}`;
+  const s = ex.stock;
+  const size = s ? s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000) : null;
+  const tools = (ex.tools || []).map((t) => {
+    const cut = (ex.cutting_data || []).find((c) => c.tool === t.number);
+    return [`T${t.number}`, t.name || KIND_DE[t.kind] || t.kind, `Ø${t.diameter}`, cut ? cut.speed : "–",
+      cut ? cut.feed : "–"];
+  });
+  root.querySelector("#title").textContent = ex.title_de;
+  // markdown paragraphs: blank lines separate them, single line breaks are spaces
+  root.querySelector("#task").replaceChildren(
+    ...ex.task_de.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
+  root.querySelector("#data").replaceChildren(
+    size ? el("p", {}, `Rohteil ${size[0]} × ${size[1]} × ${size[2]} mm`) : null,
+    table(["Werkzeug", "Art", "Durchmesser", "S (1/min)", "F (mm/min)"], tools));
+  if (ex.gradable && size) {
+    root.querySelector("#picture").replaceChildren(
+      el("figure", {},
+        el("img", { src: `/api/v1/exercises/${slug}/picture.png`, alt: "Fertigteil von oben", width: 320 }),
+        el("figcaption", {}, `Fertigteil von oben: ${size[0]} mm × ${size[1]} mm (dunkler = tiefer)`)));
+  }
+  const list = root.querySelector("#diagnostics");
+  const view = await mountEditor(root.querySelector("#editor"), {
+    text: ex.start_program || "", dialect: ex.dialect, list, exercise: slug,
+  });
+  const result = root.querySelector("#result");
+  root.querySelector("#submit").onclick = async () => {
+    result.replaceChildren(el("p", {}, "Wird bewertet …"));
+    const sub = await api("/submissions", {
+      method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ exercise: slug, program: view.state.doc.toString() }),
+    });
+    if (!sub.ok) {
+      result.replaceChildren(el("p", { className: "error" }, sub.body?.error?.message || "Abgabe fehlgeschlagen."));
+      return;
+    }
+    const g = sub.body.grading;
+    if (!g) {
+      result.replaceChildren(el("p", {}, "Abgegeben. Diese Aufgabe wird nicht automatisch bewertet."));
+      return;
+    }
+    result.replaceChildren(
+      el("p", { className: "score" }, `${g.score} von ${g.max_score} Punkten`),
+      el("ul", { className: "criteria" }, ...g.criteria.map((c) => el("li", { className: c.status },
+        `${c.status === "passed" ? "✓" : "✗"} ${c.points}/${c.max_points} – ${c.message}`,
+        ...c.lines.map((n) => el("button", {
+          className: "line-link", type: "button", textContent: `Zeile ${n}`,
+          onclick: () => {
+            const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
+            view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
+            view.focus();
+          },
+        }))))));
+  };
+}
+
+export async function mountInstructor(parent) {
+  const r = await api("/submissions");
+  if (r.status === 401) {
+    location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
+    return;
+  }
+  parent.replaceChildren(
+    el("p", {}, el("a", { href: "/api/v1/submissions/export.csv" }, "Alle als CSV herunterladen")),
+    table(["Nr.", "Aufgabe", "Teilnehmer", "Zeit", "Fehler", "Punkte"], r.body.map((s) => [
+      s.id, s.exercise, s.user || s.external_user || "–", new Date(s.created_at).toLocaleString("de-DE"),
+      s.error_count, s.score ?? "–"])));
+}
