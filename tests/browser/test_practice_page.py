@@ -26,6 +26,7 @@ pytestmark = [
 
 
 PASSWORD = "ein langes Passwort"
+SERVER_DATA: list[str] = []  # the started server's data directory (users are made there with the admin CLI)
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS", "")) if os.environ.get("PALTRAINER_SCREENSHOTS") else None
 
 
@@ -45,7 +46,8 @@ def free_port() -> int:
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
     port = free_port()
-    env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path_factory.mktemp("data")), "PALTRAINER_WORKERS": "1",
+    SERVER_DATA[:] = [str(tmp_path_factory.mktemp("data"))]
+    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0], "PALTRAINER_WORKERS": "1",
            "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
     subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "schueler", "--role", "student",
                     "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
@@ -139,4 +141,32 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     score = page.wait_for_selector(".score", timeout=15000)
     assert score.inner_text() == "100 von 100 Punkten"
     shot(page, "exercise-graded", tmp_path)
+    page.close()
+
+
+def test_instructor_uploads_an_exercise_and_filters_submissions(server: str, browser: object, tmp_path: Path) -> None:
+    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
+    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "lehrer", "--role", "instructor",
+                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/login?next=/instructor")
+    page.fill("input[name=username]", "lehrer")
+    page.fill("input[name=password]", PASSWORD)
+    page.click("button[type=submit]")
+    page.wait_for_url("**/instructor")
+    page.wait_for_selector("#filter")
+    text = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.yaml").read_text(encoding="utf-8")
+    reference = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
+    upload = text.replace("id: pal-05-g2-kreisbogen", "id: lehrer-kreisbogen").replace(
+        "reference_file: pal-05-g2-kreisbogen.nc\n", "reference: |\n" + "".join(f"  {x}\n" for x in reference.splitlines()))
+    page.fill("#exercise-text", upload.replace("feed: 150", "feed: -1"))
+    page.click("#upload")
+    page.wait_for_selector("#upload-message.error")
+    assert "ungültig" in page.inner_text("#upload-message")
+    page.fill("#exercise-text", upload)
+    page.click("#upload")
+    page.wait_for_selector("#upload-message.ok")
+    shot(page, "instructor-upload", tmp_path)
+    page.select_option("#filter", "lehrer-kreisbogen")
+    page.wait_for_function("document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')")
     page.close()

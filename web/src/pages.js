@@ -122,14 +122,41 @@ export async function mountExercise(root, slug) {
 }
 
 export async function mountInstructor(parent) {
-  const r = await api("/submissions");
-  if (r.status === 401) {
+  const exercises = await api("/exercises");
+  if (exercises.status === 401) {
     location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
     return;
   }
-  parent.replaceChildren(
-    el("p", {}, el("a", { href: "/api/v1/submissions/export.csv" }, "Alle als CSV herunterladen")),
-    table(["Nr.", "Aufgabe", "Teilnehmer", "Zeit", "Fehler", "Punkte"], r.body.map((s) => [
+  // filter by exercise, list, export
+  const filter = el("select", { id: "filter" }, el("option", { value: "" }, "alle Aufgaben"),
+    ...exercises.body.map((e) => el("option", { value: e.slug }, e.title_de)));
+  const csv = el("a", { id: "csv", href: "/api/v1/submissions/export.csv" }, "als CSV herunterladen");
+  const list = el("div", { id: "submission-list" });
+  async function show() {
+    const query = filter.value ? `?exercise=${encodeURIComponent(filter.value)}` : "";
+    csv.href = `/api/v1/submissions/export.csv${query}`;
+    const r = await api(`/submissions${query}`);
+    list.replaceChildren(table(["Nr.", "Aufgabe", "Teilnehmer", "Zeit", "Fehler", "Punkte"], (r.body || []).map((s) => [
       s.id, s.exercise, s.user || s.external_user || "–", new Date(s.created_at).toLocaleString("de-DE"),
       s.error_count, s.score ?? "–"])));
+  }
+  filter.onchange = show;
+  // authoring: an exercise file (docs/exercises.md), checked by the server
+  const file = el("input", { type: "file", id: "exercise-file", accept: ".yaml,.yml,.json" });
+  const text = el("textarea", { id: "exercise-text", rows: 8, cols: 80, placeholder: "oder den Inhalt der Datei hier einfügen" });
+  const message = el("p", { id: "upload-message", role: "alert" });
+  const upload = el("button", { type: "button", id: "upload" }, "Aufgabe anlegen");
+  file.onchange = async () => { text.value = await file.files[0].text(); };
+  upload.onclick = async () => {
+    const r = await api("/exercises/import", {
+      method: "POST", headers: { "Content-Type": "application/yaml" }, body: text.value,
+    });
+    message.className = r.ok ? "ok" : "error";
+    message.textContent = r.ok ? `Aufgabe »${r.body.title_de}« angelegt.` : r.body?.error?.message || "Fehler.";
+    if (r.ok) filter.append(el("option", { value: r.body.slug }, r.body.title_de));
+  };
+  parent.replaceChildren(
+    el("h3", {}, "Abgaben"), el("p", {}, el("label", {}, "Aufgabe ", filter), " ", csv), list,
+    el("h3", {}, "Neue Aufgabe hochladen"), el("p", {}, file), text, el("p", {}, upload), message);
+  await show();
 }
