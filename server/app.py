@@ -15,12 +15,13 @@ from fastapi.middleware.cors import CORSMiddleware
 from fastapi.openapi.utils import get_openapi
 from fastapi.staticfiles import StaticFiles
 
-from server import errors, live
+from server import errors, live, viz
 from server.config import Settings
 from server.db import Database, migrate
 from server.middleware import RequestMiddleware
 from server.ratelimit import RateLimiter
 from server.routes import auth, dialects, exercises, health, pages, pipeline, submissions
+from server.routes import viz as viz_routes
 from server.seed import load_exercises
 from server.workers import Workers
 
@@ -77,6 +78,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         try:
             yield
         finally:
+            app.state.scenes.stop_all()
             app.state.workers.stop()
             app.state.db.engine.dispose()
 
@@ -90,14 +92,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.limiter = RateLimiter()
     app.state.workers = Workers(settings.workers, settings.job_seconds)
+    app.state.scenes = viz.Scenes(settings.jwt_secret())
     errors.install(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, exercises, submissions, dialects):
+    for module in (pipeline, auth, exercises, submissions, dialects, viz_routes):
         api.include_router(module.router)
     api.include_router(live.router)
     app.include_router(api)
     app.include_router(health.router)
     app.include_router(pages.router)
+    app.include_router(viz_routes.pages)
     app.mount("/static", StaticFiles(directory=STATIC, check_dir=False), name="static")
 
     install_openapi(app)

@@ -9,6 +9,7 @@ from __future__ import annotations
 import asyncio
 import gc
 import importlib.util
+import itertools
 import json
 import logging
 import multiprocessing
@@ -74,6 +75,8 @@ def job_warm() -> bool:
     """Load the grammars, then freeze what is loaded: the collector no longer walks the grammar tables
     on every full collection (which doubled some runs' time), and collects the old generation seldom."""
     run("N10 G0 X0 Y0 Z2\nN20 M30\n")
+    for module in ("core.sim", "core.grading"):  # so that no first simulation or grading waits for them
+        importlib.import_module(module)
     gc.collect()
     gc.freeze()
     gc.set_threshold(100_000, 50, 1000)
@@ -118,6 +121,44 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
                     "dwells": len(toolpath.dwells)},
         "grading": grading,
     }
+
+
+MAX_SCENE_SEGMENTS = 20_000  # toolpath segments sent to the 3D view; beyond, the path is cut (and said so)
+SCENE_RESOLUTION = 0.5  # mm: the 3D view's stock is a coarse level of detail
+SCENE_TRIANGLES = 40_000
+
+
+def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """What the 3D view shows of a program: toolpath segments (arcs as chords), the stock after it, the tool."""
+    import numpy as np
+
+    from core.sim import Stock, simulate, surface_mesh
+
+    setup = make_setup(spec)
+    toolpath = run(text, dialect, setup)
+    segments: list[tuple[Any, Any]] = []
+    rapid: list[bool] = []
+    lines: list[int] = []
+    for m in toolpath.moves:
+        points = m.points(0.05)
+        for a, b in itertools.pairwise(points):
+            segments.append((a, b))
+            rapid.append(m.kind == "rapid")
+            lines.append(m.line)
+    cut = len(segments) > MAX_SCENE_SEGMENTS
+    segments, rapid, lines = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS], lines[:MAX_SCENE_SEGMENTS]
+    seg = np.asarray(segments, dtype=np.float32).reshape(-1, 2, 3)
+    is_rapid = np.asarray(rapid, dtype=bool)
+    stock = None
+    box = spec.get("stock")
+    if box:
+        result = simulate(toolpath, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
+        stock = surface_mesh(result.heightmap, max_triangles=SCENE_TRIANGLES)
+    last = toolpath.moves[-1] if toolpath.moves else None
+    tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
+    return {"segments": seg, "feed": seg[~is_rapid], "rapid": seg[is_rapid], "lines": lines, "cut": cut,
+            "stock": stock, "tool": list(toolpath.final_position), "tool_radius": tool.radius if tool else 3.0,
+            "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
 
 
 def job_picture(document: dict[str, Any]) -> bytes:

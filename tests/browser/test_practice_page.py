@@ -47,7 +47,7 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
     port = free_port()
     SERVER_DATA[:] = [str(tmp_path_factory.mktemp("data"))]
-    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0], "PALTRAINER_WORKERS": "1",
+    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0], "PALTRAINER_WORKERS": "2",
            "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
     subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "schueler", "--role", "student",
                     "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
@@ -137,6 +137,19 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.keyboard.press("Control+a")
     page.keyboard.insert_text(reference)
     page.wait_for_selector(".diag-none", timeout=5000)
+    # the 3D view (off by itself in a browser without graphics acceleration, as here): switched on, the scene
+    # connects through /viz/{token} and holds the toolpath; playback steps through it
+    page.click("#viz-on")
+    page.wait_for_function("Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=10000)
+    page.frame_locator("#viz-frame").locator("text=Connected").wait_for(timeout=15000)
+    page.click("#step-back")
+    page.wait_for_function("document.getElementById('playhead-info').textContent.includes('Zeile')")
+    first = page.inner_text("#playhead-info")
+    page.click("#step-back")
+    page.wait_for_function(f"document.getElementById('playhead-info').textContent !== {first!r}")
+    shot(page, "exercise-3d", tmp_path)
+    page.click("#viz-off")
+    page.wait_for_selector("#viz-on")
     page.click("#submit")
     score = page.wait_for_selector(".score", timeout=15000)
     assert score.inner_text() == "100 von 100 Punkten"

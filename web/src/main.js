@@ -161,7 +161,9 @@ class Live {
 }
 
 // -- the page ------------------------------------------------------------------------------------
-export async function mountEditor(parent, { text = "", dialect = "pal-mill", list = null, exercise = null } = {}) {
+export async function mountEditor(parent, {
+  text = "", dialect = "pal-mill", list = null, exercise = null, onChange = null, onPointer = null,
+} = {}) {
   await loadHelp(dialect);
   let live = null;
   const language = new Compartment();
@@ -174,7 +176,13 @@ export async function mountEditor(parent, { text = "", dialect = "pal-mill", lis
         keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
         language.of(palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
         autocompletion({ override: [completeAddresses] }), germanPhrases,
-        EditorView.updateListener.of((u) => { if (u.docChanged && live) live.changed(); }),
+        EditorView.updateListener.of((u) => {
+          if (u.docChanged && live) live.changed();
+          if (u.docChanged && onChange) onChange(u.state.doc.toString());
+          if (u.selectionSet && onPointer && u.transactions.some((t) => t.isUserEvent("select.pointer"))) {
+            onPointer(u.state.doc.lineAt(u.state.selection.main.head).number);
+          }
+        }),
       ],
     }),
   });

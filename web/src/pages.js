@@ -87,9 +87,12 @@ export async function mountExercise(root, slug) {
         el("figcaption", {}, `Fertigteil von oben: ${size[0]} mm × ${size[1]} mm (dunkler = tiefer)`)));
   }
   const list = root.querySelector("#diagnostics");
+  let scene = null;
   const view = await mountEditor(root.querySelector("#editor"), {
     text: ex.start_program || "", dialect: ex.dialect, list, exercise: slug,
+    onChange: (text) => scene?.changed(text), onPointer: (line) => scene?.pointer(line),
   });
+  scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");
   root.querySelector("#submit").onclick = async () => {
     result.replaceChildren(el("p", {}, "Wird bewertet …"));
@@ -159,4 +162,105 @@ export async function mountInstructor(parent) {
     el("h3", {}, "Abgaben"), el("p", {}, el("label", {}, "Aufgabe ", filter), " ", csv), list,
     el("h3", {}, "Neue Aufgabe hochladen"), el("p", {}, file), text, el("p", {}, upload), message);
   await show();
+}
+
+// -- the 3D view and playback --------------------------------------------------------------------
+function softwareWebGL() {
+  const gl = document.createElement("canvas").getContext("webgl");
+  if (!gl) return true;
+  const info = gl.getExtension("WEBGL_debug_renderer_info");
+  const renderer = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+  return /swiftshader|llvmpipe|software/i.test(renderer);
+}
+
+export async function mountViz(container, view, { dialect = "pal-mill", exercise = null } = {}) {
+  let token = null;
+  let lines = [];
+  let playing = null;
+  let timer = null;
+  const frame = el("iframe", { id: "viz-frame", title: "3D-Ansicht" });
+  const slider = el("input", { type: "range", id: "playhead", min: 0, max: 0, value: 0 });
+  slider.setAttribute("aria-label", "Abspielposition");
+  const info = el("span", { id: "playhead-info" }, "");
+  const button = (id, text, title, fn) => el("button", { id, type: "button", title, onclick: fn }, text);
+  const stop = () => { clearInterval(playing); playing = null; };
+
+  async function moveTo(index, fromEditor = false) {
+    if (!lines.length || !token) return;
+    index = Math.max(0, Math.min(index, lines.length - 1));
+    slider.value = index;
+    const r = await api(`/viz/${token}/playhead`, {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify({ index }),
+    });
+    const line = r.body?.line;
+    info.textContent = `Schritt ${index + 1} von ${lines.length} · Zeile ${line ?? "–"}`;
+    if (line && !fromEditor) {
+      const l = view.state.doc.line(Math.min(line, view.state.doc.lines));
+      view.dispatch({ selection: { anchor: l.from, head: l.to }, scrollIntoView: true });
+    }
+  }
+
+  async function refresh(text) {
+    if (!token) return;
+    const r = await api(`/viz/${token}/scene`, {
+      method: "POST", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ program: text, dialect, exercise }),
+    });
+    if (!r.ok) return;
+    lines = r.body.lines;
+    slider.max = Math.max(0, lines.length - 1);
+    slider.value = slider.max;
+    frame.dataset.segments = String(lines.length);
+    info.textContent = `${lines.length} Wegstücke${r.body.cut ? " (gekürzt)" : ""}`;
+  }
+
+  const controls = el("div", { className: "playback" },
+    button("step-back", "« zurück", "Schritt zurück", () => { stop(); moveTo(Number(slider.value) - 1); }),
+    button("play", "Abspielen", "Abspielen / anhalten", () => {
+      if (playing) { stop(); return; }
+      playing = setInterval(() => {
+        if (Number(slider.value) >= lines.length - 1) stop(); else moveTo(Number(slider.value) + 1);
+      }, 200);
+    }),
+    button("step", "vor »", "Schritt vor", () => { stop(); moveTo(Number(slider.value) + 1); }),
+    slider, info);
+  slider.oninput = () => { stop(); moveTo(Number(slider.value)); };
+
+  async function enable() {
+    const session = await api("/viz", { method: "POST" });
+    if (!session.ok) {
+      container.replaceChildren(el("p", { className: "error" }, session.body?.error?.message || "Keine 3D-Ansicht."));
+      return;
+    }
+    token = session.body.token;
+    frame.src = session.body.url;
+    container.replaceChildren(frame, controls, el("p", {}, button("viz-off", "3D-Ansicht ausschalten", "", disable)));
+    await refresh(view.state.doc.toString());
+  }
+
+  function disable() {
+    stop();
+    token = null;
+    frame.removeAttribute("src");
+    offer("3D-Ansicht ist ausgeschaltet.");
+  }
+
+  function offer(reason) {
+    container.replaceChildren(el("p", { className: "viz-off" }, reason, " ",
+      button("viz-on", "3D-Ansicht einschalten", "", enable)));
+  }
+
+  // Without graphics acceleration the 3D view would slow the whole page down: then it waits to be asked for.
+  if (softwareWebGL()) {
+    offer("Dieser Browser zeichnet 3D ohne Grafikbeschleunigung; die 3D-Ansicht ist darum zunächst aus.");
+  } else {
+    await enable();
+  }
+  return {
+    changed(text) { clearTimeout(timer); timer = setTimeout(() => refresh(text), 500); },
+    pointer(line) {  // clicking a line in the editor moves playback to its first step
+      const index = lines.indexOf(line);
+      if (index >= 0) { stop(); moveTo(index, true); }
+    },
+  };
 }

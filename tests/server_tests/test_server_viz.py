@@ -1,0 +1,64 @@
+"""The 3D view's server side: session tokens, the viser client page, a scene from a program, the playhead,
+and the bridge's filter that keeps the share-tunnel request (and anything else not needed) away from viser."""
+
+from __future__ import annotations
+
+import msgspec
+import pytest
+from server_helpers import GOOD, Api, auth, unique
+from test_server_lms import ROOT, exercise_file
+
+from server import viz
+
+
+def test_viz_session_page_scene_and_playhead(api: Api) -> None:
+    r = api.client.post("/api/v1/viz")
+    assert r.status_code == 201
+    token, url = r.json()["token"], r.json()["url"]
+    assert url == f"/viz/{token}/"
+    page = api.client.get(url)
+    assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
+    assert b"<html" in page.content[:2000].lower()
+    assert api.client.get("/viz/not-a-token/").status_code == 401
+
+    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "dialect": "pal-mill"})
+    assert r.status_code == 200, r.text
+    scene = r.json()
+    assert scene["segments"] == len(scene["lines"]) >= 4 and scene["errors"] == 0 and not scene["cut"]
+    assert set(scene["lines"]) <= {3, 4, 5, 6}
+    r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 1})
+    assert r.status_code == 200 and r.json()["line"] == scene["lines"][1]
+    r = api.client.post("/api/v1/viz/bad/scene", json={"program": GOOD})
+    assert r.status_code == 401
+
+
+def test_exercise_scene_shows_the_stock(api: Api) -> None:
+    owner, student = api.user("instructor"), api.user()
+    slug = unique("viz-")
+    assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
+                           headers=auth(owner)).status_code == 201
+    token = api.client.post("/api/v1/viz").json()["token"]
+    program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
+    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": program, "exercise": slug},
+                        headers=auth(student))
+    assert r.status_code == 200 and r.json()["errors"] == 0
+    scenes: viz.Scenes = api.app.state.scenes
+    scene = scenes.scene(scenes.sid_of(token) or "")
+    assert scene.segments is not None and len(scene.segments) == r.json()["segments"]
+    assert scene.has_stock  # the stock as cut by the program is in the scene
+
+
+@pytest.mark.parametrize("message,passes", [
+    ({"type": "ViewerCameraMessage", "wxyz": [1, 0, 0, 0]}, True),
+    ({"type": "GuiUpdateMessage", "uuid": "x", "updates": {}}, True),
+    ({"type": "ShareUrlRequest"}, False),
+    ({"type": "ShareUrlDisconnect"}, False),
+    ({"type": "FileTransferStartUpload"}, False),
+    ({"no": "type"}, False),
+])
+def test_bridge_lets_only_the_view_messages_through(message: dict[str, object], passes: bool) -> None:
+    assert viz.passes(msgspec.msgpack.encode(message)) is passes
+
+
+def test_bridge_drops_garbage() -> None:
+    assert viz.passes(b"\xc1\xc1 not msgpack") is False
