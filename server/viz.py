@@ -38,6 +38,7 @@ RAPID_COLOUR = (230, 120, 20)
 DONE_COLOUR = (160, 160, 160)
 CURRENT_COLOUR = (220, 20, 60)
 STOCK_COLOUR = (190, 195, 205)
+CONTOUR_COLOUR = (30, 150, 60)  # the programmed contour, beside the tool-centre path under G41/G42
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
 
 
@@ -134,6 +135,12 @@ def show(scene: Scene, data: dict[str, Any]) -> None:
             s.add_line_segments("/toolpath/rapid", rapid, RAPID_COLOUR, thickness=1.0, thickness_units="screen")
         else:
             s.remove_by_name("/toolpath/rapid")
+        contour = data.get("contour")
+        if contour is not None and len(contour):
+            s.add_line_segments("/toolpath/contour", contour * M, CONTOUR_COLOUR, thickness=1.5,
+                                thickness_units="screen")
+        else:
+            s.remove_by_name("/toolpath/contour")
         if data.get("stock") is not None:
             vertices, triangles = data["stock"]
             s.add_mesh_simple("/stock", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,

@@ -139,12 +139,23 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     segments: list[tuple[Any, Any]] = []
     rapid: list[bool] = []
     lines: list[int] = []
+    contour: list[tuple[Any, Any]] = []  # the programmed contour where it differs from the tool-centre path
     for m in toolpath.moves:
         points = m.points(0.05)
         for a, b in itertools.pairwise(points):
             segments.append((a, b))
             rapid.append(m.kind == "rapid")
             lines.append(m.line)
+        if m.programmed_end is not None and m.programmed_end != m.end:
+            contour.append((contour[-1][1] if contour else m.programmed_end, m.programmed_end))
+    states = {}
+    for line in sorted(set(lines)):
+        state, position = toolpath.state_at(line)
+        codes = state.codes
+        states[line] = {"plane": codes.get("plane"), "dimensions": codes.get("dimensions"),
+                        "compensation": codes.get("compensation"), "zero_offset": codes.get("zero_offset"),
+                        "feed": state.feed, "speed": state.speed, "tool": state.tool,
+                        "position": [round(v, 3) for v in position]}
     cut = len(segments) > MAX_SCENE_SEGMENTS
     segments, rapid, lines = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS], lines[:MAX_SCENE_SEGMENTS]
     seg = np.asarray(segments, dtype=np.float32).reshape(-1, 2, 3)
@@ -156,7 +167,9 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
         stock = surface_mesh(result.heightmap, max_triangles=SCENE_TRIANGLES)
     last = toolpath.moves[-1] if toolpath.moves else None
     tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
+    programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
     return {"segments": seg, "feed": seg[~is_rapid], "rapid": seg[is_rapid], "lines": lines, "cut": cut,
+            "contour": programmed, "states": states,
             "stock": stock, "tool": list(toolpath.final_position), "tool_radius": tool.radius if tool else 3.0,
             "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
 

@@ -30,6 +30,8 @@ class SceneResult(BaseModel):
     cut: bool = Field(description="The toolpath had more segments than the view shows (20,000)")
     lines: list[int] = Field(description="The block line of each segment, for the playhead")
     errors: int
+    states: dict[int, dict[str, Any]] = Field(description="Per block line: plane, G90/G91, compensation, "
+                                                          "zero offset, feed, speed, tool, position after it")
 
 
 class Playhead(BaseModel):
@@ -63,7 +65,8 @@ async def put_scene(token: str, body: ProgramRequest, request: Request, db: DbSe
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
     data: dict[str, Any] = await workers.call(job_scene, body.program, body.dialect, spec)
     await run_in_threadpool(viz.show, scene, data)
-    return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"])
+    return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
+                       states=data["states"])
 
 
 @router.post("/{token}/playhead", responses=responses(401))

@@ -147,6 +147,7 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     first = page.inner_text("#playhead-info")
     page.click("#step-back")
     page.wait_for_function(f"document.getElementById('playhead-info').textContent !== {first!r}")
+    assert "G17" in page.inner_text("#modal-state") and "G90" in page.inner_text("#modal-state")
     shot(page, "exercise-3d", tmp_path)
     page.click("#viz-off")
     page.wait_for_selector("#viz-on")

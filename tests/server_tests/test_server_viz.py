@@ -42,6 +42,8 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": program, "exercise": slug},
                         headers=auth(student))
     assert r.status_code == 200 and r.json()["errors"] == 0
+    states = r.json()["states"]
+    assert states["8"]["compensation"] == "G41" and states["8"]["tool"] == 1 and states["8"]["feed"] == 150
     scenes: viz.Scenes = api.app.state.scenes
     scene = scenes.scene(scenes.sid_of(token) or "")
     assert scene.segments is not None and len(scene.segments) == r.json()["segments"]

@@ -176,6 +176,8 @@ function softwareWebGL() {
 export async function mountViz(container, view, { dialect = "pal-mill", exercise = null } = {}) {
   let token = null;
   let lines = [];
+  let states = {};
+  const modal = el("p", { id: "modal-state", className: "meta" }, "");
   let playing = null;
   let timer = null;
   const frame = el("iframe", { id: "viz-frame", title: "3D-Ansicht" });
@@ -194,6 +196,9 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     });
     const line = r.body?.line;
     info.textContent = `Schritt ${index + 1} von ${lines.length} · Zeile ${line ?? "–"}`;
+    const st = states[line];
+    modal.textContent = st ? [st.plane, st.dimensions, st.compensation, st.zero_offset, `T${st.tool ?? 0}`,
+      `F${st.feed}`, `S${st.speed}`, `X${st.position[0]} Y${st.position[1]} Z${st.position[2]}`].join("  ") : "";
     if (line && !fromEditor) {
       const l = view.state.doc.line(Math.min(line, view.state.doc.lines));
       view.dispatch({ selection: { anchor: l.from, head: l.to }, scrollIntoView: true });
@@ -208,6 +213,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     });
     if (!r.ok) return;
     lines = r.body.lines;
+    states = r.body.states;
     slider.max = Math.max(0, lines.length - 1);
     slider.value = slider.max;
     frame.dataset.segments = String(lines.length);
@@ -234,7 +240,8 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     }
     token = session.body.token;
     frame.src = session.body.url;
-    container.replaceChildren(frame, controls, el("p", {}, button("viz-off", "3D-Ansicht ausschalten", "", disable)));
+    container.replaceChildren(frame, controls, modal,
+      el("p", {}, button("viz-off", "3D-Ansicht ausschalten", "", disable)));
     await refresh(view.state.doc.toString());
   }
 
