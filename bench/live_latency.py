@@ -73,13 +73,13 @@ def keystrokes(lines: list[str], rng: random.Random) -> Iterator[tuple[int, str]
 
 
 @contextmanager
-def server(workers: int) -> Iterator[str]:
+def server(workers: int, exercises: bool = False) -> Iterator[str]:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     data = tempfile.mkdtemp(prefix="paltrainer-bench-")
     env = {**os.environ, "PALTRAINER_DATA_DIR": data, "PALTRAINER_WORKERS": str(workers),
-           "PALTRAINER_LOG_LEVEL": "WARNING", "PALTRAINER_LOAD_EXERCISES": "false"}
+           "PALTRAINER_LOG_LEVEL": "WARNING", "PALTRAINER_LOAD_EXERCISES": "true" if exercises else "false"}
     env.pop("DATABASE_URL", None)
     proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
                             env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
