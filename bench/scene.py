@@ -25,11 +25,11 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "bench"))
 
-import viser  # noqa: E402
-import websockets  # noqa: E402
-from live_latency import server  # noqa: E402
+import viser
+import websockets
+from live_latency import server
 
-from core.exercises import builtin_exercises  # noqa: E402
+from core.exercises import builtin_exercises
 
 QUIET = 0.3  # s without a frame: the picture is complete
 
@@ -47,7 +47,7 @@ async def received(ws: websockets.ClientConnection, quiet: float = QUIET) -> int
     while True:
         try:
             frame = await asyncio.wait_for(ws.recv(), timeout=quiet)
-        except asyncio.TimeoutError:
+        except TimeoutError:
             return total
         total += len(frame)
 
