@@ -59,6 +59,8 @@ class Scene:
     tool_radius: float = 3.0
     framed: bool = False  # the camera has been pointed at the part
     has_stock: bool = False
+    moves: list[int] = field(default_factory=list)  # the move of each segment
+    program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
     lock: threading.Lock = field(default_factory=threading.Lock)
 
 
@@ -152,9 +154,18 @@ def show(scene: Scene, data: dict[str, Any]) -> None:
             _frame_camera(scene, data)
         scene.segments = data["segments"]
         scene.lines = data["lines"]
+        scene.moves = data.get("moves", [])
         scene.tool_radius = float(data.get("tool_radius") or 3.0)
         _tool(scene, tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0))
         s.remove_by_name("/playback/current")
+
+
+def show_stock(scene: Scene, mesh: tuple[np.ndarray, np.ndarray]) -> None:
+    """Replace the stock by `mesh` (mm), e.g. the stock after the current block while playing."""
+    vertices, triangles = mesh
+    with scene.lock:
+        scene.server.scene.add_mesh_simple("/stock", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
+                                           cast_shadow=False, receive_shadow=False)
 
 
 def _tool(scene: Scene, tip: tuple[float, ...]) -> None:

@@ -139,13 +139,15 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     segments: list[tuple[Any, Any]] = []
     rapid: list[bool] = []
     lines: list[int] = []
+    moves: list[int] = []  # the move each segment belongs to (playback shows the stock after that move)
     contour: list[tuple[Any, Any]] = []  # the programmed contour where it differs from the tool-centre path
-    for m in toolpath.moves:
+    for k, m in enumerate(toolpath.moves):
         points = m.points(0.05)
         for a, b in itertools.pairwise(points):
             segments.append((a, b))
             rapid.append(m.kind == "rapid")
             lines.append(m.line)
+            moves.append(k)
         if m.programmed_end is not None and m.programmed_end != m.end:
             contour.append((contour[-1][1] if contour else m.programmed_end, m.programmed_end))
     states = {}
@@ -157,7 +159,8 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
                         "feed": state.feed, "speed": state.speed, "tool": state.tool,
                         "position": [round(v, 3) for v in position]}
     cut = len(segments) > MAX_SCENE_SEGMENTS
-    segments, rapid, lines = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS], lines[:MAX_SCENE_SEGMENTS]
+    segments, rapid = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS]
+    lines, moves = lines[:MAX_SCENE_SEGMENTS], moves[:MAX_SCENE_SEGMENTS]
     seg = np.asarray(segments, dtype=np.float32).reshape(-1, 2, 3)
     is_rapid = np.asarray(rapid, dtype=bool)
     stock = None
@@ -169,9 +172,36 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
     programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
     return {"segments": seg, "feed": seg[~is_rapid], "rapid": seg[is_rapid], "lines": lines, "cut": cut,
-            "contour": programmed, "states": states,
+            "contour": programmed, "states": states, "moves": moves,
             "stock": stock, "tool": list(toolpath.final_position), "tool_radius": tool.radius if tool else 3.0,
             "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
+
+
+PLAYBACK_TRIANGLES = 6_000  # the stock while playing: one step's update stays under 150 KB
+
+
+def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -> Any:
+    """The stock after the first `moves` moves of the program, as a coarse mesh (vertices, triangles)."""
+    import copy
+
+    from core.sim import Stock, simulate, surface_mesh
+    from core.toolpath import Move
+
+    setup = make_setup(spec)
+    toolpath = run(text, dialect, setup)
+    prefix: list[Any] = []
+    count = 0
+    for c in toolpath.commands:
+        if isinstance(c, Move):
+            if count >= moves:
+                break
+            count += 1
+        prefix.append(c)
+    partial = copy.copy(toolpath)
+    partial.commands = prefix
+    box = spec["stock"]
+    result = simulate(partial, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
+    return surface_mesh(result.heightmap, max_triangles=PLAYBACK_TRIANGLES)
 
 
 def job_picture(document: dict[str, Any]) -> bytes:

@@ -14,7 +14,7 @@ from server import services, viz
 from server.deps import AppSettings, AppWorkers, DbSession, PracticePrincipal
 from server.errors import ApiError, responses
 from server.schemas import ProgramRequest
-from server.workers import job_scene
+from server.workers import job_scene, job_stock_after
 
 router = APIRouter(prefix="/viz", tags=["3d view"])
 pages = APIRouter(include_in_schema=False)
@@ -65,15 +65,22 @@ async def put_scene(token: str, body: ProgramRequest, request: Request, db: DbSe
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
     data: dict[str, Any] = await workers.call(job_scene, body.program, body.dialect, spec)
     await run_in_threadpool(viz.show, scene, data)
+    scene.program = (body.program, body.dialect, spec)
     return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
                        states=data["states"])
 
 
 @router.post("/{token}/playhead", responses=responses(401))
-async def put_playhead(token: str, body: Playhead, request: Request) -> dict[str, Any]:
-    """Move the tool to the end of toolpath segment `index`; answers that segment's block line."""
+async def put_playhead(token: str, body: Playhead, request: Request, workers: AppWorkers) -> dict[str, Any]:
+    """Move the tool to the end of toolpath segment `index` and show the stock after its move; answers that
+    segment's block line."""
     scene = await run_in_threadpool(_scene, request, token)
     line = await run_in_threadpool(viz.playhead, scene, body.index)
+    if scene.has_stock and scene.program is not None and scene.moves:
+        text, dialect, spec = scene.program
+        move = scene.moves[min(body.index, len(scene.moves) - 1)] + 1
+        mesh = await workers.call(job_stock_after, text, dialect, spec, move)
+        await run_in_threadpool(viz.show_stock, scene, mesh)
     return {"index": body.index, "line": line}
 
 

@@ -48,6 +48,20 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     scene = scenes.scene(scenes.sid_of(token) or "")
     assert scene.segments is not None and len(scene.segments) == r.json()["segments"]
     assert scene.has_stock  # the stock as cut by the program is in the scene
+    # playing: the stock after the current block (the first moves are rapids above the part: uncut)
+    from server.workers import job_stock_after
+
+    assert scene.program is not None
+    text, dialect, spec = scene.program
+    uncut, _ = job_stock_after(text, dialect, spec, 1)
+    cut, _ = job_stock_after(text, dialect, spec, len(scene.moves) and scene.moves[-1] + 1)
+    def top(vertices: object) -> float:  # the lowest point of the upper surface (the base is at Z-30)
+        z = vertices[:, 2]  # type: ignore[index]
+        return float(z[z > -29].min())
+
+    assert top(uncut) == 0 and top(cut) == -2  # at first the stock's top at Z0; at the end the steps 2 mm deep
+    r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0})
+    assert r.status_code == 200
 
 
 @pytest.mark.parametrize("message,passes", [
