@@ -104,6 +104,25 @@ def test_practice_page_shows_live_diagnostics(server: str, browser: object) -> N
     page.close()
 
 
+def test_english_switch(server: str, browser: object) -> None:
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/practice")
+    page.wait_for_selector(".cm-content")
+    page.click("#lang")
+    page.wait_for_selector("nav >> text=Free practice")
+    assert page.inner_text("#lang") == "Deutsch"
+    page.wait_for_selector(".cm-content")
+    page.click(".cm-line >> nth=7")
+    page.keyboard.press("End")
+    page.keyboard.press("Enter")
+    page.keyboard.type("N85 G1 X1,5")
+    item = page.wait_for_selector(".diag-error", timeout=5000)
+    assert "Line 9" in item.inner_text() and "decimal" in item.inner_text().lower()
+    page.click("#lang")  # and back: the choice is kept in the browser
+    page.wait_for_selector("nav >> text=Freies Üben")
+    page.close()
+
+
 def test_hover_help_in_german(server: str, browser: object) -> None:
     page = browser.new_page()  # type: ignore[attr-defined]
     page.goto(f"{server}/practice")
@@ -148,6 +167,11 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.click("#step-back")
     page.wait_for_function(f"document.getElementById('playhead-info').textContent !== {first!r}")
     assert "G17" in page.inner_text("#modal-state") and "G90" in page.inner_text("#modal-state")
+    # Alt+→ steps forward from the keyboard, as the button does
+    second = page.inner_text("#playhead-info")
+    page.keyboard.press("Alt+ArrowRight")
+    page.wait_for_function(f"document.getElementById('playhead-info').textContent === {first!r}")
+    assert second != first
     shot(page, "exercise-3d", tmp_path)
     page.click("#viz-off")
     page.wait_for_selector("#viz-on")

@@ -2,4 +2,7 @@
 import { mountEditor } from "./main.js";
 import { mountExercise, mountExerciseList, mountInstructor, mountLogin, mountViz } from "./pages.js";
 
+import { translatePage } from "./i18n.js";
+
+translatePage();
 window.PalTrainer = { mountEditor, mountExercise, mountExerciseList, mountInstructor, mountLogin, mountViz };

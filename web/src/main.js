@@ -13,6 +13,7 @@ import { tags } from "@lezer/highlight";
 import { setDiagnostics, lintGutter } from "@codemirror/lint";
 import { autocompletion } from "@codemirror/autocomplete";
 import { searchKeymap } from "@codemirror/search";
+import { lang, message, t } from "./i18n.js";
 
 // -- the PAL mode: block numbers, G/M codes, addresses, numbers, comments -----------------------
 const palMode = StreamLanguage.define({
@@ -42,7 +43,7 @@ const palHighlight = HighlightStyle.define([
 ]);
 
 // German editor phrases (CodeMirror's own texts)
-const germanPhrases = EditorState.phrases.of({
+const germanPhrases = lang === "en" ? [] : EditorState.phrases.of({
   "Find": "Suchen", "Replace": "Ersetzen", "next": "weiter", "previous": "zurück", "all": "alle",
   "match case": "Groß/klein", "regexp": "Regulärer Ausdruck", "by word": "Ganzes Wort",
   "replace": "ersetzen", "replace all": "alle ersetzen", "close": "schließen",
@@ -83,7 +84,7 @@ const hoverHelp = hoverTooltip((view, pos) => {
     create() {
       const dom = document.createElement("div");
       dom.className = "pal-help";
-      dom.textContent = `${entry.name}: ${entry.help_de}`;
+      dom.textContent = `${entry.name}: ${message(entry, "help_de", "help_en")}`;
       return { dom };
     },
   };
@@ -93,8 +94,8 @@ function completeAddresses(context) {
   const word = context.matchBefore(/#?[A-Z]*/i);
   if (!word || (word.from === word.to && !context.explicit)) return null;
   const options = [
-    ...Object.values(help.codes).map((c) => ({ label: c.name, detail: c.help_de, type: "keyword" })),
-    ...Object.values(help.addresses).map((a) => ({ label: a.name, detail: a.help_de, type: "property" })),
+    ...Object.values(help.codes).map((c) => ({ label: c.name, detail: message(c, "help_de", "help_en"), type: "keyword" })),
+    ...Object.values(help.addresses).map((a) => ({ label: a.name, detail: message(a, "help_de", "help_en"), type: "property" })),
   ];
   return { from: word.from, options };
 }
@@ -151,7 +152,7 @@ class Live {
         const to = Math.max(from, Math.min(endLine.from + d.end_column - 1, endLine.to));
         diagnostics.push({
           from, to, severity: d.severity === "info" ? "info" : d.severity,
-          message: `${d.code}: ${d.message}`, source: d.code,
+          message: `${d.code}: ${message(d)}`, source: d.code,
         });
       }
     }
@@ -192,14 +193,14 @@ export async function mountEditor(parent, {
       const li = document.createElement("li");
       li.className = `diag diag-${d.severity}`;
       const line = view.state.doc.lineAt(d.from).number;
-      li.textContent = `Zeile ${line}: ${d.message}`;
+      li.textContent = `${t("diagnostics.line", { n: line })}: ${d.message}`;
       li.onclick = () => view.dispatch({ selection: { anchor: d.from }, scrollIntoView: true });
       return li;
     }));
     if (!diagnostics.length) {
       const li = document.createElement("li");
       li.className = "diag diag-none";
-      li.textContent = "Keine Meldungen.";
+      li.textContent = t("diagnostics.none");
       list.append(li);
     }
   });

@@ -1,12 +1,8 @@
 // The pages around the editor: login, exercise list, exercise page with submission, instructor view.
 // Every text the user reads is German; the API gives German and English messages.
 
+import { lang, message as message_, t } from "./i18n.js";
 import { mountEditor } from "./main.js";
-
-const KIND_DE = {
-  end_mill: "Schaftfräser", slot_drill: "Langlochfräser", ball_nose: "Radiusfräser", torus: "Eckradiusfräser",
-  twist_drill: "Spiralbohrer", spot_drill: "NC-Anbohrer",
-};
 
 async function api(path, options = {}) {
   const r = await fetch(`/api/v1${path}`, { credentials: "same-origin", ...options });
@@ -37,7 +33,7 @@ export async function mountLogin(form, message) {
     if (r.ok) {
       location.href = new URLSearchParams(location.search).get("next") || "/";
     } else {
-      message.textContent = r.body?.error?.message || "Anmeldung fehlgeschlagen.";
+      message.textContent = (r.body?.error && message_(r.body.error)) || t("login.failed");
     }
   };
 }
@@ -48,9 +44,9 @@ export async function mountExerciseList(parent) {
     location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
     return;
   }
-  const kinds = { write: "Programm schreiben", complete: "Programm ergänzen", fix: "Fehler finden" };
+  const kinds = { write: t("kind.write"), complete: t("kind.complete"), fix: t("kind.fix") };
   parent.replaceChildren(el("ul", { className: "exercises" }, ...r.body.map((e) => el("li", {},
-    el("a", { href: `/exercises/${e.slug}` }, e.title_de),
+    el("a", { href: `/exercises/${e.slug}` }, lang === "en" && e.title_en ? e.title_en : e.title_de),
     el("span", { className: "meta" }, ` ${kinds[e.kind] || ""} · ${e.dialect}`)))));
 }
 
@@ -61,30 +57,32 @@ export async function mountExercise(root, slug) {
     return;
   }
   if (!r.ok) {
-    root.replaceChildren(el("p", { className: "error" }, r.body?.error?.message || "Aufgabe nicht gefunden."));
+    root.replaceChildren(el("p", { className: "error" }, (r.body?.error && message_(r.body.error)) || t("exercise.missing")));
     return;
   }
   const ex = r.body;
-  document.title = `PAL Trainer – ${ex.title_de}`;
+  const title = lang === "en" && ex.title_en ? ex.title_en : ex.title_de;
+  const task = lang === "en" && ex.task_en ? ex.task_en : ex.task_de;
+  document.title = `PAL Trainer – ${title}`;
   const s = ex.stock;
   const size = s ? s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000) : null;
-  const tools = (ex.tools || []).map((t) => {
-    const cut = (ex.cutting_data || []).find((c) => c.tool === t.number);
-    return [`T${t.number}`, t.name || KIND_DE[t.kind] || t.kind, `Ø${t.diameter}`, cut ? cut.speed : "–",
+  const tools = (ex.tools || []).map((tool) => {
+    const cut = (ex.cutting_data || []).find((c) => c.tool === tool.number);
+    return [`T${tool.number}`, tool.name || t(`kind.${tool.kind}`), `Ø${tool.diameter}`, cut ? cut.speed : "–",
       cut ? cut.feed : "–"];
   });
-  root.querySelector("#title").textContent = ex.title_de;
+  root.querySelector("#title").textContent = title;
   // markdown paragraphs: blank lines separate them, single line breaks are spaces
   root.querySelector("#task").replaceChildren(
-    ...ex.task_de.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
+    ...task.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
   root.querySelector("#data").replaceChildren(
-    size ? el("p", {}, `Rohteil ${size[0]} × ${size[1]} × ${size[2]} mm`) : null,
-    table(["Werkzeug", "Art", "Durchmesser", "S (1/min)", "F (mm/min)"], tools));
+    size ? el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] })) : null,
+    table([t("tools.tool"), t("tools.kind"), t("tools.diameter"), t("tools.speed"), t("tools.feed")], tools));
   if (ex.gradable && size) {
     root.querySelector("#picture").replaceChildren(
       el("figure", {},
-        el("img", { src: `/api/v1/exercises/${slug}/picture.png`, alt: "Fertigteil von oben", width: 320 }),
-        el("figcaption", {}, `Fertigteil von oben: ${size[0]} mm × ${size[1]} mm (dunkler = tiefer)`)));
+        el("img", { src: `/api/v1/exercises/${slug}/picture.png`, alt: t("picture.alt"), width: 320 }),
+        el("figcaption", {}, t("picture.caption", { x: size[0], y: size[1] }))));
   }
   const list = root.querySelector("#diagnostics");
   let scene = null;
@@ -95,26 +93,26 @@ export async function mountExercise(root, slug) {
   scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");
   root.querySelector("#submit").onclick = async () => {
-    result.replaceChildren(el("p", {}, "Wird bewertet …"));
+    result.replaceChildren(el("p", {}, t("submit.busy")));
     const sub = await api("/submissions", {
       method: "POST", headers: { "Content-Type": "application/json" },
       body: JSON.stringify({ exercise: slug, program: view.state.doc.toString() }),
     });
     if (!sub.ok) {
-      result.replaceChildren(el("p", { className: "error" }, sub.body?.error?.message || "Abgabe fehlgeschlagen."));
+      result.replaceChildren(el("p", { className: "error" }, (sub.body?.error && message_(sub.body.error)) || t("submit.failed")));
       return;
     }
     const g = sub.body.grading;
     if (!g) {
-      result.replaceChildren(el("p", {}, "Abgegeben. Diese Aufgabe wird nicht automatisch bewertet."));
+      result.replaceChildren(el("p", {}, t("submit.ungraded")));
       return;
     }
     result.replaceChildren(
-      el("p", { className: "score" }, `${g.score} von ${g.max_score} Punkten`),
+      el("p", { className: "score" }, t("score", { score: g.score, max: g.max_score })),
       el("ul", { className: "criteria" }, ...g.criteria.map((c) => el("li", { className: c.status },
-        `${c.status === "passed" ? "✓" : "✗"} ${c.points}/${c.max_points} – ${c.message}`,
+        `${c.status === "passed" ? "✓" : "✗"} ${c.points}/${c.max_points} – ${message_(c)}`,
         ...c.lines.map((n) => el("button", {
-          className: "line-link", type: "button", textContent: `Zeile ${n}`,
+          className: "line-link", type: "button", textContent: t("diagnostics.line", { n }),
           onclick: () => {
             const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
             view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
@@ -131,36 +129,38 @@ export async function mountInstructor(parent) {
     return;
   }
   // filter by exercise, list, export
-  const filter = el("select", { id: "filter" }, el("option", { value: "" }, "alle Aufgaben"),
+  const filter = el("select", { id: "filter" }, el("option", { value: "" }, t("instructor.all")),
     ...exercises.body.map((e) => el("option", { value: e.slug }, e.title_de)));
-  const csv = el("a", { id: "csv", href: "/api/v1/submissions/export.csv" }, "als CSV herunterladen");
+  const csv = el("a", { id: "csv", href: "/api/v1/submissions/export.csv" }, t("instructor.csv"));
   const list = el("div", { id: "submission-list" });
   async function show() {
     const query = filter.value ? `?exercise=${encodeURIComponent(filter.value)}` : "";
     csv.href = `/api/v1/submissions/export.csv${query}`;
     const r = await api(`/submissions${query}`);
-    list.replaceChildren(table(["Nr.", "Aufgabe", "Teilnehmer", "Zeit", "Fehler", "Punkte"], (r.body || []).map((s) => [
-      s.id, s.exercise, s.user || s.external_user || "–", new Date(s.created_at).toLocaleString("de-DE"),
+    list.replaceChildren(table([t("col.number"), t("instructor.exercise"), t("col.learner"), t("col.time"),
+      t("col.errors"), t("col.points")], (r.body || []).map((s) => [
+      s.id, s.exercise, s.user || s.external_user || "–", new Date(s.created_at).toLocaleString(lang === "en" ? "en-GB" : "de-DE"),
       s.error_count, s.score ?? "–"])));
   }
   filter.onchange = show;
   // authoring: an exercise file (docs/exercises.md), checked by the server
   const file = el("input", { type: "file", id: "exercise-file", accept: ".yaml,.yml,.json" });
-  const text = el("textarea", { id: "exercise-text", rows: 8, cols: 80, placeholder: "oder den Inhalt der Datei hier einfügen" });
+  const text = el("textarea", { id: "exercise-text", rows: 8, cols: 80, placeholder: t("instructor.paste") });
   const message = el("p", { id: "upload-message", role: "alert" });
-  const upload = el("button", { type: "button", id: "upload" }, "Aufgabe anlegen");
+  const upload = el("button", { type: "button", id: "upload" }, t("instructor.create"));
   file.onchange = async () => { text.value = await file.files[0].text(); };
   upload.onclick = async () => {
     const r = await api("/exercises/import", {
       method: "POST", headers: { "Content-Type": "application/yaml" }, body: text.value,
     });
     message.className = r.ok ? "ok" : "error";
-    message.textContent = r.ok ? `Aufgabe »${r.body.title_de}« angelegt.` : r.body?.error?.message || "Fehler.";
+    message.textContent = r.ok ? t("instructor.created", { title: r.body.title_de })
+      : (r.body?.error && message_(r.body.error)) || t("instructor.error");
     if (r.ok) filter.append(el("option", { value: r.body.slug }, r.body.title_de));
   };
   parent.replaceChildren(
-    el("h3", {}, "Abgaben"), el("p", {}, el("label", {}, "Aufgabe ", filter), " ", csv), list,
-    el("h3", {}, "Neue Aufgabe hochladen"), el("p", {}, file), text, el("p", {}, upload), message);
+    el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
+    list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message);
   await show();
 }
 
@@ -180,9 +180,9 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   const modal = el("p", { id: "modal-state", className: "meta" }, "");
   let playing = null;
   let timer = null;
-  const frame = el("iframe", { id: "viz-frame", title: "3D-Ansicht" });
+  const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
   const slider = el("input", { type: "range", id: "playhead", min: 0, max: 0, value: 0 });
-  slider.setAttribute("aria-label", "Abspielposition");
+  slider.setAttribute("aria-label", t("play.position"));
   const info = el("span", { id: "playhead-info" }, "");
   const button = (id, text, title, fn) => el("button", { id, type: "button", title, onclick: fn }, text);
   const stop = () => { clearInterval(playing); playing = null; };
@@ -195,7 +195,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
       method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify({ index }),
     });
     const line = r.body?.line;
-    info.textContent = `Schritt ${index + 1} von ${lines.length} · Zeile ${line ?? "–"}`;
+    info.textContent = t("play.at", { i: index + 1, n: lines.length, line: line ?? "–" });
     const st = states[line];
     modal.textContent = st ? [st.plane, st.dimensions, st.compensation, st.zero_offset, `T${st.tool ?? 0}`,
       `F${st.feed}`, `S${st.speed}`, `X${st.position[0]} Y${st.position[1]} Z${st.position[2]}`].join("  ") : "";
@@ -217,31 +217,39 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     slider.max = Math.max(0, lines.length - 1);
     slider.value = slider.max;
     frame.dataset.segments = String(lines.length);
-    info.textContent = `${lines.length} Wegstücke${r.body.cut ? " (gekürzt)" : ""}`;
+    info.textContent = t("play.segments", { n: lines.length }) + (r.body.cut ? t("play.cut") : "");
   }
 
   const controls = el("div", { className: "playback" },
-    button("step-back", "« zurück", "Schritt zurück", () => { stop(); moveTo(Number(slider.value) - 1); }),
-    button("play", "Abspielen", "Abspielen / anhalten", () => {
+    button("step-back", t("play.back"), t("play.back_title"), () => { stop(); moveTo(Number(slider.value) - 1); }),
+    button("play", t("play.play"), t("play.play_title"), () => {
       if (playing) { stop(); return; }
       playing = setInterval(() => {
         if (Number(slider.value) >= lines.length - 1) stop(); else moveTo(Number(slider.value) + 1);
       }, 200);
     }),
-    button("step", "vor »", "Schritt vor", () => { stop(); moveTo(Number(slider.value) + 1); }),
+    button("step", t("play.step"), t("play.step_title"), () => { stop(); moveTo(Number(slider.value) + 1); }),
     slider, info);
   slider.oninput = () => { stop(); moveTo(Number(slider.value)); };
+  // Alt with the arrow keys steps, Alt+Space plays and pauses: the same in the editor as anywhere on the page.
+  document.addEventListener("keydown", (event) => {
+    if (!token || !event.altKey) return;
+    const id = { ArrowLeft: "step-back", ArrowRight: "step", " ": "play" }[event.key];
+    if (!id) return;
+    event.preventDefault();
+    controls.querySelector(`#${id}`).click();
+  });
 
   async function enable() {
     const session = await api("/viz", { method: "POST" });
     if (!session.ok) {
-      container.replaceChildren(el("p", { className: "error" }, session.body?.error?.message || "Keine 3D-Ansicht."));
+      container.replaceChildren(el("p", { className: "error" }, (session.body?.error && message_(session.body.error)) || t("viz.none")));
       return;
     }
     token = session.body.token;
     frame.src = session.body.url;
     container.replaceChildren(frame, controls, modal,
-      el("p", {}, button("viz-off", "3D-Ansicht ausschalten", "", disable)));
+      el("p", {}, button("viz-off", t("viz.off"), "", disable)));
     await refresh(view.state.doc.toString());
   }
 
@@ -249,17 +257,17 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     stop();
     token = null;
     frame.removeAttribute("src");
-    offer("3D-Ansicht ist ausgeschaltet.");
+    offer(t("viz.is_off"));
   }
 
   function offer(reason) {
     container.replaceChildren(el("p", { className: "viz-off" }, reason, " ",
-      button("viz-on", "3D-Ansicht einschalten", "", enable)));
+      button("viz-on", t("viz.on"), "", enable)));
   }
 
   // Without graphics acceleration the 3D view would slow the whole page down: then it waits to be asked for.
   if (softwareWebGL()) {
-    offer("Dieser Browser zeichnet 3D ohne Grafikbeschleunigung; die 3D-Ansicht ist darum zunächst aus.");
+    offer(t("viz.software"));
   } else {
     await enable();
   }
