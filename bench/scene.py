@@ -8,8 +8,10 @@ For each built-in exercise (its reference program): a fresh session (`POST /api/
 client speaking viser's protocol through the bridge `/viz/{token}`, then `POST .../scene`. It prints the
 time from asking for the scene until the client has received the whole picture (toolpath, stock, tool:
 the bytes stop coming) and the bytes that took; then the bytes one playback step sends. Targets: first
-picture under 1 s on loopback; a step while playing under 150 KB. The stock is one coarse mesh (0.5 mm,
-at most 40,000 triangles), the toolpath at most 20,000 segments. Only 127.0.0.1 is contacted.
+picture under 1 s on loopback (the coarse level of detail of the stock and then the fine one are both in
+it); a step while playing under 150 KB. The stock is a 0.5 mm height map sent as tiles of 20 mm (coarse:
+6,000 triangles in all, fine: 40,000), and a step resends only the tiles whose mesh changed; the toolpath
+is at most 20,000 segments. Only 127.0.0.1 is contacted.
 """
 
 from __future__ import annotations

@@ -42,6 +42,8 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "USER_EXISTS": (409, "Den Benutzer »{user}« gibt es schon.", "The user '{user}' already exists."),
     "IDEMPOTENCY_CONFLICT": (409, "Dieser Idempotency-Key wurde schon für eine andere Abgabe verwendet.",
                              "This Idempotency-Key was already used for a different submission."),
+    "EXERCISE_REQUIRED": (422, "Dafür muss eine Aufgabe angegeben sein (Feld »exercise«).",
+                          "This needs an exercise (field 'exercise')."),
     "EXERCISE_INVALID": (422, "Die Aufgabe ist ungültig: {detail}", "The exercise is invalid: {detail}"),
     "REFERENCE_NOT_CLEAN": (422, ("Die Musterlösung erreicht nicht die volle Punktzahl ({score} von {max_score}): "
                                   "{detail}"),

@@ -38,6 +38,8 @@ RAPID_COLOUR = (230, 120, 20)
 DONE_COLOUR = (160, 160, 160)
 CURRENT_COLOUR = (220, 20, 60)
 STOCK_COLOUR = (190, 195, 205)
+TOO_MUCH_COLOUR = (215, 25, 28)  # deviation after grading: material removed that must stay
+TOO_LITTLE_COLOUR = (44, 123, 182)  # material left that must go
 CONTOUR_COLOUR = (30, 150, 60)  # the programmed contour, beside the tool-centre path under G41/G42
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
 
@@ -61,6 +63,9 @@ class Scene:
     has_stock: bool = False
     moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
+    tiles: dict[str, str] = field(default_factory=dict)  # stock tile shown → its digest (resend only changes)
+    generation: int = 0  # counts scene and playhead updates: a late refinement of an older one is dropped
+    refining: Any = None  # the task that sends the fine level of detail after the coarse one
     lock: threading.Lock = field(default_factory=threading.Lock)
 
 
@@ -124,10 +129,12 @@ def _new_scene() -> Scene:
     return Scene(server, server.get_port())
 
 
-def show(scene: Scene, data: dict[str, Any]) -> None:
-    """Put a program's result into the scene: toolpath (feed blue, rapid orange), stock, tool at the end."""
+def show(scene: Scene, data: dict[str, Any]) -> int:
+    """Put a program's result into the scene: toolpath (feed blue, rapid orange), the stock's coarse level of
+    detail, the tool at the end. Answers the scene's generation (for the fine level's `show_stock`)."""
     s = scene.server.scene
     with scene.lock, scene.server.atomic():
+        scene.generation += 1
         feed, rapid = data["feed"] * M, data["rapid"] * M
         if len(feed):
             s.add_line_segments("/toolpath/feed", feed, FEED_COLOUR, thickness=2.0, thickness_units="screen")
@@ -143,12 +150,8 @@ def show(scene: Scene, data: dict[str, Any]) -> None:
                                 thickness_units="screen")
         else:
             s.remove_by_name("/toolpath/contour")
-        if data.get("stock") is not None:
-            vertices, triangles = data["stock"]
-            s.add_mesh_simple("/stock", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
-                              cast_shadow=False, receive_shadow=False)
-        else:
-            s.remove_by_name("/stock")
+        _put_tiles(scene, data["stock"]["coarse"] if data.get("stock") is not None else {})
+        s.remove_by_name("/deviation")
         scene.has_stock = data.get("stock") is not None
         if not scene.framed:
             _frame_camera(scene, data)
@@ -158,14 +161,47 @@ def show(scene: Scene, data: dict[str, Any]) -> None:
         scene.tool_radius = float(data.get("tool_radius") or 3.0)
         _tool(scene, tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0))
         s.remove_by_name("/playback/current")
+        return scene.generation
 
 
-def show_stock(scene: Scene, mesh: tuple[np.ndarray, np.ndarray]) -> None:
-    """Replace the stock by `mesh` (mm), e.g. the stock after the current block while playing."""
-    vertices, triangles = mesh
+Tiles = dict[str, tuple[str, np.ndarray, np.ndarray]]  # key → (digest, vertices mm, triangles)
+
+
+def show_stock(scene: Scene, tiles: Tiles, generation: int | None = None) -> bool:
+    """Show the stock as `tiles` (e.g. the stock after the current block while playing, or the fine level
+    of detail of the whole program); only tiles whose digest changed are sent. With `generation`, nothing
+    happens if the scene has moved on since (answers whether it was shown)."""
     with scene.lock:
-        scene.server.scene.add_mesh_simple("/stock", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
-                                           cast_shadow=False, receive_shadow=False)
+        if generation is not None and generation != scene.generation:
+            return False
+        with scene.server.atomic():
+            _put_tiles(scene, tiles)
+        return True
+
+
+def _put_tiles(scene: Scene, tiles: Tiles) -> None:
+    s = scene.server.scene
+    for key in set(scene.tiles) - set(tiles):
+        s.remove_by_name(f"/stock/{key}")
+        del scene.tiles[key]
+    for key, (digest, vertices, triangles) in tiles.items():
+        if scene.tiles.get(key) == digest:
+            continue
+        s.add_mesh_simple(f"/stock/{key}", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
+                          cast_shadow=False, receive_shadow=False)
+        scene.tiles[key] = digest
+
+
+def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, cell: float) -> None:
+    """Colour the part where it leaves the tolerance band: red where too much material was removed, blue
+    where too much is left (points at the cells' centres on the part's surface, mm)."""
+    with scene.lock, scene.server.atomic():
+        s = scene.server.scene
+        s.remove_by_name("/deviation")
+        for name, points, colour in (("too_much", too_much, TOO_MUCH_COLOUR), ("too_little", too_little, TOO_LITTLE_COLOUR)):
+            if len(points):
+                s.add_point_cloud(f"/deviation/{name}", points * M, colors=colour, point_size=cell * M,
+                                  point_shape="square", precision="float32")
 
 
 def _tool(scene: Scene, tip: tuple[float, ...]) -> None:
@@ -182,7 +218,7 @@ _Z_UP = (0.7071068, 0.7071068, 0.0, 0.0)  # three.js cylinders stand along Y: tu
 def _frame_camera(scene: Scene, data: dict[str, Any]) -> None:
     """Point the camera at the part (stock, else the cutting moves) from the front right, above."""
     if data.get("stock") is not None:
-        pts = data["stock"][0]
+        pts = np.vstack([vertices for _, vertices, _ in data["stock"]["coarse"].values()])
     elif len(data["feed"]):
         pts = data["feed"].reshape(-1, 3)
     else:
@@ -202,12 +238,14 @@ def _frame_camera(scene: Scene, data: dict[str, Any]) -> None:
 def playhead(scene: Scene, index: int) -> int | None:
     """Move the tool to the end of segment `index` and mark it; the block line of that segment."""
     with scene.lock:
+        scene.generation += 1
         if scene.segments is None or not len(scene.segments):
             return None
         index = max(0, min(index, len(scene.segments) - 1))
         seg = scene.segments[index]
         s = scene.server.scene
         with scene.server.atomic():
+            s.remove_by_name("/deviation")  # it belongs to the finished part
             s.add_line_segments("/playback/current", seg[None, :, :] * M, CURRENT_COLOUR, thickness=5.0,
                                 thickness_units="screen")
             _tool(scene, tuple(float(v) for v in seg[1]))

@@ -125,14 +125,15 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
 
 MAX_SCENE_SEGMENTS = 20_000  # toolpath segments sent to the 3D view; beyond, the path is cut (and said so)
 SCENE_RESOLUTION = 0.5  # mm: the 3D view's stock is a coarse level of detail
-SCENE_TRIANGLES = 40_000
+SCENE_TRIANGLES = 40_000  # the fine level of detail, sent right after the coarse one
+PLAYBACK_TRIANGLES = 6_000  # the coarse level: first picture and playback (a step stays under 150 KB)
 
 
 def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     """What the 3D view shows of a program: toolpath segments (arcs as chords), the stock after it, the tool."""
     import numpy as np
 
-    from core.sim import Stock, simulate, surface_mesh
+    from core.sim import Stock, simulate, stock_tiles
 
     setup = make_setup(spec)
     toolpath = run(text, dialect, setup)
@@ -167,7 +168,8 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     box = spec.get("stock")
     if box:
         result = simulate(toolpath, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
-        stock = surface_mesh(result.heightmap, max_triangles=SCENE_TRIANGLES)
+        stock = {"coarse": stock_tiles(result.heightmap, PLAYBACK_TRIANGLES),
+                 "fine": stock_tiles(result.heightmap, SCENE_TRIANGLES)}
     last = toolpath.moves[-1] if toolpath.moves else None
     tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
     programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
@@ -177,14 +179,12 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
             "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
 
 
-PLAYBACK_TRIANGLES = 6_000  # the stock while playing: one step's update stays under 150 KB
-
 
 def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -> Any:
-    """The stock after the first `moves` moves of the program, as a coarse mesh (vertices, triangles)."""
+    """The stock after the first `moves` moves of the program, as coarse tiles (see core.sim.stock_tiles)."""
     import copy
 
-    from core.sim import Stock, simulate, surface_mesh
+    from core.sim import Stock, simulate, stock_tiles
     from core.toolpath import Move
 
     setup = make_setup(spec)
@@ -201,7 +201,27 @@ def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -
     partial.commands = prefix
     box = spec["stock"]
     result = simulate(partial, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
-    return surface_mesh(result.heightmap, max_triangles=PLAYBACK_TRIANGLES)
+    return stock_tiles(result.heightmap, PLAYBACK_TRIANGLES)
+
+
+def job_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """Where a program's part leaves the exercise's tolerance band: the cells' surface points (mm) where too
+    much material was removed and where too much is left."""
+    import numpy as np
+
+    from core.grading import deviation
+
+    exercise = exercise_document(spec)
+    if exercise is None:
+        return {"too_much": np.zeros((0, 3), np.float32), "too_little": np.zeros((0, 3), np.float32), "cell": 0.0}
+    d = deviation(exercise, text)
+    g, heights = d.part.grid, np.clip(d.part.heights, d.part.base, d.part.top)
+
+    def points(mask: Any) -> Any:
+        j, i = np.nonzero(mask)
+        return np.stack([g.x0 + (i + 0.5) * g.dx, g.y0 + (j + 0.5) * g.dy, heights[j, i] + 0.01], 1).astype(np.float32)
+
+    return {"too_much": points(d.over > 0), "too_little": points(d.left > 0), "cell": g.dx}
 
 
 def job_picture(document: dict[str, Any]) -> bytes:

@@ -21,6 +21,7 @@ from core.sim import (
     parse_tool_table,
     simulate,
     stl_bytes,
+    stock_tiles,
     surface_mesh,
     tool_table_yaml,
 )
@@ -52,6 +53,21 @@ def test_mesh_decimation_keeps_to_the_triangle_budget() -> None:
         assert len(f) <= budget
     v, f = surface_mesh(result.heightmap, 20_000)
     assert _volume(v, f) == pytest.approx(result.remaining_volume, rel=0.01)
+
+
+def test_stock_tiles_hold_the_volume_and_only_cut_tiles_change() -> None:
+    uncut = stock_tiles(simulate(run("G0 X0 Y0 Z50\nM30"), STOCK, resolution=0.5).heightmap, 6_000)
+    result = simulate(run(POCKET), STOCK, resolution=0.5)
+    coarse, fine = stock_tiles(result.heightmap, 6_000), stock_tiles(result.heightmap, 40_000)
+    # 80 × 70 mm at 0.5 mm in tiles of 40 cells: 4 × 4 tiles, each closed, together the remaining volume
+    assert len(coarse) == len(fine) == 16
+    assert sum(_volume(v, f) for _, v, f in fine.values()) == pytest.approx(result.remaining_volume, rel=0.01)
+    assert sum(len(f) for _, _, f in coarse.values()) <= 6_000
+    # the Ø25 hole at X40 Y35 touches the four middle tiles only: the others stay as they were
+    changed = {key for key in uncut if uncut[key][0] != coarse[key][0]}
+    assert changed == {"1_1", "1_2", "2_1", "2_2"}
+    # a level tile is the same box at every level of detail (not sent twice)
+    assert coarse["0_0"][0] == fine["0_0"][0] and coarse["1_1"][0] != fine["1_1"][0]
 
 
 def test_stl_is_binary_stl_of_the_mesh() -> None:

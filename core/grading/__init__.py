@@ -22,7 +22,7 @@ from core.exercises import Criterion, Exercise
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run
-from core.sim import SimResult, simulate
+from core.sim import HeightMap, SimResult, simulate
 from core.toolpath import Move
 
 SAFETY_EVENTS = {"SIM-E001", "SIM-E002", "SIM-E003", "SIM-E004", "SIM-E005", "SIM-E006", "SIM-E007", "SIM-E008"}
@@ -164,17 +164,11 @@ def _before(tp: Toolpath, change: object, move: Move) -> bool:
 
 def _geometry(c: Criterion, ref: _Run, sub: _Run) -> CriterionResult:
     """Over-cut (material removed that must stay) and residual (material left that must go) outside the band."""
-    tol = c.tolerance if c.tolerance is not None else 0.05
+    tol = _tolerance(c)
     hr, hs = ref.sim.heightmap, sub.sim.heightmap
     grid = hr.grid
-    # The band: tol in height, and sideways tol but at least one cell (an edge that falls on a cell
-    # centre may land on either side of it). A cell is over-cut only if it lies deeper than every
-    # reference cell that near (along X and Y), and left standing only if it is higher than every one.
-    reach = max(1, math.ceil(tol / grid.dx - 1e-9))
-    lowest, highest = _neighbourhood(hr.heights, reach)
     area = grid.dx * grid.dy
-    over = np.clip(lowest - tol - hs.heights, 0.0, None)
-    left = np.clip(hs.heights - highest - tol, 0.0, None)
+    over, left = _outside_band(hr, hs, tol)
     over_volume, left_volume = float(over.sum()) * area, float(left.sum()) * area
     diff = hs.heights - hr.heights
     allowance = 4 * area * tol  # a few cells at the band's edge
@@ -203,6 +197,40 @@ def _geometry(c: Criterion, ref: _Run, sub: _Run) -> CriterionResult:
             parts_en.append(f"Material left standing: {left_volume:.1f} mm³; the largest deviation is {depth:.2f} mm "
                             f"too high at X{x:.1f} Y{y:.1f}.")
     return _result(c, False, " ".join(parts_de), " ".join(parts_en), [line] if line else [])
+
+
+def _tolerance(c: Criterion) -> float:
+    return c.tolerance if c.tolerance is not None else 0.05
+
+
+def _outside_band(hr: HeightMap, hs: HeightMap, tol: float) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:
+    """Per cell, how far the submitted part lies below (over-cut) and above (left standing) the band.
+
+    The band: tol in height, and sideways tol but at least one cell (an edge that falls on a cell
+    centre may land on either side of it). A cell is over-cut only if it lies deeper than every
+    reference cell that near (along X and Y), and left standing only if it is higher than every one.
+    """
+    reach = max(1, math.ceil(tol / hr.grid.dx - 1e-9))
+    lowest, highest = _neighbourhood(hr.heights, reach)
+    return np.clip(lowest - tol - hs.heights, 0.0, None), np.clip(hs.heights - highest - tol, 0.0, None)
+
+
+@dataclass(frozen=True, slots=True)
+class Deviation:
+    """Where a submitted part leaves the reference's tolerance band, cell by cell (mm, ≥ 0)."""
+
+    part: HeightMap  # the submitted part
+    over: npt.NDArray[np.float64]  # too much material removed: how far below the band
+    left: npt.NDArray[np.float64]  # too little removed: how far above the band
+
+
+def deviation(exercise: Exercise, program: str) -> Deviation:
+    """The submitted part against the reference, with the geometry criterion's tolerance (for the 3D view)."""
+    tol = next((_tolerance(c) for c in exercise.rubric if c.id == "geometry"), 0.05)
+    reference = _execute(exercise, exercise.reference)
+    submission = _execute(exercise, program)
+    over, left = _outside_band(reference.sim.heightmap, submission.sim.heightmap, tol)
+    return Deviation(submission.sim.heightmap, over, left)
 
 
 def _neighbourhood(h: npt.NDArray[np.float64], reach: int) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.float64]]:

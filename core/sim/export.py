@@ -7,6 +7,7 @@ takes every k-th cell with the smallest k that keeps the mesh under the triangle
 
 from __future__ import annotations
 
+import hashlib
 import math
 import struct
 import zlib
@@ -75,6 +76,33 @@ def surface_mesh(hm: HeightMap, max_triangles: int = 200_000) -> tuple[Vertices,
     tris = np.concatenate(faces).astype(np.int64)
     used, remap = np.unique(tris, return_inverse=True)
     return verts[used], remap.reshape(tris.shape).astype(np.int32)
+
+
+TILE_CELLS = 40  # cells along each side of a stock tile (20 mm at the 3D view's 0.5 mm)
+
+
+def stock_tiles(hm: HeightMap, max_triangles: int, tile_cells: int = TILE_CELLS) -> dict[str, tuple[str, Vertices, Triangles]]:
+    """The stock as square tiles, each a closed mesh: {key: (digest, vertices, triangles)}.
+
+    The 3D view resends only the tiles whose digest changed, so a playback step that cuts in one
+    corner costs one tile. A tile that is level everywhere is a plain box at every triangle budget
+    (its digest then stays the same between a coarse and a fine level of detail).
+    """
+    g = hm.grid
+    columns, rows = math.ceil(g.nx / tile_cells), math.ceil(g.ny / tile_cells)
+    budget = max(16, max_triangles // (columns * rows))
+    tiles: dict[str, tuple[str, Vertices, Triangles]] = {}
+    for tj in range(rows):
+        for ti in range(columns):
+            j0, i0 = tj * tile_cells, ti * tile_cells
+            heights = hm.heights[j0:j0 + tile_cells, i0:i0 + tile_cells]
+            ny, nx = heights.shape
+            part = HeightMap(type(g)(g.x0 + i0 * g.dx, g.y0 + j0 * g.dy, g.dx, g.dy, nx, ny), hm.base, hm.top, heights)
+            level = float(np.ptp(np.clip(heights, hm.base, hm.top))) == 0.0
+            vertices, triangles = surface_mesh(part, 1 if level else budget)
+            digest = hashlib.blake2b(vertices.tobytes() + triangles.tobytes(), digest_size=12).hexdigest()
+            tiles[f"{tj}_{ti}"] = (digest, vertices, triangles)
+    return tiles
 
 
 def stl_bytes(vertices: Vertices, triangles: Triangles, name: str = "PAL Trainer stock") -> bytes:

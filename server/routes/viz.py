@@ -3,6 +3,7 @@ viser client with its WebSocket bridge under /viz/{token} (one public port)."""
 
 from __future__ import annotations
 
+import asyncio
 from typing import Any
 
 from fastapi import APIRouter, Request, WebSocket
@@ -14,7 +15,7 @@ from server import services, viz
 from server.deps import AppSettings, AppWorkers, DbSession, PracticePrincipal
 from server.errors import ApiError, responses
 from server.schemas import ProgramRequest
-from server.workers import job_scene, job_stock_after
+from server.workers import job_deviation, job_scene, job_stock_after
 
 router = APIRouter(prefix="/viz", tags=["3d view"])
 pages = APIRouter(include_in_schema=False)
@@ -64,8 +65,10 @@ async def put_scene(token: str, body: ProgramRequest, request: Request, db: DbSe
     services.check_program(settings, body.program, body.dialect)
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
     data: dict[str, Any] = await workers.call(job_scene, body.program, body.dialect, spec)
-    await run_in_threadpool(viz.show, scene, data)
+    generation = await run_in_threadpool(viz.show, scene, data)
     scene.program = (body.program, body.dialect, spec)
+    if data["stock"] is not None:  # the coarse level of detail is out; the fine one follows
+        scene.refining = asyncio.create_task(run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation))
     return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
                        states=data["states"])
 
@@ -79,9 +82,28 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
     if scene.has_stock and scene.program is not None and scene.moves:
         text, dialect, spec = scene.program
         move = scene.moves[min(body.index, len(scene.moves) - 1)] + 1
-        mesh = await workers.call(job_stock_after, text, dialect, spec, move)
-        await run_in_threadpool(viz.show_stock, scene, mesh)
+        tiles = await workers.call(job_stock_after, text, dialect, spec, move)
+        await run_in_threadpool(viz.show_stock, scene, tiles)
     return {"index": body.index, "line": line}
+
+
+class Deviation(BaseModel):
+    too_much: int = Field(description="Cells where too much material was removed (shown red)")
+    too_little: int = Field(description="Cells where too much material is left (shown blue)")
+
+
+@router.post("/{token}/deviation", response_model=Deviation, responses=responses(401, 404, 413, 422, 503))
+async def put_deviation(token: str, body: ProgramRequest, request: Request, db: DbSession, settings: AppSettings,
+                        workers: AppWorkers, _: PracticePrincipal) -> Deviation:
+    """Colour the part of a program for an exercise where it leaves the tolerance band of the reference
+    (after grading: red too much removed, blue too much left)."""
+    scene = await run_in_threadpool(_scene, request, token)
+    if body.exercise is None:
+        raise ApiError("EXERCISE_REQUIRED")
+    spec = await run_in_threadpool(services.run_spec, db, settings, body)
+    data: dict[str, Any] = await workers.call(job_deviation, body.program, spec)
+    await run_in_threadpool(viz.show_deviation, scene, data["too_much"], data["too_little"], data["cell"])
+    return Deviation(too_much=len(data["too_much"]), too_little=len(data["too_little"]))
 
 
 @pages.get("/viz/{token}/")

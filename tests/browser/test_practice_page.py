@@ -173,11 +173,13 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.wait_for_function(f"document.getElementById('playhead-info').textContent === {first!r}")
     assert second != first
     shot(page, "exercise-3d", tmp_path)
-    page.click("#viz-off")
-    page.wait_for_selector("#viz-on")
     page.click("#submit")
     score = page.wait_for_selector(".score", timeout=15000)
     assert score.inner_text() == "100 von 100 Punkten"
+    legend = page.wait_for_selector("#deviation", timeout=15000)  # with the 3D view on: the deviation in colour
+    assert "Toleranzband" in legend.inner_text()
+    page.click("#viz-off")
+    page.wait_for_selector("#viz-on")
     shot(page, "exercise-graded", tmp_path)
     page.close()
 

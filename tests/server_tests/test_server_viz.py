@@ -4,6 +4,7 @@ and the bridge's filter that keeps the share-tunnel request (and anything else n
 from __future__ import annotations
 
 import msgspec
+import numpy as np
 import pytest
 from server_helpers import GOOD, Api, auth, unique
 from test_server_lms import ROOT, exercise_file
@@ -53,15 +54,47 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
 
     assert scene.program is not None
     text, dialect, spec = scene.program
-    uncut, _ = job_stock_after(text, dialect, spec, 1)
-    cut, _ = job_stock_after(text, dialect, spec, len(scene.moves) and scene.moves[-1] + 1)
-    def top(vertices: object) -> float:  # the lowest point of the upper surface (the base is at Z-30)
-        z = vertices[:, 2]  # type: ignore[index]
-        return float(z[z > -29].min())
+    uncut = job_stock_after(text, dialect, spec, 1)
+    cut = job_stock_after(text, dialect, spec, len(scene.moves) and scene.moves[-1] + 1)
+
+    def top(tiles: dict[str, tuple[str, np.ndarray, np.ndarray]]) -> float:  # lowest point of the upper surface
+        z = np.concatenate([vertices[:, 2] for _, vertices, _ in tiles.values()])
+        return float(z[z > -29].min())  # (the base is at Z-30)
 
     assert top(uncut) == 0 and top(cut) == -2  # at first the stock's top at Z0; at the end the steps 2 mm deep
+    # the stock is 80 × 70 mm in tiles of 20 mm: the contour cuts along the right and the front edge only,
+    # so the untouched tiles keep their digest and are not sent again
+    changed = {key for key in uncut if uncut[key][0] != cut[key][0]}
+    assert len(uncut) == 16 and 0 < len(changed) < len(uncut)
+    assert "3_1" not in changed  # the back left corner (Y 60–70, X 20–40) is never cut
     r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0})
     assert r.status_code == 200
+    assert scene.tiles == {key: digest for key, (digest, _, _) in uncut.items()}  # the stock after the first move
+
+
+def test_deviation_colours_where_the_part_leaves_the_band(api: Api) -> None:
+    owner, student = api.user("instructor"), api.user()
+    slug = unique("dev-")
+    assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
+                           headers=auth(owner)).status_code == 201
+    token = api.client.post("/api/v1/viz").json()["token"]
+    program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
+    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": program, "exercise": slug},
+                        headers=auth(student))
+    assert r.status_code == 200 and r.json() == {"too_much": 0, "too_little": 0}
+    too_deep = program.replace("N50 G0 Z-2", "N50 G0 Z-3")
+    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": too_deep, "exercise": slug},
+                        headers=auth(student))
+    assert r.status_code == 200 and r.json()["too_much"] > 100 and r.json()["too_little"] == 0
+    scenes: viz.Scenes = api.app.state.scenes
+    scene = scenes.scene(scenes.sid_of(token) or "")
+    assert scene.server.scene._handle_from_node_name.get("/deviation/too_much") is not None
+    not_deep_enough = program.replace("N50 G0 Z-2", "N50 G0 Z-1")
+    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": not_deep_enough, "exercise": slug},
+                        headers=auth(student))
+    assert r.json()["too_much"] == 0 and r.json()["too_little"] > 100
+    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": program}, headers=auth(student))
+    assert r.status_code == 422 and r.json()["error"]["code"] == "EXERCISE_REQUIRED"
 
 
 @pytest.mark.parametrize("message,passes", [

@@ -73,6 +73,9 @@ const TEXTS = {
   "play.at": ["Schritt {i} von {n} · Zeile {line}", "Step {i} of {n} · line {line}"],
   "play.segments": ["{n} Wegstücke", "{n} path pieces"],
   "play.cut": [" (gekürzt)", " (cut short)"],
+  "deviation.shown": ["Abweichung vom Fertigteil: rot zu viel abgetragen ({much} Felder), blau zu viel stehen gelassen ({little} Felder).",
+    "Deviation from the finished part: red too much removed ({much} cells), blue too much left ({little} cells)."],
+  "deviation.none": ["Das Werkstück liegt überall im Toleranzband.", "The part lies within the tolerance band everywhere."],
   "program.label": ["NC-Programm", "NC program"],
 };
 

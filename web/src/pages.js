@@ -107,6 +107,7 @@ export async function mountExercise(root, slug) {
       result.replaceChildren(el("p", {}, t("submit.ungraded")));
       return;
     }
+    scene?.graded(view.state.doc.toString());
     result.replaceChildren(
       el("p", { className: "score" }, t("score", { score: g.score, max: g.max_score })),
       el("ul", { className: "criteria" }, ...g.criteria.map((c) => el("li", { className: c.status },
@@ -271,8 +272,20 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   } else {
     await enable();
   }
+  const legend = el("p", { id: "deviation", className: "meta" }, "");
   return {
-    changed(text) { clearTimeout(timer); timer = setTimeout(() => refresh(text), 500); },
+    changed(text) { legend.remove(); clearTimeout(timer); timer = setTimeout(() => refresh(text), 500); },
+    async graded(text) {  // after grading: where the part leaves the tolerance band, in colour
+      if (!token || !exercise) return;
+      const r = await api(`/viz/${token}/deviation`, {
+        method: "POST", headers: { "Content-Type": "application/json" },
+        body: JSON.stringify({ program: text, dialect, exercise }),
+      });
+      if (!r.ok) return;
+      legend.textContent = r.body.too_much || r.body.too_little
+        ? t("deviation.shown", { much: r.body.too_much, little: r.body.too_little }) : t("deviation.none");
+      modal.after(legend);
+    },
     pointer(line) {  // clicking a line in the editor moves playback to its first step
       const index = lines.indexOf(line);
       if (index >= 0) { stop(); moveTo(index, true); }
