@@ -39,9 +39,10 @@ import json
 import logging
 import uuid
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Annotated, Any
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
+from pydantic import Field, TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 
 from server import repository as repo
@@ -49,11 +50,13 @@ from server.config import Settings
 from server.db import Database
 from server.deps import ANONYMOUS, SESSION_COOKIE, Principal, resolve
 from server.errors import ApiError
+from server.schemas import ToolSpec
 from server.services import check_program, exercise_spec
 from server.workers import Workers, job_live, job_live_close
 
 router = APIRouter()
 log = logging.getLogger("paltrainer.server")
+TOOL_LIST = TypeAdapter(Annotated[list[ToolSpec], Field(max_length=99)])
 
 LIVE_ERRORS: dict[str, tuple[str, str]] = {
     "BAD_MESSAGE": ("Ungültige Nachricht: {detail}", "Invalid message: {detail}"),
@@ -140,12 +143,11 @@ class LiveSession:
                 spec, dialect = {"skip_blocks": bool(msg.get("skip_blocks"))}, str(msg.get("dialect", "pal-mill"))
         tools = msg.get("tools")
         if tools is not None:
-            if not isinstance(tools, list) or not all(
-                    isinstance(t, dict) and isinstance(t.get("number"), int) and 1 <= t["number"] <= 99
-                    and isinstance(t.get("diameter"), int | float) and 0 < t["diameter"] <= 1000 for t in tools):
-                raise LiveError("BAD_MESSAGE", detail="tools")
-            spec["tools"] = [*(spec.get("tools") or []),
-                             *({"number": t["number"], "diameter": float(t["diameter"])} for t in tools)]
+            try:  # the same tool entries as the REST requests' "tools"
+                checked = TOOL_LIST.validate_python(tools)
+            except ValidationError:
+                raise LiveError("BAD_MESSAGE", detail="tools") from None
+            spec["tools"] = [*(spec.get("tools") or []), *(t.model_dump() for t in checked)]
         return dialect, spec
 
     async def handle(self, msg: dict[str, Any]) -> None:

@@ -14,7 +14,7 @@ from starlette.concurrency import run_in_threadpool
 from server import services, viz
 from server.deps import AppSettings, AppWorkers, DbSession, PracticePrincipal
 from server.errors import ApiError, responses
-from server.schemas import ProgramRequest
+from server.schemas import ProgramRequest, SimulateRequest
 from server.workers import job_deviation, job_scene, job_stock_after
 
 router = APIRouter(prefix="/viz", tags=["3d view"])
@@ -58,12 +58,12 @@ def new_session(request: Request, _: PracticePrincipal) -> VizSession:
 
 
 @router.post("/{token}/scene", response_model=SceneResult, responses=responses(401, 404, 413, 422, 503))
-async def put_scene(token: str, body: ProgramRequest, request: Request, db: DbSession, settings: AppSettings,
+async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
                     workers: AppWorkers, _: PracticePrincipal) -> SceneResult:
-    """Run the program (in a worker) and show its toolpath, the stock after it and the tool."""
+    """Run the program (in a worker) and show its toolpath, the stock after it and the tool. The stock: the
+    request's, else the exercise's, else the PAL examples' block; `resolution` is the view's own (0.5 mm)."""
     scene = await run_in_threadpool(_scene, request, token)
-    services.check_program(settings, body.program, body.dialect)
-    spec = await run_in_threadpool(services.run_spec, db, settings, body)
+    spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     data: dict[str, Any] = await workers.call(job_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program = (body.program, body.dialect, spec)

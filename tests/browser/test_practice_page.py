@@ -123,6 +123,29 @@ def test_english_switch(server: str, browser: object) -> None:
     page.close()
 
 
+def test_free_practice_with_own_tool_kept_after_reload(server: str, browser: object) -> None:
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/practice")
+    page.wait_for_selector(".diag-none", timeout=15000)
+    page.click(".cm-content")
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text("N10 T9 TC1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 M30\n")
+    item = page.wait_for_selector(".diag-error", timeout=5000)
+    assert "PAL-E304" in item.inner_text() and "Zeile 1" in item.inner_text()
+    page.click("#setup-box summary")  # T9 Ø8 as an own tool: the program is checked anew with it
+    page.click("#add-tool")
+    row = page.locator("form.setup tbody tr").last
+    row.locator("input").first.fill("9")
+    row.locator("input").last.fill("8")
+    row.locator("input").last.dispatch_event("change")
+    page.wait_for_selector(".diag-none", timeout=5000)
+    page.reload()  # the program and the tools are still there
+    page.wait_for_selector(".diag-none", timeout=15000)
+    assert "T9 TC1" in page.inner_text(".cm-content")
+    assert page.locator("form.setup tbody tr").count() == 1
+    page.close()
+
+
 def test_hover_help_in_german(server: str, browser: object) -> None:
     page = browser.new_page()  # type: ignore[attr-defined]
     page.goto(f"{server}/practice")

@@ -76,6 +76,18 @@ const TEXTS = {
   "deviation.shown": ["Abweichung vom Fertigteil: rot zu viel abgetragen ({much} Felder), blau zu viel stehen gelassen ({little} Felder).",
     "Deviation from the finished part: red too much removed ({much} cells), blue too much left ({little} cells)."],
   "deviation.none": ["Das Werkstück liegt überall im Toleranzband.", "The part lies within the tolerance band everywhere."],
+  "setup.title": ["Rohteil und Werkzeuge", "Stock and tools"],
+  "setup.stock": ["Rohteil (Nullpunkt vorne links oben)", "Stock (zero at the front left top corner)"],
+  "setup.size.0": ["Länge X in mm", "Length X in mm"],
+  "setup.size.1": ["Breite Y in mm", "Width Y in mm"],
+  "setup.size.2": ["Höhe Z in mm", "Height Z in mm"],
+  "setup.tools": ["Eigene Werkzeuge", "Own tools"],
+  "setup.default_tools": ["Alle anderen Nummern: die Standard-Werkzeugtabelle (T1 Schaftfräser Ø25, T2 Langlochfräser Ø6, T3 Radiusfräser Ø10, T4 Schaftfräser Ø20 …).",
+    "Every other number: the default tool table (T1 end mill Ø25, T2 slot drill Ø6, T3 ball-nose mill Ø10, T4 end mill Ø20 …)."],
+  "setup.add": ["Werkzeug hinzufügen", "Add a tool"],
+  "setup.remove": ["entfernen", "remove"],
+  "setup.invalid": ["Bitte gültige Maße eingeben (Rohteil 1–2000 mm, T1–T99, Ø bis 1000 mm).",
+    "Please enter valid sizes (stock 1–2000 mm, T1–T99, Ø up to 1000 mm)."],
   "program.label": ["NC-Programm", "NC program"],
 };
 

@@ -102,10 +102,11 @@ function completeAddresses(context) {
 
 // -- live diagnostics over the WebSocket -------------------------------------------------------
 class Live {
-  constructor(view, dialect, exercise, onUpdate) {
+  constructor(view, dialect, exercise, tools, onUpdate) {
     this.view = view;
     this.dialect = dialect;
     this.exercise = exercise;
+    this.tools = tools;
     this.onUpdate = onUpdate;
     this.version = 0;
     this.byLine = new Map();
@@ -116,15 +117,23 @@ class Live {
   connect() {
     const scheme = location.protocol === "https:" ? "wss" : "ws";
     this.ws = new WebSocket(`${scheme}://${location.host}/api/v1/live`);
-    this.ws.onopen = () => {
-      this.version += 1;
-      this.byLine.clear();
-      this.ws.send(JSON.stringify({
-        type: "open", version: this.version, text: this.text(), dialect: this.dialect, exercise: this.exercise,
-      }));
-    };
+    this.ws.onopen = () => this.open();
     this.ws.onmessage = (event) => this.receive(JSON.parse(event.data));
     this.ws.onclose = () => setTimeout(() => this.connect(), 1000);
+  }
+
+  open() {  // (again, when the tools change: the document is checked anew with them)
+    this.version += 1;
+    this.byLine.clear();
+    this.ws.send(JSON.stringify({
+      type: "open", version: this.version, text: this.text(), dialect: this.dialect, exercise: this.exercise,
+      tools: this.tools,
+    }));
+  }
+
+  setTools(tools) {
+    this.tools = tools;
+    if (this.ws.readyState === WebSocket.OPEN) this.open();
   }
 
   text() { return this.view.state.doc.toString(); }
@@ -162,8 +171,13 @@ class Live {
 }
 
 // -- the page ------------------------------------------------------------------------------------
+const lives = new WeakMap();  // editor view → its live connection
+
+// Free practice: check the program with these tools ([{number, diameter}], null: the default table).
+export function setTools(view, tools) { lives.get(view)?.setTools(tools); }
+
 export async function mountEditor(parent, {
-  text = "", dialect = "pal-mill", list = null, exercise = null, onChange = null, onPointer = null,
+  text = "", dialect = "pal-mill", list = null, exercise = null, tools = null, onChange = null, onPointer = null,
 } = {}) {
   await loadHelp(dialect);
   let live = null;
@@ -187,7 +201,7 @@ export async function mountEditor(parent, {
       ],
     }),
   });
-  live = new Live(view, dialect, exercise, (diagnostics) => {
+  live = new Live(view, dialect, exercise, tools, (diagnostics) => {
     if (!list) return;
     list.replaceChildren(...diagnostics.map((d) => {
       const li = document.createElement("li");
@@ -204,5 +218,6 @@ export async function mountEditor(parent, {
       list.append(li);
     }
   });
+  lives.set(view, live);
   return view;
 }

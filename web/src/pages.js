@@ -174,7 +174,79 @@ function softwareWebGL() {
   return /swiftshader|llvmpipe|software/i.test(renderer);
 }
 
-export async function mountViz(container, view, { dialect = "pal-mill", exercise = null } = {}) {
+// -- free practice: the stock and the tools, kept in the browser ----------------------------------
+const SETUP_KEY = "paltrainer-practice-setup";
+const DEFAULT_SETUP = { size: [80, 70, 30], tools: [] };  // the PAL examples' block; tools: the default table
+
+export function practiceSetup() {
+  try {
+    const saved = JSON.parse(localStorage.getItem(SETUP_KEY));
+    if (saved && saved.size?.length === 3 && Array.isArray(saved.tools)) return saved;
+  } catch { /* a damaged entry: start afresh */ }
+  return structuredClone(DEFAULT_SETUP);
+}
+
+// The stock as the API wants it: zero at the front left corner of the top face.
+export function stockOf(setup) {
+  const [x, y, z] = setup.size;
+  return { min: [0, 0, -z], max: [x, y, 0] };
+}
+
+export function mountPracticeSetup(parent, onChange) {
+  const setup = practiceSetup();
+  const number = (value, min, max, step, label) => {
+    const input = el("input", { type: "number", value, min, max, step, required: true });
+    input.setAttribute("aria-label", label);
+    return input;
+  };
+  const size = setup.size.map((v, i) => number(v, 1, 2000, 1, t(`setup.size.${i}`)));
+  const rows = el("tbody");
+  const changed = () => {
+    const next = {
+      size: size.map((input) => Number(input.value)),
+      tools: [...rows.children].map((tr) => {
+        const [num, kind, dia] = tr.querySelectorAll("input, select");
+        return { number: Number(num.value), kind: kind.value, diameter: Number(dia.value) };
+      }),
+    };
+    const valid = next.size.every((v) => v > 0 && v <= 2000)
+      && next.tools.every((tool) => tool.number >= 1 && tool.number <= 99 && tool.diameter > 0 && tool.diameter <= 1000);
+    message.textContent = valid ? "" : t("setup.invalid");
+    if (!valid) return;
+    localStorage.setItem(SETUP_KEY, JSON.stringify(next));
+    onChange(next);
+  };
+  const message = el("p", { className: "error", role: "status" }, "");
+  const row = (tool) => {
+    const kind = el("select", {}, ...["end_mill", "slot_drill"].map((k) =>
+      el("option", { value: k, selected: tool.kind === k }, t(`kind.${k}`))));
+    kind.setAttribute("aria-label", t("tools.kind"));
+    const tr = el("tr", {},
+      el("td", {}, number(tool.number, 1, 99, 1, t("tools.tool"))), el("td", {}, kind),
+      el("td", {}, number(tool.diameter, 0.1, 1000, 0.1, t("tools.diameter"))),
+      el("td", {}, el("button", { type: "button", className: "remove", onclick: () => { tr.remove(); changed(); } },
+        t("setup.remove"))));
+    return tr;
+  };
+  rows.append(...setup.tools.map(row));
+  const add = el("button", { type: "button", id: "add-tool", onclick: () => {
+    const used = [...rows.querySelectorAll("tr td:first-child input")].map((i) => Number(i.value));
+    rows.append(row({ number: Math.max(0, ...used) + 1, kind: "end_mill", diameter: 10 }));
+    changed();
+  } }, t("setup.add"));
+  const form = el("form", { className: "setup", onchange: changed, onsubmit: (e) => e.preventDefault() },
+    el("fieldset", {}, el("legend", {}, t("setup.stock")),
+      ...size.flatMap((input, i) => [el("label", {}, `${"XYZ"[i]} `, input), " "]), el("span", {}, " mm")),
+    el("fieldset", {}, el("legend", {}, t("setup.tools")),
+      el("table", {}, el("thead", {}, el("tr", {}, ...["tools.tool", "tools.kind", "tools.diameter"].map((k) =>
+        el("th", {}, t(k))), el("th"))), rows),
+      el("p", { className: "meta" }, t("setup.default_tools")), add),
+    message);
+  parent.replaceChildren(form);
+  return setup;
+}
+
+export async function mountViz(container, view, { dialect = "pal-mill", exercise = null, setup = null } = {}) {
   let token = null;
   let lines = [];
   let states = {};
@@ -210,7 +282,10 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     if (!token) return;
     const r = await api(`/viz/${token}/scene`, {
       method: "POST", headers: { "Content-Type": "application/json" },
-      body: JSON.stringify({ program: text, dialect, exercise }),
+      body: JSON.stringify({
+        program: text, dialect, exercise,
+        ...(setup ? { stock: stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
+      }),
     });
     if (!r.ok) return;
     lines = r.body.lines;
@@ -275,6 +350,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   const legend = el("p", { id: "deviation", className: "meta" }, "");
   return {
     changed(text) { legend.remove(); clearTimeout(timer); timer = setTimeout(() => refresh(text), 500); },
+    setup(next) { setup = next; refresh(view.state.doc.toString()); },  // free practice: other stock or tools
     async graded(text) {  // after grading: where the part leaves the tolerance band, in colour
       if (!token || !exercise) return;
       const r = await api(`/viz/${token}/deviation`, {
