@@ -189,6 +189,9 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     first = page.inner_text("#playhead-info")
     page.click("#step-back")
     page.wait_for_function(f"document.getElementById('playhead-info').textContent !== {first!r}")
+    # the editor highlights the block of the current step
+    line = int(page.inner_text("#playhead-info").rsplit("Zeile", 1)[1])
+    page.wait_for_function(f"document.querySelector('.cm-activeLine')?.textContent === {reference.splitlines()[line - 1]!r}")
     assert "G17" in page.inner_text("#modal-state") and "G90" in page.inner_text("#modal-state")
     # Alt+→ steps forward from the keyboard, as the button does
     second = page.inner_text("#playhead-info")

@@ -2,6 +2,12 @@
 // The language is chosen with the switch in the page header and kept in the browser (localStorage).
 
 const TEXTS = {
+  "title.practice": ["PAL Trainer – Freies Üben", "PAL Trainer – Free practice"],
+  "title.exercise": ["PAL Trainer – Aufgabe", "PAL Trainer – Exercise"],
+  "title.exercises": ["PAL Trainer – Aufgaben", "PAL Trainer – Exercises"],
+  "title.login": ["PAL Trainer – Anmelden", "PAL Trainer – Log in"],
+  "title.instructor": ["PAL Trainer – Abgaben", "PAL Trainer – Submissions"],
+  "loading": ["Wird geladen …", "Loading …"],
   "nav.exercises": ["Aufgaben", "Exercises"],
   "nav.practice": ["Freies Üben", "Free practice"],
   "nav.submissions": ["Abgaben", "Submissions"],
