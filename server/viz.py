@@ -123,7 +123,7 @@ def _new_scene() -> Scene:
     import viser
 
     server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
-    server.gui.configure_theme(show_logo=False, show_share_button=False, control_layout="collapsible")
+    server.gui.configure_theme(show_logo=False, show_share_button=False)
     server.scene.set_up_direction("+z")
     server.scene.add_frame("/zero", axes_length=10 * M, axes_radius=0.4 * M)  # the workpiece zero
     return Scene(server, server.get_port())
