@@ -4,6 +4,7 @@ viser client with its WebSocket bridge under /viz/{token} (one public port)."""
 from __future__ import annotations
 
 import asyncio
+import logging
 from typing import Any
 
 from fastapi import APIRouter, Request, WebSocket
@@ -17,6 +18,7 @@ from server.errors import ApiError, responses
 from server.schemas import ProgramRequest, SimulateRequest
 from server.workers import job_deviation, job_scene, job_stock_after
 
+log = logging.getLogger("paltrainer.server")
 router = APIRouter(prefix="/viz", tags=["3d view"])
 pages = APIRouter(include_in_schema=False)
 
@@ -69,8 +71,14 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     scene.program = (body.program, body.dialect, spec)
     if data["stock"] is not None:  # the coarse level of detail is out; the fine one follows
         scene.refining = asyncio.create_task(run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation))
+        scene.refining.add_done_callback(_log_failure)
     return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
                        states=data["states"])
+
+
+def _log_failure(task: asyncio.Task[Any]) -> None:
+    if not task.cancelled() and task.exception() is not None:
+        log.error("3D view: the fine stock could not be shown", exc_info=task.exception())
 
 
 @router.post("/{token}/playhead", responses=responses(401))
