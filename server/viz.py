@@ -201,7 +201,8 @@ def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, c
         for name, points, colour in (("too_much", too_much, TOO_MUCH_COLOUR), ("too_little", too_little, TOO_LITTLE_COLOUR)):
             if len(points):
                 s.add_point_cloud(f"/deviation/{name}", points * M, colors=colour, point_size=cell * M,
-                                  point_shape="square", precision="float32")
+                                  point_shape="square", precision="float32",
+                                  position=(0.0, 0.0, 0.02 * M))  # just above the surface, not in it
 
 
 def _tool(scene: Scene, tip: tuple[float, ...]) -> None:

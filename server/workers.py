@@ -215,13 +215,7 @@ def job_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
     if exercise is None:
         return {"too_much": np.zeros((0, 3), np.float32), "too_little": np.zeros((0, 3), np.float32), "cell": 0.0}
     d = deviation(exercise, text)
-    g, heights = d.part.grid, np.clip(d.part.heights, d.part.base, d.part.top)
-
-    def points(mask: Any) -> Any:
-        j, i = np.nonzero(mask)
-        return np.stack([g.x0 + (i + 0.5) * g.dx, g.y0 + (j + 0.5) * g.dy, heights[j, i] + 0.01], 1).astype(np.float32)
-
-    return {"too_much": points(d.over > 0), "too_little": points(d.left > 0), "cell": g.dx}
+    return {"too_much": d.points("over"), "too_little": d.points("left"), "cell": d.part.grid.dx}
 
 
 def job_picture(document: dict[str, Any]) -> bytes:

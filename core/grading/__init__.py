@@ -223,6 +223,13 @@ class Deviation:
     over: npt.NDArray[np.float64]  # too much material removed: how far below the band
     left: npt.NDArray[np.float64]  # too little removed: how far above the band
 
+    def points(self, which: Literal["over", "left"]) -> npt.NDArray[np.float32]:
+        """The centres of those cells on the part's surface, (N, 3) mm."""
+        g, hm = self.part.grid, self.part
+        j, i = np.nonzero(self.over if which == "over" else self.left)
+        z = np.clip(hm.heights[j, i], hm.base, hm.top)
+        return np.stack([g.x0 + (i + 0.5) * g.dx, g.y0 + (j + 0.5) * g.dy, z], 1).astype(np.float32)
+
 
 def deviation(exercise: Exercise, program: str) -> Deviation:
     """The submitted part against the reference, with the geometry criterion's tolerance (for the 3D view)."""

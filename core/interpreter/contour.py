@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 from core.diagnostics import Diagnostic, diag
@@ -241,22 +242,20 @@ def _in_plane(m: Move) -> bool:
 
 def to_plane_move(m: Move, plane: str) -> Move:
     """`m` in the coordinates (u, v, w) of `plane` (identity for G17)."""
-    if plane == "G17":
-        return m
-    return dataclasses.replace(
-        m, start=to_plane(m.start, plane), end=to_plane(m.end, plane),
-        center=None if m.center is None else to_plane(m.center, plane),
-        programmed_end=None if m.programmed_end is None else to_plane(m.programmed_end, plane), plane=plane)
+    return _map_move(m, plane, to_plane)
 
 
 def from_plane_move(m: Move, plane: str) -> Move:
     """The inverse of to_plane_move: back to (x, y, z), the arc keeping its plane."""
+    return _map_move(m, plane, from_plane)
+
+
+def _map_move(m: Move, plane: str, f: Callable[[Vec3, str], Vec3]) -> Move:
     if plane == "G17":
         return m
     return dataclasses.replace(
-        m, start=from_plane(m.start, plane), end=from_plane(m.end, plane),
-        center=None if m.center is None else from_plane(m.center, plane),
-        programmed_end=None if m.programmed_end is None else from_plane(m.programmed_end, plane), plane=plane)
+        m, start=f(m.start, plane), end=f(m.end, plane), center=None if m.center is None else f(m.center, plane),
+        programmed_end=None if m.programmed_end is None else f(m.programmed_end, plane), plane=plane)
 
 
 # -- stage 2: cutter radius compensation -----------------------------------------------------
