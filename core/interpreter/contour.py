@@ -58,6 +58,30 @@ class Departure:
     size: float
     w: float | None
     z: float | None
+    tangent: tuple[float, float] | None = None  # end tangent of the last contour element; None: no departure
+    programmed: Vec3 | None = None  # the end of the programmed departure (the contour's, not the tool centre's)
+
+
+def departure_ends(code: str, last: tuple[float, float], tangent: tuple[float, float], side: int, radius: float,
+                   size: float) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Where the tool centre and the programmed contour end after G46/G48 from the contour point `last`.
+
+    The tool centre starts `radius` beside `last` on the compensation side (`side` +1 left, -1 right)
+    and moves parallel to the programmed departure: G46 `size` along the tangent (DECISIONS.md
+    ruling 2); G48 a quarter circle of tool-centre radius `size` (ruling 1), whose programmed
+    counterpart is the concentric quarter circle of radius `size` + `radius` through `last`.
+    """
+    n = left(tangent)
+    centre = add(last, n, side * radius)
+    if code == "G46":
+        return add(centre, tangent, size), add(last, tangent, size)
+    middle = add(centre, n, side * size)
+    return add(middle, tangent, size), add(middle, tangent, size + radius)
+
+
+def end_tangent_of(m: Move) -> tuple[float, float]:
+    """The unit tangent at the end of `m`, in the coordinates of its plane."""
+    return end_tangent(element_of(to_plane_move(m, m.plane)))
 
 
 @dataclass(slots=True)
@@ -284,8 +308,7 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
         start = pos if pos is not None else m.start
         if p.side == 0:
             if p.departure is not None:
-                if active:
-                    pos = _depart(p, start, active, out)
+                pos = _depart(p, start, active, out)
                 active = 0
                 continue
             active = 0
@@ -422,25 +445,23 @@ def _approach(p: Planned, start: Vec3, first: Element, r: float, out: list[Comma
 
 
 def _depart(p: Planned, start: Vec3, side: int, out: list[Command]) -> Vec3:
-    """G46/G48: leave the last contour point tangentially, then feed to Z and rapid to W."""
+    """G46/G48: leave the last contour point tangentially (if compensation `side` was on), then feed to Z
+    and rapid to W."""
     m = p.move
     dep = p.departure
     assert dep is not None
-    last = next((c for c in reversed(out) if isinstance(c, Move) and (c.kind == "arc" or c.start[:2] != c.end[:2])),
-                None)
-    if last is None:
-        return start
-    e = element_of(last)
-    t = end_tangent(e)
-    here = (start[0], start[1])
-    if dep.code == "G46":
-        element: Element = Line(here, add(here, t, dep.size))
-    else:  # a quarter circle on the compensation side, tangent at the last point
-        centre = add(here, left(t), side * dep.size)
-        element = Arc(here, add(centre, t, dep.size), centre, cw=side < 0)
-    feed_move = dataclasses.replace(m, kind="feed")
-    out.append(move_of(feed_move, element, start[2], start[2], programmed=None))
-    pos: Vec3 = (element.b[0], element.b[1], start[2])
+    pos = start
+    if side and dep.tangent is not None:
+        t = dep.tangent
+        here = (start[0], start[1])
+        if dep.code == "G46":
+            element: Element = Line(here, add(here, t, dep.size))
+        else:  # a quarter circle on the compensation side, tangent at the last point
+            centre = add(here, left(t), side * dep.size)
+            element = Arc(here, add(centre, t, dep.size), centre, cw=side < 0)
+        programmed = None if dep.programmed is None else (dep.programmed[0], dep.programmed[1], start[2])
+        out.append(move_of(dataclasses.replace(m, kind="feed"), element, start[2], start[2], programmed=programmed))
+        pos = (element.b[0], element.b[1], start[2])
     if dep.z is not None and dep.z != pos[2]:
         out.append(dataclasses.replace(m, kind="feed", start=pos, end=(pos[0], pos[1], dep.z), center=None,
                                        direction=None, radius=None, angle=None, programmed_end=None))
@@ -454,7 +475,8 @@ def _depart(p: Planned, start: Vec3, side: int, out: list[Command]) -> Vec3:
 
 def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
     """Both stages in order: transitions on the programmed contour, then compensation in each plane."""
-    if not any(isinstance(p, Blend) or (isinstance(p, Planned) and (p.rn or p.side)) for p in items):
+    if not any(isinstance(p, Blend) or (isinstance(p, Planned) and (p.rn or p.side or p.departure))
+               for p in items):
         return [p.move if isinstance(p, Planned) else p for p in items if not isinstance(p, Blend)]
     contour = insert_transitions(items, d)
     out: list[Command] = []

@@ -19,7 +19,7 @@ from core.dialects.pal_mill import TABLE
 from core.geometry.arcs import arc_solutions, choose_arc, sweep
 from core.geometry.elements import angle_of
 from core.geometry.planes import AXES, from_plane, to_plane
-from core.interpreter.contour import Approach, Blend, Departure, Item, Planned
+from core.interpreter.contour import Approach, Blend, Departure, Item, Planned, departure_ends, end_tangent_of
 from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
 from core.interpreter.state import ModalState, RunSetup
@@ -57,6 +57,7 @@ def execute_block(
     out = Outcome(state, position)
     d = out.diagnostics
     span = block.span
+    before = state
 
     # -- parameter assignments, left to right, into a copy --------------------------------
     new_params = params
@@ -130,7 +131,8 @@ def execute_block(
         codes = {**codes, **changes}
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
-        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame, state.blend)
+        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame, state.blend,
+                           state.tangent)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
         frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
         if frame is not state.frame:
@@ -150,13 +152,18 @@ def execute_block(
             else:
                 seconds = values["U"] * 60.0 / state.speed
         out.commands.append(Dwell(position, seconds, span))
-    elif owner is not None and owner.name in ("G45", "G46", "G47", "G48"):
-        planned = _approach_or_departure(setup, state, state.frame.to_program(position), owner.name, words,
-                                         values, span, d)
+    elif owner is not None and owner.name in ("G45", "G47"):
+        planned = _approach(setup, state, state.frame.to_program(position), owner.name, words, values, span, d)
         planned.move = state.frame.map_move(planned.move)
         planned.side = -planned.side if state.frame.flips else planned.side
         out.commands.append(planned)
         position = planned.move.end
+        if state.tangent is not None:  # the first contour element is not known yet
+            state = dataclasses.replace(state, tangent=None)
+    elif owner is not None and owner.name in ("G46", "G48"):
+        planned = _departure(setup, before, state, position, owner.name, words, values, span, d)
+        out.commands.append(planned)
+        position = planned.move.end  # the tool centre: compensation is off from here on
     elif motion is not None and reading.moves:
         exact = "G9" in in_block
         frame = state.frame
@@ -173,6 +180,8 @@ def execute_block(
                                         -side if frame.flips else side, radius, None, None, by_length,
                                         "RN" not in values))
             position = move.end
+            if side and (move.kind == "arc" or move.start[:2] != move.end[:2]):
+                state = dataclasses.replace(state, tangent=end_tangent_of(move))
     elif owner is not None and owner.name in ("G301", "G302"):
         size = values.get("I", state.blend)
         if size <= 0:
@@ -196,7 +205,7 @@ def execute_block(
     ends = reading.ends
     if ends:
         state = ModalState({**state.codes, **ends}, state.feed, state.speed, state.tool, state.tc, state.tr, state.tl,
-                           state.pole, state.frame, state.blend)
+                           state.pole, state.frame, state.blend, state.tangent)
     for w, code in ms:
         if code.name in ("M30", "M2"):
             out.ended = True
@@ -778,18 +787,42 @@ def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
     return side, (tool.offset(state.tc).radius + state.tr) if tool is not None and side else 0.0
 
 
-def _approach_or_departure(setup: RunSetup, state: ModalState, position: Vec3, name: str,
-                           words: dict[str, list[Word]], values: dict[str, float], span: Span,
-                           d: list[Diagnostic]) -> Planned:
-    """G45/G47 (with G41/G42) to the first contour point, or G46/G48 (with G40) off the last one."""
+def _approach(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
+              values: dict[str, float], span: Span, d: list[Diagnostic]) -> Planned:
+    """G45/G47 (with G41/G42) to the first contour point, in program coordinates."""
     end = _target(state, position, values, words, d)
     z = end[2] if any(a in values for a in _AXES[2]) else None
-    size = values["D"] if name in ("G45", "G46") else values["R"]
     w = values.get("W")
-    if name in ("G45", "G47"):
-        move = _move(state, "feed" if state.active("motion") != "G0" else "rapid", position, end, span,
-                     state.active("spindle"), exact_stop=False)
-        side, radius = _compensation(setup, state)
-        return Planned(move, side=side, radius=radius, approach=Approach(name, size, w, values.get("E"), z))
-    move = _move(state, "feed", position, position, span, state.active("spindle"), exact_stop=False)
-    return Planned(move, departure=Departure(name, size, w, z))
+    if z is None and w is not None:  # the tool rises or sinks to W and stays there
+        end = (end[0], end[1], w)
+    move = _move(state, "feed" if state.active("motion") != "G0" else "rapid", position, end, span,
+                 state.active("spindle"), exact_stop=False)
+    side, radius = _compensation(setup, state)
+    oz = state.frame.origin[2]
+    size = values["D"] if name == "G45" else values["R"]
+    return Planned(move, side=side, radius=radius,
+                   approach=Approach(name, size, None if w is None else w + oz, values.get("E"),
+                                     None if z is None else z + oz))
+
+
+def _departure(setup: RunSetup, before: ModalState, state: ModalState, position: Vec3, name: str,
+               words: dict[str, list[Word]], values: dict[str, float], span: Span, d: list[Diagnostic]) -> Planned:
+    """G46/G48 (with G40) off the last contour point: the move from `position` (the contour point, workpiece
+    frame) to where the tool centre ends, at the height Z, then W, of the block."""
+    frame = state.frame
+    target = _target(state, frame.to_program(position), values, words, d)
+    oz = frame.origin[2]
+    z = target[2] + oz if any(a in values for a in _AXES[2]) else None
+    w = values["W"] + oz if "W" in values else None
+    side, radius = _compensation(setup, before)
+    side = -side if frame.flips else side
+    size = values["D"] if name == "G46" else values["R"]
+    tangent = before.tangent if side else None
+    height = w if w is not None else z if z is not None else position[2]
+    if tangent is None:  # no departure in the plane: only the moves to Z and W
+        tool_end, programmed = (position[0], position[1]), (position[0], position[1])
+    else:
+        tool_end, programmed = departure_ends(name, (position[0], position[1]), tangent, side, radius, size)
+    move = _move(state, "feed", position, (tool_end[0], tool_end[1], height), span, state.active("spindle"),
+                 exact_stop=False)
+    return Planned(move, departure=Departure(name, size, w, z, tangent, (programmed[0], programmed[1], position[2])))

@@ -30,6 +30,9 @@ class ModalState:
     pole: tuple[float, float] = (0.0, 0.0)  # of G10–G13: the last one programmed, at first the workpiece zero
     frame: Frame = IDENTITY  # how program coordinates map into the workpiece frame (G53–G59, G66)
     blend: float = 0.0  # Beckhoff: the I value of the last G301/G302, kept for the next one
+    # under G41/G42: the unit end tangent (workpiece frame) of the last move in the plane, which a
+    # departure G46/G48 continues; None: no such move since the compensation started
+    tangent: tuple[float, float] | None = None
 
     def active(self, group: str) -> str | None:
         """The active code of `group`, e.g. active("motion") == "G1"."""
