@@ -161,6 +161,18 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     def report(d: Diagnostic) -> None:
         diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
 
+    def section_end(u: Unit, done: int, following: int) -> int:
+        """Where to go on once block `done` of `u` has run (a call or a repeat it made included): back to the
+        start of the G23 section it ends while that repeats, else `following`."""
+        while repeats and repeats[-1].unit is u and repeats[-1].end == done:
+            top = repeats[-1]
+            top.remaining -= 1
+            if top.remaining > 0:
+                return top.start
+            repeats.pop()  # the G23 block itself may end an outer section
+            done, following = top.return_index - 1, top.return_index
+        return following
+
     while True:
         if index >= len(unit.blocks):
             if not calls:
@@ -168,7 +180,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             report(diag("PAL-E409", Span(unit.blocks[-1].line if unit.blocks else 1, 1, 1, 1),
                         number=unit.number))
             frame = calls.pop()
-            unit, index = frame.unit, frame.return_index
+            unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
         block = unit.blocks[index]
         here = index
@@ -212,14 +224,14 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             elif count >= 1:
                 calls.append(_Call(unit, index, callee, count - 1, block.line, unit.source))
                 unit, index = callee, 0
-            continue
-        if out.flow is not None:  # a G29 jump that is taken
+                continue
+        elif out.flow is not None:  # a G29 jump that is taken
             target = unit.numbers.get(out.flow[1])
             if target is None:
                 report(diag("PAL-E406", block.span, number=out.flow[1]))
             else:
                 index = target
-            continue
+                continue
         if out.repeat is not None:
             first, last, count = out.repeat
             start, end = unit.numbers.get(first), unit.numbers.get(last)
@@ -230,15 +242,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             elif count >= 1:
                 repeats.append(_Repeat(unit, start, end, count, index))
                 index = start
-            continue
-        if repeats and repeats[-1].unit is unit and repeats[-1].end == here:
-            top = repeats[-1]
-            top.remaining -= 1
-            if top.remaining > 0:
-                index = top.start
-            else:
-                repeats.pop()
-                index = top.return_index
+                continue
+        index = section_end(unit, here, index)
         if out.sub_end:
             if not calls:
                 report(diag("PAL-E402", block.span))
@@ -249,7 +254,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                     index = 0
                 else:
                     calls.pop()
-                    unit, index = frame.unit, frame.return_index
+                    unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
         if out.ended:
             if calls:
