@@ -141,9 +141,48 @@ class ExerciseError(ValueError):
     """An exercise file that cannot be used; the message says where, in German and English."""
 
 
+MAX_NESTING = 32  # levels of lists and mappings in an exercise file (the format needs 4)
+MAX_ALIASES = 100  # YAML aliases (*name): each one is a copy that validation walks again
+
+
+def _storable(value: str) -> bool:
+    if "\x00" in value:
+        return False
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        return False
+    return True
+
+
+def _check_structure(text: str) -> None:
+    """Refuse what would exhaust the loader or what no database can store, from the parser's events, before
+    anything is built: building a document recurses once per nesting level, validation walks every alias again,
+    and NUL or a lone surrogate ("\\ud800" in a quoted string) cannot be stored."""
+    depth = aliases = 0
+    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+        if isinstance(event, yaml.CollectionStartEvent):
+            depth += 1
+            if depth > MAX_NESTING:
+                raise ExerciseError(f"Aufgabe: tiefer als {MAX_NESTING} Ebenen verschachtelt / "
+                                    f"exercise: nested deeper than {MAX_NESTING} levels")
+        elif isinstance(event, yaml.CollectionEndEvent):
+            depth -= 1
+        elif isinstance(event, yaml.AliasEvent):
+            aliases += 1
+            if aliases > MAX_ALIASES:
+                raise ExerciseError(f"Aufgabe: mehr als {MAX_ALIASES} Verweise (*) / "
+                                    f"exercise: more than {MAX_ALIASES} aliases (*)")
+        elif isinstance(event, yaml.ScalarEvent) and not _storable(event.value):
+            raise ExerciseError(f"Aufgabe: Text mit dem Zeichen NUL oder einem einzelnen Surrogat in Zeile "
+                                f"{event.start_mark.line + 1} / exercise: text with the NUL character or a lone "
+                                f"surrogate on line {event.start_mark.line + 1}")
+
+
 def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
     """An exercise from YAML text; `reference_file`/`start_file` are read from `folder`."""
     try:
+        _check_structure(text)
         data = yaml.safe_load(text)
     except yaml.YAMLError as err:
         raise ExerciseError(f"Aufgabe: kein gültiges YAML / exercise: not valid YAML ({err})") from None

@@ -6,6 +6,7 @@ that means what it says; FastAPI's own validation and HTTP errors are converted 
 
 from __future__ import annotations
 
+import json
 import logging
 from typing import Any
 
@@ -13,6 +14,7 @@ from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from pydantic import BaseModel
+from sqlalchemy.exc import DataError, IntegrityError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 log = logging.getLogger("paltrainer.server")
@@ -28,6 +30,8 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "BAD_TOKEN": (401, "Das Token ist ungültig oder abgelaufen.", "The token is invalid or has expired."),
     "BAD_API_KEY": (401, "Der API-Schlüssel ist ungültig oder widerrufen.", "The API key is invalid or revoked."),
     "FORBIDDEN": (403, "Dafür fehlt die Berechtigung.", "You are not allowed to do this."),
+    "VIZ_FOREIGN": (403, "Diese 3D-Ansicht gehört zu einer anderen Sitzung; bitte die Seite neu laden.",
+                    "This 3D view belongs to another session; please reload the page."),
     "MISSING_SCOPE": (403, "Dem API-Schlüssel fehlt der Bereich »{scope}«.", "The API key lacks the scope '{scope}'."),
     "FREE_PRACTICE_OFF": (401, "Freies Üben ist abgeschaltet; bitte anmelden.",
                           "Free practice is switched off; please log in."),
@@ -40,6 +44,13 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "EXERCISE_EXISTS": (409, "Eine Aufgabe mit der Kennung »{exercise}« gibt es schon.",
                         "An exercise with the slug '{exercise}' already exists."),
     "USER_EXISTS": (409, "Den Benutzer »{user}« gibt es schon.", "The user '{user}' already exists."),
+    "CONFLICT": (409, "Das gibt es schon (gleichzeitige Anfrage); bitte neu laden.",
+                 "This already exists (a concurrent request); please reload."),
+    "EXTERNAL_USER_FORBIDDEN": (403, ("Nur API-Schlüssel des Betreibers, einer Lehrkraft oder eines Admins dürfen "
+                                      "»external_user« setzen."),
+                                "Only API keys of the operator, an instructor or an admin may set 'external_user'."),
+    "OUT_OF_RANGE": (422, "Ein Wert liegt außerhalb des Bereichs, den die Datenbank speichern kann.",
+                     "A value is outside the range the database can store."),
     "IDEMPOTENCY_CONFLICT": (409, "Dieser Idempotency-Key wurde schon für eine andere Abgabe verwendet.",
                              "This Idempotency-Key was already used for a different submission."),
     "EXERCISE_REQUIRED": (422, "Dafür muss eine Aufgabe angegeben sein (Feld »exercise«).",
@@ -59,6 +70,11 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "TIME_LIMIT": (503, "Die Berechnung hat das Zeitlimit von {seconds} s überschritten.",
                    "The computation exceeded the time limit of {seconds} s."),
     "NOT_READY": (503, "Der Server ist nicht bereit: {detail}", "The server is not ready: {detail}"),
+    "WORKER_FAILED": (503, ("Der Rechenprozess ist bei diesem Programm zweimal abgebrochen; bitte das Programm "
+                            "prüfen oder später erneut versuchen."),
+                      "The worker process failed twice on this program; check the program or retry later."),
+    "BUSY": (503, "Alle Rechenprozesse sind seit {seconds} s belegt; bitte gleich erneut versuchen.",
+             "Every worker process has been busy for {seconds} s; please retry shortly."),
     "INTERNAL": (500, "Interner Fehler (Anfrage {request_id}).", "Internal error (request {request_id})."),
 }
 
@@ -90,8 +106,16 @@ class ApiError(Exception):
                           "details": {k: v for k, v in self.params.items() if k != "detail"}}}
 
 
+class ErrorResponse(JSONResponse):
+    """JSON that always encodes: an error may quote the request, and a request may hold a lone surrogate."""
+
+    def render(self, content: Any) -> bytes:
+        return json.dumps(content, ensure_ascii=False, allow_nan=False, separators=(",", ":")).encode(
+            "utf-8", errors="replace")
+
+
 def error_response(err: ApiError) -> JSONResponse:
-    return JSONResponse(err.body(), status_code=err.status, headers=err.headers)
+    return ErrorResponse(err.body(), status_code=err.status, headers=err.headers)
 
 
 _DESCRIPTIONS = {401: "Not authenticated", 403: "Forbidden", 404: "Not found", 409: "Conflict",
@@ -123,7 +147,7 @@ def install(app: FastAPI) -> None:
         err = ApiError("VALIDATION", detail=text)
         body = err.body()
         body["error"]["details"] = {"errors": errors}
-        return JSONResponse(body, status_code=422)
+        return ErrorResponse(body, status_code=422)
 
     @app.exception_handler(StarletteHTTPException)
     async def _http(request: Request, exc: StarletteHTTPException) -> JSONResponse:
@@ -131,8 +155,21 @@ def install(app: FastAPI) -> None:
             exc.status_code, "VALIDATION")
         if code == "VALIDATION":
             err = ApiError(code, detail=str(exc.detail))
-            return JSONResponse(err.body(), status_code=exc.status_code)
+            return ErrorResponse(err.body(), status_code=exc.status_code)
         return error_response(ApiError(code))
+
+    # The database's own limits, the one place they become 4xx (the schemas keep most of them from arriving):
+    # a number beyond its integer range (SQLite: OverflowError; PostgreSQL: DataError), text it cannot hold
+    # (PostgreSQL: NUL), and a unique constraint that a concurrent request hit first.
+    @app.exception_handler(DataError)
+    @app.exception_handler(OverflowError)
+    async def _out_of_range(request: Request, exc: Exception) -> JSONResponse:
+        log.info("value out of the database's range", extra={"request_id": getattr(request.state, "request_id", "-")})
+        return error_response(ApiError("OUT_OF_RANGE"))
+
+    @app.exception_handler(IntegrityError)
+    async def _conflict(request: Request, exc: IntegrityError) -> JSONResponse:
+        return error_response(ApiError("CONFLICT"))
 
     @app.exception_handler(Exception)
     async def _internal(request: Request, exc: Exception) -> JSONResponse:

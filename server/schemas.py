@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import math
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstraints, model_validator
 
+from core.exercises import CriterionId
 from core.pipeline import DEFAULT_DIALECT
 
 
@@ -17,6 +19,73 @@ def utc(value: datetime) -> datetime:
 
 Time = Annotated[datetime, AfterValidator(utc)]
 
+# --- text and JSON we store or look up -------------------------------------------------------
+# Every string that reaches the database (or a query) goes through clean_text: PostgreSQL text cannot
+# hold NUL, and a lone surrogate ("\ud800", valid in JSON, not in UTF-8) cannot be encoded at all.
+
+DB_INT_MAX = 2**31 - 1  # the largest id both databases' INTEGER columns hold
+JSON_MAX_DEPTH = 32  # nesting of free-form JSON we store (rubric notes, …)
+JSON_MAX_ITEMS = 10_000  # strings, numbers, keys … in one free-form JSON value
+
+
+def clean_text(value: str) -> str:
+    """`value` if it can be stored and looked up on SQLite and PostgreSQL; ValueError otherwise."""
+    if "\x00" in value:
+        raise ValueError("contains the NUL character / enthält das Zeichen NUL")
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        raise ValueError("is not valid Unicode (lone surrogate) / ist kein gültiges Unicode (einzelnes Surrogat)")
+    return value
+
+
+def text(max_length: int, min_length: int = 0, pattern: str | None = None) -> Any:
+    """The type of a text we store: clean (see clean_text) and length-limited."""
+    return Annotated[str, StringConstraints(min_length=min_length, max_length=max_length, pattern=pattern),
+                     AfterValidator(clean_text)]
+
+
+StoredText = text(200_000)  # long texts (reference programs, task descriptions); short ones use text(n)
+Name = text(80, min_length=1)
+Slug = text(80, min_length=1)  # looked up: an exercise's slug
+Dialect = text(40, min_length=1)
+# a program to check or submit: the body limit bounds it; settings.max_program_chars answers 413 above its own limit
+Program = text(1_000_000)
+Username = text(80, min_length=1)
+NewUsername = text(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$")
+Password = text(1000, min_length=1)
+NewPassword = text(1000, min_length=8)
+NewSlug = text(80, min_length=1, pattern=r"^[a-z0-9][a-z0-9-]*$")
+Title = text(200, min_length=1)
+Subtitle = text(200)
+TaskText = text(50_000)
+ShortText = text(80)
+ExternalUser = text(200)
+
+
+def clean_json(value: Any) -> Any:
+    """Free-form JSON we store: every key and string clean, finite numbers, bounded depth and size."""
+    count = 0
+    stack: list[tuple[Any, int]] = [(value, 1)]
+    while stack:
+        item, depth = stack.pop()
+        count += 1
+        if count > JSON_MAX_ITEMS:
+            raise ValueError(f"has more than {JSON_MAX_ITEMS} entries / hat mehr als {JSON_MAX_ITEMS} Einträge")
+        if isinstance(item, str):
+            clean_text(item)
+        elif isinstance(item, float) and not math.isfinite(item):
+            raise ValueError("contains a number that is not finite / enthält eine nicht endliche Zahl")
+        elif isinstance(item, dict | list):
+            if depth > JSON_MAX_DEPTH:
+                raise ValueError(f"is nested deeper than {JSON_MAX_DEPTH} / ist tiefer als {JSON_MAX_DEPTH} verschachtelt")
+            children = [*item.keys(), *item.values()] if isinstance(item, dict) else item
+            stack.extend((child, depth + 1) for child in children)
+    return value
+
+
+StoredJson = Annotated[dict[str, Any], AfterValidator(clean_json)]
+
 # --- pipeline --------------------------------------------------------------------------------
 
 
@@ -24,18 +93,21 @@ class ToolSpec(BaseModel):
     number: int = Field(ge=1, le=99)
     diameter: float = Field(gt=0, le=1000, description="mm")
     kind: Literal["end_mill", "slot_drill"] = "end_mill"
-    name: str = Field(default="", max_length=80)
+    name: ShortText = ""
 
 
 class ProgramRequest(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    program: str = Field(description="The NC program text")
-    dialect: str = Field(default=DEFAULT_DIALECT, description="e.g. pal-mill")
-    exercise: str | None = Field(default=None, description="Slug of an exercise whose tool table and stock to use")
+    program: Program = Field(description="The NC program text")
+    dialect: Dialect = Field(default=DEFAULT_DIALECT, description="e.g. pal-mill")
+    exercise: Slug | None = Field(default=None, description="Slug of an exercise whose tool table and stock to use")
     tools: list[ToolSpec] | None = Field(default=None, max_length=99,
                                          description="Tools that override the default table (free practice)")
     skip_blocks: bool = Field(default=False, description="Skip blocks marked with /")
+
+
+Coordinate = Annotated[float, Field(allow_inf_nan=False)]
 
 
 class StockSpec(BaseModel):
@@ -43,8 +115,8 @@ class StockSpec(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    min: list[float] = Field(min_length=3, max_length=3, description="[x0, y0, z0]")
-    max: list[float] = Field(min_length=3, max_length=3, description="[x1, y1, z1]")
+    min: list[Coordinate] = Field(min_length=3, max_length=3, description="[x0, y0, z0]")
+    max: list[Coordinate] = Field(min_length=3, max_length=3, description="[x1, y1, z1]")
 
 
 class SimulateRequest(ProgramRequest):
@@ -163,8 +235,8 @@ class Token(BaseModel):
 
 
 class LoginRequest(BaseModel):
-    username: str = Field(min_length=1, max_length=80)
-    password: str = Field(min_length=1, max_length=1000)
+    username: Username
+    password: Password
 
 
 class UserOut(BaseModel):
@@ -186,16 +258,16 @@ class Me(BaseModel):
 class UserCreate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    username: str = Field(min_length=1, max_length=80, pattern=r"^[A-Za-z0-9_.@-]+$")
-    password: str = Field(min_length=8, max_length=1000)
+    username: NewUsername
+    password: NewPassword
     role: Role = "student"
 
 
 class ApiKeyCreate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    name: str = Field(min_length=1, max_length=80)
-    scopes: list[Scope] = Field(min_length=1)
+    name: Name
+    scopes: list[Scope] = Field(min_length=1, max_length=len(Scope.__args__))
 
 
 class ApiKeyOut(BaseModel):
@@ -216,38 +288,63 @@ class ApiKeyCreated(ApiKeyOut):
 # --- exercises -------------------------------------------------------------------------------
 
 
+class CriterionSpec(BaseModel):
+    """One criterion of the grader (docs/exercises.md)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    id: CriterionId
+    points: int = Field(ge=0, le=100)
+    hidden: bool = False
+    tolerance: float | None = Field(default=None, gt=0, allow_inf_nan=False,
+                                    description="geometry: mm; technology: relative (0.1 = 10 %)")
+
+
+class RubricSpec(BaseModel):
+    """The grader's criteria (points adding up to 100 make the exercise gradable) and free-form notes."""
+
+    model_config = ConfigDict(extra="allow")
+
+    criteria: list[CriterionSpec] | None = Field(default=None, max_length=20, exclude_if=lambda v: v is None)
+
+    @model_validator(mode="after")
+    def _clean_notes(self) -> RubricSpec:
+        clean_json(self.model_extra or {})
+        return self
+
+
 class ExerciseFields(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    title_de: str = Field(min_length=1, max_length=200)
-    title_en: str = Field(default="", max_length=200)
-    task_de: str = Field(default="", max_length=50_000)
-    task_en: str = Field(default="", max_length=50_000)
-    dialect: str = DEFAULT_DIALECT
-    stock: dict[str, Any] | None = None
-    tools: list[ToolSpec] | None = Field(default=None, description="The exercise's whole tool table")
-    reference_program: str = Field(default="", max_length=200_000)
-    rubric: dict[str, Any] | None = None
-    hidden_criteria: dict[str, Any] | None = None
+    title_de: Title
+    title_en: Subtitle = ""
+    task_de: TaskText = ""
+    task_en: TaskText = ""
+    dialect: Dialect = DEFAULT_DIALECT
+    stock: StockSpec | None = None
+    tools: list[ToolSpec] | None = Field(default=None, max_length=99, description="The exercise's whole tool table")
+    reference_program: StoredText = ""
+    rubric: RubricSpec | None = None
+    hidden_criteria: RubricSpec | None = None
 
 
 class ExerciseCreate(ExerciseFields):
-    slug: str = Field(min_length=1, max_length=80, pattern=r"^[a-z0-9][a-z0-9-]*$")
+    slug: NewSlug
 
 
 class ExerciseUpdate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    title_de: str | None = Field(default=None, min_length=1, max_length=200)
-    title_en: str | None = Field(default=None, max_length=200)
-    task_de: str | None = Field(default=None, max_length=50_000)
-    task_en: str | None = Field(default=None, max_length=50_000)
-    dialect: str | None = None
-    stock: dict[str, Any] | None = None
-    tools: list[ToolSpec] | None = None
-    reference_program: str | None = Field(default=None, max_length=200_000)
-    rubric: dict[str, Any] | None = None
-    hidden_criteria: dict[str, Any] | None = None
+    title_de: Title | None = None
+    title_en: Subtitle | None = None
+    task_de: TaskText | None = None
+    task_en: TaskText | None = None
+    dialect: Dialect | None = None
+    stock: StockSpec | None = None
+    tools: list[ToolSpec] | None = Field(default=None, max_length=99)
+    reference_program: StoredText | None = None
+    rubric: RubricSpec | None = None
+    hidden_criteria: RubricSpec | None = None
 
 
 class ExerciseOut(BaseModel):
@@ -279,11 +376,12 @@ class ExerciseOut(BaseModel):
 class SubmissionCreate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    exercise: str = Field(description="Exercise slug")
-    program: str
+    exercise: Slug = Field(description="Exercise slug")
+    program: Program
     skip_blocks: bool = False
-    external_user: str | None = Field(default=None, max_length=200,
-                                      description="The learner's id on the learning platform (API keys only)")
+    external_user: ExternalUser | None = Field(
+        default=None, description="The learner's id on the learning platform (API keys of the operator, an "
+                                  "instructor or an admin only)")
 
 
 class RunSummary(BaseModel):

@@ -8,9 +8,17 @@ from fastapi import APIRouter, Depends, Request, Response
 
 from server import repository as repo
 from server import services
-from server.deps import AppSettings, AppWorkers, CurrentPrincipal, DbSession, Principal, require_scope
+from server.deps import (
+    AppSettings,
+    AppWorkers,
+    CurrentPrincipal,
+    DbSession,
+    Principal,
+    rate_limit,
+    require_scope,
+)
 from server.errors import responses
-from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate
+from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate, Slug
 
 router = APIRouter(prefix="/exercises", tags=["exercises"])
 Reader = Annotated[Principal, Depends(require_scope("exercises:read"))]
@@ -22,14 +30,15 @@ def list_exercises(db: DbSession, principal: Reader) -> list[ExerciseOut]:
 
 
 @router.get("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404))
-def get_exercise(slug: str, db: DbSession, principal: Reader) -> ExerciseOut:
+def get_exercise(slug: Slug, db: DbSession, principal: Reader) -> ExerciseOut:
     """Reference program and hidden criteria only for the exercise's owner and admins."""
     return services.exercise_out(db, services.get_exercise(db, slug), principal)
 
 
 @router.get("/{slug}/picture.png", response_class=Response, responses={
-    200: {"content": {"image/png": {}}, "description": "Top view of the finished part"}, **responses(401, 403, 404)})
-async def exercise_picture(slug: str, db: DbSession, workers: AppWorkers, principal: Reader) -> Response:
+    200: {"content": {"image/png": {}}, "description": "Top view of the finished part"}, **responses(401, 403, 404, 429)},
+    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+async def exercise_picture(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader) -> Response:
     """The finished part seen from above (the reference machined on the stock), darker where deeper."""
     return Response(await services.exercise_picture(db, workers, slug), media_type="image/png",
                     headers={"Cache-Control": "private, max-age=300"})
@@ -56,12 +65,12 @@ async def import_exercise(request: Request, db: DbSession, settings: AppSettings
 
 
 @router.patch("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404, 413, 422))
-def update_exercise(slug: str, body: ExerciseUpdate, db: DbSession, settings: AppSettings,
+def update_exercise(slug: Slug, body: ExerciseUpdate, db: DbSession, settings: AppSettings,
                     principal: CurrentPrincipal) -> ExerciseOut:
     return services.exercise_out(db, services.update_exercise(db, settings, principal, slug, body), principal)
 
 
 @router.delete("/{slug}", status_code=204, responses=responses(401, 403, 404, 409))
-def delete_exercise(slug: str, db: DbSession, principal: CurrentPrincipal) -> Response:
+def delete_exercise(slug: Slug, db: DbSession, principal: CurrentPrincipal) -> Response:
     services.delete_exercise(db, principal, slug)
     return Response(status_code=204)

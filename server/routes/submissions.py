@@ -3,13 +3,15 @@ CSV export for instructors."""
 
 from __future__ import annotations
 
-from fastapi import APIRouter, Depends, Header, Query, Response
+from typing import Annotated
+
+from fastapi import APIRouter, Depends, Header, Path, Query, Response
 from fastapi.responses import PlainTextResponse
 
 from server import services
 from server.deps import AppSettings, AppWorkers, CurrentPrincipal, DbSession, rate_limit
 from server.errors import responses
-from server.schemas import SubmissionCreate, SubmissionOut
+from server.schemas import DB_INT_MAX, Slug, SubmissionCreate, SubmissionOut
 
 router = APIRouter(prefix="/submissions", tags=["submissions"])
 
@@ -33,7 +35,7 @@ async def create_submission(body: SubmissionCreate, db: DbSession, settings: App
 
 @router.get("", response_model=list[SubmissionOut], responses=responses(401, 403, 404))
 def list_submissions(db: DbSession, principal: CurrentPrincipal,
-                     exercise: str | None = Query(default=None, description="Only this exercise's")
+                     exercise: Annotated[Slug | None, Query(description="Only this exercise's")] = None
                      ) -> list[SubmissionOut]:
     """Students: their own; instructors: also those to their exercises; admins: all."""
     return [services.submission_out(s, e, u, False, principal)
@@ -44,7 +46,8 @@ def list_submissions(db: DbSession, principal: CurrentPrincipal,
     200: {"content": {"text/csv": {"schema": {"type": "string"}}}, "description": "CSV, one row per submission"},
     **responses(401, 403, 404)})
 def export_csv(db: DbSession, principal: CurrentPrincipal,
-               exercise: str | None = Query(default=None, description="Only this exercise's")) -> PlainTextResponse:
+               exercise: Annotated[Slug | None, Query(description="Only this exercise's")] = None
+               ) -> PlainTextResponse:
     """Instructors: the submissions to their exercises; admins: all."""
     text = services.submissions_csv(db, principal, exercise)
     return PlainTextResponse(text, media_type="text/csv; charset=utf-8",
@@ -52,5 +55,5 @@ def export_csv(db: DbSession, principal: CurrentPrincipal,
 
 
 @router.get("/{submission_id}", response_model=SubmissionOut, responses=responses(401, 403, 404))
-def get_submission(submission_id: int, db: DbSession, principal: CurrentPrincipal) -> SubmissionOut:
+def get_submission(submission_id: Annotated[int, Path(ge=1, le=DB_INT_MAX)], db: DbSession, principal: CurrentPrincipal) -> SubmissionOut:
     return services.get_submission(db, principal, submission_id)
