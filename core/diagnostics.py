@@ -135,8 +135,8 @@ CATALOGUE: dict[str, Entry] = {
     "PAL-E212": Entry(E, "Gerade ist unterbestimmt: {address} allein legt keinen Endpunkt fest.",
                       "Line is underdetermined: {address} alone does not fix an end point."),
     "PAL-E213": Entry(E, "{address} muss größer als 0 sein ({raw}).", "{address} must be greater than 0 ({raw})."),
-    "PAL-E214": Entry(E, "Innenbogen mit Radius {radius} mm ist kleiner als der Fräserradius {tool_radius} mm.",
-                      "Inside arc of radius {radius} mm is smaller than the cutter radius {tool_radius} mm."),
+    "PAL-E214": Entry(E, "Innenbogen mit Radius {radius} mm ist {relation} der Fräserradius {tool_radius} mm.",
+                      "Inside arc of radius {radius} mm is {relation_en} the cutter radius {tool_radius} mm."),
     "PAL-E215": Entry(E, "Konturelement verschwindet oder kehrt sich um, wenn der Fräserradius {tool_radius} mm "
                          "berücksichtigt wird.",
                       "Contour element vanishes or reverses when the cutter radius {tool_radius} mm is applied."),
@@ -236,6 +236,69 @@ CATALOGUE: dict[str, Entry] = {
                          "Decodierung wird abgebrochen.",
                       "The first {command} needs an I word other than 0 (chamfer width or radius); decoding "
                       "stops."),
+    # --- TRAUB TX 8 D turning: blocks, technology, tools (TX-x1xx) ---------------------------
+    "TX-E101": Entry(E, "Die erste Bewegung nach dem Werkzeugaufruf muss absolut (X, Z) programmiert sein; "
+                        "{address} ist ein Kettenmaß.",
+                     "The first motion after a tool call must be absolute (X, Z); {address} is incremental."),
+    "TX-E102": Entry(E, "Bewegung ohne Werkzeugaufruf: {command} hat die Werkzeugdaten abgewählt, vor der "
+                        "nächsten Bewegung muss ein T-Wort stehen.",
+                     "Motion without a tool call: {command} deselected the tool data, a T word must come "
+                     "before the next motion."),
+    "TX-E103": Entry(E, "{command} ist bei eingeschalteter Schneidenradiuskorrektur ({srk}) nicht erlaubt; "
+                        "vorher G40 programmieren.",
+                     "{command} is not allowed while nose-radius compensation ({srk}) is on; program G40 "
+                     "first."),
+    "TX-E104": Entry(E, "Höchstens 3 M-Wörter je Satz ({count} programmiert).",
+                     "At most 3 M words per block ({count} programmed)."),
+    "TX-E105": Entry(E, "{code} muss allein in einem eigenen Satz stehen.", "{code} must stand alone in its block."),
+    "TX-E106": Entry(E, "{code} ist nur zusammen mit einem Werkzeugaufruf T im selben Satz erlaubt.",
+                     "{code} is only allowed together with a tool call T in the same block."),
+    "TX-E107": Entry(E, "B06 (Drehzahl des angetriebenen Werkzeugs) erst nach M21/M22 und M23/M24 "
+                        "(vorher oder im selben Satz).",
+                     "B06 (driven-tool speed) needs M21/M22 and M23/M24 before it or in the same block."),
+    "TX-E108": Entry(E, "Verweilzeit {value} s liegt außerhalb von 0,001 bis 999,99 s.",
+                     "Dwell time {value} s is outside 0.001 to 999.99 s."),
+    "TX-E109": Entry(E, "M17 (C-Achsen-Kopplung) erst nach M05: die Hauptspindel dreht noch.",
+                     "M17 (C-axis coupling) needs M05 first: the main spindle is still turning."),
+    "TX-E110": Entry(E, "Parameter L{number} gibt es nicht (L1…L48, L101…L148).",
+                     "There is no parameter L{number} (L1…L48, L101…L148)."),
+    "TX-E111": Entry(E, "Werkzeugplatz {station} gibt es nicht (T0101…T1616 erste Schneide, T2121…T3636 "
+                        "zweite Schneide).",
+                     "There is no turret station {station} (T0101…T1616 first edge, T2121…T3636 second "
+                     "edge)."),
+    "TX-E112": Entry(E, "G97 V… braucht den Durchmesser X (größer als 0), für den die Drehzahl berechnet wird.",
+                     "G97 V… needs the diameter X (greater than 0) to compute the speed for."),
+    "TX-W101": Entry(W, "Parameter L{number} wird gelesen, bevor ihm ein Wert zugewiesen wurde (gilt als 0).",
+                     "Parameter L{number} is read before it was assigned a value (taken as 0)."),
+    "TX-W102": Entry(W, "{address} hat bei G92 keine festgelegte Bedeutung und wird nicht beachtet.",
+                     "{address} has no defined meaning with G92 and is ignored."),
+    "TX-W103": Entry(W, "Programmnummer O{number}: Unterprogramme haben üblicherweise Nummern ab 8000 "
+                        "(Makros O9801…O9899).",
+                     "Program number O{number}: subprograms usually have numbers from 8000 (macros "
+                     "O9801…O9899)."),
+    "TX-W104": Entry(W, "G09 (Genauhalt) mit Übergangselement {address}: das Übergangselement hebt den "
+                        "Genauhalt auf.",
+                     "G09 (exact stop) with the transition element {address}: the transition cancels the "
+                     "exact stop."),
+    "TX-W105": Entry(W, "Durchmesser 0 bei G96: die Drehzahl ist nur durch {limit} begrenzt (G92 S… "
+                        "programmieren).",
+                     "Diameter 0 under G96: the speed is limited only by {limit} (program G92 S…)."),
+    # --- TRAUB TX 8 D turning: programs and subprograms (TX-x3xx) ------------------------------
+    "TX-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
+                     "Program O{number} is neither in this file nor in the library."),
+    "TX-E302": Entry(E, "Unterprogramme sind höchstens {limit} Ebenen tief schachtelbar.",
+                     "Subprograms can be nested at most {limit} levels deep."),
+    "TX-E303": Entry(E, "Programm O{number} ruft sich selbst auf (Rekursion).",
+                     "Program O{number} calls itself (recursion)."),
+    "TX-E304": Entry(E, "Satznummer N{number} gibt es in {program} nicht.",
+                     "Block number N{number} does not exist in {program}."),
+    "TX-E305": Entry(E, "Abschnitt P{start} bis Q{end}: N{end} steht vor N{start}.",
+                     "Section P{start} to Q{end}: N{end} comes before N{start}."),
+    "TX-E306": Entry(E, "M30 in einem Unterprogramm (O{number}); Unterprogramme enden mit M99.",
+                     "M30 in a subprogram (O{number}); subprograms end with M99."),
+    "TX-W301": Entry(W, "M99 ohne Unterprogrammaufruf: das Programm endet hier (Hauptprogramme enden mit M30).",
+                     "M99 without a subprogram call: the program ends here (main programs end with M30)."),
+    "TX-W302": Entry(W, "Unterprogramm O{number} endet ohne M99.", "Subprogram O{number} ends without M99."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),

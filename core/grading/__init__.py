@@ -112,7 +112,7 @@ def _judge(c: Criterion, ex: Exercise, program: str, ref: _Run, sub: _Run) -> Cr
         return _result(c, False, f"Zeile {e.span.line}: {e.message}", f"Line {e.span.line}: {e.message_en}",
                        [x.span.line for x in events if x.span.line])
     if c.id == "technology":
-        return _technology(c, ex, cutting)
+        return _technology(c, ex, [m for m in cutting if _may_cut(m, ex)])
     if c.id == "tool_change":
         first_cut = cutting[0].line if cutting else None
         changed = [t for t in tp.tool_changes if t.tool is not None]
@@ -282,13 +282,30 @@ def _segment_distance(p: tuple[float, float], a: tuple[float, float, float], b: 
     return math.hypot(p[0] - a[0] - t * dx, p[1] - a[1] - t * dy)
 
 
+def _may_cut(m: Move, ex: Exercise) -> bool:
+    """Whether the tool can touch the blank on this move: some point of it, widened by the tool radius,
+    lies inside the blank's box. A feed in the air (a plunge beside the blank, a move above it) cuts nothing."""
+    s = ex.stock
+    tool = ex.tool_table().get(m.tool) if m.tool is not None else None
+    r = tool.radius if tool is not None else 0.0
+    pts = m.points(0.1)
+    if min(p[2] for p in pts) >= s.max[2]:
+        return False
+    return (min(p[0] for p in pts) - r < s.max[0] and max(p[0] for p in pts) + r > s.min[0]
+            and min(p[1] for p in pts) - r < s.max[1] and max(p[1] for p in pts) + r > s.min[1])
+
+
 def _technology(c: Criterion, ex: Exercise, cutting: list[Move]) -> CriterionResult:
+    """Tool, S and F of the feed moves that can cut (not of the ones in the air) against the cutting data."""
     if not ex.cutting_data:
         return _result(c, True, "Keine Schnittdaten vorgegeben.", "No cutting data prescribed.")
     tol = c.tolerance if c.tolerance is not None else 0.1
     wanted = {d.tool: d for d in ex.cutting_data}
     for m in cutting:
-        data = wanted.get(m.tool) if m.tool is not None else None
+        if m.tool is None:
+            return _result(c, False, f"Zeile {m.line}: kein Werkzeug eingewechselt.",
+                           f"Line {m.line}: no tool loaded.", [m.line])
+        data = wanted.get(m.tool)
         if data is None:
             return _result(c, False, f"Zeile {m.line}: Werkzeug T{m.tool} ist in der Aufgabe nicht vorgesehen.",
                            f"Line {m.line}: tool T{m.tool} is not the one the task prescribes.", [m.line])

@@ -355,7 +355,10 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
         o = offset(e, r)
         if o is None:
             if isinstance(e, Arc):
-                d.append(diag("PAL-E214", m.span, radius=round(e.radius, 4), tool_radius=p.radius))
+                smaller = e.radius < p.radius - 1e-9  # equal is not smaller: the offset arc vanishes
+                d.append(diag("PAL-E214", m.span, radius=round(e.radius, 4), tool_radius=p.radius,
+                              relation="kleiner als" if smaller else "nicht größer als",
+                              relation_en="smaller than" if smaller else "not larger than"))
             else:
                 d.append(diag("PAL-E215", m.span, tool_radius=p.radius))
             pos = m.end
