@@ -119,11 +119,38 @@ _CODES = [
     Code("M60", "workpiece_change", "Ohne Wirkung (Einschaltzustand)", "no effect (switch-on state)"),
 ]
 
-# G codes of the PAL cycles (not in the seeds): recognised so that they say "not supported yet".
+# The PAL cycles (not in the seeds, DECISIONS §11): recognised so that a block with one says "not supported
+# yet" under the cycle's name, once, and nothing about its parameter words (ZA, V, W, LP, BP, D …).
+CYCLES = {
+    "G34": ("Eröffnung des Konturtaschenzyklus", "opening of the contour pocket cycle"),
+    "G35": ("Schrupptechnologie des Konturtaschenzyklus", "roughing technology of the contour pocket cycle"),
+    "G36": ("Restmaterialtechnologie des Konturtaschenzyklus",
+            "residual material technology of the contour pocket cycle"),
+    "G37": ("Schlichttechnologie des Konturtaschenzyklus", "finishing technology of the contour pocket cycle"),
+    "G38": ("Konturbeschreibung des Konturtaschenzyklus", "contour description of the contour pocket cycle"),
+    "G39": ("Konturtaschenzyklus", "contour pocket cycle"),
+    "G72": ("Rechtecktaschenfräszyklus", "rectangular pocket milling cycle"),
+    "G73": ("Kreistaschen- und Zapfenfräszyklus", "circular pocket and spigot milling cycle"),
+    "G74": ("Nutenfräszyklus", "slot milling cycle"),
+    "G75": ("Kreisbogennut-Fräszyklus", "circular slot milling cycle"),
+    "G76": ("Mehrfachzyklusaufruf auf einer Geraden", "multiple cycle call on a straight line"),
+    "G77": ("Mehrfachzyklusaufruf auf einem Teilkreis", "multiple cycle call on a pitch circle"),
+    "G78": ("Zyklusaufruf an einem Punkt (Polarkoordinaten)", "cycle call at a point (polar coordinates)"),
+    "G79": ("Zyklusaufruf an einem Punkt (kartesische Koordinaten)", "cycle call at a point (Cartesian coordinates)"),
+    "G80": ("Abschluss einer Konturbeschreibung", "end of a contour description"),
+    "G81": ("Bohrzyklus", "drilling cycle"),
+    "G82": ("Tiefbohrzyklus mit Spanbruch", "deep-hole drilling cycle with chip breaking"),
+    "G83": ("Tiefbohrzyklus mit Spanbruch und Entspänen", "deep-hole drilling cycle with chip breaking and removal"),
+    "G84": ("Gewindebohrzyklus", "tapping cycle"),
+    "G85": ("Reibzyklus", "reaming cycle"),
+    "G86": ("Ausdrehzyklus", "boring cycle"),
+    "G87": ("Bohrfräszyklus", "helical drill milling cycle"),
+    "G88": ("Innengewindefräszyklus", "internal thread milling cycle"),
+    "G89": ("Außengewindefräszyklus", "external thread milling cycle"),
+}
 _CODES += [
-    Code(f"G{n}", None, "Zyklus", "cycle", owns_block=True, support=P,
-         feature_de=f"Zyklus G{n}", feature_en=f"Cycle G{n}")
-    for n in range(72, 90)
+    Code(name, None, de, en, owns_block=True, support=P, feature_de=f"{de} {name}", feature_en=f"{en[0].upper()}{en[1:]} {name}")
+    for name, (de, en) in CYCLES.items()
 ]
 
 _ADDRESSES = [

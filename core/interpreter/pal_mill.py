@@ -283,10 +283,11 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     flags: list[Word] = []
     has_expr = False
     limit = setup.limits.max_abs_value
+    code_diags: list[Diagnostic] = []  # about the G and M words themselves
     for w in block.words:
         a = w.address
         if a == "G" or a == "M":
-            code = _code_word(w, table, d)
+            code = _code_word(w, table, code_diags)
             if code is not None:
                 (gs if a == "G" else ms).append((w, code))
             continue
@@ -311,6 +312,16 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
         if spec.integer and v != int(v):
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
         values.setdefault(a, v)
+
+    # a cycle not supported yet, or a G code the dialect does not know, owns the block: which words it takes
+    # is not known here, so the block gets the one diagnostic about its code and no follow-ups on its words
+    cycle = next(((w, c) for w, c in gs if c.support is Support.PLANNED and c.owns_block), None)
+    if cycle is not None or any(x.code == "PAL-E105" for x in code_diags):
+        only = ([_not_supported(cycle[0].span, cycle[1].feature_de, cycle[1].feature_en, True)] if cycle is not None
+                else code_diags)
+        return Reading(gs, [], {}, {}, None, None, None, None, "G17", only, not has_expr,
+                       frozenset(c.name for _, c in gs), [], [], {}, False)
+    d[:0] = code_diags
 
     # -- G codes: count, groups, the code that owns the block -------------------------------
     if table.max_g_words is not None and len(gs) > table.max_g_words:
