@@ -1,20 +1,25 @@
 """CPU-bound work (check, run, simulate, the live re-runs) in worker processes, never on the event loop.
 
 The jobs are plain top-level functions of plain data, so they cross the process boundary by pickle.
-A job that exceeds the time limit is abandoned: its pool is torn down and a fresh one started.
+Every job is submitted through `Workers.call`, which handles for all callers what can happen to a worker
+process: a job over the time limit (counted from its start) ends its process, a process that dies is
+replaced and its job retried once; see the class.
 """
 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import gc
 import importlib.util
 import itertools
 import json
 import logging
 import multiprocessing
-from collections import OrderedDict, defaultdict
+from collections import OrderedDict, defaultdict, deque
 from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+from multiprocessing.connection import wait as mp_wait
 from typing import Any, TypeVar
 
 from core.diagnostics import Severity
@@ -312,43 +317,181 @@ def job_live_close(doc: str) -> None:
 # --- the pool -------------------------------------------------------------------------------
 
 
+class _Job:
+    """One job handed to a worker: its future, the worker generation it runs in, and whether it ran out of time."""
+
+    __slots__ = ("future", "generation", "name", "timed_out")
+
+    def __init__(self, future: Future[Any], generation: int, name: str) -> None:
+        self.future, self.generation, self.name, self.timed_out = future, generation, name, False
+
+
+_RESERVED = object()  # a slot handed to a caller that has not submitted its job yet
+
+
+class _Requeue(Exception):
+    """The job never started (its process went away first): it waits for a process again, not counted as a failure."""
+
+
+class _Slot:
+    """One worker process (a ProcessPoolExecutor of one) that runs one job at a time. Each replacement of
+    the process is a new generation; callbacks of an older generation find nothing left to do."""
+
+    def __init__(self, index: int) -> None:
+        self.index = index
+        self.pool: ProcessPoolExecutor | None = None
+        self.process: Any = None  # multiprocessing.Process
+        self.generation = 0
+        self.ready = False  # warmed up and not known dead
+        self.job: Any = None  # _Job, _RESERVED or None (free)
+        self.watched: int | None = None  # the sentinel file descriptor the event loop watches
+
+    def dead(self) -> bool:
+        """Whether the process has ended (its sentinel is readable), without reaping it."""
+        return self.process is None or bool(mp_wait([self.process.sentinel], 0))
+
+
 class Workers:
     """Worker processes with a time limit per job: one single-process pool per slot, so that a live
-    document can stay on one process (`affinity`) while other jobs go to the least busy slot."""
+    document can stay on one process (`affinity`) while other jobs go to a free slot.
+
+    Every job goes through `call`, which owns the failure handling for all callers: a job is handed to
+    a process only when that process is free, so its time limit counts from its start and a process
+    killed for running over time takes no other job with it; a process that dies (kill -9, the
+    out-of-memory killer) is replaced at once, and the job that was in it runs once more (jobs are
+    pure); a job that kills its process twice is answered 503 WORKER_FAILED.
+    """
+
+    queue_seconds = 60.0  # longest wait for a free process before 503 BUSY
+    respawn_delay = 1.0  # pause before starting again a process that failed to start
 
     def __init__(self, processes: int, seconds: float) -> None:
         self.processes, self.seconds = max(1, processes), seconds
-        self._pools: list[ProcessPoolExecutor] = []
-        self._busy: list[int] = []
+        self._slots: list[_Slot] = []
         self._documents = [0] * self.processes  # live documents per slot
+        self._waiting: deque[tuple[int | None, asyncio.Future[_Slot]]] = deque()
+        self._loop: asyncio.AbstractEventLoop | None = None
 
-    @staticmethod
-    def _new_pool() -> tuple[ProcessPoolExecutor, Future[bool]]:
-        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
-        return pool, pool.submit(job_warm)
+    # -- life cycle
 
     def start(self) -> None:
-        started = [self._new_pool() for _ in range(self.processes)]
-        self._pools = [pool for pool, _ in started]
-        self._busy = [0] * self.processes
-        for _, warm in started:
+        """Start the processes and wait until each is warm (called in the app's start-up)."""
+        with contextlib.suppress(RuntimeError):
+            self._loop = asyncio.get_running_loop()
+        self._slots = [_Slot(k) for k in range(self.processes)]
+        warms = [self._spawn(slot) for slot in self._slots]
+        for slot, warm in zip(self._slots, warms, strict=True):
             warm.result()
+            slot.ready = True
 
     def stop(self) -> None:
-        pools, self._pools = self._pools, []
-        for pool in pools:
-            pool.shutdown(wait=True, cancel_futures=True)
+        slots, self._slots = self._slots, []
+        for slot in slots:
+            slot.generation += 1  # callbacks still under way find nothing to do
+            self._unwatch(slot)
+            if slot.process is not None and slot.job is not None:
+                slot.process.kill()  # jobs are pure: nothing is lost
+            if slot.pool is not None:
+                slot.pool.shutdown(wait=True, cancel_futures=True)
+        for _, waiter in self._waiting:
+            if not waiter.done():
+                waiter.set_exception(ApiError("NOT_READY", detail="workers stopped"))
+        self._waiting.clear()
 
     @property
     def alive(self) -> bool:
-        return bool(self._pools)
+        """Started and not stopped."""
+        return bool(self._slots)
 
-    def _restart(self, slot: int) -> None:
-        pool = self._pools[slot]
-        for proc in list(getattr(pool, "_processes", {}).values()):
-            proc.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
-        self._pools[slot] = self._new_pool()[0]
+    @property
+    def ready(self) -> bool:
+        """Whether some process can take a job now or after the one it runs (GET /readyz)."""
+        return any(slot.ready and not slot.dead() for slot in self._slots)
+
+    def pids(self) -> list[int]:
+        """The worker processes' ids, one per slot."""
+        return [slot.process.pid for slot in self._slots if slot.process is not None]
+
+    def _attach(self) -> asyncio.AbstractEventLoop:
+        """The event loop the pool reports to: the one start() ran in, else the first caller's."""
+        if self._loop is None:
+            self._loop = asyncio.get_running_loop()
+            for slot in self._slots:
+                self._watch(slot)
+        return self._loop
+
+    def _spawn(self, slot: _Slot) -> Future[bool]:
+        """A new process for `slot`, warming up; the slot takes jobs once it is warm."""
+        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        warm = pool.submit(job_warm)  # starts the process
+        slot.generation += 1
+        slot.pool, slot.ready, slot.job = pool, False, None
+        slot.process = next(iter(getattr(pool, "_processes", {}).values()), None)
+        if self._loop is not None:
+            self._watch(slot)
+            generation = slot.generation
+            warm.add_done_callback(lambda f: self._soon(self._warmed, slot, generation, f))
+        return warm
+
+    def _replace(self, slot: _Slot, reason: str) -> None:
+        """End `slot`'s process (if it still runs) and start a new one."""
+        log.warning("worker process replaced", extra={"slot": slot.index, "reason": reason,
+                                                      "pid": getattr(slot.process, "pid", None)})
+        self._unwatch(slot)
+        if slot.process is not None:
+            slot.process.kill()
+        if slot.pool is not None:
+            # not cancel_futures: a job still queued in it fails as BrokenProcessPool, and its caller retries
+            slot.pool.shutdown(wait=False)
+        slot.ready, slot.job = False, None
+        try:
+            self._spawn(slot)
+        except OSError:  # no process to be had now (memory, descriptors): try again shortly
+            log.exception("worker process could not be started", extra={"slot": slot.index})
+            if self._loop is not None:
+                self._loop.call_later(self.respawn_delay, self._respawn_if, slot, slot.generation)
+
+    def _soon(self, fn: Any, *args: Any) -> None:
+        """Run `fn(*args)` on the event loop (from a pool's thread); nothing when the loop has ended."""
+        if self._loop is not None:
+            with contextlib.suppress(RuntimeError):
+                self._loop.call_soon_threadsafe(fn, *args)
+
+    def _watch(self, slot: _Slot) -> None:
+        # the sentinel becomes readable when the process ends: a dead idle worker is replaced at once
+        if self._loop is not None and slot.process is not None and slot.watched is None:
+            slot.watched = slot.process.sentinel
+            self._loop.add_reader(slot.watched, self._died, slot, slot.generation)
+
+    def _unwatch(self, slot: _Slot) -> None:
+        if slot.watched is not None and self._loop is not None:
+            with contextlib.suppress(RuntimeError):  # the loop may be closed already
+                self._loop.remove_reader(slot.watched)
+        slot.watched = None
+
+    def _died(self, slot: _Slot, generation: int) -> None:
+        self._unwatch(slot)
+        if generation == slot.generation and slot in self._slots:
+            self._replace(slot, f"process ended (exit code {slot.process.exitcode})")
+            self._dispatch()
+
+    def _warmed(self, slot: _Slot, generation: int, warm: Future[bool]) -> None:
+        if generation != slot.generation or slot not in self._slots:
+            return
+        if warm.cancelled() or warm.exception() is not None:
+            log.error("worker process failed to start", extra={"slot": slot.index})
+            self._unwatch(slot)
+            assert self._loop is not None
+            self._loop.call_later(self.respawn_delay, self._respawn_if, slot, generation)
+            return
+        slot.ready = True
+        self._dispatch()
+
+    def _respawn_if(self, slot: _Slot, generation: int) -> None:
+        if generation == slot.generation and slot in self._slots:
+            self._replace(slot, "failed to start")
+
+    # -- handing out slots
 
     def take_slot(self) -> int:
         """The slot for a new live document: the one holding the fewest; give it back with `release_slot`."""
@@ -359,21 +502,114 @@ class Workers:
     def release_slot(self, slot: int) -> None:
         self._documents[slot] = max(0, self._documents[slot] - 1)
 
-    async def call(self, fn: Any, *args: Any, affinity: int | None = None) -> Any:
-        """Run `fn(*args)` in a worker; TIME_LIMIT (503) when it takes longer than the limit."""
-        if not self._pools:
-            raise ApiError("NOT_READY", detail="workers not started")
-        slot = affinity % self.processes if affinity is not None else min(range(self.processes),
-                                                                           key=self._busy.__getitem__)
-        pool = self._pools[slot]
-        future: Future[Any] = pool.submit(fn, *args)
-        self._busy[slot] += 1
+    def _free(self, affinity: int | None) -> _Slot | None:
+        """A slot that can start a job now: the document's own, or any (those with fewer live documents first)."""
+        if affinity is not None:
+            candidates = [self._slots[affinity % len(self._slots)]]
+        else:
+            candidates = sorted(self._slots, key=lambda s: self._documents[s.index % self.processes])
+        for slot in candidates:
+            if slot.ready and slot.job is None:
+                if slot.dead():  # died since; its watcher has not run yet
+                    self._replace(slot, "process ended")
+                    continue
+                return slot
+        return None
+
+    def _dispatch(self) -> None:
+        """Hand free slots to the waiting callers, oldest first."""
+        for item in list(self._waiting):
+            affinity, waiter = item
+            if waiter.done():
+                self._waiting.remove(item)
+                continue
+            slot = self._free(affinity)
+            if slot is not None:
+                slot.job = _RESERVED
+                waiter.set_result(slot)
+                self._waiting.remove(item)
+
+    def _release(self, slot: _Slot, job: Any) -> None:
+        if slot.job is job:
+            slot.job = None
+            self._dispatch()
+
+    async def _acquire(self, affinity: int | None) -> _Slot:
+        loop = self._attach()
+        waiter: asyncio.Future[_Slot] = loop.create_future()
+        item = (affinity, waiter)
+        self._waiting.append(item)
+        self._dispatch()
         try:
-            return await asyncio.wait_for(asyncio.wrap_future(future), self.seconds)
-        except TimeoutError:
-            log.warning("job over time limit, restarting its worker", extra={"job": fn.__name__})
-            if self._pools and self._pools[slot] is pool:
-                self._restart(slot)
-            raise ApiError("TIME_LIMIT", seconds=self.seconds) from None
-        finally:
-            self._busy[slot] -= 1
+            async with asyncio.timeout(self.queue_seconds):
+                return await waiter
+        except BaseException as err:
+            if item in self._waiting:
+                self._waiting.remove(item)
+            if waiter.done() and not waiter.cancelled() and waiter.exception() is None:
+                slot = waiter.result()
+                self._release(slot, _RESERVED)  # handed over just as the caller gave up
+            if isinstance(err, TimeoutError):
+                raise ApiError("BUSY", seconds=self.queue_seconds) from None
+            raise
+
+    # -- running jobs
+
+    def _finished(self, slot: _Slot, job: _Job, timer: asyncio.TimerHandle) -> None:
+        timer.cancel()
+        if job.generation == slot.generation:
+            error = None if job.future.cancelled() else job.future.exception()
+            if isinstance(error, BrokenProcessPool):
+                self._replace(slot, "process ended during a job")
+                self._dispatch()
+                return
+        self._release(slot, job)
+
+    def _overtime(self, slot: _Slot, job: _Job) -> None:
+        """The time limit, counted from the job's start: end its process (it runs nothing else)."""
+        if not job.future.done() and job.generation == slot.generation:
+            job.timed_out = True
+            log.warning("job over time limit, restarting its worker", extra={"job": job.name})
+            self._replace(slot, "time limit")
+            self._dispatch()
+
+    async def _run_once(self, slot: _Slot, fn: Any, args: tuple[Any, ...]) -> Any:
+        loop = self._attach()
+        name = getattr(fn, "__name__", "job")
+        if slot.job is not _RESERVED or not slot.ready or slot.pool is None:
+            raise _Requeue  # the process was replaced between the hand-over and now
+        try:
+            future: Future[Any] = slot.pool.submit(fn, *args)
+        except (BrokenProcessPool, RuntimeError):  # it died before its watcher noticed
+            self._replace(slot, "broken pool")
+            self._dispatch()
+            raise _Requeue from None
+        job = _Job(future, slot.generation, name)
+        slot.job = job
+        timer = loop.call_later(self.seconds, self._overtime, slot, job)
+        future.add_done_callback(lambda _: self._soon(self._finished, slot, job, timer))
+        try:
+            return await asyncio.wrap_future(future)
+        except BrokenProcessPool:
+            if job.timed_out:
+                raise ApiError("TIME_LIMIT", seconds=self.seconds) from None
+            raise
+
+    async def call(self, fn: Any, *args: Any, affinity: int | None = None) -> Any:
+        """Run `fn(*args)` in a worker: TIME_LIMIT (503) when it runs longer than the limit, WORKER_FAILED (503)
+        when its process dies twice, BUSY (503) when no process is free for `queue_seconds`."""
+        if not self._slots:
+            raise ApiError("NOT_READY", detail="workers not started")
+        failures = 0
+        while True:
+            slot = await self._acquire(affinity)
+            try:
+                return await self._run_once(slot, fn, args)
+            except _Requeue:
+                continue
+            except BrokenProcessPool:
+                failures += 1
+                log.warning("worker process lost during a job", extra={"job": getattr(fn, "__name__", "job"),
+                                                                       "failures": failures})
+                if failures >= 2:
+                    raise ApiError("WORKER_FAILED") from None

@@ -24,6 +24,6 @@ def readyz(db: DbSession, workers: AppWorkers) -> Ready:
         repo.ready(db)
     except SQLAlchemyError:
         raise ApiError("NOT_READY", detail="database") from None
-    if not workers.alive:
+    if not workers.ready:  # no worker process can take a job (all of them dead or still starting)
         raise ApiError("NOT_READY", detail="workers")
     return Ready(status="ready", database="ok", workers="ok")
