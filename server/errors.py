@@ -17,6 +17,8 @@ from pydantic import BaseModel
 from sqlalchemy.exc import DataError, IntegrityError
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from server.repository import Duplicate
+
 log = logging.getLogger("paltrainer.server")
 
 # code → (HTTP status, German, English)
@@ -168,7 +170,8 @@ def install(app: FastAPI) -> None:
         return error_response(ApiError("OUT_OF_RANGE"))
 
     @app.exception_handler(IntegrityError)
-    async def _conflict(request: Request, exc: IntegrityError) -> JSONResponse:
+    @app.exception_handler(Duplicate)
+    async def _conflict(request: Request, exc: Exception) -> JSONResponse:
         return error_response(ApiError("CONFLICT"))
 
     @app.exception_handler(Exception)
