@@ -4,12 +4,31 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from datetime import datetime
-from typing import Any
+from typing import Any, TypeVar
 
 from sqlalchemy import func, or_, select
+from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from server.models import ApiKey, Exercise, Submission, User, now
+from server.models import ApiKey, Base, Exercise, Submission, User, now
+
+_Row = TypeVar("_Row", bound=Base)
+
+
+class Duplicate(Exception):
+    """A row with the same unique key is there already: a concurrent request stored it first."""
+
+
+def _insert(db: Session, row: _Row) -> _Row:
+    """Store a new row; Duplicate (rolled back) if a unique key is taken, however close the other request was."""
+    db.add(row)
+    try:
+        db.commit()
+    except IntegrityError as err:
+        db.rollback()
+        raise Duplicate(str(err.orig)) from err
+    return row
+
 
 # --- users -------------------------------------------------------------------------------
 
@@ -23,10 +42,7 @@ def user_by_id(db: Session, user_id: int) -> User | None:
 
 
 def create_user(db: Session, username: str, password_hash: str, role: str) -> User:
-    user = User(username=username, password_hash=password_hash, role=role)
-    db.add(user)
-    db.commit()
-    return user
+    return _insert(db, User(username=username, password_hash=password_hash, role=role))
 
 
 def list_users(db: Session) -> Sequence[User]:
@@ -43,10 +59,7 @@ def set_password(db: Session, user: User, password_hash: str) -> None:
 
 def create_api_key(db: Session, name: str, prefix: str, key_hash: str, scopes: list[str],
                    owner_id: int | None) -> ApiKey:
-    key = ApiKey(name=name, prefix=prefix, key_hash=key_hash, scopes=scopes, owner_id=owner_id)
-    db.add(key)
-    db.commit()
-    return key
+    return _insert(db, ApiKey(name=name, prefix=prefix, key_hash=key_hash, scopes=scopes, owner_id=owner_id))
 
 
 def api_key_by_prefix(db: Session, prefix: str) -> ApiKey | None:
@@ -91,10 +104,7 @@ def exercise_by_id(db: Session, exercise_id: int) -> Exercise | None:
 
 
 def create_exercise(db: Session, fields: dict[str, Any], owner_id: int | None, builtin: bool = False) -> Exercise:
-    exercise = Exercise(**fields, owner_id=owner_id, builtin=builtin)
-    db.add(exercise)
-    db.commit()
-    return exercise
+    return _insert(db, Exercise(**fields, owner_id=owner_id, builtin=builtin))
 
 
 def update_exercise(db: Session, exercise: Exercise, fields: dict[str, Any]) -> Exercise:
@@ -118,10 +128,7 @@ def delete_exercise(db: Session, exercise: Exercise) -> None:
 
 
 def create_submission(db: Session, **fields: Any) -> Submission:
-    submission = Submission(**fields)
-    db.add(submission)
-    db.commit()
-    return submission
+    return _insert(db, Submission(**fields))
 
 
 def submission_by_id(db: Session, submission_id: int) -> Submission | None:

@@ -100,7 +100,10 @@ def login(db: Session, username: str, password: str) -> User:
 def create_user(db: Session, username: str, password: str, role: str) -> User:
     if repo.user_by_name(db, username) is not None:
         raise ApiError("USER_EXISTS", user=username)
-    return repo.create_user(db, username, hash_password(password), role)
+    try:
+        return repo.create_user(db, username, hash_password(password), role)
+    except repo.Duplicate:
+        raise ApiError("USER_EXISTS", user=username) from None
 
 
 def user_out(user: User) -> UserOut:
@@ -204,7 +207,10 @@ def create_exercise(db: Session, settings: Settings, principal: Principal, body:
     if repo.exercise_by_slug(db, body.slug) is not None:
         raise ApiError("EXERCISE_EXISTS", exercise=body.slug)
     fields = body.model_dump(mode="json")
-    return repo.create_exercise(db, {**fields, "document": document_from_fields(fields)}, principal.user_id)
+    try:
+        return repo.create_exercise(db, {**fields, "document": document_from_fields(fields)}, principal.user_id)
+    except repo.Duplicate:
+        raise ApiError("EXERCISE_EXISTS", exercise=body.slug) from None
 
 
 async def import_exercise(db: Session, settings: Settings, workers: Workers, principal: Principal,
@@ -224,7 +230,10 @@ async def import_exercise(db: Session, settings: Settings, workers: Workers, pri
     document = ExerciseDocument.model_validate(checked["document"])
     if repo.exercise_by_slug(db, document.id) is not None:
         raise ApiError("EXERCISE_EXISTS", exercise=document.id)
-    return repo.create_exercise(db, exercise_fields(document), principal.user_id)
+    try:
+        return repo.create_exercise(db, exercise_fields(document), principal.user_id)
+    except repo.Duplicate:
+        raise ApiError("EXERCISE_EXISTS", exercise=document.id) from None
 
 
 EXERCISE_FIELDS = ("slug", "title_de", "title_en", "task_de", "task_en", "dialect", "stock", "tools",
@@ -301,29 +310,55 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
     (and False: nothing new was made)."""
     if not principal.has_scope("submissions:write"):
         raise ApiError("MISSING_SCOPE", scope="submissions:write")
+    if body.external_user is not None and principal.api_key is not None and not may_name_learners(principal):
+        raise ApiError("EXTERNAL_USER_FORBIDDEN")
     stored_key = None
     if idempotency_key:
         who = f"k{principal.api_key.id}" if principal.api_key else f"u{principal.user_id}"
         stored_key = f"{who}:{idempotency_key}"
-        earlier = repo.submission_by_idempotency_key(db, stored_key)
+        earlier = _earlier_submission(db, principal, stored_key, body)
         if earlier is not None:
-            earlier_exercise = db.get(Exercise, earlier.exercise_id)
-            if earlier_exercise is None or earlier_exercise.slug != body.exercise or earlier.program != body.program:
-                raise ApiError("IDEMPOTENCY_CONFLICT")
-            return submission_out(earlier, earlier_exercise, principal.user, True, principal), False
+            return earlier, False
     exercise = get_exercise(db, body.exercise)
     check_program(settings, body.program, exercise.dialect)
     result = await workers.call(job_submission, body.program, exercise.dialect,
                                 exercise_spec(exercise, body.skip_blocks))
-    submission = repo.create_submission(
-        db, exercise_id=exercise.id, user_id=principal.user_id,
-        api_key_id=principal.api_key.id if principal.api_key else None,
-        external_user=body.external_user if principal.api_key else None, program=body.program,
-        dialect=exercise.dialect, error_count=result["errors"], warning_count=result["warnings"],
-        result={"diagnostics": result["diagnostics"], "summary": result["summary"]}, grading=result["grading"],
-        idempotency_key=stored_key,
-    )
+    try:
+        submission = repo.create_submission(
+            db, exercise_id=exercise.id, user_id=principal.user_id,
+            api_key_id=principal.api_key.id if principal.api_key else None,
+            external_user=body.external_user if principal.api_key else None, program=body.program,
+            dialect=exercise.dialect, error_count=result["errors"], warning_count=result["warnings"],
+            result={"diagnostics": result["diagnostics"], "summary": result["summary"]}, grading=result["grading"],
+            idempotency_key=stored_key,
+        )
+    except repo.Duplicate:
+        # a retry with the same key was stored while this one was graded: answer with that one
+        earlier = _earlier_submission(db, principal, stored_key, body) if stored_key else None
+        if earlier is None:
+            raise ApiError("CONFLICT") from None
+        return earlier, False
     return submission_out(submission, exercise, principal.user, True, principal), True
+
+
+def may_name_learners(principal: Principal) -> bool:
+    """Who may submit for a learner of a learning platform (external_user): the operator's keys (no owner) and
+    keys of instructors and admins; a student's key would let a student submit in anyone's name."""
+    if principal.api_key is None:
+        return False
+    return principal.api_key.owner_id is None or principal.is_instructor()
+
+
+def _earlier_submission(db: Session, principal: Principal, stored_key: str,
+                        body: SubmissionCreate) -> SubmissionOut | None:
+    """The submission stored under this caller's idempotency key, if the request is the same; else a conflict."""
+    earlier = repo.submission_by_idempotency_key(db, stored_key)
+    if earlier is None:
+        return None
+    exercise = repo.exercise_by_id(db, earlier.exercise_id)
+    if exercise is None or exercise.slug != body.exercise or earlier.program != body.program:
+        raise ApiError("IDEMPOTENCY_CONFLICT")
+    return submission_out(earlier, exercise, principal.user, True, principal)
 
 
 def visible_submissions(db: Session, principal: Principal,
