@@ -92,7 +92,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings
     app.state.limiter = RateLimiter()
     app.state.workers = Workers(settings.workers, settings.job_seconds)
-    app.state.scenes = viz.Scenes(settings.jwt_secret())
+    app.state.scenes = viz.Scenes(settings.jwt_secret(), settings)
     errors.install(app)
     api = APIRouter(prefix=API_PREFIX)
     for module in (pipeline, auth, exercises, submissions, dialects, viz_routes):

@@ -37,6 +37,15 @@ class Settings(BaseSettings):
     rate_check_per_minute: int = 120  # check and run
     rate_simulate_per_minute: int = 30
     rate_submit_per_minute: int = 20
+    # the 3D view: each live session is a viser server (a thread, a port, a few descriptors)
+    rate_viz_per_minute: int = 60  # new 3D sessions (a class behind one school address reloads at once)
+    rate_viz_scene_per_minute: int = 120  # scene and deviation: each runs the program in a worker
+    rate_viz_playhead_per_minute: int = 900  # playback steps (5 a second while playing), views, layers
+    rate_picture_per_minute: int = 60  # the exercise's picture and the picture of the current state
+    viz_sessions_per_user: int = 3  # live 3D sessions of one user (or key); beyond, the one idle longest stops
+    viz_sessions_per_address: int = 40  # live anonymous 3D sessions from one address (a class behind one NAT)
+    viz_sessions_max: int = 200  # live 3D sessions in all
+    viz_idle_seconds: float = 900.0  # a 3D session unused this long is stopped
     log_level: str = "INFO"
 
     @cached_property

@@ -7,7 +7,7 @@ import logging
 import sys
 from datetime import UTC, datetime
 
-_FIELDS = ("request_id", "method", "path", "status", "duration_ms", "principal", "client", "job")
+_FIELDS = ("request_id", "method", "path", "status", "duration_ms", "principal", "client", "job", "viz")
 
 
 class JsonFormatter(logging.Formatter):

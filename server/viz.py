@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import itertools
 import logging
 import threading
 import time
@@ -25,7 +26,7 @@ import numpy as np
 log = logging.getLogger("paltrainer.server")
 
 TOKEN_MINUTES = 30
-IDLE_SECONDS = 900.0
+VIZ_COOKIE = "paltrainer_viz"  # an anonymous browser's 3D id: its tokens drive only its own scenes
 # client → server messages the view may send; everything else (ShareUrlRequest, FileTransfer…) is dropped
 ALLOWED_CLIENT_MESSAGES = frozenset({
     "ViewerCameraMessage", "ScenePointerMessage", "SceneNodeClickMessage", "SceneNodeDragMessage",
@@ -33,20 +34,44 @@ ALLOWED_CLIENT_MESSAGES = frozenset({
     "TransformControlsUpdateMessage", "TransformControlsDragStartMessage", "TransformControlsDragEndMessage",
     "GetRenderResponseMessage",
 })
-FEED_COLOUR = (20, 90, 200)
-RAPID_COLOUR = (230, 120, 20)
-DONE_COLOUR = (160, 160, 160)
+# the colours of docs/UI.md (the page's legend shows the same)
+FEED_COLOUR = (21, 101, 192)  # feed moves: solid blue
+RAPID_COLOUR = (239, 108, 0)  # rapid moves: dashed orange
 CURRENT_COLOUR = (220, 20, 60)
 STOCK_COLOUR = (190, 195, 205)
-TOO_MUCH_COLOUR = (215, 25, 28)  # deviation after grading: material removed that must stay
-TOO_LITTLE_COLOUR = (44, 123, 182)  # material left that must go
-CONTOUR_COLOUR = (30, 150, 60)  # the programmed contour, beside the tool-centre path under G41/G42
+TOO_MUCH_COLOUR = (198, 40, 40)  # deviation after grading: material removed that must stay (red)
+TOO_LITTLE_COLOUR = (30, 136, 229)  # material left that must go (blue)
+CONTOUR_COLOUR = (46, 125, 50)  # the programmed contour (green), beside the tool-centre path under G41/G42
+TOOL_COLOUR = (150, 160, 172)  # the cutting part; the shank darker, the cutting edges dark
+SHANK_COLOUR = (95, 102, 112)
+EDGE_COLOUR = (40, 44, 52)
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
+DASH, GAP = 2.0, 1.5  # mm: rapid moves are drawn dashed
+MAX_DASHES = 30_000
+LAYERS = ("rapid", "feed", "contour", "stock")
+VIEWS = ("iso", "top", "front", "reset")
+# the direction from the part to the camera of each view (Z up; "front" looks along +Y as PAL drawings do)
+_VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front": (0.0, -1.0, 0.12)}
 
 
 def viser_page() -> bytes:
-    """viser's single-file client (everything inlined: no CDN)."""
-    return (resources.files("viser") / "client" / "build" / "index.html").read_bytes()
+    """viser's single-file client (everything inlined: no CDN) with our stylesheet, which hides viser's own
+    panel, connection status, WebSocket address and notices: the page around it has the controls."""
+    page = (resources.files("viser") / "client" / "build" / "index.html").read_bytes()
+    return page.replace(b"</head>", b'<link rel="stylesheet" href="/static/viz-frame.css"></head>', 1)
+
+
+@dataclass(frozen=True)
+class Ticket:
+    """What a 3D token says: the scene, who may drive it, and whose cap of live scenes it counts in."""
+
+    sid: str
+    owner: str  # "user:<id>", "key:<prefix>" or "anon:<the browser's 3D cookie>"
+    quota: str  # "user:<id>", "key:<prefix>" or, for an anonymous browser, "ip:<address>"
+
+    @property
+    def owner_kind(self) -> str:
+        return {"anon": "anonymous"}.get(self.owner.split(":", 1)[0], self.owner.split(":", 1)[0])
 
 
 @dataclass
@@ -55,11 +80,21 @@ class Scene:
 
     server: Any
     port: int
+    ticket: Ticket | None = None
+    started: float = field(default_factory=time.monotonic)
     used: float = field(default_factory=time.monotonic)
     segments: np.ndarray | None = None  # (N, 2, 3) the toolpath, one segment per move piece
     lines: list[int] = field(default_factory=list)  # the block line of each segment
+    segment_tools: list[int | None] = field(default_factory=list)  # the tool number of each segment
+    tools: dict[int, dict[str, Any]] = field(default_factory=dict)  # tool number → its shape (tool table)
     tool_radius: float = 3.0
+    tool_key: tuple[Any, ...] | None = None  # the shape the tool node shows now
     framed: bool = False  # the camera has been pointed at the part
+    bounds: tuple[np.ndarray, np.ndarray] | None = None  # the part's box (stock, else the cutting moves), mm
+    aspect: float = 1.3  # the view's width / height, as the page last said
+    view: str = "iso"
+    layers: dict[str, bool] = field(default_factory=lambda: dict.fromkeys(LAYERS, True))
+    nodes: dict[str, Any] = field(default_factory=dict)  # the handles of the nodes the layers and playback move
     has_stock: bool = False
     moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
@@ -70,98 +105,194 @@ class Scene:
 
 
 class Scenes:
-    """The sessions' scenes, and the tokens that reach them."""
+    """The sessions' scenes, and the tokens that reach them. Live scenes are capped per user (or key), per
+    address (anonymous browsers) and in all; making room stops the scene idle the longest."""
 
-    def __init__(self, secret: str) -> None:
+    def __init__(self, secret: str, settings: Any = None) -> None:
         self._secret = secret
+        self.per_user = int(getattr(settings, "viz_sessions_per_user", 3))
+        self.per_address = int(getattr(settings, "viz_sessions_per_address", 40))
+        self.total = int(getattr(settings, "viz_sessions_max", 200))
+        self.idle_seconds = float(getattr(settings, "viz_idle_seconds", 900.0))
         self._scenes: dict[str, Scene] = {}
         self._lock = threading.Lock()
 
     # -- tokens ---------------------------------------------------------------------------------
-    def new_token(self) -> str:
+    def new_token(self, owner: str = "anon:-", quota: str = "ip:-") -> str:
         sid = uuid.uuid4().hex
-        payload = {"sid": sid, "kind": "viz", "exp": int(time.time()) + TOKEN_MINUTES * 60}
+        payload = {"sid": sid, "kind": "viz", "own": owner, "quota": quota,
+                   "exp": int(time.time()) + TOKEN_MINUTES * 60}
         return jwt.encode(payload, self._secret, algorithm="HS256")
 
-    def sid_of(self, token: str) -> str | None:
+    def ticket(self, token: str) -> Ticket | None:
         try:
             payload = jwt.decode(token, self._secret, algorithms=["HS256"])
         except jwt.PyJWTError:
             return None
-        return str(payload["sid"]) if payload.get("kind") == "viz" and payload.get("sid") else None
+        if payload.get("kind") != "viz" or not payload.get("sid") or not payload.get("own"):
+            return None
+        return Ticket(str(payload["sid"]), str(payload["own"]), str(payload.get("quota") or payload["own"]))
+
+    def sid_of(self, token: str) -> str | None:
+        found = self.ticket(token)
+        return found.sid if found else None
 
     # -- scenes ---------------------------------------------------------------------------------
-    def scene(self, sid: str) -> Scene:
-        with self._lock:
-            self._stop_idle()
-            found = self._scenes.get(sid)
-            if found is None:
-                found = self._scenes[sid] = _new_scene()
-            found.used = time.monotonic()
-            return found
+    def scene(self, ticket: Ticket) -> Scene:
+        """The ticket's scene, started if it is not live (after making room within the caps)."""
+        stopped: list[tuple[Scene, str]] = []
+        try:
+            with self._lock:
+                now = time.monotonic()
+                stopped += [(s, "idle") for s in self._take(lambda s: now - s.used > self.idle_seconds)]
+                found = self._scenes.get(ticket.sid)
+                if found is None:
+                    cap = self.per_address if ticket.quota.startswith("ip:") else self.per_user
+                    stopped += [(s, "evicted") for s in self._make_room(
+                        lambda s: s.ticket is not None and s.ticket.quota == ticket.quota, cap)]
+                    stopped += [(s, "evicted") for s in self._make_room(lambda s: True, self.total)]
+                    found = self._scenes[ticket.sid] = _new_scene(ticket)
+                    log.info("3D view started", extra={"viz": {
+                        "session": ticket.sid[:8], "owner": ticket.owner_kind, "port": found.port,
+                        "live": len(self._scenes)}})
+                found.used = time.monotonic()
+                return found
+        finally:
+            for s, reason in stopped:
+                _stop(s, reason)
 
-    def _stop_idle(self) -> None:
-        now = time.monotonic()
-        for sid, s in list(self._scenes.items()):
-            if now - s.used > IDLE_SECONDS:
-                del self._scenes[sid]
-                with contextlib.suppress(Exception):
-                    s.server.stop()
+    def _take(self, which: Any) -> list[Scene]:
+        gone = [sid for sid, s in self._scenes.items() if which(s)]
+        return [self._scenes.pop(sid) for sid in gone]
+
+    def _make_room(self, which: Any, cap: int) -> list[Scene]:
+        """Take the scenes idle the longest among `which` until one more fits under `cap`."""
+        mine = sorted((s for s in self._scenes.values() if which(s)), key=lambda s: s.used)
+        gone = mine[:max(0, len(mine) - max(cap, 1) + 1)]
+        for s in gone:
+            if s.ticket is not None:
+                self._scenes.pop(s.ticket.sid, None)
+        return gone
+
+    def sids(self) -> set[str]:
+        with self._lock:
+            return set(self._scenes)
 
     def stop_all(self) -> None:
         with self._lock:
-            for s in self._scenes.values():
-                with contextlib.suppress(Exception):
-                    s.server.stop()
+            scenes = list(self._scenes.values())
             self._scenes.clear()
+        for s in scenes:
+            _stop(s, "shutdown")
 
     def __len__(self) -> int:
         return len(self._scenes)
 
 
-def _new_scene() -> Scene:
+def _stop(scene: Scene, reason: str) -> None:
+    with contextlib.suppress(Exception):
+        scene.server.stop()
+    ticket = scene.ticket
+    log.info("3D view stopped", extra={"viz": {
+        "session": ticket.sid[:8] if ticket else "-", "owner": ticket.owner_kind if ticket else "-",
+        "reason": reason, "seconds": round(time.monotonic() - scene.started, 1)}})
+
+
+def _quiet_viser() -> None:
+    """viser prints a banner per server (and "Server stopped") with rich straight to standard output; our log
+    has one structured line per session instead. Only what viser's own modules print is held back."""
+    import sys
+
+    import rich
+
+    if getattr(rich.print, "_viser_quiet", False):
+        return
+    original = rich.print
+
+    def print_(*objects: Any, **kwargs: Any) -> None:
+        caller = sys._getframe(1).f_globals.get("__name__", "")
+        if caller.startswith("viser"):
+            log.debug("viser", extra={"job": str(objects[0])[:200] if objects else ""})
+            return
+        original(*objects, **kwargs)
+
+    print_._viser_quiet = True  # type: ignore[attr-defined]
+    rich.print = print_
+
+
+def _new_scene(ticket: Ticket | None = None) -> Scene:
     import viser
 
+    _quiet_viser()
     server = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
     server.gui.configure_theme(show_logo=False, show_share_button=False)
     server.scene.set_up_direction("+z")
     server.scene.add_frame("/zero", axes_length=10 * M, axes_radius=0.4 * M)  # the workpiece zero
-    return Scene(server, server.get_port())
+    return Scene(server, server.get_port(), ticket)
 
 
 def show(scene: Scene, data: dict[str, Any]) -> int:
-    """Put a program's result into the scene: toolpath (feed blue, rapid orange), the stock's coarse level of
-    detail, the tool at the end. Answers the scene's generation (for the fine level's `show_stock`)."""
+    """Put a program's result into the scene: toolpath (feed solid blue, rapid dashed orange, the programmed
+    contour green), the stock's coarse level of detail, the tool at the end. Answers the scene's generation
+    (for the fine level's `show_stock`)."""
     s = scene.server.scene
     with scene.lock, scene.server.atomic():
         scene.generation += 1
-        feed, rapid = data["feed"] * M, data["rapid"] * M
-        if len(feed):
-            s.add_line_segments("/toolpath/feed", feed, FEED_COLOUR, thickness=2.0, thickness_units="screen")
-        else:
-            s.remove_by_name("/toolpath/feed")
-        if len(rapid):
-            s.add_line_segments("/toolpath/rapid", rapid, RAPID_COLOUR, thickness=1.0, thickness_units="screen")
-        else:
-            s.remove_by_name("/toolpath/rapid")
-        contour = data.get("contour")
-        if contour is not None and len(contour):
-            s.add_line_segments("/toolpath/contour", contour * M, CONTOUR_COLOUR, thickness=1.5,
-                                thickness_units="screen")
-        else:
-            s.remove_by_name("/toolpath/contour")
+        lines = {"feed": (data["feed"], FEED_COLOUR, 2.0), "rapid": (_dashed(data["rapid"]), RAPID_COLOUR, 1.5),
+                 "contour": (data.get("contour"), CONTOUR_COLOUR, 1.5)}
+        for name, (segments, colour, thickness) in lines.items():
+            if segments is not None and len(segments):
+                scene.nodes[name] = s.add_line_segments(f"/toolpath/{name}", segments * M, colour,
+                                                        thickness=thickness, thickness_units="screen",
+                                                        visible=scene.layers[name])
+            else:
+                s.remove_by_name(f"/toolpath/{name}")
+                scene.nodes.pop(name, None)
+        if "stock" not in scene.nodes:
+            scene.nodes["stock"] = s.add_frame("/stock", show_axes=False, visible=scene.layers["stock"])
         _put_tiles(scene, data["stock"]["coarse"] if data.get("stock") is not None else {})
         s.remove_by_name("/deviation")
         scene.has_stock = data.get("stock") is not None
-        if not scene.framed:
-            _frame_camera(scene, data)
+        bounds = _bounds(data)
+        if bounds is not None and (not scene.framed or scene.bounds is None
+                                   or not all(np.allclose(a, b) for a, b in zip(bounds, scene.bounds, strict=True))):
+            scene.bounds = bounds
+            _look(scene, scene.view if scene.framed else "iso")
         scene.segments = data["segments"]
         scene.lines = data["lines"]
         scene.moves = data.get("moves", [])
+        scene.segment_tools = list(data.get("segment_tools") or [])
+        scene.tools = {int(k): v for k, v in (data.get("tools") or {}).items()}
         scene.tool_radius = float(data.get("tool_radius") or 3.0)
-        _tool(scene, tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0))
+        last = scene.segment_tools[-1] if scene.segment_tools else data.get("tool_number")
+        _tool(scene, scene.tools.get(last) if last is not None else None,
+              tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0))
         s.remove_by_name("/playback/current")
         return scene.generation
+
+
+def _dashed(segments: np.ndarray) -> np.ndarray:
+    """Segments cut into dashes (DASH mm drawn, GAP mm left out), so that rapid moves read as dashed lines;
+    longer dashes where there would be more than MAX_DASHES."""
+    if not len(segments):
+        return segments
+    a, b = segments[:, 0, :].astype(np.float64), segments[:, 1, :].astype(np.float64)
+    length = np.linalg.norm(b - a, axis=1)
+    period = DASH + GAP
+    total = float(np.ceil(length / period).sum())
+    if total > MAX_DASHES:
+        period *= total / MAX_DASHES
+    dash = period * DASH / (DASH + GAP)
+    pieces = []
+    for p, q, n in zip(a, b, length, strict=True):
+        if n <= dash:
+            pieces.append((p, q))
+            continue
+        starts = np.arange(0.0, n, period)
+        ends = np.minimum(starts + dash, n)
+        d = (q - p) / n
+        pieces.extend(zip(p + starts[:, None] * d, p + ends[:, None] * d, strict=True))
+    return np.asarray(pieces, dtype=np.float32).reshape(-1, 2, 3)
 
 
 Tiles = dict[str, tuple[str, np.ndarray, np.ndarray]]  # key → (digest, vertices mm, triangles)
@@ -194,46 +325,187 @@ def _put_tiles(scene: Scene, tiles: Tiles) -> None:
 
 def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, cell: float) -> None:
     """Colour the part where it leaves the tolerance band: red where too much material was removed, blue
-    where too much is left (points at the cells' centres on the part's surface, mm)."""
+    where too much is left (points at the cells' centres on the part's surface, mm). The camera goes back to
+    the view that shows the whole part, so the colours are in sight without moving it."""
     with scene.lock, scene.server.atomic():
         s = scene.server.scene
         s.remove_by_name("/deviation")
+        s.remove_by_name("/playback/current")
+        size = max(cell, 0.4) * M  # at least a few pixels: a thin gouge must still show
         for name, points, colour in (("too_much", too_much, TOO_MUCH_COLOUR), ("too_little", too_little, TOO_LITTLE_COLOUR)):
             if len(points):
-                s.add_point_cloud(f"/deviation/{name}", points * M, colors=colour, point_size=cell * M,
-                                  point_shape="square", precision="float32",
-                                  position=(0.0, 0.0, 0.02 * M))  # just above the surface, not in it
+                s.add_point_cloud(f"/deviation/{name}", points * M, colors=colour, point_size=size,
+                                  point_shape="square", precision="float32", point_shading="flat",
+                                  position=(0.0, 0.0, 0.05 * M))  # just above the surface, not in it
+        if scene.bounds is not None and (len(too_much) or len(too_little)):
+            _look(scene, "iso")
 
 
-def _tool(scene: Scene, tip: tuple[float, ...]) -> None:
-    """The tool as a cylinder standing on its tip (tip in mm)."""
-    r = scene.tool_radius
-    scene.server.scene.add_cylinder("/tool", radius=r * M, height=4 * r * M, color=CURRENT_COLOUR,
-                                    position=(tip[0] * M, tip[1] * M, (tip[2] + 2 * r) * M),
-                                    wxyz=_Z_UP, opacity=0.6)
+# -- the tool ----------------------------------------------------------------------------------------------
+FLUTES = {"end_mill": 4, "slot_drill": 2, "ball_nose": 2, "torus": 4, "twist_drill": 2, "spot_drill": 2}
+HELIX = 0.55  # rad: the cutting edges' helix angle (about 30°)
 
 
-_Z_UP = (0.7071068, 0.7071068, 0.0, 0.0)  # three.js cylinders stand along Y: turn them to Z
+def tool_shape(tool: Any) -> dict[str, Any]:
+    """A tool table entry as the view draws it (plain data: crosses from the worker process)."""
+    return {"kind": str(tool.kind), "diameter": float(tool.diameter), "flute": float(tool.flute_length),
+            "length": float(tool.length), "shank": float(tool.shank), "corner": float(tool.corner_radius),
+            "angle": float(tool.point_angle)}
 
 
-def _frame_camera(scene: Scene, data: dict[str, Any]) -> None:
-    """Point the camera at the part (stock, else the cutting moves) from the front right, above."""
+def _envelope(shape: dict[str, Any], z: np.ndarray) -> np.ndarray:
+    """The tool's outer radius at height z above its tip (mm): the tip's form, the cutting part, the shank."""
+    r = shape["diameter"] / 2
+    kind = shape["kind"]
+    out = np.where(z <= shape["flute"], r, shape["shank"] / 2)
+    if kind == "ball_nose":
+        out = np.where(z < r, np.sqrt(np.clip(r * r - (r - z) ** 2, 0, None)), out)
+    elif kind == "torus" and shape["corner"] > 0:
+        c = min(shape["corner"], r)
+        out = np.where(z < c, r - c + np.sqrt(np.clip(c * c - (c - z) ** 2, 0, None)), out)
+    elif kind in ("twist_drill", "spot_drill"):
+        half = np.radians((shape["angle"] or 118.0) / 2)
+        cone = r / np.tan(half)
+        out = np.where(z < cone, z * np.tan(half), out)
+    return np.asarray(out, dtype=np.float64)
+
+
+def tool_mesh(shape: dict[str, Any], around: int = 48) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                                                 np.ndarray]:
+    """The tool standing on its tip at the origin (mm): the cutting part (vertices, triangles), the shank
+    (vertices, triangles) and its cutting edges as helical line segments. An end mill has four edges, a slot
+    drill two; a ball-nose mill a round tip, a drill a point."""
+    r, flute, length = shape["diameter"] / 2, shape["flute"], max(shape["length"], shape["flute"])
+    n = FLUTES.get(shape["kind"], 2)
+    tip = r if shape["kind"] == "ball_nose" else 0.0
+    zs_cut = np.unique(np.concatenate([np.linspace(0, min(max(tip, r), flute), 9), np.linspace(0, flute, 17)]))
+    theta = np.linspace(0, 2 * np.pi, around, endpoint=False)
+
+    def rings(zs: np.ndarray, gullets: bool) -> tuple[np.ndarray, np.ndarray]:
+        env = _envelope(shape, zs)[:, None]
+        phase = theta[None, :] - (zs[:, None] / max(r, 1e-6)) * np.tan(HELIX)
+        depth = 0.16 * np.clip(np.cos(n * phase), 0, None) ** 3 if gullets else 0.0
+        radius = np.broadcast_to(env * (1 - depth), (len(zs), around))
+        pts = np.stack([radius * np.cos(theta), radius * np.sin(theta), np.broadcast_to(zs[:, None], radius.shape)], -1)
+        vertices = np.vstack([pts.reshape(-1, 3), [[0, 0, zs[0]], [0, 0, zs[-1]]]])
+        k, m = len(zs), around
+        tris = []
+        for i in range(k - 1):
+            for j in range(m):
+                a, b = i * m + j, i * m + (j + 1) % m
+                tris += [(a, b, b + m), (a, b + m, a + m)]
+        bottom, top = k * m, k * m + 1
+        tris += [(bottom, (j + 1) % m, j) for j in range(m)]
+        tris += [(top, (k - 1) * m + j, (k - 1) * m + (j + 1) % m) for j in range(m)]
+        return vertices.astype(np.float32), np.asarray(tris, dtype=np.uint32)
+
+    cut_v, cut_t = rings(zs_cut, True)
+    shank_v, shank_t = rings(np.array([flute, length]), False)
+    zs = np.linspace(0, flute, 25)
+    env = _envelope(shape, zs) * 1.005
+    edges = []
+    for e in range(n):
+        angle = 2 * np.pi * e / n + (zs / max(r, 1e-6)) * np.tan(HELIX)
+        pts = np.stack([env * np.cos(angle), env * np.sin(angle), zs], -1)
+        edges += list(itertools.pairwise(pts))
+    return cut_v, cut_t, shank_v, shank_t, np.asarray(edges, dtype=np.float32).reshape(-1, 2, 3)
+
+
+def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) -> None:
+    """The tool, upright on its tip at `tip` (mm): built when its shape changes, else only moved. (viser's
+    meshes are given in scene coordinates, Z up: nothing needs turning.)"""
+    if shape is None:  # no tool table entry: a plain cylinder of the tool's radius
+        shape = {"kind": "end_mill", "diameter": 2 * scene.tool_radius, "flute": 4 * scene.tool_radius,
+                 "length": 4 * scene.tool_radius + 40, "shank": 2 * scene.tool_radius, "corner": 0.0, "angle": 0.0}
+    key = tuple(sorted(shape.items()))
+    s = scene.server.scene
+    position = (tip[0] * M, tip[1] * M, tip[2] * M)
+    if key != scene.tool_key:
+        cut_v, cut_t, shank_v, shank_t, edges = tool_mesh(shape)
+        scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
+        s.add_mesh_simple("/tool/cutter", cut_v * M, cut_t, color=TOOL_COLOUR, flat_shading=False,
+                          cast_shadow=False, receive_shadow=False)
+        s.add_mesh_simple("/tool/shank", shank_v * M, shank_t, color=SHANK_COLOUR, cast_shadow=False,
+                          receive_shadow=False)
+        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=2.0, thickness_units="screen")
+        scene.tool_key = key
+    else:
+        scene.nodes["tool"].position = position
+
+
+# -- the camera and the layers ------------------------------------------------------------------------------
+def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
+    """The part's box in mm: the stock, else the cutting moves, else the whole path."""
     if data.get("stock") is not None:
         pts = np.vstack([vertices for _, vertices, _ in data["stock"]["coarse"].values()])
     elif len(data["feed"]):
         pts = data["feed"].reshape(-1, 3)
+    elif len(data["segments"]):
+        pts = data["segments"].reshape(-1, 3)
     else:
-        return
-    lo, hi = pts.min(axis=0) * M, pts.max(axis=0) * M
+        return None
+    return pts.min(axis=0).astype(np.float64), pts.max(axis=0).astype(np.float64)
+
+
+def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
+               fov: float = np.radians(50)) -> tuple[np.ndarray, np.ndarray]:
+    """Eye and target (mm) so that the box is centred and fills the view: the distance at which the box's
+    farthest-out corner just fits, in width and in height, with a small margin."""
+    lo, hi = bounds
     centre = (lo + hi) / 2
-    size = float(max(hi - lo)) or 0.1
-    eye = centre + np.array([0.9, -1.3, 1.1]) * size
+    back = np.asarray(_VIEW_DIRECTIONS.get(view, _VIEW_DIRECTIONS["iso"]), dtype=np.float64)
+    back /= np.linalg.norm(back)
+    right = np.cross(np.array([0.0, 0.0, 1.0]), back)
+    right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0.0, 0.0])
+    up = np.cross(back, right)
+    tan_v = np.tan(fov / 2)
+    tan_h = tan_v * max(aspect, 0.2)
+    need = 0.0
+    for corner in np.array(np.meshgrid(*zip(lo, hi, strict=True))).T.reshape(-1, 3):
+        p = corner - centre
+        x, y, z = float(p @ right), float(p @ up), float(p @ back)
+        need = max(need, max(abs(x) / tan_h, abs(y) / tan_v) + z)
+    distance = max(need * 1.06, 1.0)
+    return centre + back * distance, centre
+
+
+def _look(scene: Scene, view: str) -> None:
+    """Point the camera (of the connected browsers, and of any that connect later) at the part."""
+    if scene.bounds is None:
+        return
+    fov = float(scene.server.initial_camera.fov)
+    eye, target = camera_for(scene.bounds, view, scene.aspect, fov)
+    eye_m, target_m = tuple(float(v) for v in eye * M), tuple(float(v) for v in target * M)
+    size = float(np.linalg.norm(scene.bounds[1] - scene.bounds[0])) * M or 0.1
     camera = scene.server.initial_camera
-    camera.position, camera.look_at = tuple(eye), tuple(centre)
-    camera.near, camera.far = size / 100, size * 100
+    camera.position, camera.look_at = eye_m, target_m
+    camera.near, camera.far = size / 200, size * 50
     for client in scene.server.get_clients().values():
-        client.camera.position, client.camera.look_at = tuple(eye), tuple(centre)
+        with contextlib.suppress(Exception):  # a browser that has not yet told its camera
+            client.camera.position, client.camera.look_at = eye_m, target_m
     scene.framed = True
+    scene.view = view
+
+
+def set_view(scene: Scene, view: str, aspect: float | None = None) -> None:
+    """Top, front, iso, or reset (the iso view again, after the trainee turned the part)."""
+    with scene.lock:
+        if aspect:
+            scene.aspect = float(min(max(aspect, 0.2), 5.0))
+        _look(scene, "iso" if view == "reset" else view)
+
+
+def set_layers(scene: Scene, layers: dict[str, bool]) -> dict[str, bool]:
+    """Show or hide rapid moves, feed moves, the programmed contour, the stock."""
+    with scene.lock, scene.server.atomic():
+        for name, on in layers.items():
+            if name not in LAYERS:
+                continue
+            scene.layers[name] = bool(on)
+            handle = scene.nodes.get(name)
+            if handle is not None:
+                handle.visible = bool(on)
+        return dict(scene.layers)
 
 
 def playhead(scene: Scene, index: int) -> int | None:
@@ -249,7 +521,9 @@ def playhead(scene: Scene, index: int) -> int | None:
             s.remove_by_name("/deviation")  # it belongs to the finished part
             s.add_line_segments("/playback/current", seg[None, :, :] * M, CURRENT_COLOUR, thickness=5.0,
                                 thickness_units="screen")
-            _tool(scene, tuple(float(v) for v in seg[1]))
+            number = scene.segment_tools[index] if index < len(scene.segment_tools) else None
+            _tool(scene, scene.tools.get(number) if number is not None else None,
+                  tuple(float(v) for v in seg[1]))
         return scene.lines[index] if index < len(scene.lines) else None
 
 
@@ -299,3 +573,51 @@ async def bridge(browser: Any, port: int, subprotocol: str) -> None:
         for t in done:
             with contextlib.suppress(Exception):
                 t.result()
+
+
+def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
+    """The stock after a program, seen from above (PNG, darker = deeper): what the page shows while the 3D
+    view is off. Runs in a worker process."""
+    from core.pipeline import run
+    from core.sim import DEFAULT_SIM_TOOLS, Stock, depth_png, simulate
+    from server.workers import make_setup
+
+    setup = make_setup(spec, DEFAULT_SIM_TOOLS)
+    lo, hi = spec["stock"]["min"], spec["stock"]["max"]
+    result = simulate(run(text, dialect, setup), Stock(*lo, *hi), setup.tools, spec["resolution"])
+    return depth_png(result.heightmap, max_pixels=480)
+
+
+def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """What the 3D view shows (server/workers.py: job_scene) and, per segment, the tool that cuts it with
+    its shape from the tool table. Runs in a worker process."""
+    from core.pipeline import run
+    from server.workers import job_scene, make_setup
+
+    data = job_scene(text, dialect, spec)
+    if "segment_tools" not in data:
+        setup = make_setup(spec)
+        tools = [m.tool for m in run(text, dialect, setup).moves]
+        data["segment_tools"] = [tools[k] if k < len(tools) else None for k in data["moves"]]
+        data["tools"] = {n: tool_shape(t) for n in set(data["segment_tools"])
+                         if n is not None and (t := setup.tools.get(n)) is not None}
+    return data
+
+
+def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
+    """Where a program's part leaves the exercise's tolerance band: the cells' surface points (mm) where too
+    much material was removed and where too much is left, the volumes (mm³, as the geometry criterion counts
+    them) and the largest deviation (mm). Runs in a worker process."""
+    from core.grading import deviation
+    from server.workers import exercise_document
+
+    exercise = exercise_document(spec)
+    if exercise is None:
+        none = np.zeros((0, 3), np.float32)
+        return {"too_much": none, "too_little": none, "cell": 0.0, "too_much_mm3": 0.0, "too_little_mm3": 0.0,
+                "largest_mm": 0.0}
+    d = deviation(exercise, text)
+    area = d.part.grid.dx * d.part.grid.dy
+    return {"too_much": d.points("over"), "too_little": d.points("left"), "cell": d.part.grid.dx,
+            "too_much_mm3": float(d.over.sum()) * area, "too_little_mm3": float(d.left.sum()) * area,
+            "largest_mm": float(max(d.over.max(initial=0.0), d.left.max(initial=0.0)))}

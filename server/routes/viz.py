@@ -1,30 +1,56 @@
-"""The 3D view's routes: a token for a session's scene, the scene's content, the playhead, and the
-viser client with its WebSocket bridge under /viz/{token} (one public port)."""
+"""The 3D view's routes: a token for a session's scene, the scene's content, the playhead, the camera views and
+layers, the picture of the current state, and the viser client with its WebSocket bridge under /viz/{token}
+(one public port).
+
+A token names its scene and its creator: the user (or API key), or for an anonymous browser the 3D cookie it
+was given with the token. Only the creator may drive or open the scene (403 VIZ_FOREIGN otherwise). Every
+route that starts work is rate-limited per user or address; live scenes are capped (server/viz.py)."""
 
 from __future__ import annotations
 
 import asyncio
 import logging
-from typing import Any
+import re
+import secrets
+from typing import Any, Literal
 
-from fastapi import APIRouter, Request, WebSocket
-from fastapi.responses import Response
+from fastapi import APIRouter, Depends, Request, Response, WebSocket
 from pydantic import BaseModel, Field
 from starlette.concurrency import run_in_threadpool
 
 from server import services, viz
-from server.deps import AppSettings, AppWorkers, DbSession, PracticePrincipal
+from server.config import Settings
+from server.db import Database
+from server.deps import (
+    ANONYMOUS,
+    SESSION_COOKIE,
+    AppSettings,
+    AppWorkers,
+    DbSession,
+    OptionalPrincipal,
+    PracticePrincipal,
+    Principal,
+    client_address,
+    rate_limit,
+    resolve,
+)
 from server.errors import ApiError, responses
 from server.schemas import ProgramRequest, SimulateRequest
-from server.workers import job_deviation, job_scene, job_stock_after
+from server.workers import job_stock_after
 
 log = logging.getLogger("paltrainer.server")
 router = APIRouter(prefix="/viz", tags=["3d view"])
 pages = APIRouter(include_in_schema=False)
 
+NEW_LIMIT = [Depends(rate_limit("viz", "rate_viz_per_minute"))]
+SCENE_LIMIT = [Depends(rate_limit("viz-scene", "rate_viz_scene_per_minute"))]
+STEP_LIMIT = [Depends(rate_limit("viz-step", "rate_viz_playhead_per_minute"))]
+PICTURE_LIMIT = [Depends(rate_limit("picture", "rate_picture_per_minute"))]
+_COOKIE_VALUE = re.compile(r"^[A-Za-z0-9_-]{16,64}$")
+
 
 class VizSession(BaseModel):
-    token: str = Field(description="Signed, short-lived; names this browser session's scene")
+    token: str = Field(description="Signed, short-lived; names this browser session's scene and its creator")
     url: str = Field(description="The page to embed (an iframe)")
 
 
@@ -41,32 +67,79 @@ class Playhead(BaseModel):
     index: int = Field(ge=0)
 
 
-def _scenes(request: Request) -> viz.Scenes:
+class View(BaseModel):
+    view: Literal["iso", "top", "front", "reset"] = Field(description="reset: the iso view again")
+    aspect: float | None = Field(default=None, gt=0, le=10, description="The view's width / height in pixels")
+
+
+class Layers(BaseModel):
+    rapid: bool | None = None
+    feed: bool | None = None
+    contour: bool | None = Field(default=None, description="The programmed contour (under G41/G42)")
+    stock: bool | None = None
+
+
+class Deviation(BaseModel):
+    too_much: int = Field(description="Cells where too much material was removed (shown red)")
+    too_little: int = Field(description="Cells where too much material is left (shown blue)")
+    too_much_mm3: float = Field(description="Volume removed that must stay, mm³ (beyond the tolerance band)")
+    too_little_mm3: float = Field(description="Volume left standing that must go, mm³")
+    largest_mm: float = Field(description="The largest deviation beyond the tolerance band, mm")
+
+
+def _scenes(request: Request | WebSocket) -> viz.Scenes:
     scenes: viz.Scenes = request.app.state.scenes
     return scenes
 
 
-def _scene(request: Request, token: str) -> viz.Scene:
-    sid = _scenes(request).sid_of(token)
-    if sid is None:
+def _who(principal: Principal, cookie: str | None) -> str:
+    """Who is asking, as tokens name their creators."""
+    if principal.user is not None:
+        return f"user:{principal.user.id}"
+    if principal.api_key is not None:
+        return f"key:{principal.api_key.prefix}"
+    return f"anon:{cookie}" if cookie and _COOKIE_VALUE.match(cookie) else "anon:-"
+
+
+def _ticket(scenes: viz.Scenes, token: str, who: str) -> viz.Ticket:
+    ticket = scenes.ticket(token)
+    if ticket is None:
         raise ApiError("BAD_TOKEN")
-    return _scenes(request).scene(sid)
+    if ticket.owner != who or who == "anon:-":
+        raise ApiError("VIZ_FOREIGN")
+    return ticket
 
 
-@router.post("", response_model=VizSession, status_code=201, responses=responses(401))
-def new_session(request: Request, _: PracticePrincipal) -> VizSession:
-    token = _scenes(request).new_token()
+def _scene(request: Request, token: str, principal: Principal) -> viz.Scene:
+    ticket = _ticket(_scenes(request), token, _who(principal, request.cookies.get(viz.VIZ_COOKIE)))
+    return _scenes(request).scene(ticket)
+
+
+@router.post("", response_model=VizSession, status_code=201, responses=responses(401, 429), dependencies=NEW_LIMIT)
+def new_session(request: Request, response: Response, settings: AppSettings, principal: PracticePrincipal) -> VizSession:
+    """A token for a new scene of this user, key or (anonymous) browser; an anonymous browser gets its 3D
+    cookie with it (HttpOnly), which its later calls must carry."""
+    cookie = request.cookies.get(viz.VIZ_COOKIE)
+    if principal is ANONYMOUS and (not cookie or not _COOKIE_VALUE.match(cookie)):
+        cookie = secrets.token_urlsafe(24)
+    if principal is ANONYMOUS:
+        response.set_cookie(viz.VIZ_COOKIE, cookie or "", httponly=True, samesite="strict",
+                            secure=settings.cookie_secure, path="/")
+    owner = _who(principal, cookie)
+    quota = f"ip:{client_address(request)}" if principal is ANONYMOUS else owner
+    token = _scenes(request).new_token(owner, quota)
     return VizSession(token=token, url=f"/viz/{token}/")
 
 
-@router.post("/{token}/scene", response_model=SceneResult, responses=responses(401, 404, 413, 422, 503))
+@router.post("/{token}/scene", response_model=SceneResult, responses=responses(401, 403, 404, 413, 422, 429, 503),
+             dependencies=SCENE_LIMIT)
 async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
-                    workers: AppWorkers, _: PracticePrincipal) -> SceneResult:
+                    workers: AppWorkers, principal: PracticePrincipal) -> SceneResult:
     """Run the program (in a worker) and show its toolpath, the stock after it and the tool. The stock: the
     request's, else the exercise's, else the PAL examples' block; `resolution` is the view's own (0.5 mm)."""
-    scene = await run_in_threadpool(_scene, request, token)
+    scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
-    data: dict[str, Any] = await workers.call(job_scene, body.program, body.dialect, spec)
+    data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program = (body.program, body.dialect, spec)
     if data["stock"] is not None:  # the coarse level of detail is out; the fine one follows
@@ -81,11 +154,12 @@ def _log_failure(task: asyncio.Task[Any]) -> None:
         log.error("3D view: the fine stock could not be shown", exc_info=task.exception())
 
 
-@router.post("/{token}/playhead", responses=responses(401))
-async def put_playhead(token: str, body: Playhead, request: Request, workers: AppWorkers) -> dict[str, Any]:
+@router.post("/{token}/playhead", responses=responses(401, 403, 429), dependencies=STEP_LIMIT)
+async def put_playhead(token: str, body: Playhead, request: Request, workers: AppWorkers,
+                       principal: PracticePrincipal) -> dict[str, Any]:
     """Move the tool to the end of toolpath segment `index` and show the stock after its move; answers that
     segment's block line."""
-    scene = await run_in_threadpool(_scene, request, token)
+    scene = await run_in_threadpool(_scene, request, token, principal)
     line = await run_in_threadpool(viz.playhead, scene, body.index)
     if scene.has_stock and scene.program is not None and scene.moves:
         text, dialect, spec = scene.program
@@ -95,42 +169,85 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
     return {"index": body.index, "line": line}
 
 
-class Deviation(BaseModel):
-    too_much: int = Field(description="Cells where too much material was removed (shown red)")
-    too_little: int = Field(description="Cells where too much material is left (shown blue)")
+@router.post("/{token}/view", responses=responses(401, 403, 422, 429), dependencies=STEP_LIMIT)
+async def put_view(token: str, body: View, request: Request, principal: PracticePrincipal) -> dict[str, str]:
+    """Point the camera at the part from above, from the front or from the front right above (iso), the part
+    centred and filling the view."""
+    scene = await run_in_threadpool(_scene, request, token, principal)
+    await run_in_threadpool(viz.set_view, scene, body.view, body.aspect)
+    return {"view": scene.view}
 
 
-@router.post("/{token}/deviation", response_model=Deviation, responses=responses(401, 404, 413, 422, 503))
+@router.post("/{token}/layers", responses=responses(401, 403, 422, 429), dependencies=STEP_LIMIT)
+async def put_layers(token: str, body: Layers, request: Request, principal: PracticePrincipal) -> dict[str, bool]:
+    """Show or hide the rapid moves, the feed moves, the programmed contour and the stock; answers all four."""
+    scene = await run_in_threadpool(_scene, request, token, principal)
+    return await run_in_threadpool(viz.set_layers, scene, body.model_dump(exclude_none=True))
+
+
+@router.post("/{token}/deviation", response_model=Deviation,
+             responses=responses(401, 403, 404, 413, 422, 429, 503), dependencies=SCENE_LIMIT)
 async def put_deviation(token: str, body: ProgramRequest, request: Request, db: DbSession, settings: AppSettings,
-                        workers: AppWorkers, _: PracticePrincipal) -> Deviation:
+                        workers: AppWorkers, principal: PracticePrincipal) -> Deviation:
     """Colour the part of a program for an exercise where it leaves the tolerance band of the reference
-    (after grading: red too much removed, blue too much left)."""
-    scene = await run_in_threadpool(_scene, request, token)
+    (after grading: red too much removed, blue too much left), with the volumes in mm³ and the largest
+    deviation in mm."""
+    scene = await run_in_threadpool(_scene, request, token, principal)
     if body.exercise is None:
         raise ApiError("EXERCISE_REQUIRED")
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
-    data: dict[str, Any] = await workers.call(job_deviation, body.program, spec)
+    data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, spec)
     await run_in_threadpool(viz.show_deviation, scene, data["too_much"], data["too_little"], data["cell"])
-    return Deviation(too_much=len(data["too_much"]), too_little=len(data["too_little"]))
+    return Deviation(too_much=len(data["too_much"]), too_little=len(data["too_little"]),
+                     too_much_mm3=round(data["too_much_mm3"], 2), too_little_mm3=round(data["too_little_mm3"], 2),
+                     largest_mm=round(data["largest_mm"], 3))
+
+
+@router.post("/picture.png", response_class=Response, dependencies=PICTURE_LIMIT, responses={
+    200: {"content": {"image/png": {}}, "description": "The stock after the program, from above (darker = deeper)"},
+    **responses(401, 413, 422, 429, 503)})
+async def picture(body: SimulateRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
+                  _: PracticePrincipal) -> Response:
+    """The stock after the program seen from above, rendered on the server: what the page shows while the 3D
+    view is off (no graphics acceleration). Needs no 3D session."""
+    body.resolution = max(body.resolution, 0.25)  # a picture of at most 480 pixels needs no finer cells
+    spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
+    png: bytes = await workers.call(viz.job_picture_now, body.program, body.dialect, spec)
+    return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
 
 
 @pages.get("/viz/{token}/")
-def viewer(token: str, request: Request) -> Response:
-    if _scenes(request).sid_of(token) is None:
+def viewer(token: str, request: Request, principal: OptionalPrincipal) -> Response:
+    scenes = _scenes(request)
+    ticket = scenes.ticket(token)
+    if ticket is None:
         return Response("Sitzung abgelaufen – bitte die Seite neu laden.", status_code=401, media_type="text/plain")
+    if ticket.owner != _who(principal, request.cookies.get(viz.VIZ_COOKIE)):
+        return Response("Diese 3D-Ansicht gehört zu einer anderen Sitzung.", status_code=403, media_type="text/plain")
+    scenes.scene(ticket)
     return Response(viz.viser_page(), media_type="text/html", headers={"Cache-Control": "no-cache"})
+
+
+def _ws_who(database: Database, settings: Settings, ws: WebSocket) -> str | None:
+    try:
+        with database.session() as db:
+            principal = resolve(db, settings, None, None, ws.cookies.get(SESSION_COOKIE))
+    except ApiError:
+        return None
+    return _who(principal, ws.cookies.get(viz.VIZ_COOKIE))
 
 
 @pages.websocket("/viz/{token}")
 @pages.websocket("/viz/{token}/")
 async def viewer_socket(ws: WebSocket, token: str) -> None:
-    scenes: viz.Scenes = ws.app.state.scenes
-    sid = scenes.sid_of(token)
+    scenes = _scenes(ws)
+    ticket = scenes.ticket(token)
     offered = [p.strip() for p in ws.headers.get("sec-websocket-protocol", "").split(",") if p.strip()]
     protocol = next((p for p in offered if p.startswith("viser-v")), None)
-    if sid is None or protocol is None:
+    who = await run_in_threadpool(_ws_who, ws.app.state.db, ws.app.state.settings, ws) if ticket else None
+    if ticket is None or protocol is None or who != ticket.owner:
         await ws.close(code=4403)
         return
-    scene = await run_in_threadpool(scenes.scene, sid)
+    scene = await run_in_threadpool(scenes.scene, ticket)
     await ws.accept(subprotocol=protocol)
     await viz.bridge(ws, scene.port, protocol)

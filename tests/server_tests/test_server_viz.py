@@ -38,7 +38,7 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     slug = unique("viz-")
     assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
                            headers=auth(owner)).status_code == 201
-    token = api.client.post("/api/v1/viz").json()["token"]
+    token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
     program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
     r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": program, "exercise": slug},
                         headers=auth(student))
@@ -46,7 +46,9 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     states = r.json()["states"]
     assert states["8"]["compensation"] == "G41" and states["8"]["tool"] == 1 and states["8"]["feed"] == 150
     scenes: viz.Scenes = api.app.state.scenes
-    scene = scenes.scene(scenes.sid_of(token) or "")
+    ticket = scenes.ticket(token)
+    assert ticket is not None
+    scene = scenes.scene(ticket)
     assert scene.segments is not None and len(scene.segments) == r.json()["segments"]
     assert scene.has_stock  # the stock as cut by the program is in the scene
     # playing: the stock after the current block (the first moves are rapids above the part: uncut)
@@ -67,7 +69,7 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     changed = {key for key in uncut if uncut[key][0] != cut[key][0]}
     assert len(uncut) == 16 and 0 < len(changed) < len(uncut)
     assert "3_1" not in changed  # the back left corner (Y 60–70, X 20–40) is never cut
-    r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0})
+    r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}, headers=auth(student))
     assert r.status_code == 200
     assert scene.tiles == {key: digest for key, (digest, _, _) in uncut.items()}  # the stock after the first move
 
@@ -77,17 +79,29 @@ def test_deviation_colours_where_the_part_leaves_the_band(api: Api) -> None:
     slug = unique("dev-")
     assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
                            headers=auth(owner)).status_code == 201
-    token = api.client.post("/api/v1/viz").json()["token"]
+    token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
     program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
     r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": program, "exercise": slug},
                         headers=auth(student))
-    assert r.status_code == 200 and r.json() == {"too_much": 0, "too_little": 0}
+    assert r.status_code == 200 and r.json() == {"too_much": 0, "too_little": 0, "too_much_mm3": 0,
+                                                 "too_little_mm3": 0, "largest_mm": 0}
     too_deep = program.replace("N50 G0 Z-2", "N50 G0 Z-3")
     r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": too_deep, "exercise": slug},
                         headers=auth(student))
     assert r.status_code == 200 and r.json()["too_much"] > 100 and r.json()["too_little"] == 0
+    # in mm³ and mm, not in grid cells: the step is 1 mm too deep (0.95 beyond the 0.05 mm band) over its area
+    gouge = r.json()
+    assert gouge["largest_mm"] == pytest.approx(0.95, abs=0.01)
+    from core.exercises import parse_exercise
+    from core.grading import grade
+
+    graded = grade(parse_exercise(exercise_file(slug)), too_deep).to_json("instructor")
+    geometry = next(c for c in graded["criteria"] if c["id"] == "geometry")
+    assert f"{gouge['too_much_mm3']:.1f} mm³" in geometry["message"]  # the volume the score names
     scenes: viz.Scenes = api.app.state.scenes
-    scene = scenes.scene(scenes.sid_of(token) or "")
+    ticket = scenes.ticket(token)
+    assert ticket is not None
+    scene = scenes.scene(ticket)
     assert scene.server.scene._handle_from_node_name.get("/deviation/too_much") is not None
     not_deep_enough = program.replace("N50 G0 Z-2", "N50 G0 Z-1")
     r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": not_deep_enough, "exercise": slug},
