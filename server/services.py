@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import csv
-import io
 from typing import Any
 
 from sqlalchemy.orm import Session
@@ -14,6 +12,7 @@ from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
 from server.errors import ApiError
+from server.export import csv_text
 from server.models import ApiKey, Exercise, Submission, User
 from server.schemas import (
     ApiKeyCreated,
@@ -405,11 +404,8 @@ CSV_COLUMNS = ("id", "exercise", "user", "external_user", "created_at", "error_c
 def submissions_csv(db: Session, principal: Principal, exercise: str | None) -> str:
     if not principal.is_instructor():
         raise ApiError("FORBIDDEN")
-    out = io.StringIO()
-    w = csv.writer(out)
-    w.writerow(CSV_COLUMNS)
-    for s, e, u in visible_submissions(db, principal, exercise):
-        w.writerow([s.id, e.slug, u.username if u else "", s.external_user or "", utc(s.created_at).isoformat(),
-                    s.error_count, s.warning_count, s.result["summary"]["moves"],
-                    s.grading["score"] if s.grading else "", s.grading["max_score"] if s.grading else ""])
-    return out.getvalue()
+    return csv_text(CSV_COLUMNS, (
+        [s.id, e.slug, u.username if u else "", s.external_user or "", utc(s.created_at).isoformat(),
+         s.error_count, s.warning_count, s.result["summary"]["moves"],
+         s.grading["score"] if s.grading else "", s.grading["max_score"] if s.grading else ""]
+        for s, e, u in visible_submissions(db, principal, exercise)))

@@ -4,12 +4,14 @@ the score. Screenshots go to the test's output folder (PALTRAINER_SCREENSHOTS, e
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import socket
 import subprocess
 import sys
 import time
+import urllib.parse
 import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
@@ -235,4 +237,40 @@ def test_instructor_uploads_an_exercise_and_filters_submissions(server: str, bro
     shot(page, "instructor-upload", tmp_path)
     page.select_option("#filter", "lehrer-kreisbogen")
     page.wait_for_function("document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')")
+    page.close()
+
+
+def test_instructor_page_names_the_learner_of_a_platform_submission(server: str, browser: object) -> None:
+    """A learning platform submits through an instructor's key for its learner: the page shows the learner."""
+    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
+    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "lehrerin", "--role", "instructor",
+                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+
+    def call(path: str, body: dict[str, object], headers: dict[str, str]) -> dict[str, object]:
+        request = urllib.request.Request(f"{server}/api/v1{path}", data=json.dumps(body).encode(), method="POST",
+                                         headers={"Content-Type": "application/json", **headers})
+        with urllib.request.urlopen(request, timeout=30) as r:
+            answer: dict[str, object] = json.loads(r.read())
+            return answer
+
+    login = call("/auth/login", {"username": "lehrerin", "password": PASSWORD}, {})
+    assert login["username"] == "lehrerin"
+    form = urllib.parse.urlencode({"username": "lehrerin", "password": PASSWORD}).encode()
+    with urllib.request.urlopen(urllib.request.Request(f"{server}/api/v1/auth/token", data=form), timeout=30) as r:
+        bearer = {"Authorization": f"Bearer {json.loads(r.read())['access_token']}"}
+    program = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X0 Y0 Z2\nN40 G1 Z-2\nN50 G1 X20\nN60 G0 Z50 M30\n"
+    call("/exercises", {"slug": "moodle-nut", "title_de": "Nut", "reference_program": program}, bearer)
+    key = call("/api-keys", {"name": "Moodle", "scopes": ["submissions:write"]}, bearer)["key"]
+    call("/submissions", {"exercise": "moodle-nut", "program": program, "external_user": "moodle-learner-9"},
+         {"X-API-Key": str(key)})
+    page = browser.new_page()  # type: ignore[attr-defined]
+    page.goto(f"{server}/login?next=/instructor")
+    page.fill("input[name=username]", "lehrerin")
+    page.fill("input[name=password]", PASSWORD)
+    page.click("button[type=submit]")
+    page.wait_for_url("**/instructor")
+    page.wait_for_selector("#filter")
+    page.select_option("#filter", "moodle-nut")
+    page.wait_for_selector("#submission-list tbody tr")
+    assert page.inner_text("#submission-list tbody tr td:nth-child(3)") == "moodle-learner-9"  # not the key's owner
     page.close()
