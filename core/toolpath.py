@@ -59,16 +59,27 @@ class Move:
     def line(self) -> int:
         return self.span.line
 
-    def points(self, tolerance: float) -> list[Vec3]:
-        """Points along the move from start to end; an arc as chords that stray at most `tolerance` mm."""
+    def chords(self, tolerance: float) -> int:
+        """How many segments `points(tolerance)` makes: 1 for a straight move. Computed, not drawn, so that a
+        consumer can keep within a budget before it builds a point."""
+        if self.kind != "arc" or self.radius is None or self.angle is None:
+            return 1
+        r = self.radius
+        step = 2 * math.acos(max(-1.0, min(1.0, 1 - tolerance / r))) if r > tolerance else math.pi / 2
+        return max(1, math.ceil(math.radians(self.angle) / max(step, 1e-6)))
+
+    def points(self, tolerance: float, max_chords: int | None = None) -> list[Vec3]:
+        """Points along the move from start to end; an arc as chords that stray at most `tolerance` mm
+        (or as `max_chords` equal chords where that tolerance would need more)."""
         if self.kind != "arc" or self.center is None or self.radius is None or self.angle is None:
             return [self.start, self.end]
         from core.geometry.planes import from_plane, to_plane
 
         s, e, c = (to_plane(p, self.plane) for p in (self.start, self.end, self.center))
         r = self.radius
-        step = 2 * math.acos(max(-1.0, min(1.0, 1 - tolerance / r))) if r > tolerance else math.pi / 2
-        n = max(1, math.ceil(math.radians(self.angle) / max(step, 1e-6)))
+        n = self.chords(tolerance)
+        if max_chords is not None:
+            n = max(1, min(n, max_chords))
         a0 = math.atan2(s[1] - c[1], s[0] - c[0])
         sweep = math.radians(self.angle) * (-1 if self.direction == "cw" else 1)
         pts = [from_plane((c[0] + r * math.cos(a0 + sweep * k / n), c[1] + r * math.sin(a0 + sweep * k / n),

@@ -191,8 +191,8 @@ class _Run:
     def all(self, toolpath: Toolpath, expected: Mapping[int, float]) -> None:
         for c in toolpath.commands:
             if isinstance(c, Move) and c.kind == "arc" and c.plane != "G17":
-                # arcs in the planes G18/G19 (ISO, Beckhoff) as chords within a quarter cell
-                pts = c.points(self.grid.dx / 4)
+                # arcs in the planes G18/G19 (ISO, Beckhoff) as chords within a quarter cell, at most max_pieces
+                pts = c.points(self.grid.dx / 4, max_chords=self.limits.max_pieces)
                 for a, b in itertools.pairwise(pts):
                     self.move(dataclasses.replace(c, kind="feed", start=a, end=b, center=None, direction=None,
                                                   radius=None, angle=None))
