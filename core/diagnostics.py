@@ -7,6 +7,7 @@ dialect prefix tells the default severity: E error, W warning, I info.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
@@ -64,6 +65,21 @@ CATALOGUE: dict[str, Entry] = {
                       "Expression is nested too deeply (at most {limit} levels)."),
     "PAL-E015": Entry(E, "Wert {value} bei {address} liegt außerhalb des zulässigen Bereichs ±{limit}.",
                       "Value {value} of {address} is outside the allowed range ±{limit}."),
+    "PAL-E016": Entry(E, "Das Programm rechnet zu viel: mehr als {limit} Rechenschritte (Wörter, Rechenterme und "
+                         "Meldungen der ausgeführten Sätze); es wird hier abgebrochen (Endlosschleife?).",
+                      "The program computes too much: more than {limit} evaluation steps (words, terms and "
+                      "diagnostics of the executed blocks); it is stopped here (endless loop?)."),
+    "PAL-E017": Entry(E, "Das Programm erzeugt mehr als {limit} Verfahrbewegungen; es wird hier abgebrochen "
+                         "(Endlosschleife?).",
+                      "The program makes more than {limit} moves; it is stopped here (endless loop?)."),
+    "PAL-I018": Entry(I, "Werkzeugweg gekürzt: gezeigt werden die ersten {shown} von {total} Befehlen "
+                         "(Bewegungen, Verweilzeiten, Werkzeugwechsel), ab hier nicht mehr.",
+                      "Toolpath shortened: the first {shown} of {total} commands (moves, dwells, tool changes) "
+                      "are shown, none from here on."),
+    "PAL-I019": Entry(I, "Darstellung gekürzt: der Werkzeugweg wird mit höchstens {limit} Strecken gezeichnet "
+                         "(Kreisbögen als Sehnen); ab hier wird er nicht mehr gezeichnet.",
+                      "Drawing shortened: the toolpath is drawn with at most {limit} segments (arcs as chords); "
+                      "from here on it is not drawn."),
     # --- block structure ------------------------------------------------------------------
     "PAL-E101": Entry(E, "Adresse {address} ist mit {command} nicht erlaubt.",
                       "Address {address} is not allowed with {command}."),
@@ -172,6 +188,8 @@ CATALOGUE: dict[str, Entry] = {
     "PAL-E308": Entry(E, "M6 ohne vorgewähltes Werkzeug T.", "M6 without a preselected tool T."),
     "PAL-E309": Entry(E, "Zoll-Maßangabe G70 wird nicht unterstützt; PAL arbeitet in Millimetern (G71).",
                       "Inch dimensions G70 are not supported; PAL works in millimetres (G71)."),
+    "PAL-I301": Entry(I, "{what} auch in {count} weiteren Sätzen: Zeile {lines}.",
+                      "{what_en} also in {count} more blocks: line {lines}."),
     # --- simulation ------------------------------------------------------------------------
     "SIM-E001": Entry(E, "Eilgang ins Material: {volume} mm³ werden im Eilgang abgetragen (Kollision).",
                       "Rapid move into the material: {volume} mm³ removed at rapid traverse (collision)."),
@@ -283,6 +301,81 @@ CATALOGUE: dict[str, Entry] = {
     "TX-W105": Entry(W, "Durchmesser 0 bei G96: die Drehzahl ist nur durch {limit} begrenzt (G92 S… "
                         "programmieren).",
                      "Diameter 0 under G96: the speed is limited only by {limit} (program G92 S…)."),
+    # --- TRAUB TX 8 D turning: contour trains and nose-radius compensation (TX-x2xx) ------------
+    "TX-E201": Entry(E, "Geometriezug ohne Lösung: {reason}.", "Contour train has no solution: {reason_en}."),
+    "TX-E202": Entry(E, "Kreisbogen-Radius R{radius} ist zu klein: der halbe Abstand von Start- und Endpunkt "
+                        "beträgt {chord} mm.",
+                     "Arc radius R{radius} is too small: half the distance from start to end point is {chord} mm."),
+    "TX-E203": Entry(E, "Kreisbogen mit R überstreicht 180° oder mehr; dafür den Mittelpunkt mit P, Q oder I, K "
+                        "angeben.",
+                     "Arc with R sweeps 180° or more; give the centre with P, Q or I, K instead."),
+    "TX-E204": Entry(E, "Kreisbogen ohne Radius R und ohne Mittelpunkt (P, Q oder I, K).",
+                     "Arc without radius R and without a centre (P, Q or I, K)."),
+    "TX-E205": Entry(E, "Kreisendpunktfehler: Start- und Endpunkt sind {start_radius} mm und {end_radius} mm vom "
+                        "Mittelpunkt entfernt (Differenz {difference} mm).",
+                     "Arc end point error: start and end point are {start_radius} mm and {end_radius} mm from the "
+                     "centre (difference {difference} mm)."),
+    "TX-E206": Entry(E, "Auf einen unbekannten Punkt muss im nächsten Satz ein bekannter Punkt X, Z (bei einer "
+                        "Geraden mit Winkel A) folgen.",
+                     "An unknown point must be followed in the next block by a known point X, Z (with angle A for "
+                     "a line)."),
+    "TX-E207": Entry(E, "Gerade und Kreisbogen schneiden sich zweimal: H0 (näherer Schnittpunkt) oder H1 angeben.",
+                     "Line and arc intersect twice: give H0 (the nearer intersection) or H1."),
+    "TX-E208": Entry(E, "Kreisbogen im Geometriezug braucht den Radius R (tangentialer Übergang) oder den "
+                        "Mittelpunkt P, Q; I, K bezieht sich auf einen unbekannten Startpunkt.",
+                     "An arc in a contour train needs radius R (tangential transition) or centre P, Q; I, K refer "
+                     "to an unknown start point."),
+    "TX-E209": Entry(E, "Kreisbogen – Kreisbogen: die Bögen müssen gegenläufig sein (G2/G3) und einer braucht den "
+                        "Mittelpunkt P, Q.",
+                     "Arc – arc: the arcs must turn in opposite senses (G2/G3) and one needs its centre P, Q."),
+    "TX-E210": Entry(E, "Nach dem Übergangselement {element} muss ein G1-, G2- oder G3-Satz folgen "
+                        "(Richtungserkennung).",
+                     "The transition element {element} must be followed by a G1, G2 or G3 block (direction)."),
+    "TX-E211": Entry(E, "Übergangselement {element} passt nicht zwischen diesen Satz und Zeile {second}: {reason}.",
+                     "Transition element {element} does not fit between this block and line {second}: {reason_en}."),
+    "TX-E212": Entry(E, "G46 braucht die Schneidenlage (Quadrant P1 bis P4) des Werkzeugs aus den Einrichtedaten "
+                        "(P{quadrant}).",
+                     "G46 needs the tool's cutting-edge position (quadrant P1 to P4) from the set-up data "
+                     "(P{quadrant})."),
+    "TX-E213": Entry(E, "Der erste Verfahrsatz nach {command} muss eine Gerade (G0/G1) sein, kein Kreisbogen.",
+                     "The first motion after {command} must be a line (G0/G1), not an arc."),
+    "TX-E214": Entry(E, "Innenbogen mit Radius {radius} mm ist kleiner als der Schneidenradius {nose} mm.",
+                     "Inside arc of radius {radius} mm is smaller than the nose radius {nose} mm."),
+    "TX-E215": Entry(E, "Die Kontur lässt sich an dieser Ecke (bis Zeile {second}) nicht um den Schneidenradius "
+                        "{nose} mm versetzen.",
+                     "The contour cannot be offset by the nose radius {nose} mm at this corner (to line {second})."),
+    "TX-W216": Entry(W, "A{angle} im Eilgangsatz vor G40 weicht von der Richtung {direction}° des letzten "
+                        "Konturelements ab.",
+                     "A{angle} in the rapid block before G40 differs from the direction {direction}° of the last "
+                     "contour element."),
+    "TX-W217": Entry(W, "Der letzte Vorschubsatz vor dem Eilgang endet {length} mm zu früh (Vektor zur "
+                        "Eilgangrichtung, Zeile {second}); im G0 die Richtung A des letzten Elements angeben.",
+                     "The last feed block before the rapid ends {length} mm short (vector towards the rapid, "
+                     "line {second}); give the direction A of the last element in the G0."),
+    "TX-W218": Entry(W, "G40 direkt nach einem Vorschubsatz: dieser Satz zeigt Abwahlverhalten, die Kontur wird "
+                        "verfälscht; vor G40 einen G0 mit A programmieren.",
+                     "G40 straight after a feed block: that block deselects, the contour is falsified; program a "
+                     "G0 with A before G40."),
+    "TX-E219": Entry(E, "Konturschutz: die erste Vorschubbewegung nach der Anwahl ist {length} mm lang, kürzer als "
+                        "der Schneidenradius {nose} mm.",
+                     "Contour protection: the first feed move after selection is {length} mm long, shorter than "
+                     "the nose radius {nose} mm."),
+    "TX-W220": Entry(W, "Satzausblendung: dieser Satz lässt sich mit dem Schneidenradius {nose} mm nicht "
+                        "ausführen.",
+                     "Block suppression: this block cannot be machined with the nose radius {nose} mm."),
+    "TX-E221": Entry(E, "Unmittelbar vor der Abwahl der Schneidenradiuskorrektur darf keine Satzausblendung "
+                        "anstehen.",
+                     "No block suppression may be pending immediately before nose-radius compensation is "
+                     "deselected."),
+    "TX-E222": Entry(E, "Vor der Abwahl muss der Satz nach dem Übergangselement {element} mindestens {need} mm "
+                        "verfahren (Übergangselement + Schneidenradius + 0,01 mm), er verfährt {length} mm.",
+                     "Before deselection the block after the transition element {element} must travel at least "
+                     "{need} mm (element + nose radius + 0.01 mm); it travels {length} mm."),
+    "TX-E223": Entry(E, "Der Verfahrweg nach dem Übergangselement {element} ist {length} mm, mindestens {need} mm "
+                        "nötig (W min = D/R + 0,1 + Schneidenradius).",
+                     "The travel after the transition element {element} is {length} mm, at least {need} mm is "
+                     "needed (W min = D/R + 0.1 + nose radius)."),
+    "TX-W106": Entry(W, "Vorschubbewegung ohne Werkzeugaufruf T.", "Feed motion without a tool call T."),
     # --- TRAUB TX 8 D turning: programs and subprograms (TX-x3xx) ------------------------------
     "TX-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
                      "Program O{number} is neither in this file nor in the library."),
@@ -319,6 +412,7 @@ class Diagnostic:
     message_en: str
     params: dict[str, Any] = field(default_factory=dict, compare=False)
     source: str | None = None
+    follows_from: int | None = None  # a follow-up error: the line of the error it follows from
 
     def to_json(self) -> dict[str, Any]:
         s = self.span
@@ -334,6 +428,8 @@ class Diagnostic:
         }
         if self.source is not None:
             data["source"] = self.source
+        if self.follows_from is not None:
+            data["follows_from"] = self.follows_from
         return data
 
 
@@ -359,6 +455,38 @@ def _fmt(value: Any) -> str:
     return str(value)
 
 
+# Follow-up errors (Folgefehler): what a diagnostic depends on that an earlier error can leave wrong. A block
+# dropped because of an error (a syntax error, or an error that stops its execution) leaves these unknown;
+# a later diagnostic of this code that depends on them says "Folgefehler von Zeile N" and carries
+# follows_from: N, until a block that runs sets them again. Codes not listed are always reported as they are.
+FOLLOW_UPS: dict[str, tuple[str, str, str]] = {
+    # code: (what it depends on, Deutsch, English)
+    **{code: ("position", "der Startpunkt (X, Y, Z)", "the start point (X, Y, Z)")
+       for code in ("PAL-E201", "PAL-E202", "PAL-E206", "PAL-E208", "PAL-E210", "PAL-E214", "PAL-E215",
+                    "PAL-E217", "PAL-E221")},
+    "PAL-E301": ("feed", "der Vorschub F", "the feed F"),
+    "PAL-E302": ("spindle", "das Einschalten der Spindel (M3, M4, M13, M14)", "the spindle start (M3, M4, M13, M14)"),
+    "PAL-E305": ("speed", "die Drehzahl S", "the spindle speed S"),
+    "PAL-E306": ("speed", "die Drehzahl S", "the spindle speed S"),
+    "PAL-E303": ("tool", "der Werkzeugwechsel (T, M6)", "the tool change (T, M6)"),
+    "PAL-E220": ("tool", "der Werkzeugwechsel (T, M6)", "the tool change (T, M6)"),
+    "PAL-E308": ("tool", "der Werkzeugwechsel (T, M6)", "the tool change (T, M6)"),
+    "PAL-E406": ("number", "die Satznummer N des verworfenen Satzes", "the block number N of the dropped block"),
+}
+# the same finding on many feed moves (no feed, spindle stopped, no tool): the first stays, the later ones
+# become one PAL-I301 note that follows from it
+REPEATED = frozenset({"PAL-E301", "PAL-E302", "PAL-E303"})
+
+
+def as_follow_up(d: Diagnostic, line: int) -> Diagnostic:
+    """`d` named as a follow-up of the error in `line`: "… (Folgefehler von Zeile 7)." """
+    def add(text: str, note: str) -> str:
+        return f"{text[:-1]} ({note})." if text.endswith(".") else f"{text} ({note})"
+
+    return dataclasses.replace(d, follows_from=line, message=add(d.message, f"Folgefehler von Zeile {line}"),
+                               message_en=add(d.message_en, f"follows from the error in line {line}"))
+
+
 def has_errors(diagnostics: list[Diagnostic]) -> bool:
     return any(d.severity is Severity.ERROR for d in diagnostics)
 
@@ -371,6 +499,17 @@ def catalogue_markdown() -> str:
             "", "| Code | Severity | Deutsch | English |", "|---|---|---|---|"]
     for code, e in CATALOGUE.items():
         rows.append(f"| {code} | {e.severity.value} | {e.de} | {e.en} |")
+    rows += ["", "## Follow-up errors (Folgefehler)", "",
+             ("When a block is dropped because of an error (a syntax error such as a decimal comma, or an error "
+              "that stops the block), what it would have set is unknown until a later block that runs sets it "
+              "again. A diagnostic of a code below that depends on such a value is a follow-up error: its message "
+              "ends in \"(Folgefehler von Zeile N).\" / \"(follows from the error in line N).\" and its JSON "
+              "carries `follows_from: N`. Every other code is reported as it is. A feed move without feed, with "
+              "the spindle stopped or with no tool (" + ", ".join(sorted(REPEATED)) + ") is reported on the first "
+              "such move; the later ones become one PAL-I301 note that follows from it."),
+             "", "| Code | Depends on | Hängt ab von |", "|---|---|---|"]
+    for code, (_, de, en) in FOLLOW_UPS.items():
+        rows.append(f"| {code} | {en} | {de} |")
     return "\n".join(rows) + "\n"
 
 
