@@ -17,7 +17,7 @@ from pathlib import Path
 from core.diagnostics import Diagnostic, Severity, has_errors
 from core.interpreter.state import RunSetup
 from core.pipeline import DEFAULT_DIALECT, DIALECTS, diagnostics_json, run, toolpath_json
-from core.tools import DEFAULT_TOOLS, Tool, ToolTable
+from core.tools import DEFAULT_TOOLS, Tool, ToolTable, turning_tool
 from core.trace import trace_lines
 
 EXIT_OK, EXIT_ERRORS, EXIT_USAGE = 0, 1, 2
@@ -43,6 +43,22 @@ def _tool_arg(text: str) -> Tool:
     return tool
 
 
+def _nose_arg(text: str) -> Tool:
+    """`T=R:P`: turret station T has a cutting edge of nose radius R mm in quadrant P (DECISIONS §16)."""
+    try:
+        number, rest = text.split("=", 1)
+        radius, quadrant = rest.split(":", 1)
+        tool = turning_tool(int(number), float(radius), int(quadrant))
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"»{text}«: erwartet T=R:P, z. B. 3=0.4:3 (Werkzeug T3, Schneidenradius 0,4 mm, Quadrant 3) "
+            "/ expected T=R:P"
+        ) from None
+    if not 1 <= tool.number <= 99 or not 0 <= tool.nose_radius <= 50 or not 1 <= tool.quadrant <= 4:
+        raise argparse.ArgumentTypeError(f"»{text}«: T 1…99, R 0…50 mm, P 1…4 / T 1…99, R 0…50 mm, P 1…4")
+    return tool
+
+
 def _parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("file", help="NC-Programm / NC program")
@@ -50,10 +66,18 @@ def _parser() -> argparse.ArgumentParser:
                         help=f"Dialekt / dialect (Standard: {DEFAULT_DIALECT})")
     common.add_argument("--tool", action="append", type=_tool_arg, default=[], metavar="N=D",
                         help="Werkzeug N ist ein Schaftfräser mit Durchmesser D mm (mehrfach möglich)")
-    common.add_argument("--skip-blocks", action="store_true",
-                        help="Ausblendsätze (/) überspringen / skip blocks marked with /")
+    defaults = ", ".join(f"{d.name}: {'überspringen' if d.skip_blocks else 'ausführen'}" for d in DIALECTS.values())
+    common.add_argument("--skip-blocks", action=argparse.BooleanOptionalAction, default=None,
+                        help=("Ausblendsätze (/) überspringen bzw. mit --no-skip-blocks ausführen; ohne Angabe "
+                              f"gilt der Standard des Dialekts ({defaults}) / skip or run blocks marked with /; "
+                              "default per dialect: PAL runs them, TRAUB skips them"))
+    common.add_argument("--nose", action="append", type=_nose_arg, default=[], metavar="T=R:P",
+                        help=("Drehen (TRAUB): Werkzeug T hat den Schneidenradius R mm und die Schneidenlage "
+                              "(Quadrant) P 1…4, z. B. 3=0.4:3 (mehrfach möglich) / turning: nose radius and "
+                              "quadrant of tool T"))
     common.add_argument("--lib", metavar="DIR",
-                        help="Unterprogramm-Bibliothek: L<n>.nc in DIR ist Unterprogramm L<n> / subprogram library")
+                        help=("Unterprogramm-Bibliothek: L<n>.nc (PAL) bzw. O<n>.nc (TRAUB) in DIR ist "
+                              "Unterprogramm L<n> bzw. O<n> / subprogram library"))
     common.add_argument("--json", action="store_true", help="Ausgabe als JSON / output as JSON")
     common.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache der Meldungen / language")
 
@@ -95,13 +119,15 @@ def _format(path: str, d: Diagnostic, lang: str) -> str:
 
 def setup_from_args(args: argparse.Namespace, tools: ToolTable = DEFAULT_TOOLS) -> RunSetup:
     """The run set-up the common options describe (--tool, --skip-blocks, --lib)."""
-    for tool in args.tool:
+    for tool in [*args.tool, *getattr(args, "nose", [])]:
         tools = tools.with_tool(tool)
-    return RunSetup(tools=tools, skip_blocks=args.skip_blocks, subprograms=read_library(args.lib))
+    dialect = DIALECTS.get(getattr(args, "dialect", DEFAULT_DIALECT)) or DIALECTS[DEFAULT_DIALECT]
+    return RunSetup(tools=tools, skip_blocks=args.skip_blocks,
+                    subprograms=read_library(args.lib, dialect.library_prefix))
 
 
-def read_library(folder: str | None) -> tuple[tuple[int, str], ...]:
-    """The subprograms of a library folder: file L<n>.nc (any case) is subprogram L<n>."""
+def read_library(folder: str | None, prefix: str = "L") -> tuple[tuple[int, str], ...]:
+    """The subprograms of a library folder: file L<n>.nc (any case) is subprogram L<n> (TRAUB: O<n>.nc)."""
     if folder is None:
         return ()
     path = Path(folder)
@@ -109,7 +135,7 @@ def read_library(folder: str | None) -> tuple[tuple[int, str], ...]:
         raise UsageError(f"Bibliothek »{folder}« ist kein Ordner / library is not a folder")
     found = []
     for f in sorted(path.iterdir()):
-        m = re.fullmatch(r"[lL](\d+)\.nc", f.name, flags=re.IGNORECASE)
+        m = re.fullmatch(re.escape(prefix) + r"(\d+)\.nc", f.name, flags=re.IGNORECASE)
         if m is not None and f.is_file():
             found.append((int(m.group(1)), read_program(str(f))))
     return tuple(found)

@@ -6,21 +6,25 @@ The CLI and the server call these functions; they hold no logic of their own.
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
 
-from core.diagnostics import Diagnostic
+from core.diagnostics import Diagnostic, diag
 from core.dialects.beckhoff import TABLE as BECKHOFF_TABLE
 from core.dialects.beckhoff import VALUED_CODES as BECKHOFF_VALUED
 from core.dialects.codes import CodeTable
 from core.dialects.pal_mill import TABLE as PAL_MILL_TABLE
 from core.dialects.sinumerik_iso import TABLE as ISO_TABLE
+from core.dialects.traub_tx8d import TABLE as TRAUB_TABLE
 from core.interpreter import BlockExecutor, Toolpath, interpret
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
+from core.interpreter.traub_turn import run_program as traub_run
 from core.syntax.blocks import Block, Program
 from core.syntax.parser import parser_for
+from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 
 @dataclass(frozen=True)
@@ -32,6 +36,11 @@ class Dialect:
     table: CodeTable
     execute: BlockExecutor
     valued_codes: frozenset[str] = frozenset()  # codes the grammar takes with a value (G301=20)
+    # a dialect with its own run loop (TRAUB: programs in one file, sections, L parameters) instead of
+    # the shared one with `execute`
+    runner: Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program]], Toolpath] | None = None
+    skip_blocks: bool = False  # the default of the skip switch: True = "/" blocks are not executed
+    library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
 
 
 DIALECTS: dict[str, Dialect] = {
@@ -41,6 +50,8 @@ DIALECTS: dict[str, Dialect] = {
                              "pal_mill", ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE)),
     "beckhoff": Dialect("beckhoff", "Beckhoff TwinCAT CNC", "Beckhoff TwinCAT CNC", "beckhoff", BECKHOFF_TABLE,
                         partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED),
+    "traub-tx8d": Dialect("traub-tx8d", "TRAUB TX 8 D Drehen", "TRAUB TX 8 D turning", "traub", TRAUB_TABLE,
+                          pal_mill_block, runner=traub_run, skip_blocks=True, library_prefix="O"),
 }
 DEFAULT_DIALECT = "pal-mill"
 
@@ -71,10 +82,16 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
     for number, sub_text in setup.subprograms:
         sub, sub_diagnostics = parser.parse_program(sub_text, setup.limits)
         library[number] = sub
-        diagnostics += [dataclasses.replace(x, source=f"L{number}") for x in sub_diagnostics]
-    toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
-                         memo.readings if memo is not None else None)
+        diagnostics += [dataclasses.replace(x, source=f"{d.library_prefix}{number}") for x in sub_diagnostics]
+    if d.runner is not None:
+        if setup.skip_blocks is None:
+            setup = dataclasses.replace(setup, skip_blocks=d.skip_blocks)
+        toolpath = d.runner(program, setup, diagnostics, library)
+    else:
+        toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
+                             memo.readings if memo is not None else None)
     toolpath.diagnostics.sort(key=lambda x: (x.span.line, x.span.column))
+    toolpath.limits = setup.limits
     return toolpath
 
 
@@ -86,8 +103,40 @@ def diagnostics_json(diagnostics: list[Diagnostic]) -> dict[str, Any]:
     return {"diagnostics": [x.to_json() for x in diagnostics]}
 
 
+def summarised(toolpath: Toolpath) -> Toolpath:
+    """The toolpath as an answer shows it (run, live update): its first `max_answer_commands` commands and,
+    where more follow, a PAL-I018 at the first one left out. Simulation and grading take the whole toolpath."""
+    limit = toolpath.limits.max_answer_commands
+    commands = toolpath.commands
+    if len(commands) <= limit:
+        return toolpath
+    kept = commands[:limit]
+    notice = diag("PAL-I018", commands[limit].span, shown=limit, total=len(commands))
+    return dataclasses.replace(
+        toolpath, commands=kept, moves=[c for c in kept if type(c) is Move],
+        dwells=[c for c in kept if type(c) is Dwell], tool_changes=[c for c in kept if type(c) is ToolChange],
+        diagnostics=sorted([*toolpath.diagnostics, notice], key=lambda x: (x.span.line, x.span.column)))
+
+
+def drawing(toolpath: Toolpath, tolerance: float) -> tuple[list[list[Vec3]], Diagnostic | None]:
+    """The moves as polylines for a picture (the 3D view), arcs as chords within `tolerance` mm: those of the
+    first moves whose segments stay within `max_drawn_segments`, and a PAL-I019 at the first move left out.
+    Each move's count is computed before its points are made, so a huge arc costs only what is drawn."""
+    budget = toolpath.limits.max_drawn_segments
+    lines: list[list[Vec3]] = []
+    for m in toolpath.moves:
+        n = m.chords(tolerance)
+        if n > budget:
+            return lines, diag("PAL-I019", m.span, limit=toolpath.limits.max_drawn_segments)
+        budget -= n
+        lines.append(m.points(tolerance))
+    return lines, None
+
+
 def toolpath_json(toolpath: Toolpath) -> dict[str, Any]:
-    """The shape of `paltrainer run --json` and of POST /api/v1/run."""
+    """The shape of `paltrainer run --json` and of POST /api/v1/run: at most `max_answer_commands` commands
+    (see `summarised`)."""
+    toolpath = summarised(toolpath)
     p = toolpath.final_position
     return {
         "moves": [m.to_json() for m in toolpath.moves],

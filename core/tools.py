@@ -5,10 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-ToolKind = Literal["end_mill", "slot_drill", "ball_nose", "torus", "twist_drill", "spot_drill"]
+ToolKind = Literal["end_mill", "slot_drill", "ball_nose", "torus", "twist_drill", "spot_drill", "turning"]
 
 KIND_NAMES_DE = {"end_mill": "Schaftfräser", "slot_drill": "Langlochfräser", "ball_nose": "Radiusfräser",
-                 "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer"}
+                 "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer",
+                 "turning": "Drehmeißel"}
 
 
 @dataclass(frozen=True, slots=True)
@@ -34,6 +35,10 @@ class Tool:
     corner_radius: float = 0.0  # mm; torus; a ball-nose mill's is its radius
     point_angle: float = 0.0  # degrees; drills (118 twist drill, 90 spot drill)
     offsets: tuple[ToolOffset, ...] = ()  # offset memories TC1…TC9; missing ones: radius, overall length
+    # Turning (TRAUB SET UP-Bild 2): the cutting edge's nose radius R_s in mm and quadrant P1…P4, where the
+    # nose-radius centre lies relative to the theoretical tip (DECISIONS §16); 0: not given.
+    nose_radius: float = 0.0
+    quadrant: int = 0
 
     @property
     def radius(self) -> float:
@@ -74,6 +79,12 @@ def _tool(number: int, kind: ToolKind, diameter: float, name: str, cutting: floa
           centre: bool = True, corner: float = 0.0, angle: float = 0.0) -> Tool:
     return Tool(number, kind, diameter, name, cutting_length=cutting, overall_length=overall,
                 shank_diameter=diameter, centre_cutting=centre, corner_radius=corner, point_angle=angle)
+
+
+def turning_tool(number: int, nose_radius: float, quadrant: int) -> Tool:
+    """A lathe tool on turret station `number` with its nose radius (mm) and quadrant (1–4)."""
+    return Tool(number, "turning", max(2 * nose_radius, 0.001), f"Drehmeißel R{nose_radius:g} P{quadrant}",
+                nose_radius=nose_radius, quadrant=quadrant)
 
 
 # Free practice (and every run that names no other table): the tools of the PAL examples (T1, T2,

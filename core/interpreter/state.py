@@ -60,7 +60,9 @@ class RunSetup:
 
     tools: ToolTable = DEFAULT_TOOLS
     limits: Limits = DEFAULT_LIMITS
-    skip_blocks: bool = False  # True: blocks marked with "/" are skipped (the skip switch is on)
+    # True: blocks marked with "/" are skipped; False: they run; None: the dialect's default (PAL runs them,
+    # TRAUB skips them: its "Ausblendsätze ein" key is off, DECISIONS §19)
+    skip_blocks: bool | None = None
     start: Vec3 = (250.0, 150.0, 250.0)  # the tool-change position the PAL examples end at
     arc_tolerance: float = 0.01  # mm: end-point radius may differ this much from the start radius
     tool_changer: Literal["pickup"] = "pickup"
@@ -68,6 +70,9 @@ class RunSetup:
     zero_offsets: tuple[tuple[str, Vec3], ...] = ()
     subprograms: tuple[tuple[int, str], ...] = ()  # program library: L number → program text
     max_call_depth: int = 8  # subprogram nesting (DECISIONS §7)
+    # turning (TRAUB): the tool-change point of G24–G27 and the reference point of G28, machine coordinates
+    # (X diameter, Z), SET UP-Bild 4 #1 (DECISIONS §21)
+    tool_change_point: tuple[float, float] = (460.0, 585.0)
 
     def zero_offset(self, code: str) -> Vec3:
         return dict(self.zero_offsets).get(code, (0.0, 0.0, 0.0))

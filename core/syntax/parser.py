@@ -60,6 +60,9 @@ class BlockParser:
             f"{ws}(?P<skip>{term['SKIP']})?(?P<body>(?:{ws}{word})*){ws}(?P<comment>{term['COMMENT']})?"
         )
         self._fast_word = re.compile(word)
+        # a dialect whose numbers take a decimal comma or blanks (TRAUB: `F0,2`, `T02 02`) reads them loosely
+        self._loose = "," in term["NUMBER"]
+        self._param = term["PREF"][0] if "PREF" in term else "P"  # the letter of parameters: P1 or L1
 
     # -- whole programs --------------------------------------------------------------------
 
@@ -148,8 +151,9 @@ class BlockParser:
         self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
     ) -> Block:
         new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
+        number = _loose_number if self._loose else float
         words = [
-            new(Word, (w[1], float(w[2]), w[2], line, w.start() + 1, w.end() + 1, None))
+            new(Word, (w[1], number(w[2]), w[2], line, w.start() + 1, w.end() + 1, None))
             for w in self._fast_word.finditer(text, m.start("body"), m.end("body"))
         ]
         skip = m.group("skip")
@@ -160,7 +164,7 @@ class BlockParser:
             words,
             (),
             None if skip is None else _skip_level(skip),
-            None if comment_start < 0 else raw[comment_start + 1 :].strip(),
+            None if comment_start < 0 else _comment_text(raw[comment_start:]),
             None,
             diagnostics,
         )
@@ -176,7 +180,7 @@ class BlockParser:
                 if child.type == "SKIP":
                     skip = _skip_level(str(child))
                 elif child.type == "COMMENT":
-                    comment = raw[child.column : child.end_column - 1].strip()  # type: ignore[operator]
+                    comment = _comment_text(raw[child.column - 1 : child.end_column - 1])  # type: ignore[operator]
                 elif child.type == "HEADER":
                     header = raw[child.column : child.end_column - 1].strip()  # type: ignore[operator]
                 continue
@@ -184,7 +188,8 @@ class BlockParser:
             start: int = addr.column  # type: ignore[assignment]
             if child.data == "word":
                 num: Token = child.children[1]  # type: ignore[assignment]
-                words.append(Word(str(addr), float(num), str(num), line, start, num.end_column))  # type: ignore[arg-type]
+                value = _loose_number(num) if self._loose else float(num)
+                words.append(Word(str(addr), value, str(num), line, start, num.end_column))  # type: ignore[arg-type]
             elif child.data == "flag":
                 words.append(Word(str(addr), None, "", line, start, addr.end_column))  # type: ignore[arg-type]
             elif child.data == "exprword":
@@ -198,7 +203,7 @@ class BlockParser:
                     words.append(Word(f"{addr}{int(num)}", None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line,
                                       start, expr[-1], expr))
                     continue
-                if str(addr) != "P" or not num.isdigit():
+                if str(addr) != self._param or not num.isdigit():
                     diagnostics.append(
                         diag("PAL-E009", Span(line, start, line, expr[-1]), address=f"{addr}{num}")
                     )
@@ -258,6 +263,18 @@ def _finish_block(
     return Block(line, raw, number, tuple(words), assignments, skip, comment, header)
 
 
+def _loose_number(text: str) -> float:
+    """A number as the TRAUB manual writes it: decimal comma or point, blanks inside (`- 1,6`, `02 02`)."""
+    return float(text.replace(",", ".").replace(" ", "").replace("\t", ""))
+
+
+def _comment_text(text: str) -> str:
+    """The text of a comment without its marks: `; text` or `(text)`."""
+    if text.startswith("("):
+        return text[1:].removesuffix(")").strip()
+    return text[1:].strip()
+
+
 def _skip_level(token: str) -> int:
     return int(token[1:]) if len(token) > 1 else 0
 
@@ -279,7 +296,7 @@ def _expr(node: Tree[Token] | Token, depth: int = 0) -> Expr:
     kind = node.data
     if kind == "num":
         tok: Token = node.children[0]  # type: ignore[assignment]
-        return Num(float(tok), tok.column, tok.end_column)  # type: ignore[arg-type]
+        return Num(_loose_number(tok), tok.column, tok.end_column)  # type: ignore[arg-type]
     if kind == "pref":
         tok = node.children[0]  # type: ignore[assignment]
         return ParamRef(int(tok[1:]), tok.column, tok.end_column)  # type: ignore[arg-type]

@@ -1,0 +1,887 @@
+"""TRAUB TX 8 D turning: the run of a program, block by block, (state, block) → planned items and diagnostics.
+
+The sibling of `core.interpreter.pal_mill` for the lathe. A block is a transaction: check every word
+→ if anything is wrong the block is not executed and the state stays as it was → otherwise commit
+L-parameter assignments, technology (F, E, S, V, T, G92, G94–G97), modal codes, M functions, the zero
+point, then the motion, dwell, tool-change-point move or program flow (G22, macros G201–G299, M99).
+
+Motion blocks become `TurnItem`s carrying the programmed geometry and the raw contour-train words;
+`core.interpreter.turn_contour.resolve` (contour trains, transition elements, SRK) turns them into
+moves once the whole run is planned — the only call site is `run_program`.
+
+Frames (DECISIONS §15): X is a diameter, U a radius increment. Internally the run keeps positions in
+machine coordinates (x = radius from the spindle axis, z = machine Z including the zero point); after
+`resolve` every output is moved into the workpiece frame, the zero point active at the first motion
+(normally the G59 of the program head).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from core.diagnostics import Diagnostic, Severity, diag
+from core.dialects.codes import Code, Support
+from core.dialects.traub_tx8d import TABLE
+from core.geometry.arcs import centre_by_radius, sweep
+from core.interpreter import Toolpath, turn_contour
+from core.interpreter.state import ModalState, RunSetup, switch_on_state
+from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
+from core.syntax.blocks import BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
+from core.toolpath import Dwell, Move, ToolChange, Vec3
+
+Item = turn_contour.Item
+
+MAX_SPINDLE = 6000.0  # 1/min: the machine's highest speed when no G92 limits it (SET UP-Bild 5 #5)
+_MUST_STAND_ALONE = frozenset({"M0", "M1", "M30", "M99", "M10", "M11", "M17", "M18"})  # L1170
+_WITH_T_ONLY = frozenset({"M6", "M13"})
+# G functions allowed while SRK is on (L2544–2566), besides the SRK codes themselves
+_SRK_ALLOWED = frozenset({"G0", "G1", "G2", "G3", "G4", "G9", "G22", "G40", "G41", "G42", "G46", "G77", "G79",
+                          "G94", "G95", "G96", "G97"})
+_CHANGE_POINT = frozenset({"G24", "G25", "G26", "G27", "G28", "G53"})
+_GEOMETRY = frozenset({"X", "U", "Z", "W", "A", "R", "P", "Q", "I", "K", "D", "C", "H"})
+_SPEED_CODES = frozenset({"G92", "G96", "G97"})
+
+
+# -- programs in one file ----------------------------------------------------------------------
+
+
+@dataclass(slots=True)
+class Unit:
+    """One program of the run: the main program or a subprogram / macro O<number>."""
+
+    number: int | None
+    source: str | None  # None: the program file; "O8000": a file of the library
+    blocks: list[Block] = field(default_factory=list)
+    numbers: dict[int, int] = field(default_factory=dict)  # block number N → index
+
+    @property
+    def name(self) -> str:
+        return "Hauptprogramm" if self.number is None else f"O{self.number}"
+
+    def index_numbers(self) -> None:
+        for i, b in enumerate(self.blocks):
+            if b.number is not None:
+                self.numbers.setdefault(b.number, i)
+
+
+def _program_number(block: Block) -> int | None:
+    if block.words and block.words[0].address == "O" and block.words[0].value is not None:
+        return int(block.words[0].value)
+    return None
+
+
+def split_programs(program: Program, source: str | None = None) -> tuple[Unit, list[Unit]]:
+    """The main program and the programs after it (`%` … `O8010` … `M99` … `%`, DECISIONS §18).
+
+    An O block starts a new program, except the main program's own number at its head.
+    """
+    main = Unit(None, source)
+    others: list[Unit] = []
+    current = main
+    for b in program.blocks:
+        if b.header is not None or not b.ok:
+            continue
+        number = _program_number(b)
+        if number is not None:
+            if current is main and main.number is None and not any(not x.is_empty for x in main.blocks):
+                main.number = number
+            else:
+                current = Unit(number, source)
+                others.append(current)
+            continue
+        current.blocks.append(b)
+    for u in (main, *others):
+        u.index_numbers()
+    return main, others
+
+
+# -- the state of a run --------------------------------------------------------------------
+
+
+@dataclass(slots=True)
+class Turn:
+    """What is active besides the modal codes: technology, tool, zero point, L parameters."""
+
+    codes: dict[str, str | None]
+    feed: float = 0.0
+    transition_feed: float | None = None  # E
+    speed: float = 0.0  # S of G97 (1/min)
+    cutting_speed: float = 0.0  # V of G96 (m/min)
+    limit: float | None = None  # G92 S
+    tool: int | None = None  # turret station
+    offset: int = 0
+    tool_called: bool = False  # a T word since the start or the last G24–G28/G53
+    deselected_by: str | None = None  # G24–G28/G53 that deselected the tool data
+    first_after_t: bool = False  # the next motion is the first after a T word
+    driven_on: bool = False  # M21/M22
+    driven_direction: bool = False  # M23/M24
+    zero_base: tuple[float, float] = (0.0, 0.0)  # G54–G57: X diameter, Z (machine)
+    zero_shift: tuple[float, float] = (0.0, 0.0)  # G59: X diameter, Z
+    skip_on: bool = False  # "/" blocks are executed
+
+    def zero(self) -> XZ:
+        """The workpiece zero in machine coordinates (x radius, z)."""
+        return ((self.zero_base[0] + self.zero_shift[0]) / 2, self.zero_base[1] + self.zero_shift[1])
+
+    def spindle_at(self, x: float) -> float:
+        """The speed (1/min) at radius x: G96 V at that diameter, clamped by G92; else S."""
+        if not self.spindle_on:
+            return 0.0
+        if self.codes.get("spindle_mode") != "G96":
+            return self.speed
+        return _constant_cutting_speed(self.cutting_speed, self.limit)(x)
+
+    @property
+    def spindle_on(self) -> bool:
+        return self.codes.get("spindle") in ("M3", "M4")
+
+
+@dataclass(slots=True)
+class _Frame:
+    """A call in progress (G22 or a macro)."""
+
+    unit: Unit
+    return_index: int
+    callee: Unit
+    start: int
+    end: int | None  # index of the last block of the section; None: up to M99
+    remaining: int  # further runs after this one
+    line: int
+
+
+# -- L parameters ---------------------------------------------------------------------------
+
+
+def _l_valid(n: int) -> bool:
+    return 1 <= n <= 48 or 101 <= n <= 148
+
+
+def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic]) -> float | None:
+    """The value of an L-parameter expression, or None after an error (DECISIONS §21)."""
+    if isinstance(expr, Num):
+        return expr.value
+    if isinstance(expr, ParamRef):
+        span = Span(line, expr.column, line, expr.end_column)
+        if not _l_valid(expr.number):
+            d.append(diag("TX-E110", span, number=expr.number))
+            return None
+        if expr.number not in params:
+            d.append(diag("TX-W101", span, number=expr.number))
+            return 0.0
+        return params[expr.number]
+    if isinstance(expr, Neg):
+        v = evaluate(expr.operand, params, line, d)
+        return None if v is None else -v
+    assert isinstance(expr, BinOp)
+    left = evaluate(expr.left, params, line, d)
+    right = evaluate(expr.right, params, line, d)
+    if left is None or right is None:
+        return None
+    if expr.op == "+":
+        return left + right
+    if expr.op == "-":
+        return left - right
+    if expr.op == "*":
+        return left * right
+    if right == 0:
+        d.append(diag("PAL-E114", Span(line, expr.column, line, expr.end_column)))
+        return None
+    return left / right
+
+
+# -- one block --------------------------------------------------------------------------------
+
+
+@dataclass(slots=True)
+class Outcome:
+    """What one block did."""
+
+    items: list[Item] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    ended: bool = False  # M30
+    sub_end: bool = False  # M99
+    call: tuple[int | None, int | None, int | None, int] | None = None  # G22/macro: program, P, Q, H
+
+
+@dataclass(slots=True)
+class _Reading:
+    gs: list[tuple[Word, Code]]
+    ms: list[tuple[Word, Code]]
+    words: dict[str, Word]
+    values: dict[str, float]
+    owner: Code | None
+    owner_word: Word | None
+
+
+def _read(block: Block, params: dict[int, float], d: list[Diagnostic]) -> _Reading:
+    """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
+    gs: list[tuple[Word, Code]] = []
+    ms: list[tuple[Word, Code]] = []
+    words: dict[str, Word] = {}
+    values: dict[str, float] = {}
+    for w in block.words:
+        a = w.address
+        if a in ("G", "M"):
+            if w.value is None or w.value != int(w.value) or not 0 <= w.value <= 9999:
+                d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
+                continue
+            name = f"{a}{int(w.value)}"
+            code = TABLE.codes.get(name)
+            if code is None:
+                if a == "G":
+                    d.append(diag("PAL-E105", w.span, code=name))
+                else:
+                    d.append(diag("PAL-W103", w.span, code=int(w.value)))
+                continue
+            (gs if a == "G" else ms).append((w, code))
+            continue
+        spec = TABLE.addresses.get(a)
+        if spec is None or a == "O":
+            d.append(diag("PAL-E003", w.address_span, address=a))
+            continue
+        if a in words:
+            d.append(diag("PAL-E106", w.span, address=a))
+            continue
+        words[a] = w
+        if w.expr is not None:
+            v = evaluate(w.expr, params, w.line, d)
+            if v is None:
+                continue
+        else:
+            assert w.value is not None
+            v = w.value
+        if not math.isfinite(v) or abs(v) > 1e9:
+            d.append(diag("PAL-E015", w.span, value=f"{v:.6g}", address=a, limit="1e+09"))
+            continue
+        if spec.integer and v != int(v):
+            d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
+            continue
+        values[a] = v
+    if len(ms) > 3:
+        d.append(diag("TX-E104", ms[3][0].span, count=len(ms)))
+    # modal groups: one member each
+    seen: dict[str, Word] = {}
+    for w, code in gs + ms:
+        if code.group is not None and code.group != "program_end":
+            if code.group in seen:
+                label = TABLE.group(code.group)
+                d.append(diag("PAL-E103", w.span, first=str(seen[code.group]), second=str(w), group=label.label_de,
+                              group_en=label.label_en))
+            seen[code.group] = w
+    owner: Code | None = None
+    owner_word: Word | None = None
+    for w, code in gs:
+        if code.owns_block:
+            if owner is not None and not (owner.group == "motion" and code.group == "motion"):
+                d.append(diag("PAL-E103", w.span, first=str(owner_word), second=str(w), group="Satzfunktion",
+                              group_en="block function"))
+            owner, owner_word = code, w
+    # which addresses the block may hold
+    speed_code = next((c for _, c in gs if c.name in _SPEED_CODES), None)
+    if owner is not None:
+        allowed = owner.words | TABLE.always_allowed
+        if speed_code is not None:
+            allowed = allowed | {"V"}
+    elif speed_code is not None and words.keys() & {"X", "Z", "Q"}:
+        allowed = speed_code.words | TABLE.always_allowed  # G97 V… X…, G92 S… X… Z… Q…
+    elif words.keys() <= TABLE.always_allowed:
+        allowed = TABLE.always_allowed
+    else:
+        allowed = _GEOMETRY | TABLE.always_allowed  # a motion of the modal code, checked below
+    for a, w in words.items():
+        if a not in allowed:
+            command = str(owner_word) if owner_word is not None else str(speed_code.name if speed_code else "")
+            d.append(diag("PAL-E101", w.span, address=a, command=command or "(modal)"))
+    for w, code in gs:
+        for one_of in code.required:
+            if not any(a in words for a in one_of):
+                d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
+    for a in ("F", "E", "S", "V", "H"):
+        if a in values and values[a] < 0:
+            d.append(diag("PAL-E109", words[a].span, address=a, raw=words[a].raw))
+    # M functions that must stand alone, or need a T (L1160–1190)
+    for w, code in ms:
+        if code.name in _MUST_STAND_ALONE and (len(ms) > 1 or gs or words):
+            d.append(diag("TX-E105", w.span, code=code.name))
+        if code.name in _WITH_T_ONLY and "T" not in words:
+            d.append(diag("TX-E106", w.span, code=code.name))
+    if "T" in values:
+        station = int(values["T"]) // 100
+        if not (0 <= station <= 16 or 21 <= station <= 36):
+            d.append(diag("TX-E111", words["T"].span, station=station))
+    return _Reading(gs, ms, words, values, owner, owner_word)
+
+
+class TurnRun:
+    """One run of a TRAUB program: executes blocks and collects planned items."""
+
+    def __init__(self, setup: RunSetup) -> None:
+        self.setup = setup
+        self.turn = Turn(dict(switch_on_state(TABLE).codes))
+        self.turn.skip_on = setup.skip_blocks is False
+        tcp = setup.tool_change_point
+        self.position: XZ | None = (tcp[0] / 2, tcp[1])  # machine (x radius, z); None: an unknown train point
+        self.last_known: XZ = self.position
+        self.params: dict[int, float] = {}
+        self.nose = Nose()
+        self.reference: XZ | None = None  # the workpiece zero of the output frame (set at the first motion)
+
+    # -- helpers ------------------------------------------------------------------------------
+
+    def modal_state(self) -> ModalState:
+        t = self.turn
+        pos = self.last_known
+        return ModalState(dict(t.codes), t.feed, t.spindle_at(pos[0]) if t.spindle_on else t.speed, t.tool,
+                          t.offset)
+
+    def _template(self, kind: str, span: Span, exact: bool = False) -> Move:
+        t = self.turn
+        p = self.last_known
+        pos: Vec3 = (p[0], 0.0, p[1])
+        spindle_code = t.codes.get("spindle")
+        on = spindle_code in ("M3", "M4")
+        return Move(kind, pos, pos, t.feed, "mm/rev" if t.codes.get("feed_mode") == "G95" else "mm/min",  # type: ignore[arg-type]
+                    t.spindle_at(p[0]) if on else 0.0, ("cw" if spindle_code == "M3" else "ccw") if on else None,
+                    t.codes.get("coolant") in ("M7", "M8"), t.tool, span, exact_stop=exact, plane="G18")
+
+    def _nose_for(self, mode: str) -> Nose:
+        tool = self.setup.tools.get(self.turn.tool) if self.turn.tool is not None else None
+        r = tool.nose_radius if tool is not None else 0.0
+        q = tool.quadrant if tool is not None else 0
+        return Nose(mode, r, q)  # type: ignore[arg-type]
+
+    # -- the block ----------------------------------------------------------------------------
+
+    def execute(self, block: Block) -> Outcome:
+        out = Outcome()
+        d = out.diagnostics
+        t = self.turn
+        span = block.span
+        # L-parameter assignments, left to right, into a copy
+        params = self.params
+        if block.assignments:
+            params = dict(params)
+            for asg in block.assignments:
+                if not _l_valid(asg.param):
+                    d.append(diag("TX-E110", asg.span, number=asg.param))
+                    continue
+                v = evaluate(asg.expr, params, asg.line, d)
+                if v is not None:
+                    params[asg.param] = v
+        r = _read(block, params, d)
+        gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
+        names = {c.name for _, c in gs}
+        mnames = {c.name for _, c in ms}
+        srk = t.codes.get("compensation")
+        if srk != "G40" and "G40" not in names:
+            for w, c in gs:
+                if c.name not in _SRK_ALLOWED:
+                    d.append(diag("TX-E103", w.span, command=c.name, srk=srk))
+        if "M17" in mnames and t.spindle_on and "M5" not in mnames:
+            d.append(diag("TX-E109", next(w.span for w, c in ms if c.name == "M17")))
+        if "B" in values and int(values["B"]) // 10000 == 6:
+            on = t.driven_on or bool(mnames & {"M21", "M22"})
+            direction = t.driven_direction or bool(mnames & {"M23", "M24"})
+            if not (on and direction):
+                d.append(diag("TX-E107", words["B"].span))
+        motion: Code | None = owner if owner is not None and owner.group == "motion" else None
+        if owner is None and not names & _SPEED_CODES and words.keys() & _GEOMETRY:
+            motion = TABLE.codes[t.codes.get("motion") or "G1"]
+        moving = motion is not None and bool(words.keys() & _GEOMETRY)
+        if moving and not t.tool_called and t.deselected_by is not None and "T" not in values:
+            d.append(diag("TX-E102", span, command=t.deselected_by))
+        if moving and (t.first_after_t or "T" in values):
+            for a in ("U", "W"):
+                if a in words:
+                    d.append(diag("TX-E101", words[a].span, address=a))
+                    break
+        if any(x.severity is Severity.ERROR for x in d):
+            return out  # the block is not executed
+        for w, c in gs + ms:
+            if c.support is Support.PLANNED:
+                skips = c.owns_block
+                d.append(diag("PAL-E901", w.span, feature=c.feature_de, feature_en=c.feature_en,
+                              effect="der Satz wird nicht ausgeführt." if skips else
+                              "der Satz wird ohne diese Funktion ausgeführt.",
+                              effect_en="the block is not executed." if skips else "the block is executed without it."))
+                if skips:
+                    return out
+        self.params = params
+
+        # -- technology and modes at the block start ------------------------------------------
+        if "F" in values:
+            t.feed = values["F"]
+        if "E" in values:
+            t.transition_feed = values["E"]
+        for w, c in gs + ms:
+            if c.group is not None and c.group != "program_end":
+                t.codes = {**t.codes, c.group: c.name}
+        if "G92" in names:
+            if "S" in values:
+                t.limit = values["S"]
+            for a in ("X", "Z", "Q"):
+                if a in words:
+                    d.append(diag("TX-W102", words[a].span, address=a))
+        elif "G96" in names:
+            t.cutting_speed = values["V"]
+            if "S" in values:
+                t.speed = values["S"]
+        elif "G97" in names:
+            if "S" in values:
+                t.speed = values["S"]
+            elif "V" in values:
+                x = values.get("X", 0.0)
+                if x <= 0:
+                    d.append(diag("TX-E112", r.owner_word.span if r.owner_word else span))
+                else:
+                    t.speed = values["V"] * 1000.0 / (math.pi * x)
+        elif "S" in values:
+            t.speed = values["S"]
+        elif "V" in values:
+            t.cutting_speed = values["V"]
+        if mnames & {"M21", "M22"}:
+            t.driven_on = True
+        if mnames & {"M23", "M24"}:
+            t.driven_direction = True
+        if "M25" in mnames:
+            t.driven_on = t.driven_direction = False
+        if "M31" in mnames:
+            t.skip_on = False
+        if "T" in values:
+            value = int(values["T"])
+            t.tool = value // 100 or None
+            t.offset = value % 100
+            t.tool_called, t.deselected_by, t.first_after_t = True, None, True
+            out.items.append(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span))
+        if names & {"G54", "G55", "G56", "G57"}:
+            zero = next(c.name for _, c in gs if c.name in ("G54", "G55", "G56", "G57"))
+            base = self.setup.zero_offset(zero)
+            t.zero_base = (base[0], base[2])
+        if owner is not None and owner.name == "G59":  # replaces the previous shift (DECISIONS §21)
+            t.zero_shift = (values.get("X", 0.0), values.get("Z", 0.0))
+        for w, c in gs:
+            if c.name in ("G40", "G41", "G42", "G46"):
+                self.nose = self._nose_for(c.name)
+                out.items.append(SrkSwitch(c.name, w.span, self.nose))  # type: ignore[arg-type]
+
+        # -- the motion, dwell, change point or call --------------------------------------------
+        if moving and motion is not None:
+            self._motion(motion.name, words, values, span, out)
+            t.first_after_t = False
+        elif owner is not None and owner.name == "G4":
+            seconds = values.get("X", values.get("U", 0.0))
+            if not 0.001 <= seconds <= 999.99:
+                d.append(diag("TX-E108", (words.get("X") or words["U"]).span, value=seconds))
+            else:
+                out.items.append(Dwell(self._vec(), seconds, span))
+        elif owner is not None and owner.name in _CHANGE_POINT:
+            self._change_point(owner.name, words, values, span, out)
+        elif owner is not None and owner.name == "G22":
+            out.call = (int(values["A"]) if "A" in values else None, int(values["P"]) if "P" in values else None,
+                         int(values["Q"]) if "Q" in values else None, int(values.get("H", 1)))
+        elif owner is not None and 201 <= int(owner.name[1:]) <= 299:
+            out.call = (9600 + int(owner.name[1:]), None, None, 1)
+
+        # -- block end ------------------------------------------------------------------------
+        if mnames & {"M0", "M1", "M30"}:  # they include M05 and M09 (L1178)
+            t.codes = {**t.codes, "spindle": "M5", "coolant": "M9"}
+        out.ended = "M30" in mnames
+        out.sub_end = "M99" in mnames
+        return out
+
+    def _vec(self) -> Vec3:
+        p = self.last_known
+        return (p[0], 0.0, p[1])
+
+    def _motion(self, code: str, words: dict[str, Word], values: dict[str, float], span: Span, out: Outcome) -> None:
+        t = self.turn
+        zx, zz = t.zero()
+        if self.reference is None:
+            self.reference = (zx, zz)
+        start = self.position
+        x = values["X"] / 2 + zx if "X" in values else None
+        z = values["Z"] + zz if "Z" in values else None
+        dx, dz = values.get("U"), values.get("W")
+        if start is not None:
+            if dx is not None:
+                x, dx = start[0] + dx, None
+            if dz is not None:
+                z, dz = start[1] + dz, None
+        is_arc = code in ("G2", "G3")
+        transition: TransitionSpec | None = None
+        if "D" in values and values["D"] != 0:
+            w = words["D"]
+            transition = TransitionSpec("chamfer" if values["D"] > 0 else "chamfer_length", abs(values["D"]), str(w),
+                                        t.transition_feed)
+        elif not is_arc and "R" in values:
+            transition = TransitionSpec("rounding", abs(values["R"]), str(words["R"]), t.transition_feed)
+        elif is_arc and "C" in values:
+            transition = TransitionSpec("rounding", abs(values["C"]), str(words["C"]), t.transition_feed)
+        if code == "G9" and transition is not None:
+            out.diagnostics.append(diag("TX-W104", words["D" if "D" in words else "R"].span,
+                                        address=transition.raw))
+        if code != "G0":
+            if t.feed == 0:
+                out.diagnostics.append(diag("PAL-E301", span))
+                return
+            if t.tool is None:
+                out.diagnostics.append(diag("TX-W106", span))
+            elif not t.spindle_on and not t.driven_on:  # a driven tool cuts with the main spindle at rest
+                out.diagnostics.append(diag("PAL-E302", span, Severity.WARNING))
+        if t.codes.get("spindle_mode") == "G96" and t.spindle_on and t.limit is None and x is not None and x <= 1e-9:
+            out.diagnostics.append(diag("TX-W105", span, limit=f"{MAX_SPINDLE:g} 1/min"))
+        kind = "rapid" if code == "G0" else "arc" if is_arc else "feed"
+        template = self._template(kind, span, exact=code in ("G0", "G9"))
+        item = TurnItem(
+            template, code, start, x, z, dx, dz,  # type: ignore[arg-type]
+            a=values.get("A"),
+            radius=abs(values["R"]) if is_arc and "R" in values else None,
+            centre=(values["P"] / 2 + zx, values["Q"] + zz) if is_arc and "P" in values and "Q" in values else None,
+            centre_offset=(values.get("I", 0.0), values.get("K", 0.0)) if is_arc and ("I" in values or "K" in values)
+            else None,
+            h=int(values["H"]) if "H" in values else None,
+            transition=transition,
+            nose=self.nose,
+            spindle_at=_constant_cutting_speed(t.cutting_speed, t.limit)
+            if t.codes.get("spindle_mode") == "G96" and t.spindle_on else None,
+        )
+        out.items.append(item)
+        end = self._known_end(start, item, has_axis=bool(words.keys() & {"X", "U", "Z", "W"}))
+        self.position = end
+        if end is not None:
+            self.last_known = end
+
+    def _known_end(self, start: XZ | None, item: TurnItem, has_axis: bool) -> XZ | None:
+        """Where the block ends, when the block alone fixes it; None for an unknown train point."""
+        if item.a is None and has_axis:
+            if start is not None:
+                return (item.x if item.x is not None else start[0], item.z if item.z is not None else start[1])
+            if item.x is not None and item.z is not None:
+                return (item.x, item.z)
+            return None
+        if item.a is None and item.is_arc and item.centre_offset is None and item.centre is None:
+            return None
+        try:
+            return turn_contour.known_end(start, item)
+        except NotImplementedError:
+            return _line_by_angle(start, item)
+
+    def _change_point(self, name: str, words: dict[str, Word], values: dict[str, float], span: Span,
+                      out: Outcome) -> None:
+        """G24–G27 to the tool-change point, G28 (via X/Z) to the reference point, G53 in machine coordinates."""
+        t = self.turn
+        tcp = self.setup.tool_change_point
+        target = (tcp[0] / 2, tcp[1])
+        here = self.last_known
+        points: list[XZ] = []
+        if name == "G24":
+            points = [(target[0], here[1])]
+        elif name == "G25":
+            points = [(here[0], target[1])]
+        elif name == "G26":
+            points = [(target[0], here[1]), target]
+        elif name == "G27":
+            points = [(here[0], target[1]), target]
+        elif name == "G28":
+            zx, zz = t.zero()
+            if words.keys() & {"X", "U", "Z", "W"}:
+                ax = values["X"] / 2 + zx if "X" in values else here[0] + values.get("U", 0.0)
+                az = values["Z"] + zz if "Z" in values else here[1] + values.get("W", 0.0)
+                points = [(ax, az)]
+            points.append(target)
+        else:  # G53: machine coordinates
+            points = [(values["X"] / 2 if "X" in values else here[0], values.get("Z", here[1]))]
+        if self.reference is None:
+            self.reference = t.zero()
+        for p in points:
+            if p == here:
+                continue
+            template = self._template("rapid", span, exact=True)
+            out.items.append(dataclasses.replace(template, start=(here[0], 0.0, here[1]), end=(p[0], 0.0, p[1])))
+            here = p
+        self.position = self.last_known = here
+        t.tool_called, t.deselected_by, t.first_after_t = False, name, False
+
+
+def _constant_cutting_speed(v: float, limit: float | None) -> Callable[[float], float]:
+    """The speed (1/min) at radius x under G96 V`v`, clamped by G92 S`limit` (or the machine's highest)."""
+    top = limit if limit is not None else MAX_SPINDLE
+
+    def at(x: float) -> float:
+        d = 2 * abs(x)
+        return top if d < 1e-9 else min(top, v * 1000.0 / (math.pi * d))
+
+    return at
+
+
+def _line_by_angle(start: XZ | None, item: TurnItem) -> XZ | None:
+    """A line from a known start by angle A and one coordinate (the one-block forms `G1 X.. A..`, `G1 Z.. A..`)."""
+    if start is None or item.a is None or item.is_arc:
+        return None
+    if item.x is not None and item.z is not None:
+        return (item.x, item.z)
+    a = math.radians(item.a)
+    ca, sa = math.cos(a), math.sin(a)  # direction in (z, x): 0° = +Z, counter-clockwise positive
+    if item.x is not None and abs(sa) > 1e-9:
+        return (item.x, start[1] + (item.x - start[0]) * ca / sa)
+    if item.z is not None and abs(ca) > 1e-9:
+        return (start[0] + (item.z - start[1]) * sa / ca, item.z)
+    return None
+
+
+def _fallback_resolve(items: list[Item], diagnostics: list[Diagnostic]) -> list[turn_contour.Command]:
+    """The moves of fully given geometry (lines, arcs by R, P/Q or I/K), until turn_contour resolves trains."""
+    out: list[turn_contour.Command] = []
+    last: XZ | None = None
+    for it in items:
+        if isinstance(it, SrkSwitch):
+            continue
+        if not isinstance(it, TurnItem):
+            if isinstance(it, Move):
+                last = (it.end[0], it.end[2])
+            out.append(it)
+            continue
+        start = it.start if it.start is not None else last
+        if start is None:
+            continue
+        end = _line_by_angle(start, it) if it.a is not None else (
+            it.x if it.x is not None else start[0] + (it.dx or 0.0), it.z if it.z is not None else start[1] + (it.dz or 0.0))
+        if end is None:
+            continue
+        move = dataclasses.replace(it.template, start=(start[0], 0.0, start[1]), end=(end[0], 0.0, end[1]))
+        if it.is_arc:
+            cw = it.code == "G2"
+            s2, e2 = (start[1], start[0]), (end[1], end[0])  # plane G18: (z, x)
+            c2: tuple[float, float] | None = None
+            if it.centre is not None:
+                c2 = (it.centre[1], it.centre[0])
+            elif it.centre_offset is not None:
+                c2 = (start[1] + it.centre_offset[1], start[0] + it.centre_offset[0])
+            elif it.radius is not None:
+                c2 = centre_by_radius(s2, e2, it.radius, cw, False)
+            if c2 is None:
+                continue
+            move = dataclasses.replace(move, kind="arc", center=(c2[1], 0.0, c2[0]), direction="cw" if cw else "ccw",
+                                       radius=math.dist(s2, c2), angle=sweep(s2, e2, c2, cw))
+        if it.spindle_at is not None:
+            move = dataclasses.replace(move, spindle=it.spindle_at(end[0]))
+        out.append(move)
+        last = end
+    return out
+
+
+def resolve(items: list[Item], diagnostics: list[Diagnostic]) -> list[turn_contour.Command]:
+    """The one call of the contour stage (contour trains, transitions, SRK)."""
+    try:
+        return turn_contour.resolve(items, diagnostics)
+    except NotImplementedError:
+        return _fallback_resolve(items, diagnostics)
+
+
+def _to_workpiece(c: turn_contour.Command, dx: float, dz: float) -> turn_contour.Command:
+    """`c` moved from machine coordinates into the workpiece frame whose zero is (dx, dz)."""
+    def shift(p: Vec3) -> Vec3:
+        return (p[0] - dx, p[1], p[2] - dz)
+
+    if isinstance(c, Move):
+        return dataclasses.replace(c, start=shift(c.start), end=shift(c.end),
+                                   center=None if c.center is None else shift(c.center),
+                                   programmed_end=None if c.programmed_end is None else shift(c.programmed_end))
+    return dataclasses.replace(c, position=shift(c.position))
+
+
+# -- the run: programs, calls, sections --------------------------------------------------------
+
+
+def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic] | None = None,
+                library: dict[int, Program] | None = None) -> Toolpath:
+    """Execute a TRAUB program from its first block; never raises on user input."""
+    limits = setup.limits
+    result = Toolpath(diagnostics=list(diagnostics or []))
+    diags = result.diagnostics
+    run = TurnRun(setup)
+    result.initial = run.modal_state()
+    main, others = split_programs(program)
+    units: dict[int, Unit] = {}
+    for u in others:
+        assert u.number is not None
+        units.setdefault(u.number, u)
+        if not 8000 <= u.number <= 9999:
+            first = program.blocks[u.blocks[0].line - 2] if u.blocks and u.blocks[0].line >= 2 else None
+            line = first.line if first is not None else 1
+            diags.append(diag("TX-W103", Span(line, 1, line, 2), number=u.number))
+    for number, prog in (library or {}).items():
+        lib_main, lib_others = split_programs(prog, f"O{number}")
+        lib_main.number = lib_main.number or number
+        for u in (lib_main, *lib_others):
+            if u.number is not None:
+                units.setdefault(u.number, u)
+    n_lines = len(program.blocks)
+    states: list[ModalState | None] = [None] * n_lines
+    positions: list[Vec3 | None] = [None] * n_lines
+    items: list[Item] = []
+    calls: list[_Frame] = []
+    unit, index, end_index = main, 0, None
+    ended = False
+    executed = 0
+    last_line = 0
+
+    def report(d: Diagnostic) -> None:
+        diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
+
+    def leave() -> bool:
+        """Finish a run of the current call: repeat it or return. False when there is no call."""
+        nonlocal unit, index, end_index
+        if not calls:
+            return False
+        frame = calls[-1]
+        if frame.remaining > 0:
+            frame.remaining -= 1
+            index = frame.start
+            return True
+        calls.pop()
+        unit, index = frame.unit, frame.return_index
+        end_index = calls[-1].end if calls else None
+        return True
+
+    while True:
+        at_section_end = end_index is not None and index > end_index
+        if index >= len(unit.blocks) or at_section_end:
+            if not calls:
+                break
+            if not at_section_end and calls[-1].end is None and unit.number is not None:
+                line = unit.blocks[-1].line if unit.blocks else 1
+                report(diag("TX-W302", Span(line, 1, line, 1), number=unit.number))
+            leave()
+            continue
+        block = unit.blocks[index]
+        index += 1
+        if block.is_empty:
+            continue
+        if block.skip is not None and not run.turn.skip_on:
+            continue
+        if unit is main:
+            last_line = block.line
+        executed += 1
+        if executed > limits.max_executed_blocks:
+            report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
+            ended = True
+            break
+        out = run.execute(block)
+        if calls or unit.source is not None:
+            stack = tuple((None if c.unit.source is None else c.unit.source, c.line) for c in calls)
+            for k, it in enumerate(out.items):
+                if isinstance(it, TurnItem):
+                    out.items[k] = dataclasses.replace(
+                        it, template=dataclasses.replace(it.template, source=unit.source, call_stack=stack))
+                elif isinstance(it, Move):
+                    out.items[k] = dataclasses.replace(it, source=unit.source, call_stack=stack)
+        items.extend(out.items)
+        for d in out.diagnostics:
+            report(d)
+        if unit.source is None:
+            states[block.line - 1] = run.modal_state()
+            p = run.last_known
+            positions[block.line - 1] = (p[0], 0.0, p[1])
+        if out.call is not None:
+            target, first_n, last_n, count = out.call
+            callee = unit if target is None else units.get(target)
+            if callee is None:
+                report(diag("TX-E301", block.span, target=target))
+                continue
+            if target is not None and (callee is unit or any(c.callee is callee for c in calls)):
+                report(diag("TX-E303", block.span, target=target))
+                continue
+            if len(calls) >= setup.max_call_depth:
+                report(diag("TX-E302", block.span, limit=setup.max_call_depth))
+                continue
+            start, stop = 0, None
+            bad = False
+            for n in (first_n, last_n):
+                if n is not None and n not in callee.numbers:
+                    report(diag("TX-E304", block.span, number=n, program=callee.name))
+                    bad = True
+            if bad:
+                continue
+            if first_n is not None:
+                start = callee.numbers[first_n]
+            if last_n is not None:
+                stop = callee.numbers[last_n]
+            if stop is not None and stop < start:
+                report(diag("TX-E305", block.span, start=first_n, end=last_n))
+                continue
+            if count < 1:
+                continue
+            calls.append(_Frame(unit, index, callee, start, stop, count - 1, block.line))
+            unit, index, end_index = callee, start, stop
+            continue
+        if out.sub_end:
+            if not calls:
+                report(diag("TX-W301", block.span))
+                ended = True
+                break
+            leave()
+            continue
+        if out.ended:
+            if calls:
+                report(diag("TX-E306", block.span, number=unit.number))
+                ended = True
+                break
+            ended = True
+            rest = next((b for b in unit.blocks[index:] if not b.is_empty), None)
+            if rest is not None:
+                diags.append(diag("PAL-W101", rest.span))
+            break
+    if not ended and (program.blocks or not diags):
+        line = last_line or 1
+        diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
+    reference = run.reference or run.turn.zero()
+    commands = resolve(items, diags)
+    dx, dz = reference
+    result.commands = [_to_workpiece(c, dx, dz) for c in commands] if (dx, dz) != (0.0, 0.0) else list(commands)
+    for command in result.commands:
+        if type(command) is Move:
+            result.moves.append(command)
+        elif type(command) is Dwell:
+            result.dwells.append(command)
+        elif type(command) is ToolChange:
+            result.tool_changes.append(command)
+    current_state: ModalState = result.initial
+    start_pos = run.last_known if not items else None
+    tcp = setup.tool_change_point
+    current_position: Vec3 = (tcp[0] / 2 - dx, 0.0, tcp[1] - dz) if start_pos is None else (
+        start_pos[0] - dx, 0.0, start_pos[1] - dz)
+    for i in range(n_lines):
+        st, ps = states[i], positions[i]
+        if st is None or ps is None:
+            states[i], positions[i] = current_state, current_position
+        else:
+            current_state, current_position = st, (ps[0] - dx, 0.0, ps[2] - dz)
+            positions[i] = current_position
+    result.line_states = states  # type: ignore[assignment]
+    result.line_positions = positions  # type: ignore[assignment]
+    result.params = dict(run.params)
+    final = run.last_known
+    result.final_position = (final[0] - dx, 0.0, final[1] - dz)
+    _dedupe(diags)
+    if len(diags) > limits.max_diagnostics:
+        cut = diags[limits.max_diagnostics - 1]
+        del diags[limits.max_diagnostics - 1:]
+        diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
+    return result
+
+
+def _dedupe(diags: list[Diagnostic]) -> None:
+    """A block run many times (sections, subprograms) reports each finding once."""
+    seen: set[tuple[str, Span, str | None]] = set()
+    keep = []
+    for x in diags:
+        key = (x.code, x.span, x.source)
+        if key not in seen:
+            seen.add(key)
+            keep.append(x)
+    diags[:] = keep
+

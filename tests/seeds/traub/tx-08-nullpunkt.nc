@@ -1,0 +1,10 @@
+(TX-08: G59 Z231 bei G54 Z0; Bild c: G54 Z110 und G59 Z121)
+%
+O 8
+G 54
+G 59 X 0 Z 231
+G 97 S 500 T 0101 M 3
+G 0 X 50 Z 2
+G 26
+M 30
+%

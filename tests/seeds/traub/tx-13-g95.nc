@@ -1,0 +1,10 @@
+%
+O 13
+G 59 X 0 Z 210
+G94
+N8 G96 V250 T0808 M4
+G00 X40 Z2 M8
+G95 (nur wenn G94 ansteht)
+G01 Z-30 F0.2
+M 30
+%

@@ -1,0 +1,33 @@
+(TX-45: wertfreies Unterprogramm O8007)
+(L1 Kerndurchmesser, L2 Gewindedurchmesser, L3 Gewindelänge, L4 Bohrlänge, L5 Steigung)
+%
+O123
+G59 X0 Z150
+L1 = 11
+L2 = 12
+L3 = 15
+L4 = 25
+L5 = 1
+G22 A8007
+M30
+%
+%
+O8007
+(ZENTRIEREN)
+N3 G97 V30 X L2 T303 M3
+G0 X0 Z1 M8
+G1 Z-[L2/2] F0.1
+G25
+(KERNLOCH BOHREN)
+N4 G97 V30 X L1 T404 M3
+G0 X0 Z1
+G1 Z-L4 F0.1
+G25
+(GEWINDE BOHREN)
+N5 G97 S300 T505 M3
+G0 X0 Z3
+G82 Z-L3 F[L5 * 0.9]
+G4 X0.5
+G27
+M99
+%
