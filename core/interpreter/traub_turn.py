@@ -790,10 +790,10 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             target, first_n, last_n, count = out.call
             callee = unit if target is None else units.get(target)
             if callee is None:
-                report(diag("TX-E301", block.span, target=target))
+                report(diag("TX-E301", block.span, number=target))
                 continue
             if target is not None and (callee is unit or any(c.callee is callee for c in calls)):
-                report(diag("TX-E303", block.span, target=target))
+                report(diag("TX-E303", block.span, number=target))
                 continue
             if len(calls) >= setup.max_call_depth:
                 report(diag("TX-E302", block.span, limit=setup.max_call_depth))
