@@ -92,8 +92,10 @@ StoredJson = Annotated[dict[str, Any], AfterValidator(clean_json)]
 class ToolSpec(BaseModel):
     number: int = Field(ge=1, le=99)
     diameter: float = Field(gt=0, le=1000, description="mm")
-    kind: Literal["end_mill", "slot_drill"] = "end_mill"
+    kind: Literal["end_mill", "slot_drill", "turning"] = "end_mill"
     name: ShortText = ""
+    nose_radius: float = Field(default=0.0, ge=0, le=50, description="turning: nose radius R_s in mm")
+    quadrant: int = Field(default=0, ge=0, le=4, description="turning: cutting-edge quadrant P1…P4 (0: not given)")
 
 
 class ProgramRequest(BaseModel):
@@ -104,7 +106,8 @@ class ProgramRequest(BaseModel):
     exercise: Slug | None = Field(default=None, description="Slug of an exercise whose tool table and stock to use")
     tools: list[ToolSpec] | None = Field(default=None, max_length=99,
                                          description="Tools that override the default table (free practice)")
-    skip_blocks: bool = Field(default=False, description="Skip blocks marked with /")
+    skip_blocks: bool | None = Field(default=None, description="Skip blocks marked with /; not given: the "
+                                     "dialect's default (PAL runs them, TRAUB skips them)")
 
 
 Coordinate = Annotated[float, Field(allow_inf_nan=False)]

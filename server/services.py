@@ -30,7 +30,7 @@ from server.schemas import (
 )
 from server.security import hash_password, new_api_key, verify_password
 from server.seed import document_from_fields, exercise_fields
-from server.workers import Workers, job_picture, job_submission, job_validate_exercise
+from server.workers import Workers, job_drawing, job_picture, job_submission, job_validate_exercise
 
 # --- pipeline requests ----------------------------------------------------------------------
 
@@ -42,7 +42,7 @@ def check_program(settings: Settings, program: str, dialect: str) -> None:
         raise ApiError("PROGRAM_TOO_LARGE", size=len(program), limit=settings.max_program_chars)
 
 
-def exercise_spec(exercise: Exercise, skip_blocks: bool) -> dict[str, Any]:
+def exercise_spec(exercise: Exercise, skip_blocks: bool | None) -> dict[str, Any]:
     """How to run a program for `exercise`: its whole document when the grader can read it, else its tools."""
     spec: dict[str, Any] = {"skip_blocks": skip_blocks, "stock": exercise.stock}
     if exercise.document is not None:
@@ -184,6 +184,15 @@ async def exercise_picture(db: Session, workers: Workers, slug: str) -> bytes:
         raise ApiError("NOT_FOUND")
     picture: bytes = await workers.call(job_picture, exercise.document)
     return picture
+
+
+async def exercise_drawing(db: Session, workers: Workers, slug: str, lang: str) -> str:
+    """The dimensioned drawing of the exercise's part (SVG, core/drawing)."""
+    exercise = get_exercise(db, slug)
+    if exercise.document is None:
+        raise ApiError("NOT_FOUND")
+    svg: str = await workers.call(job_drawing, exercise.document, lang)
+    return svg
 
 
 def get_exercise(db: Session, slug: str) -> Exercise:

@@ -27,7 +27,7 @@ from core.exercises import Exercise as ExerciseDocument
 from core.exercises import ExerciseError, parse_exercise
 from core.grading import grade
 from core.interpreter.state import RunSetup
-from core.pipeline import Memo, diagnostics_json, run, toolpath_json
+from core.pipeline import Memo, diagnostics_json, drawing, run, summarised, toolpath_json
 from core.tools import DEFAULT_TOOLS, Tool, ToolTable
 from server.errors import ApiError
 
@@ -69,8 +69,10 @@ def make_setup(spec: dict[str, Any], base: ToolTable = DEFAULT_TOOLS) -> RunSetu
         table = ToolTable({}) if spec.get("replace_tools") else base
     for t in spec.get("tools") or ():
         table = table.with_tool(Tool(int(t["number"]), t.get("kind", "end_mill"), float(t["diameter"]),
-                                     t.get("name", "")))
-    return RunSetup(tools=table, skip_blocks=bool(spec.get("skip_blocks", False)), **extra)
+                                     t.get("name", ""), nose_radius=float(t.get("nose_radius", 0.0)),
+                                     quadrant=int(t.get("quadrant", 0))))
+    skip = spec.get("skip_blocks")  # None: the dialect's default
+    return RunSetup(tools=table, skip_blocks=None if skip is None else bool(skip), **extra)
 
 
 # --- jobs (run inside a worker process) -----------------------------------------------------
@@ -147,8 +149,8 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     lines: list[int] = []
     moves: list[int] = []  # the move each segment belongs to (playback shows the stock after that move)
     contour: list[tuple[Any, Any]] = []  # the programmed contour where it differs from the tool-centre path
-    for k, m in enumerate(toolpath.moves):
-        points = m.points(0.05)
+    drawn, notice = drawing(toolpath, 0.05)  # the chords are counted before they are made (PAL-I019)
+    for k, (m, points) in enumerate(zip(toolpath.moves, drawn, strict=False)):
         for a, b in itertools.pairwise(points):
             segments.append((a, b))
             rapid.append(m.kind == "rapid")
@@ -164,7 +166,7 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
                         "compensation": codes.get("compensation"), "zero_offset": codes.get("zero_offset"),
                         "feed": state.feed, "speed": state.speed, "tool": state.tool,
                         "position": [round(v, 3) for v in position]}
-    cut = len(segments) > MAX_SCENE_SEGMENTS
+    cut = notice is not None or len(segments) > MAX_SCENE_SEGMENTS
     segments, rapid = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS]
     lines, moves = lines[:MAX_SCENE_SEGMENTS], moves[:MAX_SCENE_SEGMENTS]
     seg = np.asarray(segments, dtype=np.float32).reshape(-1, 2, 3)
@@ -179,6 +181,7 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
     programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
     return {"segments": seg, "feed": seg[~is_rapid], "rapid": seg[is_rapid], "lines": lines, "cut": cut,
+            "notice": notice.to_json() if notice is not None else None,
             "contour": programmed, "states": states, "moves": moves,
             "stock": stock, "tool": list(toolpath.final_position), "tool_radius": tool.radius if tool else 3.0,
             "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
@@ -233,6 +236,13 @@ def job_picture(document: dict[str, Any]) -> bytes:
                      subprograms=tuple(exercise.subprograms.items()))
     result = simulate(run(exercise.reference, exercise.dialect, setup), exercise.stock.stock(), tools, 0.2)
     return depth_png(result.heightmap, max_pixels=640)
+
+
+def job_drawing(document: dict[str, Any], lang: str) -> str:
+    """The dimensioned drawing of an exercise's part (SVG)."""
+    from core.drawing import part_drawing
+
+    return part_drawing(ExerciseDocument.model_validate(document), lang)
 
 
 def job_validate_exercise(text: str) -> dict[str, Any]:
@@ -292,7 +302,7 @@ def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: d
     cached = _LIVE.pop(doc, None)
     memo_key = json.dumps([dialect, spec], sort_keys=True, default=str)
     memo = cached.memo if cached is not None and cached.memo_key == memo_key else Memo()
-    toolpath = run(text, dialect, make_setup(spec), memo)
+    toolpath = summarised(run(text, dialect, make_setup(spec), memo))  # at most max_answer_commands (PAL-I018)
     diagnostics, commands = _by_line(toolpath.diagnostics), _by_line(toolpath.commands)
     full = cached is None or cached.gen != base_gen
     old_d = {} if full or cached is None else cached.diagnostics
