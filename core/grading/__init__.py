@@ -62,24 +62,25 @@ class GradeResult:
 
 
 @dataclass(frozen=True, slots=True)
-class _Run:
+class Machined:
     toolpath: Toolpath
     sim: SimResult
 
 
-def _execute(exercise: Exercise, text: str) -> _Run:
+def execute(exercise: Exercise, text: str) -> Machined:
+    """`text` interpreted and simulated on the exercise's set-up and stock (the grader's view; the drawing's too)."""
     tools = exercise.tool_table()
     setup = RunSetup(tools=tools, zero_offsets=tuple(exercise.zero_offsets.items()),
                      subprograms=tuple(exercise.subprograms.items()))
     toolpath = run(text, exercise.dialect, setup)
     sim = simulate(toolpath, exercise.stock.stock(), tools, exercise.resolution)
-    return _Run(toolpath, sim)
+    return Machined(toolpath, sim)
 
 
 def grade(exercise: Exercise, program: str) -> GradeResult:
     """Grade `program` against `exercise`. The same inputs always give the same result."""
-    reference = _execute(exercise, exercise.reference)
-    submission = _execute(exercise, program)
+    reference = execute(exercise, exercise.reference)
+    submission = execute(exercise, program)
     results = [_judge(c, exercise, program, reference, submission) for c in exercise.rubric]
     score = sum(r.points for r in results)
     return GradeResult(exercise.id, score, sum(c.points for c in exercise.rubric), tuple(results),
@@ -91,7 +92,7 @@ def _result(c: Criterion, passed: bool, de: str, en: str, lines: list[int] | tup
                            tuple(sorted(set(lines))), c.hidden)
 
 
-def _judge(c: Criterion, ex: Exercise, program: str, ref: _Run, sub: _Run) -> CriterionResult:
+def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined, sub: Machined) -> CriterionResult:
     tp = sub.toolpath
     cutting = [m for m in tp.moves if m.kind != "rapid"]
     if c.id == "syntax":
@@ -162,7 +163,7 @@ def _before(tp: Toolpath, change: object, move: Move) -> bool:
     return commands.index(change) < commands.index(move)  # type: ignore[arg-type]
 
 
-def _geometry(c: Criterion, ref: _Run, sub: _Run) -> CriterionResult:
+def _geometry(c: Criterion, ref: Machined, sub: Machined) -> CriterionResult:
     """Over-cut (material removed that must stay) and residual (material left that must go) outside the band."""
     tol = _tolerance(c)
     hr, hs = ref.sim.heightmap, sub.sim.heightmap
@@ -234,8 +235,8 @@ class Deviation:
 def deviation(exercise: Exercise, program: str) -> Deviation:
     """The submitted part against the reference, with the geometry criterion's tolerance (for the 3D view)."""
     tol = next((_tolerance(c) for c in exercise.rubric if c.id == "geometry"), 0.05)
-    reference = _execute(exercise, exercise.reference)
-    submission = _execute(exercise, program)
+    reference = execute(exercise, exercise.reference)
+    submission = execute(exercise, program)
     over, left = _outside_band(reference.sim.heightmap, submission.sim.heightmap, tol)
     return Deviation(submission.sim.heightmap, over, left)
 

@@ -54,7 +54,8 @@ def _builtin() -> dict[str, Exercise]:
         raise UsageError(str(err)) from None
 
 
-def _exercise(name: str) -> Exercise:
+def exercise_named(name: str) -> Exercise:
+    """A built-in exercise by id, or an exercise file by path; UsageError otherwise."""
     path = Path(name)
     if path.suffix in (".yaml", ".yml") or path.is_file():
         try:
@@ -70,7 +71,7 @@ def _exercise(name: str) -> Exercise:
 
 
 def _grade(args: argparse.Namespace) -> int:
-    exercise = _exercise(args.exercise)
+    exercise = exercise_named(args.exercise)
     if args.reference == (args.program is not None):
         raise UsageError("Entweder ein Programm oder --reference angeben / give a program or --reference")
     program = exercise.reference if args.reference else read_program(args.program)

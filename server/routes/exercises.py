@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from typing import Annotated
+import re
+from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Request, Response
 
@@ -42,6 +43,21 @@ async def exercise_picture(slug: Slug, db: DbSession, workers: AppWorkers, princ
     """The finished part seen from above (the reference machined on the stock), darker where deeper."""
     return Response(await services.exercise_picture(db, workers, slug), media_type="image/png",
                     headers={"Cache-Control": "private, max-age=300"})
+
+
+@router.get("/{slug}/drawing.svg", response_class=Response, responses={
+    200: {"content": {"image/svg+xml": {}}, "description": "Dimensioned drawing of the finished part (A4, mm)"},
+    **responses(401, 403, 404, 429)},
+    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+async def exercise_drawing(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader,
+                           lang: Literal["de", "en"] = "de", download: bool = False) -> Response:
+    """The part as a PAL exam draws it: top view and section, coordinate dimensions from the workpiece zero,
+    radii, chamfers, depths and a title block (docs/drawings.md). `download=true` offers it as a file."""
+    headers = {"Cache-Control": "private, max-age=300"}
+    if download:
+        headers["Content-Disposition"] = f'attachment; filename="{re.sub(r"[^a-z0-9-]", "", slug) or "part"}.svg"'
+    return Response(await services.exercise_drawing(db, workers, slug, lang), media_type="image/svg+xml",
+                    headers=headers)
 
 
 @router.post("", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 409, 413, 422))

@@ -79,10 +79,15 @@ export async function mountExercise(root, slug) {
     size ? el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] })) : null,
     table([t("tools.tool"), t("tools.kind"), t("tools.diameter"), t("tools.speed"), t("tools.feed")], tools));
   if (ex.gradable && size) {
+    // the dimensioned drawing (server-side SVG from the reference); opens full size in a tab, for printing
+    const drawing = `/api/v1/exercises/${slug}/drawing.svg?lang=${lang}`;
     root.querySelector("#picture").replaceChildren(
-      el("figure", {},
-        el("img", { src: `/api/v1/exercises/${slug}/picture.png`, alt: t("picture.alt"), width: 320 }),
-        el("figcaption", {}, t("picture.caption", { x: size[0], y: size[1] }))));
+      el("figure", { class: "drawing" },
+        el("a", { href: drawing, target: "_blank", rel: "noopener" },
+          el("img", { src: drawing, alt: t("drawing.alt"), class: "drawing-sheet" })),
+        el("figcaption", {},
+          el("a", { href: drawing, target: "_blank", rel: "noopener" }, t("drawing.open")), " · ",
+          el("a", { href: `${drawing}&download=true`, download: `${slug}.svg` }, t("drawing.download")))));
   }
   const list = root.querySelector("#diagnostics");
   let scene = null;
