@@ -28,12 +28,16 @@ class Settings(BaseSettings):
     token_minutes: int = 12 * 60
     cookie_secure: bool = False  # True behind HTTPS
     cors_origins: list[str] = []
+    frame_ancestors: list[str] = []  # origins besides our own that may frame the pages (learning platforms)
     workers: int = 2  # worker processes for check/run/simulate/live
     job_seconds: float = 10.0  # time limit of one run/check/simulate/grade
     max_body_bytes: int = 1_000_000
     max_program_chars: int = 200_000
     max_live_lines: int = 20_000
-    rate_login_per_minute: int = 10
+    live_connections_per_user: int = 8  # open live sockets of one user or API key (tabs); beyond: closed with 4429
+    live_connections_per_address: int = 60  # open anonymous live sockets of one address (a class behind one NAT)
+    rate_login_per_minute: int = 5  # failed logins per user name (/auth/token and /auth/login together)
+    rate_login_address_per_minute: int = 100  # failed logins per client address, whatever the user names
     rate_check_per_minute: int = 120  # check and run
     rate_simulate_per_minute: int = 30
     rate_submit_per_minute: int = 20

@@ -29,6 +29,13 @@ several keystrokes and may be older than the client's newest version. Each updat
 since the previous update and describes the document at its `version`: a client that has typed
 since either maps the line numbers through its later edits or drops the update (the next follows).
 Updates of one connection come in version order.
+
+Every frame is answered: a frame that is not a JSON object of the protocol (binary, not JSON, nested too
+deeply, a lone surrogate such as "\ud800" in any string) gets an error BAD_MESSAGE and changes nothing; a
+run that fails gets an error (TIME_LIMIT, WORKER_FAILED, BUSY, RUN_FAILED) at its version; a frame over
+PALTRAINER_MAX_BODY_BYTES closes the socket with 1009. Refusals close the socket: 4401 (not logged in),
+4403 (key without `practice`, or a browser page of another site: `Origin` is neither this site nor one of
+PALTRAINER_CORS_ORIGINS), 4429 (too many open connections of this user or address).
 """
 
 from __future__ import annotations
@@ -38,8 +45,10 @@ import contextlib
 import json
 import logging
 import uuid
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Annotated, Any
+from urllib.parse import urlsplit
 
 from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 from pydantic import Field, TypeAdapter, ValidationError
@@ -67,7 +76,14 @@ LIVE_ERRORS: dict[str, tuple[str, str]] = {
                  "Line {line} does not exist (the document has {count} lines)."),
     "TOO_MANY_LINES": ("Das Dokument hat zu viele Zeilen (höchstens {limit}).",
                        "The document has too many lines (at most {limit})."),
+    "RUN_FAILED": ("Das Programm konnte wegen eines internen Fehlers nicht ausgewertet werden; bitte weiter tippen.",
+                   "The program could not be evaluated because of an internal error; please keep typing."),
+    "INTERNAL": ("Interner Fehler: die Nachricht wurde nicht verarbeitet.",
+                 "Internal error: the message was not processed."),
 }
+# close reasons (at most 123 bytes), German / English
+TOO_MANY_CONNECTIONS = "Zu viele Live-Verbindungen (höchstens {limit}) / Too many live connections (at most {limit})"
+FRAME_TOO_LARGE = "Nachricht zu groß (höchstens {limit} Bytes) / Message too big (at most {limit} bytes)"
 
 
 class LiveError(Exception):
@@ -92,6 +108,12 @@ class Document:
         if not 1 <= first <= count + 1 or not first - 1 <= last <= count:
             raise LiveError("BAD_LINE", line=first if not 1 <= first <= count + 1 else last, count=count)
         self.lines[first - 1:last] = text.split("\n")
+
+
+def _skip(msg: dict[str, Any]) -> bool | None:
+    """The message's skip switch; not given: the dialect's default (PAL runs "/" blocks, TRAUB skips them)."""
+    value = msg.get("skip_blocks")
+    return None if value is None else bool(value)
 
 
 def split_lines(text: str) -> list[str]:
@@ -119,7 +141,8 @@ class LiveSession:
 
     async def send(self, payload: dict[str, Any]) -> None:
         async with self._send_lock:
-            await self.ws.send_text(json.dumps(payload, ensure_ascii=False))
+            # ASCII: whatever a string holds, the frame is valid UTF-8
+            await self.ws.send_text(json.dumps(payload))
 
     async def send_error(self, code: str, at_version: int | None, **params: Any) -> None:
         if code in LIVE_ERRORS:
@@ -138,9 +161,9 @@ class LiveSession:
                 exercise = repo.exercise_by_slug(db, str(slug))
                 if exercise is None:
                     raise ApiError("EXERCISE_NOT_FOUND", exercise=slug)
-                spec, dialect = exercise_spec(exercise, bool(msg.get("skip_blocks"))), exercise.dialect
+                spec, dialect = exercise_spec(exercise, _skip(msg)), exercise.dialect
             else:
-                spec, dialect = {"skip_blocks": bool(msg.get("skip_blocks"))}, str(msg.get("dialect", "pal-mill"))
+                spec, dialect = {"skip_blocks": _skip(msg)}, str(msg.get("dialect", "pal-mill"))
         tools = msg.get("tools")
         if tools is not None:
             try:  # the same tool entries as the REST requests' "tools"
@@ -235,31 +258,39 @@ class LiveSession:
         return diags, path
 
     async def compute(self) -> None:
-        """Re-run the newest document whenever it changed; send only what changed since the last update."""
+        """Re-run the newest document whenever it changed; send only what changed since the last update.
+        Whatever goes wrong in one run is said to the client (never silence), and the next change runs again."""
         while True:
             await self.changed.wait()
             self.changed.clear()
             doc = self.doc
             if doc is None:
                 continue
-            version, text = doc.version, doc.text
-            if len(text) > self.settings.max_program_chars:
-                await self.send_error("PROGRAM_TOO_LARGE", version, size=len(text),
-                                      limit=self.settings.max_program_chars)
-                continue
+            version = doc.version
             try:
-                result = await self.workers.call(job_live, self.doc_id, self.gen, self.gen + 1, text, doc.dialect,
-                                                 doc.spec, affinity=self.slot)
+                await self._run(doc, version)
             except ApiError as err:
                 self.gen = -1  # the worker may have lost the document: the next answer is complete
                 await self.send_error(err.code, version, **err.params)
-                continue
-            if self.doc is not doc:
-                continue  # reopened meanwhile
-            self.apply(result)
-            diags, path = self.changes()
-            await self.send({"type": "update", "version": version, "line_count": len(doc.lines),
-                             "diagnostics": diags, "toolpath": path, "final": result["final"]})
+            except (WebSocketDisconnect, asyncio.CancelledError):
+                raise
+            except Exception:  # a defect in a job or here
+                log.exception("live run failed")
+                self.gen = -1
+                await self.send_error("RUN_FAILED", version)
+
+    async def _run(self, doc: Document, version: int) -> None:
+        text = doc.text
+        if len(text) > self.settings.max_program_chars:
+            raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=self.settings.max_program_chars)
+        result = await self.workers.call(job_live, self.doc_id, self.gen, self.gen + 1, text, doc.dialect,
+                                         doc.spec, affinity=self.slot)
+        if self.doc is not doc:
+            return  # reopened meanwhile
+        self.apply(result)
+        diags, path = self.changes()
+        await self.send({"type": "update", "version": version, "line_count": len(doc.lines),
+                         "diagnostics": diags, "toolpath": path, "final": result["final"]})
 
     async def close(self) -> None:
         """Forget the open document, here and in its worker."""
@@ -276,42 +307,134 @@ def ws_principal(database: Database, settings: Settings, ws: WebSocket) -> Princ
                        ws.cookies.get(SESSION_COOKIE))
 
 
+def origin_allowed(ws: WebSocket, settings: Settings) -> bool:
+    """A browser says which site's page opened the socket: only this site (any scheme, since TLS may end at
+    a proxy) and the configured CORS origins may. No Origin: not a browser (a script, the LMS), allowed."""
+    origin = ws.headers.get("origin")
+    if origin is None or origin in settings.cors_origins:
+        return True
+    host = ws.headers.get("host", "").lower()
+    parts = urlsplit(origin.lower())
+    return bool(host) and parts.scheme in ("http", "https") and parts.netloc == host
+
+
+class Connections:
+    """Open live connections per user, API key or (anonymous) address."""
+
+    def __init__(self) -> None:
+        self.open: Counter[str] = Counter()
+
+    def enter(self, who: str, limit: int) -> bool:
+        if self.open[who] >= limit:
+            return False
+        self.open[who] += 1
+        return True
+
+    def leave(self, who: str) -> None:
+        self.open[who] -= 1
+        if self.open[who] <= 0:
+            del self.open[who]
+
+
+def connections(app: Any) -> Connections:
+    registry: Connections | None = getattr(app.state, "live_connections", None)
+    if registry is None:
+        registry = app.state.live_connections = Connections()
+    return registry
+
+
+async def refuse(ws: WebSocket, code: int, reason: str) -> None:
+    await ws.close(code=code, reason=reason.encode()[:123].decode(errors="ignore"))
+
+
 @router.websocket("/live")
 async def live(ws: WebSocket) -> None:
     app = ws.app
     settings: Settings = app.state.settings
     database: Database = app.state.db
     await ws.accept()  # accepted first, so that a refusal reaches the client as a close code
+    if not origin_allowed(ws, settings):
+        log.info("live socket from another site refused", extra={"origin": ws.headers.get("origin", "")[:200]})
+        await refuse(ws, 4403, "ORIGIN_NOT_ALLOWED")
+        return
     try:
         principal = await run_in_threadpool(ws_principal, database, settings, ws)
     except ApiError as err:
-        await ws.close(code=4401, reason=err.code)
+        await refuse(ws, 4401, err.code)
         return
     if principal is ANONYMOUS and not settings.free_practice:
-        await ws.close(code=4401, reason="FREE_PRACTICE_OFF")
+        await refuse(ws, 4401, "FREE_PRACTICE_OFF")
         return
     if not principal.has_scope("practice"):
-        await ws.close(code=4403, reason="MISSING_SCOPE")
+        await refuse(ws, 4403, "MISSING_SCOPE")
         return
-    session = LiveSession(ws, settings, database, app.state.workers)
+    if principal is ANONYMOUS:
+        who, limit = f"address:{ws.client.host if ws.client else '-'}", settings.live_connections_per_address
+    else:
+        who, limit = principal.identity, settings.live_connections_per_user
+    registry = connections(app)
+    if not registry.enter(who, limit):
+        await refuse(ws, 4429, TOO_MANY_CONNECTIONS.format(limit=limit))
+        return
+    try:
+        await serve(ws, settings, LiveSession(ws, settings, database, app.state.workers))
+    finally:
+        registry.leave(who)
+
+
+def parse(raw: str) -> dict[str, Any]:
+    """A frame's JSON object; LiveError BAD_MESSAGE for anything else (the message then has no version)."""
+    try:
+        msg = json.loads(raw)
+    except RecursionError:
+        raise LiveError("BAD_MESSAGE", detail="nested too deeply") from None
+    except ValueError:
+        raise LiveError("BAD_MESSAGE", detail="not JSON") from None
+    if not isinstance(msg, dict):
+        raise LiveError("BAD_MESSAGE", detail="not a JSON object")
+    return msg
+
+
+def check_text(msg: dict[str, Any]) -> None:
+    """Every string of a message (keys too) must be valid Unicode: "\\ud800" decodes to a lone surrogate,
+    which no database, worker answer or frame can carry."""
+    try:
+        json.dumps(msg, ensure_ascii=False).encode("utf-8")
+    except UnicodeEncodeError:
+        raise LiveError("BAD_MESSAGE", detail="lone surrogate, not valid Unicode") from None
+    except (RecursionError, ValueError):
+        raise LiveError("BAD_MESSAGE", detail="nested too deeply") from None
+
+
+async def serve(ws: WebSocket, settings: Settings, session: LiveSession) -> None:
+    """Read frames until the client leaves: each is handled or answered with an error; none ends the session."""
     worker = asyncio.create_task(session.compute())
     try:
         while True:
-            raw = await ws.receive_text()
-            msg: Any = None
+            frame = await ws.receive()
+            if frame["type"] == "websocket.disconnect":
+                break
+            raw = frame.get("text")
+            size = len(raw) if raw is not None else len(frame.get("bytes") or b"")
+            if size > settings.max_body_bytes:
+                await refuse(ws, 1009, FRAME_TOO_LARGE.format(limit=settings.max_body_bytes))
+                break
+            version: int | None = None
             try:
-                msg = json.loads(raw)
-                if not isinstance(msg, dict):
-                    raise LiveError("BAD_MESSAGE", detail="not a JSON object")
+                if raw is None:
+                    raise LiveError("BAD_MESSAGE", detail="binary frame; send JSON as text")
+                msg = parse(raw)
+                if isinstance(msg.get("version"), int) and not isinstance(msg.get("version"), bool):
+                    version = msg["version"]
+                check_text(msg)
                 await session.handle(msg)
-            except json.JSONDecodeError:
-                await session.send_error("BAD_MESSAGE", None, detail="not JSON")
-            except LiveError as err:
-                await session.send_error(err.code, msg.get("version") if isinstance(msg, dict) else None,
-                                         **err.params)
-            except ApiError as err:
-                await session.send_error(err.code, msg.get("version") if isinstance(msg, dict) else None,
-                                         **err.params)
+            except (LiveError, ApiError) as err:
+                await session.send_error(err.code, version, **err.params)
+            except (WebSocketDisconnect, asyncio.CancelledError):
+                raise
+            except Exception:  # a defect here: said to the client, and the session goes on
+                log.exception("live message failed")
+                await session.send_error("INTERNAL", version)
     except WebSocketDisconnect:
         pass
     finally:
