@@ -8,8 +8,8 @@ from typing import Literal
 ToolKind = Literal["end_mill", "slot_drill", "ball_nose", "torus", "twist_drill", "spot_drill", "turning"]
 
 KIND_NAMES_DE = {"end_mill": "Schaftfräser", "slot_drill": "Langlochfräser", "ball_nose": "Radiusfräser",
-                 "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer",
-                 "turning": "Drehmeißel"}
+                 "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer"}
+LATHE_KIND_NAMES_DE = {"turning": "Drehmeißel"}  # lathe tools: not in the milling simulation's default table
 
 
 @dataclass(frozen=True, slots=True)

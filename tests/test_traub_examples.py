@@ -271,3 +271,12 @@ def test_tx49_parameters_assigned_before_the_call_and_computed_in_brackets() -> 
     tp = traub("tx-49-l-parameter.nc")
     assert ends(tp)[:3] == [(25.0, 2.0), (25.0, -20.0), (35.0, -20.0)]
     assert tp.params == {1: 20, 2: 25}
+
+
+def test_tool_table_yaml_carries_the_nose_data() -> None:
+    from core.sim.tooltable import parse_tool_table, tool_table_yaml
+
+    table = parse_tool_table("tools:\n  - {number: 3, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 3}\n")
+    tool = table.tools[3]
+    assert (tool.nose_radius, tool.quadrant, tool.name) == (0.4, 3, "Drehmeißel Ø0.8")
+    assert parse_tool_table(tool_table_yaml(table)) == table

@@ -11,11 +11,19 @@ from typing import Any, cast, get_args
 
 import yaml  # type: ignore[import-untyped, unused-ignore]
 
-from core.tools import DEFAULT_TOOLS, KIND_NAMES_DE, Tool, ToolKind, ToolOffset, ToolTable
+from core.tools import (
+    DEFAULT_TOOLS,
+    KIND_NAMES_DE,
+    LATHE_KIND_NAMES_DE,
+    Tool,
+    ToolKind,
+    ToolOffset,
+    ToolTable,
+)
 
 KINDS: tuple[str, ...] = get_args(ToolKind)
 _FIELDS = {"number", "kind", "diameter", "name", "cutting_length", "overall_length", "shank_diameter",
-           "centre_cutting", "corner_radius", "point_angle", "tc"}
+           "centre_cutting", "corner_radius", "point_angle", "tc", "nose_radius", "quadrant"}
 MAX_TOOLS = 999
 
 
@@ -74,11 +82,15 @@ def _entry(raw: object, index: int) -> Tool:
     centre = entry.get("centre_cutting", True)
     if not isinstance(centre, bool):
         raise _err(where, "»centre_cutting« muss true oder false sein", "'centre_cutting' must be true or false")
-    name = entry.get("name", f"{KIND_NAMES_DE[str(kind)]} Ø{diameter:g}")
+    nose = _number(entry, "nose_radius", where, -1e-9, 50, 0.0)  # turning (TRAUB SET UP-Bild 2)
+    quadrant = entry.get("quadrant", 0)
+    if not isinstance(quadrant, int) or isinstance(quadrant, bool) or not 0 <= quadrant <= 4:
+        raise _err(where, "»quadrant« muss 1, 2, 3 oder 4 sein", "'quadrant' must be 1, 2, 3 or 4")
+    name = entry.get("name", f"{(KIND_NAMES_DE | LATHE_KIND_NAMES_DE)[str(kind)]} Ø{diameter:g}")
     offsets = _offsets(entry.get("tc", {}), where)
     return Tool(t, cast(ToolKind, kind), diameter, str(name), cutting_length=cutting, overall_length=overall,
                 shank_diameter=shank, centre_cutting=centre, corner_radius=max(corner, 0.0),
-                point_angle=max(angle, 0.0), offsets=offsets)
+                point_angle=max(angle, 0.0), offsets=offsets, nose_radius=nose, quadrant=quadrant)
 
 
 def _offsets(raw: object, where: str) -> tuple[ToolOffset, ...]:
@@ -131,6 +143,8 @@ def tool_table_yaml(table: ToolTable) -> str:
             item["corner_radius"] = t.corner_radius
         if t.point_angle:
             item["point_angle"] = t.point_angle
+        if t.nose_radius or t.quadrant:
+            item["nose_radius"], item["quadrant"] = t.nose_radius, t.quadrant
         if t.offsets:
             item["tc"] = {o.tc: {"radius": o.radius, "length": o.length} for o in t.offsets}
         items.append(item)
