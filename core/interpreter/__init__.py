@@ -1,8 +1,8 @@
 """The interpreter: Program → Toolpath. Runs the blocks in order and keeps the state of every line.
 
-The loop owns what concerns the program as a whole: skip blocks, the end at M30, the limit of
-executed blocks, the missing M30, the cap on diagnostics. What a single block means is the
-dialect's block executor (core/interpreter/pal_mill.py).
+The loop owns what concerns the program as a whole: skip blocks, the end at M30, the budgets of work
+(executed blocks, evaluation steps, programmed moves: core/limits.py), the missing M30, the cap on
+diagnostics. What a single block means is the dialect's block executor (core/interpreter/pal_mill.py).
 """
 
 from __future__ import annotations
@@ -15,8 +15,10 @@ from typing import Any, Protocol
 from core.diagnostics import Diagnostic, diag
 from core.dialects.codes import CodeTable
 from core.interpreter.contour import Item, Planned, finish
+from core.interpreter.followups import FollowUps
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
-from core.syntax.blocks import Block, Program, Span
+from core.limits import DEFAULT_LIMITS, DIAGNOSTIC_STEPS, Limits
+from core.syntax.blocks import BinOp, Block, Expr, Neg, Program, Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 
@@ -59,6 +61,7 @@ class Toolpath:
     line_states: list[ModalState] = field(default_factory=list)
     line_positions: list[Vec3] = field(default_factory=list)
     params: dict[int, float] = field(default_factory=dict)
+    limits: Limits = DEFAULT_LIMITS  # the limits of the run (an answer shows at most max_answer_commands)
 
     def state_at(self, line: int) -> tuple[ModalState, Vec3]:
         """What is active, and where the tool is, after line `line` (1-based) has run."""
@@ -136,7 +139,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     core.pipeline.Memo); it is pruned to this program's blocks.
     """
     limits = setup.limits
-    result = Toolpath(diagnostics=list(diagnostics or []))
+    result = Toolpath(diagnostics=list(diagnostics or []), limits=limits)
     diags = result.diagnostics
     state = result.initial = switch_on_state(table)
     position = setup.start
@@ -156,7 +159,11 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     unit, index = main, 0
     ended = False
     executed = 0
+    steps = 0  # evaluation steps (see core.limits.Limits.max_evaluation_steps)
+    costs: dict[int, int] = {}  # id(block) → the evaluation steps of its words
+    moves = 0  # programmed moves
     last_line = 0
+    follow = FollowUps()  # what blocks dropped by an error leave unknown (follow-up errors)
 
     def report(d: Diagnostic) -> None:
         diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
@@ -186,6 +193,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         here = index
         index += 1
         if not block.ok or block.is_empty or block.header is not None:
+            if not block.ok:
+                follow.dropped(block)
             continue
         if unit is main:
             last_line = block.line
@@ -196,7 +205,24 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
             ended = True  # stopped: a missing M30 is no news
             break
+        cost = costs.get(id(block))
+        if cost is None:
+            cost = costs[id(block)] = _steps(block)
+        steps += cost
+        if steps > limits.max_evaluation_steps:
+            report(diag("PAL-E016", block.span, limit=limits.max_evaluation_steps))
+            ended = True
+            break
         out = execute(setup, state, position, block, params, cache=cache)
+        follow.ran(block, unit.source, out.diagnostics, getattr(out, "executed", True), out.position != position,
+                   out.state.active("dimensions") != "G91")
+        steps += DIAGNOSTIC_STEPS * len(out.diagnostics)
+        made = sum(type(c) is Planned for c in out.commands)
+        if made and moves + made > limits.max_moves:
+            report(diag("PAL-E017", block.span, limit=limits.max_moves))
+            ended = True
+            break
+        moves += made
         if calls:
             stack = tuple((c.source, c.line) for c in calls)
             for c in out.commands:
@@ -289,12 +315,28 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         for key in [k for k in readings if k[0] not in alive]:
             del readings[key]
     _dedupe(diags)
+    follow.finish(diags)
     if len(diags) > limits.max_diagnostics:
         cut = diags[limits.max_diagnostics - 1]
         del diags[limits.max_diagnostics - 1:]
         diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
     result.final_position = position
     return result
+
+
+def _steps(block: Block) -> int:
+    """The evaluation steps of one execution of `block`: one per word, one per term of each expression."""
+    return len(block.words) + sum(_terms(w.expr) for w in block.words if w.expr is not None) + sum(
+        1 + _terms(a.expr) for a in block.assignments)
+
+
+def _terms(expr: Expr) -> int:
+    """Numbers, parameters and operators in `expr` (depth-limited by the parser, PAL-E014)."""
+    if isinstance(expr, BinOp):
+        return 1 + _terms(expr.left) + _terms(expr.right)
+    if isinstance(expr, Neg):
+        return 1 + _terms(expr.operand)
+    return 1
 
 
 def _dedupe(diags: list[Diagnostic]) -> None:

@@ -47,6 +47,7 @@ class Outcome:
     sub_end: bool = False  # M17 executed
     flow: tuple[str, int, int] | None = None  # ("call", L, H) for G22, ("jump", N, 0) for a G29 taken
     repeat: tuple[int, int, int] | None = None  # G23: start N, end N, count H
+    executed: bool = True  # False: an error stopped the block before it did anything
 
 
 def execute_block(
@@ -99,6 +100,7 @@ def execute_block(
         _check_owner(owner, owner_word or gs[0][0], in_block, words, values, state, d)
 
     if d and any(x.severity is Severity.ERROR for x in d):
+        out.executed = False
         return out  # the block is not executed; the state stays as it was
 
     # -- what is not implemented yet -------------------------------------------------------
@@ -107,6 +109,7 @@ def execute_block(
             skips = code.owns_block
             d.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
             if skips:
+                out.executed = False
                 return out
 
     # -- commit: technology and modes at block start ------------------------------------------
