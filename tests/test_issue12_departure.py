@@ -147,3 +147,18 @@ def test_iso_dialects_after_g40_start_from_the_programmed_point(dialect: str) ->
     assert on_line(tp, 7) == [("rapid", pytest.approx((-10, 40, -3)), pytest.approx((100, 40, -3)))]
     assert tp.final_position == pytest.approx((100, 40, -3))
 
+
+
+@pytest.mark.parametrize("frame,arc_end,next_end", [
+    ("N25 G66 Y\n", (15, 40, -3), (-100, 40, 50)),  # X mirrored: the quarter circle turns the other way
+    ("N25 G58 AR90\n", (-40, -15, -3), (-40, 100, 50)),  # rotated by 90°: (x, y) → (−y, x)
+])
+def test_quarter_circle_departure_under_mirroring_and_rotation(frame: str, arc_end: tuple[float, float, float],
+                                                               next_end: tuple[float, float, float]) -> None:
+    text = HEAD.replace("N30 ", frame + "N30 ") + "N60 G40 G48 R10 Z2 W50\nN70 G0 X100\nN80 M30\n"
+    tp = run(text, setup=SETUP)
+    assert errors(tp) == []
+    arc = next(m for m in tp.moves if m.kind == "arc" and m.line == 7)
+    assert arc.end == pytest.approx(arc_end)
+    up = (arc_end[0], arc_end[1], 50)
+    assert on_line(tp, 8) == [("rapid", pytest.approx(up), pytest.approx(next_end))]

@@ -66,17 +66,16 @@ class FollowUps:
 
     def dropped(self, block: Block) -> None:
         """`block` was rejected by the parser: whatever it seems to set is unknown from here on."""
-        for k in _keys(_raw_words(block.text)):
-            self.unknown[k] = block.line
-        if block.number is not None:
-            self.unknown[f"N{block.number}"] = block.line
+        lost = _keys(_raw_words(block.text)) | ({f"N{block.number}"} if block.number is not None else set())
+        if lost:  # a new dict: the notes in `at` share the old one
+            self.unknown = {**self.unknown, **dict.fromkeys(lost, block.line)}
 
     def ran(self, block: Block, source: str | None, diagnostics: list[Diagnostic], executed: bool, moved: bool,
             absolute: bool) -> None:
         """`block` was executed (`executed` False: it stopped at an error before doing anything)."""
         before = self.unknown
         if before:
-            self.at.setdefault((source, block.line), dict(before))
+            self.at.setdefault((source, block.line), before)  # never mutated: changes make a new dict
         words = [(w.address, w.value) for w in block.words]
         keys = _keys(words)
         errors = [d for d in diagnostics if d.severity is Severity.ERROR]
