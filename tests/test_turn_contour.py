@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from core.diagnostics import Diagnostic
+from core.interpreter.state import RunSetup
 from core.interpreter.turn_contour import (
     XZ,
     Nose,
@@ -26,8 +28,10 @@ from core.interpreter.turn_contour import (
     known_end,
     resolve,
 )
+from core.pipeline import run as pipeline_run
 from core.syntax.blocks import Span
 from core.toolpath import Move
+from core.tools import DEFAULT_TOOLS, turning_tool
 
 TOL = 0.001
 WORD = re.compile(r"([A-Z])\s*(-?\s*[\d.,]+)")
@@ -601,3 +605,133 @@ def test_property_train_equals_its_explicit_coordinates(s: tuple[float, float], 
         assert (m1.center is None) == (m2.center is None)
         if m1.center is not None:
             assert m1.center == pytest.approx(m2.center, abs=1e-6)
+
+
+# -- the examples through the pipeline (core.pipeline.run, dialect traub-tx8d) --------------------
+
+SEEDS = Path(__file__).with_name("seeds") / "traub"
+NOSE = RunSetup(tools=DEFAULT_TOOLS.with_tool(turning_tool(1, 0.4, 1)))  # T0101: R0.4, quadrant P1
+
+# the files of the contour trains and SRK, with the diagnostics each must give (code, line) under T0101 R0.4 P1
+PIPELINE: dict[str, list[tuple[str, int]]] = {
+    "tx-17-g0-g1-g2-g3.nc": [],
+    "tx-21-geometriezug.nc": [],
+    "tx-22-uebergangselemente.nc": [],
+    "tx-23-kreise.nc": [],
+    "tx-24-h0-h1.nc": [],
+    "tx-25-vorlagen.nc": [],
+    "tx-27-srk-anwahl.nc": [],
+    "tx-28-srk-abwahl-1.nc": [("TX-W218", 7)],
+    "tx-28-srk-abwahl-2.nc": [("TX-W217", 7)],
+    "tx-28-srk-abwahl-3.nc": [],
+    "tx-48-kreis-eingaben.nc": [],
+}
+
+
+def traub(name: str, setup: RunSetup = NOSE) -> list[Move]:
+    tp = pipeline_run((SEEDS / name).read_text(encoding="utf-8"), "traub-tx8d", setup)
+    assert [(x.code, x.span.line) for x in tp.diagnostics] == PIPELINE[name]
+    return tp.moves
+
+
+def by_line(moves: list[Move], line: int) -> list[Move]:
+    return [m for m in moves if m.line == line]
+
+
+@pytest.mark.parametrize("name", sorted(PIPELINE))
+def test_pipeline_example_gives_exactly_its_diagnostics(name: str) -> None:
+    traub(name)
+
+
+@pytest.mark.parametrize("name", sorted(n for n, expected in PIPELINE.items() if not expected))
+def test_pipeline_example_without_nose_data_runs_on_the_tool_tip(name: str) -> None:
+    # without a nose radius in the set-up G46 changes nothing: every move ends on its programmed point
+    tp = pipeline_run((SEEDS / name).read_text(encoding="utf-8"), "traub-tx8d", RunSetup())
+    assert [(x.code, x.span.line) for x in tp.diagnostics] == []
+    assert all(m.programmed_end == m.end for m in tp.moves)
+
+
+def test_pipeline_tx17_arcs() -> None:
+    moves = traub("tx-17-g0-g1-g2-g3.nc")
+    g2, g3 = by_line(moves, 6)[0], by_line(moves, 8)[0]
+    assert (g2.direction, g2.center, g2.end) == ("cw", pytest.approx((20, 0, -15)), pytest.approx((20, 0, -25)))
+    assert (g3.direction, g3.center, g3.end) == ("ccw", pytest.approx((20, 0, -50)), pytest.approx((30, 0, -50)))
+
+
+def test_pipeline_tx21_train() -> None:
+    moves = traub("tx-21-geometriezug.nc")
+    assert [ends([m])[0] for m in moves if 13 <= m.line <= 15] == approx((20, -42.321), (20, -65), (60, -85))
+    rounding = [m for m in by_line(moves, 7) if m.kind == "arc"]
+    assert len(rounding) == 1 and rounding[0].radius == pytest.approx(2) and rounding[0].feed == 0.08
+
+
+def test_pipeline_tx22_transitions() -> None:
+    moves = traub("tx-22-uebergangselemente.nc")
+    assert ends(by_line(moves, 7)) == approx((39, 0), (40, -0.5))  # D0.5: X39 Z0 → X40 Z-0.5
+    assert by_line(moves, 7)[1].feed == 0.1
+    r05 = by_line(moves, 14)[1]
+    assert (r05.kind, r05.center, r05.radius) == ("arc", pytest.approx((19.5, 0, -0.5)), pytest.approx(0.5))
+    corner_d = by_line(moves, 21)
+    p1, p2 = corner_d[1].start, corner_d[1].end
+    assert math.dist(p1, p2) == pytest.approx(2)  # D-2: the chamfer's length
+    assert ends(by_line(moves, 22)) == approx((86, -35))
+
+
+def test_pipeline_tx23_three_forms_give_the_same_arc() -> None:
+    moves = traub("tx-23-kreise.nc")
+    arcs = [m for m in moves if m.kind == "arc"]
+    assert len(arcs) == 6
+    for arc in arcs[:3]:
+        assert (arc.direction, arc.center, arc.end) == ("cw", pytest.approx((25, 0, -25)), pytest.approx((25, 0, -35)))
+    for arc in arcs[3:]:
+        assert (arc.direction, arc.center) == ("ccw", pytest.approx((15, 0, -35)))
+
+
+def test_pipeline_tx24_h0_h1() -> None:
+    moves = traub("tx-24-h0-h1.nc")
+    assert ends(by_line(moves, 6)) == approx((40, -8.404))
+    assert ends(by_line(moves, 11)) == approx((40, -47.596))
+
+
+def test_pipeline_tx25_templates() -> None:
+    moves = traub("tx-25-vorlagen.nc")
+    assert ends(by_line(moves, 7)) == approx((20, -10))  # line – arc tangential
+    assert ends(by_line(moves, 13)) == approx((30, -25.981))  # arc – line tangential
+    assert ends(by_line(moves, 19)) == approx((40, -15))  # H0
+    assert ends(by_line(moves, 24)) == approx((40, -45))  # H1
+    arc_arc = [m for m in moves if m.line in (41, 42)]
+    assert [m.direction for m in arc_arc] == ["ccw", "cw"] and arc_arc[0].end == arc_arc[1].start
+
+
+def test_pipeline_tx27_nose_centre_path() -> None:
+    moves = traub("tx-27-srk-anwahl.nc")
+    assert by_line(moves, 5)[0].end == pytest.approx((20.4, 0, 1))
+    assert by_line(moves, 6)[0].end == pytest.approx((20.4, 0, -30))
+    assert by_line(moves, 6)[0].programmed_end == pytest.approx((20, 0, -30))
+    chamfer_block = by_line(moves, 13)
+    assert [m.kind for m in chamfer_block] == ["feed", "arc", "feed", "arc"]
+    assert chamfer_block[2].programmed_end == pytest.approx((20, 0, -2)) and chamfer_block[2].feed == 0.1
+    arc = by_line(moves, 22)[0]
+    assert arc.end == pytest.approx((15.4, 0, -25.981), abs=TOL) and arc.radius == pytest.approx(30.4)
+    assert arc.center == pytest.approx((-15, 0, -25.981), abs=TOL)
+
+
+def test_pipeline_tx28_deselection_cases() -> None:
+    k = 0.4 / math.sqrt(2)
+    case1 = by_line(traub("tx-28-srk-abwahl-1.nc"), 7)[-1]
+    case2 = by_line(traub("tx-28-srk-abwahl-2.nc"), 7)[-1]
+    case3 = by_line(traub("tx-28-srk-abwahl-3.nc"), 7)[-1]
+    assert case1.end == pytest.approx((45, 0, -45))  # falsified: the block ends on the tool tip
+    assert case2.end == pytest.approx((45 + k - 0.1172, 0, -44.6), abs=TOL)  # cut short by the 90° vector
+    assert case3.end == pytest.approx((45 + k, 0, -45 + k))  # complete, on its perpendicular
+
+
+def test_pipeline_tx48_input_forms() -> None:
+    moves = traub("tx-48-kreis-eingaben.nc")
+    arcs = [m for m in moves if m.kind == "arc" and m.line <= 21]
+    assert [m.direction for m in arcs] == ["cw", "ccw"] * 3
+    assert [m.center for m in arcs] == [pytest.approx((25, 0, -25)), pytest.approx((15, 0, -35))] * 3
+    assert ends(by_line(moves, 27)) == approx((40, -20))
+    assert ends(by_line(moves, 31)) == approx((30, -25.981))
+    assert ends(by_line(moves, 37)) == approx((40, -8.404))
+    assert ends(by_line(moves, 42)) == approx((40, -47.596))

@@ -1,0 +1,45 @@
+(TX-48: Eingabeformen G2/G3 und Vorlagen Gerade/Kreisbogen)
+G95
+G97 S1000 T0101 M4
+G0 X30 Z1 M8
+G1 Z-25 F0.2
+G 2 X50 Z-35 R10
+G0 X54
+G0 X30 Z-25
+G 3 X50 Z-35 R10
+G0 X54
+G0 X30 Z-25
+G 2 X50 Z-35 P50 Q-25
+G0 X54
+G0 X30 Z-25
+G 3 X50 Z-35 P30 Q-35
+G0 X54
+G0 X30 Z-25
+G 2 X50 Z-35 I10 K0
+G0 X54
+G0 X30 Z-25
+G 3 X50 Z-35 I0 K-10
+G0 X54
+(Gerade - Kreisbogen tangential, Kreisbogen - Gerade tangential)
+G0 X20 Z1
+G1 Z0
+G1 A180
+G2 X40 Z-20 R10
+G0 X44
+G0 X0 Z1
+G1 Z0
+G3 R30
+G1 X30 Z-30 A0
+G0 X34
+(Kreisbogen - Gerade mit H0 und H1)
+G0 X0 Z1
+G1 Z0
+G3 P0 Q-28 H0
+G1 X40 Z-10 A0
+G0 X44
+G0 X0 Z1
+G1 Z0
+G3 P0 Q-28 H1
+G1 X40 Z-27 A0
+G0 X100 Z50 M9
+M30
