@@ -174,7 +174,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.json:
             print(json.dumps(toolpath_json(toolpath), ensure_ascii=False))
         else:
-            for line in trace_lines(toolpath):
+            for line in trace_lines(toolpath, DIALECTS[args.dialect].lathe):
                 print(line)
             for d in diagnostics:
                 print(_format(args.file, d, args.lang), file=sys.stderr)

@@ -41,6 +41,7 @@ class Dialect:
     runner: Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program]], Toolpath] | None = None
     skip_blocks: bool = False  # the default of the skip switch: True = "/" blocks are not executed
     library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
+    lathe: bool = False  # turning: X is shown as a diameter (the moves' x is the radius, DECISIONS §15)
 
 
 DIALECTS: dict[str, Dialect] = {
@@ -51,7 +52,8 @@ DIALECTS: dict[str, Dialect] = {
     "beckhoff": Dialect("beckhoff", "Beckhoff TwinCAT CNC", "Beckhoff TwinCAT CNC", "beckhoff", BECKHOFF_TABLE,
                         partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED),
     "traub-tx8d": Dialect("traub-tx8d", "TRAUB TX 8 D Drehen", "TRAUB TX 8 D turning", "traub", TRAUB_TABLE,
-                          pal_mill_block, runner=traub_run, skip_blocks=True, library_prefix="O"),
+                          pal_mill_block, runner=traub_run, skip_blocks=True, library_prefix="O",
+                          lathe=True),
 }
 DEFAULT_DIALECT = "pal-mill"
 

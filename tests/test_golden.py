@@ -24,9 +24,10 @@ GOLDEN = Path(__file__).with_name("golden")
 
 def render(path: Path) -> str:
     """The trace of a program, read in the dialect its folder is named after (PAL milling otherwise)."""
-    dialect = path.parent.name if path.parent.name in DIALECTS else "pal-mill"
+    folder = {"traub": "traub-tx8d"}.get(path.parent.name, path.parent.name)
+    dialect = folder if folder in DIALECTS else "pal-mill"
     tp = run(path.read_text(encoding="utf-8"), dialect)
-    lines = trace_lines(tp) + [f"! {d.code} {d.span.line}:{d.span.column}" for d in tp.diagnostics]
+    lines = trace_lines(tp, DIALECTS[dialect].lathe) + [f"! {d.code} {d.span.line}:{d.span.column}" for d in tp.diagnostics]
     return "\n".join(lines) + "\n"
 
 
