@@ -430,6 +430,13 @@ class Workers:
                 self._watch(slot)
         return self._loop
 
+    def _rehome(self) -> None:
+        for slot in self._slots:
+            slot.watched = None  # registered with the old loop, which is gone
+        self._waiting.clear()
+        self._loop = None
+        self._attach()
+
     def _spawn(self, slot: _Slot) -> Future[bool]:
         """A new process for `slot`, warming up; the slot takes jobs once it is warm."""
         pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
@@ -610,6 +617,12 @@ class Workers:
         when its process dies twice, BUSY (503) when no process is free for `queue_seconds`."""
         if not self._slots:
             raise ApiError("NOT_READY", detail="workers not started")
+        home, loop = self._loop, asyncio.get_running_loop()
+        if home is not None and home is not loop:
+            if home.is_running():  # the pool's state belongs to its loop: the call runs there
+                return await asyncio.wrap_future(
+                    asyncio.run_coroutine_threadsafe(self.call(fn, *args, affinity=affinity), home))
+            self._rehome()  # the loop start() ran in has ended: this one takes the pool over
         failures = 0
         while True:
             slot = await self._acquire(affinity)

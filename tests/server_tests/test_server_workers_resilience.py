@@ -138,3 +138,12 @@ def test_an_abandoned_job_is_still_held_to_the_time_limit() -> None:
 
     waited, result = run_with(1, 1.0, body)
     assert result == 5 and waited < 15
+
+
+def test_a_request_from_another_event_loop_is_served(own: Api) -> None:
+    """A client without its own lifespan (each request on a loop of its own) still reaches the workers."""
+    other = TestClient(own.app, base_url="http://127.0.0.1", raise_server_exceptions=False)
+    with ThreadPoolExecutor(6) as pool:  # both kinds at once, so that jobs wait for a free worker
+        answers = [pool.submit(client.post, "/api/v1/check", json={"program": GOOD * 40})
+                   for _ in range(6) for client in (own.client, other)]
+        assert [f.result(timeout=120).status_code for f in answers] == [200] * 12
