@@ -52,6 +52,7 @@ BIG_SETUP = RunSetup(limits=Limits(max_executed_blocks=1_000_000, max_blocks=1_0
 TARGET_PARSE_VS_GCODEPARSER = 1.0  # our parse rate / gcodeparser rate
 TARGET_RUN_VS_PYGCODE = 3.0  # our parse+interpret rate / pygcode Line+Machine rate
 TARGET_REALISTIC_MS = 10.0  # one realistic 300-block program, parsed and interpreted
+TARGET_TURNING_MS = 10.0  # one 300-block TRAUB turning program, parsed and interpreted
 
 
 # ----------------------------------------------------------------------------------------------
@@ -164,6 +165,34 @@ def generate_realistic() -> str:
     add("G0 X250 Y150 Z250")
     add("M5")
     add("M30")
+    assert len(out) == 300, len(out)
+    return "\n".join(out) + "\n"
+
+
+def generate_turning() -> str:
+    """A 300-block TRAUB TX 8 D program as a lathe trainee would write it: program head with G59 and G96/G92,
+    facing, longitudinal roughing passes with a shoulder radius, a finishing contour with arcs (R, P/Q),
+    chamfer-free, then a drill called from a subprogram with L parameters, M30 and the subprogram."""
+    out: list[str] = ["%", "O 4711", "G59 X0 Z210", "N3 G96 V200 T0303 M4", "G92 S3000", "G0 X82 Z0 M8",
+                      "G1 X-1.6 F0.2", "G0 X82 Z2"]
+    # roughing: 32 passes of 0.5 mm on the radius, 6 blocks each, from Ø80 down to Ø48
+    for p in range(1, 33):
+        x = 80 - 1 * p
+        out += [f"G0 X{fmt(x)} Z2", f"G1 Z-{fmt(20 + p * 0.5)} F0.3", f"G1 X{fmt(x + 1)} Z-{fmt(21 + p * 0.5)}",
+                "G0 Z2", "G1 W-0.5 F0.3", "G0 U1"]
+    out += ["G26", "N4 G96 V250 T0404 M4", "G0 X36 Z2"]
+    # finishing: 9 times the same little contour with arcs (R and P/Q), 8 blocks each
+    for k in range(9):
+        z0 = -2.0 * k
+        out += [f"G1 X36 Z{fmt(z0)} F0.15", f"G1 X40 Z{fmt(z0 - 2)}", f"G1 Z{fmt(z0 - 12)}",
+                f"G2 X50 Z{fmt(z0 - 17)} R5", "G1 X56", f"G3 X60 Z{fmt(z0 - 19)} P56 Q{fmt(z0 - 19)}",
+                f"G1 Z{fmt(z0 - 30)}", "G0 X36 Z2"]
+    out += ["G26", "L1 = 11", "L2 = 12", "L4 = 25", "G22 A8007", "M30", "%", "%", "O8007",
+            "N3 G97 V30 X L2 T0505 M3", "G0 X0 Z1 M8", "G1 Z-[L2/2] F0.1", "G25", "N4 G97 V30 X L1 T0606 M3",
+            "G0 X0 Z1", "G1 Z-L4 F0.1", "G4 X0.5", "G27"]
+    while len(out) < 298:
+        out.insert(-4, "G0 X0 Z1")  # more approaches to the centre hole
+    out += ["M99", "%"]
     assert len(out) == 300, len(out)
     return "\n".join(out) + "\n"
 
@@ -352,6 +381,11 @@ def main(argv: list[str] | None = None) -> int:
     assert errs == [], f"realistic program: {len(errs)} errors, first: {errs[:3]}"
     t_real = best_time(20, ours_run, realistic, RunSetup())
     ms = t_real * 1000
+    turning = generate_turning()
+    tp = run(turning, "traub-tx8d")
+    errs = errors_of(tp)
+    assert errs == [], f"turning program: {len(errs)} errors, first: {errs[:3]}"
+    turning_ms = best_time(20, run, turning, "traub-tx8d") * 1000
 
     print()
     print("Targets")
@@ -386,6 +420,12 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"  realistic 300-block PAL program, run (best of 20): {ms:6.2f} ms "
         f"(target < {TARGET_REALISTIC_MS:.0f} ms)  {verdict(ok)}"
+    )
+    ok = turning_ms < TARGET_TURNING_MS
+    all_ok &= ok
+    print(
+        f"  300-block TRAUB turning program, run (best of 20): {turning_ms:6.2f} ms "
+        f"(target < {TARGET_TURNING_MS:.0f} ms)  {verdict(ok)}"
     )
     print()
     note = f" ({skipped} comparison(s) skipped)" if skipped else ""

@@ -280,3 +280,17 @@ def test_tool_table_yaml_carries_the_nose_data() -> None:
     tool = table.tools[3]
     assert (tool.nose_radius, tool.quadrant, tool.name) == (0.4, 3, "Drehmeißel Ø0.8")
     assert parse_tool_table(tool_table_yaml(table)) == table
+
+
+def test_the_benchmark_turning_program_runs_clean() -> None:
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("bench_interpreter", Path(__file__).parents[1] / "bench" /
+                                                  "interpreter.py")
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    text = bench.generate_turning()
+    tp = run(text, "traub-tx8d")
+    assert len(text.splitlines()) == 300
+    assert codes(tp) == [] and len(tp.moves) > 250

@@ -328,19 +328,37 @@ class TurnRun:
         self.params: dict[int, float] = {}
         self.nose = Nose()
         self.reference: XZ | None = None  # the workpiece zero of the output frame (set at the first motion)
+        self.early: set[int] = set()  # ids of tool changes and dwells made before the reference was known
+        self._state: ModalState | None = None
 
     # -- helpers ------------------------------------------------------------------------------
 
     def modal_state(self) -> ModalState:
+        """The state after the block that ran last (shared with the block before when nothing changed)."""
         t = self.turn
-        pos = self.last_known
-        return ModalState(dict(t.codes), t.feed, t.spindle_at(pos[0]) if t.spindle_on else t.speed, t.tool,
-                          t.offset)
+        speed = t.spindle_at(self.last_known[0]) if t.spindle_on else t.speed
+        last = self._state
+        if (last is None or last.codes is not t.codes or last.feed != t.feed or last.speed != speed
+                or last.tool != t.tool or last.tc != t.offset):
+            last = self._state = ModalState(t.codes, t.feed, speed, t.tool, t.offset)
+        return last
+
+    def _ref(self) -> XZ:
+        """The workpiece zero of the output frame: the zero point active at the first motion."""
+        if self.reference is None:
+            self.reference = self.turn.zero()
+        return self.reference
+
+    def _out(self, p: XZ) -> Vec3:
+        """Machine (x radius, z) → output [x, 0, z] in the workpiece frame (the reference must be known)."""
+        ref = self.reference
+        assert ref is not None
+        return (p[0] - ref[0], 0.0, p[1] - ref[1])
 
     def _template(self, kind: str, span: Span, exact: bool = False) -> Move:
         t = self.turn
         p = self.last_known
-        pos: Vec3 = (p[0], 0.0, p[1])
+        pos: Vec3 = self._out(p)
         spindle_code = t.codes.get("spindle")
         on = spindle_code in ("M3", "M4")
         return Move(kind, pos, pos, t.feed, "mm/rev" if t.codes.get("feed_mode") == "G95" else "mm/min",  # type: ignore[arg-type]
@@ -417,7 +435,7 @@ class TurnRun:
         if "E" in values:
             t.transition_feed = values["E"]
         for w, c in gs + ms:
-            if c.group is not None and c.group != "program_end":
+            if c.group is not None and c.group != "program_end" and t.codes.get(c.group) != c.name:
                 t.codes = {**t.codes, c.group: c.name}
         if "G92" in names:
             if "S" in values:
@@ -455,7 +473,7 @@ class TurnRun:
             t.tool = value // 100 or None
             t.offset = value % 100
             t.tool_called, t.deselected_by, t.first_after_t = True, None, True
-            out.items.append(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span))
+            out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
         if names & {"G54", "G55", "G56", "G57"}:
             zero = next(c.name for _, c in gs if c.name in ("G54", "G55", "G56", "G57"))
             base = self.setup.zero_offset(zero)
@@ -476,7 +494,7 @@ class TurnRun:
             if not 0.001 <= seconds <= 999.99:
                 d.append(diag("TX-E108", (words.get("X") or words["U"]).span, value=seconds))
             else:
-                out.items.append(Dwell(self._vec(), seconds, span))
+                out.items.append(self._early(Dwell(self._vec(), seconds, span)))
         elif owner is not None and owner.name in _CHANGE_POINT:
             self._change_point(owner.name, words, values, span, out)
         elif owner is not None and owner.name == "G22":
@@ -493,15 +511,21 @@ class TurnRun:
         return out
 
     def _vec(self) -> Vec3:
+        """Where the tool stands, in the output frame once it is known (else machine, fixed at the end)."""
         p = self.last_known
-        return (p[0], 0.0, p[1])
+        return (p[0], 0.0, p[1]) if self.reference is None else self._out(p)
+
+    def _early(self, item: Dwell | ToolChange) -> Dwell | ToolChange:
+        if self.reference is None:
+            self.early.add(id(item))
+        return item
 
     def _motion(self, code: str, words: dict[str, Word], values: dict[str, float], span: Span, out: Outcome) -> None:
         t = self.turn
+        rx, rz = self._ref()
         zx, zz = t.zero()
-        if self.reference is None:
-            self.reference = (zx, zz)
-        start = self.position
+        zx, zz = zx - rx, zz - rz  # the active zero point in the output frame
+        start = None if self.position is None else (self.position[0] - rx, self.position[1] - rz)
         x = values["X"] / 2 + zx if "X" in values else None
         z = values["Z"] + zz if "Z" in values else None
         dx, dz = values.get("U"), values.get("W")
@@ -531,7 +555,8 @@ class TurnRun:
                 out.diagnostics.append(diag("TX-W106", span))
             elif not t.spindle_on and not t.driven_on:  # a driven tool cuts with the main spindle at rest
                 out.diagnostics.append(diag("PAL-E302", span, Severity.WARNING))
-        if t.codes.get("spindle_mode") == "G96" and t.spindle_on and t.limit is None and x is not None and x <= 1e-9:
+        if (t.codes.get("spindle_mode") == "G96" and t.spindle_on and t.limit is None and x is not None
+                and x + rx <= 1e-9):
             out.diagnostics.append(diag("TX-W105", span, limit=f"{MAX_SPINDLE:g} 1/min"))
         kind = "rapid" if code == "G0" else "arc" if is_arc else "feed"
         template = self._template(kind, span, exact=code in ("G0", "G9"))
@@ -545,14 +570,14 @@ class TurnRun:
             h=int(values["H"]) if "H" in values else None,
             transition=transition,
             nose=self.nose,
-            spindle_at=_constant_cutting_speed(t.cutting_speed, t.limit)
+            spindle_at=_constant_cutting_speed(t.cutting_speed, t.limit, rx)
             if t.codes.get("spindle_mode") == "G96" and t.spindle_on else None,
         )
         out.items.append(item)
         end = self._known_end(start, item, has_axis=bool(words.keys() & {"X", "U", "Z", "W"}))
-        self.position = end
-        if end is not None:
-            self.last_known = end
+        self.position = None if end is None else (end[0] + rx, end[1] + rz)
+        if self.position is not None:
+            self.last_known = self.position
 
     def _known_end(self, start: XZ | None, item: TurnItem, has_axis: bool) -> XZ | None:
         """Where the block ends, when the block alone fixes it; None for an unknown train point."""
@@ -594,24 +619,24 @@ class TurnRun:
             points.append(target)
         else:  # G53: machine coordinates
             points = [(values["X"] / 2 if "X" in values else here[0], values.get("Z", here[1]))]
-        if self.reference is None:
-            self.reference = t.zero()
+        self._ref()
         for p in points:
             if p == here:
                 continue
             template = self._template("rapid", span, exact=True)
-            out.items.append(dataclasses.replace(template, start=(here[0], 0.0, here[1]), end=(p[0], 0.0, p[1])))
+            out.items.append(dataclasses.replace(template, start=self._out(here), end=self._out(p)))
             here = p
         self.position = self.last_known = here
         t.tool_called, t.deselected_by, t.first_after_t = False, name, False
 
 
-def _constant_cutting_speed(v: float, limit: float | None) -> Callable[[float], float]:
-    """The speed (1/min) at radius x under G96 V`v`, clamped by G92 S`limit` (or the machine's highest)."""
+def _constant_cutting_speed(v: float, limit: float | None, axis: float = 0.0) -> Callable[[float], float]:
+    """The speed (1/min) at x under G96 V`v`, clamped by G92 S`limit` (or the machine's highest); x + `axis` is
+    the radius (distance from the spindle axis)."""
     top = limit if limit is not None else MAX_SPINDLE
 
     def at(x: float) -> float:
-        d = 2 * abs(x)
+        d = 2 * abs(x + axis)
         return top if d < 1e-9 else min(top, v * 1000.0 / (math.pi * d))
 
     return at
@@ -838,10 +863,10 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     if not ended and (program.blocks or not diags):
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
-    reference = run.reference or run.turn.zero()
+    dx, dz = run._ref()
     commands = resolve(items, diags)
-    dx, dz = reference
-    result.commands = [_to_workpiece(c, dx, dz) for c in commands] if (dx, dz) != (0.0, 0.0) else list(commands)
+    early = run.early
+    result.commands = [_to_workpiece(c, dx, dz) if early and id(c) in early else c for c in commands]
     for command in result.commands:
         if type(command) is Move:
             result.moves.append(command)
