@@ -376,6 +376,10 @@ CATALOGUE: dict[str, Entry] = {
                      "The travel after the transition element {element} is {length} mm, at least {need} mm is "
                      "needed (W min = D/R + 0.1 + nose radius)."),
     "TX-W106": Entry(W, "Vorschubbewegung ohne Werkzeugaufruf T.", "Feed motion without a tool call T."),
+    "TX-W107": Entry(W, "L{number} erhält erst nach dem Aufruf von {program} einen neuen Wert: das "
+                        "Unterprogramm hat mit dem alten gerechnet (Werte vor dem Aufruf zuweisen).",
+                     "L{number} gets its new value only after the call of {program}: the subprogram used the "
+                     "old one (assign values before the call)."),
     # --- TRAUB TX 8 D turning: programs and subprograms (TX-x3xx) ------------------------------
     "TX-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
                      "Program O{number} is neither in this file nor in the library."),

@@ -159,8 +159,10 @@ def _l_valid(n: int) -> bool:
     return 1 <= n <= 48 or 101 <= n <= 148
 
 
-def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic]) -> float | None:
-    """The value of an L-parameter expression, or None after an error (DECISIONS §21)."""
+def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic],
+             reads: set[int] | None = None) -> float | None:
+    """The value of an L-parameter expression, or None after an error (DECISIONS §21); `reads` collects
+    the numbers of the parameters it reads."""
     if isinstance(expr, Num):
         return expr.value
     if isinstance(expr, ParamRef):
@@ -168,16 +170,18 @@ def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic
         if not _l_valid(expr.number):
             d.append(diag("TX-E110", span, number=expr.number))
             return None
+        if reads is not None:
+            reads.add(expr.number)
         if expr.number not in params:
             d.append(diag("TX-W101", span, number=expr.number))
             return 0.0
         return params[expr.number]
     if isinstance(expr, Neg):
-        v = evaluate(expr.operand, params, line, d)
+        v = evaluate(expr.operand, params, line, d, reads)
         return None if v is None else -v
     assert isinstance(expr, BinOp)
-    left = evaluate(expr.left, params, line, d)
-    right = evaluate(expr.right, params, line, d)
+    left = evaluate(expr.left, params, line, d, reads)
+    right = evaluate(expr.right, params, line, d, reads)
     if left is None or right is None:
         return None
     if expr.op == "+":
@@ -216,7 +220,7 @@ class _Reading:
     owner_word: Word | None
 
 
-def _read(block: Block, params: dict[int, float], d: list[Diagnostic]) -> _Reading:
+def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None) -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
@@ -247,7 +251,7 @@ def _read(block: Block, params: dict[int, float], d: list[Diagnostic]) -> _Readi
             continue
         words[a] = w
         if w.expr is not None:
-            v = evaluate(w.expr, params, w.line, d)
+            v = evaluate(w.expr, params, w.line, d, reads)
             if v is None:
                 continue
         else:
@@ -329,6 +333,9 @@ class TurnRun:
         self.nose = Nose()
         self.reference: XZ | None = None  # the workpiece zero of the output frame (set at the first motion)
         self.early: set[int] = set()  # ids of tool changes and dwells made before the reference was known
+        self.program: str | None = None  # the called program running now (None: the main program)
+        self.callee_reads: dict[int, tuple[float, str]] = {}  # L read by a called program: value, program
+        self.late: dict[int, tuple[Span, str]] = {}  # L assigned another value after such a read
         self._state: ModalState | None = None
 
     # -- helpers ------------------------------------------------------------------------------
@@ -380,16 +387,20 @@ class TurnRun:
         span = block.span
         # L-parameter assignments, left to right, into a copy
         params = self.params
+        reads: set[int] | None = set() if self.program is not None else None
         if block.assignments:
             params = dict(params)
             for asg in block.assignments:
                 if not _l_valid(asg.param):
                     d.append(diag("TX-E110", asg.span, number=asg.param))
                     continue
-                v = evaluate(asg.expr, params, asg.line, d)
+                v = evaluate(asg.expr, params, asg.line, d, reads)
                 if v is not None:
                     params[asg.param] = v
-        r = _read(block, params, d)
+                    seen = self.callee_reads.get(asg.param)
+                    if seen is not None and seen[0] != v and self.program is None:
+                        self.late[asg.param] = (asg.span, seen[1])
+        r = _read(block, params, d, reads)
         gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
         names = {c.name for _, c in gs}
         mnames = {c.name for _, c in ms}
@@ -428,6 +439,11 @@ class TurnRun:
                 if skips:
                     return out
         self.params = params
+        if reads:  # what a called program read: an assignment of another value afterwards comes too late (T27)
+            for n in reads:
+                if n in params:
+                    self.callee_reads[n] = (params[n], self.program or "")
+                self.late.pop(n, None)
 
         # -- technology and modes at the block start ------------------------------------------
         if "F" in values:
@@ -795,6 +811,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
             ended = True
             break
+        run.program = calls[-1].callee.name if calls else None
         out = run.execute(block)
         if calls or unit.source is not None:
             stack = tuple((None if c.unit.source is None else c.unit.source, c.line) for c in calls)
@@ -863,6 +880,8 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     if not ended and (program.blocks or not diags):
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
+    for n, (late_span, late_program) in run.late.items():
+        diags.append(diag("TX-W107", late_span, number=n, program=late_program))
     dx, dz = run._ref()
     commands = resolve(items, diags)
     early = run.early
