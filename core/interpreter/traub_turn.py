@@ -220,7 +220,8 @@ class _Reading:
     owner_word: Word | None
 
 
-def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None) -> _Reading:
+def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None,
+          limit: float = 1e9) -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
@@ -257,8 +258,8 @@ def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: se
         else:
             assert w.value is not None
             v = w.value
-        if not math.isfinite(v) or abs(v) > 1e9:
-            d.append(diag("PAL-E015", w.span, value=f"{v:.6g}", address=a, limit="1e+09"))
+        if not math.isfinite(v) or abs(v) > limit:
+            d.append(diag("PAL-E015", w.span, value=f"{v:.6g}", address=a, limit=f"{limit:g}"))
             continue
         if spec.integer and v != int(v):
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
@@ -400,7 +401,7 @@ class TurnRun:
                     seen = self.callee_reads.get(asg.param)
                     if seen is not None and seen[0] != v and self.program is None:
                         self.late[asg.param] = (asg.span, seen[1])
-        r = _read(block, params, d, reads)
+        r = _read(block, params, d, reads, self.setup.limits.max_abs_value)
         gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
         names = {c.name for _, c in gs}
         mnames = {c.name for _, c in ms}
