@@ -512,6 +512,38 @@ def test_inside_arc_smaller_than_the_nose_radius() -> None:
     assert ("TX-E214", 4) in codes(d)
 
 
+def test_groove_narrower_than_the_nose_is_suppressed() -> None:
+    # a groove 0.5 mm wide and 1 mm deep: the nose R0.4 (Ø0.8) cannot enter; its three blocks are
+    # suppressed (Satzausblendung, a warning) and the nose passes over at X40 + 2 × 0.4
+    moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-10.5\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
+                   radius=0.4, quadrant=1)
+    assert sorted(codes(d)) == [("TX-W220", 4), ("TX-W220", 5), ("TX-W220", 6)]
+    assert [(m.line, m.end) for m in moves[1:3]] == [(3, pytest.approx((20.4, 0, -10))),
+                                                      (7, pytest.approx((20.4, 0, -30)))]
+
+
+def test_groove_wider_than_the_nose_is_machined() -> None:
+    moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-12\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
+                   radius=0.4, quadrant=1)
+    assert d == []
+    assert [m.end for m in moves if m.line == 5] == [pytest.approx((19.4, 0, -11.6))]  # floor between the walls
+
+
+@pytest.mark.parametrize(("step", "corner", "end"), [
+    ("X40.2", (20.1, -10), (20.5, 0, -10)),  # up 0.1: the nose rolls over the step's outer corner
+    ("X39.8", (20.0, -10), (20.3, 0, -10 - math.sqrt(0.4 ** 2 - 0.3 ** 2))),  # down 0.1: round the edge
+])
+def test_step_smaller_than_the_nose_radius(step: str, corner: tuple[float, float],
+                                           end: tuple[float, float, float]) -> None:
+    moves, d = run(f"G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 {step}\nG1 Z-20\nG0 X54 A180\nG40", radius=0.4, quadrant=1)
+    assert codes(d) == [("TX-W220", 4)]
+    roll = [m for m in moves if m.kind == "arc"]
+    assert len(roll) == 1 and roll[0].center == pytest.approx((corner[0], 0, corner[1]))
+    assert roll[0].radius == pytest.approx(0.4) and roll[0].angle < 90
+    assert roll[0].end == pytest.approx(end)
+    assert all(m.line != 4 for m in moves)
+
+
 def test_no_srk_without_nose_radius_keeps_the_tip_path() -> None:
     moves, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2", radius=0.0, quadrant=1)
     assert d == []
@@ -735,3 +767,59 @@ def test_pipeline_tx48_input_forms() -> None:
     assert ends(by_line(moves, 31)) == approx((30, -25.981))
     assert ends(by_line(moves, 37)) == approx((40, -8.404))
     assert ends(by_line(moves, 42)) == approx((40, -47.596))
+
+
+@st.composite
+def any_blocks(draw: st.DrawFn) -> str:
+    """Random blocks of every form the stage accepts, sensible or not."""
+    num = st.integers(-60, 60).map(float)
+    blocks = []
+    for _ in range(draw(st.integers(1, 9))):
+        code = draw(st.sampled_from(["G0", "G1", "G2", "G3", "G46", "G40", "G41", "G42"]))
+        words = [code]
+        for address in draw(st.lists(st.sampled_from("XZAURDCPQIKHW"), max_size=5, unique=True)):
+            value = draw(num)
+            if address == "H":
+                value = float(draw(st.integers(0, 1)))
+            words.append(f"{address}{value:g}")
+        blocks.append(" ".join(words))
+    return "\n".join(blocks)
+
+
+@settings(max_examples=300, deadline=None)
+@given(any_blocks(), st.sampled_from([0.0, 0.4, 2.0]), st.integers(0, 4))
+def test_property_any_blocks_give_moves_or_diagnostics_never_an_exception(program: str, radius: float,
+                                                                          quadrant: int) -> None:
+    moves, _ = run(program, radius=radius, quadrant=quadrant)
+    for m in moves:
+        assert all(math.isfinite(v) for v in m.start + m.end)
+        assert m.kind != "arc" or (m.radius is not None and m.radius > 0)
+
+
+@st.composite
+def stepped_profiles(draw: st.DrawFn) -> str:
+    """An outside contour of axial lines and radial steps, some steps smaller than the nose."""
+    x, z = 20.0, 0.0
+    blocks = [f"G0 X{2 * x:.6f} Z2", "G1 Z0 F0.2"]
+    for _ in range(draw(st.integers(1, 5))):
+        z -= draw(st.floats(2, 10))
+        blocks.append(f"G1 Z{z:.6f}")
+        x += draw(st.one_of(st.floats(0.02, 0.35), st.floats(-0.35, -0.02), st.floats(1, 5)))
+        blocks.append(f"G1 X{2 * x:.6f}")
+    blocks.append(f"G1 Z{z - 5:.6f}\nG0 X{2 * x + 10:.6f} A180\nG40")
+    return "\n".join(blocks)
+
+
+@settings(max_examples=60, deadline=None)
+@given(stepped_profiles())
+def test_property_suppressed_steps_never_gouge(program: str) -> None:
+    contour, _ = run(program)
+    path, d = run("G46\n" + program, radius=0.4, quadrant=1)
+    assert {x.code for x in d} <= {"TX-W220"}
+    elements = [m for m in contour if m.kind != "rapid"][1:-1]
+    for m in path[1:]:
+        if m.kind == "rapid":
+            continue
+        for q in m.points(0.001):
+            gap = min(_dist_to(e, (q[2], q[0])) for e in elements)
+            assert gap >= 0.4 - 2e-3, (program, m.line, q)

@@ -691,7 +691,10 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
     selecting = False  # the next motion is the selection move
     first_feed = False  # the next feed is the first after a selection move (contour protection)
     switch_span: Span | None = None
+    skipped: set[int] = set()  # segments taken out by Satzausblendung while compensating
     for i, seg in enumerate(seq):
+        if id(seg) in skipped:
+            continue
         if isinstance(seg, SrkSwitch):
             switch_span = seg.span
             if session is not None and (seg.code == "G40" or seg.code != session[1].mode):
@@ -713,6 +716,7 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
             side = _session_side(seq, i, nose, switch_span or seg.item.span, d)
             session = (side, nose)
             selecting = True
+            _suppress(seq, i, side * nose.radius, d)
             if isinstance(seg.e, Arc):
                 d.append(diag("TX-E213", seg.item.span, command=nose.mode))
         side, r = session[0], session[0] * nose.radius
@@ -742,10 +746,21 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
         o = with_start(o, start)
         corner: Element | None = None
         tail: Element | None = None
-        if isinstance(nxt, _Seg) and follows and not nxt.rapid:
+        step = _small_step(seq, seg, nxt, o, r, nose.mode) if isinstance(nxt, _Seg) and follows else None
+        if step is not None:
+            # a step smaller than the nose radius: the nose rolls round its outer corner instead (Satzausblendung)
+            assert isinstance(nxt, _Seg)
+            o, corner = step
+            d.append(diag("TX-W220", nxt.item.span, nose=nose.radius))
+            skipped.add(id(nxt))
+        elif isinstance(nxt, _Seg) and follows and not nxt.rapid:
             o2 = offset(nxt.e, r)
             bend = turn(seg.e, nxt.e)
-            if o2 is not None and bend * side > 0:  # inside corner: where the equidistants meet
+            if o2 is not None and math.dist(seg.e.b, nxt.e.a) > 1e-6:  # blocks between were suppressed
+                x = _gap_joint(o, o2, seg.e.b, nxt.e.a, nose.radius)
+                if x is not None:
+                    o = with_end(o, x)
+            elif o2 is not None and bend * side > 0:  # inside corner: where the equidistants meet
                 x = nearest(intersections(o, o2), seg.e.b)
                 if x is None or math.dist(x, seg.e.b) > 10 * nose.radius + 1e-6:
                     d.append(diag("TX-E215", seg.item.span, nose=nose.radius, second=nxt.item.span.line))
@@ -794,6 +809,142 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
                 out.append(_move(seg, extra, seg.e.b))
                 pos = extra.b
     return out
+
+
+def _session_runs(seq: Seq, i: int) -> list[list[_Seg]]:
+    """The runs of consecutive feed segments of the compensation session that starts at seq[i]."""
+    first = seq[i]
+    assert isinstance(first, _Seg)
+    mode = first.item.nose.mode
+    runs: list[list[_Seg]] = [[]]
+    for q in seq[i:]:
+        if isinstance(q, SrkSwitch):
+            if q.code != mode:
+                break
+            continue
+        if isinstance(q, Dwell):
+            continue
+        if not isinstance(q, _Seg) or q.item.nose.mode != mode or q.item.nose.radius <= 0:
+            break
+        if q.rapid:
+            runs.append([])
+        elif q.moves:
+            runs[-1].append(q)
+    return [run for run in runs if len(run) >= 3]
+
+
+def _suppress(seq: Seq, i: int, r: float, d: list[Diagnostic]) -> None:
+    """Satzausblendung (L2652): inner blocks of the session starting at seq[i] whose equidistant vanishes
+    between its neighbours' are taken out of `seq`; the neighbours' equidistants are intersected instead."""
+    for run in _session_runs(seq, i):
+        removed = True
+        while removed and len(run) >= 3:
+            removed = False
+            for m in range(1, len(run) - 1):
+                if not isinstance(run[m].e, Line) or not _vanishes(run[m - 1], run[m], run[m + 1], r):
+                    continue
+                before, after = run[m - 1].e, run[m + 1].e
+                o1, o2 = offset(before, r), offset(after, r)
+                if o1 is None or o2 is None:
+                    continue
+                facing = dot(end_tangent(before), start_tangent(after)) < -1e-9  # the walls of a narrow groove
+                if not facing and _gap_joint(o1, o2, before.b, after.a, abs(r)) is None:
+                    continue  # the neighbours' equidistants do not meet either: the block stays (TX-W220 below)
+                seg = run.pop(m)
+                del seq[_index(seq, seg)]
+                d.append(diag("TX-W220", seg.item.span, nose=abs(r)))
+                removed = True
+                break
+
+
+def _small_step(seq: Seq, seg: _Seg, nxt: _Seg, o: Element, r: float, mode: str,
+                ) -> tuple[Element, Element] | None:
+    """A line `nxt` too short for the nose between an inside and an outside corner (or the reverse): the
+    equidistant `o` of `seg` and an arc about the step's outer corner that reaches the equidistant of the
+    element after the step. None when `nxt` is no such step."""
+    if not isinstance(nxt.e, Line) or not nxt.moves:
+        return None
+    k = _next_motion(seq, _index(seq, nxt), (SrkSwitch, Dwell))
+    after = seq[k] if k is not None else None
+    if not isinstance(after, _Seg) or after.rapid or after.item.nose.mode != mode:
+        return None
+    if math.dist(seg.e.b, nxt.e.a) > 1e-6 or math.dist(nxt.e.b, after.e.a) > 1e-6:
+        return None
+    if not _vanishes(seg, nxt, after, r):
+        return None
+    o3 = offset(after.e, r)
+    if o3 is None:
+        return None
+    first, second = turn(seg.e, nxt.e) * r, turn(nxt.e, after.e) * r
+    radius = abs(r)
+    if first > 0 and second < 0:  # inside, then outside: roll round the step's end
+        c = nxt.e.b
+        hits = [p for p in _circle_hits(o, c, radius)]
+        if not hits:
+            return None
+        x = min(hits, key=lambda p: math.dist(p, o.a))
+        return with_end(o, x), Arc(x, o3.a, c, cw=r > 0)
+    if first < 0 and second > 0:  # outside, then inside: roll round the step's start onto the next equidistant
+        c = nxt.e.a
+        hits = _circle_hits(o3, c, radius)
+        if not hits:
+            return None
+        x = min(hits, key=lambda p: math.dist(p, o3.b))
+        return o, Arc(o.b, x, c, cw=r > 0)
+    return None
+
+
+def _circle_hits(e: Element, c: Point, radius: float) -> list[Point]:
+    """Points of the carrier of `e` at distance `radius` from `c`."""
+    if isinstance(e, Line):
+        return line_circle(e.a, e.b, c, radius)
+    return circle_circle(e.c, e.radius, c, radius)
+
+
+def _index(seq: Seq, seg: _Seg) -> int:
+    return next(k for k, q in enumerate(seq) if q is seg)
+
+
+def _joint(e1: Element, e2: Element, o1: Element, o2: Element, r: float) -> Point | None:
+    """Where the nose centre passes from the equidistant o1 of e1 to o2 of e2 (one side of the joint);
+    None if an inside corner or a gap has no intersection near the contour."""
+    if math.dist(e1.b, e2.a) > 1e-6:
+        return _gap_joint(o1, o2, e1.b, e2.a, abs(r))
+    bend = turn(e1, e2)
+    if bend * r > 0:
+        x = nearest(intersections(o1, o2), e1.b)
+        return x if x is not None and math.dist(x, e1.b) <= 10 * abs(r) + 1e-6 else None
+    return o1.b
+
+
+def _gap_joint(o1: Element, o2: Element, a: Point, b: Point, radius: float) -> Point | None:
+    """The joint of two equidistants whose contour elements no longer meet (blocks suppressed between):
+    their intersection near the gap, or o1's end when they are one line."""
+    mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
+    x = nearest(intersections(o1, o2), mid)
+    if x is not None and math.dist(x, mid) <= 10 * radius + math.dist(a, b) + 1e-6:
+        return x
+    if isinstance(o1, Line) and isinstance(o2, Line) and abs(cross(
+            unit((o1.b[0] - o1.a[0], o1.b[1] - o1.a[1])), (o2.a[0] - o1.a[0], o2.a[1] - o1.a[1]))) < 1e-6:
+        return o1.b  # collinear: the path runs straight on
+    return None
+
+
+def _vanishes(prev: _Seg, seg: _Seg, nxt: _Seg, r: float) -> bool:
+    """Whether the equidistant of the line `seg`, cut by its neighbours', is empty or runs backwards.
+
+    r > 0: the nose centre is left of the travel direction, r < 0 right."""
+    o0, o, o2 = offset(prev.e, r), offset(seg.e, r), offset(nxt.e, r)
+    if o0 is None or o is None or o2 is None:
+        return False
+    start = _joint(prev.e, seg.e, o0, o, r)
+    end = _joint(seg.e, nxt.e, o, o2, r)
+    if start is None or end is None:
+        return True
+    if math.dist(prev.e.b, seg.e.a) <= 1e-6 and turn(prev.e, seg.e) * r <= 0:
+        start = o.a  # an outside corner: the equidistant starts on the perpendicular
+    e = seg.e
+    return dot((end[0] - start[0], end[1] - start[1]), (e.b[0] - e.a[0], e.b[1] - e.a[1])) <= 1e-9
 
 
 def _plain(seg: _Seg, start: Point) -> list[Move]:
