@@ -286,6 +286,10 @@ CATALOGUE: dict[str, Entry] = {
                      "edge)."),
     "TX-E112": Entry(E, "G97 V… braucht den Durchmesser X (größer als 0), für den die Drehzahl berechnet wird.",
                      "G97 V… needs the diameter X (greater than 0) to compute the speed for."),
+    "TX-E113": Entry(E, "Bei eingeschalteter Schneidenradiuskorrektur müssen von 5 aufeinanderfolgenden Sätzen "
+                        "mindestens 3 Verfahrsätze sein; hier sind es {count}.",
+                     "With nose-radius compensation on, at least 3 of every 5 consecutive blocks must be motion "
+                     "blocks; here there are {count}."),
     "TX-W101": Entry(W, "Parameter L{number} wird gelesen, bevor ihm ein Wert zugewiesen wurde (gilt als 0).",
                      "Parameter L{number} is read before it was assigned a value (taken as 0)."),
     "TX-W102": Entry(W, "{address} hat bei G92 keine festgelegte Bedeutung und wird nicht beachtet.",

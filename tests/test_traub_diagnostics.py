@@ -19,6 +19,8 @@ CASES = [
     ("T9 after G53", READY + "G0 X40 Z2\nG53 X400 Z500\nG1 X30\nM30", ("TX-E102", 7)),
     ("T8 G26 while SRK is on", READY + "G46\nG0 X40 Z2\nG26\nM30", ("TX-E103", 7)),
     ("T1 other G function while G46 is on", READY + "G46\nG0 X40 Z2\nG59 Z10\nM30", ("TX-E103", 7)),
+    ("T6 fewer than 3 motions in 5 blocks under SRK",
+     READY + "G46\nG0 X40 Z2\nG1 Z-10\nM8\nF0.1\nS200\nG1 Z-20\nG40\nM30", ("TX-E113", 10)),
     ("T17 four M words", "G96 V200 T0101 M4 M8 M41 M48\nM30", ("TX-E104", 1)),
     ("T18 M30 not alone", READY + "G0 X40 Z2 M30", ("TX-E105", 5)),
     ("T18 M00 not alone", READY + "M0 M8\nM30", ("TX-E105", 5)),

@@ -25,7 +25,6 @@ from dataclasses import dataclass, field
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.geometry.arcs import centre_by_radius, sweep
 from core.interpreter import Toolpath, turn_contour
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
@@ -54,6 +53,7 @@ class Unit:
 
     number: int | None
     source: str | None  # None: the program file; "O8000": a file of the library
+    line: int = 1  # the line of its O block
     blocks: list[Block] = field(default_factory=list)
     numbers: dict[int, int] = field(default_factory=dict)  # block number N → index
 
@@ -89,7 +89,7 @@ def split_programs(program: Program, source: str | None = None) -> tuple[Unit, l
             if current is main and main.number is None and not any(not x.is_empty for x in main.blocks):
                 main.number = number
             else:
-                current = Unit(number, source)
+                current = Unit(number, source, b.line)
                 others.append(current)
             continue
         current.blocks.append(b)
@@ -335,6 +335,8 @@ class TurnRun:
         self.reference: XZ | None = None  # the workpiece zero of the output frame (set at the first motion)
         self.early: set[int] = set()  # ids of tool changes and dwells made before the reference was known
         self.program: str | None = None  # the called program running now (None: the main program)
+        self.srk_window: list[bool] = []  # under SRK: was each block since G46 a motion block
+        self.srk_reported = False
         self.callee_reads: dict[int, tuple[float, str]] = {}  # L read by a called program: value, program
         self.late: dict[int, tuple[Span, str]] = {}  # L assigned another value after such a read
         self._state: ModalState | None = None
@@ -520,6 +522,15 @@ class TurnRun:
         elif owner is not None and 201 <= int(owner.name[1:]) <= 299:
             out.call = (9600 + int(owner.name[1:]), None, None, 1)
 
+        # -- under SRK, of 5 blocks in a row at least 3 move (L2544–2566) ------------------------
+        if srk == "G40" and t.codes.get("compensation") != "G40":
+            self.srk_window, self.srk_reported = [], False
+        elif srk != "G40" and t.codes.get("compensation") != "G40":
+            self.srk_window.append(moving)
+            if len(self.srk_window) >= 5 and sum(self.srk_window[-5:]) < 3 and not self.srk_reported:
+                d.append(diag("TX-E113", span, count=sum(self.srk_window[-5:])))
+                self.srk_reported = True
+
         # -- block end ------------------------------------------------------------------------
         if mnames & {"M0", "M1", "M30"}:  # they include M05 and M09 (L1178)
             t.codes = {**t.codes, "spindle": "M5", "coolant": "M9"}
@@ -606,10 +617,7 @@ class TurnRun:
             return None
         if item.a is None and item.is_arc and item.centre_offset is None and item.centre is None:
             return None
-        try:
-            return turn_contour.known_end(start, item)
-        except NotImplementedError:
-            return _line_by_angle(start, item)
+        return turn_contour.known_end(start, item)
 
     def _change_point(self, name: str, words: dict[str, Word], values: dict[str, float], span: Span,
                       out: Outcome) -> None:
@@ -659,68 +667,9 @@ def _constant_cutting_speed(v: float, limit: float | None, axis: float = 0.0) ->
     return at
 
 
-def _line_by_angle(start: XZ | None, item: TurnItem) -> XZ | None:
-    """A line from a known start by angle A and one coordinate (the one-block forms `G1 X.. A..`, `G1 Z.. A..`)."""
-    if start is None or item.a is None or item.is_arc:
-        return None
-    if item.x is not None and item.z is not None:
-        return (item.x, item.z)
-    a = math.radians(item.a)
-    ca, sa = math.cos(a), math.sin(a)  # direction in (z, x): 0° = +Z, counter-clockwise positive
-    if item.x is not None and abs(sa) > 1e-9:
-        return (item.x, start[1] + (item.x - start[0]) * ca / sa)
-    if item.z is not None and abs(ca) > 1e-9:
-        return (start[0] + (item.z - start[1]) * sa / ca, item.z)
-    return None
-
-
-def _fallback_resolve(items: list[Item], diagnostics: list[Diagnostic]) -> list[turn_contour.Command]:
-    """The moves of fully given geometry (lines, arcs by R, P/Q or I/K), until turn_contour resolves trains."""
-    out: list[turn_contour.Command] = []
-    last: XZ | None = None
-    for it in items:
-        if isinstance(it, SrkSwitch):
-            continue
-        if not isinstance(it, TurnItem):
-            if isinstance(it, Move):
-                last = (it.end[0], it.end[2])
-            out.append(it)
-            continue
-        start = it.start if it.start is not None else last
-        if start is None:
-            continue
-        end = _line_by_angle(start, it) if it.a is not None else (
-            it.x if it.x is not None else start[0] + (it.dx or 0.0), it.z if it.z is not None else start[1] + (it.dz or 0.0))
-        if end is None:
-            continue
-        move = dataclasses.replace(it.template, start=(start[0], 0.0, start[1]), end=(end[0], 0.0, end[1]))
-        if it.is_arc:
-            cw = it.code == "G2"
-            s2, e2 = (start[1], start[0]), (end[1], end[0])  # plane G18: (z, x)
-            c2: tuple[float, float] | None = None
-            if it.centre is not None:
-                c2 = (it.centre[1], it.centre[0])
-            elif it.centre_offset is not None:
-                c2 = (start[1] + it.centre_offset[1], start[0] + it.centre_offset[0])
-            elif it.radius is not None:
-                c2 = centre_by_radius(s2, e2, it.radius, cw, False)
-            if c2 is None:
-                continue
-            move = dataclasses.replace(move, kind="arc", center=(c2[1], 0.0, c2[0]), direction="cw" if cw else "ccw",
-                                       radius=math.dist(s2, c2), angle=sweep(s2, e2, c2, cw))
-        if it.spindle_at is not None:
-            move = dataclasses.replace(move, spindle=it.spindle_at(end[0]))
-        out.append(move)
-        last = end
-    return out
-
-
 def resolve(items: list[Item], diagnostics: list[Diagnostic]) -> list[turn_contour.Command]:
-    """The one call of the contour stage (contour trains, transitions, SRK)."""
-    try:
-        return turn_contour.resolve(items, diagnostics)
-    except NotImplementedError:
-        return _fallback_resolve(items, diagnostics)
+    """The one call of the contour stage (contour trains, transitions, SRK): core.interpreter.turn_contour."""
+    return turn_contour.resolve(items, diagnostics)
 
 
 def _to_workpiece(c: turn_contour.Command, dx: float, dz: float) -> turn_contour.Command:
@@ -752,9 +701,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         assert u.number is not None
         units.setdefault(u.number, u)
         if not 8000 <= u.number <= 9999:
-            first = program.blocks[u.blocks[0].line - 2] if u.blocks and u.blocks[0].line >= 2 else None
-            line = first.line if first is not None else 1
-            diags.append(diag("TX-W103", Span(line, 1, line, 2), number=u.number))
+            diags.append(diag("TX-W103", Span(u.line, 1, u.line, 2), number=u.number))
     for number, prog in (library or {}).items():
         lib_main, lib_others = split_programs(prog, f"O{number}")
         lib_main.number = lib_main.number or number
