@@ -23,9 +23,10 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from core.diagnostics import Diagnostic, Severity, diag
+from core.limits import DIAGNOSTIC_STEPS
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.interpreter import Toolpath, turn_contour
+from core.interpreter import Toolpath, _steps, turn_contour
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
 from core.syntax.blocks import BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
@@ -716,6 +717,9 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     unit, index, end_index = main, 0, None
     ended = False
     executed = 0
+    steps = 0  # evaluation steps (core.limits.Limits.max_evaluation_steps)
+    costs: dict[int, int] = {}  # id(block) → the evaluation steps of its words
+    moves = 0  # programmed moves (core.limits.Limits.max_moves)
     last_line = 0
 
     def report(d: Diagnostic) -> None:
@@ -759,8 +763,23 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
             ended = True
             break
+        cost = costs.get(id(block))
+        if cost is None:
+            cost = costs[id(block)] = _steps(block)
+        steps += cost
+        if steps > limits.max_evaluation_steps:
+            report(diag("PAL-E016", block.span, limit=limits.max_evaluation_steps))
+            ended = True
+            break
         run.program = calls[-1].callee.name if calls else None
         out = run.execute(block)
+        steps += DIAGNOSTIC_STEPS * len(out.diagnostics)
+        made = sum(type(c) is TurnItem or type(c) is Move for c in out.items)
+        if made and moves + made > limits.max_moves:
+            report(diag("PAL-E017", block.span, limit=limits.max_moves))
+            ended = True
+            break
+        moves += made
         if calls or unit.source is not None:
             stack = tuple((None if c.unit.source is None else c.unit.source, c.line) for c in calls)
             for k, it in enumerate(out.items):
