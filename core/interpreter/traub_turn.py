@@ -23,12 +23,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from core.diagnostics import Diagnostic, Severity, diag
-from core.limits import DIAGNOSTIC_STEPS
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
 from core.interpreter import Toolpath, _steps, turn_contour
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
+from core.limits import DIAGNOSTIC_STEPS
 from core.syntax.blocks import BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
