@@ -18,7 +18,7 @@ from fastapi.staticfiles import StaticFiles
 from server import errors, live, viz
 from server.config import Settings
 from server.db import Database, migrate
-from server.middleware import RequestMiddleware
+from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
 from server.routes import auth, dialects, exercises, health, pages, pipeline, submissions
 from server.routes import viz as viz_routes
@@ -88,12 +88,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         description="Check, run and simulate PAL programs; exercises, submissions, accounts. "
                     "Errors: `{\"error\": {\"code\", \"message\" (German), \"message_en\", \"details\"}}`.",
         lifespan=lifespan,
+        docs_url=None,  # /docs is served by server/routes/pages.py from our own Swagger UI files
+        redoc_url=None,
     )
     app.state.settings = settings
     app.state.limiter = RateLimiter()
     app.state.workers = Workers(settings.workers, settings.job_seconds)
     app.state.scenes = viz.Scenes(settings.jwt_secret(), settings)
     errors.install(app)
+    pages.install_not_found(app)
     api = APIRouter(prefix=API_PREFIX)
     for module in (pipeline, auth, exercises, submissions, dialects, viz_routes):
         api.include_router(module.router)
@@ -109,5 +112,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origins, allow_credentials=True,
                            allow_methods=["GET", "POST", "PATCH", "DELETE"],
                            allow_headers=["Authorization", "Content-Type", "X-API-Key", "X-Request-ID"])
+    app.add_middleware(SecurityHeadersMiddleware, settings=settings)
     app.add_middleware(RequestMiddleware, max_body_bytes=settings.max_body_bytes)
     return app

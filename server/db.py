@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import contextlib
+import os
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -17,11 +19,22 @@ from server.config import Settings
 ALEMBIC_INI = Path(__file__).with_name("alembic.ini")
 
 
+def _create_private(path: str | None) -> None:
+    """Create the SQLite file readable and writable by its owner only (0600) before SQLite creates it with the
+    process's umask (often world-readable: password hashes, submissions); its -wal and -shm files get the
+    same mode from SQLite. An existing file is left as the operator set it."""
+    if not path or path == ":memory:" or path.startswith("file:"):
+        return
+    with contextlib.suppress(FileExistsError, FileNotFoundError):
+        os.close(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600))
+
+
 def make_engine(settings: Settings) -> Engine:
     url = settings.url
     if url.startswith("sqlite"):
         settings.data_dir.mkdir(parents=True, exist_ok=True)
         engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30})
+        _create_private(engine.url.database)
 
         @event.listens_for(engine, "connect")
         def _pragmas(dbapi_connection: Any, _record: Any) -> None:

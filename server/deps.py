@@ -16,7 +16,7 @@ from server.db import Database
 from server.errors import ApiError
 from server.models import ApiKey, User
 from server.ratelimit import RateLimiter
-from server.security import hash_api_key, read_token, same_hash, split_api_key
+from server.security import hash_api_key, read_token, same_hash, split_api_key, token_user_id, token_version
 from server.workers import Workers
 
 SESSION_COOKIE = "paltrainer_session"
@@ -91,12 +91,22 @@ def resolve(db: Session, settings: Settings, token: str | None, api_key: str | N
         return Principal(user=owner, api_key=record)
     jwt_text = token or cookie
     if jwt_text:
-        claims = read_token(settings.jwt_secret(), jwt_text)
-        user = repo.user_by_id(db, int(claims["sub"])) if claims and str(claims["sub"]).isdigit() else None
+        user = token_user(db, settings, jwt_text)
         if user is None:
             raise ApiError("BAD_TOKEN", headers={"WWW-Authenticate": "Bearer"})
         return Principal(user=user)
     return ANONYMOUS
+
+
+def token_user(db: Session, settings: Settings, jwt_text: str) -> User | None:
+    """The user a token is valid for: signed by us, not expired, naming a user, and issued since the user
+    last logged out (its version is the user's current token version); else None."""
+    claims = read_token(settings.jwt_secret(), jwt_text)
+    user_id = token_user_id(claims) if claims else None
+    user = repo.user_by_id(db, user_id) if user_id is not None else None
+    if user is None or claims is None or token_version(claims) != user.token_version:
+        return None
+    return user
 
 
 def get_principal(

@@ -1,17 +1,25 @@
-"""ASGI middleware: request id and request log, and the body-size limit (413 before the body is read whole)."""
+"""ASGI middleware: request id and request log, the body-size limit (413 before the body is read whole), and
+the security headers of every response (Content-Security-Policy, nosniff, Referrer-Policy)."""
 
 from __future__ import annotations
 
+import base64
 import contextlib
+import functools
+import hashlib
 import json
 import logging
+import re
 import time
 import uuid
 from typing import Any
 
+import zstandard
 from starlette.requests import ClientDisconnect
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
+from server import viz
+from server.config import Settings
 from server.errors import ApiError
 
 log = logging.getLogger("paltrainer.server")
@@ -85,3 +93,99 @@ class RequestMiddleware:
         await send({"type": "http.response.start", "status": 413,
                     "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]})
         await send({"type": "http.response.body", "body": body})
+
+
+# The Content-Security-Policy: scripts only from files of this site (no inline script, no eval), nothing
+# plugged in, forms and the page's base URL kept here, and framing only by this site and the learning
+# platforms in the setting `frame_ancestors`. Styles may be inline: CodeMirror and the 3D view set them.
+_BASE_POLICY = {
+    "default-src": ["'self'"],
+    "script-src": ["'self'"],
+    "style-src": ["'self'", "'unsafe-inline'"],
+    "img-src": ["'self'", "data:", "blob:"],
+    "font-src": ["'self'", "data:"],
+    "connect-src": ["'self'"],
+    "frame-src": ["'self'"],
+    "worker-src": ["'self'"],
+    "object-src": ["'none'"],
+    "base-uri": ["'none'"],
+    "form-action": ["'self'"],
+}
+
+
+def _script_hash(text: str) -> str:
+    return "'sha256-" + base64.b64encode(hashlib.sha256(text.encode("utf-8")).digest()).decode("ascii") + "'"
+
+
+_VISER_DIGITS = "!#$%()*+,-./0123456789:;=?@ABCDEFGHIJKLMNOPQRSTUVWXYZ[\\]^_abcdefghijklmnopqrstuvwxyz{|}~"
+
+
+def _viser_payload(text: str) -> bytes:
+    """Decode the page's `data-p` (base 88: five characters for four bytes, as the page's own loader does)."""
+    value = {c: i for i, c in enumerate(_VISER_DIGITS)}
+    out = bytearray()
+    whole = len(text) - len(text) % 5
+    for i in range(0, whole, 5):
+        v = 0
+        for c in text[i:i + 5]:
+            v = v * 88 + value[c]
+        out += v.to_bytes(4, "big")
+    if len(text) > whole:
+        v = 0
+        for c in text[whole:]:
+            v = v * 88 + value[c]
+        out += v.to_bytes(len(text) - whole - 1, "big")
+    return bytes(out)
+
+
+@functools.cache
+def viser_script_hashes() -> tuple[str, ...]:
+    """The hashes of the two scripts viser's client page runs: its inline loader, and the application the
+    loader unpacks (zstd in a base-88 attribute) and inserts as an inline module script. Allowing exactly
+    these two keeps `script-src` free of 'unsafe-inline' on /viz/; they are computed from the installed
+    viser, so an upgrade keeps working (tests/browser/test_login_redirect.py runs the page under the policy)."""
+    html = viz.viser_page().decode("utf-8")
+    hashes = []
+    for attrs, body in re.findall(r"<script\b([^>]*)>(.*?)</script>", html, flags=re.DOTALL | re.IGNORECASE):
+        if body.strip():
+            hashes.append(_script_hash(body))
+        packed = dict(re.findall(r'data-(p|ss|cs)="([^"]*)"', attrs))
+        if {"p", "ss", "cs"} <= packed.keys():
+            style, code = int(packed["ss"]), int(packed["cs"])
+            raw = zstandard.ZstdDecompressor().decompress(_viser_payload(packed["p"]), max_output_size=style + code)
+            # the loader decodes with TextDecoder, which drops a byte-order mark and replaces bad bytes
+            hashes.append(_script_hash(raw[style:style + code].decode("utf-8-sig", errors="replace")))
+    return tuple(hashes)
+
+
+def content_security_policy(path: str, frame_ancestors: list[str]) -> str:
+    policy = {k: list(v) for k, v in _BASE_POLICY.items()}
+    if path.startswith("/viz/") and path.endswith("/"):
+        # viser's client page (see viser_script_hashes): its two scripts by hash, its decoders are
+        # WebAssembly (one fetched from a data: URL), its mesh decoders run in workers made from blob: URLs
+        policy["script-src"] += [*viser_script_hashes(), "'wasm-unsafe-eval'"]
+        policy["connect-src"] += ["data:"]
+        policy["worker-src"] += ["blob:"]
+    policy["frame-ancestors"] = ["'self'", *frame_ancestors]
+    return "; ".join(f"{name} {' '.join(values)}" for name, values in policy.items())
+
+
+class SecurityHeadersMiddleware:
+    """Adds the Content-Security-Policy, X-Content-Type-Options and Referrer-Policy to every HTTP response."""
+
+    def __init__(self, app: ASGIApp, settings: Settings) -> None:
+        self.app, self.settings = app, settings
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        csp = content_security_policy(scope["path"], self.settings.frame_ancestors).encode("latin-1")
+
+        async def send_with_headers(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                message["headers"] = [*message.get("headers", []), (b"content-security-policy", csp),
+                                      (b"x-content-type-options", b"nosniff"), (b"referrer-policy", b"same-origin")]
+            await send(message)
+
+        await self.app(scope, receive, send_with_headers)

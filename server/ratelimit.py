@@ -1,5 +1,8 @@
 """Per-user / per-key / per-address rate limits: a sliding window of one minute, kept in memory.
 
+Most budgets count every request (`hit`); the login budgets count only failed logins (`wait` before the
+password is checked, `record` after a wrong one), per user name and per address, so that a class behind one
+school address logs in freely while guessing one user's password or many users' passwords is refused.
 The counts live in the server process; with several server processes each has its own.
 """
 
@@ -24,16 +27,41 @@ class RateLimiter:
             return 0
         now = time.monotonic()
         with self._lock:
-            q = self._hits.setdefault((bucket, who), deque())
-            while q and now - q[0] >= WINDOW_SECONDS:
-                q.popleft()
-            if len(q) >= per_minute:
-                return max(1, math.ceil(WINDOW_SECONDS - (now - q[0])))
-            q.append(now)
-            if len(self._hits) > 100_000:
-                self._hits = {k: v for k, v in self._hits.items() if v and now - v[-1] < WINDOW_SECONDS}
+            wait = self._wait(bucket, who, per_minute, now)
+            if not wait:
+                self._record(bucket, who, now)
+            return wait
+
+    def wait(self, bucket: str, who: str, per_minute: int) -> int:
+        """Like `hit`, without counting: for budgets that only failures use up (see `record`)."""
+        if per_minute <= 0:
             return 0
+        with self._lock:
+            return self._wait(bucket, who, per_minute, time.monotonic())
+
+    def record(self, bucket: str, who: str) -> None:
+        """Count one event (a failed login) against `who`'s budget in `bucket`."""
+        with self._lock:
+            self._record(bucket, who, time.monotonic())
+
+    def _wait(self, bucket: str, who: str, per_minute: int, now: float) -> int:
+        q = self._hits.get((bucket, who))
+        if q is None:
+            return 0
+        while q and now - q[0] >= WINDOW_SECONDS:
+            q.popleft()
+        return max(1, math.ceil(WINDOW_SECONDS - (now - q[0]))) if len(q) >= per_minute else 0
+
+    def _record(self, bucket: str, who: str, now: float) -> None:
+        self._hits.setdefault((bucket, who), deque()).append(now)
+        if len(self._hits) > 100_000:
+            self._hits = {k: v for k, v in self._hits.items() if v and now - v[-1] < WINDOW_SECONDS}
 
     def reset(self) -> None:
         with self._lock:
             self._hits.clear()
+
+
+def login_name(username: str) -> str:
+    """The key of a user name's failed-login budget: spelt in any case or padded, it is the same budget."""
+    return "name:" + username.strip().casefold()[:200]

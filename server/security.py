@@ -1,9 +1,11 @@
-"""Passwords (argon2), bearer tokens (JWT, also carried in the browser's session cookie) and API keys."""
+"""Passwords (argon2), bearer tokens (JWT, also carried in the browser's session cookie), API keys, and the
+one rule for where the browser may be sent after logging in."""
 
 from __future__ import annotations
 
 import hashlib
 import hmac
+import re
 import secrets
 from datetime import UTC, datetime, timedelta
 from typing import Any
@@ -33,9 +35,10 @@ def verify_password(password: str, hashed: str | None) -> bool:
         return False
 
 
-def make_token(secret: str, user_id: int, role: str, minutes: int) -> str:
+def make_token(secret: str, user_id: int, role: str, minutes: int, version: int = 0) -> str:
+    """A signed token for the user; `ver` is the user's token version then (logging out raises it)."""
     now = datetime.now(UTC)
-    claims = {"sub": str(user_id), "role": role, "iat": now, "exp": now + timedelta(minutes=minutes)}
+    claims = {"sub": str(user_id), "role": role, "ver": version, "iat": now, "exp": now + timedelta(minutes=minutes)}
     return jwt.encode(claims, secret, algorithm="HS256")
 
 
@@ -45,6 +48,36 @@ def read_token(secret: str, token: str) -> dict[str, Any] | None:
     except jwt.PyJWTError:
         return None
     return claims
+
+
+_USER_ID = re.compile(r"[1-9][0-9]{0,9}")  # ASCII digits only ("²".isdigit() is True, int("²") fails)
+_MAX_ID = 2**31 - 1  # users.id is a 32-bit INTEGER on PostgreSQL; a larger number would be a database error
+
+
+def token_user_id(claims: dict[str, Any]) -> int | None:
+    """The user id a token names, or None when `sub` is anything but a plain positive number in range."""
+    sub = claims.get("sub")
+    if not isinstance(sub, str) or not _USER_ID.fullmatch(sub):
+        return None
+    return int(sub) if int(sub) <= _MAX_ID else None
+
+
+def token_version(claims: dict[str, Any]) -> int | None:
+    """The token version a token carries (tokens from before versions: 0), None if it is malformed."""
+    ver = claims.get("ver", 0)
+    return ver if isinstance(ver, int) and not isinstance(ver, bool) else None
+
+
+# Where the browser may go after logging in: a path on this site, nothing else. A scheme (javascript:,
+# https:), a second slash or a backslash at the start (//host, /\host: another host to the browser),
+# control characters (browsers drop tab and newline inside URLs: "/\t/host" is "//host") and very long
+# values all mean the start page. web/src/redirect.js is the same rule for the page; tests hold them equal.
+_SAFE_PATH = re.compile(r"/(?![/\\])[^\\\x00-\x1f\x7f]{0,2047}")
+
+
+def safe_redirect(target: str | None) -> str:
+    """`target` if it is a same-site path (`/…`, not `//…`, not `/\\…`), else `/`."""
+    return target if target is not None and _SAFE_PATH.fullmatch(target) else "/"
 
 
 def new_api_key() -> tuple[str, str, str]:

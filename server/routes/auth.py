@@ -4,21 +4,27 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from fastapi import APIRouter, Depends, Response
+from fastapi import APIRouter, Depends, Request, Response
 from fastapi.security import OAuth2PasswordRequestForm
+from sqlalchemy import update
+from sqlalchemy.orm import Session
 
 from server import repository as repo
 from server import services
+from server.config import Settings
 from server.deps import (
     SESSION_COOKIE,
     AppSettings,
     CurrentPrincipal,
     DbSession,
     Principal,
-    rate_limit,
+    client_address,
     require_admin,
+    token_user,
 )
 from server.errors import ApiError, responses
+from server.models import User
+from server.ratelimit import RateLimiter, login_name
 from server.schemas import (
     ApiKeyCreate,
     ApiKeyCreated,
@@ -32,29 +38,60 @@ from server.schemas import (
 from server.security import make_token
 
 router = APIRouter(tags=["accounts"])
-LOGIN_LIMIT = [Depends(rate_limit("login", "rate_login_per_minute"))]
+LOGIN_FAILURES = "login-failures"
 
 
-@router.post("/auth/token", response_model=Token, responses=responses(401, 422, 429), dependencies=LOGIN_LIMIT)
-def token(form: Annotated[OAuth2PasswordRequestForm, Depends()], db: DbSession, settings: AppSettings) -> Token:
+def checked_login(request: Request, db: Session, settings: Settings, username: str, password: str) -> User:
+    """The user, if the password is right and neither the user name nor the address has used up its budget
+    of failed logins (one budget for /auth/token and /auth/login); a wrong password uses up one of each."""
+    limiter: RateLimiter = request.app.state.limiter
+    budgets = ((login_name(username), settings.rate_login_per_minute),
+               (f"ip:{client_address(request)}", settings.rate_login_address_per_minute))
+    wait = max(limiter.wait(LOGIN_FAILURES, who, limit) for who, limit in budgets)
+    if wait:
+        raise ApiError("RATE_LIMITED", headers={"Retry-After": str(wait)}, retry_after=wait)
+    try:
+        return services.login(db, username, password)
+    except ApiError:
+        for who, _ in budgets:
+            limiter.record(LOGIN_FAILURES, who)
+        raise
+
+
+def _new_token(settings: Settings, user: User) -> str:
+    return make_token(settings.jwt_secret(), user.id, user.role, settings.token_minutes, user.token_version)
+
+
+@router.post("/auth/token", response_model=Token, responses=responses(401, 422, 429))
+def token(form: Annotated[OAuth2PasswordRequestForm, Depends()], request: Request, db: DbSession,
+          settings: AppSettings) -> Token:
     """OAuth2 password flow (form fields username, password): a bearer token for scripts."""
-    user = services.login(db, form.username, form.password)
-    return Token(access_token=make_token(settings.jwt_secret(), user.id, user.role, settings.token_minutes))
+    user = checked_login(request, db, settings, form.username, form.password)
+    return Token(access_token=_new_token(settings, user))
 
 
-@router.post("/auth/login", response_model=UserOut, responses=responses(401, 422, 429), dependencies=LOGIN_LIMIT)
-def login(body: LoginRequest, response: Response, db: DbSession, settings: AppSettings) -> UserOut:
+@router.post("/auth/login", response_model=UserOut, responses=responses(401, 422, 429))
+def login(body: LoginRequest, request: Request, response: Response, db: DbSession, settings: AppSettings) -> UserOut:
     """Browser login: sets the session cookie (HttpOnly, SameSite=Lax)."""
-    user = services.login(db, body.username, body.password)
-    response.set_cookie(SESSION_COOKIE, make_token(settings.jwt_secret(), user.id, user.role, settings.token_minutes),
-                        max_age=settings.token_minutes * 60, httponly=True, samesite="lax",
-                        secure=settings.cookie_secure, path="/")
+    user = checked_login(request, db, settings, body.username, body.password)
+    response.set_cookie(SESSION_COOKIE, _new_token(settings, user), max_age=settings.token_minutes * 60,
+                        httponly=True, samesite="lax", secure=settings.cookie_secure, path="/")
     return services.user_out(user)
 
 
 @router.post("/auth/logout", status_code=204)
-def logout(response: Response) -> Response:
-    response.delete_cookie(SESSION_COOKIE, path="/", httponly=True, samesite="lax")
+def logout(request: Request, response: Response, db: DbSession, settings: AppSettings) -> Response:
+    """Ends the session: the token of the request (cookie or bearer) and every other token of the same user
+    stop working (the user's token version goes up); the cookie is deleted. Without a valid token: only that."""
+    header = request.headers.get("authorization", "")
+    bearer = header[7:].strip() if header[:7].lower() == "bearer " else None
+    for text in (bearer, request.cookies.get(SESSION_COOKIE)):
+        user = token_user(db, settings, text) if text else None
+        if user is not None:
+            db.execute(update(User).where(User.id == user.id).values(token_version=User.token_version + 1))
+            db.commit()
+            break
+    response.delete_cookie(SESSION_COOKIE, path="/", httponly=True, samesite="lax", secure=settings.cookie_secure)
     response.status_code = 204
     return response
 

@@ -184,21 +184,21 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     # the 3D view (off by itself in a browser without graphics acceleration, as here): switched on, the scene
     # connects through /viz/{token} and holds the toolpath; playback steps through it
     page.click("#viz-on")
-    page.wait_for_function("Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=10000)
-    page.frame_locator("#viz-frame").locator("text=Connected").wait_for(timeout=15000)
+    page.wait_for_function("() => Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=10000)
+    page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=15000)
     page.click("#step-back")
-    page.wait_for_function("document.getElementById('playhead-info').textContent.includes('Zeile')")
+    page.wait_for_function("() => document.getElementById('playhead-info').textContent.includes('Zeile')")
     first = page.inner_text("#playhead-info")
     page.click("#step-back")
-    page.wait_for_function(f"document.getElementById('playhead-info').textContent !== {first!r}")
+    page.wait_for_function(f"() => document.getElementById('playhead-info').textContent !== {first!r}")
     # the editor highlights the block of the current step
     line = int(page.inner_text("#playhead-info").rsplit("Zeile", 1)[1])
-    page.wait_for_function(f"document.querySelector('.cm-activeLine')?.textContent === {reference.splitlines()[line - 1]!r}")
+    page.wait_for_function(f"() => document.querySelector('.cm-activeLine')?.textContent === {reference.splitlines()[line - 1]!r}")
     assert "G17" in page.inner_text("#modal-state") and "G90" in page.inner_text("#modal-state")
     # Alt+→ steps forward from the keyboard, as the button does
     second = page.inner_text("#playhead-info")
     page.keyboard.press("Alt+ArrowRight")
-    page.wait_for_function(f"document.getElementById('playhead-info').textContent === {first!r}")
+    page.wait_for_function(f"() => document.getElementById('playhead-info').textContent === {first!r}")
     assert second != first
     shot(page, "exercise-3d", tmp_path)
     page.click("#submit")
@@ -236,7 +236,7 @@ def test_instructor_uploads_an_exercise_and_filters_submissions(server: str, bro
     page.wait_for_selector("#upload-message.ok")
     shot(page, "instructor-upload", tmp_path)
     page.select_option("#filter", "lehrer-kreisbogen")
-    page.wait_for_function("document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')")
+    page.wait_for_function("() => document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')")
     page.close()
 
 

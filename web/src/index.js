@@ -4,9 +4,13 @@ import {
   mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz,
 } from "./pages.js";
 
+import { boot } from "./boot.js";
 import { translatePage } from "./i18n.js";
+import { safeNext } from "./redirect.js";
 
 translatePage();
 window.PalTrainer = {
-  mountEditor, mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz, setTools,
+  mountEditor, mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz, safeNext,
+  setTools,
 };
+boot();
