@@ -525,7 +525,8 @@ def test_groove_narrower_than_the_nose_is_suppressed() -> None:
 def test_groove_wider_than_the_nose_is_machined() -> None:
     moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-12\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
                    radius=0.4, quadrant=1)
-    assert d == []
+    # the plunge down the groove's right wall is outside the 180° cutting range of P1 (the back of the nose)
+    assert codes(d) == [("TX-W225", 4)]
     assert [m.end for m in moves if m.line == 5] == [pytest.approx((19.4, 0, -11.6))]  # floor between the walls
 
 
@@ -542,6 +543,28 @@ def test_step_smaller_than_the_nose_radius(step: str, corner: tuple[float, float
     assert roll[0].radius == pytest.approx(0.4) and roll[0].angle < 90
     assert roll[0].end == pytest.approx(end)
     assert all(m.line != 4 for m in moves)
+
+
+def test_g46_watches_the_cutting_range_of_the_quadrant() -> None:
+    # facing down (−X) and then turning (−Z) with an outside tool P1: the face needs the nose on the other
+    # side, a change of machining direction without G40
+    _, d = run("G46\nG0 X42 Z0\nG1 X0 F0.2\nG1 Z-1\nG1 X40", radius=0.4, quadrant=1)
+    assert codes(d) == [("TX-W225", 4)]  # the side comes from the face (nose at +Z), Z-1 needs the other
+    _, d2 = run("G42\nG0 X42 Z0\nG1 X20 F0.2\nG1 Z-30", radius=0.4, quadrant=1)
+    assert "TX-W225" not in {x.code for x in d2}  # G41/G42: no monitoring
+
+
+def test_deselection_in_x_needs_twice_the_nose_radius() -> None:
+    _, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2\nG1 X41\nG40\nG0 X60", radius=0.4, quadrant=1)
+    assert codes(d) == [("TX-W218", 4), ("TX-E224", 4)]
+    _, ok = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2\nG1 X42\nG40\nG0 X60", radius=0.4, quadrant=1)
+    assert codes(ok) == [("TX-W218", 4)]
+
+
+def test_g40_at_the_end_after_a_feed_block_is_case_1() -> None:
+    moves, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2\nG40", radius=0.4, quadrant=1)
+    assert codes(d) == [("TX-W218", 3)]
+    assert moves[-1].end == pytest.approx((20, 0, -30))
 
 
 def test_no_srk_without_nose_radius_keeps_the_tip_path() -> None:
@@ -815,7 +838,7 @@ def stepped_profiles(draw: st.DrawFn) -> str:
 def test_property_suppressed_steps_never_gouge(program: str) -> None:
     contour, _ = run(program)
     path, d = run("G46\n" + program, radius=0.4, quadrant=1)
-    assert {x.code for x in d} <= {"TX-W220"}
+    assert {x.code for x in d} <= {"TX-W220", "TX-W225"}  # a step down is a plunge with the back of P1
     elements = [m for m in contour if m.kind != "rapid"][1:-1]
     for m in path[1:]:
         if m.kind == "rapid":

@@ -692,6 +692,7 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
     first_feed = False  # the next feed is the first after a selection move (contour protection)
     switch_span: Span | None = None
     skipped: set[int] = set()  # segments taken out by Satzausblendung while compensating
+    range_warned = False  # the session's cutting-range warning was given
     for i, seg in enumerate(seq):
         if id(seg) in skipped:
             continue
@@ -716,6 +717,7 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
             side = _session_side(seq, i, nose, switch_span or seg.item.span, d)
             session = (side, nose)
             selecting = True
+            range_warned = False
             _suppress(seq, i, side * nose.radius, d)
             if isinstance(seg.e, Arc):
                 d.append(diag("TX-E213", seg.item.span, command=nose.mode))
@@ -786,14 +788,20 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
                         d.append(diag("TX-W217", seg.item.span, length=math.dist(x, add(seg.e.b, left(
                             end_tangent(seg.e)), r)), second=nxt.item.span.line))
             _check_deselect(seg, nose, d)
-        elif nxt is not None:
+        elif nxt is not None or _switch_follows(seq, i):
             # G40 straight after a feed block: the block itself deselects (TX-28 case 1)
             d.append(diag("TX-W218", seg.item.span))
             _check_deselect(seg, nose, d)
+            if isinstance(seg.e, Line) and abs(seg.e.a[0] - seg.e.b[0]) < 1e-9 and \
+                    seg.e.length < 2 * nose.radius - 1e-9:  # deselection in X needs 2 × R (L2676)
+                d.append(diag("TX-E224", seg.item.span, length=seg.e.length, need=2 * nose.radius))
             if isinstance(o, Line):
                 o = Line(start, seg.e.b)
             else:
                 tail = Line(o.b, seg.e.b)
+        if nose.mode == "G46" and not range_warned and _against_quadrant(seg.e, side, nose.quadrant):
+            d.append(diag("TX-W225", seg.item.span, quadrant=nose.quadrant))
+            range_warned = True
         if first_feed:
             first_feed = False
             if o.length < nose.radius - 1e-9:
@@ -855,6 +863,25 @@ def _suppress(seq: Seq, i: int, r: float, d: list[Diagnostic]) -> None:
                 d.append(diag("TX-W220", seg.item.span, nose=abs(r)))
                 removed = True
                 break
+
+
+def _switch_follows(seq: Seq, i: int) -> bool:
+    """Whether G40 (or another SRK code) is programmed after seq[i] before any further motion."""
+    for q in seq[i + 1:]:
+        if isinstance(q, SrkSwitch):
+            return True
+        if not isinstance(q, Dwell):
+            return False
+    return False
+
+
+def _against_quadrant(e: Element, side: int, quadrant: int) -> bool:
+    """G46 watches a cutting range of 180° (L2544): a travel direction that would need the nose centre on
+    the other side for this quadrant is outside it."""
+    q = QUADRANT.get(quadrant)
+    if q is None:
+        return False
+    return any(dot(left(t), q) * side < -1e-6 for t in (start_tangent(e), end_tangent(e)))
 
 
 def _small_step(seq: Seq, seg: _Seg, nxt: _Seg, o: Element, r: float, mode: str,
