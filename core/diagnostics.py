@@ -380,10 +380,6 @@ CATALOGUE: dict[str, Entry] = {
                      "The travel after the transition element {element} is {length} mm, at least {need} mm is "
                      "needed (W min = D/R + 0.1 + nose radius)."),
     "TX-W106": Entry(W, "Vorschubbewegung ohne Werkzeugaufruf T.", "Feed motion without a tool call T."),
-    "TX-W108": Entry(W, "{tool} im G00-Satz: während G00 soll T nicht auf einen anderen Revolverplatz schalten "
-                        "(nur auf die zweite Schneide, {current} ± 20); den Werkzeugaufruf in einen eigenen Satz.",
-                     "{tool} in a G00 block: during G00, T should not index to another turret station (only to "
-                     "the second edge, {current} ± 20); put the tool call in a block of its own."),
     "TX-W107": Entry(W, "L{number} erhält erst nach dem Aufruf von {program} einen neuen Wert: das "
                         "Unterprogramm hat mit dem alten gerechnet (Werte vor dem Aufruf zuweisen).",
                      "L{number} gets its new value only after the call of {program}: the subprogram used the "
@@ -398,6 +394,10 @@ CATALOGUE: dict[str, Entry] = {
                      "Wrong cutting range: this direction of travel does not suit the cutting-edge position "
                      "P{quadrant} under G46; the machining direction can only change after G40 (or G41/G42 "
                      "without monitoring)."),
+    "TX-W108": Entry(W, "{tool} im G00-Satz: während G00 soll T nicht auf einen anderen Revolverplatz schalten "
+                        "(nur auf die zweite Schneide, {current} ± 20); den Werkzeugaufruf in einen eigenen Satz.",
+                     "{tool} in a G00 block: during G00, T should not index to another turret station (only to "
+                     "the second edge, {current} ± 20); put the tool call in a block of its own."),
     # --- TRAUB TX 8 D turning: programs and subprograms (TX-x3xx) ------------------------------
     "TX-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
                      "Program O{number} is neither in this file nor in the library."),

@@ -55,6 +55,7 @@ CASES = [
     ("subprogram without M99", "G22 A8000\nM30\n%\nO8000\nG0 X40 Z2\n%", ("TX-W302", 5)),
     ("subprogram number range", "G22 A520\nM30\n%\nO520\nG0 X40 Z2\nM99\n%", ("TX-W103", 4)),
     ("missing M30", "G0 X40 Z2", ("PAL-W102", 1)),
+    ("T indexing to another station in G00", READY + "G0 X40 Z2\nG0 X80 Z50 T0404\nM30", ("TX-W108", 6)),
     ("T27 L assigned after the call", "L1 = 50\nG22 A8000\nL1 = 70\nM30\n%\nO8000\nG0 X L1 Z2\nM99\n%",
      ("TX-W107", 3)),
     ("decimal point and comma mixed up", "G1 X1,2.3\nM30", ("PAL-E002", 1)),
@@ -117,3 +118,7 @@ def test_a_new_value_for_the_next_call_is_no_late_assignment() -> None:
     tp = run(text, "traub-tx8d")
     assert codes(tp) == []
     assert [round(m.end[0] * 2, 3) for m in tp.moves] == [50.0, 70.0]
+
+
+def test_t_in_g00_for_the_second_edge_is_fine() -> None:
+    assert codes(run(READY + "G0 X40 Z2\nG0 X80 Z50 T2121\nM30", "traub-tx8d")) == []

@@ -490,6 +490,10 @@ class TurnRun:
             t.skip_on = False
         if "T" in values:
             value = int(values["T"])
+            station = value // 100
+            if (motion is not None and motion.name == "G0" and moving and t.tool is not None and station != t.tool
+                    and abs(station - t.tool) != 20):  # in G00 only the grooving tool's second edge (L1505)
+                d.append(diag("TX-W108", words["T"].span, tool=f"T{station:02d}", current=f"T{t.tool:02d}"))
             t.tool = value // 100 or None
             t.offset = value % 100
             t.tool_called, t.deselected_by, t.first_after_t = True, None, True
