@@ -122,3 +122,4 @@ def test_a_new_value_for_the_next_call_is_no_late_assignment() -> None:
 
 def test_t_in_g00_for_the_second_edge_is_fine() -> None:
     assert codes(run(READY + "G0 X40 Z2\nG0 X80 Z50 T2121\nM30", "traub-tx8d")) == []
+

@@ -749,7 +749,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         if index >= len(unit.blocks) or at_section_end:
             if not calls:
                 break
-            if not at_section_end and calls[-1].end is None and unit.number is not None:
+            if not at_section_end and calls[-1].end is None and unit is not main:
                 line = unit.blocks[-1].line if unit.blocks else 1
                 report(diag("TX-W302", Span(line, 1, line, 1), number=unit.number))
             leave()
@@ -839,7 +839,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             leave()
             continue
         if out.ended:
-            if calls:
+            if calls and unit is not main:
                 report(diag("TX-E306", block.span, number=unit.number))
                 ended = True
                 break
