@@ -166,6 +166,8 @@ Point = tuple[float, float]  # a point of the plane: (z, x radius) — Z right, 
 ON_CIRCLE = 0.01  # mm: an arc's end may miss the circle of its programmed centre by this much
 W_MIN_TRANSITION = 0.1  # mm: travel after a transition element beyond its size and the nose radius (L1978)
 W_MIN_DESELECT = 0.01  # mm: the same before SRK deselection (L2673)
+SHORT = 10.0  # a line longer than this many nose radii is not checked for Satzausblendung (it cannot vanish
+# unless its corners are sharper than about 11°)
 
 
 def known_end(start: XZ | None, item: TurnItem) -> XZ | None:
@@ -748,7 +750,7 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
         o = with_start(o, start)
         corner: Element | None = None
         tail: Element | None = None
-        step = _small_step(seq, seg, nxt, o, r, nose.mode) if isinstance(nxt, _Seg) and follows else None
+        step = _small_step(seq, seg, j, o, r, nose.mode) if j is not None and follows else None
         if step is not None:
             # a step smaller than the nose radius: the nose rolls round its outer corner instead (Satzausblendung)
             assert isinstance(nxt, _Seg)
@@ -845,24 +847,22 @@ def _suppress(seq: Seq, i: int, r: float, d: list[Diagnostic]) -> None:
     """Satzausblendung (L2652): inner blocks of the session starting at seq[i] whose equidistant vanishes
     between its neighbours' are taken out of `seq`; the neighbours' equidistants are intersected instead."""
     for run in _session_runs(seq, i):
-        removed = True
-        while removed and len(run) >= 3:
-            removed = False
-            for m in range(1, len(run) - 1):
-                if not isinstance(run[m].e, Line) or not _vanishes(run[m - 1], run[m], run[m + 1], r):
-                    continue
-                before, after = run[m - 1].e, run[m + 1].e
-                o1, o2 = offset(before, r), offset(after, r)
-                if o1 is None or o2 is None:
-                    continue
-                facing = dot(end_tangent(before), start_tangent(after)) < -1e-9  # the walls of a narrow groove
-                if not facing and _gap_joint(o1, o2, before.b, after.a, abs(r)) is None:
-                    continue  # the neighbours' equidistants do not meet either: the block stays (TX-W220 below)
-                seg = run.pop(m)
-                del seq[_index(seq, seg)]
-                d.append(diag("TX-W220", seg.item.span, nose=abs(r)))
-                removed = True
-                break
+        m = 1
+        while 1 <= m < len(run) - 1:
+            if not isinstance(run[m].e, Line) or run[m].e.length > SHORT * abs(r) or not _vanishes(
+                    run[m - 1], run[m], run[m + 1], r):
+                m += 1
+                continue
+            before, after = run[m - 1].e, run[m + 1].e
+            o1, o2 = offset(before, r), offset(after, r)
+            facing = dot(end_tangent(before), start_tangent(after)) < -1e-9  # the walls of a narrow groove
+            if o1 is None or o2 is None or (not facing and _gap_joint(o1, o2, before.b, after.a, abs(r)) is None):
+                m += 1  # the neighbours' equidistants do not meet either: the block stays (TX-W220 below)
+                continue
+            seg = run.pop(m)
+            del seq[_index(seq, seg, i)]
+            d.append(diag("TX-W220", seg.item.span, nose=abs(r)))
+            m = max(1, m - 1)  # the neighbour before may vanish now
 
 
 def _switch_follows(seq: Seq, i: int) -> bool:
@@ -884,14 +884,15 @@ def _against_quadrant(e: Element, side: int, quadrant: int) -> bool:
     return any(dot(left(t), q) * side < -1e-6 for t in (start_tangent(e), end_tangent(e)))
 
 
-def _small_step(seq: Seq, seg: _Seg, nxt: _Seg, o: Element, r: float, mode: str,
+def _small_step(seq: Seq, seg: _Seg, j: int, o: Element, r: float, mode: str,
                 ) -> tuple[Element, Element] | None:
     """A line `nxt` too short for the nose between an inside and an outside corner (or the reverse): the
     equidistant `o` of `seg` and an arc about the step's outer corner that reaches the equidistant of the
-    element after the step. None when `nxt` is no such step."""
-    if not isinstance(nxt.e, Line) or not nxt.moves:
+    element after the step. None when `nxt` (= seq[j]) is no such step."""
+    nxt = seq[j]
+    if not isinstance(nxt, _Seg) or not isinstance(nxt.e, Line) or nxt.rapid or nxt.e.length > SHORT * abs(r):
         return None
-    k = _next_motion(seq, _index(seq, nxt), (SrkSwitch, Dwell))
+    k = _next_motion(seq, j, (SrkSwitch, Dwell))
     after = seq[k] if k is not None else None
     if not isinstance(after, _Seg) or after.rapid or after.item.nose.mode != mode:
         return None
@@ -928,8 +929,8 @@ def _circle_hits(e: Element, c: Point, radius: float) -> list[Point]:
     return circle_circle(e.c, e.radius, c, radius)
 
 
-def _index(seq: Seq, seg: _Seg) -> int:
-    return next(k for k, q in enumerate(seq) if q is seg)
+def _index(seq: Seq, seg: _Seg, start: int = 0) -> int:
+    return next(k for k in range(start, len(seq)) if seq[k] is seg)
 
 
 def _joint(e1: Element, e2: Element, o1: Element, o2: Element, r: float) -> Point | None:
@@ -961,6 +962,9 @@ def _vanishes(prev: _Seg, seg: _Seg, nxt: _Seg, r: float) -> bool:
     """Whether the equidistant of the line `seg`, cut by its neighbours', is empty or runs backwards.
 
     r > 0: the nose centre is left of the travel direction, r < 0 right."""
+    joined = math.dist(prev.e.b, seg.e.a) <= 1e-6 and math.dist(seg.e.b, nxt.e.a) <= 1e-6
+    if joined and turn(prev.e, seg.e) * r <= 0 and turn(seg.e, nxt.e) * r <= 0:
+        return False  # outside corners at both ends: perpendicular to perpendicular, never empty
     o0, o, o2 = offset(prev.e, r), offset(seg.e, r), offset(nxt.e, r)
     if o0 is None or o is None or o2 is None:
         return False
