@@ -123,3 +123,10 @@ def test_a_new_value_for_the_next_call_is_no_late_assignment() -> None:
 def test_t_in_g00_for_the_second_edge_is_fine() -> None:
     assert codes(run(READY + "G0 X40 Z2\nG0 X80 Z50 T2121\nM30", "traub-tx8d")) == []
 
+
+
+def test_a_t_word_in_the_g26_block_calls_the_tool_at_the_change_point() -> None:
+    tp = run(READY + "G0 X40 Z2\nG26 T0202\nG0 X40 Z2\nM30", "traub-tx8d")
+    assert codes(tp) == []
+    assert [c.tool for c in tp.tool_changes] == [1, 2]
+    assert tp.tool_changes[1].position == (230.0, 0.0, 385.0)  # X460 Z585 with G59 Z200

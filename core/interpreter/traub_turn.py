@@ -497,7 +497,8 @@ class TurnRun:
             t.tool = value // 100 or None
             t.offset = value % 100
             t.tool_called, t.deselected_by, t.first_after_t = True, None, True
-            out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
+            if owner is None or owner.name not in _CHANGE_POINT:  # else at the change point, below
+                out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
         if names & {"G54", "G55", "G56", "G57"}:
             zero = next(c.name for _, c in gs if c.name in ("G54", "G55", "G56", "G57"))
             base = self.setup.zero_offset(zero)
@@ -521,6 +522,8 @@ class TurnRun:
                 out.items.append(self._early(Dwell(self._vec(), seconds, span)))
         elif owner is not None and owner.name in _CHANGE_POINT:
             self._change_point(owner.name, words, values, span, out)
+            if "T" in values:
+                out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
         elif owner is not None and owner.name == "G22":
             out.call = (int(values["A"]) if "A" in values else None, int(values["P"]) if "P" in values else None,
                          int(values["Q"]) if "Q" in values else None, int(values.get("H", 1)))
@@ -657,7 +660,8 @@ class TurnRun:
             out.items.append(dataclasses.replace(template, start=self._out(here), end=self._out(p)))
             here = p
         self.position = self.last_known = here
-        t.tool_called, t.deselected_by, t.first_after_t = False, name, False
+        if "T" not in values:  # a T in the same block calls the tool at the change point
+            t.tool_called, t.deselected_by, t.first_after_t = False, name, False
 
 
 def _constant_cutting_speed(v: float, limit: float | None, axis: float = 0.0) -> Callable[[float], float]:
