@@ -521,6 +521,8 @@ class Workers:
 
     def _free(self, affinity: int | None) -> _Slot | None:
         """A slot that can start a job now: the document's own, or any (those with fewer live documents first)."""
+        if not self._slots:
+            return None
         if affinity is not None:
             candidates = [self._slots[affinity % len(self._slots)]]
         else:
@@ -594,10 +596,13 @@ class Workers:
         loop = self._attach()
         name = getattr(fn, "__name__", "job")
         if slot.job is not _RESERVED or not slot.ready or slot.pool is None:
+            self._release(slot, _RESERVED)
             raise _Requeue  # the process was replaced between the hand-over and now
         try:
             future: Future[Any] = slot.pool.submit(fn, *args)
-        except (BrokenProcessPool, RuntimeError):  # it died before its watcher noticed
+        except (BrokenProcessPool, RuntimeError):  # it died before its watcher noticed, or the pool stopped
+            if slot not in self._slots:
+                raise ApiError("NOT_READY", detail="workers stopped") from None
             self._replace(slot, "broken pool")
             self._dispatch()
             raise _Requeue from None
@@ -625,6 +630,8 @@ class Workers:
             self._rehome()  # the loop start() ran in has ended: this one takes the pool over
         failures = 0
         while True:
+            if not self._slots:
+                raise ApiError("NOT_READY", detail="workers stopped")
             slot = await self._acquire(affinity)
             try:
                 return await self._run_once(slot, fn, args)
