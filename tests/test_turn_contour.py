@@ -508,8 +508,18 @@ def test_deselection_after_transition_needs_element_plus_nose_plus_0_01() -> Non
 
 
 def test_inside_arc_smaller_than_the_nose_radius() -> None:
-    _, d = run("G46\nG0 X30 Z1\nG1 Z-10 F0.2\nG2 X30.6 Z-10.3 R0.3\nG1 Z-30", radius=0.4, quadrant=1)
+    # the last element cannot be suppressed: an error
+    _, d = run("G46\nG0 X30 Z1\nG1 Z-10 F0.2\nG2 X30.6 Z-10.3 R0.3", radius=0.4, quadrant=1)
     assert ("TX-E214", 4) in codes(d)
+
+
+def test_inside_fillet_smaller_than_the_nose_radius_is_suppressed() -> None:
+    # a fillet R0.2 at a shoulder with nose R0.4: the nose leaves its own radius in the corner
+    moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG2 X40.4 Z-10.2 R0.2\nG1 X50\nG1 Z-30\nG0 X54 A180\nG40",
+                   radius=0.4, quadrant=1)
+    assert codes(d) == [("TX-W220", 4)]
+    assert [m.end for m in moves if m.line == 3] == [pytest.approx((20.4, 0, -9.8))]  # equidistants meet
+    assert all(m.line != 4 for m in moves)
 
 
 def test_groove_narrower_than_the_nose_is_suppressed() -> None:

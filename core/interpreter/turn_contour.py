@@ -849,8 +849,12 @@ def _suppress(seq: Seq, i: int, r: float, d: list[Diagnostic]) -> None:
     for run in _session_runs(seq, i):
         m = 1
         while 1 <= m < len(run) - 1:
-            if not isinstance(run[m].e, Line) or run[m].e.length > SHORT * abs(r) or not _vanishes(
-                    run[m - 1], run[m], run[m + 1], r):
+            e = run[m].e
+            if isinstance(e, Arc):
+                gone = offset(e, r) is None  # an inside arc smaller than the nose radius
+            else:
+                gone = e.length <= SHORT * abs(r) and _vanishes(run[m - 1], run[m], run[m + 1], r)
+            if not gone:
                 m += 1
                 continue
             before, after = run[m - 1].e, run[m + 1].e
