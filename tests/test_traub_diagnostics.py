@@ -42,6 +42,7 @@ CASES = [
     ("unknown G code", "G5 X1\nM30", ("PAL-E105", 1)),
     ("unknown address", "G1 Y5\nM30", ("PAL-E003", 1)),
     ("word not allowed with G4", "G4 X1 Z3\nM30", ("PAL-E101", 1)),
+    ("word not allowed with the modal G0", "G0 X40 Z2\nZ-5 R3\nM30", ("PAL-E101", 2)),
     ("G22 without A, P or Q", "G22 H2\nM30", ("PAL-E102", 1)),
     ("cycle not supported yet", READY + "G71 P10 Q20 I0.5 K0.2 D2\nM30", ("PAL-E901", 5)),
     ("thread not supported yet", READY + "G0 X20 Z5\nG33 Z-20 F1.5\nM30", ("PAL-E901", 6)),

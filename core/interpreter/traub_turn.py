@@ -222,7 +222,7 @@ class _Reading:
 
 
 def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None,
-          limit: float = 1e9) -> _Reading:
+          limit: float = 1e9, modal_motion: str = "G1") -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
@@ -296,11 +296,12 @@ def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: se
     elif words.keys() <= TABLE.always_allowed:
         allowed = TABLE.always_allowed
     else:
-        allowed = _GEOMETRY | TABLE.always_allowed  # a motion of the modal code, checked below
+        allowed = TABLE.codes[modal_motion].words | TABLE.always_allowed  # a motion of the modal code
     for a, w in words.items():
         if a not in allowed:
-            command = str(owner_word) if owner_word is not None else str(speed_code.name if speed_code else "")
-            d.append(diag("PAL-E101", w.span, address=a, command=command or "(modal)"))
+            command = (str(owner_word) if owner_word is not None else speed_code.name if speed_code is not None
+                       else f"{modal_motion} (modal)")
+            d.append(diag("PAL-E101", w.span, address=a, command=command))
     for w, code in gs:
         for one_of in code.required:
             if not any(a in words for a in one_of):
@@ -404,7 +405,7 @@ class TurnRun:
                     seen = self.callee_reads.get(asg.param)
                     if seen is not None and seen[0] != v and self.program is None:
                         self.late[asg.param] = (asg.span, seen[1])
-        r = _read(block, params, d, reads, self.setup.limits.max_abs_value)
+        r = _read(block, params, d, reads, self.setup.limits.max_abs_value, t.codes.get("motion") or "G1")
         gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
         names = {c.name for _, c in gs}
         mnames = {c.name for _, c in ms}
