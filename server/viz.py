@@ -38,19 +38,22 @@ ALLOWED_CLIENT_MESSAGES = frozenset({
 FEED_COLOUR = (21, 101, 192)  # feed moves: solid blue
 RAPID_COLOUR = (239, 108, 0)  # rapid moves: dashed orange
 CURRENT_COLOUR = (220, 20, 60)
-STOCK_COLOUR = (190, 195, 205)
+STOCK_COLOUR = (184, 190, 201)
+BACKGROUND = (198, 205, 215)
 TOO_MUCH_COLOUR = (198, 40, 40)  # deviation after grading: material removed that must stay (red)
 TOO_LITTLE_COLOUR = (30, 136, 229)  # material left that must go (blue)
 CONTOUR_COLOUR = (46, 125, 50)  # the programmed contour (green), beside the tool-centre path under G41/G42
 TOOL_COLOUR = (150, 160, 172)  # the cutting part; the shank darker, the cutting edges dark
 SHANK_COLOUR = (95, 102, 112)
 EDGE_COLOUR = (40, 44, 52)
+TOOL_OPACITY = 0.45
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
 DASH, GAP = 2.0, 1.5  # mm: rapid moves are drawn dashed
 MAX_DASHES = 30_000
 LAYERS = ("rapid", "feed", "contour", "stock")
 VIEWS = ("iso", "top", "front", "reset")
 # the direction from the part to the camera of each view (Z up; "front" looks along +Y as PAL drawings do)
+FOV = float(np.radians(35))  # a narrow lens: the part looks as drawn, not bulging (viser's default is 75°)
 _VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front": (0.0, -1.0, 0.12)}
 
 
@@ -228,6 +231,8 @@ def _new_scene(ticket: Ticket | None = None) -> Scene:
     server.gui.configure_theme(show_logo=False, show_share_button=False)
     server.scene.set_up_direction("+z")
     server.scene.add_frame("/zero", axes_length=10 * M, axes_radius=0.4 * M)  # the workpiece zero
+    # a grey-blue backdrop: the blank's lit top face is lighter, its sides darker (on white the top would vanish)
+    server.scene.set_background_image(np.full((2, 2, 3), BACKGROUND, dtype=np.uint8), format="png")
     return Scene(server, server.get_port(), ticket)
 
 
@@ -423,11 +428,12 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) ->
     if key != scene.tool_key:
         cut_v, cut_t, shank_v, shank_t, edges = tool_mesh(shape)
         scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
-        s.add_mesh_simple("/tool/cutter", cut_v * M, cut_t, color=TOOL_COLOUR, flat_shading=False,
+        # see-through: a Ø25 end mill is taller than the part and would hide what it cuts
+        s.add_mesh_simple("/tool/cutter", cut_v * M, cut_t, color=TOOL_COLOUR, opacity=TOOL_OPACITY,
                           cast_shadow=False, receive_shadow=False)
-        s.add_mesh_simple("/tool/shank", shank_v * M, shank_t, color=SHANK_COLOUR, cast_shadow=False,
-                          receive_shadow=False)
-        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=2.0, thickness_units="screen")
+        s.add_mesh_simple("/tool/shank", shank_v * M, shank_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
+                          cast_shadow=False, receive_shadow=False)
+        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
         scene.tool_key = key
     else:
         scene.nodes["tool"].position = position
@@ -449,10 +455,11 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
 
 def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
                fov: float = np.radians(50)) -> tuple[np.ndarray, np.ndarray]:
-    """Eye and target (mm) so that the box is centred and fills the view: the distance at which the box's
-    farthest-out corner just fits, in width and in height, with a small margin."""
+    """Eye and target (mm) so that the box is centred in the picture and fills it: the distance at which the
+    box's farthest-out corner just fits, in width and in height (with a small margin), the target moved until
+    the box's picture has as much room left as right and above as below (perspective makes the near corners
+    larger)."""
     lo, hi = bounds
-    centre = (lo + hi) / 2
     back = np.asarray(_VIEW_DIRECTIONS.get(view, _VIEW_DIRECTIONS["iso"]), dtype=np.float64)
     back /= np.linalg.norm(back)
     right = np.cross(np.array([0.0, 0.0, 1.0]), back)
@@ -460,28 +467,35 @@ def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
     up = np.cross(back, right)
     tan_v = np.tan(fov / 2)
     tan_h = tan_v * max(aspect, 0.2)
-    need = 0.0
-    for corner in np.array(np.meshgrid(*zip(lo, hi, strict=True))).T.reshape(-1, 3):
-        p = corner - centre
-        x, y, z = float(p @ right), float(p @ up), float(p @ back)
-        need = max(need, max(abs(x) / tan_h, abs(y) / tan_v) + z)
-    distance = max(need * 1.06, 1.0)
-    return centre + back * distance, centre
+    corners = np.array(np.meshgrid(*zip(lo, hi, strict=True))).T.reshape(-1, 3)
+    target = (lo + hi) / 2
+    distance = 1.0
+    for _ in range(6):
+        p = corners - target
+        x, y, z = p @ right, p @ up, p @ back
+        distance = max(float(np.max(np.maximum(np.abs(x) / tan_h, np.abs(y) / tan_v) + z)) * 1.06, 1.0)
+        depth = distance - z
+        u, v = x / (depth * tan_h), y / (depth * tan_v)  # where each corner lands, -1…1 across the picture
+        shift_u, shift_v = (u.max() + u.min()) / 2, (v.max() + v.min()) / 2
+        if abs(shift_u) < 1e-3 and abs(shift_v) < 1e-3:
+            break
+        target = target + right * shift_u * distance * tan_h + up * shift_v * distance * tan_v
+    return target + back * distance, target
 
 
 def _look(scene: Scene, view: str) -> None:
     """Point the camera (of the connected browsers, and of any that connect later) at the part."""
     if scene.bounds is None:
         return
-    fov = float(scene.server.initial_camera.fov)
-    eye, target = camera_for(scene.bounds, view, scene.aspect, fov)
+    eye, target = camera_for(scene.bounds, view, scene.aspect, FOV)
     eye_m, target_m = tuple(float(v) for v in eye * M), tuple(float(v) for v in target * M)
     size = float(np.linalg.norm(scene.bounds[1] - scene.bounds[0])) * M or 0.1
     camera = scene.server.initial_camera
     camera.position, camera.look_at = eye_m, target_m
-    camera.near, camera.far = size / 200, size * 50
+    camera.near, camera.far, camera.fov = size / 200, size * 50, FOV
     for client in scene.server.get_clients().values():
         with contextlib.suppress(Exception):  # a browser that has not yet told its camera
+            client.camera.fov = FOV
             client.camera.position, client.camera.look_at = eye_m, target_m
     scene.framed = True
     scene.view = view

@@ -125,3 +125,82 @@ def test_bridge_lets_only_the_view_messages_through(message: dict[str, object], 
 
 def test_bridge_drops_garbage() -> None:
     assert viz.passes(b"\xc1\xc1 not msgpack") is False
+
+
+def test_the_tool_stands_upright_on_its_tip_with_the_tool_tables_size() -> None:
+    from core.tools import DEFAULT_TOOLS
+
+    t1 = DEFAULT_TOOLS.get(1)  # Schaftfräser Ø25
+    t2 = DEFAULT_TOOLS.get(2)  # Langlochfräser Ø6
+    assert t1 is not None and t2 is not None and t1.kind == "end_mill" and t2.kind == "slot_drill"
+    for tool in (t1, t2):
+        cut_v, _, shank_v, _, _ = viz.tool_mesh(viz.tool_shape(tool))
+        z = np.concatenate([cut_v[:, 2], shank_v[:, 2]])
+        assert z.min() == 0 and z.max() == pytest.approx(tool.length)  # the tip at the bottom, along +Z
+        assert np.hypot(cut_v[:, 0], cut_v[:, 1]).max() == pytest.approx(tool.diameter / 2, rel=1e-3)
+    # an end mill has four cutting edges, a slot drill two: they look different
+    edges = [len(viz.tool_mesh(viz.tool_shape(t))[4]) for t in (t1, t2)]
+    assert edges[0] == 2 * edges[1]
+
+
+def test_tool_node_is_not_turned_and_sits_on_the_tip(api: Api) -> None:
+    student = api.user()
+    token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
+    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD}, headers=auth(student))
+    assert r.status_code == 200
+    scenes: viz.Scenes = api.app.state.scenes
+    ticket = scenes.ticket(token)
+    assert ticket is not None
+    scene = scenes.scene(ticket)
+    tool = scene.nodes["tool"]
+    assert np.allclose(tool.wxyz, (1, 0, 0, 0))  # viser's meshes are in scene coordinates: Z is up already
+    assert np.allclose(np.asarray(tool.position) / viz.M, (20, 0, 50), atol=1e-3)  # GOOD ends at X20 Z50
+    r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 1}, headers=auth(student))
+    assert r.status_code == 200
+    end = scene.segments[1][1] if scene.segments is not None else None
+    assert np.allclose(np.asarray(tool.position) / viz.M, end, atol=1e-3)
+
+
+@pytest.mark.parametrize("view", ["iso", "top", "front"])
+@pytest.mark.parametrize("aspect", [0.75, 1.3, 1.8])
+def test_the_camera_centres_the_stock_and_fills_the_view(view: str, aspect: float) -> None:
+    lo, hi = np.array([0.0, 0.0, -30.0]), np.array([80.0, 70.0, 0.0])
+    fov = np.radians(50)
+    eye, target = viz.camera_for((lo, hi), view, aspect, fov)
+    forward = (target - eye) / np.linalg.norm(target - eye)
+    right = np.cross(forward, (0, 0, 1)) if abs(forward[2]) < 0.99 else np.array([1.0, 0, 0])
+    right /= np.linalg.norm(right)
+    up = np.cross(right, forward)
+    corners = np.array(np.meshgrid(*zip(lo, hi, strict=True))).T.reshape(-1, 3)
+    depth = (corners - eye) @ forward
+    x = np.abs((corners - eye) @ right / depth) / (np.tan(fov / 2) * aspect)
+    y = np.abs((corners - eye) @ up / depth) / np.tan(fov / 2)
+    used = max(x.max(), y.max())
+    assert 0.85 < used < 1.0  # every corner in sight, and the part fills the view
+    u = (corners - eye) @ right / depth
+    v = (corners - eye) @ up / depth
+    assert abs(u.max() + u.min()) < 0.02 * (u.max() - u.min())  # centred: as much room left as right
+    assert abs(v.max() + v.min()) < 0.02 * (v.max() - v.min())  # and above as below
+
+
+def test_views_and_layers(api: Api) -> None:
+    student = api.user()
+    token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
+    assert api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "stock": {
+        "min": [0, 0, -30], "max": [80, 70, 0]}}, headers=auth(student)).status_code == 200
+    scenes: viz.Scenes = api.app.state.scenes
+    ticket = scenes.ticket(token)
+    assert ticket is not None
+    scene = scenes.scene(ticket)
+    r = api.client.post(f"/api/v1/viz/{token}/view", json={"view": "top", "aspect": 1.5}, headers=auth(student))
+    assert r.status_code == 200 and r.json() == {"view": "top"}
+    eye = np.asarray(scene.server.initial_camera.position) / viz.M
+    assert np.allclose(eye[:2], (40, 35), atol=0.5) and eye[2] > 30  # straight above the stock's centre
+    r = api.client.post(f"/api/v1/viz/{token}/layers", json={"rapid": False, "stock": False}, headers=auth(student))
+    assert r.json() == {"rapid": False, "feed": True, "contour": True, "stock": False}
+    assert scene.nodes["rapid"].visible is False and scene.nodes["stock"].visible is False
+    assert scene.nodes["feed"].visible is True
+    # a new program keeps the trainee's choice
+    api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD}, headers=auth(student))
+    assert scene.nodes["rapid"].visible is False
+    assert api.client.post(f"/api/v1/viz/{token}/view", json={"view": "side"}, headers=auth(student)).status_code == 422

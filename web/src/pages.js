@@ -3,6 +3,8 @@
 
 import { lang, message as message_, t } from "./i18n.js";
 import { mountEditor } from "./main.js";
+import { mountViz } from "./viz.js";
+import { loginUrl, safeNext } from "./redirect.js";
 
 async function api(path, options = {}) {
   const r = await fetch(`/api/v1${path}`, { credentials: "same-origin", ...options });
@@ -31,7 +33,7 @@ export async function mountLogin(form, message) {
       method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data),
     });
     if (r.ok) {
-      location.href = new URLSearchParams(location.search).get("next") || "/";
+      location.href = safeNext(new URLSearchParams(location.search).get("next"));
     } else {
       message.textContent = (r.body?.error && message_(r.body.error)) || t("login.failed");
     }
@@ -41,7 +43,7 @@ export async function mountLogin(form, message) {
 export async function mountExerciseList(parent) {
   const r = await api("/exercises");
   if (r.status === 401) {
-    location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
+    location.href = loginUrl();
     return;
   }
   const kinds = { write: t("kind.write"), complete: t("kind.complete"), fix: t("kind.fix") };
@@ -53,7 +55,7 @@ export async function mountExerciseList(parent) {
 export async function mountExercise(root, slug) {
   const r = await api(`/exercises/${slug}`);
   if (r.status === 401) {
-    location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
+    location.href = loginUrl();
     return;
   }
   if (!r.ok) {
@@ -131,7 +133,7 @@ export async function mountExercise(root, slug) {
 export async function mountInstructor(parent) {
   const exercises = await api("/exercises");
   if (exercises.status === 401) {
-    location.href = `/login?next=${encodeURIComponent(location.pathname)}`;
+    location.href = loginUrl();
     return;
   }
   // filter by exercise, list, export
@@ -145,7 +147,7 @@ export async function mountInstructor(parent) {
     const r = await api(`/submissions${query}`);
     list.replaceChildren(table([t("col.number"), t("instructor.exercise"), t("col.learner"), t("col.time"),
       t("col.errors"), t("col.points")], (r.body || []).map((s) => [
-      s.id, s.exercise, s.user || s.external_user || "–", new Date(s.created_at).toLocaleString(lang === "en" ? "en-GB" : "de-DE"),
+      s.id, s.exercise, s.external_user || s.user || "–", new Date(s.created_at).toLocaleString(lang === "en" ? "en-GB" : "de-DE"),
       s.error_count, s.score ?? "–"])));
   }
   filter.onchange = show;
@@ -168,15 +170,6 @@ export async function mountInstructor(parent) {
     el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
     list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message);
   await show();
-}
-
-// -- the 3D view and playback --------------------------------------------------------------------
-function softwareWebGL() {
-  const gl = document.createElement("canvas").getContext("webgl");
-  if (!gl) return true;
-  const info = gl.getExtension("WEBGL_debug_renderer_info");
-  const renderer = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
-  return /swiftshader|llvmpipe|software/i.test(renderer);
 }
 
 // -- free practice: the stock and the tools, kept in the browser ----------------------------------
@@ -251,125 +244,4 @@ export function mountPracticeSetup(parent, onChange) {
   return setup;
 }
 
-export async function mountViz(container, view, { dialect = "pal-mill", exercise = null, setup = null } = {}) {
-  let token = null;
-  let lines = [];
-  let states = {};
-  const modal = el("p", { id: "modal-state", className: "meta" }, "");
-  let playing = null;
-  let timer = null;
-  const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
-  const slider = el("input", { type: "range", id: "playhead", min: 0, max: 0, value: 0 });
-  slider.setAttribute("aria-label", t("play.position"));
-  const info = el("span", { id: "playhead-info" }, "");
-  const button = (id, text, title, fn) => el("button", { id, type: "button", title, onclick: fn }, text);
-  const stop = () => { clearInterval(playing); playing = null; };
-
-  async function moveTo(index, fromEditor = false) {
-    if (!lines.length || !token) return;
-    index = Math.max(0, Math.min(index, lines.length - 1));
-    slider.value = index;
-    const r = await api(`/viz/${token}/playhead`, {
-      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify({ index }),
-    });
-    const line = r.body?.line;
-    info.textContent = t("play.at", { i: index + 1, n: lines.length, line: line ?? "–" });
-    const st = states[line];
-    modal.textContent = st ? [st.plane, st.dimensions, st.compensation, st.zero_offset, `T${st.tool ?? 0}`,
-      `F${st.feed}`, `S${st.speed}`, `X${st.position[0]} Y${st.position[1]} Z${st.position[2]}`].join("  ") : "";
-    if (line && !fromEditor) {
-      const l = view.state.doc.line(Math.min(line, view.state.doc.lines));
-      view.dispatch({ selection: { anchor: l.from, head: l.to }, scrollIntoView: true });
-    }
-  }
-
-  async function refresh(text) {
-    if (!token) return;
-    const r = await api(`/viz/${token}/scene`, {
-      method: "POST", headers: { "Content-Type": "application/json" },
-      body: JSON.stringify({
-        program: text, dialect, exercise,
-        ...(setup ? { stock: stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
-      }),
-    });
-    if (!r.ok) return;
-    lines = r.body.lines;
-    states = r.body.states;
-    slider.max = Math.max(0, lines.length - 1);
-    slider.value = slider.max;
-    frame.dataset.segments = String(lines.length);
-    info.textContent = t("play.segments", { n: lines.length }) + (r.body.cut ? t("play.cut") : "");
-  }
-
-  const controls = el("div", { className: "playback" },
-    button("step-back", t("play.back"), t("play.back_title"), () => { stop(); moveTo(Number(slider.value) - 1); }),
-    button("play", t("play.play"), t("play.play_title"), () => {
-      if (playing) { stop(); return; }
-      playing = setInterval(() => {
-        if (Number(slider.value) >= lines.length - 1) stop(); else moveTo(Number(slider.value) + 1);
-      }, 200);
-    }),
-    button("step", t("play.step"), t("play.step_title"), () => { stop(); moveTo(Number(slider.value) + 1); }),
-    slider, info);
-  slider.oninput = () => { stop(); moveTo(Number(slider.value)); };
-  // Alt with the arrow keys steps, Alt+Space plays and pauses: the same in the editor as anywhere on the page.
-  document.addEventListener("keydown", (event) => {
-    if (!token || !event.altKey) return;
-    const id = { ArrowLeft: "step-back", ArrowRight: "step", " ": "play" }[event.key];
-    if (!id) return;
-    event.preventDefault();
-    controls.querySelector(`#${id}`).click();
-  });
-
-  async function enable() {
-    const session = await api("/viz", { method: "POST" });
-    if (!session.ok) {
-      container.replaceChildren(el("p", { className: "error" }, (session.body?.error && message_(session.body.error)) || t("viz.none")));
-      return;
-    }
-    token = session.body.token;
-    frame.src = session.body.url;
-    container.replaceChildren(frame, controls, modal,
-      el("p", {}, button("viz-off", t("viz.off"), "", disable)));
-    await refresh(view.state.doc.toString());
-  }
-
-  function disable() {
-    stop();
-    token = null;
-    frame.removeAttribute("src");
-    offer(t("viz.is_off"));
-  }
-
-  function offer(reason) {
-    container.replaceChildren(el("p", { className: "viz-off" }, reason, " ",
-      button("viz-on", t("viz.on"), "", enable)));
-  }
-
-  // Without graphics acceleration the 3D view would slow the whole page down: then it waits to be asked for.
-  if (softwareWebGL()) {
-    offer(t("viz.software"));
-  } else {
-    await enable();
-  }
-  const legend = el("p", { id: "deviation", className: "meta" }, "");
-  return {
-    changed(text) { legend.remove(); clearTimeout(timer); timer = setTimeout(() => refresh(text), 500); },
-    setup(next) { setup = next; refresh(view.state.doc.toString()); },  // free practice: other stock or tools
-    async graded(text) {  // after grading: where the part leaves the tolerance band, in colour
-      if (!token || !exercise) return;
-      const r = await api(`/viz/${token}/deviation`, {
-        method: "POST", headers: { "Content-Type": "application/json" },
-        body: JSON.stringify({ program: text, dialect, exercise }),
-      });
-      if (!r.ok) return;
-      legend.textContent = r.body.too_much || r.body.too_little
-        ? t("deviation.shown", { much: r.body.too_much, little: r.body.too_little }) : t("deviation.none");
-      modal.after(legend);
-    },
-    pointer(line) {  // clicking a line in the editor moves playback to its first step
-      const index = lines.indexOf(line);
-      if (index >= 0) { stop(); moveTo(index, true); }
-    },
-  };
-}
+export { mountViz };  // the 3D view lives in viz.js

@@ -1,0 +1,211 @@
+// The 3D view beside the editor: viser's scene in an iframe (/viz/{token}/, its own panel hidden by
+// /static/viz-frame.css), with our own toolbar — views (oben, vorne, iso, zurücksetzen), layers with their
+// colours as the legend, the deviation colours — and playback. Without graphics acceleration the view starts
+// switched off and the same place shows the server's picture of the current state (from above).
+
+import { lang, message as message_, t } from "./i18n.js";
+import { stockOf } from "./pages.js";
+
+async function api(path, options = {}) {
+  const r = await fetch(`/api/v1${path}`, { credentials: "same-origin", ...options });
+  const body = r.headers.get("content-type")?.includes("json") ? await r.json() : null;
+  return { ok: r.ok, status: r.status, body };
+}
+
+function el(tag, props = {}, ...children) {
+  const node = document.createElement(tag);
+  Object.assign(node, props);
+  node.append(...children.filter((c) => c !== null && c !== undefined));
+  return node;
+}
+
+const post = (body) => ({ method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
+const number = (value, digits) => value.toLocaleString(lang === "en" ? "en-GB" : "de-DE",
+  { minimumFractionDigits: digits, maximumFractionDigits: digits });
+
+export function softwareWebGL() {
+  const gl = document.createElement("canvas").getContext("webgl");
+  if (!gl) return true;
+  const info = gl.getExtension("WEBGL_debug_renderer_info");
+  const renderer = info ? String(gl.getParameter(info.UNMASKED_RENDERER_WEBGL)) : "";
+  return /swiftshader|llvmpipe|software/i.test(renderer);
+}
+
+// layer → its legend entry (the same colours as the scene: server/viz.py)
+const LAYERS = [
+  { id: "rapid", swatch: "swatch-rapid" }, { id: "feed", swatch: "swatch-feed" },
+  { id: "contour", swatch: "swatch-contour" }, { id: "stock", swatch: "swatch-stock" },
+];
+
+export async function mountViz(container, view, { dialect = "pal-mill", exercise = null, setup = null } = {}) {
+  let token = null;
+  let lines = [];
+  let states = {};
+  let playing = null;
+  let timer = null;
+  let pictureTimer = null;
+  let pictureUrl = null;
+  const modal = el("p", { id: "modal-state", className: "meta" }, "");
+  const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
+  const picture = el("img", { id: "viz-picture", alt: t("viz.picture_alt") });
+  const pictureNote = el("p", { className: "meta viz-picture-note" }, t("viz.picture_note"));
+  const stage = el("div", { className: "viz-stage" });
+  const slider = el("input", { type: "range", id: "playhead", min: 0, max: 0, value: 0 });
+  slider.setAttribute("aria-label", t("play.position"));
+  const info = el("span", { id: "playhead-info" }, "");
+  const deviation = el("p", { id: "deviation", className: "meta", role: "status" }, "");
+  const button = (id, text, title, fn) => el("button", { id, type: "button", title, onclick: fn }, text);
+  const stop = () => { clearInterval(playing); playing = null; };
+  const body = (text) => ({
+    program: text, dialect, exercise,
+    ...(setup ? { stock: stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
+  });
+
+  // -- our toolbar: views, layers (the legend of the path colours), the deviation colours ---------------
+  const views = el("div", { className: "viz-views", role: "group" },
+    ...["top", "front", "iso", "reset"].map((name) => button(`view-${name}`, t(`viz.view.${name}`),
+      t(`viz.view.${name}_title`), () => look(name))));
+  views.setAttribute("aria-label", t("viz.views"));
+  const layers = el("div", { className: "viz-layers", role: "group" }, ...LAYERS.map(({ id, swatch }) => {
+    const box = el("input", { type: "checkbox", id: `layer-${id}`, checked: true,
+      onchange: () => token && api(`/viz/${token}/layers`, post({ [id]: box.checked })) });
+    return el("label", { className: "viz-layer" }, box, el("span", { className: `swatch ${swatch}` }), t(`viz.layer.${id}`));
+  }));
+  layers.setAttribute("aria-label", t("viz.layers"));
+  const legend = el("div", { className: "viz-legend", role: "group" },
+    el("span", { className: "viz-legend-item" }, el("span", { className: "swatch swatch-too-much" }), t("viz.legend.too_much")),
+    el("span", { className: "viz-legend-item" }, el("span", { className: "swatch swatch-too-little" }), t("viz.legend.too_little")));
+  legend.setAttribute("aria-label", t("viz.legend"));
+  const toolbar = el("div", { className: "viz-toolbar" }, views, layers, legend);
+
+  async function look(name) {
+    if (!token) return;
+    const aspect = frame.clientHeight ? frame.clientWidth / frame.clientHeight : null;
+    await api(`/viz/${token}/view`, post({ view: name, ...(aspect ? { aspect } : {}) }));
+  }
+
+  // -- playback ------------------------------------------------------------------------------------
+  async function moveTo(index, fromEditor = false) {
+    if (!lines.length || !token) return;
+    index = Math.max(0, Math.min(index, lines.length - 1));
+    slider.value = index;
+    const r = await api(`/viz/${token}/playhead`, post({ index }));
+    const line = r.body?.line;
+    info.textContent = t("play.at", { i: index + 1, n: lines.length, line: line ?? "–" });
+    const st = states[line];
+    modal.textContent = st ? [st.plane, st.dimensions, st.compensation, st.zero_offset, `T${st.tool ?? 0}`,
+      `F${st.feed}`, `S${st.speed}`, `X${st.position[0]} Y${st.position[1]} Z${st.position[2]}`].join("  ") : "";
+    if (line && !fromEditor) {
+      const l = view.state.doc.line(Math.min(line, view.state.doc.lines));
+      view.dispatch({ selection: { anchor: l.from, head: l.to }, scrollIntoView: true });
+    }
+  }
+
+  async function refresh(text) {
+    if (!token) return;
+    const r = await api(`/viz/${token}/scene`, post(body(text)));
+    if (r.status === 403) { await enable(); return; }  // the scene went to another session: a fresh one
+    if (!r.ok) return;
+    lines = r.body.lines;
+    states = r.body.states;
+    slider.max = Math.max(0, lines.length - 1);
+    slider.value = slider.max;
+    frame.dataset.segments = String(lines.length);
+    info.textContent = t("play.segments", { n: lines.length }) + (r.body.cut ? t("play.cut") : "");
+  }
+
+  const controls = el("div", { className: "playback" },
+    button("step-back", t("play.back"), t("play.back_title"), () => { stop(); moveTo(Number(slider.value) - 1); }),
+    button("play", t("play.play"), t("play.play_title"), () => {
+      if (playing) { stop(); return; }
+      playing = setInterval(() => {
+        if (Number(slider.value) >= lines.length - 1) stop(); else moveTo(Number(slider.value) + 1);
+      }, 200);
+    }),
+    button("step", t("play.step"), t("play.step_title"), () => { stop(); moveTo(Number(slider.value) + 1); }),
+    slider, info);
+  slider.oninput = () => { stop(); moveTo(Number(slider.value)); };
+  // Alt with the arrow keys steps, Alt+Space plays and pauses: the same in the editor as anywhere on the page.
+  document.addEventListener("keydown", (event) => {
+    if (!token || !event.altKey) return;
+    const id = { ArrowLeft: "step-back", ArrowRight: "step", " ": "play" }[event.key];
+    if (!id) return;
+    event.preventDefault();
+    controls.querySelector(`#${id}`).click();
+  });
+
+  // -- on and off ----------------------------------------------------------------------------------
+  async function enable() {
+    const session = await api("/viz", { method: "POST" });
+    if (!session.ok) {
+      offer((session.body?.error && message_(session.body.error)) || t("viz.none"));
+      return;
+    }
+    token = session.body.token;
+    stage.replaceChildren(frame);
+    container.replaceChildren(toolbar, stage, controls, modal, el("p", { className: "viz-switch" },
+      button("viz-off", t("viz.off"), "", disable)));
+    for (const box of layers.querySelectorAll("input")) box.checked = true;
+    frame.src = session.body.url;
+    await look("iso");  // the frame's shape first: the first picture fills it
+    await refresh(view.state.doc.toString());
+  }
+
+  function disable() {
+    stop();
+    token = null;
+    frame.removeAttribute("src");
+    offer(t("viz.is_off"));
+  }
+
+  // While the view is off, the same place shows the stock after the program, rendered by the server.
+  function offer(reason) {
+    stage.replaceChildren(picture, pictureNote);
+    container.replaceChildren(stage, el("p", { className: "viz-off" }, reason, " ",
+      button("viz-on", t("viz.on"), "", enable)));
+    updatePicture(view.state.doc.toString());
+  }
+
+  async function updatePicture(text) {
+    const r = await fetch("/api/v1/viz/picture.png", { credentials: "same-origin", ...post(body(text)) });
+    if (!r.ok || token) return;
+    if (pictureUrl) URL.revokeObjectURL(pictureUrl);
+    pictureUrl = URL.createObjectURL(await r.blob());
+    picture.src = pictureUrl;
+    picture.dataset.text = text;  // which program it shows (the browser test waits for it)
+  }
+
+  // Without graphics acceleration the 3D view would slow the whole page down: then it waits to be asked for.
+  if (softwareWebGL()) {
+    offer(t("viz.software"));
+  } else {
+    await enable();
+  }
+  return {
+    changed(text) {
+      deviation.remove();
+      clearTimeout(timer);
+      timer = setTimeout(() => refresh(text), 500);
+      if (!token) { clearTimeout(pictureTimer); pictureTimer = setTimeout(() => updatePicture(text), 1000); }
+    },
+    setup(next) {  // free practice: other stock or tools
+      setup = next;
+      if (token) refresh(view.state.doc.toString()); else updatePicture(view.state.doc.toString());
+    },
+    async graded(text) {  // after grading: where the part leaves the tolerance band, in colour (the camera shows it)
+      if (!token || !exercise) return;
+      const r = await api(`/viz/${token}/deviation`, post({ program: text, dialect, exercise }));
+      if (!r.ok) return;
+      const d = r.body;
+      deviation.textContent = d.too_much || d.too_little
+        ? t("deviation.shown", { much: number(d.too_much_mm3, 1), little: number(d.too_little_mm3, 1),
+          largest: number(d.largest_mm, 2) })
+        : t("deviation.none");
+      modal.after(deviation);
+    },
+    pointer(line) {  // clicking a line in the editor moves playback to its first step
+      const index = lines.indexOf(line);
+      if (index >= 0) { stop(); moveTo(index, true); }
+    },
+  };
+}
