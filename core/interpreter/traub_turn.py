@@ -870,10 +870,8 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         elif type(command) is ToolChange:
             result.tool_changes.append(command)
     current_state: ModalState = result.initial
-    start_pos = run.last_known if not items else None
-    tcp = setup.tool_change_point
-    current_position: Vec3 = (tcp[0] / 2 - dx, 0.0, tcp[1] - dz) if start_pos is None else (
-        start_pos[0] - dx, 0.0, start_pos[1] - dz)
+    tcp = setup.tool_change_point  # where the run starts
+    current_position: Vec3 = (tcp[0] / 2 - dx, 0.0, tcp[1] - dz)
     for i in range(n_lines):
         st, ps = states[i], positions[i]
         if st is None or ps is None:
