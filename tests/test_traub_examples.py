@@ -294,3 +294,14 @@ def test_the_benchmark_turning_program_runs_clean() -> None:
     tp = run(text, "traub-tx8d")
     assert len(text.splitlines()) == 300
     assert codes(tp) == [] and len(tp.moves) > 250
+
+
+def test_state_after_each_line_carries_position_and_speed() -> None:
+    tp = traub("tx-16-g96-g92.nc")
+    state, position = tp.state_at(7)  # G00 X40 Z2
+    assert position == pytest.approx((20.0, 0.0, 2.0))
+    assert state.speed == pytest.approx(1989.437, abs=TOL) and state.codes["spindle_mode"] == "G96"
+    _, before = tp.state_at(1)
+    assert before == pytest.approx((230.0, 0.0, 375.0))  # the tool-change point X460 Z585, G59 Z210
+    state, _ = tp.state_at(9)
+    assert state.speed == 3000
