@@ -68,7 +68,7 @@ log = logging.getLogger("paltrainer.server")
 TOOL_LIST = TypeAdapter(Annotated[list[ToolSpec], Field(max_length=99)])
 
 LIVE_ERRORS: dict[str, tuple[str, str]] = {
-    "BAD_MESSAGE": ("Ungültige Nachricht: {detail}", "Invalid message: {detail}"),
+    "BAD_MESSAGE": ("Ungültige Nachricht: {detail}", "Invalid message: {detail_en}"),  # detail_en: detail
     "NOT_OPEN": ("Zuerst ein Dokument öffnen (open).", "Open a document first (open)."),
     "STALE_VERSION": ("Version {version} ist nicht neuer als {current}; die Änderung wird ignoriert.",
                       "Version {version} is not newer than {current}; the change is ignored."),
@@ -147,6 +147,7 @@ class LiveSession:
     async def send_error(self, code: str, at_version: int | None, **params: Any) -> None:
         if code in LIVE_ERRORS:
             de, en = LIVE_ERRORS[code]
+            params.setdefault("detail_en", params.get("detail"))  # a field name reads the same in both
             message, message_en = de.format(**params), en.format(**params)
         else:
             err = ApiError(code, **params)
@@ -387,11 +388,11 @@ def parse(raw: str) -> dict[str, Any]:
     try:
         msg = json.loads(raw)
     except RecursionError:
-        raise LiveError("BAD_MESSAGE", detail="nested too deeply") from None
+        raise LiveError("BAD_MESSAGE", detail="zu tief verschachtelt", detail_en="nested too deeply") from None
     except ValueError:
-        raise LiveError("BAD_MESSAGE", detail="not JSON") from None
+        raise LiveError("BAD_MESSAGE", detail="kein JSON", detail_en="not JSON") from None
     if not isinstance(msg, dict):
-        raise LiveError("BAD_MESSAGE", detail="not a JSON object")
+        raise LiveError("BAD_MESSAGE", detail="kein JSON-Objekt", detail_en="not a JSON object")
     return msg
 
 
@@ -401,9 +402,10 @@ def check_text(msg: dict[str, Any]) -> None:
     try:
         json.dumps(msg, ensure_ascii=False).encode("utf-8")
     except UnicodeEncodeError:
-        raise LiveError("BAD_MESSAGE", detail="lone surrogate, not valid Unicode") from None
+        raise LiveError("BAD_MESSAGE", detail="einzelnes Surrogat, kein gültiges Unicode",
+                        detail_en="lone surrogate, not valid Unicode") from None
     except (RecursionError, ValueError):
-        raise LiveError("BAD_MESSAGE", detail="nested too deeply") from None
+        raise LiveError("BAD_MESSAGE", detail="zu tief verschachtelt", detail_en="nested too deeply") from None
 
 
 async def serve(ws: WebSocket, settings: Settings, session: LiveSession) -> None:
@@ -422,7 +424,8 @@ async def serve(ws: WebSocket, settings: Settings, session: LiveSession) -> None
             version: int | None = None
             try:
                 if raw is None:
-                    raise LiveError("BAD_MESSAGE", detail="binary frame; send JSON as text")
+                    raise LiveError("BAD_MESSAGE", detail="Binärnachricht; bitte JSON als Text senden",
+                                    detail_en="binary frame; send JSON as text")
                 msg = parse(raw)
                 if isinstance(msg.get("version"), int) and not isinstance(msg.get("version"), bool):
                     version = msg["version"]

@@ -70,7 +70,8 @@ def test_a_binary_frame_is_an_error_and_the_session_goes_on(api: Api) -> None:
         opened(ws)
         ws.send_bytes(json.dumps({"type": "edit", "version": 1, "line": 5, "text": "N50 G1 X40"}).encode())
         error = receive(ws)
-        assert error["type"] == "error" and error["code"] == "BAD_MESSAGE" and "binary" in error["message_en"]
+        assert error["type"] == "error" and error["code"] == "BAD_MESSAGE"
+        assert "Binärnachricht" in error["message"] and "binary" in error["message_en"]
         still_answers(ws, 2)
 
 
