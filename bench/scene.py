@@ -17,6 +17,7 @@ is at most 20,000 segments. Only 127.0.0.1 is contacted.
 from __future__ import annotations
 
 import asyncio
+import http.cookiejar
 import json
 import sys
 import time
@@ -36,10 +37,14 @@ from core.exercises import builtin_exercises
 QUIET = 0.3  # s without a frame: the picture is complete
 
 
+JAR = http.cookiejar.CookieJar()  # the 3D cookie: an anonymous browser's token drives only its own scene
+OPENER = urllib.request.build_opener(urllib.request.HTTPCookieProcessor(JAR))
+
+
 def post(url: str, body: dict[str, object] | None = None) -> dict[str, object]:
     data = json.dumps(body or {}).encode()
     req = urllib.request.Request(url, data=data, headers={"Content-Type": "application/json"}, method="POST")
-    with urllib.request.urlopen(req, timeout=30) as r:
+    with OPENER.open(req, timeout=30) as r:
         return dict(json.loads(r.read()))
 
 
@@ -58,8 +63,9 @@ async def measure(base: str, slug: str, program: str, dialect: str) -> tuple[flo
     session = post(f"{base}/api/v1/viz")
     token = str(session["token"])
     ws_url = base.replace("http://", "ws://") + f"/viz/{token}"
+    cookies = "; ".join(f"{c.name}={c.value}" for c in JAR)
     async with websockets.connect(ws_url, subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
-                                  max_size=None) as ws:
+                                  additional_headers={"Cookie": cookies}, max_size=None) as ws:
         await received(ws)  # the empty scene
         started = time.perf_counter()
         await asyncio.to_thread(post, f"{base}/api/v1/viz/{token}/scene",
