@@ -58,7 +58,8 @@ def test_huge_values_are_reported_not_computed() -> None:
     "G97 S500 T0101 M3\nN10 G0 X40 Z2\nN20 G1 Z-5 F0.1\nG22 P10 Q20 H9999\nM30",
     "G22 A8000 H9999\nM30\n%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\nG201 \nM99\n%\n%\nO9801\nG0 X40 Z2\nG0 X50\nM99\n%",
     "L1 = 1\nN10 L1 = [" + "+".join(["L1*2"] * 40) + "]\nN20 G22 P10 Q10 H9999\nM30",
-], ids=["section-moves", "nested-macros", "arithmetic"])
+    "N10 F0.1\nN20 G22 P10 Q10 H9999\nN30 G22 P10 Q20 H9999\nM30",
+], ids=["section-moves", "nested-macros", "arithmetic", "blocks-without-motion"])
 def test_small_programs_finish_within_the_work_budget(program: str) -> None:
     assert len(program) < 300
     t = time.thread_time()
