@@ -604,11 +604,11 @@ def _dist_to(m: Move, p: tuple[float, float]) -> float:
 
 @st.composite
 def outside_profiles(draw: st.DrawFn) -> str:
-    """A rising outside contour (travel −Z and +X, optional tapers and concave fillets) as TRAUB blocks."""
+    """A rising outside contour (travel −Z and +X, optional tapers, concave fillets and convex roundings)."""
     x, z = draw(st.floats(5, 30)), 0.0
     blocks = [f"G0 X{2 * x:.9f} Z2", "G1 Z0 F0.2"]
     for _ in range(draw(st.integers(1, 4))):
-        length = draw(st.floats(3, 20))
+        length = draw(st.floats(5, 20))
         rise = draw(st.floats(2, 10))
         fillet = draw(st.one_of(st.none(), st.floats(1, 1.9)))
         taper = draw(st.floats(0, 1.5))
@@ -621,7 +621,8 @@ def outside_profiles(draw: st.DrawFn) -> str:
             blocks.append(f"G1 Z{z:.9f}")
         x += rise
         z -= taper
-        blocks.append(f"G1 X{2 * x:.9f} Z{z:.9f}")
+        rounding = draw(st.one_of(st.none(), st.floats(0.5, 1)))  # a convex edge R at the top of the rise
+        blocks.append(f"G1 X{2 * x:.9f} Z{z:.9f}" + ("" if rounding is None else f" R{rounding:.9f}"))
     blocks.append(f"G1 Z{z - draw(st.floats(3, 10)):.9f}")
     return "\n".join(blocks)
 
