@@ -338,6 +338,7 @@ class TurnRun:
         self.early: set[int] = set()  # ids of tool changes and dwells made before the reference was known
         self.program: str | None = None  # the called program running now (None: the main program)
         self.srk_window: list[bool] = []  # under SRK: was each block since G46 a motion block
+        self.readings: dict[tuple[int, str], tuple[_Reading, list[Diagnostic]]] = {}
         self.srk_reported = False
         self.callee_reads: dict[int, tuple[float, str]] = {}  # L read by a called program: value, program
         self.late: dict[int, tuple[Span, str]] = {}  # L assigned another value after such a read
@@ -405,7 +406,17 @@ class TurnRun:
                     seen = self.callee_reads.get(asg.param)
                     if seen is not None and seen[0] != v and self.program is None:
                         self.late[asg.param] = (asg.span, seen[1])
-        r = _read(block, params, d, reads, self.setup.limits.max_abs_value, t.codes.get("motion") or "G1")
+        modal = t.codes.get("motion") or "G1"
+        known = self.readings.get((id(block), modal))  # a block read before (sections, subprograms)
+        if known is None:
+            found: list[Diagnostic] = []
+            r = _read(block, params, found, reads, self.setup.limits.max_abs_value, modal)
+            if all(w.expr is None for w in block.words):  # the same words always read the same
+                self.readings[(id(block), modal)] = (r, found)
+            d.extend(found)
+        else:
+            r = known[0]
+            d.extend(known[1])
         gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
         names = {c.name for _, c in gs}
         mnames = {c.name for _, c in ms}
