@@ -643,6 +643,21 @@ def test_property_nose_centre_stays_at_nose_radius_from_the_contour(program: str
         assert m.programmed_end is not None
 
 
+@settings(max_examples=40, deadline=None)
+@given(outside_profiles(), st.floats(0.2, 0.45))
+def test_property_nose_centre_on_the_other_side_with_g41(program: str, radius: float) -> None:
+    # G41: the nose left of the travel, below the contour — the corners swap inside and outside
+    contour, _ = run(program)
+    path, d = run("G41\n" + program, radius=radius, quadrant=0)
+    assert d == []
+    elements = [m for m in contour if m.kind != "rapid"]
+    for m in path[1:]:
+        for q in m.points(0.001):
+            gap = min(_dist_to(e, (q[2], q[0])) for e in elements)
+            assert gap == pytest.approx(radius, abs=2e-3), (program, radius, m.line, q)
+    assert path[-1].end[0] == pytest.approx(path[-1].programmed_end[0] - radius)  # type: ignore[index]
+
+
 def _xz(z: float, x: float) -> str:
     return f"X{2 * x:.9f} Z{z:.9f}"
 
