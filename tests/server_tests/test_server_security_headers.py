@@ -90,3 +90,14 @@ def test_sqlite_file_is_private(tmp_path: Path) -> None:
         assert path.exists() and stat.S_IMODE(path.stat().st_mode) == 0o600
     finally:
         database.engine.dispose()
+
+
+def test_viser_page_allows_exactly_its_own_two_scripts(api: Api) -> None:
+    r = api.client.post("/api/v1/viz")
+    assert r.status_code == 201, r.text
+    page = api.client.get(r.json()["url"])
+    csp = _directives(page.headers["content-security-policy"])
+    hashes = [s for s in csp["script-src"] if s.startswith("'sha256-")]
+    assert len(hashes) == 2 and "'unsafe-inline'" not in csp["script-src"]
+    assert csp["script-src"][0] == "'self'" and "'wasm-unsafe-eval'" in csp["script-src"]
+    assert csp["frame-ancestors"] == ["'self'"]
