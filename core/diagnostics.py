@@ -398,6 +398,10 @@ CATALOGUE: dict[str, Entry] = {
                         "(nur auf die zweite Schneide, {current} ± 20); den Werkzeugaufruf in einen eigenen Satz.",
                      "{tool} in a G00 block: during G00, T should not index to another turret station (only to "
                      "the second edge, {current} ± 20); put the tool call in a block of its own."),
+    "TX-E226": Entry(E, "{code} darf nicht {where} stehen: die Schneidenradiuskompensation wird am Anfang oder "
+                        "Ende einer Kontur an- und abgewählt.",
+                     "{code} must not stand {where_en}: nose-radius compensation is switched on and off at the "
+                     "start or end of a contour."),
     # --- TRAUB TX 8 D turning: programs and subprograms (TX-x3xx) ------------------------------
     "TX-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
                      "Program O{number} is neither in this file nor in the library."),

@@ -577,6 +577,13 @@ def test_g40_at_the_end_after_a_feed_block_is_case_1() -> None:
     assert moves[-1].end == pytest.approx((20, 0, -30))
 
 
+def test_srk_switched_inside_a_train_or_a_transition() -> None:
+    _, d = run("G0 X40 Z1\nG1 Z-25 F0.2\nG1 A180\nG46\nG1 X60 Z-85 A-45", radius=0.4, quadrant=1)
+    assert ("TX-E226", 4) in codes(d)
+    _, d2 = run("G46\nG0 X30 Z1\nG1 Z0 F0.2\nG1 X40 D2\nG40\nG1 Z-30", radius=0.4, quadrant=1)
+    assert ("TX-E226", 5) in codes(d2)
+
+
 def test_no_srk_without_nose_radius_keeps_the_tip_path() -> None:
     moves, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2", radius=0.0, quadrant=1)
     assert d == []

@@ -372,6 +372,9 @@ def _geometry(items: Sequence[Item], d: list[Diagnostic]) -> Seq:
             pos = _pt_or_none(nxt)
             i = j + 1
             continue
+        for q in between:
+            if isinstance(q, SrkSwitch):  # the open point would be compensated with two different states
+                d.append(diag("TX-E226", q.span, code=q.code, where="im Geometriezug", where_en="inside a contour train"))
         pair = _solve_pair(it, s, nxt, d)
         e_end = _pt_or_none(nxt)
         if pair is not None:
@@ -565,6 +568,11 @@ def _transitions(seq: Seq, d: list[Diagnostic]) -> Seq:
             i += 1
             continue
         assert j is not None
+        for q in out[i + 1:j]:
+            if isinstance(q, SrkSwitch):
+                d.append(diag("TX-E226", q.span, code=q.code, where=f"zwischen dem Übergangselement {spec.raw} und "
+                              "seinem Folgesatz", where_en=f"between the transition element {spec.raw} and its "
+                              "next block"))
         if spec.kind == "rounding":
             t = rounding(seg.e, nxt.e, spec.size)
         else:
