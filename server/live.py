@@ -355,7 +355,7 @@ async def live(ws: WebSocket) -> None:
     database: Database = app.state.db
     await ws.accept()  # accepted first, so that a refusal reaches the client as a close code
     if not origin_allowed(ws, settings):
-        log.info("live socket from another site refused", extra={"origin": ws.headers.get("origin", "")[:200]})
+        log.info("live socket from another site refused: %s", ws.headers.get("origin", "")[:200])
         await refuse(ws, 4403, "ORIGIN_NOT_ALLOWED")
         return
     try:

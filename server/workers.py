@@ -452,8 +452,8 @@ class Workers:
 
     def _replace(self, slot: _Slot, reason: str) -> None:
         """End `slot`'s process (if it still runs) and start a new one."""
-        log.warning("worker process replaced", extra={"slot": slot.index, "reason": reason,
-                                                      "pid": getattr(slot.process, "pid", None)})
+        log.warning("worker process replaced (slot %d, pid %s): %s", slot.index, getattr(slot.process, "pid", None),
+                    reason)
         self._unwatch(slot)
         if slot.process is not None:
             slot.process.kill()
@@ -464,7 +464,7 @@ class Workers:
         try:
             self._spawn(slot)
         except OSError:  # no process to be had now (memory, descriptors): try again shortly
-            log.exception("worker process could not be started", extra={"slot": slot.index})
+            log.exception("worker process could not be started (slot %d)", slot.index)
             if self._loop is not None:
                 self._loop.call_later(self.respawn_delay, self._respawn_if, slot, slot.generation)
 
@@ -496,7 +496,7 @@ class Workers:
         if generation != slot.generation or slot not in self._slots:
             return
         if warm.cancelled() or warm.exception() is not None:
-            log.error("worker process failed to start", extra={"slot": slot.index})
+            log.error("worker process failed to start (slot %d)", slot.index)
             self._unwatch(slot)
             assert self._loop is not None
             self._loop.call_later(self.respawn_delay, self._respawn_if, slot, generation)
@@ -639,7 +639,7 @@ class Workers:
                 continue
             except BrokenProcessPool:
                 failures += 1
-                log.warning("worker process lost during a job", extra={"job": getattr(fn, "__name__", "job"),
-                                                                       "failures": failures})
+                log.warning("worker process lost during a job (%d of 2)", failures,
+                            extra={"job": getattr(fn, "__name__", "job")})
                 if failures >= 2:
                     raise ApiError("WORKER_FAILED") from None
