@@ -402,6 +402,10 @@ CATALOGUE: dict[str, Entry] = {
                         "Ende einer Kontur an- und abgewählt.",
                      "{code} must not stand {where_en}: nose-radius compensation is switched on and off at the "
                      "start or end of a contour."),
+    "TX-W227": Entry(W, "A{angle} passt nicht zur Geraden vom Startpunkt zum Zielpunkt X, Z (Richtung "
+                        "{direction}°); es gilt der Zielpunkt.",
+                     "A{angle} does not match the line from the start point to the end point X, Z (direction "
+                     "{direction}°); the end point is used."),
     # --- TRAUB TX 8 D turning: programs and subprograms (TX-x3xx) ------------------------------
     "TX-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
                      "Program O{number} is neither in this file nor in the library."),

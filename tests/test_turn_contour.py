@@ -584,6 +584,12 @@ def test_srk_switched_inside_a_train_or_a_transition() -> None:
     assert ("TX-E226", 5) in codes(d2)
 
 
+def test_a_that_contradicts_x_and_z_after_a_known_point() -> None:
+    moves, d = run("G0 X20 Z0\nG1 X40 Z-10 A135 F0.2\nG1 X60 Z-20 A120")
+    assert codes(d) == [("TX-W227", 3)]  # 135° fits (as does −45°); 120° does not
+    assert ends(moves)[-1] == pytest.approx((60, -20))
+
+
 def test_no_srk_without_nose_radius_keeps_the_tip_path() -> None:
     moves, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2", radius=0.0, quadrant=1)
     assert d == []

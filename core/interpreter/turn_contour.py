@@ -351,6 +351,11 @@ def _geometry(items: Sequence[Item], d: list[Diagnostic]) -> Seq:
             elem: Element | None = Line(s, e)
             if it.is_arc:
                 elem = _arc_known(it, s, e, d)
+            elif it.code != "G0" and it.a is not None and math.dist(s, e) > 1e-6:
+                # X, Z and A after a known point: A says nothing new, but it must agree (either way round)
+                off = _angle_diff(angle_of((e[0] - s[0], e[1] - s[1])), it.a)
+                if min(abs(off), 180 - abs(off)) > 0.01:
+                    d.append(diag("TX-W227", it.span, angle=it.a, direction=angle_of((e[0] - s[0], e[1] - s[1]))))
             out.append(_Seg(it, elem if elem is not None else Line(s, e)))
             pos = e
             i += 1
