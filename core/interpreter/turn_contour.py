@@ -12,7 +12,9 @@ look-ahead:
    into the programmed contour as moves of the block that programs them;
 3. SRK (G46, G41, G42; G40 off) turns the contour into the path of the nose-radius centre:
    intersections of the equidistants at inside corners, an inserted arc at outside corners
-   (DECISIONS 16).
+   (DECISIONS 16); the first motion after switching on ends on the equidistant of the next
+   element, a rapid (with A: the last element's direction) or G40 ends it as TX-28 describes;
+   blocks the nose cannot follow are suppressed ("Satzausblendung", a warning).
 
 Frame (DECISIONS 15): points are given and returned as (x, z) with x = radius (X/2) and z = Z;
 moves are `[x, 0, z]` in plane G18 (Z-X): an arc's `direction` is seen from +Y, i.e. in the
@@ -217,10 +219,6 @@ def _vec(p: Point) -> Vec3:
 def _dir(a: float) -> Point:
     rad = math.radians(a)
     return (math.cos(rad), math.sin(rad))
-
-
-def _fmt_xz(p: Point) -> str:
-    return f"X{_num(2 * p[1])} Z{_num(p[0])}"
 
 
 def _num(v: float) -> str:
