@@ -590,6 +590,23 @@ def test_a_that_contradicts_x_and_z_after_a_known_point() -> None:
     assert ends(moves)[-1] == pytest.approx((60, -20))
 
 
+def test_arc_without_radius_or_centre() -> None:
+    _, d = run("G0 X30 Z1\nG1 Z-25 F0.2\nG2 X50 Z-35")
+    assert codes(d) == [("TX-E204", 3)]
+
+
+def test_arc_in_a_train_needs_r_or_p_q() -> None:
+    # I, K are relative to the start, and the start is the unknown point
+    _, d = run("G0 X20 Z0\nG1 A180 F0.2\nG2 X40 Z-20 I10 K0")
+    assert codes(d) == [("TX-E208", 3)]
+
+
+def test_suppression_right_before_deselection_is_an_error() -> None:
+    # the last feed block, a step of 0.1 mm, cannot be followed by the nose R0.4 and G40 comes next
+    _, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X40.2\nG0 X50 A90\nG40", radius=0.4, quadrant=1)
+    assert codes(d) == [("TX-W220", 4), ("TX-E221", 4)]
+
+
 def test_no_srk_without_nose_radius_keeps_the_tip_path() -> None:
     moves, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2", radius=0.0, quadrant=1)
     assert d == []

@@ -821,7 +821,7 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
                 d.append(diag("TX-E219", seg.item.span, length=o.length, nose=nose.radius))
         if isinstance(o, Line) and isinstance(seg.e, Line) and _against(seg.e, o):
             d.append(diag("TX-W220", seg.item.span, nose=nose.radius))
-            if not follows:
+            if not (follows and isinstance(nxt, _Seg) and not nxt.rapid):  # deselection comes next
                 d.append(diag("TX-E221", seg.item.span))
         out.append(_move(seg, o, seg.e.b))
         pos = o.b
