@@ -164,8 +164,9 @@ def test_tx21_second_example_unknown_point_from_the_closing_block() -> None:
     assert moves[3].line == 4 and moves[3].feed == 0.2
 
 
-def test_tx21_first_example_rounding_at_the_unknown_point() -> None:
-    # the start point is in a lost figure: X40 Z0 is assumed; the rounding must touch both lines
+def test_tx21_rounding_at_the_unknown_point() -> None:
+    # the manual's margin note "R2 E 0.08" is not NC text (DECISIONS 22), but the combination is legal by the
+    # template L2281–2285; from an assumed start X40 Z0 the rounding must touch both lines
     moves, d = run("G0 X40 Z0\nG1 A105 R2 E0.08 F0.2\nG1 X100 Z-50 A-30")
     assert d == []
     first, rounding, last = moves[1:]
@@ -772,8 +773,8 @@ def test_pipeline_tx17_arcs() -> None:
 def test_pipeline_tx21_train() -> None:
     moves = traub("tx-21-geometriezug.nc")
     assert [ends([m])[0] for m in moves if 13 <= m.line <= 15] == approx((20, -42.321), (20, -65), (60, -85))
-    rounding = [m for m in by_line(moves, 7) if m.kind == "arc"]
-    assert len(rounding) == 1 and rounding[0].radius == pytest.approx(2) and rounding[0].feed == 0.08
+    # first example from the assumed start X40 Z0: the line at 105° meets the line through X100 Z-50 at −30°
+    assert ends(by_line(moves, 7)) == approx((42.679, -0.359))
 
 
 def test_pipeline_tx22_transitions() -> None:

@@ -1,10 +1,10 @@
 (TX-21: Geometriezuege G1)
 G95
 G97 S1000 T0101 M4
-(erstes Beispiel: Startpunkt X40 Z0 angenommen, R2 E0.08 aus der Randnotiz)
+(erstes Beispiel: Startpunkt X40 Z0 angenommen; R2 E0.08 ist eine Randnotiz, kein NC-Text)
 G0 X40 Z1 M8
 G1 Z0 F0.2
-G1 A105 R2 E0.08
+G1 A105
 G1 X100 Z-50 A-30
 G0 X104
 (zweites Beispiel)
