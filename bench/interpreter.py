@@ -47,7 +47,9 @@ except ImportError:  # pragma: no cover - depends on the environment
     pygcode = None
 
 SEED = 20261122
-BIG_SETUP = RunSetup(limits=Limits(max_executed_blocks=1_000_000, max_blocks=1_000_000))
+# throughput, not the budgets of core/limits.py: room for every block of the largest program
+BIG_SETUP = RunSetup(limits=Limits(max_executed_blocks=1_000_000, max_blocks=1_000_000, max_moves=1_000_000,
+                                   max_evaluation_steps=100_000_000))
 
 TARGET_PARSE_VS_GCODEPARSER = 1.0  # our parse rate / gcodeparser rate
 TARGET_RUN_VS_PYGCODE = 3.0  # our parse+interpret rate / pygcode Line+Machine rate

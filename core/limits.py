@@ -16,7 +16,7 @@ from dataclasses import dataclass
 class Limits:
     max_program_chars: int = 5_000_000  # whole program text
     max_line_length: int = 1_000  # characters in one block
-    max_blocks: int = 200_000  # lines in one program
+    max_blocks: int = 20_000  # lines in one program (as many as the live editor takes); then PAL-E006
     max_executed_blocks: int = 100_000  # blocks executed in one run (loops count every pass)
     # evaluation steps of one run: each word of an executed block, each number, parameter and operator of
     # its expressions, and DIAGNOSTIC_STEPS for each diagnostic it reports (loops count every pass)

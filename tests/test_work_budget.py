@@ -58,6 +58,19 @@ def test_audit_programs_finish_in_a_second_with_answers_under_5_mb(program: str)
     assert seconds < SECOND and json_size(answer) < MB
 
 
+SERVER_CHARS = 200_000  # the server's largest program (PALTRAINER_MAX_PROGRAM_CHARS)
+
+
+@pytest.mark.parametrize("line", ["#", "X1,5", "Q1", "G1 X1\nX2"], ids=["bad-character", "decimal-comma",
+                                                                    "unknown-address", "short-moves"])
+def test_the_largest_program_the_server_takes_finishes_in_a_second(line: str) -> None:
+    # the lines beyond max_blocks are not read (PAL-E006): a syntax error costs ~10 µs a line
+    text = "T1 M6\nS100 F100 M3\n" + (line + "\n") * (SERVER_CHARS // (len(line) + 1) - 10)
+    tp, seconds = timed(lambda: run(text))
+    assert seconds < SECOND and ("PAL-E006", DEFAULT_LIMITS.max_blocks + 1) in codes(tp)
+    assert json_size(toolpath_json(tp)) < MB
+
+
 def test_moves_budget_stops_the_program_at_the_block_that_exceeds_it() -> None:
     tp = run(SEVEN_LINES, setup=RunSetup(limits=Limits(max_moves=100)))
     assert ("PAL-E017", 5) in codes(tp) or ("PAL-E017", 4) in codes(tp)
