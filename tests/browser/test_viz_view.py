@@ -74,7 +74,7 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     page.click("#viz-on")
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5")
     frame = page.frame_locator("#viz-frame")
-    frame.locator("canvas").first.wait_for(timeout=15000)
+    frame.locator("canvas").first.wait_for(timeout=30000)
     page.wait_for_timeout(6000)  # viser's client has connected and drawn (software rendering is slow)
     text = visible_frame_text(page)
     for clutter in DEVELOPER_TEXT:
@@ -117,3 +117,27 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
 @pytest.fixture(autouse=True, scope="module")
 def _shots_folder() -> None:
     SHOTS.mkdir(parents=True, exist_ok=True)
+
+
+def test_free_practice_3d_view_for_an_anonymous_browser(server: str, browser: object) -> None:  # noqa: F811
+    """Without an account the browser's 3D cookie binds the scene to it: the view connects and shows the
+    sample program; another browser cannot open the same scene."""
+    context = browser.new_context(viewport={"width": 1366, "height": 768})  # type: ignore[attr-defined]
+    page = context.new_page()
+    page.goto(f"{server}/practice")
+    page.wait_for_selector("#viz-on")
+    wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100")
+    page.click("#viz-on")
+    wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 3")
+    page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
+    page.wait_for_timeout(5000)
+    text = visible_frame_text(page)
+    assert not [c for c in DEVELOPER_TEXT if c in text]
+    page.locator("#viz").scroll_into_view_if_needed()
+    page.screenshot(path=str(SHOTS / "viz-practice-laptop.png"))
+    url = page.get_attribute("#viz-frame", "src")
+    other = browser.new_context()  # type: ignore[attr-defined]
+    response = other.new_page().goto(f"{server}{url}")
+    assert response is not None and response.status == 403
+    other.close()
+    context.close()

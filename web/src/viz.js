@@ -45,6 +45,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   let timer = null;
   let pictureTimer = null;
   let pictureUrl = null;
+  let renewing = false;
   const modal = el("p", { id: "modal-state", className: "meta" }, "");
   const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
   const picture = el("img", { id: "viz-picture", alt: t("viz.picture_alt") });
@@ -104,7 +105,11 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   async function refresh(text) {
     if (!token) return;
     const r = await api(`/viz/${token}/scene`, post(body(text)));
-    if (r.status === 403) { await enable(); return; }  // the scene went to another session: a fresh one
+    if ((r.status === 401 || r.status === 403) && !renewing) {  // the token expired or belongs to another
+      renewing = true;  // session (after logging in, say): a fresh one, once
+      try { await enable(); } finally { renewing = false; }
+      return;
+    }
     if (!r.ok) return;
     lines = r.body.lines;
     states = r.body.states;
