@@ -290,8 +290,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             if unit is main and rest is not None:
                 diags.append(diag("PAL-W101", rest.span))
             break
-    cut = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
-    if not ended and not cut and (program.blocks or not diags):  # a rejected program needs no second word
+    truncated = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
+    if not ended and not truncated and (program.blocks or not diags):  # a rejected program needs no second word
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     result.commands = finish(planned, diags)
