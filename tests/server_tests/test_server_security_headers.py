@@ -34,6 +34,13 @@ def test_every_response_has_the_security_headers(api: Api, path: str) -> None:
     assert csp["default-src"] == ["'self'"] and csp["form-action"] == ["'self'"]
 
 
+def test_a_refused_large_body_has_the_security_headers_too(api: Api) -> None:
+    r = api.client.post("/api/v1/check", content=b"x" * (api.settings.max_body_bytes + 1),
+                        headers={"Content-Type": "application/json"})
+    assert r.status_code == 413
+    assert r.headers["x-content-type-options"] == "nosniff" and "content-security-policy" in r.headers
+
+
 def test_frame_ancestors_takes_the_configured_origins(api: Api) -> None:
     old = api.settings.frame_ancestors
     api.settings.frame_ancestors = ["https://lms.example.org"]

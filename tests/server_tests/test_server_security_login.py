@@ -157,3 +157,15 @@ def test_tokens_carry_the_users_token_version(api: Api) -> None:
     with api.app.state.db.session() as db:
         user = repo.user_by_name(db, student["name"])
         assert user is not None and user.token_version == 0
+
+
+def test_the_pages_navigate_only_through_the_one_rule() -> None:
+    """Every place the page script sends the browser somewhere goes through safeNext or loginUrl."""
+    import re
+    from pathlib import Path
+
+    web = Path(__file__).parents[2] / "web" / "src"
+    for path in web.glob("*.js"):
+        for line in path.read_text(encoding="utf-8").splitlines():
+            if re.search(r"location\.(href\s*=(?!=)|assign\(|replace\()|window\.open\(", line):
+                assert "safeNext(" in line or "loginUrl()" in line, f"{path.name}: {line.strip()}"
