@@ -32,13 +32,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from core.pipeline import drawing, run, toolpath_json
+from core.pipeline import DIALECTS, drawing, run, toolpath_json
 
 Pick = Callable[[int], int]  # pick(n): a number in 0 … n-1
 
 SEED_DIRS = (ROOT / "exercises", ROOT / "tests" / "seeds")
-DIALECT_DIRS = {"beckhoff": "beckhoff", "sinumerik-iso": "sinumerik-iso"}  # other directories: pal-mill
-SKIP_DIRS = {"traub"}  # turning has its own run loop and seeds of its own kind
+# the dialect of the programs in a directory of that name; other directories: pal-mill
+DIALECT_DIRS = {"beckhoff": "beckhoff", "sinumerik-iso": "sinumerik-iso", "traub": "traub-tx8d"}
 MAX_SECONDS = 1.0
 MAX_ANSWER_BYTES = 5_000_000
 
@@ -59,9 +59,9 @@ def seeds() -> list[tuple[str, str, str]]:
     for base in SEED_DIRS:
         for path in sorted(base.rglob("*.nc")):
             parts = set(path.relative_to(base).parts[:-1])
-            if parts & SKIP_DIRS:
-                continue
             dialect = next((d for name, d in DIALECT_DIRS.items() if name in parts), "pal-mill")
+            if dialect not in DIALECTS:
+                continue
             out.append((str(path.relative_to(ROOT)), dialect, path.read_text(encoding="utf-8")))
     return out
 
@@ -212,7 +212,7 @@ def main(argv: list[str] | None = None) -> int:
             slowest = max(slowest, (seconds, k))
             over_time += seconds >= MAX_SECONDS
             over_size += size >= MAX_ANSWER_BYTES
-            if done % 10_000 == 0:
+            if done % max(1_000, min(10_000, args.count // 10)) == 0:
                 rate = done / (time.perf_counter() - started)
                 print(f"{done} cases, {rate:.0f}/s, {len(crashes)} crashes, slowest {slowest[0] * 1000:.0f} ms",
                       flush=True)

@@ -1,0 +1,1 @@
+"""Benchmarks and the fuzzer (bench/README.md); a package so that tests can import bench.fuzz."""
