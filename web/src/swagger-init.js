@@ -8,4 +8,5 @@ window.ui = SwaggerUIBundle({
   showExtensions: true,
   showCommonExtensions: true,
   presets: [SwaggerUIBundle.presets.apis, SwaggerUIBundle.SwaggerUIStandalonePreset],
+  validatorUrl: null,  // no badge from validator.swagger.io: the page loads nothing from elsewhere
 });
