@@ -173,7 +173,8 @@ def content_security_policy(path: str, frame_ancestors: list[str]) -> str:
         policy["script-src"] += [*viser_script_hashes(), "'wasm-unsafe-eval'"]
         policy["connect-src"] += ["data:"]
         policy["worker-src"] += ["blob:"]
-    policy["frame-ancestors"] = ["'self'", *frame_ancestors]
+    # an origin is one token: a value with a space, ";" or "," could add directives of its own
+    policy["frame-ancestors"] = ["'self'", *(o for o in frame_ancestors if re.fullmatch(r"[^\s;,']+", o))]
     return "; ".join(f"{name} {' '.join(values)}" for name, values in policy.items())
 
 

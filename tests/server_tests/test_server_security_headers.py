@@ -43,10 +43,11 @@ def test_a_refused_large_body_has_the_security_headers_too(api: Api) -> None:
 
 def test_frame_ancestors_takes_the_configured_origins(api: Api) -> None:
     old = api.settings.frame_ancestors
-    api.settings.frame_ancestors = ["https://lms.example.org"]
+    api.settings.frame_ancestors = ["https://lms.example.org", "https://x.example; script-src *"]
     try:
         csp = _directives(api.client.get("/").headers["content-security-policy"])
         assert csp["frame-ancestors"] == ["'self'", "https://lms.example.org"]
+        assert csp["script-src"] == ["'self'"]
     finally:
         api.settings.frame_ancestors = old
 
