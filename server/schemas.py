@@ -6,7 +6,16 @@ import math
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, StringConstraints, model_validator
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    SerializerFunctionWrapHandler,
+    StringConstraints,
+    model_serializer,
+    model_validator,
+)
 
 from core.exercises import CriterionId
 from core.pipeline import DEFAULT_DIALECT
@@ -247,6 +256,7 @@ class UserOut(BaseModel):
     username: str
     role: Role
     created_at: Time
+    instructor: str | None = Field(default=None, description="The instructor who manages the user (students)")
 
 
 class Me(BaseModel):
@@ -264,6 +274,8 @@ class UserCreate(BaseModel):
     username: NewUsername
     password: NewPassword
     role: Role = "student"
+    instructor: Username | None = Field(default=None, description="The instructor who manages the new user; an "
+                                        "instructor creating a student: themselves (also when not given)")
 
 
 class ApiKeyCreate(BaseModel):
@@ -308,12 +320,20 @@ class RubricSpec(BaseModel):
 
     model_config = ConfigDict(extra="allow")
 
-    criteria: list[CriterionSpec] | None = Field(default=None, max_length=20, exclude_if=lambda v: v is None)
+    criteria: list[CriterionSpec] | None = Field(default=None, max_length=20)
 
     @model_validator(mode="after")
     def _clean_notes(self) -> RubricSpec:
         clean_json(self.model_extra or {})
         return self
+
+    @model_serializer(mode="wrap")
+    def _as_given(self, handler: SerializerFunctionWrapHandler) -> dict[str, Any]:
+        """Stored as sent: notes without criteria stay without a "criteria" key."""
+        data: dict[str, Any] = handler(self)
+        if data.get("criteria") is None:
+            data.pop("criteria", None)
+        return data
 
 
 class ExerciseFields(BaseModel):
@@ -371,6 +391,12 @@ class ExerciseOut(BaseModel):
     start_program: str = Field(default="", description="What the trainee starts from (kinds complete and fix)")
     locked_lines: list[int] = Field(default=[], description="Lines of start_program that must stay (kind complete)")
     cutting_data: list[dict[str, Any]] = Field(default=[], description="Prescribed S and F per tool")
+    order: int | None = Field(default=None, description="Place in its set (the list is sorted by it, then title)")
+    dialect_title: str = Field(default="", description="The dialect's German name, e.g. PAL Fräsen")
+    dialect_title_en: str = Field(default="", description="The dialect's English name, e.g. PAL milling")
+    hint_count: int = Field(default=0, description="Hints one at a time: GET /exercises/{slug}/hints/{n}, n = 1 …")
+    solution: Literal["never", "after_submission", "after_full_marks"] = Field(
+        default="after_submission", description="When GET /exercises/{slug}/solution shows the reference to students")
 
 
 # --- submissions -----------------------------------------------------------------------------
@@ -422,3 +448,100 @@ class SubmissionOut(BaseModel):
     diagnostics: list[DiagnosticOut] | None = Field(description="The check diagnostics (detail views only)")
     program: str | None = Field(description="The program (detail views only)")
     lms: LmsResult | None = Field(default=None, description="The grade for a learning platform; null if not graded")
+
+
+# --- the trainee's day: drafts, history, progress, hints, solution (issue 15) ---------------------
+
+
+class DraftIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    program: Program = Field(description="The editor's text (at most PALTRAINER_MAX_PROGRAM_CHARS characters)")
+
+
+class DraftOut(BaseModel):
+    exercise: str
+    program: str | None = Field(description="The saved text; null: no draft (start from the exercise's start_program)")
+    updated_at: Time | None
+
+
+class MySubmission(BaseModel):
+    """One of the caller's own submissions, with what "in den Editor laden" needs."""
+
+    id: int
+    exercise: str
+    created_at: Time
+    score: int | None
+    max_score: int | None
+    error_count: int
+    warning_count: int
+    criteria: list[dict[str, Any]] = Field(description="The grade's criteria as the trainee sees them (no hidden ones)")
+    program: str
+
+
+class Progress(BaseModel):
+    """Where the caller stands on one exercise."""
+
+    exercise: str
+    status: Literal["not_started", "draft", "submitted"]
+    best_score: int | None = Field(description="The best score of the caller's submissions; null: none graded")
+    max_score: int | None
+    best_submission: int | None = Field(description="Id of the submission with the best score (the newest of equals)")
+    submissions: int
+    draft_updated_at: Time | None
+
+
+class Hint(BaseModel):
+    exercise: str
+    number: int = Field(description="1 … count")
+    count: int
+    text: str = Field(description="German")
+    text_en: str
+
+
+class Solution(BaseModel):
+    exercise: str
+    program: str = Field(description="The reference program")
+    dialect: str
+    policy: Literal["never", "after_submission", "after_full_marks"]
+
+
+# --- instructors: their students, class lists, results (issue 15) ---------------------------------
+
+
+class ImportedUser(BaseModel):
+    username: str
+    role: Role
+    instructor: str | None
+    password: str | None = Field(description="The generated password (shown only this once); null when the list "
+                                             "gave one")
+
+
+class ImportedUsers(BaseModel):
+    users: list[ImportedUser]
+
+
+class ResultCell(BaseModel):
+    best_score: int | None = Field(description="null: submitted, not graded")
+    max_score: int | None
+    best_submission: int = Field(description="Id of the best submission: GET /submissions/{id}")
+    submissions: list[int] = Field(description="Every submission's id, newest first")
+    created_at: Time = Field(description="When the best submission was made")
+
+
+class ResultRow(BaseModel):
+    username: str
+    instructor: str | None
+    results: dict[str, ResultCell] = Field(description="Per exercise slug; exercises not tried are absent")
+
+
+class ResultExercise(BaseModel):
+    slug: str
+    title_de: str
+    title_en: str
+
+
+class Results(BaseModel):
+    exercises: list[ResultExercise] = Field(description="The columns: exercises with a submission, in list order")
+    trainees: list[ResultRow] = Field(description="The rows: the caller's students and everyone whose "
+                                                  "submissions the caller may see, by name")
