@@ -12,6 +12,7 @@ from typing import Annotated, Any, Literal
 
 import yaml  # type: ignore[import-untyped, unused-ignore]
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic_core import ErrorDetails, PydanticCustomError
 
 from core.sim.engine import Stock
 from core.sim.tooltable import ToolTableError, tools_from_entries
@@ -46,7 +47,11 @@ class StockSpec(_Model):
 
     @model_validator(mode="after")
     def _box(self) -> StockSpec:
-        Stock(*self.min, *self.max)  # raises ValueError with the reason
+        try:
+            Stock(*self.min, *self.max)  # raises ValueError with the reason
+        except ValueError as err:
+            raise _rule("stock", "min und max: endliche Zahlen bis ±100000 mm, max in X, Y und Z größer als min",
+                        str(err)) from None
         return self
 
     def stock(self) -> Stock:
@@ -104,7 +109,10 @@ class Exercise(_Model):
     locked_lines: list[int] = []  # lines of start_program that must stay as they are (kind complete)
     rubric: tuple[Criterion, ...] = DEFAULT_RUBRIC
     resolution: float = Field(default=0.1, gt=0, le=2)  # mm, the grid the grader compares on
-    hints: list[Text] = []
+    hints: list[Text] = []  # shown one at a time on request
+    # when students may see the reference: never, after their first submission, after one with full marks
+    solution: Literal["never", "after_submission", "after_full_marks"] = "after_submission"
+    order: int | None = Field(default=None, ge=0, le=100_000)  # place in its set (the list: by order, then title)
     source: str = ""  # where the task comes from (e.g. the seed example)
 
     @field_validator("tools")
@@ -118,16 +126,20 @@ class Exercise(_Model):
 
     @model_validator(mode="after")
     def _consistent(self) -> Exercise:
-        if sum(c.points for c in self.rubric) != 100:
-            raise ValueError("rubric: the points must add up to 100 / die Punkte müssen 100 ergeben")
+        total = sum(c.points for c in self.rubric)
+        if total != 100:
+            raise _rule("rubric", f"die Punkte müssen 100 ergeben (sind {total})",
+                        f"the points must add up to 100 (they are {total})")
         ids = [c.id for c in self.rubric]
         if len(set(ids)) != len(ids):
-            raise ValueError("rubric: a criterion appears twice / ein Kriterium steht doppelt")
+            raise _rule("rubric", "ein Kriterium steht doppelt", "a criterion appears twice")
         if self.kind != "write" and not self.start_program:
-            raise ValueError(f"kind {self.kind}: start_program is missing / start_program fehlt")
+            raise _rule("start_program", f"fehlt (Art »{self.kind}« braucht ein Startprogramm)",
+                        f"is missing (kind '{self.kind}' needs a start program)")
         lines = self.start_program.splitlines()
         if any(not 1 <= n <= len(lines) for n in self.locked_lines):
-            raise ValueError("locked_lines: a line number is not in start_program")
+            raise _rule("locked_lines", f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
+                        f"a line number is not in start_program (1 to {len(lines)})")
         return self
 
     def tool_table(self) -> ToolTable:
@@ -137,8 +149,98 @@ class Exercise(_Model):
         return next((c for c in self.rubric if c.id == cid), None)
 
 
+def _rule(field: str, de: str, en: str) -> PydanticCustomError:
+    """A broken rule of the format, with its field and its German and English text (see field_problem)."""
+    return PydanticCustomError("exercise_rule", "{field}: {en}", {"field": field, "de": de, "en": en})
+
+
 class ExerciseError(ValueError):
-    """An exercise file that cannot be used; the message says where, in German and English."""
+    """An exercise file that cannot be used. `str()` is German / English (the command line); `message` and
+    `message_en` say what is wrong without a heading; `problems` lists the fields: {field, message, message_en}."""
+
+    def __init__(self, text: str, message: str | None = None, message_en: str | None = None,
+                 problems: list[dict[str, str]] | None = None) -> None:
+        super().__init__(text)
+        de, _, en = text.partition(" / ")
+        self.message = message if message is not None else de.removeprefix("Aufgabe: ")
+        self.message_en = message_en if message_en is not None else (en or de).removeprefix("exercise: ")
+        self.problems = problems or []
+
+
+_ID_RULE = ("nur Kleinbuchstaben, Ziffern und Bindestrich (2 bis 81 Zeichen, am Anfang kein Bindestrich)",
+            "only lower-case letters, digits and hyphens (2 to 81 characters, not starting with a hyphen)")
+# pydantic's error types in German and English; {…} are filled from the error's context
+_MESSAGES: dict[str, tuple[str, str]] = {
+    "missing": ("fehlt", "is missing"),
+    "extra_forbidden": ("gibt es im Aufgabenformat nicht (Tippfehler?)", "is not part of the format (a typo?)"),
+    "literal_error": ("erlaubt: {expected}", "allowed: {expected}"),
+    "enum": ("erlaubt: {expected}", "allowed: {expected}"),
+    "string_type": ("muss ein Text sein", "must be a text"),
+    "int_type": ("muss eine ganze Zahl sein", "must be a whole number"),
+    "int_parsing": ("muss eine ganze Zahl sein", "must be a whole number"),
+    "int_from_float": ("muss eine ganze Zahl sein", "must be a whole number"),
+    "float_type": ("muss eine Zahl sein", "must be a number"),
+    "float_parsing": ("muss eine Zahl sein", "must be a number"),
+    "finite_number": ("muss eine endliche Zahl sein", "must be a finite number"),
+    "bool_type": ("muss true oder false sein", "must be true or false"),
+    "bool_parsing": ("muss true oder false sein", "must be true or false"),
+    "list_type": ("muss eine Liste sein", "must be a list"),
+    "tuple_type": ("muss eine Liste sein", "must be a list"),
+    "dict_type": ("muss eine Zuordnung (Feld: Wert) sein", "must be a mapping (field: value)"),
+    "model_type": ("muss eine Zuordnung (Feld: Wert) sein", "must be a mapping (field: value)"),
+    "model_attributes_type": ("muss eine Zuordnung (Feld: Wert) sein", "must be a mapping (field: value)"),
+    "greater_than": ("muss größer als {gt} sein", "must be greater than {gt}"),
+    "greater_than_equal": ("muss mindestens {ge} sein", "must be at least {ge}"),
+    "less_than": ("muss kleiner als {lt} sein", "must be less than {lt}"),
+    "less_than_equal": ("darf höchstens {le} sein", "must be at most {le}"),
+    "too_short": ("braucht mindestens {min_length} Einträge", "needs at least {min_length} entries"),
+    "too_long": ("darf höchstens {max_length} Einträge haben", "may have at most {max_length} entries"),
+    "string_too_short": ("braucht mindestens {min_length} Zeichen", "needs at least {min_length} characters"),
+    "string_too_long": ("darf höchstens {max_length} Zeichen haben", "may have at most {max_length} characters"),
+    "string_pattern_mismatch": ("hat nicht die erlaubte Form ({pattern})", "does not have the allowed form ({pattern})"),
+}
+_LISTS = {"tools", "cutting_data", "rubric", "hints", "locked_lines", "min", "max"}  # their entries count from 1
+
+
+def _german(value: Any) -> Any:
+    """A value of an error's context as German text: 0.5 → 0,5, 0.0 → 0, "a or b" → "a oder b"."""
+    if isinstance(value, float):
+        return f"{value:g}".replace(".", ",")
+    if isinstance(value, str):
+        return value.replace(" or ", " oder ")
+    return value
+
+
+def field_name(loc: tuple[int | str, ...]) -> str:
+    """`cutting_data[1].feed`: a field's path as an author reads it (list entries counted from 1)."""
+    out = ""
+    for i, part in enumerate(loc):
+        if isinstance(part, int) and i and str(loc[i - 1]) in _LISTS:
+            out += f"[{part + 1}]"
+        else:
+            out += f".{part}" if out else str(part)
+    return out
+
+
+def field_problem(error: ErrorDetails) -> dict[str, str]:
+    """One validation error as {field, message, message_en}: German first, never pydantic's English text."""
+    ctx: dict[str, Any] = dict(error.get("ctx") or {})
+    field = field_name(tuple(error["loc"])) or "(Aufgabe)"
+    kind = error["type"]
+    if kind == "exercise_rule":
+        return {"field": ctx["field"], "message": ctx["de"], "message_en": ctx["en"]}
+    if kind == "value_error":  # a validator's own text, German / English
+        de, _, en = str(ctx.get("error", error["msg"])).partition(" / ")
+        return {"field": field, "message": de, "message_en": en or de}
+    if kind == "string_pattern_mismatch" and field == "id":
+        de, en = _ID_RULE
+    else:
+        de, en = _MESSAGES.get(kind, ("ungültiger Wert", error["msg"]))
+        try:
+            de, en = de.format(**{k: _german(v) for k, v in ctx.items()}), en.format(**ctx)
+        except (KeyError, IndexError):
+            pass
+    return {"field": field, "message": de, "message_en": en}
 
 
 MAX_NESTING = 32  # levels of lists and mappings in an exercise file (the format needs 4)
@@ -185,7 +287,9 @@ def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
         _check_structure(text)
         data = yaml.safe_load(text)
     except yaml.YAMLError as err:
-        raise ExerciseError(f"Aufgabe: kein gültiges YAML / exercise: not valid YAML ({err})") from None
+        mark = getattr(err, "problem_mark", None)
+        where = f" (Zeile {mark.line + 1}, Spalte {mark.column + 1})" if mark is not None else ""
+        raise ExerciseError(f"Aufgabe: kein gültiges YAML{where} / exercise: not valid YAML ({err})") from None
     if not isinstance(data, dict):
         raise ExerciseError("Aufgabe: erwartet eine Zuordnung / exercise: expected a mapping")
     for key, target in (("reference_file", "reference"), ("start_file", "start_program")):
@@ -200,8 +304,10 @@ def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
     try:
         return Exercise.model_validate(data)
     except ValidationError as err:
-        problems = "; ".join(f"{'.'.join(str(p) for p in e['loc'])}: {e['msg']}" for e in err.errors())
-        raise ExerciseError(f"Aufgabe ungültig / exercise invalid: {problems}") from None
+        problems = [field_problem(e) for e in err.errors()]
+        de = "; ".join(f"Feld `{p['field']}`: {p['message']}" for p in problems)
+        en = "; ".join(f"field `{p['field']}`: {p['message_en']}" for p in problems)
+        raise ExerciseError(f"Aufgabe: {de} / exercise: {en}", de, en, problems) from None
 
 
 def load_exercise(path: Path) -> Exercise:

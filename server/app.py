@@ -20,7 +20,19 @@ from server.config import Settings
 from server.db import Database, migrate
 from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
-from server.routes import auth, dialects, exercises, health, pages, pipeline, submissions
+from server.routes import (
+    auth,
+    dialects,
+    drafts,
+    exercises,
+    health,
+    me,
+    pages,
+    pipeline,
+    results,
+    submissions,
+    users,
+)
 from server.routes import viz as viz_routes
 from server.seed import load_exercises
 from server.workers import Workers
@@ -98,7 +110,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     pages.install_not_found(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, exercises, submissions, dialects, viz_routes):
+    for module in (pipeline, auth, me, users, exercises, drafts, submissions, results, dialects, viz_routes):
         api.include_router(module.router)
     api.include_router(live.router)
     app.include_router(api)
@@ -110,7 +122,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     install_openapi(app)
     if settings.cors_origins:
         app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origins, allow_credentials=True,
-                           allow_methods=["GET", "POST", "PATCH", "DELETE"],
+                           allow_methods=["GET", "POST", "PUT", "PATCH", "DELETE"],
                            allow_headers=["Authorization", "Content-Type", "X-API-Key", "X-Request-ID"])
     app.add_middleware(RequestMiddleware, max_body_bytes=settings.max_body_bytes)
     app.add_middleware(SecurityHeadersMiddleware, settings=settings)  # outermost: the 413s get them too

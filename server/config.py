@@ -41,6 +41,7 @@ class Settings(BaseSettings):
     rate_check_per_minute: int = 120  # check and run
     rate_simulate_per_minute: int = 30
     rate_submit_per_minute: int = 20
+    rate_draft_per_minute: int = 120  # draft saves (the editor saves at most every 2 s, per tab)
     # the 3D view: each live session is a viser server (a thread, a port, a few descriptors)
     rate_viz_per_minute: int = 60  # new 3D sessions (a class behind one school address reloads at once)
     rate_viz_scene_per_minute: int = 120  # scene and deviation: each runs the program in a worker

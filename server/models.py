@@ -1,11 +1,11 @@
-"""The database tables (SQLAlchemy 2): users, API keys, exercises, submissions. Migrations: server/migrations."""
+"""The database tables (SQLAlchemy 2): users, API keys, exercises, submissions, drafts. Migrations: server/migrations."""
 
 from __future__ import annotations
 
 from datetime import UTC, datetime
 from typing import Any
 
-from sqlalchemy import JSON, DateTime, ForeignKey, Integer, String, Text
+from sqlalchemy import JSON, DateTime, ForeignKey, Integer, String, Text, UniqueConstraint
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
 ROLES = ("student", "instructor", "admin")
@@ -30,6 +30,9 @@ class User(Base):
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
     # carried in every token as "ver"; logging out raises it, which revokes every token issued before
     token_version: Mapped[int] = mapped_column(Integer, default=0, server_default="0")
+    # the instructor who manages this student: sees their submissions and results (issue 15)
+    instructor_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True,
+                                                      index=True)
 
 
 class ApiKey(Base):
@@ -89,3 +92,16 @@ class Submission(Base):
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
     # "<k|u><api key or user id>:<Idempotency-Key header>": a repeated request returns this submission
     idempotency_key: Mapped[str | None] = mapped_column(String(300), nullable=True, unique=True, index=True)
+
+
+class Draft(Base):
+    """A trainee's unsubmitted program for one exercise: saved while typing, brought back on the next visit."""
+
+    __tablename__ = "drafts"
+    __table_args__ = (UniqueConstraint("user_id", "exercise_id", name="uq_drafts_user_exercise"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
+    exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"), index=True)
+    program: Mapped[str] = mapped_column(Text)
+    updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)

@@ -10,7 +10,7 @@ from sqlalchemy import func, or_, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from server.models import ApiKey, Base, Exercise, Submission, User, now
+from server.models import ApiKey, Base, Draft, Exercise, Submission, User, now
 
 _Row = TypeVar("_Row", bound=Base)
 
@@ -41,8 +41,29 @@ def user_by_id(db: Session, user_id: int) -> User | None:
     return db.get(User, user_id)
 
 
-def create_user(db: Session, username: str, password_hash: str, role: str) -> User:
-    return _insert(db, User(username=username, password_hash=password_hash, role=role))
+def create_user(db: Session, username: str, password_hash: str, role: str, instructor_id: int | None = None) -> User:
+    return _insert(db, User(username=username, password_hash=password_hash, role=role, instructor_id=instructor_id))
+
+
+def create_users(db: Session, rows: Sequence[tuple[str, str, str, int | None]]) -> list[User]:
+    """Several users (name, password hash, role, instructor id) in one transaction: all or none (Duplicate)."""
+    users = [User(username=n, password_hash=h, role=r, instructor_id=i) for n, h, r, i in rows]
+    db.add_all(users)
+    try:
+        db.commit()
+    except IntegrityError as err:
+        db.rollback()
+        raise Duplicate(str(err.orig)) from err
+    return users
+
+
+def users_by_names(db: Session, names: Sequence[str]) -> Sequence[User]:
+    return db.scalars(select(User).where(User.username.in_(list(names)))).all() if names else []
+
+
+def students_of(db: Session, instructor_id: int) -> Sequence[User]:
+    """The users an instructor manages (users.instructor_id), by name."""
+    return db.scalars(select(User).where(User.instructor_id == instructor_id).order_by(User.username)).all()
 
 
 def list_users(db: Session) -> Sequence[User]:
@@ -141,11 +162,13 @@ def submission_by_idempotency_key(db: Session, key: str) -> Submission | None:
 
 def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int | None = None,
                      api_key_id: int | None = None, exercise_slug: str | None = None,
-                     everything: bool = False) -> Sequence[tuple[Submission, Exercise, User | None]]:
+                     everything: bool = False, instructor_id: int | None = None
+                     ) -> Sequence[tuple[Submission, Exercise, User | None]]:
     """Submissions with their exercise and author, newest first, filtered by who may see them.
 
     `user_id`: the author's own; `owner_id`: those to exercises that user owns; `api_key_id`: those
-    made through that key; `everything`: all (admins).
+    made through that key; `instructor_id`: those of the students that instructor manages; `everything`:
+    all (admins).
     """
     q = (select(Submission, Exercise, User).join(Exercise, Submission.exercise_id == Exercise.id)
          .outerjoin(User, Submission.user_id == User.id))
@@ -157,6 +180,8 @@ def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int |
             conds.append(Exercise.owner_id == owner_id)
         if api_key_id is not None:
             conds.append(Submission.api_key_id == api_key_id)
+        if instructor_id is not None:
+            conds.append(Submission.user_id.in_(select(User.id).where(User.instructor_id == instructor_id)))
         if not conds:
             return []
         q = q.where(or_(*conds))
@@ -164,6 +189,49 @@ def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int |
         q = q.where(Exercise.slug == exercise_slug)
     rows = db.execute(q.order_by(Submission.created_at.desc(), Submission.id.desc())).all()
     return [(r[0], r[1], r[2]) for r in rows]
+
+
+def own_submissions(db: Session, user_id: int, exercise_id: int | None = None,
+                    limit: int | None = None) -> Sequence[Submission]:
+    """A user's own submissions (to one exercise), newest first."""
+    q = select(Submission).where(Submission.user_id == user_id)
+    if exercise_id is not None:
+        q = q.where(Submission.exercise_id == exercise_id)
+    q = q.order_by(Submission.created_at.desc(), Submission.id.desc())
+    return db.scalars(q.limit(limit) if limit else q).all()
+
+
+# --- drafts ------------------------------------------------------------------------------
+
+
+def draft(db: Session, user_id: int, exercise_id: int) -> Draft | None:
+    return db.scalars(select(Draft).where(Draft.user_id == user_id, Draft.exercise_id == exercise_id)).first()
+
+
+def save_draft(db: Session, user_id: int, exercise_id: int, program: str) -> Draft:
+    """Insert or replace the draft; two tabs saving at the same moment end with one row (the later text)."""
+    for _ in range(3):
+        row = draft(db, user_id, exercise_id)
+        if row is not None:
+            row.program, row.updated_at = program, now()
+            db.commit()
+            return row
+        try:
+            return _insert(db, Draft(user_id=user_id, exercise_id=exercise_id, program=program, updated_at=now()))
+        except Duplicate:
+            continue  # the other request inserted it first: update that row
+    raise Duplicate("draft")
+
+
+def delete_draft(db: Session, user_id: int, exercise_id: int) -> None:
+    row = draft(db, user_id, exercise_id)
+    if row is not None:
+        db.delete(row)
+        db.commit()
+
+
+def drafts_of(db: Session, user_id: int) -> Sequence[Draft]:
+    return db.scalars(select(Draft).where(Draft.user_id == user_id)).all()
 
 
 def ready(db: Session) -> datetime:

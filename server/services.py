@@ -2,7 +2,11 @@
 
 from __future__ import annotations
 
+import csv
+import re
+import secrets
 from typing import Any
+from zoneinfo import ZoneInfo
 
 from sqlalchemy.orm import Session
 
@@ -17,14 +21,26 @@ from server.models import ApiKey, Exercise, Submission, User
 from server.schemas import (
     ApiKeyCreated,
     ApiKeyOut,
+    DraftOut,
     ExerciseCreate,
     ExerciseOut,
     ExerciseUpdate,
+    Hint,
+    ImportedUser,
+    ImportedUsers,
     LmsResult,
+    MySubmission,
     ProgramRequest,
+    Progress,
+    ResultCell,
+    ResultExercise,
+    ResultRow,
+    Results,
     SimulateRequest,
+    Solution,
     SubmissionCreate,
     SubmissionOut,
+    UserCreate,
     UserOut,
     utc,
 )
@@ -96,18 +112,18 @@ def login(db: Session, username: str, password: str) -> User:
     return user
 
 
-def create_user(db: Session, username: str, password: str, role: str) -> User:
+def create_user(db: Session, username: str, password: str, role: str, instructor: User | None = None) -> User:
     if repo.user_by_name(db, username) is not None:
         raise ApiError("USER_EXISTS", user=username)
     try:
-        return repo.create_user(db, username, hash_password(password), role)
+        return repo.create_user(db, username, hash_password(password), role, instructor.id if instructor else None)
     except repo.Duplicate:
         raise ApiError("USER_EXISTS", user=username) from None
 
 
-def user_out(user: User) -> UserOut:
+def user_out(user: User, instructor: str | None = None) -> UserOut:
     return UserOut(id=user.id, username=user.username, role=user.role,  # type: ignore[arg-type]
-                   created_at=user.created_at)
+                   created_at=user.created_at, instructor=instructor)
 
 
 def create_api_key(db: Session, name: str, scopes: list[str], owner: User | None) -> tuple[ApiKey, str]:
@@ -165,7 +181,7 @@ def exercise_out(db: Session, exercise: Exercise, principal: Principal) -> Exerc
         owner=owner.username if owner else None, builtin=exercise.builtin, created_at=exercise.created_at,
         updated_at=exercise.updated_at, reference_program=exercise.reference_program if full else None,
         hidden_criteria=exercise.hidden_criteria if full else None,
-        **_document_view(exercise.document),
+        **_document_view(exercise.document), **_list_view(exercise),
     )
 
 
@@ -230,7 +246,8 @@ async def import_exercise(db: Session, settings: Settings, workers: Workers, pri
         raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=settings.max_program_chars * 2)
     checked = await workers.call(job_validate_exercise, text)
     if "invalid" in checked:
-        raise ApiError("EXERCISE_INVALID", detail=checked["invalid"])
+        raise ApiError("EXERCISE_INVALID", detail=checked["invalid"], detail_en=checked.get("invalid_en", ""),
+                       errors=checked.get("problems", []))
     if "reference" in checked:
         ref = checked["reference"]
         raise ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
@@ -287,7 +304,8 @@ def grading_view(grading: dict[str, Any] | None, full: bool) -> dict[str, Any] |
 def submission_out(submission: Submission, exercise: Exercise, author: User | None, detail: bool,
                    principal: Principal) -> SubmissionOut:
     result = submission.result
-    grading = grading_view(submission.grading, can_manage(principal, exercise))
+    # instructors see the whole grade of what they may see (their students' work on any exercise)
+    grading = grading_view(submission.grading, can_manage(principal, exercise) or principal.is_instructor())
     return SubmissionOut(
         id=submission.id, exercise=exercise.slug, user=author.username if author else None,
         external_user=submission.external_user, dialect=submission.dialect, created_at=submission.created_at,
@@ -378,18 +396,23 @@ def visible_submissions(db: Session, principal: Principal,
     if exercise is not None:
         get_exercise(db, exercise)
     admin = principal.user is not None and principal.user.role == "admin"
+    instructor = principal.user_id if principal.is_instructor() else None
     return list(repo.list_submissions(
-        db, user_id=principal.user_id, owner_id=principal.user_id if principal.is_instructor() else None,
+        db, user_id=principal.user_id, owner_id=instructor, instructor_id=instructor,
         api_key_id=principal.api_key.id if principal.api_key else None, exercise_slug=exercise,
         everything=admin))
 
 
-def may_see(principal: Principal, submission: Submission, exercise: Exercise) -> bool:
+def may_see(principal: Principal, submission: Submission, exercise: Exercise, author: User | None = None) -> bool:
+    """Admins: all; everyone their own; instructors: those to their exercises and those of the students they
+    manage (on any exercise, built-in ones too); keys: those made through the key, plus what their owner may see."""
     if principal.user is not None and principal.user.role == "admin":
         return True
     if principal.user_id is not None and submission.user_id == principal.user_id:
         return True
     if principal.is_instructor() and exercise.owner_id == principal.user_id:
+        return True
+    if principal.is_instructor() and author is not None and author.instructor_id == principal.user_id:
         return True
     return principal.api_key is not None and submission.api_key_id == principal.api_key.id
 
@@ -400,9 +423,9 @@ def get_submission(db: Session, principal: Principal, submission_id: int) -> Sub
         raise ApiError("MISSING_SCOPE", scope="submissions:read")
     submission = repo.submission_by_id(db, submission_id)
     exercise = repo.exercise_by_id(db, submission.exercise_id) if submission else None
-    if submission is None or exercise is None or not may_see(principal, submission, exercise):
+    author = repo.user_by_id(db, submission.user_id) if submission and submission.user_id is not None else None
+    if submission is None or exercise is None or not may_see(principal, submission, exercise, author):
         raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
-    author = repo.user_by_id(db, submission.user_id) if submission.user_id is not None else None
     return submission_out(submission, exercise, author, True, principal)
 
 
@@ -418,3 +441,353 @@ def submissions_csv(db: Session, principal: Principal, exercise: str | None) -> 
          s.error_count, s.warning_count, s.result["summary"]["moves"],
          s.grading["score"] if s.grading else "", s.grading["max_score"] if s.grading else ""]
         for s, e, u in visible_submissions(db, principal, exercise)))
+
+
+# --- the exercise list: order and dialect names (issue 15) ------------------------------------
+
+
+def _list_view(exercise: Exercise) -> dict[str, Any]:
+    """What the list shows besides the fields: place in the set, the dialect's names, hints, solution policy."""
+    document = exercise.document or {}
+    dialect = DIALECTS.get(exercise.dialect)
+    return {"order": document.get("order"), "hint_count": len(document.get("hints") or []),
+            "solution": document.get("solution") or "after_submission",
+            "dialect_title": dialect.title_de if dialect else exercise.dialect,
+            "dialect_title_en": dialect.title_en if dialect else exercise.dialect}
+
+
+_DIALECT_ORDER = {name: i for i, name in enumerate(DIALECTS)}
+
+
+def list_order(exercise: Exercise) -> tuple[int, int, int, str, str]:
+    """Sets (dialects) in their fixed order; within one, by `order` (exercises without one last), then title."""
+    order = (exercise.document or {}).get("order")
+    return (_DIALECT_ORDER.get(exercise.dialect, len(_DIALECT_ORDER)), order is None,
+            order if isinstance(order, int) else 0, exercise.title_de.casefold(), exercise.slug)
+
+
+def sorted_exercises(db: Session) -> list[Exercise]:
+    return sorted(repo.list_exercises(db), key=list_order)
+
+
+# --- drafts (issue 15) -------------------------------------------------------------------------
+
+
+def _draft_user(principal: Principal) -> int:
+    """Drafts belong to users (a browser's editor); API keys have none."""
+    if principal.api_key is not None or principal.user is None:
+        raise ApiError("DRAFTS_USERS_ONLY")
+    return principal.user.id
+
+
+def get_draft(db: Session, principal: Principal, slug: str) -> DraftOut:
+    user_id = _draft_user(principal)
+    exercise = get_exercise(db, slug)
+    row = repo.draft(db, user_id, exercise.id)
+    return DraftOut(exercise=slug, program=row.program if row else None, updated_at=row.updated_at if row else None)
+
+
+def save_draft(db: Session, settings: Settings, principal: Principal, slug: str, program: str) -> DraftOut:
+    """Replace the caller's draft (the same text twice is the same state: PUT is idempotent)."""
+    user_id = _draft_user(principal)
+    exercise = get_exercise(db, slug)
+    if len(program) > settings.max_program_chars:
+        raise ApiError("PROGRAM_TOO_LARGE", size=len(program), limit=settings.max_program_chars)
+    row = repo.save_draft(db, user_id, exercise.id, program)
+    return DraftOut(exercise=slug, program=row.program, updated_at=row.updated_at)
+
+
+def delete_draft(db: Session, principal: Principal, slug: str) -> None:
+    repo.delete_draft(db, _draft_user(principal), get_exercise(db, slug).id)
+
+
+# --- the trainee's history and progress (issue 15) -------------------------------------------------
+
+HISTORY_LIMIT = 200  # newest submissions shown per exercise
+
+
+def _score(submission: Submission) -> tuple[int | None, int | None]:
+    grading = submission.grading
+    return (int(grading["score"]), int(grading["max_score"])) if grading else (None, None)
+
+
+def best_of(submissions: list[Submission]) -> Submission:
+    """The best graded submission (the newest of equal scores; `submissions` newest first), else the newest."""
+    best = submissions[0]
+    for s in submissions:
+        if _score(s)[0] is not None and (_score(best)[0] is None or _score(s)[0] > _score(best)[0]):  # type: ignore[operator]
+            best = s
+    return best
+
+
+def my_submissions(db: Session, principal: Principal, slug: str) -> list[MySubmission]:
+    """The caller's own submissions to one exercise, newest first, with program and criteria."""
+    if not principal.has_scope("submissions:read"):
+        raise ApiError("MISSING_SCOPE", scope="submissions:read")
+    exercise = get_exercise(db, slug)
+    if principal.user_id is None:
+        return []
+    full = can_manage(principal, exercise)
+    out = []
+    for s in repo.own_submissions(db, principal.user_id, exercise.id, HISTORY_LIMIT):
+        score, max_score = _score(s)
+        grading = grading_view(s.grading, full)
+        out.append(MySubmission(id=s.id, exercise=slug, created_at=s.created_at, score=score, max_score=max_score,
+                                error_count=s.error_count, warning_count=s.warning_count,
+                                criteria=grading["criteria"] if grading else [], program=s.program))
+    return out
+
+
+def my_progress(db: Session, principal: Principal) -> list[Progress]:
+    """Per exercise (in list order): not started, a draft, or submitted with the best score."""
+    if not principal.has_scope("submissions:read"):
+        raise ApiError("MISSING_SCOPE", scope="submissions:read")
+    by_exercise: dict[int, list[Submission]] = {}
+    drafts: dict[int, Any] = {}
+    if principal.user_id is not None:
+        for s in repo.own_submissions(db, principal.user_id):
+            by_exercise.setdefault(s.exercise_id, []).append(s)
+        if principal.api_key is None:
+            drafts = {d.exercise_id: d.updated_at for d in repo.drafts_of(db, principal.user_id)}
+    out = []
+    for e in sorted_exercises(db):
+        subs = by_exercise.get(e.id, [])
+        best = best_of(subs) if subs else None
+        score, max_score = _score(best) if best else (None, None)
+        status = "submitted" if subs else "draft" if e.id in drafts else "not_started"
+        out.append(Progress(exercise=e.slug, status=status, best_score=score, max_score=max_score,  # type: ignore[arg-type]
+                            best_submission=best.id if best else None, submissions=len(subs),
+                            draft_updated_at=drafts.get(e.id)))
+    return out
+
+
+# --- hints and the reference solution (issue 15) --------------------------------------------------
+
+
+def hint(db: Session, slug: str, number: int) -> Hint:
+    """The exercise's hints one at a time (1 … count)."""
+    exercise = get_exercise(db, slug)
+    hints = (exercise.document or {}).get("hints") or []
+    if not 1 <= number <= len(hints):
+        raise ApiError("HINT_NOT_FOUND", hint=number, count=len(hints))
+    h = hints[number - 1]
+    return Hint(exercise=slug, number=number, count=len(hints), text=h.get("de", ""), text_en=h.get("en") or "")
+
+
+def solution(db: Session, principal: Principal, slug: str) -> Solution:
+    """The reference program: instructors and admins always; students as the exercise's `solution` allows
+    (never, after their first submission, after a submission with full marks)."""
+    exercise = get_exercise(db, slug)
+    policy = (exercise.document or {}).get("solution") or "after_submission"
+    if not principal.is_instructor():
+        own = list(repo.own_submissions(db, principal.user_id, exercise.id)) if principal.user_id is not None else []
+        if policy == "never":
+            raise ApiError("SOLUTION_NEVER")
+        if policy == "after_submission" and not own:
+            raise ApiError("SOLUTION_AFTER_SUBMISSION")
+        if policy == "after_full_marks" and not any(
+                _score(s)[0] is not None and _score(s)[0] == _score(s)[1] for s in own):
+            raise ApiError("SOLUTION_AFTER_FULL_MARKS")
+    return Solution(exercise=slug, program=exercise.reference_program, dialect=exercise.dialect,
+                    policy=policy)
+
+
+# --- users: instructors and their students, class lists (issue 15) -------------------------------
+
+
+def instructor_named(db: Session, name: str) -> User:
+    """The user `name`, who must be an instructor or an admin (someone who can manage students)."""
+    user = repo.user_by_name(db, name)
+    if user is None:
+        raise ApiError("USER_NOT_FOUND", user=name)
+    if user.role not in ("instructor", "admin"):
+        raise ApiError("NOT_AN_INSTRUCTOR", user=name)
+    return user
+
+
+def _managing_instructor(db: Session, principal: Principal, name: str | None, role: str = "student") -> User | None:
+    """Who will manage users made by `principal`: admins name anyone (or nobody); instructors make students
+    managed by themselves only."""
+    if principal.api_key is not None or principal.user is None:
+        raise ApiError("FORBIDDEN")
+    if principal.user.role == "admin":
+        return instructor_named(db, name) if name else None
+    if principal.user.role == "instructor" and role == "student" and name in (None, principal.user.username):
+        return principal.user
+    raise ApiError("FORBIDDEN")
+
+
+def create_user_by(db: Session, principal: Principal, body: UserCreate) -> UserOut:
+    instructor = _managing_instructor(db, principal, body.instructor, body.role)
+    user = create_user(db, body.username, body.password, body.role, instructor)
+    return user_out(user, instructor.username if instructor else None)
+
+
+def visible_users(db: Session, principal: Principal) -> list[UserOut]:
+    """Admins: every user; instructors: the students they manage."""
+    if principal.is_admin():
+        users = list(repo.list_users(db))
+    elif principal.api_key is None and principal.is_instructor():
+        users = list(repo.students_of(db, principal.user_id))  # type: ignore[arg-type]
+    else:
+        raise ApiError("FORBIDDEN")
+    names = {u.id: u.username for u in repo.list_users(db)} if principal.is_admin() else {
+        principal.user_id: principal.user.username if principal.user else None}
+    return [user_out(u, names.get(u.instructor_id) if u.instructor_id else None) for u in users]
+
+
+CLASS_LIST_MAX = 1000  # rows of one class list
+_HEADER_NAMES = {"name", "username", "benutzer", "benutzername", "login", "anmeldename"}
+_PASSWORD_ALPHABET = "abcdefghjkmnpqrstuvwxyzABCDEFGHJKLMNPQRSTUVWXYZ23456789"  # no 0/O, 1/l/I
+_NAME_RE = re.compile(r"^[A-Za-z0-9_.@-]{1,80}$")
+
+
+def new_password(length: int = 12) -> str:
+    return "".join(secrets.choice(_PASSWORD_ALPHABET) for _ in range(length))
+
+
+def parse_class_list(data: bytes) -> list[tuple[str, str | None]]:
+    """(name, password or None) per row of a class list: CSV with `;` or `,`, UTF-8 with or without BOM,
+    columns name;password or name only, an optional header row. ApiError CLASS_LIST_INVALID names every bad row."""
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError:
+        raise ApiError("CLASS_LIST_INVALID", detail="die Datei ist nicht UTF-8-kodiert",
+                       detail_en="the file is not UTF-8 encoded", errors=[]) from None
+    lines = [line for line in text.splitlines() if line.strip()]
+    delimiter = ";" if lines and ";" in lines[0] else ","
+    rows = list(csv.reader(lines, delimiter=delimiter))
+    if rows and rows[0] and rows[0][0].strip().casefold() in _HEADER_NAMES:
+        rows, first = rows[1:], 2
+    else:
+        first = 1
+    errors: list[dict[str, Any]] = []
+    out: list[tuple[str, str | None]] = []
+    seen: set[str] = set()
+
+    def bad(row: int, de: str, en: str) -> None:
+        errors.append({"row": row, "message": de, "message_en": en})
+
+    if not rows:
+        bad(1, "keine Namen in der Liste", "no names in the list")
+    if len(rows) > CLASS_LIST_MAX:
+        bad(first + CLASS_LIST_MAX, f"mehr als {CLASS_LIST_MAX} Zeilen", f"more than {CLASS_LIST_MAX} rows")
+        rows = rows[:CLASS_LIST_MAX]
+    for i, cells in enumerate(rows, start=first):
+        name = cells[0].strip() if cells else ""
+        password = cells[1].strip() if len(cells) > 1 and cells[1].strip() else None
+        if not _NAME_RE.match(name):
+            bad(i, f"Name »{name[:80]}«: nur Buchstaben ohne Umlaute, Ziffern und _ . @ - (höchstens 80 Zeichen)",
+                f"name '{name[:80]}': only letters without umlauts, digits and _ . @ - (at most 80 characters)")
+        elif name.casefold() in seen:
+            bad(i, f"Name »{name}« steht doppelt in der Liste", f"name '{name}' appears twice in the list")
+        seen.add(name.casefold())
+        if password is not None and not 8 <= len(password) <= 1000:
+            bad(i, "das Passwort braucht mindestens 8 Zeichen", "the password needs at least 8 characters")
+        elif password is not None and "\x00" in password:
+            bad(i, "das Passwort enthält das Zeichen NUL", "the password contains the NUL character")
+        out.append((name, password))
+    if errors:
+        raise ApiError("CLASS_LIST_INVALID", errors=errors,
+                       detail="; ".join(f"Zeile {e['row']}: {e['message']}" for e in errors[:5]),
+                       detail_en="; ".join(f"row {e['row']}: {e['message_en']}" for e in errors[:5]))
+    return out
+
+
+def import_class_list(db: Session, data: bytes, instructor: User | None) -> list[ImportedUser]:
+    """Students from a class list, managed by `instructor`: all of them or none (a name taken: 409 with the
+    names). Passwords the list does not give are generated and returned this once."""
+    rows = parse_class_list(data)
+    taken = [u.username for u in repo.users_by_names(db, [n for n, _ in rows])]
+    if taken:
+        raise ApiError("USER_EXISTS", user=", ".join(sorted(taken)))
+    passwords = [(name, given or new_password(), given is None) for name, given in rows]
+    try:
+        repo.create_users(db, [(n, hash_password(p), "student", instructor.id if instructor else None)
+                               for n, p, _ in passwords])
+    except repo.Duplicate:
+        raise ApiError("CONFLICT") from None
+    return [ImportedUser(username=n, role="student", instructor=instructor.username if instructor else None,
+                         password=p if generated else None) for n, p, generated in passwords]
+
+
+def import_class_list_by(db: Session, principal: Principal, data: bytes, instructor: str | None) -> ImportedUsers:
+    """An instructor imports students for themselves; an admin for any instructor (or none)."""
+    manager = _managing_instructor(db, principal, instructor)
+    return ImportedUsers(users=import_class_list(db, data, manager))
+
+
+# --- the results table (issue 15) -------------------------------------------------------------------
+
+BERLIN = ZoneInfo("Europe/Berlin")
+
+
+def results(db: Session, principal: Principal) -> Results:
+    """Trainees × exercises with the best score: for instructors their students and whoever submitted to their
+    exercises, for admins everyone; the columns are the exercises anyone of them submitted to."""
+    if not principal.has_scope("submissions:read"):
+        raise ApiError("MISSING_SCOPE", scope="submissions:read")
+    if not principal.is_instructor():
+        raise ApiError("FORBIDDEN")
+    users = {u.id: u for u in repo.list_users(db)}
+    if principal.user is not None and principal.user.role == "admin":
+        members = {u.id for u in users.values() if u.role == "student"}
+    else:
+        members = {u.id for u in users.values() if u.instructor_id == principal.user_id}
+    cells: dict[tuple[int, int], list[Submission]] = {}
+    exercises: dict[int, Exercise] = {}
+    for s, e, u in visible_submissions(db, principal, None):
+        if u is None or u.id == principal.user_id:
+            continue  # learning-platform learners have no account; the caller's own tries are not a trainee's
+        cells.setdefault((u.id, e.id), []).append(s)
+        exercises[e.id] = e
+        members.add(u.id)
+    columns = sorted(exercises.values(), key=list_order)
+    rows = []
+    for uid in sorted(members, key=lambda i: users[i].username.casefold()):
+        row: dict[str, ResultCell] = {}
+        for e in columns:
+            subs = cells.get((uid, e.id))
+            if subs:
+                best = best_of(subs)
+                score, max_score = _score(best)
+                row[e.slug] = ResultCell(best_score=score, max_score=max_score, best_submission=best.id,
+                                         submissions=[s.id for s in subs], created_at=best.created_at)
+        manager = users.get(users[uid].instructor_id) if users[uid].instructor_id else None  # type: ignore[arg-type]
+        rows.append(ResultRow(username=users[uid].username, instructor=manager.username if manager else None,
+                              results=row))
+    return Results(exercises=[ResultExercise(slug=e.slug, title_de=e.title_de, title_en=e.title_en) for e in columns],
+                   trainees=rows)
+
+
+RESULTS_COLUMNS = ("Benutzer", "Lehrkraft", "Aufgabe", "Titel", "Beste Punktzahl", "Höchstpunktzahl", "Prozent",
+                   "Abgaben", "Beste Abgabe", "Zeitpunkt")
+
+
+def berlin_time(value: Any) -> str:
+    """A stored time as German Excel reads it: local time in Germany, to the second."""
+    return str(utc(value).astimezone(BERLIN).strftime("%d.%m.%Y %H:%M:%S"))
+
+
+def decimal_comma(value: float) -> str:
+    return f"{value:.1f}".replace(".", ",")
+
+
+def results_csv(db: Session, principal: Principal) -> str:
+    """The results table for German Excel: `;`, UTF-8 with BOM, decimal comma, local time; one row per trainee
+    and exercise (empty cells: not tried)."""
+    table = results(db, principal)
+    rows = []
+    for trainee in table.trainees:
+        for e in table.exercises:
+            cell = trainee.results.get(e.slug)
+            if cell is None:
+                rows.append([trainee.username, trainee.instructor or "", e.slug, e.title_de, "", "", "", 0, "", ""])
+                continue
+            percent = (decimal_comma(100 * cell.best_score / cell.max_score)
+                       if cell.best_score is not None and cell.max_score else "")
+            rows.append([trainee.username, trainee.instructor or "", e.slug, e.title_de,
+                         "" if cell.best_score is None else cell.best_score,
+                         "" if cell.max_score is None else cell.max_score, percent, len(cell.submissions),
+                         cell.best_submission, berlin_time(cell.created_at)])
+    return "\ufeff" + csv_text(RESULTS_COLUMNS, rows, delimiter=";")

@@ -251,7 +251,7 @@ def job_validate_exercise(text: str) -> dict[str, Any]:
     try:
         exercise = parse_exercise(text)
     except ExerciseError as err:
-        return {"invalid": str(err)}
+        return {"invalid": err.message, "invalid_en": err.message_en, "problems": err.problems}
     result = grade(exercise, exercise.reference)
     if result.score < result.max_score:
         lost = [c for c in result.criteria if not c.passed]

@@ -1,4 +1,4 @@
-"""Accounts: token (OAuth2 password flow), browser session login/logout, who am I, users and API keys."""
+"""Accounts: token (OAuth2 password flow), browser session login/logout, who am I, API keys (users: users.py)."""
 
 from __future__ import annotations
 
@@ -9,7 +9,6 @@ from fastapi.security import OAuth2PasswordRequestForm
 from sqlalchemy import update
 from sqlalchemy.orm import Session
 
-from server import repository as repo
 from server import services
 from server.config import Settings
 from server.deps import (
@@ -17,9 +16,7 @@ from server.deps import (
     AppSettings,
     CurrentPrincipal,
     DbSession,
-    Principal,
     client_address,
-    require_admin,
     token_user,
 )
 from server.errors import ApiError, responses
@@ -32,7 +29,6 @@ from server.schemas import (
     LoginRequest,
     Me,
     Token,
-    UserCreate,
     UserOut,
 )
 from server.security import make_token
@@ -104,16 +100,6 @@ def me(principal: CurrentPrincipal) -> Me:
     assert principal.user is not None
     return Me(kind="user", username=principal.user.username, role=principal.user.role,  # type: ignore[arg-type]
               scopes=None)
-
-
-@router.get("/users", response_model=list[UserOut], responses=responses(401, 403))
-def list_users(db: DbSession, _: Annotated[Principal, Depends(require_admin)]) -> list[UserOut]:
-    return [services.user_out(u) for u in repo.list_users(db)]
-
-
-@router.post("/users", response_model=UserOut, status_code=201, responses=responses(401, 403, 409, 422))
-def create_user(body: UserCreate, db: DbSession, _: Annotated[Principal, Depends(require_admin)]) -> UserOut:
-    return services.user_out(services.create_user(db, body.username, body.password, body.role))
 
 
 @router.get("/api-keys", response_model=list[ApiKeyOut], responses=responses(401, 403))

@@ -5,9 +5,8 @@ from __future__ import annotations
 import re
 from typing import Annotated, Literal
 
-from fastapi import APIRouter, Depends, Request, Response
+from fastapi import APIRouter, Depends, Path, Request, Response
 
-from server import repository as repo
 from server import services
 from server.deps import (
     AppSettings,
@@ -19,7 +18,7 @@ from server.deps import (
     require_scope,
 )
 from server.errors import responses
-from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate, Slug
+from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate, Hint, Slug, Solution
 
 router = APIRouter(prefix="/exercises", tags=["exercises"])
 Reader = Annotated[Principal, Depends(require_scope("exercises:read"))]
@@ -27,13 +26,27 @@ Reader = Annotated[Principal, Depends(require_scope("exercises:read"))]
 
 @router.get("", response_model=list[ExerciseOut], responses=responses(401, 403))
 def list_exercises(db: DbSession, principal: Reader) -> list[ExerciseOut]:
-    return [services.exercise_out(db, e, principal) for e in repo.list_exercises(db)]
+    """In the order of their sets: by dialect, then the exercise's `order`, then title."""
+    return [services.exercise_out(db, e, principal) for e in services.sorted_exercises(db)]
 
 
 @router.get("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404))
 def get_exercise(slug: Slug, db: DbSession, principal: Reader) -> ExerciseOut:
     """Reference program and hidden criteria only for the exercise's owner and admins."""
     return services.exercise_out(db, services.get_exercise(db, slug), principal)
+
+
+@router.get("/{slug}/hints/{number}", response_model=Hint, responses=responses(401, 403, 404, 422))
+def exercise_hint(slug: Slug, number: Annotated[int, Path(ge=1, le=1000)], db: DbSession, principal: Reader) -> Hint:
+    """The exercise's hint `number` (1 … `hint_count`), one at a time ("Tipp anzeigen")."""
+    return services.hint(db, slug, number)
+
+
+@router.get("/{slug}/solution", response_model=Solution, responses=responses(401, 403, 404))
+def exercise_solution(slug: Slug, db: DbSession, principal: Reader) -> Solution:
+    """The reference program. Students: as the exercise's `solution` allows (`never`, `after_submission`,
+    `after_full_marks`), else 403 with the reason; instructors and admins always."""
+    return services.solution(db, principal, slug)
 
 
 @router.get("/{slug}/picture.png", response_class=Response, responses={

@@ -100,3 +100,23 @@ def error_code(response: Any) -> str:
     assert set(body["error"]) >= {"code", "message", "message_en"}, body
     assert body["error"]["message"] and body["error"]["message_en"]
     return str(body["error"]["code"])
+
+
+def builtin_exercise(api: Api, **changes: Any) -> str:
+    """A new built-in exercise (as if loaded from exercises/): PAL example G1 no. 1 under a new id, with
+    `changes` to its document (hints, solution, order …); returns its slug."""
+    from core.exercises import EXERCISES_DIR, load_exercise
+    from server.seed import exercise_fields
+
+    doc = load_exercise(EXERCISES_DIR / "pal-mill" / "pal-01-g1-gerade.yaml")
+    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("builtin-"), **changes})
+    with api.app.state.db.session() as db:
+        repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
+    return doc.id
+
+
+def reference_of(slug: str = "pal-01-g1-gerade") -> str:
+    """The reference program of a built-in exercise file (full marks for exercises made by builtin_exercise)."""
+    from core.exercises import EXERCISES_DIR
+
+    return (EXERCISES_DIR / "pal-mill" / f"{slug}.nc").read_text(encoding="utf-8")

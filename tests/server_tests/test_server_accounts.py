@@ -55,9 +55,10 @@ def test_login_rate_limit_is_429(api: Api) -> None:
 
 
 def test_only_admins_manage_users(api: Api) -> None:
+    """Admins make users of any role; instructors only students of their own (test_server_instructors.py)."""
     admin, instructor = api.user("admin"), api.user("instructor")
     body = {"username": "new-student-1", "password": "long enough pw", "role": "student"}
-    r = api.client.post("/api/v1/users", json=body, headers=auth(instructor))
+    r = api.client.post("/api/v1/users", json={**body, "role": "instructor"}, headers=auth(instructor))
     assert r.status_code == 403 and error_code(r) == "FORBIDDEN"
     r = api.client.post("/api/v1/users", json=body, headers=auth(admin))
     assert r.status_code == 201 and r.json()["username"] == "new-student-1"
@@ -67,7 +68,8 @@ def test_only_admins_manage_users(api: Api) -> None:
     assert r.status_code == 422
     names = [u["username"] for u in api.client.get("/api/v1/users", headers=auth(admin)).json()]
     assert "new-student-1" in names and "password_hash" not in str(names)
-    assert api.client.get("/api/v1/users", headers=auth(instructor)).status_code == 403
+    assert api.client.get("/api/v1/users", headers=auth(instructor)).json() == []  # nobody they manage
+    assert api.client.get("/api/v1/users", headers=auth(api.user())).status_code == 403
 
 
 def test_api_key_lifecycle(api: Api) -> None:

@@ -1,0 +1,41 @@
+"""Users: admins manage everyone; instructors create students they manage, one by one or from a class list."""
+
+from __future__ import annotations
+
+from typing import Annotated
+
+from fastapi import APIRouter, Query, Request
+
+from server import services
+from server.deps import CurrentPrincipal, DbSession
+from server.errors import responses
+from server.schemas import ImportedUsers, UserCreate, Username, UserOut
+
+router = APIRouter(prefix="/users", tags=["accounts"])
+
+
+@router.get("", response_model=list[UserOut], responses=responses(401, 403))
+def list_users(db: DbSession, principal: CurrentPrincipal) -> list[UserOut]:
+    """Admins: every user; instructors: the students they manage."""
+    return services.visible_users(db, principal)
+
+
+@router.post("", response_model=UserOut, status_code=201, responses=responses(401, 403, 404, 409, 422))
+def create_user(body: UserCreate, db: DbSession, principal: CurrentPrincipal) -> UserOut:
+    """Admins: any user, managed by the instructor named in `instructor` (or nobody); instructors: students,
+    managed by themselves."""
+    return services.create_user_by(db, principal, body)
+
+
+@router.post("/import", response_model=ImportedUsers, status_code=201,
+             responses=responses(401, 403, 404, 409, 413, 422),
+             openapi_extra={"requestBody": {"required": True, "content": {
+                 "text/csv": {"schema": {"type": "string"}}}}})
+async def import_users(request: Request, db: DbSession, principal: CurrentPrincipal,
+                       instructor: Annotated[Username | None, Query(
+                           description="Admins: the instructor who manages the new students")] = None
+                       ) -> ImportedUsers:
+    """A class list as CSV (`;` or `,`, UTF-8 with or without BOM; columns name;password or name only, an
+    optional header row) → students managed by the calling instructor (admins: by `instructor`). All or none;
+    generated passwords are in the answer, this once."""
+    return services.import_class_list_by(db, principal, await request.body(), instructor)
