@@ -1,4 +1,4 @@
-"""`paltrainer serve` and `paltrainer admin create-user|create-api-key|revoke-api-key|list-api-keys`.
+"""`paltrainer serve` and `paltrainer admin create-user|import-users|create-api-key|revoke-api-key|list-api-keys`.
 
 Both honour the same settings as the server (DATABASE_URL, PALTRAINER_DATA_DIR, …); `admin`
 migrates the database first, so it also works before the server has ever started.
@@ -10,6 +10,7 @@ import argparse
 import getpass
 import os
 import sys
+from pathlib import Path
 from typing import Any
 
 from server.models import ROLES, SCOPES
@@ -63,11 +64,40 @@ def _create_user(args: argparse.Namespace) -> int:
     database = _database()
     with database.session() as db:
         try:
-            user = services.create_user(db, args.name, password, args.role)
+            instructor = services.instructor_named(db, args.instructor) if args.instructor else None
+            user = services.create_user(db, args.name, password, args.role, instructor)
         except ApiError as err:
             print(f"{err.message} / {err.message_en}", file=sys.stderr)
             return 1
-    print(f"Benutzer {user.username} ({user.role}) angelegt / user created")
+    managed = f", Lehrkraft / instructor {instructor.username}" if instructor else ""
+    print(f"Benutzer {user.username} ({user.role}{managed}) angelegt / user created")
+    return 0
+
+
+def _import_users(args: argparse.Namespace) -> int:
+    """Students from a class list; prints name;password for each (generated passwords only now)."""
+    from server import services
+    from server.errors import ApiError
+
+    try:
+        data = sys.stdin.buffer.read() if args.file == "-" else Path(args.file).read_bytes()
+    except OSError as err:
+        print(f"»{args.file}« kann nicht gelesen werden: {err.strerror} / cannot read", file=sys.stderr)
+        return 2
+    database = _database()
+    with database.session() as db:
+        try:
+            instructor = services.instructor_named(db, args.instructor) if args.instructor else None
+            users = services.import_class_list(db, data, instructor)
+        except ApiError as err:
+            print(f"{err.message} / {err.message_en}", file=sys.stderr)
+            for row in err.params.get("errors", [])[5:]:
+                print(f"Zeile {row['row']}: {row['message']} / row {row['row']}: {row['message_en']}", file=sys.stderr)
+            return 1
+    for u in users:
+        print(f"{u.username};{u.password or ''}")
+    print(f"{len(users)} Schüler angelegt (Passwörter werden nur jetzt angezeigt; leer: aus der Liste) / "
+          f"{len(users)} students created (passwords shown only now; empty: from the list)", file=sys.stderr)
     return 0
 
 
@@ -131,7 +161,16 @@ def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
     u.add_argument("name")
     u.add_argument("--role", choices=ROLES, default="student")
     u.add_argument("--password", help="ohne: wird abgefragt / without: asked for")
+    u.add_argument("--instructor", metavar="NAME",
+                   help="Lehrkraft, die den Benutzer betreut (sieht seine Abgaben) / the instructor who manages the user")
     u.set_defaults(handler=_create_user)
+    iu = sub.add_parser("import-users", help="Klassenliste importieren / import a class list",
+                        description="CSV mit ; oder , (UTF-8, mit oder ohne BOM): Spalten name;password oder nur "
+                                    "name, Kopfzeile erlaubt. Fehlende Passwörter werden erzeugt und einmal "
+                                    "ausgegeben (name;passwort). Alles oder nichts.")
+    iu.add_argument("file", help="die CSV-Datei (- : Standardeingabe) / the CSV file (-: standard input)")
+    iu.add_argument("--instructor", metavar="NAME", help="Lehrkraft der Klasse / the class's instructor")
+    iu.set_defaults(handler=_import_users)
     k = sub.add_parser("create-api-key", help="API-Schlüssel anlegen (wird einmal ausgegeben) / create an API key")
     k.add_argument("name")
     k.add_argument("--scope", action="append", type=_scope, required=True,
