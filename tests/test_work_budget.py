@@ -180,3 +180,12 @@ def test_run_live_and_scene_jobs_stay_small_and_fast(program: str) -> None:
     assert any(d["code"] == "PAL-I018" for ds in live["diagnostics"].values() for d in ds)
     scene, seconds = timed(lambda: job_scene(program, "pal-mill", {}))
     assert seconds < 2 * SECOND and len(scene["segments"]) <= DEFAULT_LIMITS.max_drawn_segments
+
+
+def test_grading_looks_at_a_bounded_number_of_chords_per_arc() -> None:
+    from core.exercises import builtin_exercises
+    from core.grading import grade
+
+    exercise = builtin_exercises()["pal-01-g1-gerade"]
+    result, seconds = timed(lambda: grade(exercise, CIRCLES))  # 5,000 circles of 2,000 chords each above the part
+    assert seconds < SECOND and result.score < result.max_score

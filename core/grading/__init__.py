@@ -27,6 +27,9 @@ from core.toolpath import Move
 
 SAFETY_EVENTS = {"SIM-E001", "SIM-E002", "SIM-E003", "SIM-E004", "SIM-E005", "SIM-E006", "SIM-E007", "SIM-E008"}
 SAFE_CLEARANCE = 10.0  # mm above the stock top counts as a safe end position
+# chords of one arc where grading looks at its points: bounded before they are made, so that a loop of
+# huge arcs (radius 50 m: 2,000 chords at 0.05 mm) costs no more than a loop of small ones
+ARC_CHORDS = 256
 
 
 @dataclass(frozen=True, slots=True)
@@ -265,7 +268,7 @@ def _line_at(tp: Toolpath, x: float, y: float) -> int | None:
         if m.kind == "rapid":
             continue
         reach = 20.0
-        pts = m.points(0.05)
+        pts = m.points(0.05, max_chords=ARC_CHORDS)
         for a, b in itertools.pairwise(pts):
             d = _segment_distance((x, y), a, b)
             if d <= reach:
@@ -288,8 +291,10 @@ def _may_cut(m: Move, ex: Exercise) -> bool:
     lies inside the blank's box. A feed in the air (a plunge beside the blank, a move above it) cuts nothing."""
     s = ex.stock
     tool = ex.tool_table().get(m.tool) if m.tool is not None else None
-    r = tool.radius if tool is not None else 0.0
-    pts = m.points(0.1)
+    pts = m.points(0.1, max_chords=ARC_CHORDS)
+    # the chords of a huge arc may cut inside its bulge by up to their sagitta: widen by it
+    bulge = m.radius * (1 - math.cos(math.pi / ARC_CHORDS)) if m.kind == "arc" and m.radius is not None else 0.0
+    r = (tool.radius if tool is not None else 0.0) + bulge
     if min(p[2] for p in pts) >= s.max[2]:
         return False
     return (min(p[0] for p in pts) - r < s.max[0] and max(p[0] for p in pts) + r > s.min[0]
