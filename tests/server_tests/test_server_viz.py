@@ -20,6 +20,8 @@ def test_viz_session_page_scene_and_playhead(api: Api) -> None:
     page = api.client.get(url)
     assert page.status_code == 200 and page.headers["content-type"].startswith("text/html")
     assert b"<html" in page.content[:2000].lower()
+    assert b'href="/static/viz-frame.css"' in page.content  # hides viser's panel, status, address and notices
+    assert api.client.get("/static/viz-frame.css").status_code == 200
     assert api.client.get("/viz/not-a-token/").status_code == 401
 
     r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "dialect": "pal-mill"})
