@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from server_helpers import GOOD, Api, auth, builtin_exercise, error_code, reference_of
 
+from server import repository as repo
+
 DRAFT = "N10 T1 TC1 M6\nN20 S1200 F150 M3\n"
 
 
@@ -157,3 +159,16 @@ def test_list_sorted_by_order_then_title_with_dialect_names(api: Api) -> None:
     assert one["order"] == 10 and one["dialect"] == "pal-mill"
     assert one["dialect_title"] == "PAL Fräsen" and one["dialect_title_en"] == "PAL milling"
     assert one["solution"] == "after_submission" and one["hint_count"] == 0
+
+
+def test_deleting_an_exercise_takes_its_drafts(api: Api) -> None:
+    owner, student = api.user("instructor"), api.user()
+    slug = api.exercise(owner)["slug"]
+    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT},
+                          headers=auth(student)).status_code == 200
+    assert api.client.delete(f"/api/v1/exercises/{slug}", headers=auth(owner)).status_code == 204
+    r = api.client.get(f"/api/v1/exercises/{slug}/draft", headers=auth(student))
+    assert r.status_code == 404 and error_code(r) == "EXERCISE_NOT_FOUND"
+    with api.app.state.db.session() as db:
+        user = repo.user_by_name(db, student["name"])
+        assert user is not None and list(repo.drafts_of(db, user.id)) == []
