@@ -24,6 +24,7 @@ from server.routes import (
     auth,
     dialects,
     drafts,
+    examples,
     exercises,
     health,
     me,
@@ -110,7 +111,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     pages.install_not_found(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, me, users, exercises, drafts, submissions, results, dialects, viz_routes):
+    for module in (pipeline, auth, me, users, exercises, examples, drafts, submissions, results, dialects, viz_routes):
         api.include_router(module.router)
     api.include_router(live.router)
     app.include_router(api)
