@@ -459,11 +459,17 @@ def _list_view(exercise: Exercise) -> dict[str, Any]:
 _DIALECT_ORDER = {name: i for i, name in enumerate(DIALECTS)}
 
 
-def list_order(exercise: Exercise) -> tuple[int, int, int, str, str]:
+def _natural(text: str) -> tuple[tuple[int, int | str], ...]:
+    """A sort key that compares the numbers in a text as numbers: G2 before G3 before G23."""
+    return tuple((0, int(part)) if part.isdigit() else (1, part)
+                 for part in re.split(r"(\d+)", text.casefold()) if part)
+
+
+def list_order(exercise: Exercise) -> tuple[Any, ...]:
     """Sets (dialects) in their fixed order; within one, by `order` (exercises without one last), then title."""
     order = (exercise.document or {}).get("order")
     return (_DIALECT_ORDER.get(exercise.dialect, len(_DIALECT_ORDER)), order is None,
-            order if isinstance(order, int) else 0, exercise.title_de.casefold(), exercise.slug)
+            order if isinstance(order, int) else 0, _natural(exercise.title_de), exercise.slug)
 
 
 def sorted_exercises(db: Session) -> list[Exercise]:
@@ -589,7 +595,7 @@ def solution(db: Session, principal: Principal, slug: str) -> Solution:
                 _score(s)[0] is not None and _score(s)[0] == _score(s)[1] for s in own):
             raise ApiError("SOLUTION_AFTER_FULL_MARKS")
     return Solution(exercise=slug, program=exercise.reference_program, dialect=exercise.dialect,
-                    policy=policy)
+                    policy=policy)  # type: ignore[arg-type]  # the document was validated (core.exercises)
 
 
 # --- users: instructors and their students, class lists (issue 15) -------------------------------
@@ -636,7 +642,7 @@ def visible_users(db: Session, principal: Principal) -> list[UserOut]:
     return [user_out(u, names.get(u.instructor_id) if u.instructor_id else None) for u in users]
 
 
-CLASS_LIST_MAX = 1000  # rows of one class list
+CLASS_LIST_MAX = 100  # rows of one class list (each password is hashed with argon2: a fraction of a second)
 _HEADER_NAMES = {"name", "username", "benutzer", "benutzername", "login", "anmeldename"}
 _PASSWORD_ALPHABET = "abcdefghjkmnpqrstuvwxyzABCDEFGHJKLMNPQRSTUVWXYZ23456789"  # no 0/O, 1/l/I
 _NAME_RE = re.compile(r"^[A-Za-z0-9_.@-]{1,80}$")

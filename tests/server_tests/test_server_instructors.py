@@ -161,6 +161,9 @@ def test_class_list_errors_name_the_rows_and_import_nothing(api: Api) -> None:
     assert r.status_code == 422 and error_code(r) == "CLASS_LIST_INVALID"
     r = api.client.post("/api/v1/users/import", content=b"", headers=auth(a))
     assert r.status_code == 422 and error_code(r) == "CLASS_LIST_INVALID"
+    many = "".join(f"{unique('viele')}\n" for _ in range(101)).encode()
+    r = api.client.post("/api/v1/users/import", content=many, headers=auth(a))
+    assert r.status_code == 422 and "mehr als 100 Zeilen" in r.json()["error"]["message"]
     # students may not; instructors only for themselves; admins for a named instructor
     assert api.client.post("/api/v1/users/import", content=b"someone\n", headers=auth(s)).status_code == 403
     other = api.user("instructor")
