@@ -29,6 +29,7 @@ from core.interpreter.turn_contour import (
     resolve,
 )
 from core.pipeline import run as pipeline_run
+from core.pipeline import toolpath_json
 from core.syntax.blocks import Span
 from core.toolpath import Move
 from core.tools import DEFAULT_TOOLS, turning_tool
@@ -903,3 +904,13 @@ def test_property_suppressed_steps_never_gouge(program: str) -> None:
         for q in m.points(0.001):
             gap = min(_dist_to(e, (q[2], q[0])) for e in elements)
             assert gap >= 0.4 - 2e-3, (program, m.line, q)
+
+
+def test_pipeline_json_of_a_compensated_arc() -> None:
+    # the contract of `run --json` / POST /api/v1/run: x radius, y 0, z; end = nose centre, programmed_end = contour
+    tp = pipeline_run((SEEDS / "tx-27-srk-anwahl.nc").read_text(encoding="utf-8"), "traub-tx8d", NOSE)
+    arc = next(m for m in toolpath_json(tp)["moves"] if m["line"] == 22)
+    assert arc["kind"] == "arc" and arc["direction"] == "ccw" and arc["plane"] == "G18"
+    assert arc["end"] == pytest.approx([15.4, 0, -25.980762], abs=1e-6)
+    assert arc["programmed_end"] == pytest.approx([15, 0, -25.980762], abs=1e-6)
+    assert arc["center"] == pytest.approx([-15, 0, -25.980762], abs=1e-6) and arc["radius"] == pytest.approx(30.4)
