@@ -1,4 +1,4 @@
-"""`paltrainer serve` and `paltrainer admin create-user|import-users|create-api-key|revoke-api-key|list-api-keys`.
+"""`paltrainer serve` and `paltrainer admin create-user|import-users|set-instructor|create-api-key|revoke-api-key|list-api-keys`.
 
 Both honour the same settings as the server (DATABASE_URL, PALTRAINER_DATA_DIR, …); `admin`
 migrates the database first, so it also works before the server has ever started.
@@ -71,6 +71,22 @@ def _create_user(args: argparse.Namespace) -> int:
             return 1
     managed = f", Lehrkraft / instructor {instructor.username}" if instructor else ""
     print(f"Benutzer {user.username} ({user.role}{managed}) angelegt / user created")
+    return 0
+
+
+def _set_instructor(args: argparse.Namespace) -> int:
+    from server import services
+    from server.errors import ApiError
+
+    database = _database()
+    with database.session() as db:
+        try:
+            services.set_instructor(db, args.name, None if args.none else args.instructor)
+        except ApiError as err:
+            print(f"{err.message} / {err.message_en}", file=sys.stderr)
+            return 1
+    who = "niemand / nobody" if args.none else args.instructor
+    print(f"{args.name}: Lehrkraft / instructor {who}")
     return 0
 
 
@@ -164,6 +180,12 @@ def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
     u.add_argument("--instructor", metavar="NAME",
                    help="Lehrkraft, die den Benutzer betreut (sieht seine Abgaben) / the instructor who manages the user")
     u.set_defaults(handler=_create_user)
+    si = sub.add_parser("set-instructor", help="Lehrkraft eines Benutzers setzen / set a user's instructor")
+    si.add_argument("name")
+    group = si.add_mutually_exclusive_group(required=True)
+    group.add_argument("instructor", nargs="?", help="die Lehrkraft / the instructor")
+    group.add_argument("--none", action="store_true", help="keine Lehrkraft / no instructor")
+    si.set_defaults(handler=_set_instructor)
     iu = sub.add_parser("import-users", help="Klassenliste importieren / import a class list",
                         description="CSV mit ; oder , (UTF-8, mit oder ohne BOM): Spalten name;password oder nur "
                                     "name, Kopfzeile erlaubt. Fehlende Passwörter werden erzeugt und einmal "

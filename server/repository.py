@@ -61,6 +61,11 @@ def users_by_names(db: Session, names: Sequence[str]) -> Sequence[User]:
     return db.scalars(select(User).where(User.username.in_(list(names)))).all() if names else []
 
 
+def set_instructor(db: Session, user: User, instructor_id: int | None) -> None:
+    user.instructor_id = instructor_id
+    db.commit()
+
+
 def students_of(db: Session, instructor_id: int) -> Sequence[User]:
     """The users an instructor manages (users.instructor_id), by name."""
     return db.scalars(select(User).where(User.instructor_id == instructor_id).order_by(User.username)).all()

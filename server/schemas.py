@@ -509,6 +509,12 @@ class Solution(BaseModel):
 # --- instructors: their students, class lists, results (issue 15) ---------------------------------
 
 
+class UserUpdate(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    instructor: Username | None = Field(description="The instructor who manages the user; null: nobody")
+
+
 class ImportedUser(BaseModel):
     username: str
     role: Role

@@ -629,6 +629,16 @@ def create_user_by(db: Session, principal: Principal, body: UserCreate) -> UserO
     return user_out(user, instructor.username if instructor else None)
 
 
+def set_instructor(db: Session, username: str, instructor_name: str | None) -> UserOut:
+    """Put an existing user under an instructor (or nobody): they then see the user's submissions."""
+    user = repo.user_by_name(db, username)
+    if user is None:
+        raise ApiError("USER_NOT_FOUND", user=username)
+    instructor = instructor_named(db, instructor_name) if instructor_name else None
+    repo.set_instructor(db, user, instructor.id if instructor else None)
+    return user_out(user, instructor.username if instructor else None)
+
+
 def visible_users(db: Session, principal: Principal) -> list[UserOut]:
     """Admins: every user; instructors: the students they manage."""
     if principal.is_admin():

@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Query, Request
+from fastapi import APIRouter, Depends, Query, Request
 from starlette.concurrency import run_in_threadpool
 
 from server import services
-from server.deps import CurrentPrincipal, DbSession
+from server.deps import CurrentPrincipal, DbSession, Principal, require_admin
 from server.errors import responses
-from server.schemas import ImportedUsers, UserCreate, Username, UserOut
+from server.schemas import ImportedUsers, UserCreate, Username, UserOut, UserUpdate
 
 router = APIRouter(prefix="/users", tags=["accounts"])
 
@@ -26,6 +26,13 @@ def create_user(body: UserCreate, db: DbSession, principal: CurrentPrincipal) ->
     """Admins: any user, managed by the instructor named in `instructor` (or nobody); instructors: students,
     managed by themselves."""
     return services.create_user_by(db, principal, body)
+
+
+@router.patch("/{username}", response_model=UserOut, responses=responses(401, 403, 404, 422))
+def update_user(username: Username, body: UserUpdate, db: DbSession,
+                _: Annotated[Principal, Depends(require_admin)]) -> UserOut:
+    """Admins: put a user under an instructor (`{"instructor": NAME}`) or under nobody (`null`)."""
+    return services.set_instructor(db, username, body.instructor)
 
 
 @router.post("/import", response_model=ImportedUsers, status_code=201,

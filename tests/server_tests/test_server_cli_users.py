@@ -41,6 +41,12 @@ def test_create_user_with_instructor(data_dir: Path, capsys: pytest.CaptureFixtu
     assert main(["admin", "create-user", "ben", "--password", "geheim123", "--instructor", "niemand"]) == 1
     users = _users(data_dir)
     assert users["anna"][:2] == ("student", "lehrer") and "ben" not in users
+    assert main(["admin", "create-user", "ben", "--password", "geheim123"]) == 0
+    assert main(["admin", "set-instructor", "ben", "lehrer"]) == 0
+    assert _users(data_dir)["ben"][1] == "lehrer"
+    assert main(["admin", "set-instructor", "ben", "--none"]) == 0
+    assert _users(data_dir)["ben"][1] is None
+    assert main(["admin", "set-instructor", "niemand", "lehrer"]) == 1
 
 
 def test_import_users(data_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

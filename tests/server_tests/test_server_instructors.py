@@ -173,3 +173,22 @@ def test_class_list_errors_name_the_rows_and_import_nothing(api: Api) -> None:
     r = api.client.post(f"/api/v1/users/import?instructor={other['name']}", content=f"{name}\n".encode(),
                         headers=auth(admin))
     assert r.status_code == 201 and r.json()["users"][0]["instructor"] == other["name"]
+
+
+def test_admin_puts_an_existing_user_under_an_instructor(api: Api) -> None:
+    admin, a, s = api.user("admin"), api.user("instructor"), api.user()
+    slug = builtin_exercise(api)
+    sid = _submit(api, s, slug)
+    assert api.client.get(f"/api/v1/submissions/{sid}", headers=auth(a)).status_code == 404
+    r = api.client.patch(f"/api/v1/users/{s['name']}", json={"instructor": a["name"]}, headers=auth(admin))
+    assert r.status_code == 200 and r.json()["instructor"] == a["name"]
+    assert api.client.get(f"/api/v1/submissions/{sid}", headers=auth(a)).status_code == 200
+    r = api.client.patch(f"/api/v1/users/{s['name']}", json={"instructor": None}, headers=auth(admin))
+    assert r.status_code == 200 and r.json()["instructor"] is None
+    assert api.client.get(f"/api/v1/submissions/{sid}", headers=auth(a)).status_code == 404
+    r = api.client.patch(f"/api/v1/users/{s['name']}", json={"instructor": a["name"]}, headers=auth(a))
+    assert r.status_code == 403 and error_code(r) == "FORBIDDEN"
+    r = api.client.patch("/api/v1/users/nobody-here", json={"instructor": a["name"]}, headers=auth(admin))
+    assert r.status_code == 404 and error_code(r) == "USER_NOT_FOUND"
+    r = api.client.patch(f"/api/v1/users/{s['name']}", json={"instructor": s["name"]}, headers=auth(admin))
+    assert r.status_code == 422 and error_code(r) == "NOT_AN_INSTRUCTOR"
