@@ -422,6 +422,51 @@ CATALOGUE: dict[str, Entry] = {
     "TX-W301": Entry(W, "M99 ohne Unterprogrammaufruf: das Programm endet hier (Hauptprogramme enden mit M30).",
                      "M99 without a subprogram call: the program ends here (main programs end with M30)."),
     "TX-W302": Entry(W, "Unterprogramm O{number} endet ohne M99.", "Subprogram O{number} ends without M99."),
+    # --- TRAUB TX 8 D turning: cycles (TX-x4xx) ------------------------------------------------
+    "TX-E401": Entry(E, "{code}: der Startpunkt ist nicht bekannt; vor dem Zyklus einen Punkt mit X und Z anfahren.",
+                     "{code}: the start point is not known; approach a point with X and Z before the cycle."),
+    "TX-E402": Entry(E, "{code}: {address}{value} muss größer als 0 sein.", "{code}: {address}{value} must be greater "
+                     "than 0."),
+    "TX-W403": Entry(W, "{code}: Schnitttiefe D{depth} ist größer als das ganze Aufmaß ({stock} mm); es wird in einem "
+                        "Schnitt geschruppt.",
+                     "{code}: depth of cut D{depth} is larger than the whole stock ({stock} mm); one cut roughs it."),
+    "TX-E404": Entry(E, "{code}: die Kontur läuft in Zeile {second} gegen die Schnittrichtung zurück (nicht "
+                        "monoton); so lässt sie sich nicht schruppen.",
+                     "{code}: the contour runs back against the cutting direction in line {second} (not "
+                     "monotone); it cannot be roughed this way."),
+    "TX-W405": Entry(W, "{code}: die Kontur endet in Zeile {second} außerhalb des Rohteils, das der Startpunkt "
+                        "begrenzt.",
+                     "{code}: the contour ends in line {second} outside the blank bounded by the start point."),
+    "TX-E406": Entry(E, "{code} ergäbe {count} Schnitte, mehr als die erlaubten {limit}; der Zyklus wird nicht "
+                        "ausgeführt.",
+                     "{code} would make {count} cuts, more than the allowed {limit}; the cycle is not executed."),
+    "TX-E407": Entry(E, "{code}: die Gewindesteigung fehlt (F mit 3 oder E mit 5 Nachkommastellen).",
+                     "{code}: the thread pitch is missing (F with 3 or E with 5 decimals)."),
+    "TX-E408": Entry(E, "{code}: die Gewindetiefe K{depth} passt nicht zum Startdurchmesser X{diameter}: der "
+                        "Startpunkt liegt im Gewindeprofil.",
+                     "{code}: the thread depth K{depth} does not suit the start diameter X{diameter}: the start "
+                     "point lies inside the thread profile."),
+    "TX-E409": Entry(E, "{code}: keine Fertigkontur – P und Q (erster und letzter Satz) oder A (Unterprogramm) mit "
+                        "Verfahrsätzen angeben.",
+                     "{code}: no finished contour – give P and Q (first and last block) or A (subprogram) with "
+                     "motion blocks."),
+    "TX-E410": Entry(E, "{code}: die Fertigkontur enthält einen Fehler (Zeile {second}).",
+                     "{code}: the finished contour contains an error (line {second})."),
+    "TX-E411": Entry(E, "{code} als Bohrzyklus: {address} ist hier nicht erlaubt.",
+                     "{code} as a drilling cycle: {address} is not allowed here."),
+    "TX-E412": Entry(E, "{code}: die Wirkung von {address} ist in der Anleitung nicht festgelegt und wird noch "
+                        "nicht unterstützt; der Zyklus wird nicht ausgeführt.",
+                     "{code}: the effect of {address} is not fixed by the manual and is not supported yet; the "
+                     "cycle is not executed."),
+    "TX-W413": Entry(W, "{code}: nichts zu zerspanen – der Startpunkt liegt schon auf der Kontur.",
+                     "{code}: nothing to cut – the start point already lies on the contour."),
+    "TX-E414": Entry(E, "G81 wiederholt nur einen unmittelbar vorangehenden G77-, G78- oder G79-Schnitt.",
+                     "G81 repeats only a G77, G78 or G79 pass right before it."),
+    "TX-E416": Entry(E, "Kegelwinkel J{value} außerhalb von ±45°.", "Taper angle J{value} outside ±45°."),
+    "TX-E417": Entry(E, "G82 Gewindebohren braucht die drehende Hauptspindel (G97 S…, M3/M4); mit angetriebenen "
+                        "Werkzeugen geht es nicht.",
+                     "G82 tapping needs the main spindle turning (G97 S…, M3/M4); it does not work with driven "
+                     "tools."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),

@@ -54,6 +54,9 @@ class Move:
     programmed_end: Vec3 | None = None  # the contour point before compensation (None: same as end)
     source: str | None = None  # the library subprogram of the block ("L200"); None: the program file
     call_stack: tuple[tuple[str | None, int], ...] = ()  # calling blocks (source, line), outermost first
+    cycle: tuple[str, int, int] | None = None  # made by a cycle: (code "G71", pass n, of m passes)
+    thread: bool = False  # a thread-cutting feed: the feed per revolution is the pitch
+    pitch: float | None = None  # mm per revolution of a thread move
 
     @property
     def line(self) -> int:
@@ -107,6 +110,9 @@ class Move:
             "programmed_end": _v(self.programmed_end if self.programmed_end is not None else self.end),
             "source": self.source,
             "call_stack": [{"source": src, "line": line} for src, line in self.call_stack],
+            **({} if self.cycle is None else {"cycle": {"code": self.cycle[0], "pass": self.cycle[1],
+                                                        "of": self.cycle[2]}}),
+            **({"thread": True, "pitch": self.pitch} if self.thread else {}),
         }
 
 

@@ -52,9 +52,9 @@ EXPECTED: dict[str, list[tuple[str, int]]] = {
     "tx-19-g1.nc": [(NO_TOOL, 2), (NO_TOOL, 3), (NO_TOOL, 5), (NO_TOOL, 6), (NO_END, 6)],
     "tx-20-winkel-a.nc": [(NO_TOOL, n) for n in (3, 4, 5, 6, 9, 10, 11, 12)] + [(NO_END, 12)],
     "tx-26-verweilzeit.nc": [],
-    "tx-43-g22-unterprogramm.nc": [("PAL-E901", 23)],  # G82 tapping: the next issue
+    "tx-43-g22-unterprogramm.nc": [],
     "tx-44-g22-abschnitt.nc": [],
-    "tx-45-wertfreies-unterprogramm.nc": [("PAL-E901", 29)],
+    "tx-45-wertfreies-unterprogramm.nc": [],
     "tx-47-ausblendsatz.nc": [(NO_TOOL, 3), (NO_END, 3)],
     "tx-49-l-parameter.nc": [],
 }
@@ -68,7 +68,7 @@ def test_example_gives_exactly_its_diagnostics(name: str) -> None:
 def test_every_traub_seed_file_is_covered() -> None:
     mine = {p.name for p in SEEDS.glob("tx-*.nc")} - set(EXPECTED)
     theirs = {p for p in mine if p[:5] in {"tx-17", "tx-21", "tx-22", "tx-23", "tx-24", "tx-25", "tx-27", "tx-28",
-                                           "tx-48"}}
+                                           "tx-48"} | {f"tx-{n}" for n in range(29, 43)}}  # cycles: test_traub_cycles
     assert mine == theirs
 
 
@@ -238,8 +238,11 @@ def _geometry(tp: Toolpath) -> list[tuple[str, tuple[float, ...], tuple[float, .
 
 def test_tx43_subprogram_centres_and_drills() -> None:
     tp = traub("tx-43-g22-unterprogramm.nc")
-    feeds = [(e, m.spindle) for e, m in zip(ends(tp), tp.moves) if m.kind == "feed"]
+    feeds = [(e, m.spindle) for e, m in zip(ends(tp), tp.moves) if m.kind == "feed" and not m.thread]
     assert feeds == [((0.0, -6.0), 1000), ((0.0, -25.0), 1000)]
+    taps = [(e, m.pitch, m.spindle_direction) for e, m in zip(ends(tp), tp.moves) if m.thread]
+    assert [t[0][1] for t in taps] == [-15.0, taps[1][0][1]] and taps[0][1] == 0.9  # G82: in, and out reversed
+    assert taps[0][2] != taps[1][2]
     assert [c.tool for c in tp.tool_changes] == [3, 4, 5]
     assert ends(tp)[-1] == (460.0, 435.0)  # G27: Z first, then X to the change point X460 Z585 (G59 Z150)
 
@@ -247,7 +250,7 @@ def test_tx43_subprogram_centres_and_drills() -> None:
 def test_tx45_value_free_subprogram_gives_the_toolpath_of_tx43() -> None:
     a, b = traub("tx-43-g22-unterprogramm.nc"), traub("tx-45-wertfreies-unterprogramm.nc")
     assert _geometry(a) == _geometry(b)
-    speeds = [m.spindle for m in b.moves if m.kind == "feed"]
+    speeds = [m.spindle for m in b.moves if m.kind == "feed" and not m.thread]
     assert speeds == pytest.approx([795.775, 868.118], abs=TOL)  # 30·1000/(12π), 30·1000/(11π)
     assert b.params == {1: 11, 2: 12, 3: 15, 4: 25, 5: 1}
     assert [d.seconds for d in b.dwells] == [0.5]

@@ -2,8 +2,8 @@
 
 Source: ../shared/spec/traub-tx8d-turning.md (line references L… into the manual) and the rulings
 12 and 15–22 of ../shared/spec/DECISIONS.md. X is a diameter, U (and I of G2/G3) a radius value.
-Codes marked PLANNED (the cycles G70–G89, threads, milling functions) parse and are checked for
-their words; executing them yields a "not supported yet" diagnostic until their issue lands.
+Codes marked PLANNED (G70, G73, G86, G34, milling functions) parse and are checked for their words;
+executing them yields a "not supported yet" diagnostic. The other cycles run in core.interpreter.traub_cycles.
 """
 
 from __future__ import annotations
@@ -49,7 +49,7 @@ def _planned(name: str, de: str, en: str, words: frozenset[str] = frozenset(), g
                 feature_de=f"{name} ({de})", feature_en=f"{name} ({en})")
 
 
-CYCLE_WORDS = AXES | {"I", "K", "D", "H", "P", "Q", "A", "J", "L"}
+CYCLE_WORDS = AXES | {"I", "K", "D", "H", "P", "Q", "A", "J", "L", "R"}
 
 _CODES = [
     _motion("G0", "Gerade im Eilgang (X Durchmesser, U Radius-Inkrement)",
@@ -89,9 +89,9 @@ _CODES = [
     Code("G28", None, "Eilgang zum Referenzpunkt (X/Z: Hilfspunkt vorher)",
          "rapid to the reference point (X/Z: an intermediate point first)", words=AXES | SETUP_WORDS,
          owns_block=True),
-    Code("G33", "motion", "Gewindeschneiden, Einzelsatz", "thread cutting, single block",
-         words=AXES | TECHNOLOGY, owns_block=True, support=P, feature_de="Gewindeschneiden G33",
-         feature_en="thread cutting G33"),
+    Code("G33", "motion", "Gewindeschneiden, Einzelsatz: X/Z Endpunkt, F (3) oder E (5 Nachkommastellen) "
+         "Steigung, selbsthaltend", "thread cutting, single block: X/Z end, pitch F (3) or E (5 decimals), modal",
+         words=AXES | TECHNOLOGY, owns_block=True),
     _planned("G34", "Gewindeschneiden mit veränderlicher Steigung", "thread cutting with variable pitch",
              AXES | {"K"}),
     _planned("G36", "Programmspeicher öffnen", "open program memory"),
@@ -118,23 +118,53 @@ _CODES = [
     _setup("G66", "barriers", "Barrieren ein (Einschaltzustand)", "barriers on (switch-on)"),
     *(_planned(f"G{n}", de, en, CYCLE_WORDS) for n, de, en in (
         (70, "Schruppzyklus längs mit negativem Einstellwinkel", "longitudinal roughing, negative setting angle"),
-        (71, "Schruppzyklus längs", "longitudinal roughing cycle"),
-        (72, "Schruppzyklus plan", "facing roughing cycle"),
         (73, "Schruppzyklus konturparallel", "contour-parallel roughing cycle"),
-        (74, "Schruppzyklus längs mit Spanunterbrechung", "longitudinal roughing with chip breaking"),
-        (75, "Schruppzyklus plan mit Spanunterbrechung", "facing roughing with chip breaking"),
-        (76, "Gewindeschneidzyklus längs", "thread cutting cycle, longitudinal"),
-        (77, "Fasenzyklus längs", "chamfer cycle, longitudinal"),
-        (78, "Gewindeschneidzyklus für Sondergewinde", "thread cutting cycle, special threads"),
-        (79, "Fasenzyklus plan", "chamfer cycle, facing"),
-        (81, "Wiederholzyklus (G77, G78, G79)", "repeat cycle (G77, G78, G79)"),
-        (82, "Gewindebohrzyklus", "tapping cycle"),
-        (83, "Tieflochbohrzyklus 1", "deep-hole drilling cycle 1"),
-        (84, "Tieflochbohrzyklus 2", "deep-hole drilling cycle 2"),
         (86, "Gewindeschneidzyklus plan", "face thread cutting cycle"),
     )),
-    Code("G88", "falling", "Fallende Kontur ein (G71, G72, G73)", "falling contour on (G71, G72, G73)",
-         words=SETUP_WORDS, support=P, feature_de="Fallende Kontur G88", feature_en="falling contour G88"),
+    # the cycles of core.interpreter.traub_cycles (spec §11–§12, DECISIONS 20)
+    *(Code(f"G{n}", None, de, en, words=CYCLE_WORDS | TECHNOLOGY, owns_block=True) for n, de, en in (
+        (71, ("Schruppzyklus längs gegen Kontur: P/Q erster/letzter Konturs. oder A Unterprogramm, I/K Aufmaß "
+             "(I als Radius), D Schnitttiefe (Radius), E Vorschub fallender Kontur"),
+         ("longitudinal roughing against contour: P/Q first/last contour block or A subprogram, I/K allowance "
+         "(I radius), D depth of cut (radius), E feed on falling sections")),
+        (72, ("Schruppzyklus plan gegen Kontur: P/Q oder A, I/K Aufmaß, D Schnitttiefe in Z, E Vorschub fallender "
+             "Kontur"),
+         ("facing roughing against contour: P/Q or A, I/K allowance, D depth of cut in Z, E feed on falling "
+         "sections")),
+        (74, ("Schruppzyklus längs mit Spanunterbrechung: X/Z Endpunkt, I Schnitttiefe (Radius), K Schnittlänge "
+             "bis zur Unterbrechung, D Abheben (negativ: ab 2. Schnitt); ohne X/U: Bohren"),
+         ("longitudinal roughing with chip breaking: X/Z end, I depth (radius), K cut length between "
+         "interruptions, D lift (negative: from the 2nd cut); without X/U: drilling")),
+        (75, ("Schruppzyklus plan mit Spanunterbrechung: X/Z Endpunkt, K Schnitttiefe, I Schnittlänge bis zur "
+             "Unterbrechung (Radius), D Abheben; ohne Z/W: Querbohren"),
+         ("facing roughing with chip breaking: X/Z end, K depth, I cut length between interruptions (radius), "
+         "D lift; without Z/W: cross drilling")),
+        (76, ("Gewindeschneidzyklus längs: X/Z Endpunkt im Gewindegrund, K Gewindetiefe, H Schnittzahl, D letzte "
+             "Zustellung, A Zustellwinkel, J Kegelwinkel, F/E Steigung"),
+         ("thread cutting cycle, longitudinal: X/Z end at the root, K thread depth, H passes, D last infeed, "
+         "A infeed angle, J taper angle, F/E pitch")),
+        (77, "Fasenzyklus längs: X/Z Ziel, I Fasenweg in X, K Weg bis Fasenanfang in Z",
+         "chamfer cycle, longitudinal: X/Z target, I chamfer in X, K distance to the chamfer start in Z"),
+        (78, ("Gewindeschneidzyklus für Sondergewinde (ein Schnitt, weitere mit G81): X/Z Ziel, I/K Auslauffase, "
+             "F/E Steigung"),
+         ("thread cutting cycle for special threads (one pass, more with G81): X/Z target, I/K run-out chamfer, "
+         "F/E pitch")),
+        (79, "Fasenzyklus plan: X/Z Ziel, I Weg bis Fasenanfang in X, K Fasenweg in Z",
+         "chamfer cycle, facing: X/Z target, I distance to the chamfer start in X, K chamfer in Z"),
+        (81, "Wiederholzyklus für G77, G78, G79: U/W Versatz je Schnitt (U Radius), H Anzahl",
+         "repeat cycle for G77, G78, G79: U/W shift per pass (U radius), H number"),
+        (82, ("Gewindebohrzyklus: Z/W Tiefe, F Vorschub bis 20 % unter der Steigung; zurück mit umgekehrter "
+             "Drehrichtung"),
+         "tapping cycle: Z/W depth, F feed up to 20 % below the pitch; back with the spindle reversed"),
+        (83, "Tieflochbohrzyklus 1: Z/W Endtiefe, D erste Bohrtiefe, H gleiche Abschnitte der Resttiefe",
+         "deep-hole drilling cycle 1: Z/W final depth, D first depth, H equal sections of the rest"),
+        (84, ("Tieflochbohrzyklus 2: Z/W Endtiefe, D Eilgangweg, I erste, K weitere Bohrtiefen, A Sicherheitsabstand, "
+             "Q/R Verweilzeiten"),
+         ("deep-hole drilling cycle 2: Z/W final depth, D rapid distance, I first, K further depths, A safety "
+         "distance, Q/R dwells")),
+    )),
+    Code("G88", "falling", "Fallende Kontur ein: G71/G72 schruppen fallende Abschnitte (Vorschub E)",
+         "falling contour on: G71/G72 rough falling sections (feed E)", words=SETUP_WORDS),
     _setup("G89", "falling", "Fallende Kontur aus", "falling contour off"),
     _setup("G90", None, "Absolutmaß für C- und R-Achse (X/Z bleiben absolut, U/W inkremental)",
            "absolute dimensions for the C and R axes (X/Z stay absolute, U/W incremental)"),

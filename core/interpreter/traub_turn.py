@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.interpreter import Toolpath, _steps, turn_contour
+from core.interpreter import Toolpath, _steps, traub_cycles, turn_contour
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
 from core.limits import DIAGNOSTIC_STEPS
@@ -343,6 +343,8 @@ class TurnRun:
         self.callee_reads: dict[int, tuple[float, str]] = {}  # L read by a called program: value, program
         self.late: dict[int, tuple[Span, str]] = {}  # L assigned another value after such a read
         self._state: ModalState | None = None
+        self.programs: list[Unit] = []  # the main program and every O program of the run (cycle contours)
+        self.cycles = traub_cycles.CycleState()
 
     # -- helpers ------------------------------------------------------------------------------
 
@@ -523,7 +525,12 @@ class TurnRun:
                 out.items.append(SrkSwitch(c.name, w.span, self.nose))  # type: ignore[arg-type]
 
         # -- the motion, dwell, change point or call --------------------------------------------
-        if moving and motion is not None:
+        cycle = "G33" if moving and motion is not None and motion.name == "G33" else (
+            owner.name if owner is not None and owner.name in traub_cycles.CODES else None)
+        if cycle is not None:  # cycles and threads: core.interpreter.traub_cycles
+            traub_cycles.execute(self, block, cycle, words, values, out)
+            t.first_after_t = False
+        elif moving and motion is not None:
             self._motion(motion.name, words, values, span, out)
             t.first_after_t = False
         elif owner is not None and owner.name == "G4":
@@ -729,6 +736,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         for u in (lib_main, *lib_others):
             if u.number is not None:
                 units.setdefault(u.number, u)
+    run.programs = [main, *units.values()]
     n_lines = len(program.blocks)
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines

@@ -1,0 +1,21 @@
+(G74 mit Spanunterbrechung)
+G97 S800 T101 M04
+G0 X70 Z1
+G74 X30 Z-50 I5 K8 D1 F0.3
+G26
+(G74 ohne Spanunterbrechung)
+T101
+G0 X70 Z1
+G74 X30 Z-50 I5 K51 D1 F0.3
+G26
+(Stirneinstich)
+T202
+G0 X62 Z1
+G74 X40 Z-8 I3.7 K9 D-0.3 F0.08
+G26
+(Bohren)
+T303
+G0 X0 Z2
+G74 Z-38 K10 F0.1
+G27
+M30

@@ -1,0 +1,22 @@
+(G75 mit Spanunterbrechung)
+G97 S800 T101 M04
+G0 X72 Z-3
+G75 X25 Z-20 I8 K3 D0.8 F0.25
+G26
+(G75 ohne Spanunterbrechung)
+T101
+G0 X72 Z-3
+G75 X25 Z-20 I23.5 K3 D0.8 F0.25
+G26
+(Einstechen)
+T202
+G0 X54 Z-19
+G75 X40 Z-35 I7 K3.7 D-0.3 F0.08
+G26
+(Querbohren)
+T303 M21 M23
+G0 X62 Z-25
+G94
+G75 U-21 I15 F100
+G26
+M30

@@ -1,0 +1,6 @@
+G97 S300 T505 M3
+G0 X0 Z3 M8
+G82 Z-10 F1
+G4 X0.5 (Verweilzeit)
+G26 M9
+M30

@@ -1,0 +1,370 @@
+"""TRAUB TX 8 D cycles (spec §11–§12, DECISIONS 20, examples TX-30…TX-42): number of passes, where the first and
+the last cutting pass start and end, diagnostics for trainees' mistakes, and properties of the roughing passes.
+
+Moves are [x radius, 0, z]; the helpers report X as a diameter as the program writes it.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from pathlib import Path
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from core.interpreter import Toolpath
+from core.pipeline import run
+from core.toolpath import Move
+from tests.conftest import codes
+
+SEEDS = Path(__file__).with_name("seeds") / "traub"
+TOL = 1e-3
+READY = "G97 S800 T101 M4\n"
+
+
+def traub(text: str) -> Toolpath:
+    return run(text, "traub-tx8d")
+
+
+def seed(name: str) -> Toolpath:
+    return traub((SEEDS / name).read_text(encoding="utf-8"))
+
+
+def xz(p: tuple[float, float, float]) -> tuple[float, float]:
+    return (round(2 * p[0], 3), round(p[2], 3))
+
+
+def cuts(tp: Toolpath, line: int) -> list[Move]:
+    """The feed moves made by the cycle block in `line`."""
+    return [m for m in tp.moves if m.line == line and m.kind == "feed"]
+
+
+def passes(tp: Toolpath, line: int) -> int:
+    tags = {m.cycle for m in tp.moves if m.line == line}
+    assert len({t[2] for t in tags if t is not None}) == 1, tags
+    return next(t[2] for t in tags if t is not None)
+
+
+def first_of_pass(tp: Toolpath, line: int, n: int) -> list[Move]:
+    return [m for m in cuts(tp, line) if m.cycle is not None and m.cycle[1] == n]
+
+
+# -- the manual's examples --------------------------------------------------------------------------
+
+
+EXPECTED: dict[str, list[tuple[str, int]]] = {
+    "tx-30-g71-g88.nc": [],
+    "tx-31-g71-g89.nc": [],
+    "tx-32-g72-g88.nc": [],
+    "tx-33-g72-unterprogramm.nc": [("TX-W103", 26)],  # O520 as printed: below the usual 8000
+    "tx-35-g74.nc": [],
+    "tx-36-g75.nc": [],
+    "tx-37-g83.nc": [],
+    "tx-38-g84.nc": [],
+    "tx-39-g33.nc": [],
+    "tx-40-g76.nc": [],
+    "tx-41-g78-g81.nc": [],
+    "tx-42-g82.nc": [],
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_cycle_example_gives_exactly_its_diagnostics(name: str) -> None:
+    assert codes(seed(name)) == EXPECTED[name]
+
+
+def test_tx30_g71_passes_at_start_minus_depth_spread_evenly_and_g88_follows_the_falling_cone() -> None:
+    tp = seed("tx-30-g71-g88.nc")
+    # stock: radius 50 − (13 + I0.5) = 36.5 mm, D4 → ceil(9.125) = 10 passes of 3.65 mm
+    assert passes(tp, 5) == 10
+    first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 10)
+    assert (xz(first[0].start), xz(first[0].end)) == ((92.7, 2.0), (92.7, -119.95))  # Z-120 + K0.05
+    assert (xz(last[0].start), xz(last[-1].end)) == ((27.0, 2.0), (27.0, 0.55))  # X26 + 2·I, Z0.5 + K
+    for n in range(1, 11):  # every pass starts with one feed from the start Z
+        assert xz(first_of_pass(tp, 5, n)[0].start)[1] == 2.0
+    falling = [m for m in cuts(tp, 5) if m.feed == pytest.approx(0.12)]
+    assert falling, "G88: the falling cone X65 → X38 is roughed with the reduced feed E0.12"
+    assert min(xz(m.end)[1] for m in falling) < -45
+    assert all(m.kind == "rapid" for m in tp.moves if m.line == 5 and m not in cuts(tp, 5))
+    assert xz(tp.moves[[m.line for m in tp.moves].index(6) - 1].end) == (100.0, 2.0)  # back at the start point
+
+
+def test_tx31_g71_inside_with_g89_skips_the_undercut() -> None:
+    tp = seed("tx-31-g71-g89.nc")
+    # inner: from the bore X30 out to X120 − 2·I0.5 = X119 → 44.5 mm radial at D3.5 → 13 passes
+    assert passes(tp, 5) == 13
+    first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 13)
+    assert len(first) == 1 and xz(first[0].start) == (36.846, 2.0) and xz(first[0].end) == (36.846, -74.95)
+    assert (xz(last[0].start), xz(last[0].end)) == ((119.0, 2.0), (119.0, 1.55))  # to the contour's G0 X120 Z1.5
+    # the undercut U0.3 A150 at Z-62…-62.52 (X60…X60.6) is never entered
+    assert not [m for m in cuts(tp, 5) if 2 * m.end[0] > 59.5 and m.end[2] < -62.0]
+
+
+def test_tx32_g72_facing_levels_in_z() -> None:
+    tp = seed("tx-32-g72-g88.nc")
+    # Z1 − (Z-35 + K0.5) = 35.5 at D3.5 → 11 passes of 3.2273
+    assert passes(tp, 5) == 11
+    first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 11)
+    assert (xz(first[0].start), xz(first[0].end)) == ((145.0, -2.227), (25.2, -2.227))  # X25 + 2·I0.1
+    assert (xz(last[0].start), xz(last[0].end)) == ((145.0, -34.5), (120.2, -34.5))  # in the R10 rounding
+    assert [m for m in cuts(tp, 5) if m.feed == pytest.approx(0.1)], "G88: the cone Z-8 → Z-16 is followed"
+
+
+O520_ALONE = """G0 X30 Z2
+G22 A520
+M30
+%
+O520
+G46
+G0 X33 Z-40
+G1 X85.6 R0,6 F0.2
+G1 A0
+G1 X85 Z-37 A150
+G1 Z-25
+G1 A90
+G1 X110 Z-12 A220
+G1 X140
+G1 Z0 R3
+G1 X150
+G40
+M99
+%
+"""
+
+
+def test_tx33_contour_in_a_subprogram_and_the_two_contours_coincide() -> None:
+    tp = seed("tx-33-g72-unterprogramm.nc")
+    # Z2 − (Z-40 + K0.05) = 41.95 at D3.5 → 12 passes
+    assert passes(tp, 5) == 12
+    first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 12)
+    assert (xz(first[0].start), xz(first[0].end)) == ((30.0, -1.496), (139.767, -1.496))  # in the R3 rounding
+    assert (xz(last[0].start), xz(last[0].end)) == ((30.0, -39.95), (32.0, -39.95))  # X33 − 2·I0.5
+    finishing = {xz(m.end) for m in tp.moves if 10 <= m.line <= 20}
+    rough = traub(O520_ALONE)
+    corners = [xz(m.end) for m in rough.moves if m.kind != "rapid"][:-1]  # without X150, where finishing starts
+    assert (88.183, -25.0) in corners and (85.6, -37.52) in corners
+    assert set(corners) <= finishing | {xz(m.start) for m in tp.moves if 10 <= m.line <= 20}
+
+
+def test_tx35_g74_interrupted_uninterrupted_face_groove_and_drilling() -> None:
+    tp = seed("tx-35-g74.nc")
+    assert passes(tp, 4) == 4  # radial 20 mm, I5
+    one = first_of_pass(tp, 4, 1)
+    assert [xz(m.end) for m in one] == [(60.0, z) for z in (-7.0, -15.0, -23.0, -31.0, -39.0, -47.0, -50.0)]
+    assert xz(one[1].start) == (60.0, -6.5)  # backed off 0.5 mm between the cuts
+    assert [xz(m.end) for m in cuts(tp, 9)] == [(x, -50.0) for x in (60.0, 50.0, 40.0, 30.0)]  # K51: no break
+    assert passes(tp, 14) == 3  # X62 → X40 with I3.7: 11 mm radial in 3 passes of 3.667
+    assert [xz(m.end)[0] for m in cuts(tp, 14)] == [54.667, 47.333, 40.0]
+    after = [m for m in tp.moves if m.line == 14 and m.kind == "rapid"]
+    first_return = next(m for m in after if m.cycle is not None and m.cycle[1] == 1 and m.end[2] > m.start[2])
+    assert xz(first_return.end)[0] == 54.667  # D-0.3: no lift on the first cut
+    second_return = next(m for m in after if m.cycle is not None and m.cycle[1] == 2 and m.end[2] > m.start[2])
+    assert xz(second_return.end)[0] == pytest.approx(47.333 + 0.6, abs=TOL)
+    assert [xz(m.end) for m in cuts(tp, 19)] == [(0.0, -8.0), (0.0, -18.0), (0.0, -28.0), (0.0, -38.0)]
+
+
+def test_tx36_g75_uneven_depth_grooving_and_cross_drilling() -> None:
+    tp = seed("tx-36-g75.nc")
+    assert passes(tp, 4) == 6  # Z-3 → Z-20 with K3: 17 mm in 6 passes of 2.8333
+    levels = sorted({xz(m.end)[1] for m in cuts(tp, 4)}, reverse=True)
+    assert levels == [-5.833, -8.667, -11.5, -14.333, -17.167, -20.0]
+    assert [xz(m.end)[0] for m in first_of_pass(tp, 4, 1)] == [56.0, 40.0, 25.0]  # I8 radial breaks
+    assert len(first_of_pass(tp, 9, 1)) == 1  # I23.5 = (72 − 25)/2: no interruption
+    assert passes(tp, 14) == 5 and xz(cuts(tp, 14)[0].end) == (40.0, -22.2)
+    assert [xz(m.end) for m in cuts(tp, 20)] == [(32.0, -25.0), (20.0, -25.0)]  # U-21 from X62, I15
+
+
+def test_tx37_g83_first_depth_then_h_equal_sections() -> None:
+    tp = seed("tx-37-g83.nc")
+    assert [xz(m.end)[1] for m in cuts(tp, 3)] == [-30.0, -50.0, -70.0, -90.0]
+    assert passes(tp, 3) == 4
+    rapids = [xz(m.end)[1] for m in tp.moves if m.line == 3 and m.kind == "rapid"]
+    assert rapids[:2] == [5.0, -29.5]  # out to the start, back in to the safety distance
+
+
+def test_tx38_g84_rapid_distance_first_and_further_depths() -> None:
+    tp = seed("tx-38-g84.nc")
+    cycle = [m for m in tp.moves if m.line == 9]
+    assert cycle[0].kind == "rapid" and xz(cycle[0].end) == (0.0, -14.0)
+    assert [xz(m.end)[1] for m in cuts(tp, 9)] == [-27.0, -37.0, -47.0, -52.0]
+    assert len([d for d in tp.dwells if d.span.line == 9]) == 4 + 3  # Q after each depth, R after each retraction
+
+
+def test_tx39_g33_pitch_is_modal() -> None:
+    tp = seed("tx-39-g33.nc")
+    threads = [m for m in tp.moves if m.thread]
+    assert [xz(m.end) for m in threads] == [(29.2, -29.5), (28.8, -29.5), (28.16, -29.5)]
+    assert [m.pitch for m in threads] == [1.5, 1.5, 1.5] and all(m.kind == "feed" for m in threads)
+
+
+def test_tx40_g76_constant_chip_area_and_taper() -> None:
+    tp = seed("tx-40-g76.nc")
+    one = [m for m in tp.moves if m.line == 4 and m.thread]
+    assert len(one) == 8 and passes(tp, 4) == 8
+    k = 0.92
+    assert 2 * one[0].end[0] == pytest.approx(33.1 + 2 * (k - k * math.sqrt(1 / 7)), abs=TOL)
+    assert xz(one[-1].end) == (33.1, -29.0) and one[-1].pitch == 1.5
+    two = [m for m in tp.moves if m.line == 9 and m.thread]  # start X20 < X24: an inner thread
+    assert len(two) == 7 and xz(two[-1].end) == (24.0, -24.0) and two[0].end[0] < two[-1].end[0]
+    three = [m for m in tp.moves if m.line == 14 and m.thread]
+    assert len(three) == 10
+    assert (xz(three[-1].start), xz(three[-1].end)) == ((29.268, 6.0), (30.836, -19.1))  # J1.789: 1:16 on X
+
+
+def test_tx41_g78_with_g81_splits_the_last_infeed() -> None:
+    tp = seed("tx-41-g78-g81.nc")
+    threads = [m for m in tp.moves if m.thread]
+    diameters = [xz(m.end)[0] for m in threads]
+    assert diameters[0] == 19.5 and diameters[-1] == 15.5  # 19.5 − 2·10·0.2: core of Tr 20 × 4
+    assert diameters[-5:] == [15.9, 15.7, 15.6, 15.55, 15.5]  # U/2, U/4, U/8, U/8
+    assert all(m.pitch == 4 for m in threads)
+
+
+def test_tx42_g82_taps_in_and_back_out_with_the_spindle_reversed() -> None:
+    tp = seed("tx-42-g82.nc")
+    taps = [m for m in tp.moves if m.line == 3]
+    assert [(xz(m.end), m.thread, m.pitch) for m in taps] == [((0.0, -10.0), True, 1.0), ((0.0, 3.0), True, 1.0)]
+    assert taps[0].spindle_direction == "cw" and taps[1].spindle_direction == "ccw"
+
+
+def test_cycle_moves_carry_the_cycle_in_json() -> None:
+    tp = seed("tx-42-g82.nc")
+    data = next(m for m in tp.moves if m.line == 3).to_json()
+    assert data["cycle"] == {"code": "G82", "pass": 1, "of": 1}
+    assert data["thread"] is True and data["pitch"] == 1.0
+    assert "cycle" not in tp.moves[0].to_json() and "thread" not in tp.moves[0].to_json()
+
+
+# -- diagnostics ---------------------------------------------------------------------------------------
+
+
+CONTOUR = """N10 G0 X20 Z0.5
+G1 Z-20 F0.2
+G1 X40
+G1 Z-40
+N20 G1 X60
+"""
+
+
+@pytest.mark.parametrize(("case", "program", "expected"), [
+    ("depth zero", READY + "G0 X60 Z2\nG71 P10 Q20 D0 F0.3\n" + CONTOUR + "M30", ("TX-E402", 3)),
+    ("no contour blocks", READY + "G0 X60 Z2\nG71 P10 Q30 D2 F0.3\n" + CONTOUR + "M30", ("TX-E304", 3)),
+    ("falling and undercut with G88", READY + "G0 X60 Z2\nG88\nG71 P10 Q20 D2 F0.3\n"
+     "N10 G0 X20 Z0.5\nG1 Z-20 F0.2\nG1 X40\nG1 Z-10\nN20 G1 X60\nM30", ("TX-E404", 4)),
+    ("contour ends outside the blank", READY + "G0 X50 Z2\nG71 P10 Q20 D2 F0.3\n" + CONTOUR + "M30",
+     ("TX-W405", 3)),
+    ("too many passes", READY + "G0 X60 Z2\nG71 P10 Q20 D0.01 F0.3\n" + CONTOUR + "M30", ("TX-E406", 3)),
+    ("missing pitch", READY + "G0 X30 Z4\nG33 Z-20\nM30", ("TX-E407", 3)),
+    ("thread deeper than the start allows", READY + "G0 X33.5 Z4\nG76 X33.1 Z-29 K0.92 H8 F1.5\nM30",
+     ("TX-E408", 3)),
+    ("G74 drilling with I", READY + "G0 X0 Z2\nG74 Z-38 I2 K10 F0.1\nM30", ("TX-E411", 3)),
+    ("G75 cross drilling with K", READY + "G0 X62 Z-25\nG75 U-21 I15 K2 F0.1\nM30", ("TX-E411", 3)),
+    ("chip breaking beyond the move budget", READY + "G0 X60 Z1\nG74 X20 Z-400 I1 K0.001 F0.2\nM30",
+     ("TX-E406", 3)),
+    ("G81 without G77/G78/G79", READY + "G0 X30 Z2\nG81 U-0.2 H3\nM30", ("TX-E414", 3)),
+    ("taper beyond 45°", READY + "G0 X40 Z4\nG76 X33.1 Z-29 J50 K0.9 H4 F1.5\nM30", ("TX-E416", 3)),
+    ("G76 with I", READY + "G0 X40 Z4\nG76 X33.1 Z-29 I1 K0.9 H4 F1.5\nM30", ("TX-E412", 3)),
+    ("tapping without the spindle", "G97 S300 T505 M5\nG0 X0 Z3\nG82 Z-10 F1\nM30", ("TX-E417", 3)),
+])
+def test_cycle_diagnostics(case: str, program: str, expected: tuple[str, int]) -> None:
+    assert expected in codes(traub(program)), case
+
+
+def test_stock_smaller_than_the_depth_is_one_pass_with_a_warning() -> None:
+    tp = traub(READY + "G0 X44 Z2\nG71 P10 Q20 D15 F0.3\n" + CONTOUR.replace("X60", "X44") + "M30")
+    assert ("TX-W403", 3) in codes(tp) and passes(tp, 3) == 1
+
+
+def test_too_many_passes_reports_the_limit() -> None:
+    tp = traub(READY + "G0 X60 Z2\nG71 P10 Q20 D0.01 F0.3\n" + CONTOUR + "M30")
+    d = next(x for x in tp.diagnostics if x.code == "TX-E406")
+    assert "2000" in d.message and "500" in d.message  # 20 mm radial at D0.01 and not [m for m in tp.moves if m.line == 3]
+
+
+# -- properties of the roughing passes ---------------------------------------------------------------
+
+
+def _boundary(points: list[tuple[float, float]], z: float) -> float:
+    """The radius of the (z-monotone, falling z) outer contour at z; the lowest at a step."""
+    best = math.inf
+    for (x0, z0), (x1, z1) in itertools.pairwise(points):
+        if min(z0, z1) - 1e-9 <= z <= max(z0, z1) + 1e-9:
+            best = min(best, x0 if abs(z1 - z0) < 1e-12 else x0 + (x1 - x0) * (z - z0) / (z1 - z0))
+    return best
+
+
+@st.composite
+def staircase(draw: st.DrawFn) -> list[tuple[float, float]]:
+    """An outer turning contour as radius steps rising towards -Z (x radius, z)."""
+    n = draw(st.integers(1, 4))
+    x, z = draw(st.floats(3, 10)), draw(st.floats(-0.5, 0.5))
+    pts = [(x, z)]
+    for _ in range(n):
+        z -= draw(st.floats(2, 15))
+        pts.append((x, z))
+        x += draw(st.floats(0.5, 8))
+        if draw(st.booleans()):
+            pts.append((x, z - draw(st.floats(0.5, 4))))  # a cone
+        else:
+            pts.append((x, z))
+        z = pts[-1][1]
+    return pts
+
+
+def _program(code: str, pts: list[tuple[float, float]], start: tuple[float, float], depth: float,
+             allowance: tuple[float, float]) -> str:
+    blocks = [f"N10 G0 X{2 * pts[0][0]:.4f} Z{pts[0][1]:.4f}"]
+    blocks += [f"G1 X{2 * x:.4f} Z{z:.4f}" for x, z in pts[1:]]
+    blocks[-1] = "N20 " + blocks[-1]
+    return (READY + f"G0 X{2 * start[0]:.4f} Z{start[1]:.4f}\nG89\n{code} P10 Q20 I{allowance[0]:.3f} "
+            f"K{allowance[1]:.3f} D{depth:.3f} F0.3\n" + "\n".join(blocks) + "\nM30\n")
+
+
+@settings(max_examples=40, deadline=None)
+@given(staircase(), st.floats(0.5, 4), st.floats(0, 0.4), st.floats(0, 0.3))
+def test_g71_passes_stay_outside_contour_plus_allowance_and_inside_the_blank(
+        pts: list[tuple[float, float]], depth: float, ai: float, ak: float) -> None:
+    start = (pts[-1][0], pts[0][1] + 2)  # the blank: up to the highest step, in front of the face
+    pts = [(round(x, 3), round(z, 3)) for x, z in pts]
+    depth, ai, ak = round(depth, 3), round(ai, 3), round(ak, 3)
+    start = (pts[-1][0], pts[0][1] + 2)
+    tp = traub(_program("G71", pts, start, depth, (ai, ak)))
+    assert not [d for d in tp.diagnostics if d.severity.value == "error"], tp.diagnostics
+    shifted = [(x + ai, z + ak) for x, z in pts]
+    feeds = cuts(tp, 4)
+    assert feeds, _program("G71", pts, start, depth, (ai, ak))
+    for m in feeds:
+        for p in (m.start, m.end, tuple((a + b) / 2 for a, b in zip(m.start, m.end, strict=True))):
+            x, z = p[0], p[2]
+            assert x <= start[0] + 1e-6 and z <= start[1] + 1e-6  # never at feed outside the blank
+            if z <= shifted[0][1]:
+                assert x >= _boundary(shifted, z) - 1e-6 or z < shifted[-1][1] - 1e-6
+    # the union of passes leaves at most the allowance plus one depth step radially
+    step = max(m.cycle[2] for m in feeds if m.cycle is not None)
+    assert step >= 1
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(20, 60), st.floats(5, 19), st.floats(-40, -5), st.floats(0.5, 6), st.floats(4, 30),
+       st.sampled_from(["G74", "G75"]))
+def test_g74_g75_passes_stay_in_the_rectangle(x0: float, x1: float, z1: float, depth: float, every: float,
+                                              code: str) -> None:
+    words = f"I{depth:.3f} K{every:.3f}" if code == "G74" else f"I{every:.3f} K{depth:.3f}"
+    tp = traub(READY + f"G0 X{2 * x0:.3f} Z1\n{code} X{2 * x1:.3f} Z{z1:.3f} {words} D0.5 F0.2\nM30")
+    assert not [d for d in tp.diagnostics if d.severity.value == "error"], tp.diagnostics
+    feeds = cuts(tp, 3)
+    for m in feeds:
+        for p in (m.start, m.end):
+            assert x1 - 1e-3 <= p[0] <= x0 + 1e-3 and z1 - 1e-3 <= p[2] <= 1 + 1e-3
+    depth_axis = 0 if code == "G74" else 2
+    levels = sorted({round(m.end[depth_axis], 6) for m in feeds})
+    gaps = [b - a for a, b in itertools.pairwise(levels)]
+    assert all(g <= depth + 2e-3 for g in gaps)
+    assert min(levels) == pytest.approx(x1 if code == "G74" else z1, abs=1e-3)
+
+
+def test_a_cycle_as_the_first_motion_starts_at_the_tool_change_point() -> None:
+    tp = traub(READY + "G74 X400 Z500 I50 K100 F0.3\nM30")
+    assert passes(tp, 2) == 1 and xz(cuts(tp, 2)[0].start) == (400.0, 585.0)
