@@ -55,6 +55,7 @@ TARGET_PARSE_VS_GCODEPARSER = 1.0  # our parse rate / gcodeparser rate
 TARGET_RUN_VS_PYGCODE = 3.0  # our parse+interpret rate / pygcode Line+Machine rate
 TARGET_REALISTIC_MS = 10.0  # one realistic 300-block program, parsed and interpreted
 TARGET_TURNING_MS = 10.0  # one 300-block TRAUB turning program, parsed and interpreted
+TARGET_CYCLES_MS = 20.0  # one 300-block TRAUB program with four roughing cycles and a thread cycle
 
 
 # ----------------------------------------------------------------------------------------------
@@ -195,6 +196,39 @@ def generate_turning() -> str:
     while len(out) < 298:
         out.insert(-4, "G0 X0 Z1")  # more approaches to the centre hole
     out += ["M99", "%"]
+    assert len(out) == 300, len(out)
+    return "\n".join(out) + "\n"
+
+
+def generate_turning_cycles() -> str:
+    """A 300-block TRAUB program whose work is done by cycles: G71 and G72 against two long contours (P/Q,
+    the G71 contour after the cycle), G75 grooving, G74 with chip breaking, a G76 thread; then both contours
+    run again as finishing passes."""
+    out: list[str] = ["%", "O 4712", "G59 X0 Z210", "N1 G96 V200 T0303 M4", "G92 S3000", "G0 X84 Z2 M8",
+                      "G71 P10 Q20 I0.5 K0.1 D2 F0.3", "G26", "N2 G96 V200 T0404 M4", "G0 X86 Z1",
+                      "G72 P30 Q40 I0.2 K0.3 D1.5 F0.25", "G26", "N3 G97 S600 T0505 M4", "G0 X86 Z-70",
+                      "G75 X60 Z-80 I5 K3 D0.5 F0.1", "G26", "N4 G97 S800 T0606 M4", "G0 X84 Z1",
+                      "G74 X70 Z-30 I2 K10 D0.5 F0.2", "G26", "N5 G97 S1000 T0707 M3", "G0 X44 Z4",
+                      "G76 X38.16 Z-25 K0.92 H8 F1.5", "G26", "N6 G96 V250 T0808 M4", "N10 G0 X30 Z1",
+                      "G1 Z0 F0.15"]
+    x, z = 30.0, 0.0
+    for _ in range(60):  # a staircase rising towards -Z: Ø30 → Ø78
+        z -= 1.5
+        out.append(f"G1 Z{fmt(z)}")
+        x += 0.8
+        out.append(f"G1 X{fmt(x)} Z{fmt(z - 0.3)}")
+        z -= 0.3
+    out += ["N20 G1 X84", "G26", "N7 G96 V250 T0909 M4", "N30 G0 X86 Z-110", "G1 X80 F0.15"]
+    x, z = 80.0, -110.0
+    for _ in range(40):  # the face side: falling diameter, rising Z
+        z += 2.5
+        out.append(f"G1 Z{fmt(z)}")
+        x -= 0.9
+        out.append(f"G1 X{fmt(x)}")
+    out.append("N40 G1 Z0.5")
+    while len(out) < 297:
+        out.append("G0 X90 Z5")
+    out += ["G26", "M30", "%"]
     assert len(out) == 300, len(out)
     return "\n".join(out) + "\n"
 
@@ -388,6 +422,12 @@ def main(argv: list[str] | None = None) -> int:
     errs = errors_of(tp)
     assert errs == [], f"turning program: {len(errs)} errors, first: {errs[:3]}"
     turning_ms = best_time(20, run, turning, "traub-tx8d") * 1000
+    cycles = generate_turning_cycles()
+    tp = run(cycles, "traub-tx8d")
+    errs = errors_of(tp)
+    assert errs == [], f"turning cycles program: {len(errs)} errors, first: {errs[:3]}"
+    assert {m.cycle[0] for m in tp.moves if m.cycle is not None} == {"G71", "G72", "G74", "G75", "G76"}
+    cycles_ms = best_time(20, run, cycles, "traub-tx8d") * 1000
 
     print()
     print("Targets")
@@ -428,6 +468,12 @@ def main(argv: list[str] | None = None) -> int:
     print(
         f"  300-block TRAUB turning program, run (best of 20): {turning_ms:6.2f} ms "
         f"(target < {TARGET_TURNING_MS:.0f} ms)  {verdict(ok)}"
+    )
+    ok = cycles_ms < TARGET_CYCLES_MS
+    all_ok &= ok
+    print(
+        f"  300-block TRAUB program with cycles, run (best of 20): {cycles_ms:6.2f} ms "
+        f"(target < {TARGET_CYCLES_MS:.0f} ms)  {verdict(ok)}"
     )
     print()
     note = f" ({skipped} comparison(s) skipped)" if skipped else ""

@@ -368,3 +368,24 @@ def test_g74_g75_passes_stay_in_the_rectangle(x0: float, x1: float, z1: float, d
 def test_a_cycle_as_the_first_motion_starts_at_the_tool_change_point() -> None:
     tp = traub(READY + "G74 X400 Z500 I50 K100 F0.3\nM30")
     assert passes(tp, 2) == 1 and xz(cuts(tp, 2)[0].start) == (400.0, 585.0)
+
+
+def test_the_benchmark_cycles_program_runs_clean_and_quickly() -> None:
+    import importlib.util
+    import time
+
+    spec = importlib.util.spec_from_file_location("bench_interpreter", Path(__file__).parents[1] / "bench" /
+                                                  "interpreter.py")
+    assert spec is not None and spec.loader is not None
+    bench = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(bench)
+    text = bench.generate_turning_cycles()
+    assert len(text.splitlines()) == 300
+    best = math.inf
+    for _ in range(3):
+        t0 = time.perf_counter()
+        tp = traub(text)
+        best = min(best, time.perf_counter() - t0)
+    assert codes(tp) == []
+    assert {m.cycle[0] for m in tp.moves if m.cycle is not None} == {"G71", "G72", "G74", "G75", "G76"}
+    assert best < 0.2  # the benchmark's target is 20 ms; a loaded CI machine gets ten times that
