@@ -463,6 +463,15 @@ CATALOGUE: dict[str, Entry] = {
     "TX-E414": Entry(E, "G81 wiederholt nur einen unmittelbar vorangehenden G77-, G78- oder G79-Schnitt.",
                      "G81 repeats only a G77, G78 or G79 pass right before it."),
     "TX-E416": Entry(E, "Kegelwinkel J{value} außerhalb von ±45°.", "Taper angle J{value} outside ±45°."),
+    "TX-W418": Entry(W, "G70: die Wirkung des Anstellwinkels J auf die Schnitte legt die Anleitung nicht fest (die "
+                        "Beispielseite fehlt) und wird noch nicht unterstützt; geschruppt wird wie mit G71 mit "
+                        "voller Schnitttiefe D.",
+                     "G70: the manual does not fix how the setting angle J changes the cuts (its example page is "
+                     "missing); it is not supported yet, the cycle roughs like G71 with the full depth D."),
+    "TX-W419": Entry(W, "G70 schneidet immer mit der vollen Tiefe D{depth}: {rest} mm bleiben zusätzlich zum Aufmaß "
+                        "stehen (D so wählen, dass es aufgeht).",
+                     "G70 always cuts the full depth D{depth}: {rest} mm stay on top of the allowance (choose D so "
+                     "that it divides the stock)."),
     "TX-E417": Entry(E, "G82 Gewindebohren braucht die drehende Hauptspindel (G97 S…, M3/M4); mit angetriebenen "
                         "Werkzeugen geht es nicht.",
                      "G82 tapping needs the main spindle turning (G97 S…, M3/M4); it does not work with driven "

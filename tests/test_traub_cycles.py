@@ -55,10 +55,12 @@ def first_of_pass(tp: Toolpath, line: int, n: int) -> list[Move]:
 
 
 EXPECTED: dict[str, list[tuple[str, int]]] = {
+    "tx-29-g70.nc": [("TX-W419", 4), ("TX-W418", 4)],  # 0.05 mm left by the full D; J not in the text
     "tx-30-g71-g88.nc": [],
     "tx-31-g71-g89.nc": [],
     "tx-32-g72-g88.nc": [],
     "tx-33-g72-unterprogramm.nc": [("TX-W103", 26)],  # O520 as printed: below the usual 8000
+    "tx-34-g73.nc": [("PAL-E901", 3)],  # G73: its format line and example page are lost
     "tx-35-g74.nc": [],
     "tx-36-g75.nc": [],
     "tx-37-g83.nc": [],
@@ -73,6 +75,31 @@ EXPECTED: dict[str, list[tuple[str, int]]] = {
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_cycle_example_gives_exactly_its_diagnostics(name: str) -> None:
     assert codes(seed(name)) == EXPECTED[name]
+
+
+def test_tx29_g70_cuts_with_the_full_depth() -> None:
+    tp = seed("tx-29-g70.nc")
+    # (90 − 25)/2 − I0.8 = 31.7 mm: five full cuts of 6.33 (DECISIONS 20: D and I radial), 0.05 mm left
+    assert passes(tp, 4) == 5
+    levels = [xz(m.end)[0] for m in cuts(tp, 4)]
+    assert levels == [77.34, 64.68, 52.02, 39.36, 26.7]
+    assert xz(cuts(tp, 4)[-1].end) == (26.7, -39.9)  # the undercut X24.4 at Z-36.52…-40 stays (G89)
+    assert (24.4, -36.52) in {xz(m.end) for m in tp.moves if m.line == 11}  # the finishing contour as printed
+
+
+def test_tx34_g73_finishing_contour_corners_and_not_supported_cycle() -> None:
+    tp = seed("tx-34-g73.nc")
+    assert not [m for m in tp.moves if m.line == 3]
+    ends = {xz(m.end) for m in tp.moves}
+    assert (25.0, -29.497) in ends
+
+
+def test_g86_face_thread_infeeds_in_z() -> None:
+    tp = traub(READY.replace("M4", "M3") + "G0 X50 Z5\nG86 X10 Z-2 K1 H3 F2\nM30")
+    threads = [m for m in tp.moves if m.thread]
+    assert len(threads) == 3 and passes(tp, 3) == 3
+    assert (xz(threads[-1].start), xz(threads[-1].end)) == ((50.0, -2.0), (10.0, -2.0))
+    assert xz(threads[0].end)[1] == pytest.approx(-2 + 1 - math.sqrt(1 / 2), abs=TOL)
 
 
 def test_tx30_g71_passes_at_start_minus_depth_spread_evenly_and_g88_follows_the_falling_cone() -> None:

@@ -2,7 +2,7 @@
 
 Source: ../shared/spec/traub-tx8d-turning.md (line references L… into the manual) and the rulings
 12 and 15–22 of ../shared/spec/DECISIONS.md. X is a diameter, U (and I of G2/G3) a radius value.
-Codes marked PLANNED (G70, G73, G86, G34, milling functions) parse and are checked for their words;
+Codes marked PLANNED (G73, G34, milling functions) parse and are checked for their words;
 executing them yields a "not supported yet" diagnostic. The other cycles run in core.interpreter.traub_cycles.
 """
 
@@ -116,13 +116,13 @@ _CODES = [
          words=frozenset({"X", "Z"}) | SETUP_WORDS, owns_block=True),
     _setup("G65", "barriers", "Barrieren aus", "barriers off"),
     _setup("G66", "barriers", "Barrieren ein (Einschaltzustand)", "barriers on (switch-on)"),
-    *(_planned(f"G{n}", de, en, CYCLE_WORDS) for n, de, en in (
-        (70, "Schruppzyklus längs mit negativem Einstellwinkel", "longitudinal roughing, negative setting angle"),
-        (73, "Schruppzyklus konturparallel", "contour-parallel roughing cycle"),
-        (86, "Gewindeschneidzyklus plan", "face thread cutting cycle"),
-    )),
+    _planned("G73", "Schruppzyklus konturparallel", "contour-parallel roughing cycle", CYCLE_WORDS),
     # the cycles of core.interpreter.traub_cycles (spec §11–§12, DECISIONS 20)
     *(Code(f"G{n}", None, de, en, words=CYCLE_WORDS | TECHNOLOGY, owns_block=True) for n, de, en in (
+        (70, ("Schruppzyklus längs für Anstellwinkel J < 90°: wie G71, jeder Schnitt mit voller Tiefe D (Radius); "
+              "die Wirkung von J wird nicht unterstützt"),
+         ("longitudinal roughing for setting angles J < 90°: as G71, every cut at the full depth D (radius); the "
+          "effect of J is not supported")),
         (71, ("Schruppzyklus längs gegen Kontur: P/Q erster/letzter Konturs. oder A Unterprogramm, I/K Aufmaß "
              "(I als Radius), D Schnitttiefe (Radius), E Vorschub fallender Kontur"),
          ("longitudinal roughing against contour: P/Q first/last contour block or A subprogram, I/K allowance "
@@ -139,6 +139,8 @@ _CODES = [
              "Unterbrechung (Radius), D Abheben; ohne Z/W: Querbohren"),
          ("facing roughing with chip breaking: X/Z end, K depth, I cut length between interruptions (radius), "
          "D lift; without Z/W: cross drilling")),
+        (86, "Gewindeschneidzyklus plan (Stirngewinde): wie G76, Zustellung in Z, Gewinde entlang X",
+         "face thread cutting cycle: as G76, infeed in Z, the thread along X"),
         (76, ("Gewindeschneidzyklus längs: X/Z Endpunkt im Gewindegrund, K Gewindetiefe, H Schnittzahl, D letzte "
              "Zustellung, A Zustellwinkel, J Kegelwinkel, F/E Steigung"),
          ("thread cutting cycle, longitudinal: X/Z end at the root, K thread depth, H passes, D last infeed, "

@@ -13,8 +13,11 @@ need nothing special), each carrying `cycle = (code, pass, passes)`; thread move
   with the lift D (negative: from the second cut on); without X/U (G74) or Z/W (G75) they drill;
 - G83: first depth D, then H equal sections of the rest; G84: rapid distance D, first depth I, each further
   depth K, the remainder last; retract to the start and re-approach at rapid to a safety distance;
+- G70 as G71 with every cut at the full depth D (what D leaves stays on the allowance, TX-W419); the
+  effect of the setting angle J is not in the text (TX-W418);
 - G33 a single thread move (pitch F/E modal); G76: X/Z the root at the end, H passes at constant chip
-  area (K − D)·√(i/(H−1)), the last at K, infeed along the flank A, taper J; G82 tapping in and out with
+  area (K − D)·√(i/(H−1)), the last at K, infeed along the flank A, taper J; G86 the same for a face
+  thread (infeed in Z, the thread along X); G82 tapping in and out with
   the spindle reversed; G78 a single thread pass, G77/G79 chamfer passes, G81 repeats them.
 
 Coordinates here are machine (x radius, z) as the executor keeps them; `core.interpreter.traub_turn`
@@ -41,7 +44,7 @@ EPS = 1e-7
 CHORD = 0.01  # mm: arcs of a contour become chords straying at most this much
 
 # the cycle codes this module executes (G33 is the modal thread motion)
-CODES = frozenset({"G71", "G72", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"})
+CODES = frozenset({"G70", "G71", "G72", "G86", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"})
 
 
 @dataclass(frozen=True, slots=True)
@@ -137,7 +140,9 @@ def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], value
     limit = run.setup.limits.max_cycle_passes
     if code == "G33":
         _g33(run, o, values, words, d, cspan)
-    elif code in ("G71", "G72"):
+    elif code in ("G70", "G71", "G72"):
+        if code == "G70" and "J" in words:  # the setting angle's effect on the cuts is on the lost page 112
+            d.append(diag("TX-W418", words["J"].span))
         contour = _contour(run, block, code, values, d, cspan)
         if contour is not None:
             _rough_contour(o, code, contour, values, words, run.turn.codes.get("falling") == "G88", state.setup,
@@ -146,7 +151,7 @@ def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], value
         _rough_rect(run, o, code, values, words, state.setup, limit, d, cspan)
     elif code in ("G83", "G84"):
         _drill(run, o, code, values, words, state.setup, limit, d, cspan)
-    elif code in ("G76", "G82"):
+    elif code in ("G76", "G82", "G86"):
         _thread_cycle(run, o, code, values, words, limit, d, cspan)
     elif code in ("G77", "G78", "G79", "G81"):
         _chamfer(run, o, code, values, words, limit, d, cspan)
@@ -323,7 +328,7 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         w = words.get("D")
         d.append(diag("TX-E402", w.span if w else span, code=code, address="D", value=f"{depth or 0:g}"))
         return
-    level_axis = 0 if code == "G71" else 1
+    level_axis = 1 if code == "G72" else 0
     cut_axis = 1 - level_axis
     allow = (values.get("I", 0.0), values.get("K", 0.0))  # x (radius), z
     start = o.pos
@@ -372,6 +377,13 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
     if depth > stock + 1e-9:
         d.append(diag("TX-W403", words["D"].span, code=code, depth=f"{depth:g}", stock=round(stock, 3)))
     step = stock / n
+    if code == "G70":  # every cut with the full D (L2790): what D does not divide stays on the allowance
+        n = max(1, math.floor(stock / depth + 1e-6))
+        step = min(depth, stock)
+        rest = stock - n * step
+        if rest > 1e-3:
+            d.append(diag("TX-W419", words["D"].span, depth=f"{depth:g}", rest=round(rest, 3)))
+        bottom = u_s - n * step
     lift = min(setup.lift, step)
     reduced = values.get("E")
     o.passes = n
@@ -630,13 +642,22 @@ def _thread_cycle(run: TurnRun, o: _Out, code: str, values: dict[str, float], wo
         d.append(diag("TX-E416", words["J"].span, value=f"{j:g}"))
         return
     last = min(max(values.get("D", 0.0), 0.0), k)
-    outer = start[0] >= x
+    # G76: infeed in X, the thread along Z; G86 (face thread): infeed in Z, the thread along X
+    ia, ta = (0, 1) if code == "G76" else (1, 0)
+
+    def at(a: float, b: float) -> XZ:
+        return (a, b) if ia == 0 else (b, a)
+
+    end_a, end_b = (x, z) if ia == 0 else (z, x)
+    start_a, start_b = start[ia], start[ta]
+    outer = start_a >= end_a
     side = 1.0 if outer else -1.0
-    s = 1.0 if z <= start[1] else -1.0  # +1: the thread runs towards -Z
-    length = abs(z - start[1])
-    root_start = x - math.tan(math.radians(j)) * length * (1.0 if outer else -1.0)
-    crest = max(x, root_start) + k if outer else min(x, root_start) - k
-    if (outer and start[0] < crest - 1e-9) or (not outer and (start[0] > crest + 1e-9 or crest < -1e-9)):
+    s = 1.0 if end_b <= start_b else -1.0  # +1: the thread runs towards -Z (G86: towards the axis)
+    length = abs(end_b - start_b)
+    root_start = end_a - math.tan(math.radians(j)) * length * (1.0 if outer else -1.0)
+    crest = max(end_a, root_start) + k if outer else min(end_a, root_start) - k
+    if (outer and start_a < crest - 1e-9) or (not outer and (start_a > crest + 1e-9
+                                                             or (ia == 0 and crest < -1e-9))):
         d.append(diag("TX-E408", span, code=code, depth=f"{k:g}", diameter=f"{2 * start[0]:g}"))
         return
     depths = [k] if h == 1 else [(k - last) * math.sqrt(i / (h - 1)) for i in range(1, h)] + [k]
@@ -644,12 +665,12 @@ def _thread_cycle(run: TurnRun, o: _Out, code: str, values: dict[str, float], wo
     o.passes = h
     for i, depth in enumerate(depths, 1):
         shift = s * depth * flank  # infeed along the flank: the pass starts and ends that much nearer the start
-        zs, ze = start[1] + shift, z + shift
+        bs, be = start_b + shift, end_b + shift
         rest = side * (k - depth)
-        o.rapid((start[0], zs), i)
-        o.rapid((root_start + rest, zs), i)
-        o.move("feed", (x + rest, ze), i, pitch, pitch)
-        o.rapid((start[0], ze), i)
+        o.rapid(at(start_a, bs), i)
+        o.rapid(at(root_start + rest, bs), i)
+        o.move("feed", at(end_a + rest, be), i, pitch, pitch)
+        o.rapid(at(start_a, be), i)
         o.rapid(start, i)
 
 
