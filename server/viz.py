@@ -55,6 +55,15 @@ VIEWS = ("iso", "top", "front", "reset")
 # the direction from the part to the camera of each view (Z up; "front" looks along +Y as PAL drawings do)
 FOV = float(np.radians(35))  # a narrow lens: the part looks as drawn, not bulging (viser's default is 75°)
 _VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front": (0.0, -1.0, 0.12)}
+# turning (DECISIONS §15) until the turning stock exists: the toolpath in the lathe's drawing view. A move's
+# (x = radius, y, z) becomes the scene's (z, -y, x): Z (the spindle axis) to the right, the chuck side on the
+# left, X up; the front camera stands at the lathe's +Y, so G2 is clockwise in the picture as in the manual.
+LATHE_AXES = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
+LATHE_ZERO = (0.0, float(np.sqrt(0.5)), 0.0, float(np.sqrt(0.5)))  # the same turn: the zero's red axis is X, up
+# the lathe's front view is the drawing itself: straight from the front, not from a little above
+_LATHE_DIRECTIONS = {**_VIEW_DIRECTIONS, "front": (0.0, -1.0, 0.0)}
+AXIS_COLOUR = (70, 76, 86)  # the spindle axis, dash-dotted as on a drawing
+INSERT_COLOUR = (120, 130, 142)
 
 
 def viser_page() -> bytes:
@@ -99,6 +108,7 @@ class Scene:
     layers: dict[str, bool] = field(default_factory=lambda: dict.fromkeys(LAYERS, True))
     nodes: dict[str, Any] = field(default_factory=dict)  # the handles of the nodes the layers and playback move
     has_stock: bool = False
+    lathe: bool = False  # a turning program: the lathe's drawing view (LATHE_AXES), no milling block
     moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
     tiles: dict[str, str] = field(default_factory=dict)  # stock tile shown → its digest (resend only changes)
@@ -258,11 +268,17 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         _put_tiles(scene, data["stock"]["coarse"] if data.get("stock") is not None else {})
         s.remove_by_name("/deviation")
         scene.has_stock = data.get("stock") is not None
+        lathe = bool(data.get("lathe"))
+        if lathe != scene.lathe:  # another kind of machine: its own zero axes and its own first view
+            scene.lathe, scene.framed = lathe, False
+            s.add_frame("/zero", axes_length=10 * M, axes_radius=0.4 * M,
+                        wxyz=LATHE_ZERO if lathe else (1.0, 0.0, 0.0, 0.0))
         bounds = _bounds(data)
+        _axis(scene, bounds)
         if bounds is not None and (not scene.framed or scene.bounds is None
                                    or not all(np.allclose(a, b) for a, b in zip(bounds, scene.bounds, strict=True))):
             scene.bounds = bounds
-            _look(scene, scene.view if scene.framed else "iso")
+            _look(scene, scene.view if scene.framed else _home(scene))
         scene.segments = data["segments"]
         scene.lines = data["lines"]
         scene.moves = data.get("moves", [])
@@ -274,6 +290,50 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
               tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0))
         s.remove_by_name("/playback/current")
         return scene.generation
+
+
+def _home(scene: Scene) -> str:
+    """The view a scene starts with (and goes back to on "reset"): iso for milling, the drawing for turning."""
+    return "front" if scene.lathe else "iso"
+
+
+def is_lathe(dialect: str) -> bool:
+    from core.pipeline import DIALECTS
+
+    found = DIALECTS.get(dialect)
+    return found is not None and found.lathe
+
+
+def lathe_view(data: dict[str, Any], nose: dict[int, float]) -> dict[str, Any]:
+    """A turning program's scene data (server/workers.py: job_scene, moves as x = radius, y = 0, z) turned into
+    the lathe's drawing view (LATHE_AXES); no stock; the turret's tools with their nose radius (mm). The modal
+    states keep the program's coordinates (the page shows X as a diameter) and name the plane G18."""
+    for key in ("segments", "feed", "rapid", "contour"):
+        if data.get(key) is not None:
+            data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(np.float32)
+    data["tool"] = [float(v) for v in LATHE_AXES @ np.asarray(data["tool"], dtype=np.float64)]
+    data["stock"] = None
+    data["tools"] = {n: {"kind": "turning", "nose": r} for n, r in nose.items()}
+    for state in data["states"].values():
+        state["plane"] = state.get("plane") or "G18"
+    data["lathe"] = True
+    return data
+
+
+def _axis(scene: Scene, bounds: tuple[np.ndarray, np.ndarray] | None) -> None:
+    """A lathe's spindle axis (Z), dash-dotted as the centre line of a drawing, a little beyond the part."""
+    s = scene.server.scene
+    if not scene.lathe or bounds is None:
+        s.remove_by_name("/axis")
+        return
+    margin = max(5.0, 0.08 * float(bounds[1][0] - bounds[0][0]))
+    start, end = float(bounds[0][0]) - margin, float(bounds[1][0]) + margin
+    pieces = []
+    for a in np.arange(start, end, 10.0):  # 6 mm line, 1.5 gap, 1 mm dot, 1.5 gap
+        pieces += [(a, min(a + 6.0, end)), (a + 7.5, a + 8.5)]
+    pieces = [(a, b) for a, b in pieces if a < end and b > a]
+    points = np.array([[[a, 0.0, 0.0], [min(b, end), 0.0, 0.0]] for a, b in pieces], dtype=np.float32)
+    s.add_line_segments("/axis", points * M, AXIS_COLOUR, thickness=1.0, thickness_units="screen")
 
 
 def _dashed(segments: np.ndarray) -> np.ndarray:
@@ -343,7 +403,7 @@ def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, c
                                   point_shape="square", precision="float32", point_shading="flat",
                                   position=(0.0, 0.0, 0.05 * M))  # just above the surface, not in it
         if scene.bounds is not None and (len(too_much) or len(too_little)):
-            _look(scene, "iso")
+            _look(scene, _home(scene))
 
 
 # -- the tool ----------------------------------------------------------------------------------------------
@@ -416,9 +476,56 @@ def tool_mesh(shape: dict[str, Any], around: int = 48) -> tuple[np.ndarray, np.n
     return cut_v, cut_t, shank_v, shank_t, np.asarray(edges, dtype=np.float32).reshape(-1, 2, 3)
 
 
+def insert_mesh(nose: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """A turning tool in the lathe's drawing view (scene mm, the cutting point at the origin): an 80° rhombic
+    insert (vertices, triangles) reaching right and up from its point, the holder above it (vertices,
+    triangles), and the insert's outline (segments). A nose radius rounds the point."""
+    size = 10.0
+    e1 = np.array([np.cos(np.radians(5)), np.sin(np.radians(5))])  # along Z (the side cutting edge) …
+    e2 = np.array([np.cos(np.radians(85)), np.sin(np.radians(85))])  # … and along X: 80° between them
+    r = min(max(nose, 0.0), 2.0)
+    if r > 0:  # the nose: an arc tangent to both edges, from the Z edge round the corner to the X edge
+        centre = (e1 + e2) / np.linalg.norm(e1 + e2) * r / np.sin(np.radians(40))
+        angles = np.radians(np.linspace(275, 175, 7))
+        nose_points = centre + r * np.stack([np.cos(angles), np.sin(angles)], -1)
+    else:
+        nose_points = np.zeros((1, 2))
+    outline = np.vstack([nose_points, [size * e2, size * (e1 + e2), size * e1]])
+    outline_3d = np.stack([outline[:, 0], np.full(len(outline), 1.0), outline[:, 1]], -1)
+    insert_v = np.vstack([outline_3d, [[*outline_3d.mean(axis=0)]]]).astype(np.float32)
+    middle = len(outline)
+    insert_t = np.array([(middle, k, (k + 1) % middle) for k in range(middle)], dtype=np.uint32)
+    edges = np.stack([outline_3d, np.roll(outline_3d, -1, axis=0)], 1).astype(np.float32)
+    centre = size * (e1 + e2) / 2
+    holder = np.array([[centre[0] - 6, 2.0, centre[1]], [centre[0] + 6, 2.0, centre[1]],
+                       [centre[0] + 6, 2.0, centre[1] + 45], [centre[0] - 6, 2.0, centre[1] + 45]], dtype=np.float32)
+    return insert_v, insert_t, holder, np.array([(0, 1, 2), (0, 2, 3)], dtype=np.uint32), edges
+
+
+def _insert(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) -> None:
+    nose = float((shape or {}).get("nose", 0.0))
+    key = ("turning", nose)
+    s = scene.server.scene
+    position = (tip[0] * M, tip[1] * M, tip[2] * M)
+    if key != scene.tool_key:
+        insert_v, insert_t, holder_v, holder_t, edges = insert_mesh(nose)
+        scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
+        s.add_mesh_simple("/tool/cutter", insert_v * M, insert_t, color=INSERT_COLOUR, opacity=0.7, side="double",
+                          cast_shadow=False, receive_shadow=False)
+        s.add_mesh_simple("/tool/shank", holder_v * M, holder_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
+                          side="double", cast_shadow=False, receive_shadow=False)
+        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
+        scene.tool_key = key
+    else:
+        scene.nodes["tool"].position = position
+
+
 def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) -> None:
     """The tool, upright on its tip at `tip` (mm): built when its shape changes, else only moved. (viser's
-    meshes are given in scene coordinates, Z up: nothing needs turning.)"""
+    meshes are given in scene coordinates, Z up: nothing needs turning.) On a lathe: the turning tool."""
+    if scene.lathe:
+        _insert(scene, shape, tip)
+        return
     if shape is None:  # no tool table entry: a plain cylinder of the tool's radius
         shape = {"kind": "end_mill", "diameter": 2 * scene.tool_radius, "flute": 4 * scene.tool_radius,
                  "length": 4 * scene.tool_radius + 40, "shank": 2 * scene.tool_radius, "corner": 0.0, "angle": 0.0}
@@ -450,17 +557,21 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
         pts = data["segments"].reshape(-1, 3)
     else:
         return None
-    return pts.min(axis=0).astype(np.float64), pts.max(axis=0).astype(np.float64)
+    lo, hi = pts.min(axis=0).astype(np.float64), pts.max(axis=0).astype(np.float64)
+    if data.get("lathe"):  # the spindle axis is in the picture: the part is seen as in the drawing, from X0 up
+        lo[2], hi[2] = min(lo[2], 0.0), max(hi[2], 0.0)
+    return lo, hi
 
 
 def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
-               fov: float = np.radians(50)) -> tuple[np.ndarray, np.ndarray]:
+               fov: float = np.radians(50), lathe: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Eye and target (mm) so that the box is centred in the picture and fills it: the distance at which the
     box's farthest-out corner just fits, in width and in height (with a small margin), the target moved until
     the box's picture has as much room left as right and above as below (perspective makes the near corners
     larger)."""
     lo, hi = bounds
-    back = np.asarray(_VIEW_DIRECTIONS.get(view, _VIEW_DIRECTIONS["iso"]), dtype=np.float64)
+    directions = _LATHE_DIRECTIONS if lathe else _VIEW_DIRECTIONS
+    back = np.asarray(directions.get(view, directions["iso"]), dtype=np.float64)
     back /= np.linalg.norm(back)
     right = np.cross(np.array([0.0, 0.0, 1.0]), back)
     right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0.0, 0.0])
@@ -487,7 +598,7 @@ def _look(scene: Scene, view: str) -> None:
     """Point the camera (of the connected browsers, and of any that connect later) at the part."""
     if scene.bounds is None:
         return
-    eye, target = camera_for(scene.bounds, view, scene.aspect, FOV)
+    eye, target = camera_for(scene.bounds, view, scene.aspect, FOV, scene.lathe)
     eye_m, target_m = tuple(float(v) for v in eye * M), tuple(float(v) for v in target * M)
     size = float(np.linalg.norm(scene.bounds[1] - scene.bounds[0])) * M or 0.1
     camera = scene.server.initial_camera
@@ -502,11 +613,12 @@ def _look(scene: Scene, view: str) -> None:
 
 
 def set_view(scene: Scene, view: str, aspect: float | None = None) -> None:
-    """Top, front, iso, or reset (the iso view again, after the trainee turned the part)."""
+    """Top, front, iso, or reset (the first view again, after the trainee turned the part: iso, on a lathe
+    the drawing view from the front)."""
     with scene.lock:
         if aspect:
             scene.aspect = float(min(max(aspect, 0.2), 5.0))
-        _look(scene, "iso" if view == "reset" else view)
+        _look(scene, _home(scene) if view == "reset" else view)
 
 
 def set_layers(scene: Scene, layers: dict[str, bool]) -> dict[str, bool]:
@@ -608,13 +720,20 @@ def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
     from core.pipeline import run
     from server.workers import job_scene, make_setup
 
+    lathe = is_lathe(dialect)
+    if lathe:  # no milling block for a turning program (the turning stock is not there yet)
+        spec = {**spec, "stock": None}
     data = job_scene(text, dialect, spec)
+    setup = make_setup(spec)
     if "segment_tools" not in data:
-        setup = make_setup(spec)
         tools = [m.tool for m in run(text, dialect, setup).moves]
         data["segment_tools"] = [tools[k] if k < len(tools) else None for k in data["moves"]]
         data["tools"] = {n: tool_shape(t) for n in set(data["segment_tools"])
                          if n is not None and (t := setup.tools.get(n)) is not None}
+    if lathe:
+        data = lathe_view(data, {n: float(t.nose_radius) for n in set(data["segment_tools"])
+                                 if n is not None and (t := setup.tools.get(n)) is not None})
+    data["lathe"] = lathe
     return data
 
 

@@ -60,7 +60,10 @@ class SceneResult(BaseModel):
     lines: list[int] = Field(description="The block line of each segment, for the playhead")
     errors: int
     states: dict[int, dict[str, Any]] = Field(description="Per block line: plane, G90/G91, compensation, "
-                                                          "zero offset, feed, speed, tool, position after it")
+                                                          "zero offset, feed, speed, tool, position after it "
+                                                          "(on a lathe x is the radius)")
+    lathe: bool = Field(default=False, description="A turning dialect: the toolpath is shown in the lathe's "
+                                                   "drawing view (Z right, X up), without a milling block")
 
 
 class Playhead(BaseModel):
@@ -136,7 +139,9 @@ def new_session(request: Request, response: Response, settings: AppSettings, pri
 async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
                     workers: AppWorkers, principal: PracticePrincipal) -> SceneResult:
     """Run the program (in a worker) and show its toolpath, the stock after it and the tool. The stock: the
-    request's, else the exercise's, else the PAL examples' block; `resolution` is the view's own (0.5 mm)."""
+    request's, else the exercise's, else the PAL examples' block; `resolution` is the view's own (0.5 mm).
+    A turning program (TRAUB) is shown in the lathe's drawing view — Z right, X up, the chuck side on the
+    left — without a stock until the turning stock exists (`lathe` in the answer)."""
     scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
@@ -146,7 +151,7 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
         scene.refining = asyncio.create_task(run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation))
         scene.refining.add_done_callback(_log_failure)
     return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
-                       states=data["states"])
+                       states=data["states"], lathe=bool(data.get("lathe")))
 
 
 def _log_failure(task: asyncio.Task[Any]) -> None:

@@ -1,0 +1,75 @@
+"""The 3D view of a turning program (TRAUB TX 8 D) until the turning stock exists: the toolpath in the lathe's
+drawing view — Z (the spindle axis) to the right, X (the radius) up, the chuck on the left — no milling
+block, the camera on the part from the front, the modal state's X a diameter on the page."""
+
+from __future__ import annotations
+
+import numpy as np
+from server_helpers import Api
+
+from server import viz
+
+TURNING = ("%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X40 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
+           "N60 U5\nN70 G2 X60 Z-30 R10\nN80 G0 X100 Z100\nN90 M30\n")
+
+
+def _scene(api: Api, program: str, dialect: str) -> tuple[dict, viz.Scene]:
+    token = api.client.post("/api/v1/viz").json()["token"]
+    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": program, "dialect": dialect})
+    assert r.status_code == 200, r.text
+    ticket = api.app.state.scenes.ticket(token)
+    assert ticket is not None
+    return r.json(), api.app.state.scenes.scene(ticket)
+
+
+def _segment_of(scene: viz.Scene, line: int) -> np.ndarray:
+    return np.asarray([s for s, n in zip(scene.segments, scene.lines, strict=True) if n == line])
+
+
+def test_turning_toolpath_in_the_lathe_orientation(api: Api) -> None:
+    body, scene = _scene(api, TURNING, "traub-tx8d")
+    assert body["errors"] == 0 and body["lathe"] is True
+    # N50 G1 Z-20 from X40 Z0: a horizontal segment at height 20 (the radius), from 0 to -20 to the left
+    (a, b), = _segment_of(scene, 7)
+    assert np.allclose(a, [0, 0, 20]) and np.allclose(b, [-20, 0, 20])
+    # N60 U5: up by 5 (U is a radius value), at Z-20
+    (a, b), = _segment_of(scene, 8)
+    assert np.allclose(a, [-20, 0, 20]) and np.allclose(b, [-20, 0, 25])
+    # N70 G2 X60 Z-30 R10: every chord point at 10 mm from the arc's centre, mapped the same way
+    arc = _segment_of(scene, 9)
+    points = arc.reshape(-1, 3)
+    assert np.allclose(points[:, 1], 0) and np.allclose(points[0], [-20, 0, 25]) and np.allclose(points[-1], [-30, 0, 30])
+    moves = api.client.post("/api/v1/run", json={"program": TURNING, "dialect": "traub-tx8d"}).json()["moves"]
+    cx, _, cz = next(m for m in moves if m["line"] == 9)["center"]
+    assert np.allclose(np.linalg.norm(points - [cz, 0, cx], axis=1), 10, atol=0.06)
+    # as seen from the front (the camera at -Y, right = +Z of the lathe, up = X): clockwise
+    turn = np.cross(arc[0, 1] - arc[0, 0], arc[1, 1] - arc[1, 0])  # two chords one after the other
+    assert turn[1] > 0  # the y of the cross product: negative turn in the picture's (right, up) plane = cw
+    # no milling block, the camera looks from the front at the cutting moves
+    assert not scene.has_stock and scene.tiles == {}
+    assert scene.view == "front" and scene.bounds is not None
+    lo, hi = scene.bounds
+    assert np.allclose(lo, [-30, 0, 0]) and np.allclose(hi, [2, 0, 30])  # the feed moves and the spindle axis
+    camera = scene.server.initial_camera
+    eye, target = np.asarray(camera.position), np.asarray(camera.look_at)
+    assert eye[1] < target[1] and abs(eye[0] - target[0]) < 1e-6  # straight from the front
+    # the modal state: the position is the radius (the page shows X = 2 × radius), the plane G18
+    assert body["states"]["7"]["position"] == [20.0, 0.0, -20.0] and body["states"]["7"]["plane"] == "G18"
+
+
+def test_milling_scene_is_unchanged(api: Api) -> None:
+    program = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X0 Y0 Z2\nN40 G1 Z-2\nN50 G1 X20\nN60 G0 Z50 M30\n"
+    body, scene = _scene(api, program, "pal-mill")
+    assert body["lathe"] is False and scene.has_stock
+    (a, b), = _segment_of(scene, 5)
+    assert np.allclose(a, [0, 0, -2]) and np.allclose(b, [20, 0, -2])
+
+
+def test_lathe_playhead_moves_without_stock(api: Api) -> None:
+    token = api.client.post("/api/v1/viz").json()["token"]
+    body = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": TURNING, "dialect": "traub-tx8d"}).json()
+    index = body["lines"].index(7)
+    r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": index})
+    assert r.status_code == 200 and r.json()["line"] == 7
+    r = api.client.post(f"/api/v1/viz/{token}/view", json={"view": "reset"})
+    assert r.status_code == 200 and r.json()["view"] == "front"  # a lathe's own view is the drawing view
