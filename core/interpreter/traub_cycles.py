@@ -277,9 +277,9 @@ def _reach(poly: list[tuple[float, float]], level: float, v_start: float) -> tup
     undercut sections behind that point stay uncut)."""
     end = poly[-1][1]
     for (u0, v0), (u1, v1) in itertools.pairwise(poly):
-        if max(u0, u1) < level - EPS:
+        if max(u0, u1) <= level + EPS:  # below the level, or on it: the pass runs along
             continue
-        if min(u0, u1) >= level - EPS:
+        if min(u0, u1) > level + EPS:
             end = max(end, v0, v1)
             continue
         t = (level - u0) / (u1 - u0)
@@ -524,6 +524,9 @@ def _drill(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: di
         q[axis] = start[axis] + s * min(depth, total)
         return (q[0], q[1])
 
+    if total <= 1e-9:
+        d.append(diag("TX-W413", span, code=code))
+        return
     depths: list[float] = []
     rapid_to = 0.0
     if code == "G83":
