@@ -17,6 +17,10 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     PALTRAINER_EXERCISES_DIR=/app/exercises
 
 WORKDIR /app
+# Pango, HarfBuzz and fonts for WeasyPrint (the PDF task sheets)
+RUN apt-get update \
+    && apt-get install -y --no-install-recommends libpango-1.0-0 libpangoft2-1.0-0 libharfbuzz-subset0 fonts-dejavu-core \
+    && rm -rf /var/lib/apt/lists/*
 COPY pyproject.toml README.md ./
 COPY core ./core
 COPY server ./server

@@ -85,6 +85,8 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "TIME_LIMIT": (503, "Die Berechnung hat das Zeitlimit von {seconds} s überschritten.",
                    "The computation exceeded the time limit of {seconds} s."),
     "NOT_READY": (503, "Der Server ist nicht bereit: {detail}", "The server is not ready: {detail}"),
+    "PDF_UNAVAILABLE": (503, "PDF-Aufgabenblätter sind auf diesem Server nicht verfügbar: {detail}",
+                        "PDF task sheets are not available on this server: {detail_en}"),
     "WORKER_FAILED": (503, ("Der Rechenprozess ist bei diesem Programm zweimal abgebrochen; bitte das Programm "
                             "prüfen oder später erneut versuchen."),
                       "The worker process failed twice on this program; check the program or retry later."),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import csv
 import re
 import secrets
@@ -12,6 +13,7 @@ from sqlalchemy.orm import Session
 
 from core.exercises import Exercise as ExerciseDocument
 from core.pipeline import DIALECTS
+from core.sheet import SheetUnavailable, pdf_engine
 from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
@@ -46,7 +48,7 @@ from server.schemas import (
 )
 from server.security import hash_password, new_api_key, verify_password
 from server.seed import document_from_fields, exercise_fields
-from server.workers import Workers, job_drawing, job_picture, job_submission, job_validate_exercise
+from server.workers import Workers, job_drawing, job_picture, job_sheet, job_submission, job_validate_exercise
 
 # --- pipeline requests ----------------------------------------------------------------------
 
@@ -209,6 +211,26 @@ async def exercise_drawing(db: Session, workers: Workers, slug: str, lang: str) 
         raise ApiError("NOT_FOUND")
     svg: str = await workers.call(job_drawing, exercise.document, lang)
     return svg
+
+
+async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: str) -> bytes:
+    """Exercises as a printed task sheet (PDF, core/sheet): 503 PDF_UNAVAILABLE where WeasyPrint cannot be
+    loaded — checked here first (off the event loop: the first import takes a second), so that no worker is
+    taken for it and the rest of the server is unaffected."""
+    try:
+        await asyncio.to_thread(pdf_engine)
+        pdf: bytes = await workers.call(job_sheet, documents, lang)
+    except SheetUnavailable as err:
+        raise ApiError("PDF_UNAVAILABLE", detail=err.message, detail_en=err.message_en) from None
+    return pdf
+
+
+async def exercise_sheet(db: Session, workers: Workers, slug: str, lang: str) -> bytes:
+    """The exercise's printed task sheet with its empty programming form (PDF)."""
+    exercise = get_exercise(db, slug)
+    if exercise.document is None:
+        raise ApiError("NOT_FOUND")
+    return await task_sheet(workers, [exercise.document], lang)
 
 
 def get_exercise(db: Session, slug: str) -> Exercise:

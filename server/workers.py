@@ -245,6 +245,13 @@ def job_drawing(document: dict[str, Any], lang: str) -> str:
     return part_drawing(ExerciseDocument.model_validate(document), lang)
 
 
+def job_sheet(documents: list[dict[str, Any]], lang: str) -> bytes:
+    """The printed task sheets of exercises (PDF, core/sheet); SheetUnavailable without WeasyPrint."""
+    from core.sheet import task_sheet_pdf
+
+    return task_sheet_pdf([ExerciseDocument.model_validate(d) for d in documents], lang)
+
+
 def job_validate_exercise(text: str) -> dict[str, Any]:
     """An uploaded exercise (YAML or JSON, the format of docs/exercises.md) checked as an author's upload must be:
     valid, and its reference scoring full marks. Answers {"document"} or {"invalid"} or {"reference"}."""

@@ -22,6 +22,7 @@ from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate, Hint, Sl
 
 router = APIRouter(prefix="/exercises", tags=["exercises"])
 Reader = Annotated[Principal, Depends(require_scope("exercises:read"))]
+SHEET_NAME = {"de": "aufgabenblatt", "en": "task-sheet"}
 
 
 @router.get("", response_model=list[ExerciseOut], responses=responses(401, 403))
@@ -71,6 +72,21 @@ async def exercise_drawing(slug: Slug, db: DbSession, workers: AppWorkers, princ
         headers["Content-Disposition"] = f'attachment; filename="{re.sub(r"[^a-z0-9-]", "", slug) or "part"}.svg"'
     return Response(await services.exercise_drawing(db, workers, slug, lang), media_type="image/svg+xml",
                     headers=headers)
+
+
+@router.get("/{slug}/sheet.pdf", response_class=Response, responses={
+    200: {"content": {"application/pdf": {}}, "description": "Printed task sheet with the programming form (A4)"},
+    **responses(401, 403, 404, 429, 503)},
+    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+async def exercise_sheet(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader,
+                         lang: Literal["de", "en"] = "de") -> Response:
+    """The exercise for paper practice, as the PAL exam hands it out: title, task, the dimensioned drawing,
+    blank, tools and cutting data, then the empty programming form (docs/drawings.md). 503 PDF_UNAVAILABLE
+    where the server cannot make PDF (WeasyPrint or its system libraries missing)."""
+    name = re.sub(r"[^a-z0-9-]", "", slug) or "exercise"
+    return Response(await services.exercise_sheet(db, workers, slug, lang), media_type="application/pdf",
+                    headers={"Cache-Control": "private, max-age=300",
+                             "Content-Disposition": f'inline; filename="{name}-{SHEET_NAME[lang]}.pdf"'})
 
 
 @router.post("", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 409, 413, 422))
