@@ -89,7 +89,9 @@ export async function mountExercise(root, slug) {
           el("img", { src: drawing, alt: t("drawing.alt"), class: "drawing-sheet" })),
         el("figcaption", {},
           el("a", { href: drawing, target: "_blank", rel: "noopener" }, t("drawing.open")), " · ",
-          el("a", { href: `${drawing}&download=true`, download: `${slug}.svg` }, t("drawing.download")))));
+          el("a", { href: `${drawing}&download=true`, download: `${slug}.svg` }, t("drawing.download")), " · ",
+          el("a", { href: `/api/v1/exercises/${slug}/sheet.pdf?lang=${lang}`, target: "_blank", rel: "noopener",
+            title: t("drawing.sheet_title") }, t("drawing.sheet")))));
   }
   const list = root.querySelector("#diagnostics");
   let scene = null;
