@@ -515,3 +515,10 @@ def test_g72_passes_never_cut_below_the_contour_plus_allowance(steps: list[tuple
         # the face of the contour at this radius lies at most at level − allowance
         face = max((pz for px, pz in pts if px > end_x + 1e-6), default=-math.inf)
         assert level >= face + allowance - 1e-6
+
+
+def test_cycle_moves_under_g96_turn_at_the_speed_of_their_diameter() -> None:
+    tp = seed("tx-30-g71-g88.nc")  # G96 V160, no G92 limit
+    first, last = first_of_pass(tp, 5, 1)[0], first_of_pass(tp, 5, 10)[0]
+    assert first.spindle == pytest.approx(160_000 / (math.pi * 92.7), abs=TOL)
+    assert last.spindle == pytest.approx(160_000 / (math.pi * 27.0), abs=TOL)

@@ -91,10 +91,12 @@ class _Out:
         direction = t.spindle_direction
         if reverse and direction is not None:
             direction = "ccw" if direction == "cw" else "cw"
-        self.items.append(dataclasses.replace(
-            t, kind=kind, start=self._v(self.pos), end=self._v(to), exact_stop=kind == "rapid",
-            feed=t.feed if feed is None else feed, spindle_direction=direction, cycle=(self.code, n, self.passes),
-            thread=pitch is not None, pitch=pitch, feed_unit="mm/rev" if pitch is not None else t.feed_unit))
+        # under G96 the speed follows the radius, as for the contour moves (at the end of the move)
+        spindle = self.run.turn.spindle_at(to[0]) if t.spindle else 0.0
+        self.items.append(Move(kind, self._v(self.pos), self._v(to), t.feed if feed is None else feed,
+                               "mm/rev" if pitch is not None else t.feed_unit, spindle, direction, t.coolant, t.tool,
+                               self.span, exact_stop=kind == "rapid", plane="G18", cycle=(self.code, n, self.passes),
+                               thread=pitch is not None, pitch=pitch))
         self.pos = to
 
     def rapid(self, to: XZ, n: int) -> None:
@@ -272,11 +274,14 @@ def _free(poly: list[tuple[float, float]], level: float, v_start: float) -> list
     return [(hi, lo) for hi, lo in clipped if hi - lo > 1e-9]
 
 
-def _reach(poly: list[tuple[float, float]], level: float, v_start: float) -> tuple[float, float] | None:
+def _reach(poly: list[tuple[float, float]], level: float, v_start: float,
+           ahead: list[float]) -> tuple[float, float] | None:
     """G89: the one stretch a pass at `level` cuts from v_start until it meets the contour anywhere (falling and
-    undercut sections behind that point stay uncut)."""
+    undercut sections behind that point stay uncut). `ahead[k]`: the highest v of poly[k:]."""
     end = poly[-1][1]
-    for (u0, v0), (u1, v1) in itertools.pairwise(poly):
+    for k, ((u0, v0), (u1, v1)) in enumerate(itertools.pairwise(poly)):
+        if ahead[k] <= end:  # nothing further on can stop the pass earlier
+            break
         if max(u0, u1) <= level + EPS:  # below the level, or on it: the pass runs along
             continue
         if min(u0, u1) > level + EPS:
@@ -376,6 +381,7 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         return
     if depth > stock + 1e-9:
         d.append(diag("TX-W403", words["D"].span, code=code, depth=f"{depth:g}", stock=round(stock, 3)))
+    ahead = list(itertools.accumulate((v for _, v in reversed(poly)), max))[::-1]
     step = stock / n
     if code == "G70":  # every cut with the full D (L2790): what D does not divide stays on the allowance
         n = max(1, math.floor(stock / depth + 1e-6))
@@ -391,7 +397,8 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         level = u_s - i * step if i < n else bottom
         upper = level + step
         spans = _free(poly, level, v_s) if follow else []
-        main = (spans[0] if spans and spans[0][0] >= v_s - 1e-9 else None) if follow else _reach(poly, level, v_s)
+        main = (spans[0] if spans and spans[0][0] >= v_s - 1e-9 else None) if follow else _reach(poly, level, v_s,
+                                                                                                    ahead)
         if main is not None:
             o.rapid(back(level, v_s), i)
             o.feed(back(level, main[1]), i)
