@@ -222,6 +222,19 @@ CATALOGUE: dict[str, Entry] = {
                          "ist ab hier unvollständig.",
                       "Simulation stopped: more than {limit} cell updates (limit); the result is incomplete "
                       "from here on."),
+    # turning (core/sim/turning.py); SIM-E001, E006, E008 and E010 apply to turning as well
+    "SIM-E011": Entry(E, "Der Halter von T{tool} berührt das Werkstück bei Z{z} (Ø{d} mm).",
+                      "The holder of T{tool} touches the workpiece at Z{z} (Ø{d} mm)."),
+    "SIM-E012": Entry(E, "T{tool} fährt bei Z{z} in die Spannbacken des Futters (gespannt bis Z{jaw}).",
+                      "T{tool} runs into the chuck jaws at Z{z} (clamped up to Z{jaw})."),
+    "SIM-E013": Entry(E, "Schnitttiefe {depth} mm ist größer als die nutzbare Schneidenlänge {length} mm "
+                         "der Wendeschneidplatte von T{tool}.",
+                      "Depth of cut {depth} mm exceeds the usable cutting length {length} mm of the insert "
+                      "of T{tool}."),
+    "SIM-E014": Entry(E, "T{tool} ({what}) zerspant gegen seine Schneidrichtung: ein Stechdrehmeißel schneidet "
+                         "nur radial, ein Gewindedrehmeißel nur längs in seiner Richtung.",
+                      "T{tool} ({what_en}) cuts against its direction: a grooving tool cuts only radially, a "
+                      "threading tool only along Z in its own direction."),
     "SIM-W001": Entry(W, "T{tool} hat in der Werkzeugtabelle Ø{actual} mm, die Aufgabe sieht Ø{expected} mm vor.",
                       "T{tool} has Ø{actual} mm in the tool table, the exercise expects Ø{expected} mm."),
     "SIM-W002": Entry(W, "Rasterweite von {requested} mm auf {used} mm vergröbert: das Rohteil hätte sonst mehr "

@@ -10,6 +10,7 @@ ToolKind = Literal["end_mill", "slot_drill", "ball_nose", "torus", "twist_drill"
 KIND_NAMES_DE = {"end_mill": "Schaftfräser", "slot_drill": "Langlochfräser", "ball_nose": "Radiusfräser",
                  "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer"}
 LATHE_KIND_NAMES_DE = {"turning": "Drehmeißel"}  # lathe tools: not in the milling simulation's default table
+INSERTS = ("C", "D", "V", "groove", "thread")  # insert shapes of a turning tool (Tool.insert)
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,6 +40,13 @@ class Tool:
     # nose-radius centre lies relative to the theoretical tip (DECISIONS §16); 0: not given.
     nose_radius: float = 0.0
     quadrant: int = 0
+    # The insert of a turning tool, for the turning simulation (core/sim/insert.py): "C" (80°), "D" (55°),
+    # "V" (35°), "groove" (grooving insert of `width` B), "thread" (60° profile); "": C. `insert_angle`
+    # overrides the letter's angle (degrees); `holder` is the holder's width, a boring bar's diameter (mm).
+    insert: str = ""
+    insert_angle: float = 0.0
+    width: float = 0.0
+    holder: float = 0.0
 
     @property
     def radius(self) -> float:

@@ -13,12 +13,17 @@ from typing import Any
 
 from core.cli import EXIT_ERRORS, EXIT_OK, UsageError, read_program, setup_from_args
 from core.diagnostics import Diagnostic, Severity, has_errors
-from core.pipeline import run
+from core.pipeline import DIALECTS, run
 from core.sim.engine import DEFAULT_RESOLUTION, Stock, simulate
 from core.sim.export import depth_png, stl_bytes, surface_mesh
+from core.sim.lathe_export import half_section_png, revolved_mesh
+from core.sim.lathe_report import turning_json
 from core.sim.report import simulation_json
 from core.sim.tooltable import DEFAULT_SIM_TOOLS, ToolTableError, parse_tool_table
+from core.sim.turning import DEFAULT_LATHE_TOOLS, DEFAULT_TURNING_RESOLUTION, Blank, simulate_turning
+from core.tools import ToolTable
 
+DEFAULT_BLANK = "bar:60,100"  # turning: a bar Ø60 × 100, the last 30 mm in the chuck
 DEFAULT_STOCK = "0,0,-30:80,70,0"  # the PAL examples' 80 × 70 × 30 block, origin at the top's lower left corner
 _LABEL = {Severity.ERROR: ("Fehler", "error"), Severity.WARNING: ("Warnung", "warning"),
           Severity.INFO: ("Hinweis", "info")}
@@ -37,6 +42,23 @@ def _stock(text: str) -> Stock:
         raise argparse.ArgumentTypeError(
             f"»{text}«: erwartet X0,Y0,Z0:X1,Y1,Z1 mit Länge, Breite und Höhe > 0, z. B. {DEFAULT_STOCK} "
             "/ expected two corners X0,Y0,Z0:X1,Y1,Z1") from None
+
+
+def _blank(text: str) -> Blank:
+    """`bar:D,L[,C]` or `tube:D,d,L[,C]`: diameter, bore, length and clamping length C in mm."""
+    try:
+        kind, rest = text.split(":", 1)
+        values = [float(v) for v in rest.split(",")]
+        if kind == "bar" and len(values) in (2, 3):
+            return Blank(values[0], values[1], 0.0, values[2] if len(values) == 3 else None)
+        if kind == "tube" and len(values) in (3, 4):
+            return Blank(values[0], values[2], values[1], values[3] if len(values) == 4 else None)
+        raise ValueError
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"»{text}«: erwartet bar:D,L[,C] oder tube:D,d,L[,C] (Durchmesser, Bohrung, Länge, Spannlänge in mm, "
+            f"Bohrung < Durchmesser, Spannlänge < Länge), z. B. {DEFAULT_BLANK} / expected bar:D,L[,C] or "
+            "tube:D,d,L[,C]") from None
 
 
 def _resolution(text: str) -> float:
@@ -63,9 +85,13 @@ def register(subparsers: Any, common: argparse.ArgumentParser) -> None:
                               help="Zerspanung simulieren: Rohteil, Kollisionen, Laufzeit / simulate the machining")
     p.add_argument("--stock", type=_stock, default=_stock(DEFAULT_STOCK), metavar="X0,Y0,Z0:X1,Y1,Z1",
                    help=f"Rohteil als zwei Ecken in Werkstückkoordinaten (Standard {DEFAULT_STOCK})")
+    p.add_argument("--blank", type=_blank, default=None, metavar="bar:D,L[,C]|tube:D,d,L[,C]",
+                   help=(f"Drehen: Rohteil Stange oder Rohr mit Spannlänge C im Futter (Standard {DEFAULT_BLANK}) / "
+                         "turning: the bar or tube and its clamping length"))
     p.add_argument("--tools", metavar="YAML", help="Werkzeugtabelle (YAML, docs/tools.md) / tool table")
-    p.add_argument("--resolution", type=_resolution, default=DEFAULT_RESOLUTION, metavar="MM",
-                   help=f"Rasterweite in mm (Standard {DEFAULT_RESOLUTION}) / cell size")
+    p.add_argument("--resolution", type=_resolution, default=None, metavar="MM",
+                   help=(f"Rasterweite in mm (Standard {DEFAULT_RESOLUTION}; Drehen: Abstand in Z, Standard "
+                         f"{DEFAULT_TURNING_RESOLUTION}) / cell size"))
     p.add_argument("--expect-tool", type=_expected, action="append", default=[], metavar="N=D",
                    help="die Aufgabe sieht für TN den Durchmesser D vor / the exercise expects TN of diameter D")
     p.add_argument("--stl", metavar="FILE", help="Rohteil als binäre STL schreiben / write the stock as binary STL")
@@ -99,9 +125,11 @@ def handle(args: argparse.Namespace) -> int:
             raise UsageError(str(err)) from None
     if args.max_triangles < 12:
         raise UsageError("--max-triangles: mindestens 12 / at least 12")
+    if DIALECTS[args.dialect].lathe:
+        return _turn(args, tools if args.tools else DEFAULT_LATHE_TOOLS)
     setup = setup_from_args(args, tools)
     toolpath = run(read_program(args.file), args.dialect, setup)
-    result = simulate(toolpath, args.stock, setup.tools, args.resolution,
+    result = simulate(toolpath, args.stock, setup.tools, args.resolution or DEFAULT_RESOLUTION,
                       expected_diameters=dict(args.expect_tool))
     if args.stl:
         _write(args.stl, stl_bytes(*surface_mesh(result.heightmap, args.max_triangles)))
@@ -110,14 +138,36 @@ def handle(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(simulation_json(result), ensure_ascii=False))
     else:
-        de = args.lang == "de"
-        for d in result.diagnostics:
-            print(_line(args.file, d, args.lang, True), file=sys.stderr)
-        for d in result.events:
-            print(_line(args.file, d, args.lang, False))
-        total = result.cycle_time
-        print(("Abgetragen {:.1f} mm³, Rest {:.1f} mm³, Laufzeit {:d}:{:02d} min (Raster {:g} mm)" if de else
-               "Removed {:.1f} mm³, remaining {:.1f} mm³, cycle time {:d}:{:02d} min (cells {:g} mm)").format(
-            result.removed_volume, result.remaining_volume, int(total // 60), round(total % 60) % 60,
-            result.resolution))
+        _summary(args, result.diagnostics, result.events, result.removed_volume, result.remaining_volume,
+                 result.cycle_time, result.resolution)
     return EXIT_ERRORS if has_errors(result.diagnostics) or has_errors(result.events) else EXIT_OK
+
+
+def _turn(args: argparse.Namespace, tools: ToolTable) -> int:
+    """`simulate` for a lathe dialect: the blank as a revolved profile (core/sim/turning.py)."""
+    setup = setup_from_args(args, tools)
+    toolpath = run(read_program(args.file), args.dialect, setup)
+    blank = args.blank or _blank(DEFAULT_BLANK)
+    result = simulate_turning(toolpath, blank, setup.tools, args.resolution or DEFAULT_TURNING_RESOLUTION)
+    if args.stl:
+        _write(args.stl, stl_bytes(*revolved_mesh(result.profile), name="PAL Trainer turned part"))
+    if args.png:
+        _write(args.png, half_section_png(result.profile, blank))
+    if args.json:
+        print(json.dumps(turning_json(result), ensure_ascii=False))
+    else:
+        _summary(args, result.diagnostics, result.events, result.removed_volume, result.remaining_volume,
+                 result.cycle_time, result.resolution)
+    return EXIT_ERRORS if has_errors(result.diagnostics) or has_errors(result.events) else EXIT_OK
+
+
+def _summary(args: argparse.Namespace, diagnostics: list[Diagnostic], events: list[Diagnostic], removed: float,
+             remaining: float, total: float, resolution: float) -> None:
+    de = args.lang == "de"
+    for d in diagnostics:
+        print(_line(args.file, d, args.lang, True), file=sys.stderr)
+    for d in events:
+        print(_line(args.file, d, args.lang, False))
+    print(("Abgetragen {:.1f} mm³, Rest {:.1f} mm³, Laufzeit {:d}:{:02d} min (Raster {:g} mm)" if de else
+           "Removed {:.1f} mm³, remaining {:.1f} mm³, cycle time {:d}:{:02d} min (cells {:g} mm)").format(
+        removed, remaining, int(total // 60), round(total % 60) % 60, resolution))

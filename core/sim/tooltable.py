@@ -13,6 +13,7 @@ import yaml  # type: ignore[import-untyped, unused-ignore]
 
 from core.tools import (
     DEFAULT_TOOLS,
+    INSERTS,
     KIND_NAMES_DE,
     LATHE_KIND_NAMES_DE,
     Tool,
@@ -23,7 +24,8 @@ from core.tools import (
 
 KINDS: tuple[str, ...] = get_args(ToolKind)
 _FIELDS = {"number", "kind", "diameter", "name", "cutting_length", "overall_length", "shank_diameter",
-           "centre_cutting", "corner_radius", "point_angle", "tc", "nose_radius", "quadrant"}
+           "centre_cutting", "corner_radius", "point_angle", "tc", "nose_radius", "quadrant",
+           "insert", "insert_angle", "width", "holder"}
 MAX_TOOLS = 999
 
 
@@ -86,11 +88,27 @@ def _entry(raw: object, index: int) -> Tool:
     quadrant = entry.get("quadrant", 0)
     if not isinstance(quadrant, int) or isinstance(quadrant, bool) or not 0 <= quadrant <= 4:
         raise _err(where, "»quadrant« muss 1, 2, 3 oder 4 sein", "'quadrant' must be 1, 2, 3 or 4")
+    insert = entry.get("insert", "")  # turning inserts (core/sim/insert.py)
+    if insert not in ("", *INSERTS):
+        raise _err(where, f"»insert« muss eines von {', '.join(INSERTS)} sein",
+                   f"'insert' must be one of {', '.join(INSERTS)}")
+    insert_angle = _number(entry, "insert_angle", where, -1e-9, 179.999, 0.0)
+    width = _number(entry, "width", where, -1e-9, 100, 0.0)
+    if insert == "groove" and width <= 2 * nose:
+        raise _err(where, "ein Stechdrehmeißel braucht »width« (Breite B) > 2 × »nose_radius«",
+                   "a grooving tool needs 'width' (B) > 2 × 'nose_radius'")
+    holder = _number(entry, "holder", where, -1e-9, 500, 0.0)
+    if kind == "turning" and "cutting_length" not in entry:
+        cutting_length: float | None = None  # the insert's own default (core/sim/insert.py)
+    else:
+        cutting_length = cutting
     name = entry.get("name", f"{(KIND_NAMES_DE | LATHE_KIND_NAMES_DE)[str(kind)]} Ø{diameter:g}")
     offsets = _offsets(entry.get("tc", {}), where)
-    return Tool(t, cast(ToolKind, kind), diameter, str(name), cutting_length=cutting, overall_length=overall,
-                shank_diameter=shank, centre_cutting=centre, corner_radius=max(corner, 0.0),
-                point_angle=max(angle, 0.0), offsets=offsets, nose_radius=nose, quadrant=quadrant)
+    return Tool(t, cast(ToolKind, kind), diameter, str(name), cutting_length=cutting_length,
+                overall_length=overall, shank_diameter=shank, centre_cutting=centre, corner_radius=max(corner, 0.0),
+                point_angle=max(angle, 0.0), offsets=offsets, nose_radius=nose, quadrant=quadrant,
+                insert=str(insert), insert_angle=max(insert_angle, 0.0), width=max(width, 0.0),
+                holder=max(holder, 0.0))
 
 
 def _offsets(raw: object, where: str) -> tuple[ToolOffset, ...]:
@@ -139,12 +157,18 @@ def tool_table_yaml(table: ToolTable) -> str:
         item: dict[str, Any] = {"number": t.number, "kind": t.kind, "diameter": t.diameter, "name": t.name,
                                 "cutting_length": t.flute_length, "overall_length": t.length,
                                 "shank_diameter": t.shank, "centre_cutting": t.centre_cutting}
+        if t.kind == "turning" and t.cutting_length is None:
+            del item["cutting_length"]  # the insert's own default
         if t.corner_radius:
             item["corner_radius"] = t.corner_radius
         if t.point_angle:
             item["point_angle"] = t.point_angle
         if t.nose_radius or t.quadrant:
             item["nose_radius"], item["quadrant"] = t.nose_radius, t.quadrant
+        for key, value in (("insert", t.insert), ("insert_angle", t.insert_angle), ("width", t.width),
+                           ("holder", t.holder)):
+            if value:
+                item[key] = value
         if t.offsets:
             item["tc"] = {o.tc: {"radius": o.radius, "length": o.length} for o in t.offsets}
         items.append(item)

@@ -1,0 +1,378 @@
+"""The turning simulation: a lathe toolpath run against a bar or tube held as a revolved profile.
+
+The material is r_in(z) < r < r_out(z) on Z samples `resolution` mm apart (face at Z0, the bar towards
+−Z, the chuck's jaws on its last `clamp` mm). The moves are the interpreter's (DECISIONS §15: x is the
+radius, arcs in the plane G18): without SRK a move is the theoretical tip's path, with SRK the nose
+centre's (§16). Every straight piece sweeps the insert's shape (core/sim/insert.py); an outside tool
+lowers r_out to the lower envelope of that sweep, an inside tool raises r_in to its upper envelope.
+Radii are exact numbers, so the radial error is the arc chords' (CHORD_TOLERANCE) alone.
+Events are diagnostics from the catalogue, with the line of the block, as in the milling simulation.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+import numpy.typing as npt
+
+from core.diagnostics import Diagnostic, diag
+from core.interpreter import Toolpath
+from core.sim.engine import NO_LINE, _Events
+from core.sim.insert import Insert, insert_of, lower_envelope, lower_hull
+from core.sim.shapes import Array
+from core.toolpath import Dwell, Move, ToolChange
+from core.tools import ToolTable
+
+DEFAULT_TURNING_RESOLUTION = 0.05  # mm along Z; radii are not rounded
+CHORD_TOLERANCE = 0.002  # mm: arcs become chords that stray at most this far
+# Free practice: no table; every station turns with the generic outside tool (insert_of). The milling
+# table is no lathe table: its drills and mills would bore on the axis.
+DEFAULT_LATHE_TOOLS = ToolTable({})
+Point = tuple[float, float]  # (z, x) in the drawing view
+
+
+@dataclass(frozen=True, slots=True)
+class Blank:
+    """A bar (bore 0) or tube: outer and inner diameter and length in mm, the face at Z0, the bar towards −Z;
+    the chuck's jaws hold its last `clamp` mm and reach out to `jaw_diameter`."""
+
+    diameter: float
+    length: float
+    bore: float = 0.0
+    chuck_length: float | None = None  # None: a third of the length, at most 30 mm
+    jaw_diameter: float | None = None  # None: the diameter + 40 mm
+
+    def __post_init__(self) -> None:
+        values = (self.diameter, self.length, self.bore, self.chuck_length or 0.0, self.jaw_diameter or 0.0)
+        if not all(math.isfinite(v) and 0 <= v <= 10_000 for v in values):
+            raise ValueError("blank: sizes must be numbers within 0 … 10000 mm")
+        if not (self.diameter > 0 and self.length > 0 and self.bore < self.diameter):
+            raise ValueError("blank: the diameter and length must be > 0 and the bore less than the diameter")
+        if self.chuck_length is not None and self.chuck_length >= self.length:
+            raise ValueError("blank: the clamping length must be less than the length")
+        if self.jaw_diameter is not None and self.jaw_diameter <= self.diameter:
+            raise ValueError("blank: the jaws' diameter must be greater than the blank's")
+
+    @property
+    def clamp(self) -> float:
+        return self.chuck_length if self.chuck_length is not None else min(30.0, self.length / 3)
+
+    @property
+    def jaw_radius(self) -> float:
+        return (self.jaw_diameter if self.jaw_diameter is not None else self.diameter + 40.0) / 2
+
+    @property
+    def volume(self) -> float:
+        return math.pi * (self.diameter ** 2 - self.bore ** 2) / 4 * self.length
+
+
+@dataclass(frozen=True, slots=True)
+class LatheMachine:
+    rapid_rate: float = 12_000.0  # mm/min along the straight path of a rapid move
+    tool_change_time: float = 1.0  # s per turret index
+    touch_tolerance: float = 0.01  # mm: a radius changed by less than this is touched, not cut
+
+
+@dataclass(frozen=True, slots=True)
+class LatheLimits:
+    max_samples: int = 400_000  # Z samples of the profile (coarser beyond, SIM-W002)
+    max_updates: int = 400_000_000  # samples visited over all moves (then SIM-E010, stop)
+    max_events: int = 100
+    max_chords: int = 2_000  # chords of one arc
+
+
+@dataclass(frozen=True, slots=True)
+class RevolvedProfile:
+    """The part: sample k covers z0 + k·dz … z0 + (k+1)·dz with material between `inner[k]` and `outer[k]`."""
+
+    z0: float
+    dz: float
+    outer: Array
+    inner: Array
+
+    @property
+    def zs(self) -> Array:
+        zs: Array = self.z0 + (np.arange(len(self.outer), dtype=np.float64) + 0.5) * self.dz
+        return zs
+
+    def volume(self) -> float:
+        area = np.clip(self.outer, 0, None) ** 2 - np.clip(self.inner, 0, None) ** 2
+        return float(math.pi * np.sum(np.clip(area, 0, None), dtype=np.float64) * self.dz)
+
+
+@dataclass(frozen=True, slots=True)
+class TurningResult:
+    blank: Blank
+    resolution: float  # mm along Z
+    profile: RevolvedProfile
+    removed_volume: float  # mm³
+    remaining_volume: float
+    cycle_time: float  # s
+    time_per_tool: dict[int | None, float]
+    events: list[Diagnostic]
+    diagnostics: list[Diagnostic]
+    cell_updates: int
+    complete: bool
+
+
+class _Stop(Exception):
+    pass
+
+
+def simulate_turning(toolpath: Toolpath, blank: Blank, tools: ToolTable = DEFAULT_LATHE_TOOLS,
+                     resolution: float = DEFAULT_TURNING_RESOLUTION, machine: LatheMachine | None = None, *,
+                     limits: LatheLimits | None = None) -> TurningResult:
+    """Turn `blank` along `toolpath`: the part left, removed volume, cycle time and events. A station that is
+    not a lathe tool in `tools` turns with a generic outside tool (C 80°, R0.4, P1); a drill or mill bores
+    on the axis. Raises ValueError only for an invalid resolution."""
+    if not (math.isfinite(resolution) and resolution > 0):
+        raise ValueError("resolution must be a positive number of mm")
+    machine = machine or LatheMachine()
+    limits = limits or LatheLimits()
+    events = _Events(limits.max_events)
+    n = max(1, round(blank.length / resolution))
+    if n > limits.max_samples:
+        n = limits.max_samples
+        events.add(diag("SIM-W002", NO_LINE, requested=float(resolution), used=round(blank.length / n, 4),
+                        limit=limits.max_samples))
+    dz = blank.length / n
+    profile = RevolvedProfile(-blank.length, dz, np.full(n, blank.diameter / 2), np.full(n, blank.bore / 2))
+    run = _Run(profile, blank, tools, machine, limits, events)
+    complete = True
+    try:
+        run.all(toolpath)
+    except _Stop:
+        complete = False
+    remaining = profile.volume()
+    return TurningResult(blank, dz, profile, blank.volume - remaining, remaining, sum(run.times.values()),
+                         dict(run.times), events.items, list(toolpath.diagnostics), run.updates, complete)
+
+
+def _g(r: float, speed: float, limit: float) -> float:
+    """∫₀ʳ dr / n(r) with n(r) = min(limit, 1000·V / (2π r)) (G96 with G92): minutes per mm of feed × mm."""
+    rc = 1000 * speed / (2 * math.pi * limit) if math.isfinite(limit) else 0.0
+    if r <= rc:
+        return r / limit
+    return (rc / limit if rc > 0 else 0.0) + math.pi * (r * r - rc * rc) / (1000 * speed)
+
+
+class _Run:
+    def __init__(self, profile: RevolvedProfile, blank: Blank, tools: ToolTable, machine: LatheMachine,
+                 limits: LatheLimits, events: _Events) -> None:
+        self.p, self.blank, self.tools, self.machine, self.limits, self.events = \
+            profile, blank, tools, machine, limits, events
+        self.zs = profile.zs
+        self.jaw_samples = math.ceil(blank.clamp / profile.dz)
+        self.times: dict[int | None, float] = {}
+        self.current: int | None = None
+        self.inserts: dict[int, Insert] = {}
+        self.updates = 0
+        self.last_speed = 0.0  # 1/min at the end of the last move
+        self.last_radius: float | None = None  # its programmed radius
+
+    def _time(self, tool: int | None, seconds: float) -> None:
+        self.times[tool] = self.times.get(tool, 0.0) + seconds
+
+    def all(self, toolpath: Toolpath) -> None:
+        for c in toolpath.commands:
+            if isinstance(c, Move):
+                self.move(c)
+            elif isinstance(c, Dwell):
+                self._time(self.current, c.seconds)
+            elif isinstance(c, ToolChange):
+                self.current = c.tool
+                self._time(c.tool, self.machine.tool_change_time)
+
+    # --- time -------------------------------------------------------------------------------
+
+    def seconds(self, mv: Move, path: list[Point], shift: tuple[Point, Point]) -> float:
+        length = sum(math.dist(a, b) for a, b in itertools.pairwise(path))
+        if mv.kind == "rapid":
+            return length / self.machine.rapid_rate * 60
+        if mv.feed_unit != "mm/rev":
+            return length / mv.feed * 60 if mv.feed > 0 else 0.0
+        r_end = path[-1][1] + shift[1][1]
+        r_start = path[0][1] + shift[0][1]
+        n_end, n_start = mv.spindle, self.last_speed if self.last_radius is not None else mv.spindle
+        if mv.feed <= 0 or n_end <= 0 or length == 0:
+            return 0.0
+        speed, limit = self._css(r_start, n_start, r_end, n_end)
+        if speed is None:
+            return length / (mv.feed * n_end) * 60
+        if len(path) == 2:  # a straight move: the radius changes linearly with the path
+            dr = abs(r_end - r_start)
+            if dr < 1e-9:
+                return length / (mv.feed * min(limit, 1000 * speed / (2 * math.pi * max(abs(r_end), 1e-9)))) * 60
+            return 60 / mv.feed * length / dr * abs(_g(abs(r_end), speed, limit) - _g(abs(r_start), speed, limit))
+        total = 0.0
+        m = len(path) - 1
+        for k, (a, b) in enumerate(itertools.pairwise(path)):
+            off = shift[0][1] + (shift[1][1] - shift[0][1]) * (k + 0.5) / m
+            r = max(abs((a[1] + b[1]) / 2 + off), 1e-9)
+            total += math.dist(a, b) / (mv.feed * min(limit, 1000 * speed / (2 * math.pi * r)))
+        return total * 60
+
+    @staticmethod
+    def _css(r0: float, n0: float, r1: float, n1: float) -> tuple[float | None, float]:
+        """G96 V (m/min) and the G92 limit (1/min, inf: not reached) that give speed n0 at radius r0 and n1 at r1;
+        (None, 0) when the speed is constant along the move (G97, or no change of radius)."""
+        if n0 <= 0 or abs(n0 - n1) <= 1e-6 * max(n0, n1) or abs(abs(r0) - abs(r1)) < 1e-9:
+            return None, 0.0
+        v0, v1 = 2 * math.pi * abs(r0) * n0 / 1000, 2 * math.pi * abs(r1) * n1 / 1000
+        if abs(v0 - v1) <= 1e-4 * max(v0, v1):
+            return max(v0, v1), math.inf
+        if v0 < v1 and abs(r0) < abs(r1):  # the start is at the limit
+            return v1, n0
+        if v1 < v0 and abs(r1) < abs(r0):
+            return v0, n1
+        return None, 0.0  # the speed changed with the block (a new S or V): take the block's own
+
+    # --- one move ---------------------------------------------------------------------------
+
+    def insert(self, number: int) -> Insert:
+        ins = self.inserts.get(number)
+        if ins is None:
+            ins = self.inserts[number] = insert_of(self.tools.get(number), number)
+        return ins
+
+    def move(self, mv: Move) -> None:
+        self.current = mv.tool
+        srk = mv.programmed_end is not None and math.dist(mv.programmed_end, mv.end) > 1e-6
+        ins = self.insert(mv.tool) if mv.tool is not None else None
+        # the nose centre = the programmed position (SRK) or the theoretical tip − (tip − centre)
+        off = (0.0, 0.0) if srk or ins is None else (-ins.tip[0], -ins.tip[1])
+        if mv.kind == "arc":
+            raw = mv.points(CHORD_TOLERANCE, max_chords=self.limits.max_chords)
+        else:
+            raw = [mv.start, mv.end]
+        path = [(p[2] + off[0], p[0] + off[1]) for p in raw]
+        prog = mv.programmed_end if mv.programmed_end is not None else mv.end
+        shift_end = (0.0, prog[0] - path[-1][1])
+        shift_start = (0.0, (self.last_radius - path[0][1]) if self.last_radius is not None else shift_end[1])
+        self._time(mv.tool, self.seconds(mv, path, (shift_start, shift_end)))
+        self.last_speed, self.last_radius = mv.spindle, prog[0]
+        if ins is not None:
+            self.cut(mv, ins, path)
+
+    def _window(self, zlo: float, zhi: float) -> tuple[int, int]:
+        i0 = max(0, math.floor((zlo - self.p.z0) / self.p.dz - 0.5))
+        i1 = min(len(self.zs), math.ceil((zhi - self.p.z0) / self.p.dz + 0.5))
+        return i0, max(i0, i1)
+
+    def _envelope(self, pieces: Iterable[tuple[Point, Point]], shape: tuple[Point, ...], radius: float,
+                  upper: bool, i0: int, i1: int, mv: Move) -> Array:
+        zs = self.zs[i0:i1]
+        env = np.full(zs.shape, np.inf)
+        sign = -1.0 if upper else 1.0
+        for a, b in pieces:
+            pts = [(a[0] + z, sign * (a[1] + x)) for z, x in shape] + [(b[0] + z, sign * (b[1] + x)) for z, x in shape]
+            self.updates += len(zs)
+            if self.updates > self.limits.max_updates:
+                self.events.add(diag("SIM-E010", mv.span, limit=self.limits.max_updates))
+                raise _Stop
+            np.minimum(env, lower_envelope(zs, lower_hull(pts), radius), out=env)
+        return sign * env
+
+    def cut(self, mv: Move, ins: Insert, path: list[Point]) -> None:
+        r = ins.radius
+        zc = [z for z, _ in ins.core]
+        zlo = min(z for z, _ in path) + min(zc) - r
+        zhi = max(z for z, _ in path) + max(zc) + r
+        if zhi < self.p.z0 or zlo > 0:
+            return
+        i0, i1 = self._window(zlo, zhi)
+        if i1 <= i0:
+            return
+        pieces = list(itertools.pairwise(path))
+        low = self._envelope(pieces, ins.core, r, False, i0, i1, mv)
+        high = self._envelope(pieces, ins.core, r, True, i0, i1, mv)
+        if not ins.inside and ins.holder:  # above the holder's underside the tool reaches out of the part
+            hz = [z for z, _ in ins.holder]
+            h0 = min(z for z, _ in path) + min(hz)
+            h1 = max(z for z, _ in path) + max(hz)
+            zs = self.zs[i0:i1]
+            high[(zs >= h0) & (zs <= h1)] = np.inf
+        outer, inner = self.p.outer[i0:i1], self.p.inner[i0:i1]
+        tol = self.machine.touch_tolerance
+        material = outer > inner
+        # the swept shape covers low … high at each z: it cuts where it reaches the surface it comes from
+        # (a cut that stays inside the material, under a thin wall, cannot be held by one interval: left)
+        if ins.inside:
+            old = inner.copy()
+            reach = material & (low <= inner + tol)
+            new = np.where(reach, np.minimum(np.maximum(inner, high), outer), inner)
+            cut = new - old > tol
+            removed = math.pi * float(np.sum((new ** 2 - old ** 2)[cut])) * self.p.dz
+            inner[:] = new
+        else:
+            old = outer.copy()
+            reach = material & (high >= outer - tol)
+            new = np.where(reach, np.maximum(np.minimum(outer, low), np.maximum(inner, 0.0)), outer)
+            new = np.maximum(new, 0.0)
+            cut = old - new > tol
+            removed = math.pi * float(np.sum((old ** 2 - new ** 2)[cut])) * self.p.dz
+            outer[:] = new
+            jaws = self.jaw_samples - i0
+            if jaws > 0 and bool(np.any(low[:jaws] < self.blank.jaw_radius)):
+                k = int(np.argmax(low[:jaws] < self.blank.jaw_radius))
+                self.events.add(diag("SIM-E012", mv.span, tool=mv.tool, z=round(float(self.zs[i0 + k]), 3),
+                                     jaw=round(self.p.z0 + self.blank.clamp, 3)))
+        if removed > 0:
+            self._cut_events(mv, ins, path, removed, cut, old, new, i0)
+        if ins.holder:
+            self._holder(mv, ins, pieces)
+
+    def _cut_events(self, mv: Move, ins: Insert, path: list[Point], removed: float, cut: npt.NDArray[np.bool_],
+                    old: Array, new: Array, i0: int) -> None:
+        volume = round(removed, 1)
+        if mv.kind == "rapid":
+            self.events.add(diag("SIM-E001", mv.span, volume=volume))
+        elif mv.spindle == 0:
+            self.events.add(diag("SIM-E006", mv.span, volume=volume))
+        elif mv.feed == 0:
+            self.events.add(diag("SIM-E008", mv.span, volume=volume))
+        dz, dx = path[-1][0] - path[0][0], path[-1][1] - path[0][1]
+        length = math.hypot(dz, dx)
+        if length < 1e-9 or mv.kind == "rapid":
+            return
+        zs = self.zs[i0:i0 + len(cut)][cut]
+        nz, nx = -dx / length, dz / length  # across the feed direction
+        proj = np.concatenate([nz * zs + nx * old[cut], nz * zs + nx * new[cut]])
+        depth = float(np.ptp(proj)) if len(proj) else 0.0
+        if ins.kind != "groove" and depth > ins.cutting_length + self.machine.touch_tolerance:
+            self.events.add(diag("SIM-E013", mv.span, tool=mv.tool, depth=round(depth, 3),
+                                 length=round(ins.cutting_length, 3)))
+        if ins.kind == "groove" and abs(dz) > abs(dx) + 1e-9:
+            self.events.add(diag("SIM-E014", mv.span, tool=mv.tool, what="Stechdrehmeißel", what_en="grooving tool"))
+        elif ins.kind == "thread" and (abs(dx) > abs(dz) + 1e-9 or dz * ins.direction < -1e-9):
+            self.events.add(diag("SIM-E014", mv.span, tool=mv.tool, what="Gewindedrehmeißel", what_en="threading tool"))
+
+    def _holder(self, mv: Move, ins: Insert, pieces: list[tuple[Point, Point]]) -> None:
+        hz = [z for z, _ in ins.holder]
+        zlo = min(min(a[0], b[0]) for a, b in pieces) + min(hz)
+        zhi = max(max(a[0], b[0]) for a, b in pieces) + max(hz)
+        i0, i1 = self._window(zlo, zhi)
+        if i1 <= i0:
+            return
+        outer, inner = self.p.outer[i0:i1], self.p.inner[i0:i1]
+        material = outer > inner
+        if not material.any():
+            return
+        tol = self.machine.touch_tolerance
+        # a straight holder: its sweep along the move's chord is enough
+        chord = [(pieces[0][0], pieces[-1][1])]
+        if ins.inside:
+            top = self._envelope(chord, ins.holder, 0.0, True, i0, i1, mv)
+            bottom = self._envelope(chord, ins.holder, 0.0, False, i0, i1, mv)
+            hit = material & ((top - inner > tol) | (-bottom - inner > tol))
+        else:
+            low = self._envelope(chord, ins.holder, 0.0, False, i0, i1, mv)
+            hit = material & (outer - low > tol)
+        if hit.any():
+            k = int(np.argmax(hit))
+            self.events.add(diag("SIM-E011", mv.span, tool=mv.tool, z=round(float(self.zs[i0 + k]), 3),
+                                 d=round(2 * float(outer[k] if not ins.inside else inner[k]), 3)))
