@@ -33,6 +33,33 @@ const palMode = StreamLanguage.define({
   },
 });
 
+// -- the TRAUB TX 8 D mode: "%", O program numbers, comments in parentheses, L parameters with brackets
+// (X L2, Z-[L2/2], L1 = 11), "/" skip blocks at a block's start, decimal commas, blanks inside words (T 303)
+const traubMode = StreamLanguage.define({
+  name: "traub",
+  startState: () => ({ fresh: true }),  // fresh: nothing yet in this block (where "%" and "/" may stand)
+  token(stream, state) {
+    if (stream.sol()) state.fresh = true;
+    if (stream.eatSpace()) return null;
+    const fresh = state.fresh;
+    state.fresh = false;
+    if (stream.match(/^\([^)]*\)?/)) return "comment";
+    if (fresh && stream.match(/^%.*/)) return "meta";
+    if (fresh && stream.match(/^\/[0-9]?/)) { state.fresh = true; return "meta"; }  // the block follows
+    if (stream.match(/^[NO] *[0-9]+/i)) return "labelName";
+    if (stream.match(/^[GM] *[0-9]+/i)) return "keyword";
+    if (stream.match(/^L *[0-9]+/i)) return "variableName";
+    if (stream.match(/^[A-Z]/i)) return "propertyName";
+    if (stream.match(/^[+-]?([0-9]+([.,][0-9]*)?|[.,][0-9]+)/)) return "number";
+    if (stream.match(/^[[\]]/)) return "bracket";
+    stream.next();
+    return "operator";
+  },
+});
+const MODES = { "traub-tx8d": traubMode };
+// where a line's comment starts (hover help is not for the words of a comment)
+const COMMENTS = { "traub-tx8d": /\([^)]*\)?/g };
+
 const palHighlight = HighlightStyle.define([
   { tag: tags.comment, color: "#6a737d", fontStyle: "italic" },
   { tag: tags.keyword, color: "#0b5cad", fontWeight: "bold" },
@@ -40,6 +67,8 @@ const palHighlight = HighlightStyle.define([
   { tag: tags.propertyName, color: "#953800" },
   { tag: tags.number, color: "#116329" },
   { tag: tags.meta, color: "#cf222e" },
+  { tag: tags.variableName, color: "#0550ae", fontStyle: "italic" },
+  { tag: tags.bracket, color: "#57606a" },
 ]);
 
 // German editor phrases (CodeMirror's own texts)
@@ -52,6 +81,7 @@ const germanPhrases = lang === "en" ? [] : EditorState.phrases.of({
 
 // -- help from the dialect's code table --------------------------------------------------------
 let help = { codes: {}, addresses: {} };
+let comments = /;.*/g;  // the dialect's comments (PAL: from ";" to the end of the line)
 
 async function loadHelp(dialect) {
   const r = await fetch(`/api/v1/dialects/${dialect}`);
@@ -71,8 +101,16 @@ function wordAt(text, pos) {
   return null;
 }
 
+function inComment(text, pos) {
+  for (const c of text.matchAll(comments)) {
+    if (c.index <= pos && pos < c.index + c[0].length) return true;
+  }
+  return false;
+}
+
 const hoverHelp = hoverTooltip((view, pos) => {
   const line = view.state.doc.lineAt(pos);
+  if (inComment(line.text, pos - line.from)) return null;
   const m = wordAt(line.text, pos - line.from);
   if (!m) return null;
   const address = m[1].toUpperCase();
@@ -180,6 +218,7 @@ export async function mountEditor(parent, {
   text = "", dialect = "pal-mill", list = null, exercise = null, tools = null, onChange = null, onPointer = null,
 } = {}) {
   await loadHelp(dialect);
+  comments = COMMENTS[dialect] || /;.*/g;
   let live = null;
   const language = new Compartment();
   const view = new EditorView({
@@ -189,8 +228,9 @@ export async function mountEditor(parent, {
       extensions: [
         lineNumbers(), highlightActiveLineGutter(), highlightActiveLine(), drawSelection(), history(),
         keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
-        language.of(palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
+        language.of(MODES[dialect] || palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
         autocompletion({ override: [completeAddresses] }), germanPhrases,
+        EditorView.contentAttributes.of({ "aria-label": t("program.label") }),
         EditorView.updateListener.of((u) => {
           if (u.docChanged && live) live.changed();
           if (u.docChanged && onChange) onChange(u.state.doc.toString());

@@ -1,29 +1,14 @@
-// The pages around the editor: login, exercise list, exercise page with submission, instructor view.
-// Every text the user reads is German; the API gives German and English messages.
+// The pages around the editor: login, exercise list, instructor view, free practice's stock and tools.
+// The exercise page is page-exercise.js, free practice page-practice.js; the workplace around the editor
+// (tabs, drawer, editor toolbar) is layout.js. Every text the user reads is German; the API gives German and
+// English messages.
 
+import { api, el, table } from "./dom.js";
 import { lang, message as message_, t } from "./i18n.js";
-import { mountEditor } from "./main.js";
 import { mountViz } from "./viz.js";
 import { loginUrl, safeNext } from "./redirect.js";
 
-async function api(path, options = {}) {
-  const r = await fetch(`/api/v1${path}`, { credentials: "same-origin", ...options });
-  const body = r.headers.get("content-type")?.includes("json") ? await r.json() : null;
-  return { ok: r.ok, status: r.status, body };
-}
-
-function el(tag, props = {}, ...children) {
-  const node = document.createElement(tag);
-  Object.assign(node, props);
-  node.append(...children.filter((c) => c !== null && c !== undefined));
-  return node;
-}
-
-function table(head, rows) {
-  return el("table", {},
-    el("thead", {}, el("tr", {}, ...head.map((h) => el("th", {}, h)))),
-    el("tbody", {}, ...rows.map((r) => el("tr", {}, ...r.map((c) => el("td", {}, String(c)))))));
-}
+export { mountExercise } from "./page-exercise.js";
 
 export async function mountLogin(form, message) {
   form.onsubmit = async (event) => {
@@ -52,86 +37,6 @@ export async function mountExerciseList(parent) {
     el("span", { className: "meta" }, ` ${kinds[e.kind] || ""} · ${e.dialect}`)))));
 }
 
-export async function mountExercise(root, slug) {
-  const r = await api(`/exercises/${slug}`);
-  if (r.status === 401) {
-    location.href = loginUrl();
-    return;
-  }
-  if (!r.ok) {
-    root.replaceChildren(el("p", { className: "error" }, (r.body?.error && message_(r.body.error)) || t("exercise.missing")));
-    return;
-  }
-  const ex = r.body;
-  const title = lang === "en" && ex.title_en ? ex.title_en : ex.title_de;
-  const task = lang === "en" && ex.task_en ? ex.task_en : ex.task_de;
-  document.title = `PAL Trainer – ${title}`;
-  const s = ex.stock;
-  const size = s ? s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000) : null;
-  const tools = (ex.tools || []).map((tool) => {
-    const cut = (ex.cutting_data || []).find((c) => c.tool === tool.number);
-    return [`T${tool.number}`, tool.name || t(`kind.${tool.kind}`), `Ø${tool.diameter}`, cut ? cut.speed : "–",
-      cut ? cut.feed : "–"];
-  });
-  root.querySelector("#title").textContent = title;
-  // markdown paragraphs: blank lines separate them, single line breaks are spaces
-  root.querySelector("#task").replaceChildren(
-    ...task.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
-  root.querySelector("#data").replaceChildren(
-    size ? el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] })) : null,
-    table([t("tools.tool"), t("tools.kind"), t("tools.diameter"), t("tools.speed"), t("tools.feed")], tools));
-  if (ex.gradable && size) {
-    // the dimensioned drawing (server-side SVG from the reference); opens full size in a tab, for printing
-    const drawing = `/api/v1/exercises/${slug}/drawing.svg?lang=${lang}`;
-    root.querySelector("#picture").replaceChildren(
-      el("figure", { class: "drawing" },
-        el("a", { href: drawing, target: "_blank", rel: "noopener" },
-          el("img", { src: drawing, alt: t("drawing.alt"), class: "drawing-sheet" })),
-        el("figcaption", {},
-          el("a", { href: drawing, target: "_blank", rel: "noopener" }, t("drawing.open")), " · ",
-          el("a", { href: `${drawing}&download=true`, download: `${slug}.svg` }, t("drawing.download")), " · ",
-          el("a", { href: `/api/v1/exercises/${slug}/sheet.pdf?lang=${lang}`, target: "_blank", rel: "noopener",
-            title: t("drawing.sheet_title") }, t("drawing.sheet")))));
-  }
-  const list = root.querySelector("#diagnostics");
-  let scene = null;
-  const view = await mountEditor(root.querySelector("#editor"), {
-    text: ex.start_program || "", dialect: ex.dialect, list, exercise: slug,
-    onChange: (text) => scene?.changed(text), onPointer: (line) => scene?.pointer(line),
-  });
-  scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
-  const result = root.querySelector("#result");
-  root.querySelector("#submit").onclick = async () => {
-    result.replaceChildren(el("p", {}, t("submit.busy")));
-    const sub = await api("/submissions", {
-      method: "POST", headers: { "Content-Type": "application/json" },
-      body: JSON.stringify({ exercise: slug, program: view.state.doc.toString() }),
-    });
-    if (!sub.ok) {
-      result.replaceChildren(el("p", { className: "error" }, (sub.body?.error && message_(sub.body.error)) || t("submit.failed")));
-      return;
-    }
-    const g = sub.body.grading;
-    if (!g) {
-      result.replaceChildren(el("p", {}, t("submit.ungraded")));
-      return;
-    }
-    scene?.graded(view.state.doc.toString());
-    result.replaceChildren(
-      el("p", { className: "score" }, t("score", { score: g.score, max: g.max_score })),
-      el("ul", { className: "criteria" }, ...g.criteria.map((c) => el("li", { className: c.status },
-        `${c.status === "passed" ? "✓" : "✗"} ${c.points}/${c.max_points} – ${message_(c)}`,
-        ...c.lines.map((n) => el("button", {
-          className: "line-link", type: "button", textContent: t("diagnostics.line", { n }),
-          onclick: () => {
-            const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
-            view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
-            view.focus();
-          },
-        }))))));
-  };
-}
-
 export async function mountInstructor(parent) {
   const exercises = await api("/exercises");
   if (exercises.status === 401) {
@@ -155,7 +60,9 @@ export async function mountInstructor(parent) {
   filter.onchange = show;
   // authoring: an exercise file (docs/exercises.md), checked by the server
   const file = el("input", { type: "file", id: "exercise-file", accept: ".yaml,.yml,.json" });
+  file.setAttribute("aria-label", t("instructor.file"));
   const text = el("textarea", { id: "exercise-text", rows: 8, cols: 80, placeholder: t("instructor.paste") });
+  text.setAttribute("aria-label", t("instructor.paste"));
   const message = el("p", { id: "upload-message", role: "alert" });
   const upload = el("button", { type: "button", id: "upload" }, t("instructor.create"));
   file.onchange = async () => { text.value = await file.files[0].text(); };
@@ -186,6 +93,8 @@ export function practiceSetup() {
   return structuredClone(DEFAULT_SETUP);
 }
 
+export function saveSetup(setup) { localStorage.setItem(SETUP_KEY, JSON.stringify(setup)); }
+
 // The stock as the API wants it: zero at the front left corner of the top face.
 export function stockOf(setup) {
   const [x, y, z] = setup.size;
@@ -213,7 +122,7 @@ export function mountPracticeSetup(parent, onChange) {
       && next.tools.every((tool) => tool.number >= 1 && tool.number <= 99 && tool.diameter > 0 && tool.diameter <= 1000);
     message.textContent = valid ? "" : t("setup.invalid");
     if (!valid) return;
-    localStorage.setItem(SETUP_KEY, JSON.stringify(next));
+    saveSetup(next);
     onChange(next);
   };
   const message = el("p", { className: "error", role: "status" }, "");

@@ -1,0 +1,133 @@
+"""The pages' layout in Chromium at the laptop (1366×768), tablet (768×1024) and desktop (1920×1080) sizes: never
+horizontal scrolling; on the laptop editor and 3D view side by side with the messages and "Abgeben" in sight;
+on the tablet stacked; on the desktop the drawing, the editor and the 3D view at once; axe-core finds no
+serious or critical accessibility problem; free practice loads an example with its drawing, opens, saves and
+prints programs. Screenshots of every page at every size: PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, browser, server  # noqa: F401 (fixtures)
+from test_viz_view import WIDER, wait_until
+
+pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+
+SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
+SIZES = {"laptop": (1366, 768), "tablet": (768, 1024), "desktop": (1920, 1080)}
+SLUG = "pal-05-g2-kreisbogen"
+AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
+PAGES = {"practice": "/practice", "exercises": "/", "exercise": f"/exercises/{SLUG}", "instructor": "/instructor",
+         "login": "/login"}
+READY = {"practice": ".cm-content", "exercises": "ul.exercises", "exercise": "figure.drawing img",
+         "instructor": "#submission-list table", "login": "#login"}
+
+
+@pytest.fixture(scope="module")
+def instructor(server: str) -> str:  # noqa: F811
+    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
+    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "layout-lehrer", "--role", "instructor",
+                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    return "layout-lehrer"
+
+
+def open_page(browser: object, server: str, user: str, name: str, size: str, **context: object) -> object:  # noqa: F811
+    width, height = SIZES[size]
+    ctx = browser.new_context(viewport={"width": width, "height": height}, **context)  # type: ignore[attr-defined]
+    page = ctx.new_page()
+    if name != "login":
+        page.goto(f"{server}/login")
+        page.fill("input[name=username]", user)
+        page.fill("input[name=password]", PASSWORD)
+        page.click("button[type=submit]")
+        page.wait_for_url(f"{server}/")
+    page.goto(f"{server}{PAGES[name]}")
+    page.wait_for_selector(READY[name], timeout=20000)
+    if name in ("practice", "exercise"):
+        page.wait_for_selector(".diag", timeout=20000)  # the first answer of the live check
+        wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100")
+    if name == "exercise":
+        wait_until(page, "document.querySelector('figure.drawing img')?.naturalWidth > 100")
+    return page
+
+
+def box(page: object, selector: str) -> dict[str, float]:
+    b = page.locator(selector).first.bounding_box()  # type: ignore[attr-defined]
+    assert b is not None, selector
+    return dict(b)
+
+
+@pytest.mark.parametrize("size", list(SIZES))
+@pytest.mark.parametrize("name", list(PAGES))
+def test_page_fits_the_window(server: str, browser: object, instructor: str, name: str, size: str) -> None:  # noqa: F811
+    page = open_page(browser, server, instructor, name, size)
+    width, height = SIZES[size]
+    assert page.evaluate("document.documentElement.scrollWidth <= innerWidth"), page.evaluate(WIDER)
+    page.screenshot(path=str(SHOTS / f"layout-{name}-{size}.png"))
+    if name in ("practice", "exercise"):
+        editor, viz, drawer = box(page, "#editor"), box(page, ".viz-pane"), box(page, "#drawer")
+        if size == "tablet":  # stacked, each full width
+            assert viz["y"] >= editor["y"] + editor["height"] - 1 and editor["width"] > width - 40
+        else:  # side by side, the messages (and "Abgeben") in sight without scrolling
+            assert editor["x"] + editor["width"] <= viz["x"] + 1 and editor["y"] + editor["height"] <= height
+            assert drawer["y"] + drawer["height"] <= height + 1 and page.locator(".diag").first.is_visible()
+            if name == "exercise":
+                submit = box(page, "#submit")
+                assert submit["y"] + submit["height"] <= height
+        if name == "exercise" and size == "desktop":  # the drawing, the editor and the 3D view at once
+            drawing = box(page, "figure.drawing img")
+            assert drawing["y"] + drawing["height"] / 2 < height and drawing["width"] > 300
+    page.context.close()
+
+
+@pytest.mark.parametrize("name", list(PAGES))
+def test_no_serious_accessibility_problems(server: str, browser: object, instructor: str, name: str) -> None:  # noqa: F811
+    # axe is injected as a script of its own: the pages' policy forbids inline script, so this browser ignores it
+    page = open_page(browser, server, instructor, name, "laptop", bypass_csp=True)
+    page.add_script_tag(path=str(AXE))
+    result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
+    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
+               if v["impact"] in ("serious", "critical")]
+    assert not serious, serious
+    page.context.close()
+
+
+def test_practice_loads_an_example_opens_saves_and_prints(server: str, browser: object, instructor: str,  # noqa: F811
+                                                          tmp_path: Path) -> None:
+    page = open_page(browser, server, instructor, "practice", "laptop", accept_downloads=True)
+    page.select_option("#example", SLUG)  # a built-in example: its program and, in the Zeichnung tab, its drawing
+    reference = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
+    wait_until(page, f"document.querySelector('.cm-content').innerText.includes({reference.splitlines()[2]!r})")
+    page.wait_for_selector("#panel-drawing .zoom-frame img")
+    wait_until(page, "document.querySelector('#panel-drawing .zoom-frame img').naturalWidth > 100")
+    assert page.get_attribute("#tab-drawing", "aria-selected") == "true"
+    page.screenshot(path=str(SHOTS / "layout-practice-example-laptop.png"))
+    # saving: a download of the program as it stands, named after the example
+    with page.expect_download() as info:
+        page.click("#file-save")
+    saved = tmp_path / "saved.nc"
+    info.value.save_as(saved)
+    assert info.value.suggested_filename == f"{SLUG}.nc" and saved.read_text(encoding="utf-8") == reference
+    # opening one's own file: into the editor, and the example's drawing is gone
+    own = tmp_path / "eigenes.nc"
+    own.write_text("N10 T1 TC1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 M30\n", encoding="utf-8")
+    page.set_input_files("#open-file", str(own))
+    wait_until(page, "document.querySelector('.cm-content').innerText.includes('S1000 F100')")
+    assert page.input_value("#example") == ""
+    # printing: the program alone, with its line numbers (the print dialog itself is not opened here)
+    page.evaluate("window.print = () => {}")
+    page.click("#file-print")
+    page.emulate_media(media="print")
+    assert page.locator("#print-view li").count() == 4 and page.locator("#print-view").is_visible()
+    assert not page.locator("#editor").is_visible()
+    page.screenshot(path=str(SHOTS / "layout-practice-print.png"))
+    page.context.close()
+
+
+@pytest.fixture(autouse=True, scope="module")
+def _shots_folder() -> None:
+    SHOTS.mkdir(parents=True, exist_ok=True)

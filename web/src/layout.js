@@ -1,0 +1,176 @@
+// The workplace around the editor (exercise page and free practice): the side panel's tabs and its
+// collapse button, the drawer with the messages and the score, the editor toolbar (open, save, print,
+// reset) and the drawing with its zoom. The page modules (page-exercise.js, page-practice.js) call these.
+
+import { el } from "./dom.js";
+import { t } from "./i18n.js";
+
+const SIDE_KEY = "paltrainer-side-collapsed";
+const DRAWER_KEY = "paltrainer-drawer-closed";
+
+// Tabs (WAI-ARIA tabs pattern): click or the arrow keys choose; the panel of the chosen tab is shown.
+export function mountTabs(root, onSelect = null) {
+  const tabs = [...root.querySelectorAll("[role=tab]")];
+  const select = (tab, focus = false) => {
+    for (const other of tabs) {
+      const chosen = other === tab;
+      other.setAttribute("aria-selected", String(chosen));
+      other.tabIndex = chosen ? 0 : -1;
+      document.getElementById(other.getAttribute("aria-controls")).hidden = !chosen;
+    }
+    if (focus) tab.focus();
+    onSelect?.(tab.id);
+  };
+  for (const tab of tabs) {
+    tab.addEventListener("click", () => select(tab));
+    tab.addEventListener("keydown", (event) => {
+      const i = tabs.indexOf(tab);
+      const next = { ArrowRight: i + 1, ArrowLeft: i - 1, Home: 0, End: tabs.length - 1 }[event.key];
+      if (next === undefined) return;
+      event.preventDefault();
+      select(tabs[(next + tabs.length) % tabs.length], true);
+    });
+  }
+  return (id) => select(document.getElementById(id));
+}
+
+// The side panel folds to a strip (remembered in the browser), so that editor and 3D view get the width.
+export function mountSideToggle(root) {
+  const side = root.querySelector(".side");
+  const button = root.querySelector("#side-toggle");
+  const set = (collapsed) => {
+    side.classList.toggle("collapsed", collapsed);
+    root.classList.toggle("side-collapsed", collapsed);
+    button.setAttribute("aria-expanded", String(!collapsed));
+    button.textContent = collapsed ? "›" : "‹";
+    button.setAttribute("aria-label", t(collapsed ? "side.expand" : "side.collapse"));
+    button.title = t(collapsed ? "side.expand" : "side.collapse");
+    localStorage.setItem(SIDE_KEY, collapsed ? "1" : "");
+  };
+  button.addEventListener("click", () => set(!side.classList.contains("collapsed")));
+  set(localStorage.getItem(SIDE_KEY) === "1");
+}
+
+// The drawer: its bar always shows the number of messages (and the score after "Abgeben"); open it shows
+// the messages and the criteria. Open or closed is remembered in the browser.
+export function mountDrawer(root) {
+  const toggle = root.querySelector("#drawer-toggle");
+  const body = root.querySelector("#drawer-body");
+  const list = root.querySelector("#diagnostics");
+  const count = root.querySelector("#diag-count");
+  const status = root.querySelector("#status-line");
+  const set = (open) => {
+    body.hidden = !open;
+    toggle.setAttribute("aria-expanded", String(open));
+    localStorage.setItem(DRAWER_KEY, open ? "" : "1");
+  };
+  toggle.addEventListener("click", () => set(body.hidden));
+  set(localStorage.getItem(DRAWER_KEY) !== "1");
+  // the editor fills the list (main.js); the bar counts what is in it
+  new MutationObserver(() => {
+    const errors = list.querySelectorAll(".diag-error").length;
+    const warnings = list.querySelectorAll(".diag-warning").length;
+    const all = list.querySelectorAll(".diag:not(.diag-none)").length;
+    count.textContent = `(${all})`;
+    status.textContent = all ? t("drawer.summary", { errors, warnings }) : t("diagnostics.none");
+    status.className = `status-line${errors ? " error" : ""}`;
+  }).observe(list, { childList: true });
+  return {
+    open: () => set(true),
+    score(text) { const s = root.querySelector("#score-summary"); if (s) s.textContent = text; },
+  };
+}
+
+// Printing: the program alone, with line numbers, under a heading (the print stylesheet in app.css).
+export function printProgram(text, heading) {
+  document.getElementById("print-view")?.remove();
+  const view = el("div", { id: "print-view", className: "print-only" },
+    el("h1", {}, heading),
+    el("p", { className: "meta" }, new Date().toLocaleString(document.documentElement.lang === "en" ? "en-GB" : "de-DE")),
+    el("ol", {}, ...text.replace(/\n$/, "").split("\n").map((line) => el("li", {}, line || " "))));
+  document.body.append(view);
+  document.body.classList.add("printing");
+  const done = () => { document.body.classList.remove("printing"); view.remove(); };
+  window.addEventListener("afterprint", done, { once: true });
+  window.print();
+}
+
+// Save as a file on the trainee's computer (a download), open one from there (a file picker).
+export function download(text, filename) {
+  const url = URL.createObjectURL(new Blob([text], { type: "text/plain;charset=utf-8" }));
+  const a = el("a", { href: url, download: filename });
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 1000);
+}
+
+const MAX_FILE = 2_000_000;  // bytes: an NC program of 20,000 lines is far smaller
+
+// The editor's toolbar: [leading …] Öffnen · Speichern · Drucken [· Zurücksetzen]
+export function editorToolbar(bar, view, { filename, heading, reset = null, onOpen = null, leading = [] }) {
+  const replace = (text) => view.dispatch({ changes: { from: 0, to: view.state.doc.length, insert: text } });
+  const picker = el("input", { type: "file", id: "open-file", accept: ".nc,.txt,.mpf,.spf,.cnc,.h,.tap", className: "visually-hidden" });
+  picker.tabIndex = -1;
+  picker.setAttribute("aria-hidden", "true");
+  const message = el("span", { className: "error", role: "status" });
+  picker.addEventListener("change", async () => {
+    const file = picker.files[0];
+    picker.value = "";
+    if (!file) return;
+    if (file.size > MAX_FILE) { message.textContent = t("file.too_large"); return; }
+    message.textContent = "";
+    replace(await file.text());
+    onOpen?.(file.name);
+  });
+  const button = (id, key, fn) => el("button", { type: "button", id, title: t(`${key}_title`), onclick: fn }, t(key));
+  bar.replaceChildren(...[...leading,
+    button("file-open", "file.open", () => picker.click()),
+    button("file-save", "file.save", () => download(view.state.doc.toString(), filename())),
+    button("file-print", "file.print", () => printProgram(view.state.doc.toString(), heading())),
+    reset ? button("file-reset", "file.reset", () => {
+      if (window.confirm(t("file.reset_confirm"))) replace(reset());
+    }) : null,
+    picker, message].filter(Boolean));
+  return { replace };
+}
+
+// The dimensioned drawing: a sheet that fits the column (click: the Zeichnung tab), links to open and save it,
+// and with `sheet` one to the printed task sheet (PDF).
+export function drawingFigure(url, slug, onEnlarge = null, sheet = null) {
+  const img = el("img", { src: url, alt: t("drawing.alt"), className: "drawing-sheet" });
+  return el("figure", { className: "drawing" },
+    onEnlarge ? el("button", { type: "button", className: "drawing-button", onclick: onEnlarge, title: t("drawing.enlarge") }, img) : img,
+    el("figcaption", {},
+      el("a", { href: url, target: "_blank", rel: "noopener" }, t("drawing.open")),
+      el("a", { href: `${url}&download=true`, download: `${slug}.svg` }, t("drawing.download")),
+      sheetLink(sheet)));
+}
+
+function sheetLink(sheet) {
+  return sheet ? el("a", { href: sheet, target: "_blank", rel: "noopener", title: t("drawing.sheet_title") }, t("drawing.sheet"))
+    : null;
+}
+
+// The same drawing larger, with zoom (the frame scrolls inside, the page does not).
+export function drawingZoom(url, slug, sheet = null) {
+  let scale = 1;
+  const img = el("img", { src: url, alt: t("drawing.alt") });
+  const frame = el("div", { className: "zoom-frame", tabIndex: 0 }, img);
+  frame.setAttribute("aria-label", t("drawing.alt"));
+  const apply = () => { img.style.width = `${scale * 100}%`; label.textContent = `${Math.round(scale * 100)} %`; };
+  const label = el("span", { className: "meta" }, "100 %");
+  const zoom = (factor) => () => { scale = factor ? Math.min(4, Math.max(1, scale * factor)) : 1; apply(); };
+  const button = (text, key, fn) => {
+    const b = el("button", { type: "button", className: "icon", title: t(key), onclick: fn }, text);
+    b.setAttribute("aria-label", t(key));
+    return b;
+  };
+  return el("div", { className: "drawing-zoom" },
+    el("div", { className: "zoom" }, button("−", "drawing.zoom_out", zoom(1 / 1.5)), button("+", "drawing.zoom_in", zoom(1.5)),
+      button("⤢", "drawing.zoom_fit", zoom(0)), label, " ",
+      el("a", { href: url, target: "_blank", rel: "noopener" }, t("drawing.open")), " ",
+      el("a", { href: `${url}&download=true`, download: `${slug}.svg` }, t("drawing.download")),
+      sheet ? " " : null, sheetLink(sheet)),
+    frame);
+}

@@ -1,0 +1,116 @@
+// Free practice: the editor with live diagnostics and the 3D view, the stock and tools kept in the browser;
+// "Beispiel laden" puts a built-in example's program into the editor (GET /api/v1/examples) and shows its
+// drawing; programs open from and save to the trainee's computer and print with line numbers.
+
+import { api, el } from "./dom.js";
+import { lang, t } from "./i18n.js";
+import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountTabs } from "./layout.js";
+import { mountEditor, setTools } from "./main.js";
+import { mountPracticeSetup, saveSetup } from "./pages.js";
+import { mountViz } from "./viz.js";
+
+const SAMPLE = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X-25 Y-15 Z2\nN40 G42 G0 X-14 Y10\nN50 G0 Z-2\n" +
+  "N60 G1 X70 Y10 RN20\nN70 G1 Y84\nN80 G40\nN90 G0 X250 Y150 Z250 M30\n";
+// turning: face, then a shoulder Ø36 with a rounding and a chamfer (X is a diameter)
+const SAMPLES = {
+  "pal-mill": SAMPLE,
+  "traub-tx8d": "%\nO1 (ABSATZ DREHEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nN40 G0 X44 Z2 M8\n" +
+    "N50 G1 Z0 F0.2\nN60 X-1.6\nN70 G0 X36 Z2\nN80 G1 Z-20 R2\nN90 X44 D1\nN100 Z-35\nN110 G0 X100 Z100 M9\nN120 M30\n",
+};
+
+// The practice setup of an example: its stock (zero at the front left top corner) and its tools.
+function setupOf(example) {
+  const s = example.stock;
+  const size = s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000);
+  const tools = (example.tools || []).filter((tool) => tool.number && tool.diameter).map((tool) => ({
+    number: tool.number, kind: tool.kind === "slot_drill" ? "slot_drill" : "end_mill", diameter: tool.diameter,
+  }));
+  return { size, tools };
+}
+
+export async function mountPractice(root) {
+  const showTab = mountTabs(root);
+  mountSideToggle(root);
+  mountDrawer(root);
+  const params = new URLSearchParams(location.search);
+  const select = root.querySelector("#dialect");
+  select.value = params.get("dialect") || "pal-mill";
+  select.onchange = () => { location.search = `?dialect=${select.value}`; };
+  // the program is kept in the browser per dialect: a reload loses nothing; so is the example it came from
+  const saved = `paltrainer-practice-${select.value}`;
+  const savedExample = `paltrainer-practice-example-${select.value}`;
+  let scene = null;
+  let filename = localStorage.getItem(`${saved}-file`) || "programm.nc";
+  const setup = mountPracticeSetup(root.querySelector("#setup"), (next) => {
+    setTools(window.editor, next.tools.length ? next.tools : null);
+    scene?.setup(next);
+  });
+  window.editor = await mountEditor(root.querySelector("#editor"), {
+    text: localStorage.getItem(saved) ?? (SAMPLES[select.value] ?? ""), dialect: select.value,
+    tools: setup.tools.length ? setup.tools : null, list: root.querySelector("#diagnostics"),
+    onChange: (text) => { localStorage.setItem(saved, text); scene?.changed(text); },
+    onPointer: (line) => scene?.pointer(line),
+  });
+
+  // -- the examples --------------------------------------------------------------------------------------
+  const picker = root.querySelector("#example");
+  const note = root.querySelector("#example-note");
+  const picture = root.querySelector("#picture");
+  const noDrawing = picture.innerHTML;
+  const r = await api("/examples");
+  const examples = r.ok ? r.body : [];
+  const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
+  const dialects = { "pal-mill": "PAL Fräsen", "sinumerik-iso": "SINUMERIK 808D ISO", beckhoff: "Beckhoff TwinCAT" };
+  for (const [dialect, name] of Object.entries(dialects)) {
+    const mine = examples.filter((e) => e.dialect === dialect);
+    if (mine.length) {
+      picker.append(el("optgroup", { label: name }, ...mine.map((e) => el("option", { value: e.slug },
+        `${title(e)}${e.program_is === "start" ? ` (${t("example.start")})` : ""}`))));
+    }
+  }
+  const show = (example) => {
+    picker.value = example ? example.slug : "";
+    note.textContent = example ? t(example.program_is === "start" ? "example.loaded_start" : "example.loaded",
+      { title: title(example) }) : "";
+    if (!example) { picture.innerHTML = noDrawing; return; }
+    const url = `/api/v1/examples/${example.slug}/drawing.svg?lang=${lang}`;
+    picture.replaceChildren(el("h2", {}, title(example)), drawingZoom(url, example.slug));
+  };
+  show(examples.find((e) => e.slug === localStorage.getItem(savedExample)) || null);
+
+  const toolbar = editorToolbar(root.querySelector("#editor-toolbar"), window.editor, {
+    filename: () => filename, heading: () => `${t("nav.practice")} – ${filename}`,
+    onOpen: (name) => {  // a program of one's own: no example's drawing any more
+      filename = name;
+      localStorage.setItem(`${saved}-file`, name);
+      localStorage.removeItem(savedExample);
+      show(null);
+    },
+  });
+  picker.onchange = () => {
+    const example = examples.find((e) => e.slug === picker.value);
+    if (!example) return;
+    if (example.dialect !== select.value) {  // another dialect: that page, with the example
+      localStorage.setItem(`paltrainer-practice-${example.dialect}`, example.program);
+      localStorage.setItem(`paltrainer-practice-example-${example.dialect}`, example.slug);
+      localStorage.setItem(`paltrainer-practice-${example.dialect}-file`, `${example.slug}.nc`);
+      saveSetup(setupOf(example));
+      location.search = `?dialect=${example.dialect}`;
+      return;
+    }
+    filename = `${example.slug}.nc`;
+    localStorage.setItem(`${saved}-file`, filename);
+    localStorage.setItem(savedExample, example.slug);
+    saveSetup(setupOf(example));
+    const next = mountPracticeSetup(root.querySelector("#setup"), (changed) => {
+      setTools(window.editor, changed.tools.length ? changed.tools : null);
+      scene?.setup(changed);
+    });
+    setTools(window.editor, next.tools.length ? next.tools : null);
+    toolbar.replace(example.program);
+    scene?.setup(next);
+    show(example);
+    showTab("tab-drawing");
+  };
+  scene = await mountViz(root.querySelector("#viz"), window.editor, { dialect: select.value, setup });
+}
