@@ -49,10 +49,6 @@ class Insert:
     cutting_length: float  # mm: the usable depth of cut
     direction: int  # −1 cuts towards −Z, +1 towards +Z (the quadrant's side of the body, mirrored)
 
-    @property
-    def label(self) -> str:
-        return self.kind
-
 
 def _mirror(points: list[tuple[float, float]], sz: float, sx: float) -> tuple[tuple[float, float], ...]:
     return tuple((sz * z, sx * x) for z, x in points)
