@@ -42,6 +42,8 @@ if TYPE_CHECKING:
 XZ = tuple[float, float]
 EPS = 1e-7
 CHORD = 0.01  # mm: arcs of a contour become chords straying at most this much
+MAX_CHORDS = 90  # … or at most this many chords per arc
+WORK = 300_000  # passes × contour points of one roughing cycle: beyond it the cycle is refused (TX-E406)
 
 # the cycle codes this module executes (G33 is the modal thread motion)
 CODES = frozenset({"G70", "G71", "G72", "G86", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"})
@@ -240,7 +242,7 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
     first_move = moves[k]
     points: list[tuple[XZ, int]] = [((first_move.start[0] + ref[0], first_move.start[2] + ref[1]), first_move.line)]
     for m in moves[k:]:
-        for p in m.points(CHORD)[1:]:
+        for p in m.points(CHORD, MAX_CHORDS)[1:]:
             points.append(((p[0] + ref[0], p[2] + ref[1]), m.line))
     return points
 
@@ -248,7 +250,17 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
 # -- G71 / G72 contour roughing -------------------------------------------------------------------
 
 
-def _free(poly: list[tuple[float, float]], level: float, v_start: float) -> list[tuple[float, float]]:
+def _walls(poly: list[tuple[float, float]]) -> dict[float, float]:
+    """The highest boundary value u at each v of the contour's points (a step's top)."""
+    walls: dict[float, float] = {}
+    for u, v in poly:
+        key = round(v, 7)
+        walls[key] = max(u, walls.get(key, -math.inf))
+    return walls
+
+
+def _free(poly: list[tuple[float, float]], level: float, v_start: float,
+          walls: dict[float, float]) -> list[tuple[float, float]]:
     """The stretches (v_high, v_low) of v ≤ v_start where the boundary u(v) lies below `level`; `poly` runs with
     v non-increasing, before its first point everything is free, after its last point nothing."""
     spans: list[tuple[float, float]] = [(math.inf, poly[0][1])]
@@ -265,7 +277,7 @@ def _free(poly: list[tuple[float, float]], level: float, v_start: float) -> list
     merged: list[tuple[float, float]] = []
     for hi, lo in spans:
         if merged and abs(merged[-1][1] - hi) < 1e-9:
-            wall = max((u for u, v in poly if abs(v - hi) < 1e-9), default=-math.inf)
+            wall = walls.get(round(hi, 7), -math.inf)
             if wall < level + EPS:
                 merged[-1] = (merged[-1][0], lo)
                 continue
@@ -376,11 +388,12 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         d.append(diag("TX-W413", span, code=code))
         return
     n = _equal(stock, depth)
-    if n > limit:
-        d.append(diag("TX-E406", span, code=code, count=n, limit=limit))
+    if n > limit or n * len(poly) > WORK:
+        d.append(diag("TX-E406", span, code=code, count=n, limit=min(limit, max(1, WORK // len(poly)))))
         return
     if depth > stock + 1e-9:
         d.append(diag("TX-W403", words["D"].span, code=code, depth=f"{depth:g}", stock=round(stock, 3)))
+    walls = _walls(poly)
     ahead = list(itertools.accumulate((v for _, v in reversed(poly)), max))[::-1]
     step = stock / n
     if code == "G70":  # every cut with the full D (L2790): what D does not divide stays on the allowance
@@ -396,7 +409,7 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
     for i in range(1, n + 1):
         level = u_s - i * step if i < n else bottom
         upper = level + step
-        spans = _free(poly, level, v_s) if follow else []
+        spans = _free(poly, level, v_s, walls) if follow else []
         main = (spans[0] if spans and spans[0][0] >= v_s - 1e-9 else None) if follow else _reach(poly, level, v_s,
                                                                                                     ahead)
         if main is not None:
