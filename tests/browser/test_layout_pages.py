@@ -128,6 +128,31 @@ def test_practice_loads_an_example_opens_saves_and_prints(server: str, browser: 
     page.context.close()
 
 
+def test_exercise_columns_resize_collapse_and_are_remembered(server: str, browser: object,  # noqa: F811
+                                                             instructor: str) -> None:
+    page = open_page(browser, server, instructor, "exercise", "laptop")
+    editor = box(page, "#editor")["width"]
+    page.focus(".viz-pane > .splitter")  # between editor and 3D view: the arrow keys move it
+    for _ in range(5):
+        page.keyboard.press("ArrowRight")
+    wider = box(page, "#editor")["width"]
+    assert wider > editor + 80
+    side = box(page, ".side")["width"]
+    page.click("#side-toggle")  # the task folds to a strip: editor and 3D view get its width
+    assert box(page, ".side")["width"] < 60 and box(page, "#editor")["width"] > wider
+    assert page.get_attribute("#side-toggle", "aria-expanded") == "false"
+    page.reload()
+    page.wait_for_selector(".cm-content")
+    assert box(page, ".side")["width"] < 60
+    page.click("#side-toggle")
+    assert abs(box(page, ".side")["width"] - side) < 2 and abs(box(page, "#editor")["width"] - wider) < 2
+    page.click("#tab-tools")  # the tabs: the tool table with its numbers
+    assert page.locator("#panel-tools table").is_visible() and not page.locator("#panel-task").is_visible()
+    page.keyboard.press("ArrowRight")
+    assert page.get_attribute("#tab-hints", "aria-selected") == "true" and page.locator("#panel-hints").is_visible()
+    page.context.close()
+
+
 @pytest.fixture(autouse=True, scope="module")
 def _shots_folder() -> None:
     SHOTS.mkdir(parents=True, exist_ok=True)

@@ -174,3 +174,62 @@ export function drawingZoom(url, slug, sheet = null) {
       sheet ? " " : null, sheetLink(sheet)),
     frame);
 }
+
+// The column splitters (from 1024 px, three columns): drag with the pointer or move with the arrow keys; the
+// widths are remembered in the browser. Each column keeps at least 15 % of the width.
+const SPLIT_KEY = "paltrainer-columns";
+const DEFAULT_COLUMNS = [25, 35, 40];
+
+export function mountSplitters(root) {
+  let columns = DEFAULT_COLUMNS;
+  try {
+    const saved = JSON.parse(localStorage.getItem(SPLIT_KEY));
+    if (Array.isArray(saved) && saved.length === 3 && saved.every((v) => v >= 15)) columns = saved;
+  } catch { /* a damaged entry: the default */ }
+  const apply = () => {
+    columns.forEach((v, i) => root.style.setProperty(`--col-${i + 1}`, `${v}fr`));
+    for (const handle of handles) handle.setAttribute("aria-valuenow", String(Math.round(handle.value())));
+  };
+  // handle 0 sits between task and editor, handle 1 between editor and 3D view
+  const move = (index, percent) => {
+    const [a, b] = [index, index + 1];
+    const pair = columns[a] + columns[b];
+    const start = columns.slice(0, a).reduce((s, v) => s + v, 0);
+    const left = Math.max(15, Math.min(pair - 15, percent - start));
+    columns = columns.map((v, i) => (i === a ? left : i === b ? pair - left : v));
+    apply();
+    localStorage.setItem(SPLIT_KEY, JSON.stringify(columns.map((v) => Math.round(v * 10) / 10)));
+  };
+  const handles = [root.querySelector(".editor-pane"), root.querySelector(".viz-pane")].map((pane, index) => {
+    const handle = el("div", { className: "splitter", tabIndex: 0, title: t("split.title") });
+    handle.setAttribute("role", "separator");
+    handle.setAttribute("aria-orientation", "vertical");
+    handle.setAttribute("aria-label", t(index ? "split.editor_viz" : "split.side_editor"));
+    handle.setAttribute("aria-valuemin", "0");
+    handle.setAttribute("aria-valuemax", "100");
+    handle.value = () => columns.slice(0, index + 1).reduce((s, v) => s + v, 0);
+    handle.addEventListener("pointerdown", (event) => {
+      if (root.classList.contains("side-collapsed") && index === 0) return;
+      event.preventDefault();
+      handle.setPointerCapture(event.pointerId);
+      root.classList.add("resizing");
+      const box = root.getBoundingClientRect();
+      const onMove = (e) => move(index, ((e.clientX - box.left) / box.width) * 100);
+      handle.addEventListener("pointermove", onMove);
+      handle.addEventListener("pointerup", () => {
+        handle.removeEventListener("pointermove", onMove);
+        root.classList.remove("resizing");
+      }, { once: true });
+    });
+    handle.addEventListener("keydown", (event) => {
+      const step = { ArrowLeft: -2, ArrowRight: 2 }[event.key];
+      if (!step) return;
+      event.preventDefault();
+      move(index, handle.value() + step);
+    });
+    handle.addEventListener("dblclick", () => { columns = DEFAULT_COLUMNS; apply(); localStorage.removeItem(SPLIT_KEY); });
+    pane.prepend(handle);
+    return handle;
+  });
+  apply();
+}

@@ -3,7 +3,7 @@
 
 import { api, el, table } from "./dom.js";
 import { lang, message as message_, t } from "./i18n.js";
-import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountTabs } from "./layout.js";
+import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor } from "./main.js";
 import { loginUrl } from "./redirect.js";
 import { mountViz } from "./viz.js";
@@ -11,6 +11,7 @@ import { mountViz } from "./viz.js";
 export async function mountExercise(root, slug) {
   const showTab = mountTabs(root);
   mountSideToggle(root);
+  mountSplitters(root);
   const drawer = mountDrawer(root);
   const r = await api(`/exercises/${slug}`);
   if (r.status === 401) {

@@ -4,7 +4,7 @@
 
 import { api, el } from "./dom.js";
 import { lang, t } from "./i18n.js";
-import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountTabs } from "./layout.js";
+import { drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor, setTools } from "./main.js";
 import { mountPracticeSetup, saveSetup } from "./pages.js";
 import { mountViz } from "./viz.js";
@@ -31,6 +31,7 @@ function setupOf(example) {
 export async function mountPractice(root) {
   const showTab = mountTabs(root);
   mountSideToggle(root);
+  mountSplitters(root);
   mountDrawer(root);
   const params = new URLSearchParams(location.search);
   const select = root.querySelector("#dialect");
