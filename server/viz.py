@@ -708,10 +708,85 @@ def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     from core.sim import DEFAULT_SIM_TOOLS, Stock, depth_png, simulate
     from server.workers import make_setup
 
+    if is_lathe(dialect):
+        return lathe_picture(text, dialect, spec)
     setup = make_setup(spec, DEFAULT_SIM_TOOLS)
     lo, hi = spec["stock"]["min"], spec["stock"]["max"]
     result = simulate(run(text, dialect, setup), Stock(*lo, *hi), setup.tools, spec["resolution"])
     return depth_png(result.heightmap, max_pixels=480)
+
+
+PICTURE_SIZE = (480, 320)  # pixels: the lathe's picture while the 3D view is off
+
+
+def lathe_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
+    """A turning program's toolpath in the drawing view (PNG): Z to the right, X up, the spindle axis
+    dash-dotted, feed moves solid blue and rapid moves dashed orange as in the 3D view; the picture frames the
+    feed moves and the axis. What the page shows while the 3D view is off, until the turning stock exists."""
+    from core.pipeline import drawing, run
+    from server.workers import make_setup
+
+    toolpath = run(text, dialect, make_setup(spec))
+    drawn, _ = drawing(toolpath, 0.05)
+    paths = [(np.asarray(points, dtype=np.float64)[:, [2, 0]], m.kind == "rapid")  # (z, radius)
+             for m, points in zip(toolpath.moves, drawn, strict=False)]
+    framed = [p for p, rapid in paths if not rapid] or [p for p, _ in paths] or [np.zeros((1, 2))]
+    pts = np.vstack(framed)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    lo[1], hi[1] = min(lo[1], 0.0), max(hi[1], 0.0)
+    width, height = PICTURE_SIZE
+    span = np.maximum(hi - lo, 1.0)
+    scale = 0.86 * min(width / span[0], height / span[1])
+    centre = (lo + hi) / 2
+    image = np.empty((height, width, 3), dtype=np.uint8)
+    image[:] = BACKGROUND
+
+    def pixels(p: np.ndarray) -> np.ndarray:
+        return np.stack([width / 2 + (p[:, 0] - centre[0]) * scale, height / 2 - (p[:, 1] - centre[1]) * scale], -1)
+
+    def stroke(p: np.ndarray, colour: tuple[int, int, int], pattern: tuple[float, ...] = (), thick: bool = False) -> None:
+        """A polyline (pixels) sampled every half pixel; `pattern` alternates drawn and left-out lengths."""
+        samples, along = [], []
+        travelled = 0.0
+        for a, b in itertools.pairwise(p):
+            n = int(min(np.ceil(np.linalg.norm(b - a) * 2), 4000)) + 1
+            t = np.linspace(0.0, 1.0, n)[:, None]
+            samples.append(a + (b - a) * t)
+            along.append(travelled + np.linalg.norm(b - a) * t[:, 0])
+            travelled += float(np.linalg.norm(b - a))
+        if not samples:
+            return
+        xy, dist = np.vstack(samples), np.concatenate(along)
+        if pattern:
+            phase = dist % sum(pattern)
+            edges = np.cumsum(pattern)
+            xy = xy[np.searchsorted(edges, phase, side="right") % 2 == 0]
+        xy = np.rint(xy).astype(np.int64)
+        if thick:
+            xy = np.vstack([xy, xy + [0, 1], xy + [1, 0]])
+        inside = (xy[:, 0] >= 0) & (xy[:, 0] < width) & (xy[:, 1] >= 0) & (xy[:, 1] < height)
+        image[xy[inside, 1], xy[inside, 0]] = colour
+
+    axis_z = np.array([[lo[0] - 0.1 * span[0] - 5, 0.0], [hi[0] + 0.1 * span[0] + 5, 0.0]])
+    stroke(pixels(axis_z), AXIS_COLOUR, (18.0, 4.0, 3.0, 4.0))
+    for p, rapid in paths:
+        stroke(pixels(p), RAPID_COLOUR if rapid else FEED_COLOUR, (6.0, 4.0) if rapid else (), thick=not rapid)
+    return _png(image)
+
+
+def _png(image: np.ndarray) -> bytes:
+    """An RGB image (rows top down) as PNG."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    height, width, _ = image.shape
+    rows = np.hstack([np.zeros((height, 1), dtype=np.uint8), image.reshape(height, -1)])
+    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
+            + chunk(b"IEND", b""))
 
 
 def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:

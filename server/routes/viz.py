@@ -214,11 +214,14 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
 async def picture(body: SimulateRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
                   _: PracticePrincipal) -> Response:
     """The stock after the program seen from above, rendered on the server: what the page shows while the 3D
-    view is off (no graphics acceleration). Needs no 3D session."""
+    view is off (no graphics acceleration). Needs no 3D session. For a turning program (TRAUB): its toolpath
+    in the lathe's drawing view, Z right, X up (header `X-Picture-View: lathe`)."""
     body.resolution = max(body.resolution, 0.25)  # a picture of at most 480 pixels needs no finer cells
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     png: bytes = await workers.call(viz.job_picture_now, body.program, body.dialect, spec)
-    return Response(png, media_type="image/png", headers={"Cache-Control": "no-store"})
+    # a turning program's picture is its toolpath in the drawing view (the page words its caption so)
+    view = {"X-Picture-View": "lathe"} if viz.is_lathe(body.dialect) else {}
+    return Response(png, media_type="image/png", headers={"Cache-Control": "no-store", **view})
 
 
 @pages.get("/viz/{token}/")

@@ -73,3 +73,38 @@ def test_lathe_playhead_moves_without_stock(api: Api) -> None:
     assert r.status_code == 200 and r.json()["line"] == 7
     r = api.client.post(f"/api/v1/viz/{token}/view", json={"view": "reset"})
     assert r.status_code == 200 and r.json()["view"] == "front"  # a lathe's own view is the drawing view
+
+
+def _pixels(png: bytes) -> np.ndarray:
+    """An RGB PNG as the server writes it (filter 0 on every row) as an array of rows."""
+    import struct
+    import zlib
+
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height, depth, colour = struct.unpack(">IIBB", png[16:26])
+    assert depth == 8 and colour == 2
+    data, at = b"", 8
+    while at < len(png):
+        size = struct.unpack(">I", png[at:at + 4])[0]
+        if png[at + 4:at + 8] == b"IDAT":
+            data += png[at + 8:at + 8 + size]
+        at += 12 + size
+    rows = np.frombuffer(zlib.decompress(data), dtype=np.uint8).reshape(height, 1 + 3 * width)
+    return rows[:, 1:].reshape(height, width, 3)
+
+
+def test_picture_of_a_turning_program_is_its_toolpath_in_the_drawing_view(api: Api) -> None:
+    """While the 3D view is off: not a milling block from above but the toolpath, Z right, X up."""
+    r = api.client.post("/api/v1/viz/picture.png", json={"program": TURNING, "dialect": "traub-tx8d"})
+    assert r.status_code == 200 and r.headers["x-picture-view"] == "lathe"
+    image = _pixels(r.content)
+    blue = np.all(image == viz.FEED_COLOUR, axis=2)
+    rows, cols = np.nonzero(blue)
+    assert len(rows) > 100
+    # the feed moves reach from Z2 down to Z-30 and from R20 up to R30: wider than high, and the highest
+    # point (R30, the arc's end at Z-30) is at the left
+    assert cols.max() - cols.min() > rows.max() - rows.min()
+    assert cols[rows == rows.min()].mean() < (cols.min() + cols.max()) / 2
+    milling = api.client.post("/api/v1/viz/picture.png", json={"program": TURNING.replace("%\n", ""),
+                                                                "dialect": "pal-mill"})
+    assert "x-picture-view" not in milling.headers

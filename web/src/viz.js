@@ -41,6 +41,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   let token = null;
   let lines = [];
   let states = {};
+  let lathe = false;  // a turning program: the drawing view, X shown as a diameter
   let playing = null;
   let timer = null;
   let pictureTimer = null;
@@ -77,7 +78,8 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     el("span", { className: "viz-legend-item" }, el("span", { className: "swatch swatch-too-much" }), t("viz.legend.too_much")),
     el("span", { className: "viz-legend-item" }, el("span", { className: "swatch swatch-too-little" }), t("viz.legend.too_little")));
   legend.setAttribute("aria-label", t("viz.legend"));
-  const toolbar = el("div", { className: "viz-toolbar" }, views, layers, legend);
+  const latheNote = el("p", { className: "meta viz-lathe-note", hidden: true }, t("viz.lathe_note"));
+  const toolbar = el("div", { className: "viz-toolbar" }, views, layers, legend, latheNote);
 
   async function look(name) {
     if (!token) return;
@@ -94,8 +96,14 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     const line = r.body?.line;
     info.textContent = t("play.at", { i: index + 1, n: lines.length, line: line ?? "–" });
     const st = states[line];
+    // on a lathe the position's x is the radius (DECISIONS §15): the line shows X as the program writes it,
+    // as a diameter
+    const where = st && (lathe ? `X${Math.round(st.position[0] * 2000) / 1000} Z${st.position[2]}`
+      : `X${st.position[0]} Y${st.position[1]} Z${st.position[2]}`);
+    const speed = typeof st?.speed === "number" ? Math.round(st.speed) : st?.speed;  // G96: 1446.86… 1/min
     modal.textContent = st ? [st.plane, st.dimensions, st.compensation, st.zero_offset, `T${st.tool ?? 0}`,
-      `F${st.feed}`, `S${st.speed}`, `X${st.position[0]} Y${st.position[1]} Z${st.position[2]}`].join("  ") : "";
+      `F${st.feed}`, `S${speed}`, where].filter((word) => word !== null && word !== undefined).join("  ") : "";
+    modal.title = st && lathe ? t("viz.lathe_diameter") : "";
     if (line && !fromEditor) {
       const l = view.state.doc.line(Math.min(line, view.state.doc.lines));
       view.dispatch({ selection: { anchor: l.from, head: l.to }, scrollIntoView: true });
@@ -113,6 +121,14 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     if (!r.ok) return;
     lines = r.body.lines;
     states = r.body.states;
+    if (Boolean(r.body.lathe) !== lathe) {  // the lathe's views and what its view leaves out
+      lathe = Boolean(r.body.lathe);
+      latheNote.hidden = !lathe;
+      legend.style.display = lathe ? "none" : "";  // turned parts are not graded yet: no deviation colours
+      for (const name of ["top", "front"]) {
+        views.querySelector(`#view-${name}`).title = t(`viz.view.${name}${lathe ? "_lathe" : ""}_title`);
+      }
+    }
     slider.max = Math.max(0, lines.length - 1);
     slider.value = slider.max;
     frame.dataset.segments = String(lines.length);
@@ -175,6 +191,9 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     const r = await fetch("/api/v1/viz/picture.png", { credentials: "same-origin", ...post(body(text)) });
     if (!r.ok || token) return;
     if (pictureUrl) URL.revokeObjectURL(pictureUrl);
+    const turning = r.headers.get("X-Picture-View") === "lathe";  // the toolpath in the drawing view
+    pictureNote.textContent = t(turning ? "viz.picture_lathe_note" : "viz.picture_note");
+    picture.alt = t(turning ? "viz.picture_lathe_alt" : "viz.picture_alt");
     pictureUrl = URL.createObjectURL(await r.blob());
     picture.src = pictureUrl;
     picture.dataset.text = text;  // which program it shows (the browser test waits for it)
