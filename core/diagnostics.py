@@ -485,6 +485,10 @@ CATALOGUE: dict[str, Entry] = {
                         "stehen (D so wählen, dass es aufgeht).",
                      "G70 always cuts the full depth D{depth}: {rest} mm stay on top of the allowance (choose D so "
                      "that it divides the stock)."),
+    "TX-E420": Entry(E, "{code}: die Schruppzyklen dieses Programms zusammen sind zu umfangreich; dieser und "
+                        "weitere werden nicht ausgeführt.",
+                     "{code}: the roughing cycles of this program together are too large; this one and further "
+                     "ones are not executed."),
     "TX-E417": Entry(E, "G82 Gewindebohren braucht die drehende Hauptspindel (G97 S…, M3/M4); mit angetriebenen "
                         "Werkzeugen geht es nicht.",
                      "G82 tapping needs the main spindle turning (G97 S…, M3/M4); it does not work with driven "

@@ -522,3 +522,11 @@ def test_cycle_moves_under_g96_turn_at_the_speed_of_their_diameter() -> None:
     first, last = first_of_pass(tp, 5, 1)[0], first_of_pass(tp, 5, 10)[0]
     assert first.spindle == pytest.approx(160_000 / (math.pi * 92.7), abs=TOL)
     assert last.spindle == pytest.approx(160_000 / (math.pi * 27.0), abs=TOL)
+
+
+def test_many_roughing_cycles_meet_the_run_budget() -> None:
+    steps = "\n".join(f"G1 X{20 + 0.01 * k:.2f} Z{-0.05 * (k + 1):.2f}" for k in range(1000))
+    program = (READY + "G0 X80 Z2\n" + "G71 P10 Q20 I50 D1 F0.3\n" * 700 + "M30\nN10 G0 X20 Z0\n" + steps
+               + "\nN20 G1 X60\n")
+    tp = traub(program)
+    assert "TX-E420" in {d.code for d in tp.diagnostics}

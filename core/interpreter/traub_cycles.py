@@ -44,6 +44,7 @@ EPS = 1e-7
 CHORD = 0.01  # mm: arcs of a contour become chords straying at most this much
 MAX_CHORDS = 90  # … or at most this many chords per arc
 WORK = 300_000  # passes × contour points of one roughing cycle: beyond it the cycle is refused (TX-E406)
+RUN_WORK = 1_000_000  # the same for all roughing cycles of a run (a program of many cycles): TX-E420
 
 # the cycle codes this module executes (G33 is the modal thread motion)
 CODES = frozenset({"G70", "G71", "G72", "G86", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"})
@@ -65,6 +66,8 @@ class CycleState:
 
     pitch: float | None = None
     repeatable: tuple[str, XZ, XZ, float, float, float | None] | None = None  # code, start, end, I, K, pitch
+    work: int = 0  # contour points × passes of the run's roughing cycles so far (RUN_WORK)
+    contours: dict[object, list[tuple[XZ, int]]] = field(default_factory=dict)  # contours read (no parameters)
     in_contour: bool = False  # a run that only reads a P/Q contour: cycles inside it are not expanded
     setup: CycleSetup = field(default_factory=CycleSetup)
 
@@ -145,6 +148,9 @@ def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], value
     if code == "G33":
         _g33(run, o, values, words, d, cspan)
     elif code in ("G70", "G71", "G72"):
+        if state.work > RUN_WORK:
+            d.append(diag("TX-E420", cspan, code=code))
+            return
         if code == "G70" and "J" in words:  # the setting angle's effect on the cuts is on the lost page 112
             d.append(diag("TX-W418", words["J"].span))
         contour = _contour(run, block, code, values, d, cspan)
@@ -204,6 +210,12 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
             d.append(diag("TX-E305", span, start=first, end=last))
             return None
         blocks = unit.blocks[i:j + 1]
+    # the same contour read again from the same state gives the same points (a cycle repeated by G22)
+    plain = all(w.expr is None for b in blocks for w in b.words) and all(not b.assignments for b in blocks)
+    key = (id(blocks[0]) if blocks else 0, len(blocks), run.position, run.reference, run.turn.zero())
+    if plain and key in run.cycles.contours:
+        return run.cycles.contours[key]
+    run.cycles.work += 20 * len(blocks)  # reading a contour block costs about as much as twenty pass points
     # the contour is the programmed one: no nose radius (the finishing pass compensates it)
     scratch = TurnRun(dataclasses.replace(run.setup, tools=ToolTable({})))
     scratch.turn = dataclasses.replace(run.turn)
@@ -244,6 +256,8 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
     for m in moves[k:]:
         for p in m.points(CHORD, MAX_CHORDS)[1:]:
             points.append(((p[0] + ref[0], p[2] + ref[1]), m.line))
+    if plain:
+        run.cycles.contours[key] = points
     return points
 
 
@@ -346,6 +360,7 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         d.append(diag("TX-E402", w.span if w else span, code=code, address="D", value=f"{depth or 0:g}"))
         return
     level_axis = 1 if code == "G72" else 0
+    o.run.cycles.work += 2 * len(contour)  # reading the contour's points once
     cut_axis = 1 - level_axis
     allow = (values.get("I", 0.0), values.get("K", 0.0))  # x (radius), z
     start = o.pos
@@ -393,6 +408,7 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         return
     if depth > stock + 1e-9:
         d.append(diag("TX-W403", words["D"].span, code=code, depth=f"{depth:g}", stock=round(stock, 3)))
+    o.run.cycles.work += n * len(poly)
     walls = _walls(poly)
     ahead = list(itertools.accumulate((v for _, v in reversed(poly)), max))[::-1]
     step = stock / n
