@@ -4,6 +4,7 @@ the revolved STL and the half-section PNG."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import struct
@@ -321,3 +322,32 @@ def test_half_section_png_draws_material_above_and_the_view_below() -> None:
     png = half_section_png(result.profile, Blank(40, 100))
     width, height = struct.unpack(">II", png[16:24])
     assert width > height > 0
+
+
+def test_cycle_time_g96_along_a_taper_and_an_arc() -> None:
+    # V = 150 m/min below the G92 limit everywhere: time = ∫ ds / (f · 1000·V / (2π r))
+    f, v = 0.2, 150.0
+    taper = "G95\nG96 V150 T0101 M4\nG92 S4000\nG0 X30 Z0\nG1 X40 Z-10 F0.2\nG0 X100 Z100\nM30\n"
+    length = math.hypot(5, 10)
+    minutes = length / 5 * math.pi * (20 ** 2 - 15 ** 2) / (1000 * v) / f
+    result = turn(taper, Blank(40, 100), SHARP)
+    assert result.cycle_time == pytest.approx(minutes * 60 + _rapids(taper, SHARP) + CHANGE, rel=1e-6)
+    # a quarter circle R10 from Ø20 at Z0 to Ø40 at Z−10: the same integral summed over fine chords
+    arc = "G95\nG96 V150 T0101 M4\nG92 S4000\nG0 X20 Z0\nG3 X40 Z-10 R10 F0.2\nG0 X100 Z100\nM30\n"
+    moves = [c for c in run(arc, "traub-tx8d", RunSetup(tools=SHARP)).commands if isinstance(c, Move)]
+    (quarter,) = [m for m in moves if m.kind == "arc"]
+    pts = quarter.points(1e-5)
+    want = sum(math.dist(a, b) * 2 * math.pi * (a[0] + b[0]) / 2 / (1000 * v * f)
+               for a, b in itertools.pairwise(pts))
+    result = turn(arc, Blank(40, 100), SHARP)
+    assert result.cycle_time == pytest.approx(want * 60 + _rapids(arc, SHARP) + CHANGE, rel=1e-4)
+
+
+def test_a_runaway_program_stops_at_the_work_limit() -> None:
+    from core.sim.turning import LatheLimits
+    program = "G95\nG97 S1000 T0101 M4 F0.2\nG0 X40 Z0\n" + "G2 X40 Z-90 R46\nG3 X40 Z0 R46\n" * 50 + "M30\n"
+    toolpath = run(program, "traub-tx8d", RunSetup(tools=OUTSIDE))
+    result = simulate_turning(toolpath, Blank(100, 100), OUTSIDE, limits=LatheLimits(max_updates=200_000))
+    assert not result.complete
+    assert [e.code for e in result.events][-1] == "SIM-E010"
+    assert simulate_turning(toolpath, Blank(100, 100), OUTSIDE).complete

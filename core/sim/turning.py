@@ -33,6 +33,7 @@ CHORD_TOLERANCE = 0.002  # mm: arcs become chords that stray at most this far
 # table is no lathe table: its drills and mills would bore on the axis.
 DEFAULT_LATHE_TOOLS = ToolTable({})
 Point = tuple[float, float]  # (z, x) in the drawing view
+PIECE_COST = 200  # samples one swept piece counts for besides its own (its Python work) in the work limit
 
 
 @dataclass(frozen=True, slots=True)
@@ -80,7 +81,7 @@ class LatheMachine:
 @dataclass(frozen=True, slots=True)
 class LatheLimits:
     max_samples: int = 400_000  # Z samples of the profile (coarser beyond, SIM-W002)
-    max_updates: int = 400_000_000  # samples visited over all moves (then SIM-E010, stop)
+    max_updates: int = 40_000_000  # samples visited over all moves, ≈ 10 s (then SIM-E010, stop)
     max_events: int = 100
     max_chords: int = 2_000  # chords of one arc
 
@@ -265,16 +266,25 @@ class _Run:
 
     def _envelope(self, pieces: Iterable[tuple[Point, Point]], shape: tuple[Point, ...], radius: float,
                   upper: bool, i0: int, i1: int, mv: Move) -> Array:
+        """The lower (or upper) envelope of `shape` swept along `pieces` on the samples i0 … i1−1; each piece
+        works on the samples under its own sweep only."""
         zs = self.zs[i0:i1]
         env = np.full(zs.shape, np.inf)
         sign = -1.0 if upper else 1.0
+        zmin = min(z for z, _ in shape) - radius
+        zmax = max(z for z, _ in shape) + radius
         for a, b in pieces:
+            j0, j1 = self._window(min(a[0], b[0]) + zmin, max(a[0], b[0]) + zmax)
+            j0, j1 = max(j0, i0) - i0, min(j1, i1) - i0
+            if j1 <= j0:
+                continue
             pts = [(a[0] + z, sign * (a[1] + x)) for z, x in shape] + [(b[0] + z, sign * (b[1] + x)) for z, x in shape]
-            self.updates += len(zs)
+            self.updates += j1 - j0 + PIECE_COST
             if self.updates > self.limits.max_updates:
                 self.events.add(diag("SIM-E010", mv.span, limit=self.limits.max_updates))
                 raise _Stop
-            np.minimum(env, lower_envelope(zs, lower_hull(pts), radius), out=env)
+            part = env[j0:j1]
+            np.minimum(part, lower_envelope(zs[j0:j1], lower_hull(pts), radius), out=part)
         return sign * env
 
     def cut(self, mv: Move, ins: Insert, path: list[Point]) -> None:
