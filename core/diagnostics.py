@@ -489,6 +489,10 @@ CATALOGUE: dict[str, Entry] = {
                         "weitere werden nicht ausgeführt.",
                      "{code}: the roughing cycles of this program together are too large; this one and further "
                      "ones are not executed."),
+    "TX-W421": Entry(W, "{code} mit M35: der kegelige Gewindeauslauf (Länge und Winkel aus den Einrichtedaten) wird "
+                        "nicht dargestellt; das Gewinde endet am programmierten Endpunkt.",
+                     "{code} with M35: the tapered thread run-out (length and angle from the set-up data) is not "
+                     "shown; the thread ends at the programmed end point."),
     "TX-E417": Entry(E, "G82 Gewindebohren braucht die drehende Hauptspindel (G97 S…, M3/M4); mit angetriebenen "
                         "Werkzeugen geht es nicht.",
                      "G82 tapping needs the main spindle turning (G97 S…, M3/M4); it does not work with driven "

@@ -30,6 +30,7 @@ GROUPS = (
     Group("falling", "Fallende Kontur", "falling contour", ("G88", "G89"), "G89"),
     Group("spindle", "Spindel", "spindle", ("M3", "M4", "M5", "M19"), "M5"),
     Group("coolant", "Kühlmittel", "coolant", ("M7", "M8", "M9"), "M9"),
+    Group("runout", "Gewindeauslauf", "thread run-out", ("M35", "M36"), "M36"),
     Group("program_end", "Programmende", "end of program", ("M30", "M99"), None),
 )
 
@@ -216,8 +217,6 @@ _M_TABLE: list[tuple[int, str, str]] = [
     (31, "Ausblendsätze aus", "skip blocks off"),
     (32, "Spiegelfunktion ein (Nachbearbeitungsstation)", "mirror function on (post-machining station)"),
     (33, "M32 aus", "M32 off"),
-    (35, "Kegeliger Gewindeauslauf ein", "tapered thread run-out on"),
-    (36, "M35 aus", "M35 off"),
     (37, "Angetriebenes Werkzeug Übersetzung 1:1", "driven tool ratio 1:1"),
     (38, "Angetriebenes Werkzeug Übersetzung 2:1", "driven tool ratio 2:1"),
     (39, "Angetriebenes Werkzeug Übersetzung aus", "driven tool ratio off"),
@@ -281,6 +280,9 @@ _CODES += [
     Code("M7", "coolant", "Kühlmittel ein, Hochdruck", "coolant on, high pressure"),
     Code("M8", "coolant", "Kühlmittel ein", "coolant on"),
     Code("M9", "coolant", "Kühlmittel aus", "coolant off"),
+    Code("M35", "runout", "Kegeliger Gewindeauslauf ein (G76, G78, G86; Länge und Winkel: Einrichtedaten)",
+         "tapered thread run-out on (G76, G78, G86; length and angle: set-up data)"),
+    Code("M36", "runout", "Kegeliger Gewindeauslauf aus", "tapered thread run-out off"),
     Code("M30", "program_end", "Programmende mit Rücksprung zum Programmanfang", "end of program, back to its start"),
     Code("M99", "program_end", "Unterprogrammende, Rücksprung ins rufende Programm",
          "end of subprogram, back to the caller"),

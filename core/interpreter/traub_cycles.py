@@ -162,8 +162,12 @@ def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], value
     elif code in ("G83", "G84"):
         _drill(run, o, code, values, words, state.setup, limit, d, cspan)
     elif code in ("G76", "G82", "G86"):
+        if code != "G82" and run.turn.codes.get("runout") == "M35":
+            d.append(diag("TX-W421", cspan, code=code))
         _thread_cycle(run, o, code, values, words, limit, d, cspan)
     elif code in ("G77", "G78", "G79", "G81"):
+        if code == "G78" and run.turn.codes.get("runout") == "M35":
+            d.append(diag("TX-W421", cspan, code=code))
         _chamfer(run, o, code, values, words, limit, d, cspan)
     out.items.extend(o.items)
     run.position = run.last_known = o.pos
