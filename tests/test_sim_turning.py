@@ -351,3 +351,12 @@ def test_a_runaway_program_stops_at_the_work_limit() -> None:
     assert not result.complete
     assert [e.code for e in result.events][-1] == "SIM-E010"
     assert simulate_turning(toolpath, Blank(100, 100), OUTSIDE).complete
+
+
+def test_revolved_mesh_keeps_to_the_triangle_budget() -> None:
+    program = (SEEDS / "tx-30-g71-g88.nc").read_text(encoding="utf-8")
+    result = simulate_turning(run(program, "traub-tx8d"), Blank(100, 160))
+    full = revolved_mesh(result.profile)[1]
+    small = revolved_mesh(result.profile, max_triangles=5_000)[1]
+    assert len(small) <= 5_000 < len(full)
+    assert _closed(small)

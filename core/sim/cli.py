@@ -150,7 +150,8 @@ def _turn(args: argparse.Namespace, tools: ToolTable) -> int:
     blank = args.blank or _blank(DEFAULT_BLANK)
     result = simulate_turning(toolpath, blank, setup.tools, args.resolution or DEFAULT_TURNING_RESOLUTION)
     if args.stl:
-        _write(args.stl, stl_bytes(*revolved_mesh(result.profile), name="PAL Trainer turned part"))
+        _write(args.stl, stl_bytes(*revolved_mesh(result.profile, max_triangles=args.max_triangles),
+                                   name="PAL Trainer turned part"))
     if args.png:
         _write(args.png, half_section_png(result.profile, blank))
     if args.json:

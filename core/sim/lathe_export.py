@@ -53,15 +53,23 @@ def _loop(profile: RevolvedProfile, a: int, b: int) -> list[tuple[float, float]]
     return _simplify(out) + _simplify(inn)
 
 
-def revolved_mesh(profile: RevolvedProfile, sections: int = SECTIONS) -> tuple[Vertices, Triangles]:
-    """The part as a closed, outward-oriented triangle mesh (axis = Z). Points on the axis are one vertex."""
+def revolved_mesh(profile: RevolvedProfile, sections: int = SECTIONS,
+                  max_triangles: int = 500_000) -> tuple[Vertices, Triangles]:
+    """The part as a closed, outward-oriented triangle mesh (axis = Z). Points on the axis are one vertex.
+    Over `max_triangles`, first fewer sections (down to 16), then every k-th point of the outline."""
+    loops = [_loop(profile, a, b) for a, b in _runs(profile)]
+    points = sum(len(loop) for loop in loops)
+    if 2 * points * sections > max_triangles:
+        sections = max(16, min(sections, max_triangles // max(1, 2 * points)))
+    if 2 * points * sections > max_triangles:
+        k = math.ceil(2 * points * sections / max_triangles)
+        loops = [loop[::k] if len(loop) > 2 * k + 4 else loop for loop in loops]
     angles = np.linspace(0, 2 * math.pi, sections, endpoint=False)
     cos, sin = np.cos(angles), np.sin(angles)
     verts: list[npt.NDArray[np.float64]] = []
     tris: list[npt.NDArray[np.int64]] = []
     base = 0
-    for a, b in _runs(profile):
-        loop = _loop(profile, a, b)
+    for loop in loops:
         ids: list[npt.NDArray[np.int64]] = []
         for z, r in loop:
             if r <= 1e-9:
