@@ -33,6 +33,21 @@ class Code:
     support: Support = Support.YES
     feature_de: str = ""  # the feature's name in "not supported yet" diagnostics
     feature_en: str = ""
+    # help only (hover, completion, docs): one example block, the rule to remember, and what the block needs
+    # when that says more than `required` (G2: an end point and a centre or radius)
+    example: str = ""
+    rule_de: str = ""
+    rule_en: str = ""
+    mandatory: tuple[tuple[str, ...], ...] | None = None
+
+    def help_mandatory(self) -> tuple[tuple[str, ...], ...]:
+        """Groups of addresses of which the block needs one each (for the help; the checks use `required`)."""
+        return self.required if self.mandatory is None else self.mandatory
+
+    def help_optional(self) -> tuple[str, ...]:
+        """The other addresses the code takes, in alphabetical order."""
+        needed = {a for group in self.help_mandatory() for a in group}
+        return tuple(sorted(self.words - needed))
 
 
 @dataclass(frozen=True, slots=True)
@@ -44,6 +59,9 @@ class Address:
     help_en: str
     integer: bool = False  # the value must be a whole number
     flag: bool = False  # may be written without a value (G66 X Y)
+    unit: str = ""  # of the value, for the help ("mm", "mm/min", "°"); "" for numbers and choices
+    rule_de: str = ""  # the rule to remember (RN: "+ Rundung, − Fase")
+    rule_en: str = ""
 
 
 @dataclass(frozen=True, slots=True)

@@ -7,6 +7,8 @@ supported yet" diagnostic until their issue lands.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from core.dialects.codes import Address, Code, CodeTable, Group, Support
 
 P = Support.PLANNED
@@ -197,6 +199,89 @@ _ADDRESSES = [
     Address("AR", "Drehwinkel des Koordinatensystems", "rotation angle of the coordinate system"),
     Address("W", "Rückzugsebene in der Zustellachse (absolut)", "infeed-axis clearance plane (absolute)"),
 ]
+
+# -- help for the editor and the docs: an example block per code, the rules to remember, the units ----------
+TARGET = ("X", "XI", "XA", "Y", "YI", "YA", "Z", "ZI", "ZA")
+_POLAR_PLANE = ("AP", "AI")
+LEFT_DE, LEFT_EN = "Werkzeug links der Kontur, in Vorschubrichtung gesehen", "tool left of the contour, seen in the feed direction"
+RIGHT_DE, RIGHT_EN = ("Werkzeug rechts der Kontur, in Vorschubrichtung gesehen",
+                      "tool right of the contour, seen in the feed direction")
+ARC_DE = "Endpunkt (oder Öffnungswinkel AO) und Mittelpunkt I/J (IA/JA) oder Radius R"
+ARC_EN = "end point (or opening angle AO) and centre I/J (IA/JA) or radius R"
+ARC = ((*TARGET[:6], "AO"), ("I", "J", "IA", "JA", "R"))
+_HELP: dict[str, dict[str, object]] = {
+    "G0": {"example": "N30 G0 X-25 Y-15 Z2", "mandatory": (TARGET,),
+           "rule_de": "mindestens eine Koordinate; Eilgang, nie ins Material",
+           "rule_en": "at least one coordinate; rapid, never into the material"},
+    "G1": {"example": "N60 G1 X70 Y10 RN20", "mandatory": ((*TARGET, "D", "AS"),),
+           "rule_de": "höchstens zwei von X, Y, D, AS (dazu Z)", "rule_en": "at most two of X, Y, D, AS (plus Z)"},
+    "G2": {"example": "N40 G2 X56.4 Y10 I-20 J6.4", "mandatory": ARC, "rule_de": ARC_DE, "rule_en": ARC_EN},
+    "G3": {"example": "N50 G3 X30 Y40 R15", "mandatory": ARC, "rule_de": ARC_DE, "rule_en": ARC_EN},
+    "G4": {"example": "N70 G4 U2", "rule_de": "U in Sekunden", "rule_en": "U in seconds"},
+    "G9": {"example": "N80 G9 G1 X50"},
+    "G10": {"example": "N20 G10 IA40 JA35 RP30 AP45", "rule_de": "Pol I/J (IA/JA), ohne Pol: aktuelle Position",
+            "rule_en": "pole I/J (IA/JA), without one: the current position"},
+    "G11": {"example": "N30 G11 IA40 JA35 RP30 AP90"},
+    "G12": {"example": "N40 G12 IA40 JA35 AP180", "mandatory": (_POLAR_PLANE,)},
+    "G13": {"example": "N40 G13 IA40 JA35 AP0", "mandatory": (_POLAR_PLANE,)},
+    "G17": {"example": "N10 G17"},
+    "G22": {"example": "N50 G22 L100 H2", "rule_de": "H: Anzahl der Durchläufe", "rule_en": "H: number of runs"},
+    "G23": {"example": "N110 G23 N40 N100 H2", "rule_de": "erstes N: Anfang, zweites N: Ende des Abschnitts",
+            "rule_en": "first N: start, second N: end of the section"},
+    "G29": {"example": "N60 G29 P12 O3 P2 N200"},
+    "G40": {"example": "N80 G40"},
+    "G41": {"example": "N40 G41 G0 X70 Y84", "rule_de": LEFT_DE, "rule_en": LEFT_EN},
+    "G42": {"example": "N40 G42 G0 X-14 Y10", "rule_de": RIGHT_DE, "rule_en": RIGHT_EN},
+    "G45": {"example": "N40 G41 G45 D10 X10 Y20", "rule_de": "nur im selben Satz wie G41 oder G42",
+            "rule_en": "only in the same block as G41 or G42"},
+    "G46": {"example": "N90 G40 G46 D10", "rule_de": "nur im selben Satz wie G40", "rule_en": "only in the same block as G40"},
+    "G47": {"example": "N40 G41 G47 R10 X10 Y20", "rule_de": "nur im selben Satz wie G41 oder G42",
+            "rule_en": "only in the same block as G41 or G42"},
+    "G48": {"example": "N90 G40 G48 R10", "rule_de": "nur im selben Satz wie G40", "rule_en": "only in the same block as G40"},
+    "G50": {"example": "N100 G50", "rule_de": "allein im Satz", "rule_en": "alone in its block"},
+    "G53": {"example": "N10 G53", "rule_de": "allein im Satz", "rule_en": "alone in its block"},
+    **{f"G{n}": {"example": f"N10 G{n}"} for n in (54, 55, 56, 57)},
+    "G58": {"example": "N20 G58 RP20 AP30 AR45", "rule_de": "addiert sich zu früheren G58/G59; G50 hebt auf",
+            "rule_en": "adds to earlier G58/G59; G50 cancels"},
+    "G59": {"example": "N20 G59 XA50 YA40 AR30", "rule_de": "addiert sich zu früheren G58/G59; G50 hebt auf",
+            "rule_en": "adds to earlier G58/G59; G50 cancels"},
+    "G66": {"example": "N30 G66 X", "rule_de": "X: an der X-Achse, Y: an der Y-Achse spiegeln; G66 allein hebt auf",
+            "rule_en": "X: about the X axis, Y: about the Y axis; G66 alone cancels"},
+    "G70": {"example": "N10 G70"},
+    "G71": {"example": "N10 G71"},
+    "G90": {"example": "N10 G90", "rule_de": "jede Koordinate vom Werkstücknullpunkt aus",
+            "rule_en": "every coordinate from the workpiece zero"},
+    "G91": {"example": "N10 G91", "rule_de": "jede Koordinate als Weg vom letzten Punkt",
+            "rule_en": "every coordinate as the distance from the last point"},
+    "G94": {"example": "N10 G94 F200"},
+    "G95": {"example": "N10 G95 F0.1"},
+    "G96": {"example": "N10 G96 S150", "rule_de": "S in m/min", "rule_en": "S in m/min"},
+    "G97": {"example": "N10 G97 S1200", "rule_de": "S in 1/min", "rule_en": "S in 1/min"},
+    "M3": {"example": "N20 S1200 F150 M3"},
+    "M4": {"example": "N20 S800 F100 M4"},
+    "M5": {"example": "N190 M5"},
+    "M6": {"example": "N10 T1 TC1 M6"},
+    "M8": {"example": "N20 M8"},
+    "M9": {"example": "N190 M9"},
+    "M13": {"example": "N20 S1200 F150 M13"},
+    "M14": {"example": "N20 S800 F100 M14"},
+    "M15": {"example": "N190 M15"},
+    "M17": {"example": "N150 M17", "rule_de": "letzter Satz eines Unterprogramms", "rule_en": "last block of a subprogram"},
+    "M30": {"example": "N200 G0 X250 Y150 Z250 M30"},
+    "M60": {"example": "N10 M60"},
+}
+_MM = ("X", "Y", "Z", "XI", "YI", "ZI", "XA", "YA", "ZA", "I", "J", "K", "IA", "JA", "KA", "R", "D", "RN", "TR", "TL",
+       "RP", "W")
+_UNITS = {**dict.fromkeys(_MM, "mm"), **dict.fromkeys(("AO", "AS", "AP", "AI", "AR"), "°"),
+          "F": "mm/min", "E": "mm/min", "S": "1/min", "U": "s"}
+_RULES = {
+    "RN": ("+ Rundung, − Fase", "+ rounding, − chamfer"),
+    "R": ("+ kürzerer Bogen (bis 180°), − längerer Bogen", "+ shorter arc (up to 180°), − longer arc"),
+    "F": ("mm/min unter G94, mm pro Umdrehung unter G95", "mm/min under G94, mm per revolution under G95"),
+}
+_CODES = [replace(c, **_HELP.get(c.name, {})) for c in _CODES]  # type: ignore[arg-type]
+_ADDRESSES = [replace(a, unit=_UNITS.get(a.name, ""), rule_de=_RULES.get(a.name, ("", ""))[0],
+                      rule_en=_RULES.get(a.name, ("", ""))[1]) for a in _ADDRESSES]
 
 TABLE = CodeTable(
     codes={c.name: c for c in _CODES},
