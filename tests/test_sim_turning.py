@@ -360,3 +360,11 @@ def test_revolved_mesh_keeps_to_the_triangle_budget() -> None:
     small = revolved_mesh(result.profile, max_triangles=5_000)[1]
     assert len(small) <= 5_000 < len(full)
     assert _closed(small)
+
+
+def test_cycle_time_facing_past_the_centre_runs_at_the_limit() -> None:
+    to_centre = "G95\nG96 V200 T0101 M4\nG92 S2000\nG0 X42 Z-1\nG1 X0 F0.1\nG0 Z2\nM30\n"
+    past = to_centre.replace("G1 X0", "G1 X-2")  # 1 mm further at 2000 1/min and 0.1 mm: 0.3 s
+    a = turn(to_centre, Blank(40, 100), SHARP).cycle_time - _rapids(to_centre, SHARP)
+    b = turn(past, Blank(40, 100), SHARP).cycle_time - _rapids(past, SHARP)
+    assert b - a == pytest.approx(1 / (0.1 * 2000) * 60, rel=1e-6)

@@ -208,7 +208,11 @@ class _Run:
             dr = abs(r_end - r_start)
             if dr < 1e-9:
                 return length / (mv.feed * min(limit, 1000 * speed / (2 * math.pi * max(abs(r_end), 1e-9)))) * 60
-            return 60 / mv.feed * length / dr * abs(_g(abs(r_end), speed, limit) - _g(abs(r_start), speed, limit))
+            if r_start * r_end < 0:  # facing across the centre: both halves from the axis outwards
+                g = _g(abs(r_end), speed, limit) + _g(abs(r_start), speed, limit)
+            else:
+                g = abs(_g(abs(r_end), speed, limit) - _g(abs(r_start), speed, limit))
+            return 60 / mv.feed * length / dr * g
         total = 0.0
         m = len(path) - 1
         for k, (a, b) in enumerate(itertools.pairwise(path)):
