@@ -22,17 +22,17 @@ from importlib import resources
 from string import Template
 from typing import Any
 
-from core.drawing import KIND_NAMES_EN, part_drawing, value
-from core.exercises import Exercise
+from core.drawing import KIND_NAMES_EN, MARGIN, SHEET, part_drawing, value
+from core.exercises import CuttingData, Exercise
 from core.tools import KIND_NAMES_DE
 
 FORM_ROWS = 25  # rows of one programming-form page
 MAX_FORM_PAGES = 4
-# the drawing's sheet (A4 landscape, mm) without its outer white margin: the frame and the line under it
-DRAWING_CROP = (9.5, 9.5, 278.0, 196.5)
+# the drawing's A4 landscape sheet (mm) without its outer white margin: its frame and the line under it
+DRAWING_CROP = (MARGIN - 0.5, MARGIN - 0.5, SHEET[0] - 2 * MARGIN + 1.0, SHEET[1] - 2 * MARGIN + 6.5)
 DEBIAN_PACKAGES = "libpango-1.0-0 libpangoft2-1.0-0 libharfbuzz-subset0 fonts-dejavu-core"
 
-# the programming form's columns: heading (the same in both languages but the last) and width in mm (190 in all)
+# the programming form's columns: heading (the same in both languages but the last), width in mm (190 in all)
 FORM_COLUMNS = (("N", 10), ("G", 10), ("X", 14), ("Y", 14), ("Z", 13), ("I", 12), ("J", 12), ("K / R", 12),
                 ("F", 11), ("S", 11), ("T", 8), ("M", 9), ("", 54))
 
@@ -40,7 +40,8 @@ LABELS = {
     "de": {"sheet": "Aufgabenblatt", "form": "Programmierblatt", "name": "Name:", "date": "Datum:",
            "exercise": "Aufgabe", "data": "Rohteil, Werkzeuge und Schnittdaten",
            "blank": "Rohteil {x} × {y} × {z} mm, Werkstücknullpunkt: {zero}.",
-           "tool": "Werkzeug", "kind": "Art", "diameter": "Ø (mm)", "speed": "S (1/min)", "feed": "F (mm/min)",
+           "tool": "Werkzeug", "kind": "Art", "diameter": "Ø (mm)", "speed": "S (1/min)",
+           "feed": "F (mm/min)",
            "remark": "Bemerkung", "start": "Ausgangsprogramm", "drawing": "Bemaßte Zeichnung des Fertigteils",
            "caption": "Zeichnung verkleinert gedruckt (etwa {p} %); es gelten die eingetragenen Maße in mm.",
            "form_page": "Programmierblatt {k} von {n}", "page": "Seite", "of": "von",
@@ -49,7 +50,8 @@ LABELS = {
            "exercise": "Exercise", "data": "Blank, tools and cutting data",
            "blank": "Blank {x} × {y} × {z} mm, workpiece zero: {zero}.",
            "tool": "Tool", "kind": "Kind", "diameter": "Ø (mm)", "speed": "S (rpm)", "feed": "F (mm/min)",
-           "remark": "Remark", "start": "Start program", "drawing": "Dimensioned drawing of the finished part",
+           "remark": "Remark", "start": "Start program",
+           "drawing": "Dimensioned drawing of the finished part",
            "caption": "Drawing printed reduced (about {p} %); the dimensions given in mm apply.",
            "form_page": "programming form {k} of {n}", "page": "Page", "of": "of",
            "write": "Write the program", "complete": "Complete the program", "fix": "Find the mistake"},
@@ -80,10 +82,9 @@ def pdf_engine() -> Any:
                                "WeasyPrint is not installed (pip install weasyprint).") from None
     except OSError as err:  # cffi could not load Pango, GObject or HarfBuzz
         reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
-        raise SheetUnavailable(
-            f"WeasyPrint findet seine Systembibliotheken nicht (Debian: apt-get install {DEBIAN_PACKAGES}): {reason}",
-            f"WeasyPrint cannot load its system libraries (Debian: apt-get install {DEBIAN_PACKAGES}): {reason}",
-        ) from None
+        install = f"Debian: apt-get install {DEBIAN_PACKAGES}"
+        raise SheetUnavailable(f"WeasyPrint findet seine Systembibliotheken nicht ({install}): {reason}",
+                               f"WeasyPrint cannot load its system libraries ({install}): {reason}") from None
 
 
 @cache
@@ -112,8 +113,14 @@ def _svg_uri(svg: str) -> str:
     return "data:image/svg+xml;base64," + base64.b64encode(svg.encode("utf-8")).decode("ascii")
 
 
-def _size(v: float, lang: str) -> str:
-    return value(v, lang)
+def _speed(cut: CuttingData | None, lang: str) -> str:
+    """S in 1/min; where the task gives a cutting speed instead (turning under G96), V in m/min."""
+    if cut is None:
+        return "–"
+    if cut.speed:
+        return value(cut.speed, lang)
+    v = getattr(cut, "cutting_speed", None)
+    return f"V {value(float(v), lang)} m/min" if v else "–"
 
 
 def _task_page(exercise: Exercise, lang: str) -> str:
@@ -124,10 +131,11 @@ def _task_page(exercise: Exercise, lang: str) -> str:
     rows = []
     for tool in sorted(exercise.tool_table().tools.values(), key=lambda t: t.number):
         cut = cutting.get(tool.number)
-        cells = [f"T{tool.number}", tool.name or kinds.get(tool.kind, tool.kind), _size(tool.diameter, lang),
-                 _size(cut.speed, lang) if cut else "–", _size(cut.feed, lang) if cut else "–"]
-        rows.append("      <tr>" + "".join(
-            f'<td class="num">{_e(c)}</td>' if k >= 2 else f"<td>{_e(c)}</td>" for k, c in enumerate(cells)) + "</tr>")
+        cells = [f"T{tool.number}", tool.name or kinds.get(tool.kind, tool.kind),
+                 value(tool.diameter, lang) if tool.diameter else "–", _speed(cut, lang),
+                 value(cut.feed, lang) if cut else "–"]
+        rows.append("      <tr>" + "".join(f'<td class="num">{_e(c)}</td>' if k >= 2 else f"<td>{_e(c)}</td>"
+                                            for k, c in enumerate(cells)) + "</tr>")
     headings = "".join(f'<th class="num">{_e(labels[k])}</th>' if n >= 2 else f"<th>{_e(labels[k])}</th>"
                        for n, k in enumerate(("tool", "kind", "diameter", "speed", "feed")))
     start = ""
@@ -135,8 +143,8 @@ def _task_page(exercise: Exercise, lang: str) -> str:
         start = (f'  <div class="start">\n    <h2>{_e(labels["start"])}</h2>\n'
                  f"    <pre>{_e(exercise.start_program.rstrip())}</pre>\n  </div>")
     percent = round(190.0 * (0.78 if start else 1.0) / DRAWING_CROP[2] * 100)
-    blank = labels["blank"].format(x=_size(st.x1 - st.x0, lang), y=_size(st.y1 - st.y0, lang),
-                                   z=_size(st.z1 - st.z0, lang), zero=exercise.stock.zero.get(lang))
+    blank = labels["blank"].format(x=value(st.x1 - st.x0, lang), y=value(st.y1 - st.y0, lang),
+                                   z=value(st.z1 - st.z0, lang), zero=exercise.stock.zero.get(lang))
     return _template("task.html").substitute(
         sheet_label=_e(labels["sheet"]), name_label=_e(labels["name"]), date_label=_e(labels["date"]),
         title=_e(exercise.title.get(lang)),
@@ -144,7 +152,8 @@ def _task_page(exercise: Exercise, lang: str) -> str:
         task=_paragraphs(exercise.task.get(lang)),
         drawing=_svg_uri(_cropped(part_drawing(exercise, lang))), drawing_alt=_e(labels["drawing"]),
         caption=_e(labels["caption"].format(p=percent)), data_label=_e(labels["data"]), blank=_e(blank),
-        tool_headings=headings, tool_rows="\n".join(rows), start=start, variant=" with-start" if start else "")
+        tool_headings=headings, tool_rows="\n".join(rows), start=start,
+        variant=" with-start" if start else "")
 
 
 def form_pages(exercise: Exercise) -> int:
@@ -166,7 +175,7 @@ def _form_page(exercise: Exercise, lang: str, k: int, n: int) -> str:
 
 
 def task_sheet_html(exercises: Sequence[Exercise], lang: str = "de") -> str:
-    """The task sheets of the exercises as one HTML document with its print stylesheet (what the PDF shows)."""
+    """The task sheets of the exercises as one HTML document with its print stylesheet (the PDF's source)."""
     lang = "en" if lang == "en" else "de"
     if not exercises:
         raise ValueError("no exercises")

@@ -1,6 +1,6 @@
 """`paltrainer sheet`: exercises as a printed task sheet (PDF) with the empty programming form.
 
-Exit codes: 0 written, 2 usage or I/O error (unknown exercise, unwritable file, no PDF engine on this machine).
+Exit codes: 0 written, 2 usage or I/O error (unknown exercise, unwritable file, no PDF engine here).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ def register(subparsers: Any, common: argparse.ArgumentParser) -> None:
     p = subparsers.add_parser("sheet", help="Aufgabenblatt mit Zeichnung und Programmierblatt als PDF / "
                                             "task sheet with drawing and programming form as PDF")
     p.add_argument("exercise", nargs="+",
-                   help="Aufgaben-ID oder Aufgabendatei (YAML), auch mehrere / exercise id or file, one or more")
+                   help="Aufgaben-ID oder Aufgabendatei (YAML), auch mehrere / exercise ids or files")
     p.add_argument("--out", required=True, help="PDF-Datei / PDF file")
     p.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache / language")
     p.set_defaults(handler=_sheet)
@@ -33,5 +33,6 @@ def _sheet(args: argparse.Namespace) -> int:
     try:
         Path(args.out).write_bytes(pdf)
     except OSError as err:
-        raise UsageError(f"»{args.out}« kann nicht geschrieben werden: {err.strerror} / cannot write") from None
+        message = f"»{args.out}« kann nicht geschrieben werden: {err.strerror} / cannot write"
+        raise UsageError(message) from None
     return EXIT_OK

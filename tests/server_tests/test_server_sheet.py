@@ -1,4 +1,4 @@
-"""GET /api/v1/exercises/{slug}/sheet.pdf: the printed task sheet over HTTP, and 503 where no PDF can be made."""
+"""GET /api/v1/exercises/{slug}/sheet.pdf: the printed task sheet over HTTP; 503 where no PDF can be made."""
 
 from __future__ import annotations
 
@@ -55,10 +55,12 @@ def test_sheet_needs_an_account_and_an_exercise(api: Api) -> None:
     assert r.status_code == 401 and error_code(r) == "NOT_AUTHENTICATED"
     missing = api.client.get("/api/v1/exercises/no-such-exercise/sheet.pdf", headers=auth(student))
     assert missing.status_code == 404 and error_code(missing) == "EXERCISE_NOT_FOUND"
-    assert api.client.get(f"/api/v1/exercises/{slug}/sheet.pdf?lang=xx", headers=auth(student)).status_code == 422
+    bad_lang = api.client.get(f"/api/v1/exercises/{slug}/sheet.pdf?lang=xx", headers=auth(student))
+    assert bad_lang.status_code == 422
 
 
-def test_without_weasyprint_the_sheet_is_503_and_the_rest_works(api: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_without_weasyprint_the_sheet_is_503_and_the_rest_works(api: Api,
+                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
     def no_pango() -> None:
         raise OSError("cannot load library 'libpango-1.0-0': libpango-1.0-0: cannot open shared object file")
 
