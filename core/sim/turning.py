@@ -94,6 +94,10 @@ class RevolvedProfile:
     dz: float
     outer: Array
     inner: Array
+    # a cut below the surface that has not reached it yet (the clearance of a 93° tool at a shoulder leaves a
+    # thin wall above it): gap_lo … gap_hi is empty although outer says material; NaN: none
+    gap_lo: Array
+    gap_hi: Array
 
     @property
     def zs(self) -> Array:
@@ -101,8 +105,18 @@ class RevolvedProfile:
         return zs
 
     def volume(self) -> float:
-        area = np.clip(self.outer, 0, None) ** 2 - np.clip(self.inner, 0, None) ** 2
-        return float(math.pi * np.sum(np.clip(area, 0, None), dtype=np.float64) * self.dz)
+        return _volume(self.outer, self.inner, self.gap_lo, self.gap_hi, self.dz)
+
+
+def _volume(outer: Array, inner: Array, gap_lo: Array, gap_hi: Array, dz: float) -> float:
+    o, i = np.clip(outer, 0, None), np.clip(inner, 0, None)
+    area = np.clip(o ** 2 - i ** 2, 0, None)
+    gap = ~np.isnan(gap_lo)
+    if gap.any():
+        lo = np.clip(gap_lo[gap], i[gap], o[gap])
+        hi = np.clip(gap_hi[gap], i[gap], o[gap])
+        area[gap] -= np.clip(hi ** 2 - lo ** 2, 0, None)
+    return float(math.pi * np.sum(area, dtype=np.float64) * dz)
 
 
 @dataclass(frozen=True, slots=True)
@@ -141,7 +155,8 @@ def simulate_turning(toolpath: Toolpath, blank: Blank, tools: ToolTable = DEFAUL
         events.add(diag("SIM-W002", NO_LINE, requested=float(resolution), used=round(blank.length / n, 4),
                         limit=limits.max_samples))
     dz = blank.length / n
-    profile = RevolvedProfile(-blank.length, dz, np.full(n, blank.diameter / 2), np.full(n, blank.bore / 2))
+    profile = RevolvedProfile(-blank.length, dz, np.full(n, blank.diameter / 2), np.full(n, blank.bore / 2),
+                              np.full(n, np.nan), np.full(n, np.nan))
     run = _Run(profile, blank, tools, machine, limits, events)
     complete = True
     try:
@@ -311,34 +326,72 @@ class _Run:
             zs = self.zs[i0:i1]
             high[(zs >= h0) & (zs <= h1)] = np.inf
         outer, inner = self.p.outer[i0:i1], self.p.inner[i0:i1]
+        glo, ghi = self.p.gap_lo[i0:i1], self.p.gap_hi[i0:i1]
         tol = self.machine.touch_tolerance
         material = outer > inner
-        # the swept shape covers low … high at each z: it cuts where it reaches the surface it comes from
-        # (a cut that stays inside the material, under a thin wall, cannot be held by one interval: left)
+        before = _volume(outer, inner, glo, ghi, self.p.dz)
+        # the swept shape covers low … high at each z: it cuts where it reaches the surface it comes from, and
+        # takes a gap below the surface with it; a cut that stays inside the material becomes a gap
         if ins.inside:
             old = inner.copy()
             reach = material & (low <= inner + tol)
             new = np.where(reach, np.minimum(np.maximum(inner, high), outer), inner)
-            cut = new - old > tol
-            removed = math.pi * float(np.sum((new ** 2 - old ** 2)[cut])) * self.p.dz
-            inner[:] = new
+            with np.errstate(invalid="ignore"):
+                joined = reach & (new >= glo - tol)
+            new = np.where(joined, np.maximum(new, ghi), new)
         else:
             old = outer.copy()
             reach = material & (high >= outer - tol)
             new = np.where(reach, np.maximum(np.minimum(outer, low), np.maximum(inner, 0.0)), outer)
             new = np.maximum(new, 0.0)
-            cut = old - new > tol
-            removed = math.pi * float(np.sum((old ** 2 - new ** 2)[cut])) * self.p.dz
-            outer[:] = new
+            with np.errstate(invalid="ignore"):
+                joined = reach & (new <= ghi + tol)
+            new = np.where(joined, np.minimum(new, glo), new)
+        glo[joined] = np.nan
+        ghi[joined] = np.nan
+        surface = inner if ins.inside else outer
+        surface[:] = new
+        ulo, uhi = np.maximum(low, inner), np.minimum(high, outer)
+        under = material & ~reach & (uhi - ulo > tol)
+        if under.any():
+            self._gap(under, ulo, uhi, glo, ghi, inner, outer, ins.inside, tol)
+        cut = (np.abs(new - old) > tol) | under
+        removed = before - _volume(outer, inner, glo, ghi, self.p.dz)
+        if not ins.inside:
             jaws = self.jaw_samples - i0
             if jaws > 0 and bool(np.any(low[:jaws] < self.blank.jaw_radius)):
                 k = int(np.argmax(low[:jaws] < self.blank.jaw_radius))
                 self.events.add(diag("SIM-E012", mv.span, tool=mv.tool, z=round(float(self.zs[i0 + k]), 3),
                                      jaw=round(self.p.z0 + self.blank.clamp, 3)))
-        if removed > 0:
+        old = np.where(under, uhi, old)
+        new = np.where(under, ulo, new)
+        if removed > 1e-6 and bool(cut.any()):
             self._cut_events(mv, ins, path, removed, cut, old, new, i0)
         if ins.holder:
             self._holder(mv, ins, pieces)
+
+    @staticmethod
+    def _gap(under: npt.NDArray[np.bool_], ulo: Array, uhi: Array, glo: Array, ghi: Array, inner: Array,
+             outer: Array, inside: bool, tol: float) -> None:
+        """Add the cut ulo … uhi below the surface to the gaps (joined with an overlapping one, else the wider
+        of the two kept); a gap that now reaches the surface opens it."""
+        with np.errstate(invalid="ignore"):
+            empty = np.isnan(glo)
+            overlap = ~empty & (ulo <= ghi + tol) & (uhi >= glo - tol)
+            wider = ~empty & ~overlap & (uhi - ulo > ghi - glo)
+        take = under & (empty | wider)
+        glo[take], ghi[take] = ulo[take], uhi[take]
+        join = under & overlap
+        glo[join] = np.minimum(glo[join], ulo[join])
+        ghi[join] = np.maximum(ghi[join], uhi[join])
+        with np.errstate(invalid="ignore"):
+            opens = under & ((glo <= inner + tol) if inside else (ghi >= outer - tol))
+        if inside:
+            inner[opens] = ghi[opens]
+        else:
+            outer[opens] = glo[opens]
+        glo[opens] = np.nan
+        ghi[opens] = np.nan
 
     def _cut_events(self, mv: Move, ins: Insert, path: list[Point], removed: float, cut: npt.NDArray[np.bool_],
                     old: Array, new: Array, i0: int) -> None:
