@@ -69,6 +69,7 @@ def test_task_page_has_title_task_drawing_and_cutting_data() -> None:
     assert "Tiefe 10" in task and "Schnitt A–A" in task
     # tools and cutting data: T1 end mill Ø25, S 2000 1/min, F 250 mm/min
     assert {"T1", "25", "2000", "250"} <= words(task) and "S (1/min)" in task and "F (mm/min)" in task
+    assert "Schaftfräser 25 2000 250" in " ".join(task.split())
     assert "Bemerkung" not in task
 
 
@@ -86,6 +87,7 @@ def test_form_page_has_the_exam_columns() -> None:
 def test_english_sheet() -> None:
     task, form = pages_text(pal13_pdf("en"))
     assert "G41 – outer contour (arch)" in task and "Top view" in task and "S (rpm)" in task
+    assert "End mill 25 2000 250" in " ".join(task.split()) and "Schaftfräser" not in task
     assert "Programming form" in form and "Remark" in form and "Bemerkung" not in form
     assert "Page 2 of 2" in form
 

@@ -131,7 +131,9 @@ def _task_page(exercise: Exercise, lang: str) -> str:
     rows = []
     for tool in sorted(exercise.tool_table().tools.values(), key=lambda t: t.number):
         cut = cutting.get(tool.number)
-        cells = [f"T{tool.number}", tool.name or kinds.get(tool.kind, tool.kind),
+        # the kind only (the tool's name repeats its Ø, which has its own column)
+        kind = kinds.get(tool.kind, tool.name or tool.kind)
+        cells = [f"T{tool.number}", kind[:1].upper() + kind[1:],
                  value(tool.diameter, lang) if tool.diameter else "–", _speed(cut, lang),
                  value(cut.feed, lang) if cut else "–"]
         rows.append("      <tr>" + "".join(f'<td class="num">{_e(c)}</td>' if k >= 2 else f"<td>{_e(c)}</td>"
