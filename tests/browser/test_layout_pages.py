@@ -153,6 +153,19 @@ def test_exercise_columns_resize_collapse_and_are_remembered(server: str, browse
     page.context.close()
 
 
+def test_exercise_page_in_english(server: str, browser: object, instructor: str) -> None:  # noqa: F811
+    page = open_page(browser, server, instructor, "exercise", "laptop")
+    page.click("#lang")
+    page.wait_for_selector("#tab-task >> text=Task")
+    page.wait_for_selector(".diag", timeout=20000)
+    labels = [page.inner_text(s) for s in ("#tab-task", "#tab-drawing", "#tab-tools", "#tab-hints", "#file-open",
+                                            "#file-save", "#file-print", "#file-reset", "#submit")]
+    assert labels == ["Task", "Drawing", "Tools", "Hints", "Open", "Save", "Print", "Reset", "Submit"]
+    assert page.inner_text("#drawer-toggle").startswith("Messages")
+    page.screenshot(path=str(SHOTS / "layout-exercise-laptop-en.png"))
+    page.context.close()
+
+
 @pytest.fixture(autouse=True, scope="module")
 def _shots_folder() -> None:
     SHOTS.mkdir(parents=True, exist_ok=True)

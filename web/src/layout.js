@@ -72,7 +72,8 @@ export function mountDrawer(root) {
     const warnings = list.querySelectorAll(".diag-warning").length;
     const all = list.querySelectorAll(".diag:not(.diag-none)").length;
     count.textContent = `(${all})`;
-    status.textContent = all ? t("drawer.summary", { errors, warnings }) : t("diagnostics.none");
+    status.textContent = all ? t("drawer.summary", { errors, warnings, e: t(errors === 1 ? "drawer.error" : "drawer.errors"),
+      w: t(warnings === 1 ? "drawer.warning" : "drawer.warnings") }) : t("diagnostics.none");
     status.className = `status-line${errors ? " error" : ""}`;
   }).observe(list, { childList: true });
   return {
@@ -81,8 +82,9 @@ export function mountDrawer(root) {
   };
 }
 
-// Printing: the program alone, with line numbers, under a heading (the print stylesheet in app.css).
-export function printProgram(text, heading) {
+// Printing: the program alone, with line numbers, under a heading (the print stylesheet in app.css). The
+// editor shows only the lines in sight, so the program is printed from its text, not from the editor.
+function printView(text, heading) {
   document.getElementById("print-view")?.remove();
   const view = el("div", { id: "print-view", className: "print-only" },
     el("h1", {}, heading),
@@ -90,8 +92,11 @@ export function printProgram(text, heading) {
     el("ol", {}, ...text.replace(/\n$/, "").split("\n").map((line) => el("li", {}, line || " "))));
   document.body.append(view);
   document.body.classList.add("printing");
-  const done = () => { document.body.classList.remove("printing"); view.remove(); };
-  window.addEventListener("afterprint", done, { once: true });
+  window.addEventListener("afterprint", () => { document.body.classList.remove("printing"); view.remove(); }, { once: true });
+}
+
+export function printProgram(text, heading) {
+  printView(text, heading);
   window.print();
 }
 
@@ -124,6 +129,10 @@ export function editorToolbar(bar, view, { filename, heading, reset = null, onOp
     onOpen?.(file.name);
   });
   const button = (id, key, fn) => el("button", { type: "button", id, title: t(`${key}_title`), onclick: fn }, t(key));
+  // the browser's own print (Ctrl+P) prints the program as the button does
+  window.addEventListener("beforeprint", () => {
+    if (!document.body.classList.contains("printing")) printView(view.state.doc.toString(), heading());
+  });
   bar.replaceChildren(...[...leading,
     button("file-open", "file.open", () => picker.click()),
     button("file-save", "file.save", () => download(view.state.doc.toString(), filename())),
