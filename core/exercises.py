@@ -14,14 +14,17 @@ import yaml  # type: ignore[import-untyped, unused-ignore]
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
 from pydantic_core import ErrorDetails, PydanticCustomError
 
+from core.pipeline import DIALECTS
 from core.sim.engine import Stock
 from core.sim.tooltable import ToolTableError, tools_from_entries
+from core.sim.turning import Blank
 from core.tools import DEFAULT_TOOLS, ToolTable
 
 FORMAT_VERSION = 1
 EXERCISES_DIR = Path(__file__).resolve().parents[1] / "exercises"
 
 Vec3 = tuple[float, float, float]
+LATHE_DIALECTS = tuple(name for name, d in DIALECTS.items() if d.lathe)  # turning: a blank, not a stock box
 
 
 class _Model(BaseModel):
@@ -58,12 +61,51 @@ class StockSpec(_Model):
         return Stock(*self.min, *self.max)
 
 
+class BlankSpec(_Model):
+    """Turning: the bar (inner diameter 0) or tube, its face at Z0 and the bar towards −Z; the chuck's jaws hold
+    its last `chuck_length` mm and reach out to `jaw_diameter` (core.sim.turning.Blank)."""
+
+    diameter: float = Field(gt=0, le=10_000)  # outer diameter (mm)
+    inner_diameter: float = Field(default=0.0, ge=0, le=10_000)  # 0: a bar
+    length: float = Field(gt=0, le=10_000)
+    chuck_length: float | None = Field(default=None, gt=0, le=10_000)  # None: a third of the length, ≤ 30 mm
+    jaw_diameter: float | None = Field(default=None, gt=0, le=10_000)  # None: the diameter + 40 mm
+    zero: Text = Text(de="Drehmitte auf der Stirnfläche (Z0)", en="centre of the front face (Z0)")
+
+    @model_validator(mode="after")
+    def _blank(self) -> BlankSpec:
+        try:
+            self.blank()  # raises ValueError with the reason
+        except ValueError as err:
+            raise _rule("blank", "Innendurchmesser kleiner als der Durchmesser, Spannlänge kleiner als die Länge, "
+                        "Backen größer als der Durchmesser", str(err)) from None
+        return self
+
+    def blank(self) -> Blank:
+        return Blank(self.diameter, self.length, self.inner_diameter, self.chuck_length, self.jaw_diameter)
+
+    def box(self) -> dict[str, Any]:
+        """The box around the blank, as a `stock` (what milling-only consumers of an exercise read)."""
+        r = self.diameter / 2
+        return {"min": (-r, -r, -self.length), "max": (r, r, 0.0), "zero": self.zero.model_dump()}
+
+
 class CuttingData(_Model):
-    """What the task prescribes for one tool: spindle speed S (1/min) and feed F (mm/min)."""
+    """What the task prescribes for one tool: spindle speed S (1/min) or, turning under G96, the cutting speed
+    V (m/min); feed F (mm/min, turning: mm per revolution). Turning: a tool may have several entries (roughing
+    and finishing feeds); a move passes when it matches one of them."""
 
     tool: int = Field(ge=1, le=999)
-    speed: float = Field(gt=0)
+    speed: float | None = Field(default=None, gt=0)
+    cutting_speed: float | None = Field(default=None, gt=0)
     feed: float = Field(gt=0)
+
+    @model_validator(mode="after")
+    def _one_speed(self) -> CuttingData:
+        if (self.speed is None) == (self.cutting_speed is None):
+            raise _rule("cutting_data", "genau eines von speed (S, 1/min) und cutting_speed (V, m/min) angeben",
+                        "give exactly one of speed (S, 1/min) and cutting_speed (V, m/min)")
+        return self
 
 
 CriterionId = Literal["geometry", "safety", "technology", "syntax", "tool_change", "spindle_on",
@@ -97,9 +139,11 @@ class Exercise(_Model):
     id: Annotated[str, Field(pattern=r"^[a-z0-9][a-z0-9-]{1,80}$")]
     title: Text
     task: Text  # markdown
-    dialect: Literal["pal-mill", "sinumerik-iso", "beckhoff"] = "pal-mill"
+    dialect: Literal["pal-mill", "sinumerik-iso", "beckhoff", "traub-tx8d"] = "pal-mill"
     kind: Literal["write", "complete", "fix"] = "write"
+    # milling: the box; turning: `blank`, and `stock` is made from it (the box around the bar)
     stock: StockSpec
+    blank: BlankSpec | None = None
     tools: list[dict[str, Any]]  # entries in the tool-table format of docs/tools.md
     cutting_data: list[CuttingData] = []
     zero_offsets: dict[Literal["G54", "G55", "G56", "G57"], Vec3] = {}
@@ -124,6 +168,25 @@ class Exercise(_Model):
             raise ValueError(str(err)) from None
         return value
 
+    @model_validator(mode="before")
+    @classmethod
+    def _stock_of_blank(cls, data: Any) -> Any:
+        """A lathe exercise names its blank; its `stock` is the box around it (always made anew, never written)."""
+        if isinstance(data, dict) and data.get("dialect") in LATHE_DIALECTS:
+            raw = data.get("blank")
+            if not isinstance(raw, dict):
+                raise _rule("blank", "fehlt (eine Drehaufgabe braucht das Rohteil: Stange oder Rohr)",
+                            "is missing (a turning exercise needs its blank: a bar or tube)")
+            try:
+                spec = BlankSpec.model_validate(raw)
+            except ValidationError:  # the blank's own errors are reported by the validation that follows
+                return {**data, "stock": {"min": (-1, -1, -1), "max": (1, 1, 0)}}
+            data = {**data, "stock": spec.box()}
+        elif isinstance(data, dict) and data.get("blank") is not None:
+            raise _rule("blank", "nur für Drehaufgaben (dialect: traub-tx8d); Fräsaufgaben haben »stock«",
+                        "only for turning exercises (dialect: traub-tx8d); milling exercises have 'stock'")
+        return data
+
     @model_validator(mode="after")
     def _consistent(self) -> Exercise:
         total = sum(c.points for c in self.rubric)
@@ -140,7 +203,14 @@ class Exercise(_Model):
         if any(not 1 <= n <= len(lines) for n in self.locked_lines):
             raise _rule("locked_lines", f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
                         f"a line number is not in start_program (1 to {len(lines)})")
+        if self.dialect not in LATHE_DIALECTS and any(c.cutting_speed is not None for c in self.cutting_data):
+            raise _rule("cutting_data", "cutting_speed (V) nur für Drehaufgaben; beim Fräsen speed (S)",
+                        "cutting_speed (V) only for turning exercises; milling gives speed (S)")
         return self
+
+    @property
+    def lathe(self) -> bool:
+        return self.dialect in LATHE_DIALECTS
 
     def tool_table(self) -> ToolTable:
         return tools_from_entries(list(self.tools)) if self.tools else DEFAULT_TOOLS

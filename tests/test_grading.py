@@ -30,7 +30,7 @@ def test_reference_scores_100_and_runs_without_error(eid: str) -> None:
 def test_the_built_in_set_covers_the_seed_examples_and_the_variants() -> None:
     kinds = [e.kind for e in EXERCISES.values()]
     assert kinds.count("fix") >= 3 and kinds.count("complete") >= 3
-    assert {e.dialect for e in EXERCISES.values()} == {"pal-mill", "sinumerik-iso", "beckhoff"}
+    assert {e.dialect for e in EXERCISES.values()} == {"pal-mill", "sinumerik-iso", "beckhoff", "traub-tx8d"}
     for seed in ("pal-01", "pal-02", "pal-03", "pal-04", "pal-05", "pal-06", "pal-09", "pal-11", "pal-13", "pal-14",
                  "pal-15", "pal-16", "pal-18"):
         assert any(eid.startswith(seed) for eid in EXERCISES), seed

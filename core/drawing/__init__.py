@@ -410,9 +410,17 @@ def _title_block(svg: Svg, exercise: Exercise, L: Layout, lang: str) -> None:
     tools = []
     for t in sorted(exercise.tool_table().tools.values(), key=lambda t: t.number):
         names = KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN
-        tools.append(f"T{t.number} {names.get(t.kind, t.kind)} Ø{value(t.diameter, lang)}")
-    blank = (f"{value(st.x1 - st.x0, lang)} × {value(st.y1 - st.y0, lang)} × {value(st.z1 - st.z0, lang)} · "
-             f"{labels['scale']} {scale_text(L.s)} · {labels['units']}")
+        if t.kind == "turning":  # a lathe tool: its insert's nose radius, not a diameter
+            tools.append(f"T{t.number} R{value(t.nose_radius, lang)}")
+        else:
+            tools.append(f"T{t.number} {names.get(t.kind, t.kind)} Ø{value(t.diameter, lang)}")
+    if exercise.blank is not None:  # a bar or tube: diameters and length
+        b = exercise.blank
+        bore = f"/Ø{value(b.inner_diameter, lang)}" if b.inner_diameter else ""
+        blank = f"Ø{value(b.diameter, lang)}{bore} × {value(b.length, lang)} · {labels['units']}"
+    else:
+        blank = (f"{value(st.x1 - st.x0, lang)} × {value(st.y1 - st.y0, lang)} × {value(st.z1 - st.z0, lang)} · "
+                 f"{labels['scale']} {scale_text(L.s)} · {labels['units']}")
     rows = [(labels["title"], exercise.title.get(lang)), (labels["blank"], blank),
             (labels["tools"], ", ".join(tools)), (labels["zero"], exercise.stock.zero.get(lang))]
     for k, (label, text) in enumerate(rows):
@@ -431,6 +439,8 @@ def _fit(text: str, chars: int) -> str:
 def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     """The dimensioned drawing of the exercise's part as an SVG document (A4 landscape, mm)."""
     lang = "en" if lang == "en" else "de"
+    if exercise.lathe:
+        return _turned_part_placeholder(exercise, lang)
     stock = exercise.stock.stock()
     result = execute(exercise, exercise.reference)
     hm = result.sim.heightmap
@@ -469,4 +479,15 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     _annotations(svg, L, feats, lang)
     _section(svg, L, hm, [] if free else floors, lang)
     _title_block(svg, exercise, L, lang)
+    return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")
+
+
+def _turned_part_placeholder(exercise: Exercise, lang: str) -> str:
+    """A lathe exercise's sheet until turned parts are drawn: the frame, a note and the title block."""
+    svg = Svg(*SHEET)
+    svg.path(f"M{num(MARGIN)} {num(MARGIN)} H{num(SHEET[0] - MARGIN)} V{num(SHEET[1] - MARGIN)} H{num(MARGIN)} Z",
+             width=THICK)
+    note = "Zeichnung für Drehteile folgt" if lang == "de" else "drawing of turned parts to follow"
+    svg.text((SHEET[0] / 2, SHEET[1] / 2 - 20), note, anchor="middle", size=5.0)
+    _title_block(svg, exercise, _layout(exercise.stock.stock()), lang)
     return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -19,9 +20,17 @@ import numpy.typing as npt
 
 from core.diagnostics import Diagnostic, Severity
 from core.exercises import Criterion, Exercise
+from core.grading.turning import (
+    LATHE_SAFETY_EVENTS,
+    Turned,
+    execute_turning,
+    may_cut_turning,
+    turned_geometry,
+    turning_technology,
+)
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
-from core.pipeline import run
+from core.pipeline import DIALECTS, run
 from core.sim import HeightMap, SimResult, simulate
 from core.toolpath import Move
 
@@ -81,9 +90,12 @@ def execute(exercise: Exercise, text: str) -> Machined:
 
 
 def grade(exercise: Exercise, program: str) -> GradeResult:
-    """Grade `program` against `exercise`. The same inputs always give the same result."""
-    reference = execute(exercise, exercise.reference)
-    submission = execute(exercise, program)
+    """Grade `program` against `exercise`. The same inputs always give the same result. A lathe dialect's
+    exercise turns both programs on its blank (core.grading.turning), a milling one mills its stock."""
+    run_on: Callable[[Exercise, str], Machined | Turned] = (
+        execute_turning if DIALECTS[exercise.dialect].lathe else execute)
+    reference = run_on(exercise, exercise.reference)
+    submission = run_on(exercise, program)
     results = [_judge(c, exercise, program, reference, submission) for c in exercise.rubric]
     score = sum(r.points for r in results)
     return GradeResult(exercise.id, score, sum(c.points for c in exercise.rubric), tuple(results),
@@ -95,9 +107,14 @@ def _result(c: Criterion, passed: bool, de: str, en: str, lines: list[int] | tup
                            tuple(sorted(set(lines))), c.hidden)
 
 
-def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined, sub: Machined) -> CriterionResult:
+def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined | Turned, sub: Machined | Turned) -> CriterionResult:
     tp = sub.toolpath
     cutting = [m for m in tp.moves if m.kind != "rapid"]
+    if isinstance(ref, Turned) and isinstance(sub, Turned):
+        lathe = _judge_turning(c, ex, ref, sub, cutting)
+        if lathe is not None:
+            return lathe
+    assert isinstance(ref, Machined) or c.id not in ("geometry", "safety", "technology", "safe_position")
     if c.id == "syntax":
         errors = [d for d in tp.diagnostics if d.severity is Severity.ERROR]
         if not errors:
@@ -107,6 +124,7 @@ def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined, sub: Machine
                        f"{first.message}", f"{len(errors)} errors in the program, the first in line "
                        f"{first.span.line}: {first.message_en}", [d.span.line for d in errors])
     if c.id == "geometry":
+        assert isinstance(ref, Machined) and isinstance(sub, Machined)
         return _geometry(c, ref, sub)
     if c.id == "safety":
         events = [e for e in sub.sim.events if e.code in SAFETY_EVENTS]
@@ -121,9 +139,10 @@ def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined, sub: Machine
         first_cut = cutting[0].line if cutting else None
         changed = [t for t in tp.tool_changes if t.tool is not None]
         ok = bool(changed) and (first_cut is None or _before(tp, changed[0], cutting[0]))
+        call = "T…" if ex.lathe else "T … M6"
         return _result(c, ok, "Werkzeug vor dem ersten Schnitt eingewechselt." if ok else
-                       "Kein Werkzeugwechsel (T … M6) vor dem ersten Schnitt.",
-                       "Tool changed before the first cut." if ok else "No tool change (T … M6) before the first cut.",
+                       f"Kein Werkzeugwechsel ({call}) vor dem ersten Schnitt.",
+                       "Tool changed before the first cut." if ok else f"No tool change ({call}) before the first cut.",
                        [] if ok or first_cut is None else [first_cut])
     if c.id == "spindle_on":
         stopped = [m.line for m in cutting if m.spindle == 0]
@@ -135,10 +154,12 @@ def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined, sub: Machine
         last = len(tp.line_states)
         state = tp.state_at(last)[0] if last else None
         ok = state is None or state.active("compensation") in ("G40", None)
-        return _result(c, ok, "Die Fräserradiuskorrektur ist am Ende abgewählt (G40)." if ok else
-                       "Die Fräserradiuskorrektur ist am Programmende noch aktiv: G40 fehlt.",
-                       "Cutter radius compensation is off at the end (G40)." if ok else
-                       "Cutter radius compensation is still on at the end: G40 is missing.")
+        what, what_en = (("Schneidenradiuskompensation (SRK)", "Nose-radius compensation") if ex.lathe else
+                         ("Fräserradiuskorrektur", "Cutter radius compensation"))
+        return _result(c, ok, f"Die {what} ist am Ende abgewählt (G40)." if ok else
+                       f"Die {what} ist am Programmende noch aktiv: G40 fehlt.",
+                       f"{what_en} is off at the end (G40)." if ok else
+                       f"{what_en} is still on at the end: G40 is missing.")
     if c.id == "safe_position":
         z = tp.final_position[2]
         top = ex.stock.max[2]
@@ -159,6 +180,35 @@ def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined, sub: Machine
                    f"Vorgegebene Zeilen wurden geändert: {', '.join(map(str, edited))}.",
                    "The given lines are unchanged." if not edited else
                    f"Given lines were changed: {', '.join(map(str, edited))}.", edited)
+
+
+def _judge_turning(c: Criterion, ex: Exercise, ref: Turned, sub: Turned, cutting: list[Move]) -> CriterionResult | None:
+    """The criteria a lathe exercise judges its own way (the turned part, its events, V/S and F per revolution,
+    the end position off the bar); None: as in milling."""
+    verdict: tuple[bool, str, str, list[int]] | None = None
+    if c.id == "geometry":
+        verdict = turned_geometry(ref, sub, _tolerance(c))
+    elif c.id == "safety":
+        events = [e for e in sub.sim.events if e.code in LATHE_SAFETY_EVENTS]
+        if not events:
+            return _result(c, True, "Keine Kollision und kein gefährlicher Schnitt.", "No collision, no unsafe cut.")
+        e = events[0]
+        verdict = (False, f"Zeile {e.span.line}: {e.message}", f"Line {e.span.line}: {e.message_en}",
+                   [x.span.line for x in events if x.span.line])
+    elif c.id == "technology":
+        verdict = turning_technology(ex, [m for m in cutting if may_cut_turning(m, ex)],
+                                     c.tolerance if c.tolerance is not None else 0.1)
+    elif c.id == "safe_position":
+        assert ex.blank is not None
+        x, _, z = sub.toolpath.final_position
+        ok = z >= SAFE_CLEARANCE or abs(x) >= ex.blank.diameter / 2 + SAFE_CLEARANCE
+        verdict = (ok, f"Das Werkzeug endet bei X{2 * x:g} Z{z:g}, frei vom Werkstück." if ok else
+                   f"Das Werkzeug endet bei X{2 * x:g} Z{z:g}, weniger als {SAFE_CLEARANCE:g} mm vom Werkstück.",
+                   f"The tool ends at X{2 * x:g} Z{z:g}, clear of the part." if ok else
+                   f"The tool ends at X{2 * x:g} Z{z:g}, less than {SAFE_CLEARANCE:g} mm from the part.", [])
+    if verdict is None:
+        return None
+    return _result(c, verdict[0], verdict[1], verdict[2], verdict[3])
 
 
 def _before(tp: Toolpath, change: object, move: Move) -> bool:
@@ -315,7 +365,7 @@ def _technology(c: Criterion, ex: Exercise, cutting: list[Move]) -> CriterionRes
         if data is None:
             return _result(c, False, f"Zeile {m.line}: Werkzeug T{m.tool} ist in der Aufgabe nicht vorgesehen.",
                            f"Line {m.line}: tool T{m.tool} is not the one the task prescribes.", [m.line])
-        for name, have, want in (("S", m.spindle, data.speed), ("F", m.feed, data.feed)):
+        for name, have, want in (("S", m.spindle, data.speed or 0.0), ("F", m.feed, data.feed)):
             if abs(have - want) > tol * want:
                 return _result(c, False, f"Zeile {m.line}: {name}{have:g} statt {name}{want:g} für T{m.tool}.",
                                f"Line {m.line}: {name}{have:g} instead of {name}{want:g} for T{m.tool}.", [m.line])
