@@ -131,9 +131,31 @@ class StockSpec(BaseModel):
     max: list[Coordinate] = Field(min_length=3, max_length=3, description="[x1, y1, z1]")
 
 
+class BlankSpec(BaseModel):
+    """Turning: a bar (inner diameter 0) or tube, its face at Z0, the bar towards −Z (mm)."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    diameter: float = Field(gt=0, le=2000)
+    inner_diameter: float = Field(default=0.0, ge=0, le=2000, description="0: a bar")
+    length: float = Field(gt=0, le=5000)
+    chuck_length: float | None = Field(default=None, gt=0, le=5000, description="Clamped length; default "
+                                                                                 "a third of the length, ≤ 30 mm")
+
+    @model_validator(mode="after")
+    def _sizes(self) -> BlankSpec:
+        if self.inner_diameter >= self.diameter:
+            raise ValueError("inner_diameter must be less than diameter")
+        if self.chuck_length is not None and self.chuck_length >= self.length:
+            raise ValueError("chuck_length must be less than length")
+        return self
+
+
 class SimulateRequest(ProgramRequest):
     stock: StockSpec | None = Field(default=None, description="Default: the exercise's stock, else the PAL "
                                                                "examples' block 80 × 70 × 30 ([0,0,-30]–[80,70,0])")
+    blank: BlankSpec | None = Field(default=None, description="Turning (TRAUB): the bar or tube; default: the "
+                                                              "exercise's blank, else a bar around the program")
     resolution: float = Field(default=0.1, ge=0.05, le=5.0, description="Cell size of the height map, mm")
 
 

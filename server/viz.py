@@ -108,7 +108,11 @@ class Scene:
     layers: dict[str, bool] = field(default_factory=lambda: dict.fromkeys(LAYERS, True))
     nodes: dict[str, Any] = field(default_factory=dict)  # the handles of the nodes the layers and playback move
     has_stock: bool = False
-    lathe: bool = False  # a turning program: the lathe's drawing view (LATHE_AXES), no milling block
+    lathe: bool = False  # a turning program: the lathe's drawing view (LATHE_AXES), the turned part
+    half: bool = False  # the turned part cut open (half section)
+    turned: dict[str, Any] | None = None  # the profile shown (turned_chunks) and its blank
+    chuck_key: tuple[Any, ...] | None = None  # the blank and cut the chuck node shows now
+    segment_centre: list[bool] = field(default_factory=list)  # lathe: the segment's end is the nose centre (SRK)
     moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
     tiles: dict[str, str] = field(default_factory=dict)  # stock tile shown → its digest (resend only changes)
@@ -273,6 +277,8 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
             scene.lathe, scene.framed = lathe, False
             s.add_frame("/zero", axes_length=10 * M, axes_radius=0.4 * M,
                         wxyz=LATHE_ZERO if lathe else (1.0, 0.0, 0.0, 0.0))
+        scene.turned = data.get("turned")
+        _chuck(scene)
         bounds = _bounds(data)
         _axis(scene, bounds)
         if bounds is not None and (not scene.framed or scene.bounds is None
@@ -283,11 +289,13 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         scene.lines = data["lines"]
         scene.moves = data.get("moves", [])
         scene.segment_tools = list(data.get("segment_tools") or [])
+        scene.segment_centre = list(data.get("segment_centre") or [])
         scene.tools = {int(k): v for k, v in (data.get("tools") or {}).items()}
         scene.tool_radius = float(data.get("tool_radius") or 3.0)
         last = scene.segment_tools[-1] if scene.segment_tools else data.get("tool_number")
         _tool(scene, scene.tools.get(last) if last is not None else None,
-              tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0))
+              tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0),
+              bool(scene.segment_centre[-1]) if scene.segment_centre else False)
         s.remove_by_name("/playback/current")
         return scene.generation
 
@@ -304,16 +312,17 @@ def is_lathe(dialect: str) -> bool:
     return found is not None and found.lathe
 
 
-def lathe_view(data: dict[str, Any], nose: dict[int, float]) -> dict[str, Any]:
+def lathe_view(data: dict[str, Any], nose: dict[int, Any]) -> dict[str, Any]:
     """A turning program's scene data (server/workers.py: job_scene, moves as x = radius, y = 0, z) turned into
-    the lathe's drawing view (LATHE_AXES); no stock; the turret's tools with their nose radius (mm). The modal
-    states keep the program's coordinates (the page shows X as a diameter) and name the plane G18."""
+    the lathe's drawing view (LATHE_AXES); no milling stock; the turret's tools (their nose radius in mm, or
+    their insert_shape). The modal states keep the program's coordinates (the page shows X as a diameter) and
+    name the plane G18."""
     for key in ("segments", "feed", "rapid", "contour"):
         if data.get(key) is not None:
             data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(np.float32)
     data["tool"] = [float(v) for v in LATHE_AXES @ np.asarray(data["tool"], dtype=np.float64)]
     data["stock"] = None
-    data["tools"] = {n: {"kind": "turning", "nose": r} for n, r in nose.items()}
+    data["tools"] = {n: r if isinstance(r, dict) else {"kind": "turning", "nose": r} for n, r in nose.items()}
     for state in data["states"].values():
         state["plane"] = state.get("plane") or "G18"
     data["lathe"] = True
@@ -383,8 +392,13 @@ def _put_tiles(scene: Scene, tiles: Tiles) -> None:
     for key, (digest, vertices, triangles) in tiles.items():
         if scene.tiles.get(key) == digest:
             continue
-        s.add_mesh_simple(f"/stock/{key}", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
-                          cast_shadow=False, receive_shadow=False)
+        if key.startswith("z"):  # a chunk of a turned part: round (smooth normals), its cut face the section's
+            cut = key.endswith("_cut")
+            s.add_mesh_simple(f"/stock/{key}", vertices * M, triangles, color=CUT_COLOUR if cut else STOCK_COLOUR,
+                              flat_shading=cut, side="double", cast_shadow=False, receive_shadow=False)
+        else:
+            s.add_mesh_simple(f"/stock/{key}", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
+                              cast_shadow=False, receive_shadow=False)
         scene.tiles[key] = digest
 
 
@@ -520,11 +534,15 @@ def _insert(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) 
         scene.nodes["tool"].position = position
 
 
-def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) -> None:
+def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], centre: bool = False) -> None:
     """The tool, upright on its tip at `tip` (mm): built when its shape changes, else only moved. (viser's
-    meshes are given in scene coordinates, Z up: nothing needs turning.) On a lathe: the turning tool."""
+    meshes are given in scene coordinates, Z up: nothing needs turning.) On a lathe: the turning tool, its
+    theoretical tip at `tip` (or, `centre`, under SRK, its nose centre)."""
     if scene.lathe:
-        _insert(scene, shape, tip)
+        if shape is not None and shape.get("kind") == "insert":
+            _insert_shape(scene, shape, tip, centre)
+        else:
+            _insert(scene, shape, tip)
         return
     if shape is None:  # no tool table entry: a plain cylinder of the tool's radius
         shape = {"kind": "end_mill", "diameter": 2 * scene.tool_radius, "flute": 4 * scene.tool_radius,
@@ -551,6 +569,8 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
     """The part's box in mm: the stock, else the cutting moves, else the whole path."""
     if data.get("stock") is not None:
         pts = np.vstack([vertices for _, vertices, _ in data["stock"]["coarse"].values()])
+        if data.get("lathe") and len(data["feed"]):  # the turned part and where the tool cuts (from Z2, say)
+            pts = np.vstack([pts, data["feed"].reshape(-1, 3)])
     elif len(data["feed"]):
         pts = data["feed"].reshape(-1, 3)
     elif len(data["segments"]):
@@ -560,6 +580,8 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
     lo, hi = pts.min(axis=0).astype(np.float64), pts.max(axis=0).astype(np.float64)
     if data.get("lathe"):  # the spindle axis is in the picture: the part is seen as in the drawing, from X0 up
         lo[2], hi[2] = min(lo[2], 0.0), max(hi[2], 0.0)
+        if data.get("turned"):  # and the jaws of the chuck at its left end
+            lo[0] -= 0.08 * float(hi[0] - lo[0]) + 5.0
     return lo, hi
 
 
@@ -648,8 +670,9 @@ def playhead(scene: Scene, index: int) -> int | None:
             s.add_line_segments("/playback/current", seg[None, :, :] * M, CURRENT_COLOUR, thickness=5.0,
                                 thickness_units="screen")
             number = scene.segment_tools[index] if index < len(scene.segment_tools) else None
+            centre = index < len(scene.segment_centre) and scene.segment_centre[index]
             _tool(scene, scene.tools.get(number) if number is not None else None,
-                  tuple(float(v) for v in seg[1]))
+                  tuple(float(v) for v in seg[1]), centre)
         return scene.lines[index] if index < len(scene.lines) else None
 
 
@@ -806,8 +829,19 @@ def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
         data["tools"] = {n: tool_shape(t) for n in set(data["segment_tools"])
                          if n is not None and (t := setup.tools.get(n)) is not None}
     if lathe:
-        data = lathe_view(data, {n: float(t.nose_radius) for n in set(data["segment_tools"])
-                                 if n is not None and (t := setup.tools.get(n)) is not None})
+        from core.sim import DEFAULT_LATHE_TOOLS
+        from core.sim.insert import insert_of
+
+        lathe_tools = make_setup(spec, DEFAULT_LATHE_TOOLS).tools
+        data = lathe_view(data, {n: insert_shape(insert_of(lathe_tools.get(n), n))
+                                 for n in set(data["segment_tools"]) if n is not None})
+        toolpath = run(text, dialect, setup)
+        centre = [m.programmed_end is not None and bool(np.any(np.abs(np.subtract(m.programmed_end, m.end)) > 1e-6))
+                  for m in toolpath.moves]
+        data["segment_centre"] = [centre[k] if k < len(centre) else False for k in data["moves"]]
+        turned = job_turned_after(text, dialect, spec, None)
+        data["stock"] = {"coarse": turned["chunks"]}
+        data["turned"] = {"profile": turned["profile"], "blank": turned["blank"]}
     data["lathe"] = lathe
     return data
 
@@ -829,3 +863,354 @@ def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
     return {"too_much": d.points("over"), "too_little": d.points("left"), "cell": d.part.grid.dx,
             "too_much_mm3": float(d.over.sum()) * area, "too_little_mm3": float(d.left.sum()) * area,
             "largest_mm": float(max(d.over.max(initial=0.0), d.left.max(initial=0.0)))}
+
+
+# -- the turned part (a lathe dialect): the bar revolved from the turning simulation's profile --------------
+# The profile r_out(z)/r_in(z) (core/sim/turning.py) is revolved in chunks of CHUNK_MM along Z, each a mesh with
+# a digest, so a playback step resends only the chunks whose part of the profile changed (VISER.md: revolved
+# meshes). Scene coordinates as LATHE_AXES: Z to the right, the radius up (θ = 0) and towards the back (+y).
+TURNED_RESOLUTION = 0.1  # mm along Z: the view's profile (radii are exact)
+TURNED_SECTIONS = 48  # around the axis; a half section keeps the back 24 (the camera looks from −y)
+CHUNK_MM = 10.0  # along Z; at most MAX_CHUNKS chunks (longer ones for a long bar)
+MAX_CHUNKS = 40
+PROFILE_TOLERANCE = 0.01  # mm: the outline simplified within this (the exam's radial tolerance)
+CORNER = np.radians(35)  # the outline turning by more than this is an edge (its own normals)
+CUT_OFFSET = 0.05  # mm: the cut face a little behind the plane of the toolpath, which stays visible on it
+CUT_COLOUR = (222, 184, 135)  # the cut face of the half section, like the hatched area of a section drawing
+CHUCK_COLOUR = (84, 90, 100)
+JAW_COLOUR = (128, 136, 148)
+INSERT_THICKNESS = 4.8  # mm: an ISO insert (…04…) seen from the side; the holder is drawn as a thicker plate
+HOLDER_THICKNESS = 12.0
+HOLDER_REACH = 35.0  # mm of the holder drawn beyond the insert (the turret is not drawn)
+
+
+def view_blank(spec: dict[str, Any], toolpath: Any) -> Any:
+    """The blank the lathe view turns: the request's, else the exercise's, else a bar around the program
+    (Ø the largest diameter of its cutting moves, long enough that the chuck stays clear of them)."""
+    from core.sim import Blank
+
+    found = spec.get("blank") or (spec.get("exercise") or {}).get("blank")
+    if found:
+        return Blank(float(found["diameter"]), float(found["length"]), float(found.get("inner_diameter") or 0.0),
+                     found.get("chuck_length"), found.get("jaw_diameter"))
+    cutting = [m for m in toolpath.moves if m.kind != "rapid"]
+    points = np.array([p for m in cutting for p in (m.start, m.end)] or [(10.0, 0.0, -10.0)], dtype=np.float64)
+    diameter = max(10.0, float(np.ceil(2 * np.max(np.abs(points[:, 0])) - 1e-6)))
+    depth = max(5.0, -float(np.min(points[:, 2])))
+    length = max(20.0, 5 * float(np.ceil(1.5 * (depth + 5) / 5)))  # the chuck holds at most a third
+    return Blank(min(diameter, 2000.0), min(length, 5000.0))
+
+
+def profile_data(profile: Any) -> dict[str, Any]:
+    return {"z0": float(profile.z0), "dz": float(profile.dz), "outer": np.asarray(profile.outer, np.float32),
+            "inner": np.asarray(profile.inner, np.float32)}
+
+
+def blank_data(blank: Any) -> dict[str, float]:
+    return {"diameter": float(blank.diameter), "inner_diameter": float(blank.bore), "length": float(blank.length),
+            "clamp": float(blank.clamp), "jaw_radius": float(blank.jaw_radius)}
+
+
+def _simplified(z: np.ndarray, r: np.ndarray, tol: float = PROFILE_TOLERANCE) -> np.ndarray:
+    """The indices of a polyline r(z) kept so that the dropped points are within `tol` of it (Ramer-Douglas-
+    Peucker, measured along r: r is a function of z)."""
+    keep = np.zeros(len(z), dtype=bool)
+    keep[[0, -1]] = True
+    stack = [(0, len(z) - 1)]
+    while stack:
+        a, b = stack.pop()
+        if b - a < 2:
+            continue
+        t = (z[a + 1:b] - z[a]) / max(z[b] - z[a], 1e-12)
+        err = np.abs(r[a + 1:b] - (r[a] + t * (r[b] - r[a])))
+        k = int(np.argmax(err))
+        if err[k] > tol:
+            keep[a + 1 + k] = True
+            stack += [(a, a + 1 + k), (a + 1 + k, b)]
+    return np.flatnonzero(keep)
+
+
+def _pieces(points: np.ndarray) -> list[np.ndarray]:
+    """A polyline (z, r) cut at its corners: each piece is revolved with its own normals."""
+    if len(points) < 3:
+        return [points]
+    d = np.diff(points, axis=0)
+    angle = np.arctan2(d[:, 1], d[:, 0])
+    turn = np.abs((np.diff(angle) + np.pi) % (2 * np.pi) - np.pi)
+    cuts = np.flatnonzero(turn > CORNER) + 1
+    return [points[a:b + 1] for a, b in itertools.pairwise([0, *cuts.tolist(), len(points) - 1])]
+
+
+def _angles(half: bool, sections: int = TURNED_SECTIONS) -> tuple[np.ndarray, bool]:
+    """The angles of the rings from the top (θ = 0) over the back; whether the last column wraps to the first."""
+    if half:
+        return np.linspace(0.0, np.pi, sections // 2 + 1), False
+    return np.linspace(0.0, 2 * np.pi, sections, endpoint=False), True
+
+
+def revolve(points: np.ndarray, half: bool, sections: int = TURNED_SECTIONS) -> tuple[np.ndarray, np.ndarray]:
+    """A polyline (z, r) revolved about the axis (scene mm, vertices and triangles)."""
+    theta, wrap = _angles(half, sections)
+    columns = len(theta)
+    z, r = points[:, 0][:, None], points[:, 1][:, None]
+    vertices = np.stack([np.broadcast_to(z, (len(points), columns)), r * np.sin(theta), r * np.cos(theta)], -1)
+    i, j = np.meshgrid(np.arange(len(points) - 1), np.arange(columns if wrap else columns - 1), indexing="ij")
+    a = i * columns + j
+    b = i * columns + (j + 1) % columns
+    quads = np.stack([a, b, b + columns, a + columns], -1).reshape(-1, 4)
+    triangles = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
+    return vertices.reshape(-1, 3).astype(np.float32), triangles.astype(np.uint32)
+
+
+def _merge(parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
+    vertices, triangles, base = [], [], 0
+    for v, t in parts:
+        vertices.append(v)
+        triangles.append(t + base)
+        base += len(v)
+    if not vertices:
+        return np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32)
+    return np.vstack(vertices).astype(np.float32), np.vstack(triangles).astype(np.uint32)
+
+
+def _digest(vertices: np.ndarray, triangles: np.ndarray) -> str:
+    import hashlib
+
+    return hashlib.blake2b(vertices.tobytes() + triangles.tobytes(), digest_size=12).hexdigest()
+
+
+def turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
+    """The turned part as chunks along Z: {"z<k>": its revolved surface} and, in a half section, {"z<k>_cut":
+    the cut face} (digest, scene vertices mm, triangles). Faces across the axis are drawn only where the
+    material really ends (the front face, a shoulder, the parted-off end), not between chunks."""
+    z0, dz = float(profile["z0"]), float(profile["dz"])
+    outer = np.asarray(profile["outer"], np.float64)
+    inner = np.clip(np.asarray(profile["inner"], np.float64), 0.0, None)
+    n = len(outer)
+    solid = outer - inner > 1e-6
+    per = max(1, round(max(CHUNK_MM, n * dz / MAX_CHUNKS) / dz))
+    zs = z0 + (np.arange(n) + 0.5) * dz
+    chunks: Tiles = {}
+    for k, a in enumerate(range(0, n, per)):
+        b = min(n, a + per)
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], solid[a:b].astype(np.int8), [0]])))
+        surface: list[tuple[np.ndarray, np.ndarray]] = []
+        cut: list[tuple[np.ndarray, np.ndarray]] = []
+        for i, j in zip(a + edges[::2], a + edges[1::2], strict=True):
+            lo, hi = z0 + i * dz, z0 + j * dz
+            z = np.concatenate([[lo], zs[i:j], [hi]])
+            o = np.concatenate([[outer[i]], outer[i:j], [outer[j - 1]]])
+            m = np.concatenate([[inner[i]], inner[i:j], [inner[j - 1]]])
+            ko, ki = _simplified(z, o), _simplified(z, m)
+            outline = [np.stack([z[ko], o[ko]], -1)]
+            if np.any(m > 1e-9):
+                outline.append(np.stack([z[ki], m[ki]], -1))
+            if i == 0 or not solid[i - 1]:  # the material ends here: the face across
+                outline.append(np.array([[lo, inner[i]], [lo, outer[i]]]))
+            if j == n or not solid[j]:
+                outline.append(np.array([[hi, inner[j - 1]], [hi, outer[j - 1]]]))
+            for line in outline:
+                surface += [revolve(piece, half) for piece in _pieces(line) if len(piece) >= 2]
+            if half:
+                zz = np.union1d(z[ko], z[ki])
+                ro, ri = np.interp(zz, z[ko], o[ko]), np.interp(zz, z[ki], m[ki])
+                for sign in (1.0, -1.0):  # the upper and the lower half of the section
+                    top = np.stack([zz, np.full_like(zz, CUT_OFFSET), sign * ro], -1)
+                    bottom = np.stack([zz, np.full_like(zz, CUT_OFFSET), sign * ri], -1)
+                    count = len(zz)
+                    q = np.arange(count - 1)
+                    tris = np.concatenate([np.stack([q, q + 1, count + q + 1], -1),
+                                           np.stack([q, count + q + 1, count + q], -1)])
+                    cut.append((np.vstack([top, bottom]).astype(np.float32), tris.astype(np.uint32)))
+        for key, parts in ((f"z{k}", surface), (f"z{k}_cut", cut)):
+            if parts:
+                v, t = _merge(parts)
+                chunks[key] = (_digest(v, t), v, t)
+    return chunks
+
+
+def _box(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """A hexahedron from its 8 corners (index bits: z, tangential, radial)."""
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    tris = [t for a, b, c, d in faces for t in ((a, b, c), (a, c, d))]
+    return corners.astype(np.float32), np.asarray(tris, dtype=np.uint32)
+
+
+def chuck_meshes(blank: dict[str, float], half: bool) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """The chuck at the bar's back end (left) and its three jaws holding the last `clamp` mm (scene mm); in a
+    half section only the back half of the chuck and the jaws behind the cut."""
+    r = blank["diameter"] / 2
+    jaw_r = max(blank["jaw_radius"], r + 5.0)
+    back = -blank["length"]
+    body_r, depth = jaw_r + 0.25 * r + 10.0, max(25.0, 0.5 * jaw_r)
+    outline = np.array([[back, 0.0], [back, body_r], [back - depth, body_r], [back - depth, 0.0]])
+    body = _merge([revolve(piece, half, 64) for piece in (outline[:2], outline[1:3], outline[2:])])
+    width = float(np.clip(0.5 * r, 8.0, 30.0))
+    jaws = []
+    for theta in np.radians([0.0, 120.0, 240.0]):
+        if half and np.sin(theta) < -1e-9:  # in front of the cut: left out
+            continue
+        u = np.array([0.0, np.sin(theta), np.cos(theta)])  # radial (scene y, z)
+        v = np.array([0.0, np.cos(theta), -np.sin(theta)])  # tangential
+        corners = np.array([[z, 0.0, 0.0] + t * v + rr * u for rr in (r, jaw_r) for t in (-width / 2, width / 2)
+                            for z in (back, back + blank["clamp"])])
+        jaws.append(_box(corners))
+    return {"body": body, "jaws": _merge(jaws)}
+
+
+def insert_shape(insert: Any) -> dict[str, Any]:
+    """A turning tool's insert as the view draws it (plain data, from the worker): its outline (the core grown by
+    the nose radius) and its holder (cut off HOLDER_REACH beyond the insert), (z, x) mm relative to the
+    theoretical tip."""
+    r, (tz, tx) = float(insert.radius), insert.tip
+    core = np.asarray(insert.core, dtype=np.float64)
+    if r > 0:
+        a = np.linspace(0, 2 * np.pi, 24, endpoint=False)
+        core = (core[:, None, :] + r * np.stack([np.cos(a), np.sin(a)], -1)[None]).reshape(-1, 2)
+    outline = _hull(core) - (tz, tx)
+    holder = np.asarray(insert.holder, dtype=np.float64).reshape(-1, 2) - (tz, tx)
+    if len(holder):
+        lo, hi = outline.min(axis=0), outline.max(axis=0)
+        holder[:, 0] = np.clip(holder[:, 0], lo[0] - HOLDER_REACH - 40, hi[0] + HOLDER_REACH + 40)
+        holder[:, 1] = np.clip(holder[:, 1], lo[1] - HOLDER_REACH, hi[1] + HOLDER_REACH)
+    return {"kind": "insert", "insert": insert.kind, "outline": outline.round(4).tolist(),
+            "holder": holder.round(4).tolist(), "tip": [float(tz), float(tx)]}
+
+
+def _hull(points: np.ndarray) -> np.ndarray:
+    """The convex hull (counter-clockwise) of 2-D points (Andrew's monotone chain)."""
+    pts = sorted({(round(float(x), 6), round(float(y), 6)) for x, y in points})
+    if len(pts) < 3:
+        return np.asarray(pts, dtype=np.float64)
+
+    def chain(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        out: list[tuple[float, float]] = []
+        for p in seq:
+            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+                out.pop()
+            out.append(p)
+        return out
+
+    lower, upper = chain(pts), chain(pts[::-1])
+    return np.asarray(lower[:-1] + upper[:-1], dtype=np.float64)
+
+
+def prism(outline: np.ndarray, thickness: float) -> tuple[np.ndarray, np.ndarray]:
+    """A convex outline (z, x) as a plate across y (scene mm, vertices and triangles)."""
+    n = len(outline)
+    front = np.stack([outline[:, 0], np.full(n, -thickness / 2), outline[:, 1]], -1)
+    back = front + [0.0, thickness, 0.0]
+    k = np.arange(n)
+    fan = [(0, i, i + 1) for i in range(1, n - 1)]
+    tris = (fan + [(n + a, n + c, n + b) for a, b, c in fan]
+            + [t for i in k for t in ((i, (i + 1) % n, n + (i + 1) % n), (i, n + (i + 1) % n, n + i))])
+    return np.vstack([front, back]).astype(np.float32), np.asarray(tris, dtype=np.uint32)
+
+
+def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int | None) -> dict[str, Any]:
+    """The turned part after the first `moves` moves (None: all) as chunks, with its profile and blank (the
+    half-section toggle re-meshes the profile). Runs in a worker process."""
+    import copy
+
+    from core.pipeline import run
+    from core.sim import DEFAULT_LATHE_TOOLS, simulate_turning
+    from core.toolpath import Move
+    from server.workers import make_setup
+
+    setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
+    toolpath = run(text, dialect, setup)
+    blank = view_blank(spec, toolpath)
+    if moves is not None:
+        prefix: list[Any] = []
+        count = 0
+        for c in toolpath.commands:
+            if isinstance(c, Move):
+                if count >= moves:
+                    break
+                count += 1
+            prefix.append(c)
+        toolpath = copy.copy(toolpath)
+        toolpath.commands = prefix
+    result = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION)
+    profile = profile_data(result.profile)
+    return {"chunks": turned_chunks(profile, bool(spec.get("half"))), "profile": profile,
+            "blank": blank_data(blank)}
+
+
+def job_turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
+    """The chunks of a profile shown already, whole or cut open (the half-section toggle). Runs in a worker."""
+    return turned_chunks(profile, half)
+
+
+def _chuck(scene: Scene) -> None:
+    """The chuck and its jaws at the left end of the turned part; rebuilt only when the blank or the cut changes."""
+    s = scene.server.scene
+    if not scene.lathe or scene.turned is None:
+        if scene.chuck_key is not None:
+            s.remove_by_name("/chuck")
+            scene.chuck_key = None
+        return
+    blank = scene.turned["blank"]
+    key = (tuple(sorted(blank.items())), scene.half)
+    if key == scene.chuck_key:
+        return
+    meshes = chuck_meshes(blank, scene.half)
+    s.add_frame("/chuck", show_axes=False)
+    v, t = meshes["body"]
+    s.add_mesh_simple("/chuck/body", v * M, t, color=CHUCK_COLOUR, side="double", cast_shadow=False,
+                      receive_shadow=False)
+    v, t = meshes["jaws"]
+    s.add_mesh_simple("/chuck/jaws", v * M, t, color=JAW_COLOUR, flat_shading=True, side="double",
+                      cast_shadow=False, receive_shadow=False)
+    scene.chuck_key = key
+
+
+def _insert_shape(scene: Scene, shape: dict[str, Any], point: tuple[float, ...], centre: bool) -> None:
+    """A turning tool as its insert (outline from the tool table: C/D/V, grooving, thread; the nose radius) on
+    its holder, in the plane of the drawing view; `point` is its theoretical tip, or under SRK its nose centre."""
+    s = scene.server.scene
+    tz, tx = shape["tip"]
+    # the mesh is made around the theoretical tip; under SRK the path is the nose centre's: the tip is beside it
+    position = tuple(v * M for v in (point[0] + (tz if centre else 0.0), point[1], point[2] + (tx if centre else 0.0)))
+    key = ("insert", str(shape.get("insert")), tuple(map(tuple, shape["outline"])), tuple(map(tuple, shape["holder"])))
+    if key != scene.tool_key:
+        outline = np.asarray(shape["outline"], dtype=np.float64)
+        insert_v, insert_t = prism(outline, INSERT_THICKNESS)
+        scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
+        s.add_mesh_simple("/tool/cutter", insert_v * M, insert_t, color=INSERT_COLOUR, opacity=0.85,
+                          flat_shading=True, side="double", cast_shadow=False, receive_shadow=False)
+        if len(shape["holder"]) >= 3:
+            holder_v, holder_t = prism(_hull(np.asarray(shape["holder"], dtype=np.float64)), HOLDER_THICKNESS)
+            s.add_mesh_simple("/tool/shank", holder_v * M, holder_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
+                              flat_shading=True, side="double", cast_shadow=False, receive_shadow=False)
+        else:
+            s.remove_by_name("/tool/shank")
+        ring = np.stack([outline[:, 0], np.full(len(outline), -INSERT_THICKNESS / 2 - 0.05), outline[:, 1]], -1)
+        edges = np.stack([ring, np.roll(ring, -1, axis=0)], 1).astype(np.float32)
+        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
+        scene.tool_key = key
+    else:
+        scene.nodes["tool"].position = position
+
+
+def show_turned(scene: Scene, turned: dict[str, Any], generation: int | None = None) -> bool:
+    """Show a turned part (job_turned_after: its chunks, profile and blank): only changed chunks are sent."""
+    with scene.lock:
+        if generation is not None and generation != scene.generation:
+            return False
+        with scene.server.atomic():
+            scene.turned = {"profile": turned["profile"], "blank": turned["blank"]}
+            _put_tiles(scene, turned["chunks"])
+            _chuck(scene)
+        return True
+
+
+def set_half(scene: Scene, half: bool, chunks: Tiles | None) -> bool:
+    """Cut the turned part open (a half section: the back half and the cut face) or show it whole again."""
+    with scene.lock, scene.server.atomic():
+        scene.half = bool(half)
+        if chunks is not None and scene.lathe:
+            _put_tiles(scene, chunks)
+        _chuck(scene)
+        return scene.half

@@ -62,12 +62,18 @@ class SceneResult(BaseModel):
     states: dict[int, dict[str, Any]] = Field(description="Per block line: plane, G90/G91, compensation, "
                                                           "zero offset, feed, speed, tool, position after it "
                                                           "(on a lathe x is the radius)")
-    lathe: bool = Field(default=False, description="A turning dialect: the toolpath is shown in the lathe's "
-                                                   "drawing view (Z right, X up), without a milling block")
+    lathe: bool = Field(default=False, description="A turning dialect: the lathe's drawing view (Z right, X up, "
+                                                   "the chuck left) with the part turned from the blank")
+    blank: dict[str, float] | None = Field(default=None, description="Turning: the blank shown (diameter, "
+                                           "inner_diameter, length, clamp, jaw_radius; mm)")
 
 
 class Playhead(BaseModel):
     index: int = Field(ge=0)
+
+
+class Section(BaseModel):
+    half: bool = Field(description="Turning: cut the part open (the back half and the cut face) or show it whole")
 
 
 class View(BaseModel):
@@ -144,14 +150,18 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     left — without a stock until the turning stock exists (`lathe` in the answer)."""
     scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
+    if body.blank is not None:
+        spec["blank"] = body.blank.model_dump()
+    spec["half"] = scene.half
     data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program = (body.program, body.dialect, spec)
-    if data["stock"] is not None:  # the coarse level of detail is out; the fine one follows
+    if data["stock"] is not None and "fine" in data["stock"]:  # the coarse level of detail is out; the fine one follows
         scene.refining = asyncio.create_task(run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation))
         scene.refining.add_done_callback(_log_failure)
+    turned = data.get("turned")
     return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
-                       states=data["states"], lathe=bool(data.get("lathe")))
+                       states=data["states"], lathe=bool(data.get("lathe")), blank=turned["blank"] if turned else None)
 
 
 def _log_failure(task: asyncio.Task[Any]) -> None:
@@ -169,9 +179,25 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
     if scene.has_stock and scene.program is not None and scene.moves:
         text, dialect, spec = scene.program
         move = scene.moves[min(body.index, len(scene.moves) - 1)] + 1
-        tiles = await workers.call(job_stock_after, text, dialect, spec, move)
-        await run_in_threadpool(viz.show_stock, scene, tiles)
+        if scene.lathe:  # the turned part after that move, its changed chunks only
+            turned = await workers.call(viz.job_turned_after, text, dialect, {**spec, "half": scene.half}, move)
+            await run_in_threadpool(viz.show_turned, scene, turned)
+        else:
+            tiles = await workers.call(job_stock_after, text, dialect, spec, move)
+            await run_in_threadpool(viz.show_stock, scene, tiles)
     return {"index": body.index, "line": line}
+
+
+@router.post("/{token}/section", responses=responses(401, 403, 422, 429, 503), dependencies=STEP_LIMIT)
+async def put_section(token: str, body: Section, request: Request, workers: AppWorkers,
+                      principal: PracticePrincipal) -> dict[str, bool]:
+    """Turning: cut the part open along the drawing plane to show bores and grooves (the back half with the cut
+    face, the chuck halved too) or show it whole; kept for the session's next programs. Answers the state."""
+    scene = await run_in_threadpool(_scene, request, token, principal)
+    chunks = None
+    if scene.lathe and scene.turned is not None:
+        chunks = await workers.call(viz.job_turned_chunks, scene.turned["profile"], body.half)
+    return {"half": await run_in_threadpool(viz.set_half, scene, body.half, chunks)}
 
 
 @router.post("/{token}/view", responses=responses(401, 403, 422, 429), dependencies=STEP_LIMIT)

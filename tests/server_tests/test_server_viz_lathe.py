@@ -1,6 +1,7 @@
-"""The 3D view of a turning program (TRAUB TX 8 D) until the turning stock exists: the toolpath in the lathe's
-drawing view — Z (the spindle axis) to the right, X (the radius) up, the chuck on the left — no milling
-block, the camera on the part from the front, the modal state's X a diameter on the page."""
+"""The 3D view of a turning program (TRAUB TX 8 D): the toolpath in the lathe's drawing view — Z (the spindle
+axis) to the right, X (the radius) up, the chuck on the left — no milling block (the turned part:
+test_server_viz_lathe_stock.py), the camera on the part from the front, the modal state's X a diameter on
+the page."""
 
 from __future__ import annotations
 
@@ -45,11 +46,12 @@ def test_turning_toolpath_in_the_lathe_orientation(api: Api) -> None:
     # as seen from the front (the camera at -Y, right = +Z of the lathe, up = X): clockwise
     turn = np.cross(arc[0, 1] - arc[0, 0], arc[1, 1] - arc[1, 0])  # two chords one after the other
     assert turn[1] > 0  # the y of the cross product: negative turn in the picture's (right, up) plane = cw
-    # no milling block, the camera looks from the front at the cutting moves
-    assert not scene.has_stock and scene.tiles == {}
+    # no milling block but the turned part (a bar Ø60 × 55 around the program, test_server_viz_lathe_stock.py);
+    # the camera looks from the front at the part, the cutting moves and the chuck's jaws
+    assert scene.has_stock and scene.tiles and all(k.startswith("z") for k in scene.tiles)
     assert scene.view == "front" and scene.bounds is not None
     lo, hi = scene.bounds
-    assert np.allclose(lo, [-30, 0, 0]) and np.allclose(hi, [2, 0, 30])  # the feed moves and the spindle axis
+    assert np.allclose(lo[1:], [-30, -30]) and np.allclose(hi, [2, 30, 30]) and lo[0] < -55
     camera = scene.server.initial_camera
     eye, target = np.asarray(camera.position), np.asarray(camera.look_at)
     assert eye[1] < target[1] and abs(eye[0] - target[0]) < 1e-6  # straight from the front
@@ -65,7 +67,7 @@ def test_milling_scene_is_unchanged(api: Api) -> None:
     assert np.allclose(a, [0, 0, -2]) and np.allclose(b, [20, 0, -2])
 
 
-def test_lathe_playhead_moves_without_stock(api: Api) -> None:
+def test_lathe_playhead_moves(api: Api) -> None:
     token = api.client.post("/api/v1/viz").json()["token"]
     body = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": TURNING, "dialect": "traub-tx8d"}).json()
     index = body["lines"].index(7)
