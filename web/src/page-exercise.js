@@ -2,6 +2,7 @@
 // with its toolbar, the 3D view, and the drawer with the messages and, after "Abgeben", the score.
 
 import { api, el, table } from "./dom.js";
+import { draftSaver, loadDraft } from "./drafts.js";
 import { lang, message as message_, t } from "./i18n.js";
 import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor } from "./main.js";
@@ -54,12 +55,16 @@ export async function mountExercise(root, slug) {
   }
   const list = root.querySelector("#diagnostics");
   let scene = null;
+  // the draft (server or browser, the newer) or the start program; every change is kept (drafts.js)
+  const start = ex.start_program || "";
+  const draft = await loadDraft(slug);
+  const saver = draftSaver(slug, draft.user, start, draft.program, draft.pending);
   const view = await mountEditor(root.querySelector("#editor"), {
-    text: ex.start_program || "", dialect: ex.dialect, list, exercise: slug,
-    onChange: (text) => scene?.changed(text), onPointer: (line) => scene?.pointer(line),
+    text: draft.program ?? start, dialect: ex.dialect, list, exercise: slug,
+    onChange: (text) => { saver.changed(text); scene?.changed(text); }, onPointer: (line) => scene?.pointer(line),
   });
-  editorToolbar(root.querySelector("#editor-toolbar"), view, {
-    filename: () => `${slug}.nc`, heading: () => title, reset: () => ex.start_program || "",
+  const toolbar = editorToolbar(root.querySelector("#editor-toolbar"), view, {
+    filename: () => `${slug}.nc`, heading: () => title, reset: () => { saver.forget(); return start; },
   });
   scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");

@@ -1,0 +1,106 @@
+// Drafts: what the trainee types on an exercise page is kept, on the server (PUT /exercises/{slug}/draft, at
+// most every 2 s while typing and once more when the page is left) and in the browser (localStorage), so
+// that a reload, another tab or another computer brings it back and nothing is lost while offline. The
+// newer of the two wins; a draft equal to the start program is no draft.
+
+import { api } from "./dom.js";
+
+const EVERY = 2000;  // ms between two saves on the server (the server allows 120 a minute)
+
+const key = (user, slug) => `paltrainer-draft:${user || "-"}:${slug}`;
+
+function readLocal(name) {
+  try {
+    const saved = JSON.parse(localStorage.getItem(name));
+    if (saved && typeof saved.program === "string") return saved;
+  } catch { /* a damaged entry: as if there were none */ }
+  return null;
+}
+
+// The program to start the editor with: the server's draft or the browser's, whichever is newer; else null.
+export async function loadDraft(slug) {
+  const [me, r] = await Promise.all([api("/me"), api(`/exercises/${slug}/draft`)]);
+  const user = me.ok ? me.body?.username : null;
+  const local = readLocal(key(user, slug));
+  const server = r.ok && r.body?.program != null ? r.body : null;
+  const serverTime = server ? Date.parse(server.updated_at) : 0;
+  // the browser's copy counts only when it was never saved on the server and is newer than the server's draft
+  if (local && !local.synced && Date.parse(local.saved_at) > serverTime) {
+    return { user, program: local.program, pending: true };
+  }
+  if (server) return { user, program: server.program, pending: false };
+  return { user, program: null, pending: false };
+}
+
+// Keeps the editor's text: call changed(text) on every change; forget() for "Zurücksetzen".
+export function draftSaver(slug, user, start, initial = null, pending = false) {
+  const name = key(user, slug);
+  const url = `/api/v1/exercises/${slug}/draft`;
+  let text = initial ?? start;
+  let dirty = false;  // not yet on the server
+  let timer = null;
+  let last = 0;  // when the last save left
+  const status = { state: "idle" };
+
+  const keepLocal = (synced) => {
+    try {
+      if (text === start) localStorage.removeItem(name);
+      else localStorage.setItem(name, JSON.stringify({ program: text, saved_at: new Date().toISOString(), synced }));
+    } catch { /* storage full or off: the server keeps it */ }
+  };
+
+  const send = async (keepalive = false) => {
+    clearTimeout(timer);
+    timer = null;
+    if (!dirty) return;
+    const sent = text;
+    last = Date.now();
+    status.state = "saving";
+    try {
+      const r = await fetch(url, sent === start
+        ? { method: "DELETE", credentials: "same-origin", keepalive }
+        : { method: "PUT", credentials: "same-origin", keepalive, headers: { "Content-Type": "application/json" },
+          body: JSON.stringify({ program: sent }) });
+      if (!r.ok) throw new Error(String(r.status));
+      if (sent === text) {
+        dirty = false;
+        keepLocal(true);
+      }
+      status.state = "saved";
+    } catch {
+      status.state = "offline";  // kept in the browser; the next change or going online sends it again
+      schedule();
+    }
+  };
+
+  function schedule() {
+    if (timer) return;
+    timer = setTimeout(send, Math.max(200, last + EVERY - Date.now()));
+  }
+
+  const flush = () => { if (dirty) send(true); };
+  window.addEventListener("pagehide", flush);
+  document.addEventListener("visibilitychange", () => { if (document.visibilityState === "hidden") flush(); });
+  window.addEventListener("online", () => { if (dirty) send(); });
+  // a draft found only in this browser goes to the server now
+  if (pending) { dirty = true; schedule(); }
+
+  return {
+    status,
+    changed(next) {
+      if (next === text) return;
+      text = next;
+      dirty = true;
+      keepLocal(false);
+      schedule();
+    },
+    async forget() {
+      clearTimeout(timer);
+      timer = null;
+      text = start;
+      dirty = false;
+      keepLocal(true);
+      await fetch(url, { method: "DELETE", credentials: "same-origin" }).catch(() => null);
+    },
+  };
+}
