@@ -530,3 +530,15 @@ def test_many_roughing_cycles_meet_the_run_budget() -> None:
                + "\nN20 G1 X60\n")
     tp = traub(program)
     assert "TX-E420" in {d.code for d in tp.diagnostics}
+
+
+def test_g77_chamfer_pass_and_g81_repeats_shifted_by_u() -> None:
+    tp = traub(READY + "G0 X40 Z2\nG77 X30 Z-20 I2 K15 F0.2\nG81 U-1 H2\nM30")
+    assert [xz(m.end) for m in cuts(tp, 3)] == [(30.0, -13.0), (34.0, -20.0)]  # K15 along Z, then I2 out
+    assert [xz(m.end) for m in cuts(tp, 4)] == [(28.0, -13.0), (32.0, -20.0), (26.0, -13.0), (30.0, -20.0)]
+    assert passes(tp, 4) == 2 and xz(tp.moves[-1].end) == (40.0, 2.0)
+
+
+def test_g79_facing_chamfer_pass() -> None:
+    tp = traub(READY + "G0 X40 Z-30\nG79 X10 Z-40 I3 K2 F0.2\nM30")
+    assert [xz(m.end) for m in cuts(tp, 3)] == [(34.0, -40.0), (10.0, -38.0)]  # I3 facing, then K2 out

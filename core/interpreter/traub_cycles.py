@@ -726,11 +726,13 @@ def _chamfer_pass(o: _Out, code: str, start: XZ, end: XZ, i_val: float, k_val: f
     outer = start[0] >= end[0]
     s = 1.0 if end[1] <= start[1] else -1.0
     side = 1.0 if outer else -1.0
-    if code == "G79":  # facing: X first by I to the chamfer start, chamfer over K in Z, then to X
-        a = (start[0] - side * i_val, end[1] + s * k_val) if (i_val or k_val) else (start[0], end[1])
-        o.rapid((start[0], end[1] + s * k_val), n)
-        o.feed(a, n)
-        o.feed(end, n)
+    if code == "G79":  # facing: infeed in Z, face over I in X, then chamfer out over K in Z to the target X
+        o.rapid((start[0], end[1]), n)
+        if i_val or k_val:
+            o.feed((start[0] - side * i_val, end[1]), n)
+            o.feed((end[0], end[1] + s * k_val), n)
+        else:
+            o.feed(end, n)
         o.rapid((end[0], start[1]), n)
         o.rapid(start, n)
         return
