@@ -14,6 +14,7 @@ import { setDiagnostics, lintGutter } from "@codemirror/lint";
 import { autocompletion } from "@codemirror/autocomplete";
 import { searchKeymap } from "@codemirror/search";
 import { lang, message, t } from "./i18n.js";
+import { completionSource, emptyHelp, enterKeymap, helpDom, helpFrom } from "./help.js";
 
 // -- the PAL mode: block numbers, G/M codes, addresses, numbers, comments -----------------------
 const palMode = StreamLanguage.define({
@@ -80,16 +81,13 @@ const germanPhrases = lang === "en" ? [] : EditorState.phrases.of({
 });
 
 // -- help from the dialect's code table --------------------------------------------------------
-let help = { codes: {}, addresses: {} };
+let help = emptyHelp();
 let comments = /;.*/g;  // the dialect's comments (PAL: from ";" to the end of the line)
 
 async function loadHelp(dialect) {
   const r = await fetch(`/api/v1/dialects/${dialect}`);
   if (!r.ok) return;
-  const data = await r.json();
-  help = { codes: {}, addresses: {} };
-  for (const c of data.codes) help.codes[c.name] = c;
-  for (const a of data.addresses) help.addresses[a.name] = a;
+  help = helpFrom(await r.json());
 }
 
 function wordAt(text, pos) {
@@ -119,24 +117,11 @@ const hoverHelp = hoverTooltip((view, pos) => {
   if (!entry) return null;
   return {
     pos: line.from + m.index, end: line.from + m.index + m[0].length, above: true,
-    create() {
-      const dom = document.createElement("div");
-      dom.className = "pal-help";
-      dom.textContent = `${entry.name}: ${message(entry, "help_de", "help_en")}`;
-      return { dom };
-    },
+    create() { return { dom: helpDom(help, entry, Boolean(code)) }; },
   };
 });
 
-function completeAddresses(context) {
-  const word = context.matchBefore(/#?[A-Z]*/i);
-  if (!word || (word.from === word.to && !context.explicit)) return null;
-  const options = [
-    ...Object.values(help.codes).map((c) => ({ label: c.name, detail: message(c, "help_de", "help_en"), type: "keyword" })),
-    ...Object.values(help.addresses).map((a) => ({ label: a.name, detail: message(a, "help_de", "help_en"), type: "property" })),
-  ];
-  return { from: word.from, options };
-}
+const completeAddresses = completionSource(() => help);
 
 // -- live diagnostics over the WebSocket -------------------------------------------------------
 class Live {
@@ -229,7 +214,7 @@ export async function mountEditor(parent, {
         lineNumbers(), highlightActiveLineGutter(), highlightActiveLine(), drawSelection(), history(),
         keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
         language.of(MODES[dialect] || palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
-        autocompletion({ override: [completeAddresses] }), germanPhrases,
+        enterKeymap, autocompletion({ override: [completeAddresses] }), germanPhrases,  // Enter: before the list's
         EditorView.contentAttributes.of({ "aria-label": t("program.label") }),
         EditorView.updateListener.of((u) => {
           if (u.docChanged && live) live.changed();

@@ -1,0 +1,157 @@
+"""Editor help from the dialect's code table, in a real browser (Debian's Chromium driven by Playwright) against a
+server on 127.0.0.1: the hover of a G/M code names it, lists the addresses it needs and takes with their units,
+an example block and the rule to remember; completion narrows by prefix (G4 → G4, G40 … G48) in numeric order;
+Enter at the end of a line makes a new line unless the list was opened with Ctrl+Space."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+ROOT = Path(__file__).parents[2]
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+BUNDLE = ROOT / "server" / "static" / "app.js"
+
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)"),
+]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
+    port = free_port()
+    env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path_factory.mktemp("data")), "PALTRAINER_WORKERS": "1",
+           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
+    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(200):
+            try:
+                with urllib.request.urlopen(f"{url}/readyz", timeout=1):
+                    break
+            except OSError:
+                time.sleep(0.1)
+        else:
+            pytest.fail("the server did not start")
+        yield url
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=[
+            "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+            "--disable-background-networking", "--disable-component-update", "--disable-sync"])
+        yield b
+        b.close()
+
+
+PROGRAM = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G41 G0 X70 Y84 Z2\nN40 G2 X56.4 Y10 R21 RN5\nN50 G40\n"
+
+
+@pytest.fixture
+def editor(server: str, browser: Any) -> Iterator[Any]:
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(f"{server}/practice")
+    page.wait_for_selector(".cm-content")
+    page.click(".cm-content")
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(PROGRAM)
+    # the server's first answer (a new worker may take seconds) redraws the messages: wait for it
+    page.wait_for_selector(".cm-lintRange", state="attached", timeout=20000)
+    yield page
+    context.close()
+
+
+def _hover(page: Any, line: int, word: str) -> str:
+    page.mouse.move(0, 0)
+    page.wait_for_selector(".pal-help", state="detached")
+    page.hover(f".cm-line >> nth={line} >> text={word}")
+    return str(page.wait_for_selector(".pal-help", timeout=5000).inner_text())
+
+
+def test_hover_on_g41_names_the_rule_and_an_example(editor: Any) -> None:
+    text = _hover(editor, 2, "G41")
+    assert "G41: Fräserradiuskorrektur links der Kontur" in text
+    assert "Merke: Werkzeug links der Kontur, in Vorschubrichtung gesehen" in text
+    assert "Beispiel: N40 G41 G0 X70 Y84" in text
+
+
+def test_hover_on_g2_lists_addresses_with_units(editor: Any) -> None:
+    text = _hover(editor, 3, "G2")
+    assert "Kreisinterpolation im Uhrzeigersinn" in text
+    assert "Pflicht:" in text and "R (mm)" in text and "AO (°)" in text
+    assert "Optional:" in text and "RN (mm)" in text
+    assert "Beispiel: N40 G2 X56.4 Y10 I-20 J6.4" in text
+
+
+def test_hover_on_rn_shows_its_sign_rule(editor: Any) -> None:
+    text = _hover(editor, 3, "RN5")
+    assert "Merke: + Rundung, − Fase" in text and "Einheit: mm" in text
+
+
+def _labels(page: Any) -> list[str]:
+    page.wait_for_timeout(400)  # the list follows the last key after a short delay
+    page.wait_for_selector(".cm-tooltip-autocomplete li", timeout=5000)
+    return [str(x) for x in page.eval_on_selector_all(
+        ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)")]
+
+
+def _doc(page: Any) -> list[str]:
+    return [str(x) for x in page.eval_on_selector_all(".cm-line", "els => els.map(e => e.textContent)")]
+
+
+def test_completion_narrows_by_prefix_in_numeric_order(editor: Any) -> None:
+    editor.keyboard.press("Control+End")
+    editor.keyboard.type("N60 G")
+    labels = _labels(editor)
+    assert labels[:8] == ["G0", "G1", "G2", "G3", "G4", "G9", "G10", "G11"]
+    editor.keyboard.type("4")
+    editor.wait_for_timeout(300)
+    assert _labels(editor) == ["G4", "G40", "G41", "G42", "G45", "G46", "G47", "G48"]
+
+
+def test_enter_at_line_end_starts_a_new_line(editor: Any) -> None:
+    editor.keyboard.press("Control+End")
+    editor.keyboard.type("N60 G4")
+    _labels(editor)  # the list is open by itself
+    editor.keyboard.press("Enter")
+    editor.keyboard.type("N70")
+    assert _doc(editor)[-2:] == ["N60 G4", "N70"]
+
+
+def test_enter_takes_the_entry_after_ctrl_space(editor: Any) -> None:
+    editor.keyboard.press("Control+End")
+    editor.keyboard.type("N60 G1")
+    _labels(editor)
+    editor.keyboard.press("Escape")
+    editor.wait_for_selector(".cm-tooltip-autocomplete", state="detached")
+    editor.keyboard.press("Control+Space")
+    assert _labels(editor)[:2] == ["G1", "G10"]
+    editor.keyboard.press("ArrowDown")
+    editor.keyboard.press("Enter")
+    assert _doc(editor)[-2:] == ["N50 G40", "N60 G10"]
