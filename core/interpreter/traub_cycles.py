@@ -56,7 +56,7 @@ class CycleSetup:
 
     lift: float = 0.5  # #9 lift-off after a pass / a falling section (≤ 0.999 mm)
     back_off: float = 0.5  # #4 back-off for chip breaking (G74, G75)
-    min_depth: float = 0.0  # #6 minimum cut depth of G71/G72 (equal passes never go below stock / n)
+    # #6 (minimum cut depth of G71/G72) is not a setting: the passes are equal, none is a thin remainder
     safety: float = 0.5  # #7 safety distance of the drilling cycles (≤ 0.999 mm)
 
 
