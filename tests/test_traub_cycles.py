@@ -290,6 +290,11 @@ N20 G1 X60
     ("G75 cross drilling with K", READY + "G0 X62 Z-25\nG75 U-21 I15 K2 F0.1\nM30", ("TX-E411", 3)),
     ("chip breaking beyond the move budget", READY + "G0 X60 Z1\nG74 X20 Z-400 I1 K0.001 F0.2\nM30",
      ("TX-E406", 3)),
+    ("start point unknown after an open train point", READY + "G0 X40 Z2\nG1 A180 F0.2\nG71 P10 Q20 D2\nM30",
+     ("TX-E401", 4)),
+    ("no contour named", READY + "G0 X40 Z2\nG71 D2 F0.2\nM30", ("TX-E409", 3)),
+    ("contour with an error", READY + "G0 X60 Z2\nG71 P10 Q20 D2 F0.3\nN10 G0 X20 Z0.5\nG2 X40 Z-20\n"
+     "N20 G1 X60\nM30", ("TX-E410", 3)),
     ("G81 without G77/G78/G79", READY + "G0 X30 Z2\nG81 U-0.2 H3\nM30", ("TX-E414", 3)),
     ("taper beyond 45°", READY + "G0 X40 Z4\nG76 X33.1 Z-29 J50 K0.9 H4 F1.5\nM30", ("TX-E416", 3)),
     ("G76 with I", READY + "G0 X40 Z4\nG76 X33.1 Z-29 I1 K0.9 H4 F1.5\nM30", ("TX-E412", 3)),
