@@ -348,7 +348,7 @@ def _entry(poly: list[tuple[float, float]], level: float, upper: float, v_in: fl
             t = (upper - pu) / (u - pu) if abs(u - pu) > 1e-12 else 0.0
             path.append((upper, pv + (v - pv) * t))
             break
-        if u < pu - 1e-9:  # past the crest
+        if u <= pu + 1e-9:  # at the crest (its flat top was cut by the passes above)
             break
         path.append((u, v))
         j -= 1
