@@ -21,12 +21,12 @@ import numpy.typing as npt
 from core.diagnostics import Diagnostic, Severity
 from core.exercises import Criterion, Exercise
 from core.grading.turning import (
-    LATHE_SAFETY_EVENTS,
     Turned,
     execute_turning,
     may_cut_turning,
     turned_geometry,
     turning_technology,
+    unsafe_events,
 )
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
@@ -189,7 +189,7 @@ def _judge_turning(c: Criterion, ex: Exercise, ref: Turned, sub: Turned, cutting
     if c.id == "geometry":
         verdict = turned_geometry(ref, sub, _tolerance(c))
     elif c.id == "safety":
-        events = [e for e in sub.sim.events if e.code in LATHE_SAFETY_EVENTS]
+        events = unsafe_events(sub)
         if not events:
             return _result(c, True, "Keine Kollision und kein gefährlicher Schnitt.", "No collision, no unsafe cut.")
         e = events[0]

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import numpy.typing as npt
 
+from core.diagnostics import Diagnostic
 from core.exercises import CuttingData, Exercise
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
@@ -25,6 +26,9 @@ from core.toolpath import Move
 
 # the turning simulation's events that make a program unsafe (SIM-E010, the work limit, is none of them)
 LATHE_SAFETY_EVENTS = {"SIM-E001", "SIM-E006", "SIM-E008", "SIM-E011", "SIM-E012", "SIM-E013", "SIM-E014"}
+# a rapid that shaves less than this cross-section (mm²) off the part grazes the sliver a pass leaves at a
+# shoulder (a 93° edge leaves a 3° lip that a straight retract touches); it is no collision
+GRAZE_SECTION = 0.1
 ARC_CHORDS = 256  # chords of one arc where grading looks at its points
 NAME_REACH = 3.0  # mm: material left standing names the block whose path passes this near it
 Verdict = tuple[bool, str, str, list[int]]
@@ -163,6 +167,13 @@ def turned_geometry(ref: Turned, sub: Turned, tol: float) -> Verdict:
             en.append(f"{'Also, m' if gouge else 'M'}aterial left standing: {dev.left_volume:.1f} mm³; the largest "
                       f"deviation is {depth:.2f} mm {at_en}.")
     return False, " ".join(de), " ".join(en), lines
+
+
+def unsafe_events(sub: Turned) -> list[Diagnostic]:
+    """The turning events that cost the safety criterion, in order; a rapid's graze (GRAZE_SECTION) is none."""
+    ring = math.pi * sub.sim.blank.diameter
+    return [e for e in sub.sim.events if e.code in LATHE_SAFETY_EVENTS
+            and not (e.code == "SIM-E001" and float(e.params.get("volume", math.inf)) <= GRAZE_SECTION * ring)]
 
 
 def may_cut_turning(m: Move, ex: Exercise) -> bool:

@@ -1,0 +1,7 @@
+(TX-40: zylindrisches Aussengewinde M35 x 1,5 mit G76)
+G95
+G97 S1000 T0303 M3
+G0 X40 Z4 M8
+G76 X33.1 Z-29 K0.92 H8 F1.5
+G0 X100 Z50 M9
+M30

@@ -1,0 +1,24 @@
+(TX-43: Zentrieren, Kernloch bohren, Gewinde bohren M12 x 1 im Unterprogramm O8000)
+%
+O1
+G 22 A 8000
+G0 X100 Z50
+M30
+%
+%
+O8000
+G95
+G97 S1000 T0303 M3
+G0 X0 Z1 M8
+G1 Z-6 F0.1
+G0 Z5
+G97 S1000 T0404 M3
+G0 X0 Z1
+G1 Z-25 F0.1
+G0 Z5
+G97 S400 T0505 M3
+G0 X0 Z3
+G82 Z-15 F1
+G0 Z20
+M99
+%

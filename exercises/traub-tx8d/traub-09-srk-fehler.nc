@@ -1,0 +1,12 @@
+(TX-27: Absatz mit Fase, Schneidenradiuskompensation G46)
+G95
+G97 S1000 T0101 M4
+G46
+G0 X30 Z3 M8
+G1 Z0 F0.2
+G1 X40 D2 E0.1
+G1 Z-30
+G0 X46 A180
+G40
+G0 X100 Z50 M9
+M30
