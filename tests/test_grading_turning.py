@@ -1,0 +1,181 @@
+"""Turning exercises and their grading: the lathe format (blank, insert tools, V or S, F per revolution), every
+built-in turning reference scores 100, typical mistakes cost the geometry criterion with the line named, the
+technology criterion on the feed per revolution, the volumes of a turned part, the drawing's placeholder."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from core.drawing import part_drawing
+from core.exercises import ExerciseError, builtin_exercises, parse_exercise
+from core.grading import grade
+from core.grading.turning import execute_turning
+
+EXERCISES = builtin_exercises()
+TURNING = sorted(eid for eid, ex in EXERCISES.items() if ex.dialect == "traub-tx8d")
+
+
+def lost(result: object) -> dict[str, str]:
+    return {c.id: c.message for c in result.criteria if not c.passed}  # type: ignore[attr-defined]
+
+
+def criterion(result: object, cid: str) -> object:
+    return next(c for c in result.criteria if c.id == cid)  # type: ignore[attr-defined]
+
+
+def test_the_built_in_set_has_the_turning_examples_of_every_kind() -> None:
+    assert len(TURNING) >= 8
+    assert {EXERCISES[e].kind for e in TURNING} == {"write", "complete", "fix"}
+    sources = " ".join(EXERCISES[e].source for e in TURNING)
+    for seed in ("TX-17", "TX-21", "TX-27", "TX-30", "TX-32", "TX-33", "TX-40", "TX-43"):
+        assert seed in sources, seed
+    for eid in TURNING:
+        ex = EXERCISES[eid]
+        assert ex.blank is not None and ex.task.de and ex.task.en and ex.title.en
+        assert f"Ø{ex.blank.diameter:g}" in ex.task.de  # the task states the blank
+
+
+@pytest.mark.parametrize("eid", TURNING)
+def test_turning_reference_scores_100(eid: str) -> None:
+    ex = EXERCISES[eid]
+    result = grade(ex, ex.reference)
+    assert (result.score, result.max_score) == (100, 100), lost(result)
+    turned = execute_turning(ex, ex.reference)
+    assert turned.sim.removed_volume > 10  # the reference really turns the blank
+
+
+@pytest.mark.parametrize("eid", [e for e in TURNING if EXERCISES[e].kind != "write"])
+def test_turning_start_programs_do_not_score_full_marks(eid: str) -> None:
+    ex = EXERCISES[eid]
+    assert grade(ex, ex.start_program).score < 100
+
+
+def test_a_wrong_diameter_costs_the_geometry_criterion_with_its_line() -> None:
+    ex = EXERCISES["traub-01-srk-fase"]
+    program = ex.reference.replace("G1 X40 D2", "G1 X39 D2")
+    result = grade(ex, program)
+    geo = criterion(result, "geometry")
+    assert not geo.passed and geo.points == 0  # type: ignore[attr-defined]
+    line = program.splitlines().index("G1 Z-30") + 1  # the cut along the too small diameter
+    assert geo.lines == (line,)  # type: ignore[attr-defined]
+    assert "Zu viel Material abgetragen" in geo.message and "Ø39.00 statt Ø40.00" in geo.message  # type: ignore[attr-defined]
+    assert "0.50 mm" in geo.message and f"Zeile {line}" in geo.message  # type: ignore[attr-defined]
+    assert "Too much material removed" in geo.message_en  # type: ignore[attr-defined]
+    assert result.score == 50
+
+
+def test_srk_off_leaves_material_and_names_the_line() -> None:
+    ex = EXERCISES["traub-01-srk-fase"]
+    program = "\n".join(line for line in ex.reference.splitlines() if line.strip() != "G46")
+    result = grade(ex, program)
+    geo = criterion(result, "geometry")
+    assert not geo.passed and "Material stehen gelassen" in geo.message  # type: ignore[attr-defined]
+    assert geo.lines and program.splitlines()[geo.lines[0] - 1].startswith("G1")  # type: ignore[attr-defined]
+    # the chamfer without compensation stays too small: material left on it as well
+    chamfer = execute_turning(ex, program).sim.profile
+    ref = execute_turning(ex, ex.reference).sim.profile
+    k = int((-1.0 - ref.z0) / ref.dz)
+    assert chamfer.outer[k] - ref.outer[k] > 0.2
+
+
+def test_the_fix_exercise_of_the_srk_is_that_mistake() -> None:
+    ex = EXERCISES["traub-09-srk-fehler"]
+    result = grade(ex, ex.start_program)
+    assert not criterion(result, "geometry").passed  # type: ignore[attr-defined]
+    assert grade(ex, ex.start_program.replace("G0 X30 Z3 M8", "G46\nG0 X30 Z3 M8")).score == 100
+
+
+def test_technology_checks_the_feed_per_revolution() -> None:
+    ex = EXERCISES["traub-01-srk-fase"]
+    per_minute = ex.reference.replace("G95", "G94").replace("F0.2", "F200").replace("E0.1", "E100")
+    tech = criterion(grade(ex, per_minute), "technology")
+    assert not tech.passed and "mm/min (G94)" in tech.message and "F0.2 mm pro Umdrehung" in tech.message  # type: ignore[attr-defined]
+    line = per_minute.splitlines().index("G1 Z0 F200") + 1
+    assert tech.lines == (line,)  # type: ignore[attr-defined]
+    too_fast = criterion(grade(ex, ex.reference.replace("F0.2", "F0.3")), "technology")
+    assert not too_fast.passed and "F0.3 statt F0.2 oder F0.1" in too_fast.message  # type: ignore[attr-defined]
+    within = criterion(grade(ex, ex.reference.replace("F0.2", "F0.21")), "technology")
+    assert within.passed  # type: ignore[attr-defined]
+
+
+def test_technology_checks_the_cutting_speed_under_g96() -> None:
+    ex = EXERCISES["traub-04-geometriezug"]
+    result = grade(ex, ex.reference.replace("G96 V220", "G96 V300"))
+    tech = criterion(result, "technology")
+    assert not tech.passed and "V220" in tech.message and "T2" in tech.message  # type: ignore[attr-defined]
+    assert criterion(result, "geometry").passed  # type: ignore[attr-defined]
+
+
+SIMPLE = """format: 1
+id: drehen-zylinder
+title: {de: Zylinder}
+task: {de: "Stange Ø40 × 60, Zapfen Ø30 × 20"}
+dialect: traub-tx8d
+blank: {diameter: 40, length: 60, chuck_length: 20}
+tools: [{number: 1, kind: turning, diameter: 0.4, nose_radius: 0.2, quadrant: 1, insert: C}]
+cutting_data: [{tool: 1, speed: 1000, feed: 0.2}]
+resolution: 0.05
+reference: |
+  G95
+  G97 S1000 T0101 M4
+  G0 X35 Z2
+  G1 Z-20 F0.2
+  G0 X42 Z-19
+  G0 Z2
+  G0 X30
+  G1 Z-20
+  G0 X42 Z-19
+  G0 X100 Z50
+  M30
+"""
+
+
+def test_volumes_of_a_simple_turned_part_through_the_grader() -> None:
+    ex = parse_exercise(SIMPLE)
+    turned = execute_turning(ex, ex.reference)
+    expected = math.pi * (20 ** 2 - 15 ** 2) * 20  # Ø40 → Ø30 over 20 mm
+    assert turned.sim.removed_volume == pytest.approx(expected, rel=0.005)
+    assert grade(ex, ex.reference).score == 100
+    smaller = ex.reference.replace("G0 X30\n", "G0 X28\n")
+    geo = criterion(grade(ex, smaller), "geometry")
+    over = float(geo.message.split("abgetragen: ")[1].split(" mm³")[0])  # type: ignore[attr-defined]
+    assert over == pytest.approx(math.pi * (15 ** 2 - 14 ** 2) * 20, rel=0.02)
+    assert "2.00 mm" not in geo.message and "1.00 mm" in geo.message  # radial  # type: ignore[attr-defined]
+    bigger = ex.reference.replace("G0 X30\n", "G0 X32\n")
+    geo = criterion(grade(ex, bigger), "geometry")
+    left = float(geo.message.split("gelassen: ")[1].split(" mm³")[0])  # type: ignore[attr-defined]
+    assert left == pytest.approx(math.pi * (16 ** 2 - 15 ** 2) * 20, rel=0.02)
+
+
+def test_lathe_safety_criterion_names_the_rapid_into_the_bar() -> None:
+    ex = parse_exercise(SIMPLE)
+    program = ex.reference.replace("G1 Z-20 F0.2", "G0 Z-20")
+    safety = criterion(grade(ex, program), "safety")
+    assert not safety.passed and "Eilgang ins Material" in safety.message  # type: ignore[attr-defined]
+    assert safety.lines[0] == 4 and safety.message.startswith("Zeile 4:")  # type: ignore[attr-defined]
+
+
+def test_the_turning_format_and_its_mistakes() -> None:
+    ex = parse_exercise(SIMPLE)
+    assert ex.lathe and ex.stock.min == (-20.0, -20.0, -60.0) and ex.stock.max == (20.0, 20.0, 0.0)
+    with pytest.raises(ExerciseError) as err:
+        parse_exercise(SIMPLE.replace("blank: {diameter: 40, length: 60, chuck_length: 20}\n", ""))
+    assert [p["field"] for p in err.value.problems] == ["blank"]
+    with pytest.raises(ExerciseError) as err:
+        parse_exercise(SIMPLE.replace("length: 60,", "length: 60, inner_diameter: 45,"))
+    assert [p["field"] for p in err.value.problems] == ["blank"]
+    with pytest.raises(ExerciseError) as err:
+        parse_exercise(SIMPLE.replace("speed: 1000", "speed: 1000, cutting_speed: 200"))
+    assert "genau eines" in err.value.message
+    milling = EXERCISES["pal-01-g1-gerade"].model_dump(mode="json")
+    with pytest.raises(Exception, match="blank"):
+        type(EXERCISES["pal-01-g1-gerade"]).model_validate({**milling, "blank": {"diameter": 40, "length": 60}})
+
+
+@pytest.mark.parametrize("lang,note", [("de", "Zeichnung für Drehteile folgt"), ("en", "drawing of turned parts to follow")])
+def test_the_drawing_of_a_turning_exercise_is_a_titled_placeholder(lang: str, note: str) -> None:
+    ex = EXERCISES["traub-01-srk-fase"]
+    svg = part_drawing(ex, lang)
+    assert svg.startswith("<") and note in svg and "Ø44 × 80" in svg and ex.title.get(lang) in svg
