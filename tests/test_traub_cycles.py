@@ -547,3 +547,35 @@ def test_g77_chamfer_pass_and_g81_repeats_shifted_by_u() -> None:
 def test_g79_facing_chamfer_pass() -> None:
     tp = traub(READY + "G0 X40 Z-30\nG79 X10 Z-40 I3 K2 F0.2\nM30")
     assert [xz(m.end) for m in cuts(tp, 3)] == [(34.0, -40.0), (10.0, -38.0)]  # I3 facing, then K2 out
+
+
+@st.composite
+def humps(draw: st.DrawFn) -> list[tuple[float, float]]:
+    """An outer contour along -Z whose radius rises and falls (falling cones make pockets for G88)."""
+    x, z = draw(st.floats(5, 10)), 0.0
+    pts = [(round(x, 3), z)]
+    for _ in range(draw(st.integers(2, 6))):
+        z -= draw(st.floats(1, 10))
+        x = max(1.0, x + draw(st.floats(-6, 8)))
+        pts.append((round(x, 3), round(z, 3)))
+    return pts
+
+
+@settings(max_examples=40, deadline=None)
+@given(humps(), st.floats(0.7, 4), st.floats(0, 0.4))
+def test_g88_passes_never_feed_below_the_contour_plus_allowance(pts: list[tuple[float, float]], depth: float,
+                                                                 allowance: float) -> None:
+    depth, allowance = round(depth, 3), round(allowance, 3)
+    top = max(x for x, _ in pts) + 1
+    blocks = [f"N10 G0 X{2 * pts[0][0]:g} Z{pts[0][1]:g}"] + [f"G1 X{2 * a:g} Z{b:g}" for a, b in pts[1:]]
+    blocks.append(f"N20 G1 X{2 * top:g}")
+    tp = traub(READY + f"G0 X{2 * top:g} Z1\nG88\nG71 P10 Q20 I{allowance:g} D{depth:g} F0.3 E0.1\n"
+               + "\n".join(blocks) + "\nM30\n")
+    assert not [d for d in tp.diagnostics if d.severity.value == "error"], blocks
+    shifted = [(x + allowance, z) for x, z in pts]
+    for m in cuts(tp, 4):
+        for p in (m.start, m.end, tuple((a + b) / 2 for a, b in zip(m.start, m.end, strict=True))):
+            x, z = p[0], p[2]
+            assert x <= top + 1e-6 and z <= 1 + 1e-6, blocks
+            if shifted[-1][1] - 1e-6 <= z < shifted[0][1] - 1e-6:  # in front of the contour's start: the blank
+                assert x >= _boundary(shifted, z) - 1e-5, (p, blocks)
