@@ -109,7 +109,8 @@ def builtin_exercise(api: Api, **changes: Any) -> str:
     from server.seed import exercise_fields
 
     doc = load_exercise(EXERCISES_DIR / "pal-mill" / "pal-01-g1-gerade.yaml")
-    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("builtin-"), **changes})
+    # without the file's place in its set unless `changes` give one
+    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("builtin-"), "order": None, **changes})
     with api.app.state.db.session() as db:
         repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
     return doc.id
