@@ -1,7 +1,8 @@
-"""Editor help from the dialect's code table, in a real browser (Debian's Chromium driven by Playwright) against a
-server on 127.0.0.1: the hover of a G/M code names it, lists the addresses it needs and takes with their units,
-an example block and the rule to remember; completion narrows by prefix (G4 → G4, G40 … G48) in numeric order;
-Enter at the end of a line makes a new line unless the list was opened with Ctrl+Space."""
+"""The editor in a real browser (Debian's Chromium driven by Playwright) against a server on 127.0.0.1: help from
+the dialect's code table — the hover of a G/M code names it, lists the addresses it needs and takes with their
+units, an example block and the rule to remember; completion narrows by prefix (G4 → G4, G40 … G48) in numeric
+order; Enter at the end of a line makes a new line unless the list was opened with Ctrl+Space — and the locked
+lines of "complete the program" exercises, which typing does not change and which say why."""
 
 from __future__ import annotations
 
@@ -27,6 +28,9 @@ pytestmark = [
 ]
 
 
+PASSWORD = "ein langes Passwort"
+
+
 def free_port() -> int:
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -39,6 +43,8 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     port = free_port()
     env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path_factory.mktemp("data")), "PALTRAINER_WORKERS": "1",
            "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
+    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "azubi", "--role", "student",
+                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
     proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
                             cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     url = f"http://127.0.0.1:{port}"
@@ -155,3 +161,43 @@ def test_enter_takes_the_entry_after_ctrl_space(editor: Any) -> None:
     editor.keyboard.press("ArrowDown")
     editor.keyboard.press("Enter")
     assert _doc(editor)[-2:] == ["N50 G40", "N60 G10"]
+
+
+def test_locked_lines_stay_and_say_why(server: str, browser: Any) -> None:
+    context = browser.new_context()
+    page = context.new_page()
+    page.goto(f"{server}/exercises/ergaenzen-01-kreisbogen")
+    page.wait_for_url("**/login?next=*")
+    page.fill("input[name=username]", "azubi")
+    page.fill("input[name=password]", PASSWORD)
+    page.click("button[type=submit]")
+    page.wait_for_selector(".cm-content")
+    start = _doc(page)
+    assert start[1] == "N10 T1 TC1 M6" and start[7] == ""
+    assert page.locator(".cm-locked-line").count() == 10  # lines 1–7 and 9–11; line 8 is the trainee's
+    assert page.eval_on_selector_all(".cm-lock-gutter .cm-gutterElement", """els => els.filter(
+        e => e.textContent === "🔒" && e.style.visibility !== "hidden").length""") == 10  # (not the spacer)
+    # typing into a locked line does nothing and says why
+    page.click(".cm-line >> nth=1")
+    page.keyboard.press("End")
+    page.keyboard.type("X")
+    notice = page.wait_for_selector(".cm-locked-notice", timeout=5000)
+    assert "Zeile 2 ist vorgegeben" in notice.inner_text()
+    page.keyboard.press("Home")
+    page.keyboard.press("Backspace")
+    page.keyboard.press("Delete")
+    assert _doc(page) == start
+    # the free line takes the missing block, and the notice goes
+    page.click(".cm-line >> nth=7")
+    page.keyboard.type("N70 G2 X56.4 Y10 R21")
+    page.wait_for_selector(".cm-locked-notice", state="detached")
+    # a new line after a locked one is fine; the locks move with their lines
+    page.click(".cm-line >> nth=6")
+    page.keyboard.press("End")
+    page.keyboard.press("Enter")
+    page.keyboard.type("N65 G1 X50")
+    lines = _doc(page)
+    assert lines[6:9] == ["N60 G1 Y23.6", "N65 G1 X50", "N70 G2 X56.4 Y10 R21"]
+    locked = page.eval_on_selector_all(".cm-locked-line", "els => els.map(e => e.textContent)")
+    assert locked[-4:] == ["N60 G1 Y23.6", "N80 G1 X-14", "N90 G40", "N100 G0 X250 Y150 Z250 M30"]
+    context.close()

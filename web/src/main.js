@@ -15,6 +15,7 @@ import { autocompletion } from "@codemirror/autocomplete";
 import { searchKeymap } from "@codemirror/search";
 import { lang, message, t } from "./i18n.js";
 import { completionSource, emptyHelp, enterKeymap, helpDom, helpFrom } from "./help.js";
+import { lockedLines } from "./locked.js";
 
 // -- the PAL mode: block numbers, G/M codes, addresses, numbers, comments -----------------------
 const palMode = StreamLanguage.define({
@@ -201,6 +202,7 @@ export function setTools(view, tools) { lives.get(view)?.setTools(tools); }
 
 export async function mountEditor(parent, {
   text = "", dialect = "pal-mill", list = null, exercise = null, tools = null, onChange = null, onPointer = null,
+  locked = null,  // {lines, start}: line numbers of the start program that stay as they are (kind complete)
 } = {}) {
   await loadHelp(dialect);
   comments = COMMENTS[dialect] || /;.*/g;
@@ -215,7 +217,7 @@ export async function mountEditor(parent, {
         keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
         language.of(MODES[dialect] || palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
         enterKeymap, autocompletion({ override: [completeAddresses] }), germanPhrases,  // Enter: before the list's
-        EditorView.contentAttributes.of({ "aria-label": t("program.label") }),
+        EditorView.contentAttributes.of({ "aria-label": t("program.label") }), lockedLines(text, locked?.lines, locked?.start),
         EditorView.updateListener.of((u) => {
           if (u.docChanged && live) live.changed();
           if (u.docChanged && onChange) onChange(u.state.doc.toString());

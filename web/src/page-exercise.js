@@ -3,6 +3,7 @@
 
 import { api, el, table } from "./dom.js";
 import { draftSaver, loadDraft } from "./drafts.js";
+import { mountHistory } from "./history.js";
 import { lang, message as message_, t } from "./i18n.js";
 import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor } from "./main.js";
@@ -61,11 +62,19 @@ export async function mountExercise(root, slug) {
   const saver = draftSaver(slug, draft.user, start, draft.program, draft.pending);
   const view = await mountEditor(root.querySelector("#editor"), {
     text: draft.program ?? start, dialect: ex.dialect, list, exercise: slug,
+    locked: ex.kind === "complete" ? { lines: ex.locked_lines, start } : null,
     onChange: (text) => { saver.changed(text); scene?.changed(text); }, onPointer: (line) => scene?.pointer(line),
   });
   const toolbar = editorToolbar(root.querySelector("#editor-toolbar"), view, {
     filename: () => `${slug}.nc`, heading: () => title, reset: () => { saver.forget(); return start; },
   });
+  const goLine = (n) => {
+    const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
+    view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
+    view.focus();
+  };
+  // "Meine Abgaben" (history.js): an earlier submission back into the editor
+  const history = mountHistory(root.querySelector("#my-submissions"), slug, { load: (program) => toolbar.replace(program), onLine: goLine });
   scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");
   root.querySelector("#submit").onclick = async () => {
@@ -80,6 +89,7 @@ export async function mountExercise(root, slug) {
       result.replaceChildren(el("p", { className: "error" }, (sub.body?.error && message_(sub.body.error)) || t("submit.failed")));
       return;
     }
+    history.refresh();
     const g = sub.body.grading;
     if (!g) {
       result.replaceChildren(el("p", {}, t("submit.ungraded")));
