@@ -7,6 +7,8 @@ import { api, el, table } from "./dom.js";
 import { lang, message as message_, t } from "./i18n.js";
 import { mountViz } from "./viz.js";
 import { loginUrl, safeNext } from "./redirect.js";
+import { decimalInput, parseDecimal } from "./numbers.js";
+import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
 
 export { mountExercise } from "./page-exercise.js";
 
@@ -32,9 +34,26 @@ export async function mountExerciseList(parent) {
     return;
   }
   const kinds = { write: t("kind.write"), complete: t("kind.complete"), fix: t("kind.fix") };
-  parent.replaceChildren(el("ul", { className: "exercises" }, ...r.body.map((e) => el("li", {},
-    el("a", { href: `/exercises/${e.slug}` }, lang === "en" && e.title_en ? e.title_en : e.title_de),
-    el("span", { className: "meta" }, ` ${kinds[e.kind] || ""} · ${e.dialect}`)))));
+  // where the trainee stands on each exercise (not started, draft, best score); the list keeps the API's order
+  const progress = await api("/me/progress");
+  const state = new Map((progress.ok ? progress.body : []).map((p) => [p.exercise, p]));
+  const status = (slug) => {
+    const p = state.get(slug);
+    if (!p || p.status === "not_started") return el("span", { className: "progress not-started" }, t("progress.not_started"));
+    if (p.status === "draft") return el("span", { className: "progress draft" }, t("progress.draft"));
+    return el("span", { className: "progress submitted" }, p.best_score === null
+      ? t("progress.submitted") : t("progress.best", { score: p.best_score, max: p.max_score }));
+  };
+  // one list per dialect, under its name ("PAL Fräsen")
+  const groups = [];
+  for (const e of r.body) {
+    if (groups.at(-1)?.dialect !== e.dialect) groups.push({ dialect: e.dialect, title: (lang === "en" && e.dialect_title_en) || e.dialect_title || e.dialect, items: [] });
+    groups.at(-1).items.push(e);
+  }
+  parent.replaceChildren(...groups.flatMap((g) => [el("h3", { className: "dialect-title" }, g.title),
+    el("ul", { className: "exercises" }, ...g.items.map((e) => el("li", {},
+      el("a", { href: `/exercises/${e.slug}` }, lang === "en" && e.title_en ? e.title_en : e.title_de),
+      el("span", { className: "meta" }, ` ${kinds[e.kind] || ""} · `), status(e.slug))))]));
 }
 
 export async function mountInstructor(parent) {
@@ -103,23 +122,21 @@ export function stockOf(setup) {
 
 export function mountPracticeSetup(parent, onChange) {
   const setup = practiceSetup();
-  const number = (value, min, max, step, label) => {
-    const input = el("input", { type: "number", value, min, max, step, required: true });
-    input.setAttribute("aria-label", label);
-    return input;
-  };
+  // text fields that take "12,5" as 12.5 (numbers.js); the limits are checked in changed()
+  const number = (value, min, max, step, label) => decimalInput(value, label, { integer: step === 1 });
   const size = setup.size.map((v, i) => number(v, 1, 2000, 1, t(`setup.size.${i}`)));
   const rows = el("tbody");
   const changed = () => {
     const next = {
-      size: size.map((input) => Number(input.value)),
+      size: size.map((input) => parseDecimal(input.value)),
       tools: [...rows.children].map((tr) => {
         const [num, kind, dia] = tr.querySelectorAll("input, select");
-        return { number: Number(num.value), kind: kind.value, diameter: Number(dia.value) };
+        return { number: parseDecimal(num.value), kind: kind.value, diameter: parseDecimal(dia.value) };
       }),
     };
     const valid = next.size.every((v) => v > 0 && v <= 2000)
-      && next.tools.every((tool) => tool.number >= 1 && tool.number <= 99 && tool.diameter > 0 && tool.diameter <= 1000);
+      && next.tools.every((tool) => Number.isInteger(tool.number) && tool.number >= 1 && tool.number <= 99
+        && tool.diameter > 0 && tool.diameter <= 1000);
     message.textContent = valid ? "" : t("setup.invalid");
     if (!valid) return;
     saveSetup(next);
@@ -127,7 +144,7 @@ export function mountPracticeSetup(parent, onChange) {
   };
   const message = el("p", { className: "error", role: "status" }, "");
   const row = (tool) => {
-    const kind = el("select", {}, ...["end_mill", "slot_drill"].map((k) =>
+    const kind = el("select", {}, ...MILLING_TOOL_KINDS.map((k) =>
       el("option", { value: k, selected: tool.kind === k }, t(`kind.${k}`))));
     kind.setAttribute("aria-label", t("tools.kind"));
     const tr = el("tr", {},
@@ -139,7 +156,7 @@ export function mountPracticeSetup(parent, onChange) {
   };
   rows.append(...setup.tools.map(row));
   const add = el("button", { type: "button", id: "add-tool", onclick: () => {
-    const used = [...rows.querySelectorAll("tr td:first-child input")].map((i) => Number(i.value));
+    const used = [...rows.querySelectorAll("tr td:first-child input")].map((i) => parseDecimal(i.value) || 0);
     rows.append(row({ number: Math.max(0, ...used) + 1, kind: "end_mill", diameter: 10 }));
     changed();
   } }, t("setup.add"));

