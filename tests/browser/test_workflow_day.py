@@ -117,3 +117,34 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     page.wait_for_selector("ul.exercises a", timeout=20000)
     assert "beste Abgabe 100/100" in page.locator("ul.exercises li").first.inner_text()
     ctx.close()  # type: ignore[attr-defined]
+
+
+def test_hints_one_at_a_time_and_the_solution_after_a_submission(server: str, browser: object) -> None:  # noqa: F811
+    slug = "fehler-01-kreisendpunkt"
+    reference = (ROOT / "exercises" / "pal-mill-fehler" / f"{slug}.nc").read_text(encoding="utf-8")
+    ctx, page = login(browser, server, "schueler")
+    page.goto(f"{server}/exercises/{slug}")
+    page.wait_for_selector(".cm-content", timeout=20000)
+    show_tab(page, "tab-hints")
+    page.wait_for_selector("#hint-next")
+    assert page.locator("#hint-list li").count() == 0
+    assert page.inner_text("#hint-next") == "Tipp anzeigen (1 von 1)"
+    page.click("#hint-next")
+    page.wait_for_selector("#hint-list li")
+    assert "Mittelpunkt des Kreisbogens" in page.inner_text("#hint-list")
+    assert not page.locator("#hint-next").is_visible()  # that was the only one
+    page.reload()
+    show_tab(page, "tab-hints")
+    page.wait_for_selector("#hint-list li")  # still shown after a reload
+    # the solution: after the first submission (the server's reason in German until then)
+    page.click("#solution-show")
+    wait_until(page, "document.getElementById('solution-message').textContent.includes('nach der ersten Abgabe')")
+    assert not page.locator("#solution-dialog").count()
+    submit(page)
+    page.click("#solution-show")
+    page.wait_for_selector("#solution-dialog", timeout=10000)
+    shown = page.inner_text("#solution-program")
+    assert all(line in shown for line in reference.splitlines() if line.strip())
+    page.click("#solution-close")
+    page.wait_for_selector("#solution-dialog", state="detached", timeout=5000)
+    ctx.close()  # type: ignore[attr-defined]

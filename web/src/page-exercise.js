@@ -3,6 +3,7 @@
 
 import { api, el, table } from "./dom.js";
 import { draftSaver, loadDraft } from "./drafts.js";
+import { mountHints } from "./hints.js";
 import { mountHistory } from "./history.js";
 import { lang, message as message_, t } from "./i18n.js";
 import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
@@ -75,6 +76,7 @@ export async function mountExercise(root, slug) {
   };
   // "Meine Abgaben" (history.js): an earlier submission back into the editor
   const history = mountHistory(root.querySelector("#my-submissions"), slug, { load: (program) => toolbar.replace(program), onLine: goLine });
+  mountHints(root.querySelector("#hints"), { ...ex, slug }, { program: () => view.state.doc.toString() });
   scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");
   root.querySelector("#submit").onclick = async () => {
