@@ -1042,7 +1042,7 @@ def chuck_meshes(blank: dict[str, float], half: bool) -> dict[str, tuple[np.ndar
     r = blank["diameter"] / 2
     jaw_r = max(blank["jaw_radius"], r + 5.0)
     back = -blank["length"]
-    body_r, depth = jaw_r + 0.25 * r + 10.0, max(25.0, 0.5 * jaw_r)
+    body_r, depth = jaw_r + 4.0, float(np.clip(0.4 * jaw_r, 12.0, 40.0))  # the chuck's face, behind the jaws
     outline = np.array([[back, 0.0], [back, body_r], [back - depth, body_r], [back - depth, 0.0]])
     body = _merge([revolve(piece, half, 64) for piece in (outline[:2], outline[1:3], outline[2:])])
     width = float(np.clip(0.5 * r, 8.0, 30.0))

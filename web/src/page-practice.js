@@ -18,6 +18,50 @@ const SAMPLES = {
     "N50 G1 Z0 F0.2\nN60 X-1.6\nN70 G0 X36 Z2\nN80 G1 Z-20 R2\nN90 X44 D1\nN100 Z-35\nN110 G0 X100 Z100 M9\nN120 M30\n",
 };
 
+// Turning: the blank (a bar or tube) instead of the milling block; empty fields: a bar that fits the program.
+const LATHE_DIALECTS = new Set(["traub-tx8d"]);
+const BLANK_KEY = "paltrainer-practice-blank";
+const decimal = (text) => {  // "40,5" as well as "40.5"; "" is not given
+  const value = String(text).trim().replace(",", ".");
+  return value === "" ? null : Number(value);
+};
+
+function mountBlank(parent, onChange) {
+  let saved = {};
+  try { saved = JSON.parse(localStorage.getItem(BLANK_KEY)) || {}; } catch { /* a damaged entry: empty */ }
+  const field = (name) => {
+    const input = el("input", { type: "text", inputMode: "decimal", id: `blank-${name}`, size: 7,
+      value: saved[name] ?? "", autocomplete: "off" });
+    input.setAttribute("aria-label", t(`setup.blank.${name}`));
+    return el("label", { className: "field" }, el("span", {}, t(`setup.blank.${name}`)), input);
+  };
+  const fields = ["diameter", "bore", "length"].map(field);
+  const message = el("p", { className: "error", role: "status" }, "");
+  const read = () => {
+    const [d, bore, l] = fields.map((f) => f.querySelector("input").value);
+    const raw = { diameter: d, bore, length: l };
+    const [diameter, inner, length] = [decimal(d), decimal(bore) ?? 0, decimal(l)];
+    if (diameter === null && length === null) return { raw, blank: null, valid: !inner };
+    const valid = [diameter, inner, length].every(Number.isFinite) && diameter > 0 && diameter <= 2000
+      && length > 0 && length <= 2000 && inner >= 0 && inner < diameter;
+    return { raw, valid, blank: valid ? { diameter, inner_diameter: inner, length } : null };
+  };
+  const setup = { blank: read().blank };
+  const form = el("form", { className: "setup", id: "blank-form", onsubmit: (e) => e.preventDefault(),
+    onchange: () => {
+      const { raw, valid, blank } = read();
+      message.textContent = valid ? "" : t("setup.blank.invalid");
+      if (!valid) return;
+      localStorage.setItem(BLANK_KEY, JSON.stringify(raw));
+      setup.blank = blank;
+      onChange({ blank });
+    } },
+  el("fieldset", {}, el("legend", {}, t("setup.blank")), ...fields, el("p", { className: "meta" }, t("setup.blank.auto"))),
+  message);
+  parent.replaceChildren(form);
+  return setup;
+}
+
 // The practice setup of an example: its stock (zero at the front left top corner) and its tools.
 function setupOf(example) {
   const s = example.stock;
@@ -42,13 +86,15 @@ export async function mountPractice(root) {
   const savedExample = `paltrainer-practice-example-${select.value}`;
   let scene = null;
   let filename = localStorage.getItem(`${saved}-file`) || "programm.nc";
-  const setup = mountPracticeSetup(root.querySelector("#setup"), (next) => {
-    setTools(window.editor, next.tools.length ? next.tools : null);
-    scene?.setup(next);
-  });
+  const lathe = LATHE_DIALECTS.has(select.value);
+  const setup = lathe ? mountBlank(root.querySelector("#setup"), (next) => scene?.setup(next))
+    : mountPracticeSetup(root.querySelector("#setup"), (next) => {
+      setTools(window.editor, next.tools.length ? next.tools : null);
+      scene?.setup(next);
+    });
   window.editor = await mountEditor(root.querySelector("#editor"), {
     text: localStorage.getItem(saved) ?? (SAMPLES[select.value] ?? ""), dialect: select.value,
-    tools: setup.tools.length ? setup.tools : null, list: root.querySelector("#diagnostics"),
+    tools: setup.tools?.length ? setup.tools : null, list: root.querySelector("#diagnostics"),
     onChange: (text) => { localStorage.setItem(saved, text); scene?.changed(text); },
     onPointer: (line) => scene?.pointer(line),
   });

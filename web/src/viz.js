@@ -58,9 +58,12 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   const deviation = el("p", { id: "deviation", className: "meta", role: "status" }, "");
   const button = (id, text, title, fn) => el("button", { id, type: "button", title, onclick: fn }, text);
   const stop = () => { clearInterval(playing); playing = null; };
+  // free practice: the milling set-up (stock and tools), or for a lathe program the blank (none: the server
+  // takes a bar around the program)
   const body = (text) => ({
     program: text, dialect, exercise,
-    ...(setup ? { stock: stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
+    ...(setup?.size ? { stock: stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
+    ...(setup?.blank ? { blank: setup.blank } : {}),
   });
 
   // -- our toolbar: views, layers (the legend of the path colours), the deviation colours ---------------
@@ -79,7 +82,17 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     el("span", { className: "viz-legend-item" }, el("span", { className: "swatch swatch-too-little" }), t("viz.legend.too_little")));
   legend.setAttribute("aria-label", t("viz.legend"));
   const latheNote = el("p", { className: "meta viz-lathe-note", hidden: true }, t("viz.lathe_note"));
-  const toolbar = el("div", { className: "viz-toolbar" }, views, layers, legend, latheNote);
+  // turning: cut the part open (the back half with the cut face) to show bores and grooves
+  const half = button("viz-half", t("viz.half"), t("viz.half_title"), async () => {
+    if (!token) return;
+    const on = half.getAttribute("aria-pressed") !== "true";
+    const r = await api(`/viz/${token}/section`, post({ half: on }));
+    if (r.ok) half.setAttribute("aria-pressed", String(Boolean(r.body.half)));
+  });
+  half.setAttribute("aria-pressed", "false");
+  half.hidden = true;
+  const blankInfo = el("span", { id: "viz-blank", className: "meta" }, "");
+  const toolbar = el("div", { className: "viz-toolbar" }, views, layers, legend, half, latheNote);
 
   async function look(name) {
     if (!token) return;
@@ -121,9 +134,15 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     if (!r.ok) return;
     lines = r.body.lines;
     states = r.body.states;
+    const b = r.body.blank;
+    blankInfo.textContent = b ? t("viz.blank", { d: number(b.diameter, 1).replace(/[,.]0$/, ""),
+      l: number(b.length, 1).replace(/[,.]0$/, ""),
+      bore: b.inner_diameter ? t("viz.blank_bore", { d: number(b.inner_diameter, 1).replace(/[,.]0$/, "") }) : "" })
+      : "";
     if (Boolean(r.body.lathe) !== lathe) {  // the lathe's views and what its view leaves out
       lathe = Boolean(r.body.lathe);
       latheNote.hidden = !lathe;
+      half.hidden = !lathe;
       legend.style.display = lathe ? "none" : "";  // turned parts are not graded yet: no deviation colours
       for (const name of ["top", "front"]) {
         views.querySelector(`#view-${name}`).title = t(`viz.view.${name}${lathe ? "_lathe" : ""}_title`);
@@ -144,7 +163,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
       }, 200);
     }),
     button("step", t("play.step"), t("play.step_title"), () => { stop(); moveTo(Number(slider.value) + 1); }),
-    slider, info);
+    slider, info, blankInfo);
   slider.oninput = () => { stop(); moveTo(Number(slider.value)); };
   // Alt with the arrow keys steps, Alt+Space plays and pauses: the same in the editor as anywhere on the page.
   document.addEventListener("keydown", (event) => {
@@ -167,6 +186,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     container.replaceChildren(toolbar, stage, controls, modal, el("p", { className: "viz-switch" },
       button("viz-off", t("viz.off"), "", disable)));
     for (const box of layers.querySelectorAll("input")) box.checked = true;
+    half.setAttribute("aria-pressed", "false");  // a new scene shows the part whole
     frame.src = session.body.url;
     await look("iso");  // the frame's shape first: the first picture fills it
     await refresh(view.state.doc.toString());
@@ -212,7 +232,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
       timer = setTimeout(() => refresh(text), 500);
       if (!token) { clearTimeout(pictureTimer); pictureTimer = setTimeout(() => updatePicture(text), 1000); }
     },
-    setup(next) {  // free practice: other stock or tools
+    setup(next) {  // free practice: other stock or tools, or another blank
       setup = next;
       if (token) refresh(view.state.doc.toString()); else updatePicture(view.state.doc.toString());
     },
