@@ -6,6 +6,8 @@ parses with `;` and a BOM."""
 
 from __future__ import annotations
 
+import csv
+import io
 import os
 import subprocess
 import sys
@@ -36,12 +38,12 @@ def people(server: str) -> tuple[str, str]:  # noqa: F811
     return TEACHER, TRAINEE
 
 
-def login(browser: object, server: str, user: str) -> tuple[object, object]:  # noqa: F811
+def login(browser: object, server: str, user: str, password: str = PASSWORD) -> tuple[object, object]:  # noqa: F811
     ctx = browser.new_context(viewport={"width": 1366, "height": 768}, accept_downloads=True)  # type: ignore[attr-defined]
     page = ctx.new_page()
     page.goto(f"{server}/login")
     page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
+    page.fill("input[name=password]", password)
     page.click("button[type=submit]")
     page.wait_for_url(f"{server}/")
     return ctx, page
@@ -116,6 +118,55 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     page.goto(f"{server}/")
     page.wait_for_selector("ul.exercises a", timeout=20000)
     assert "beste Abgabe 100/100" in page.locator("ul.exercises li").first.inner_text()
+    ctx.close()  # type: ignore[attr-defined]
+
+    # the instructor: both submissions in the results table (the best one linked), the CSV for Excel
+    ctx, page = login(browser, server, TEACHER)
+    page.goto(f"{server}/instructor")
+    page.wait_for_selector("#results-table", timeout=20000)
+    row = page.locator("#results-table tbody tr", has_text=TRAINEE)
+    assert row.count() == 1
+    assert "100/100 (2)" in row.inner_text()
+    with page.expect_download() as info:
+        page.click("#results-csv")
+    data = Path(info.value.path()).read_bytes()
+    assert data.startswith(b"\xef\xbb\xbf")
+    rows = list(csv.reader(io.StringIO(data.decode("utf-8-sig")), delimiter=";"))
+    assert rows[0][:3] == ["Benutzer", "Lehrkraft", "Aufgabe"]
+    mine = next(r for r in rows if r[0] == TRAINEE and r[2] == SLUG)
+    assert mine[1] == TEACHER and mine[4] == "100" and mine[7] == "2"
+
+    # the first submission opened read-only: the typed program, its messages and criteria with line links
+    ids = sorted(int(a.inner_text()) for a in page.locator("#submission-list tbody tr", has_text=TRAINEE)
+                 .locator("td:first-child a").all())
+    assert len(ids) == 2
+    page.click(f"#submission-list a[href='/instructor?submission={ids[0]}']")
+    page.wait_for_selector("#submission-view #submission-program", timeout=20000)
+    view = page.inner_text("#submission-view")
+    assert f"Abgabe Nr. {ids[0]} von {TRAINEE}" in view and "erster Versuch" in page.inner_text("#submission-program")
+    assert first_score in view
+    links = page.locator("#submission-view .criteria .line-link, #submission-diagnostics .line-link")
+    assert links.count() >= 1
+    links.first.click()
+    assert page.locator("#submission-program li.marked").count() == 1
+    # the best one from the results table: full marks
+    page.locator("#results-table tbody tr", has_text=TRAINEE).locator("a").first.click()
+    page.wait_for_selector("#submission-view #submission-program", timeout=20000)
+    assert f"Abgabe Nr. {ids[1]}" in page.inner_text("#submission-view")
+    assert "100 von 100 Punkten" in page.inner_text("#submission-view")
+
+    # a class list: the generated password shown once, and it works
+    page.set_input_files("#class-file", files=[{"name": "klasse.csv", "mimeType": "text/csv",
+                                                "buffer": "Name;Passwort\nklasse-anna\nklasse-ben;ein Passwort mit Länge\n"
+                                                .encode("utf-8-sig")}])
+    page.wait_for_selector("#class-passwords", timeout=20000)
+    cells = [c.inner_text() for c in page.locator("#class-passwords tbody td").all()]
+    assert cells[0] == "klasse-anna" and len(cells[1]) == 12 and cells[2:] == ["klasse-ben", "(aus der Liste)"]
+    page.reload()
+    page.wait_for_selector("#results-table", timeout=20000)
+    assert page.locator("#results-table tbody tr", has_text="klasse-anna").count() == 1
+    ctx.close()  # type: ignore[attr-defined]
+    ctx, page = login(browser, server, "klasse-anna", cells[1])  # logs in: back on the exercise list
     ctx.close()  # type: ignore[attr-defined]
 
 

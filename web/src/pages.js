@@ -7,6 +7,7 @@ import { api, el, table } from "./dom.js";
 import { lang, message as message_, t } from "./i18n.js";
 import { mountViz } from "./viz.js";
 import { loginUrl, safeNext } from "./redirect.js";
+import { classImportSection, resultsSection, submissionHref, submissionSection } from "./results.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
 
@@ -75,6 +76,11 @@ export async function mountInstructor(parent) {
       t("col.errors"), t("col.points")], (r.body || []).map((s) => [
       s.id, s.exercise, s.external_user || s.user || "–", new Date(s.created_at).toLocaleString(lang === "en" ? "en-GB" : "de-DE"),
       s.error_count, s.score ?? "–"])));
+    // the numbers open the submission (results.js)
+    for (const row of list.querySelectorAll("tbody tr")) {
+      const cell = row.firstElementChild;
+      cell.replaceChildren(el("a", { href: submissionHref(cell.textContent) }, cell.textContent));
+    }
   }
   filter.onchange = show;
   // authoring: an exercise file (docs/exercises.md), checked by the server
@@ -94,9 +100,13 @@ export async function mountInstructor(parent) {
       : (r.body?.error && message_(r.body.error)) || t("instructor.error");
     if (r.ok) filter.append(el("option", { value: r.body.slug }, r.body.title_de));
   };
-  parent.replaceChildren(
+  // results.js: one submission opened (?submission=ID), the results table, the class list
+  const opened = new URLSearchParams(location.search).get("submission");
+  const [view, results] = await Promise.all([opened ? submissionSection(opened) : null, resultsSection()]);
+  parent.replaceChildren(view ?? "", results,
     el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
-    list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message);
+    list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message,
+    classImportSection());
   await show();
 }
 
