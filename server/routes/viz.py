@@ -146,8 +146,9 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
                     workers: AppWorkers, principal: PracticePrincipal) -> SceneResult:
     """Run the program (in a worker) and show its toolpath, the stock after it and the tool. The stock: the
     request's, else the exercise's, else the PAL examples' block; `resolution` is the view's own (0.5 mm).
-    A turning program (TRAUB) is shown in the lathe's drawing view — Z right, X up, the chuck side on the
-    left — without a stock until the turning stock exists (`lathe` in the answer)."""
+    A turning program (TRAUB) is shown in the lathe's drawing view — Z right, X up, the chuck on the left —
+    with the part turned from the blank (the request's, the exercise's, else a bar around the program) in
+    chunks along Z (`lathe` and `blank` in the answer)."""
     scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     if body.blank is not None:
