@@ -29,7 +29,7 @@ def test_upload_messages_per_field_in_german(api: Api) -> None:
     assert de.startswith("Die Aufgabe ist ungültig: ") and de.count("ungültig") == 1
     assert "Feld `id`: nur Kleinbuchstaben, Ziffern und Bindestrich" in de
     assert "Feld `cutting_data[1].feed`: muss größer als 0 sein" in de
-    assert "Feld `dialect`: erlaubt: 'pal-mill', 'sinumerik-iso' oder 'beckhoff'" in de
+    assert "Feld `dialect`: erlaubt: 'pal-mill', 'sinumerik-iso', 'beckhoff' oder 'traub-tx8d'" in de
     assert "Feld `farbe`: gibt es im Aufgabenformat nicht" in de
     assert "Feld `solution`: erlaubt: 'never', 'after_submission' oder 'after_full_marks'" in de
     for english in ("should", "String", "Input", "exercise invalid", "Extra inputs"):
