@@ -23,6 +23,12 @@ pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installe
 SLUG = "pal-01-g1-gerade"
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
 TEACHER, TRAINEE = "tag-lehrer", "tag-azubi"
+SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
+
+
+def shot(page: object, name: str) -> None:
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    page.screenshot(path=str(SHOTS / f"day-{name}.png"))  # type: ignore[attr-defined]
 
 
 def admin(*args: str) -> None:
@@ -108,8 +114,11 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     page.wait_for_selector(".history-item >> nth=1", timeout=10000)
     items = page.locator(".history-item")
     assert items.count() == 2
+    panel = page.inner_text("#panel-hints")
+    assert "Zu dieser Aufgabe gibt es keine Tipps." in panel and "null" not in panel
     assert "100 von 100 Punkten" in items.nth(0).inner_text()
     assert first_score in items.nth(1).inner_text()
+    shot(page, "history")
     items.nth(1).locator(".history-load").click()
     wait_until(page, "!document.querySelector('.cm-content').textContent.includes('N90 G0 X250')")
     assert editor_text(page) == first_program
@@ -118,6 +127,7 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     page.goto(f"{server}/")
     page.wait_for_selector("ul.exercises a", timeout=20000)
     assert "beste Abgabe 100/100" in page.locator("ul.exercises li").first.inner_text()
+    shot(page, "list")
     ctx.close()  # type: ignore[attr-defined]
 
     # the instructor: both submissions in the results table (the best one linked), the CSV for Excel
@@ -144,11 +154,12 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     page.wait_for_selector("#submission-view #submission-program", timeout=20000)
     view = page.inner_text("#submission-view")
     assert f"Abgabe Nr. {ids[0]} von {TRAINEE}" in view and "erster Versuch" in page.inner_text("#submission-program")
-    assert first_score in view
+    assert first_score in view and "null" not in view
     links = page.locator("#submission-view .criteria .line-link, #submission-diagnostics .line-link")
     assert links.count() >= 1
     links.first.click()
     assert page.locator("#submission-program li.marked").count() == 1
+    shot(page, "submission")
     # the best one from the results table: full marks
     page.locator("#results-table tbody tr", has_text=TRAINEE).locator("a").first.click()
     page.wait_for_selector("#submission-view #submission-program", timeout=20000)
@@ -161,6 +172,7 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
                                                 .encode("utf-8-sig")}])
     page.wait_for_selector("#class-passwords", timeout=20000)
     cells = [c.inner_text() for c in page.locator("#class-passwords tbody td").all()]
+    shot(page, "instructor")
     assert cells[0] == "klasse-anna" and len(cells[1]) == 12 and cells[2:] == ["klasse-ben", "(aus der Liste)"]
     page.reload()
     page.wait_for_selector("#results-table", timeout=20000)
@@ -195,6 +207,7 @@ def test_hints_one_at_a_time_and_the_solution_after_a_submission(server: str, br
     page.click("#solution-show")
     page.wait_for_selector("#solution-dialog", timeout=10000)
     shown = page.inner_text("#solution-program")
+    shot(page, "solution")
     assert all(line in shown for line in reference.splitlines() if line.strip())
     page.click("#solution-close")
     page.wait_for_selector("#solution-dialog", state="detached", timeout=5000)

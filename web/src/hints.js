@@ -55,9 +55,9 @@ export function mountHints(container, ex, { program }) {
     dialog.showModal();
   };
 
-  container.replaceChildren(el("h2", {}, t("tab.hints")),
+  container.replaceChildren(...[el("h2", {}, t("tab.hints")),
     count ? list : el("p", { className: "meta" }, t("hints.empty")), count ? el("p", {}, more) : null, note,
-    ex.solution === "never" ? null : el("p", {}, solutionButton), solutionMessage);
+    ex.solution === "never" ? null : el("p", {}, solutionButton), solutionMessage].filter(Boolean));
   update();
   // the hints shown before (this browser) again
   const before = Math.min(count, Number(localStorage.getItem(shownKey(ex.slug))) || 0);

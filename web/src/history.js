@@ -28,7 +28,7 @@ export function mountHistory(container, slug, { load, onLine }) {
     const r = await api(`/me/submissions?exercise=${encodeURIComponent(slug)}`);
     const items = r.ok ? r.body : [];
     container.replaceChildren(el("h2", {}, t("history.title")), items.length
-      ? el("ol", { className: "history", reversed: true }, ...items.map((s, i) => el("li", { className: "history-item" },
+      ? el("ol", { className: "history", reversed: true, start: items.length }, ...items.map((s, i) => el("li", { className: "history-item" },
         el("div", { className: "history-head" },
           el("strong", {}, scoreText(s.score, s.max_score)), " · ", el("time", { dateTime: s.created_at }, formatTime(s.created_at)),
           " · ", t("history.counts", { errors: s.error_count, warnings: s.warning_count })),

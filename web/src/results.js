@@ -65,7 +65,7 @@ export async function submissionSection(id) {
   };
   const diagnostics = s.diagnostics || [];
   const g = s.grading;
-  section.append(
+  section.append(...[
     el("h3", {}, t("submission.title", { id: s.id, user: s.user || s.external_user || "–" })),
     el("p", { className: "meta" }, `${s.exercise} · ${formatTime(s.created_at)} · ${
       g ? scoreText(g.score, g.max_score) : t("history.ungraded")}`),
@@ -78,7 +78,7 @@ export async function submissionSection(id) {
         ` ${d.code}: ${message(d)}`)))
       : el("p", { className: "meta" }, t("diagnostics.none")),
     g ? el("h4", {}, t("history.criteria")) : null,
-    g ? criteriaList(g.criteria, goLine) : null);
+    g ? criteriaList(g.criteria, goLine) : null].filter(Boolean));
   return section;
 }
 
@@ -95,9 +95,9 @@ export function classImportSection() {
     file.value = "";
     if (!r.ok) {
       const errors = r.body?.error?.details?.errors || [];
-      out.replaceChildren(el("p", { className: "error" }, (r.body?.error && message(r.body.error)) || t("classlist.failed")),
+      out.replaceChildren(...[el("p", { className: "error" }, (r.body?.error && message(r.body.error)) || t("classlist.failed")),
         errors.length ? el("ul", { className: "error" }, ...errors.map((e) => el("li", {},
-          `${e.row ? `${t("classlist.row", { n: e.row })}: ` : ""}${message(e)}`))) : null);
+          `${e.row ? `${t("classlist.row", { n: e.row })}: ` : ""}${message(e)}`))) : null].filter(Boolean));
       return;
     }
     const users = r.body.users;
