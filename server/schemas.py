@@ -19,6 +19,7 @@ from pydantic import (
 
 from core.exercises import CriterionId
 from core.pipeline import DEFAULT_DIALECT
+from core.tools import ToolKind
 
 
 def utc(value: datetime) -> datetime:
@@ -101,7 +102,7 @@ StoredJson = Annotated[dict[str, Any], AfterValidator(clean_json)]
 class ToolSpec(BaseModel):
     number: int = Field(ge=1, le=99)
     diameter: float = Field(gt=0, le=1000, description="mm")
-    kind: Literal["end_mill", "slot_drill", "turning"] = "end_mill"
+    kind: ToolKind = Field(default="end_mill", description="every kind of docs/tools.md")
     name: ShortText = ""
     nose_radius: float = Field(default=0.0, ge=0, le=50, description="turning: nose radius R_s in mm")
     quadrant: int = Field(default=0, ge=0, le=4, description="turning: cutting-edge quadrant P1…P4 (0: not given)")
@@ -433,6 +434,10 @@ class SubmissionCreate(BaseModel):
     external_user: ExternalUser | None = Field(
         default=None, description="The learner's id on the learning platform (API keys of the operator, an "
                                   "instructor or an admin only)")
+    assignment: int | None = Field(
+        default=None, ge=1, le=DB_INT_MAX,
+        description="The assignment it is for (GET /me/assignments); without it, the running exam or the open "
+                    "practice assignment with the exercise, if any")
 
 
 class RunSummary(BaseModel):

@@ -134,7 +134,7 @@ export function mountPracticeSetup(parent, onChange) {
   const setup = practiceSetup();
   // text fields that take "12,5" as 12.5 (numbers.js); the limits are checked in changed()
   const number = (value, min, max, step, label) => decimalInput(value, label, { integer: step === 1 });
-  const size = setup.size.map((v, i) => number(v, 1, 2000, 1, t(`setup.size.${i}`)));
+  const size = setup.size.map((v, i) => number(v, 1, 2000, 0.1, t(`setup.size.${i}`)));
   const rows = el("tbody");
   const changed = () => {
     const next = {
