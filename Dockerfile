@@ -1,11 +1,12 @@
 # PAL Trainer server: `paltrainer serve` on 0.0.0.0:8000, data (SQLite file, secret key) in the volume /data.
 
-# The editor bundle (CodeMirror 6 by esbuild) → /server/static/app.js
+# The editor bundle (CodeMirror 6 by esbuild) → /server/static/app.js, Swagger UI's files → /server/static/swagger
 FROM node:20-slim AS web
 WORKDIR /web
 COPY web/package.json web/package-lock.json ./
 RUN npm ci --no-audit --no-fund
 COPY web/src ./src
+COPY web/scripts ./scripts
 RUN mkdir -p /server/static && npm run build
 
 FROM python:3.11-slim
@@ -26,6 +27,8 @@ COPY core ./core
 COPY server ./server
 COPY exercises ./exercises
 COPY --from=web /server/static/app.js ./server/static/app.js
+COPY --from=web /server/static/swagger ./server/static/swagger
+COPY --from=web /server/static/licenses.txt /server/static/licenses.json ./server/static/
 RUN pip install --no-cache-dir . \
     && useradd --system --uid 10001 --home-dir /app paltrainer \
     && mkdir -p /data && chown paltrainer /data

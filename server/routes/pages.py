@@ -8,14 +8,17 @@ from __future__ import annotations
 
 import inspect
 from functools import cache
+from html import escape
 from pathlib import Path
 from string import Template
 from typing import Annotated
 
-from fastapi import APIRouter, FastAPI, Query, Request
+from fastapi import APIRouter, Depends, FastAPI, Query, Request
 from fastapi.responses import HTMLResponse, RedirectResponse, Response
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
+from server.deps import SESSION_COOKIE, AppSettings, DbSession, token_user
+from server.models import User
 from server.security import safe_redirect
 
 router = APIRouter(include_in_schema=False)
@@ -29,8 +32,20 @@ def _html(name: str, title_key: str, title: str) -> str:
     return layout.substitute(title_key=title_key, title=title, body=body, page=name)
 
 
-def _page(name: str, title: str, status_code: int = 200) -> HTMLResponse:
-    return HTMLResponse(_html(name, f"title.{name}", title), status_code=status_code)
+def viewer(request: Request, db: DbSession, settings: AppSettings) -> User | None:
+    """The user of the session cookie, if it is valid: the header shows the name and "Abmelden"."""
+    token = request.cookies.get(SESSION_COOKIE)
+    return token_user(db, settings, token) if token else None
+
+
+Viewer = Annotated[User | None, Depends(viewer)]
+
+
+def _page(name: str, title: str, status_code: int = 200, who: User | None = None) -> HTMLResponse:
+    html = _html(name, f"title.{name}", title)
+    if who is not None:  # for the header (web/src/header.js): who is logged in, and whether to show instructor links
+        html = html.replace("<body ", f'<body data-user="{escape(who.username)}" data-role="{escape(who.role)}" ', 1)
+    return HTMLResponse(html, status_code=status_code)
 
 
 def not_found() -> HTMLResponse:
@@ -53,22 +68,24 @@ def install_not_found(app: FastAPI) -> None:
     app.add_exception_handler(StarletteHTTPException, handler)
 
 
-@router.get("/")
-def home() -> HTMLResponse:
-    """The exercise list (after login)."""
-    return _page("exercises", "Aufgaben")
+@router.get("/", response_model=None)
+def home(who: Viewer) -> HTMLResponse | RedirectResponse:
+    """The exercise list (after login; without a session: the login page, before any script asks the API)."""
+    if who is None:
+        return RedirectResponse("/login", status_code=303)
+    return _page("exercises", "Aufgaben", who=who)
 
 
 @router.get("/practice")
-def practice() -> HTMLResponse:
+def practice(who: Viewer) -> HTMLResponse:
     """Free practice: the editor with live diagnostics, usable without an account."""
-    return _page("practice", "Freies Üben")
+    return _page("practice", "Freies Üben", who=who)
 
 
 @router.get("/exercises/{slug}")
-def exercise(slug: str) -> HTMLResponse:
+def exercise(slug: str, who: Viewer) -> HTMLResponse:
     """One exercise: task, stock, tools, the finished part, the editor and submitting."""
-    return _page("exercise", "Aufgabe")
+    return _page("exercise", "Aufgabe", who=who)
 
 
 @router.get("/login")
@@ -87,6 +104,12 @@ def docs() -> HTMLResponse:
 
 
 @router.get("/instructor")
-def instructor() -> HTMLResponse:
+def instructor(who: Viewer) -> HTMLResponse:
     """The submissions one may see (instructors: those to their exercises), with CSV export."""
-    return _page("instructor", "Abgaben")
+    return _page("instructor", "Abgaben", who=who)
+
+
+@router.get("/about")
+def about(who: Viewer) -> HTMLResponse:
+    """Über / Lizenzen: PAL Trainer's licence and those of the browser packages bundled with it."""
+    return _page("about", "Über / Lizenzen", who=who)

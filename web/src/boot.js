@@ -1,7 +1,10 @@
 // Starts the page: every page names itself in <body data-page="…"> and this mounts it. The pages carry no
 // inline script, so that the Content-Security-Policy can forbid inline script (script-src 'self').
 
+import { mountAbout } from "./about.js";
+import { mountHeader } from "./header.js";
 import { mountPractice } from "./page-practice.js";
+import { restoreState } from "./state.js";
 import { mountExercise, mountExerciseList, mountInstructor, mountLogin } from "./pages.js";
 
 const PAGES = {
@@ -11,8 +14,11 @@ const PAGES = {
   exercises: () => mountExerciseList(document.getElementById("list")),
   instructor: () => mountInstructor(document.getElementById("submissions")),
   login: () => mountLogin(document.getElementById("login"), document.getElementById("message")),
+  about: () => mountAbout(document.getElementById("about")),
 };
 
-export function boot() {
-  return PAGES[document.body.dataset.page]?.();
+export async function boot() {
+  mountHeader();
+  await PAGES[document.body.dataset.page]?.();
+  restoreState();  // after a language switch: the program and the 3D view as they were
 }

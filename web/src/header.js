@@ -1,0 +1,44 @@
+// The page header: who is logged in (the server puts the session's user into <body data-user data-role>) with
+// "Abmelden", instructor links only for instructors and admins, the "Über / Lizenzen" link, and the language
+// switch keeping the page's state across its reload (state.js).
+
+import { api } from "./dom.js";
+import { lang } from "./i18n.js";
+import { keepState } from "./state.js";
+
+const TEXTS = {
+  de: { logout: "Abmelden", about: "Über / Lizenzen", user: "Angemeldet als {name}", roles: { student: "Auszubildende/r",
+    instructor: "Ausbilder/in", admin: "Administrator/in" } },
+  en: { logout: "Log out", about: "About / licences", user: "Logged in as {name}", roles: { student: "trainee",
+    instructor: "instructor", admin: "administrator" } },
+};
+const tx = TEXTS[lang === "en" ? "en" : "de"];
+
+export function mountHeader() {
+  const { user, role } = document.body.dataset;
+  const about = document.getElementById("nav-about");
+  if (about) about.textContent = tx.about;
+  for (const node of document.querySelectorAll("[data-role=instructor]")) {
+    node.hidden = !(role === "instructor" || role === "admin");
+  }
+  const login = document.getElementById("nav-login");
+  const box = document.getElementById("nav-user");
+  if (user && login && box) {
+    login.hidden = true;
+    box.hidden = false;
+    const name = document.getElementById("nav-username");
+    name.textContent = user;
+    name.title = `${tx.user.replace("{name}", user)} (${tx.roles[role] || role})`;
+    const logout = document.getElementById("logout");
+    logout.textContent = tx.logout;
+    logout.onclick = async () => {
+      await api("/auth/logout", { method: "POST" });
+      location.href = "/login";
+    };
+  }
+  const toggle = document.getElementById("lang");
+  if (toggle) {
+    const reload = toggle.onclick;  // i18n.js: keep the choice and reload
+    toggle.onclick = (event) => { keepState(); reload?.call(toggle, event); };
+  }
+}
