@@ -7,6 +7,7 @@ import { lang, t } from "./i18n.js";
 import { drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor, setTools } from "./main.js";
 import { mountPracticeSetup, saveSetup } from "./pages.js";
+import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
 import { mountViz } from "./viz.js";
 
 const SAMPLE = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X-25 Y-15 Z2\nN40 G42 G0 X-14 Y10\nN50 G0 Z-2\n" +
@@ -67,7 +68,7 @@ function setupOf(example) {
   const s = example.stock;
   const size = s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000);
   const tools = (example.tools || []).filter((tool) => tool.number && tool.diameter).map((tool) => ({
-    number: tool.number, kind: tool.kind === "slot_drill" ? "slot_drill" : "end_mill", diameter: tool.diameter,
+    number: tool.number, kind: MILLING_TOOL_KINDS.includes(tool.kind) ? tool.kind : "end_mill", diameter: tool.diameter,
   }));
   return { size, tools };
 }
