@@ -7,7 +7,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-from server_helpers import Api
+from server_helpers import Api, unique
 
 from server import viz
 
@@ -153,3 +153,31 @@ def test_milling_scene_after_a_lathe_scene_has_no_chuck(api: Api) -> None:
     assert r.status_code == 200 and r.json()["lathe"] is False
     names = scene.server.scene._handle_from_node_name
     assert "/chuck" not in names and not any(k.startswith("z") for k in scene.tiles)
+
+
+def test_exercise_blank_and_its_tools_insert(api: Api) -> None:
+    """An exercise's blank (traub-01-srk-fase: Ø44 × 80, 30 mm in the chuck) and its tool T1 (C, R0.8)."""
+    from core.exercises import EXERCISES_DIR, load_exercise
+    from server import repository as repo
+    from server.seed import exercise_fields
+
+    doc = load_exercise(EXERCISES_DIR / "traub-tx8d" / "traub-01-srk-fase.yaml")
+    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("turning-"), "order": None})
+    with api.app.state.db.session() as db:
+        repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
+    token = api.client.post("/api/v1/viz").json()["token"]
+    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": doc.reference, "dialect": "traub-tx8d",
+                                                            "exercise": doc.id})
+    assert r.status_code == 200, r.text
+    blank = r.json()["blank"]
+    assert (blank["diameter"], blank["length"], blank["clamp"]) == (44, 80, 30)
+    ticket = api.app.state.scenes.ticket(token)
+    assert ticket is not None
+    scene = api.app.state.scenes.scene(ticket)
+    v = _chunk_vertices(scene)
+    assert np.isclose(v[:, 0].min(), -80) and np.hypot(v[:, 1], v[:, 2]).max() <= 22.0 + 1e-3
+    shape = scene.tools[1]
+    assert shape["kind"] == "insert" and shape["insert"] == "C"
+    # the nose radius R0.8 rounds the insert's point: its outline stays 0.8 mm and more away from the sharp tip
+    outline = np.asarray(shape["outline"])
+    assert np.hypot(outline[:, 0], outline[:, 1]).min() > 0.3
