@@ -26,9 +26,9 @@ TEACHER, TRAINEE = "tag-lehrer", "tag-azubi"
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 
 
-def shot(page: object, name: str) -> None:
+def shot(page: object, name: str, full_page: bool = False) -> None:
     SHOTS.mkdir(parents=True, exist_ok=True)
-    page.screenshot(path=str(SHOTS / f"day-{name}.png"))  # type: ignore[attr-defined]
+    page.screenshot(path=str(SHOTS / f"day-{name}.png"), full_page=full_page)  # type: ignore[attr-defined]
 
 
 def admin(*args: str) -> None:
@@ -159,7 +159,10 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     assert links.count() >= 1
     links.first.click()
     assert page.locator("#submission-program li.marked").count() == 1
-    shot(page, "submission")
+    # the part after the program (3D view, or its picture where the browser draws 3D without acceleration)
+    wait_until(page, "document.querySelector('#submission-viz #viz-picture')?.naturalWidth > 100"
+                     " || document.querySelector('#submission-viz #viz-frame')?.src", timeout=30)
+    shot(page, "submission", full_page=True)
     # the best one from the results table: full marks
     page.locator("#results-table tbody tr", has_text=TRAINEE).locator("a").first.click()
     page.wait_for_selector("#submission-view #submission-program", timeout=20000)

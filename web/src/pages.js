@@ -107,6 +107,7 @@ export async function mountInstructor(parent) {
     el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
     list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message,
     classImportSection());
+  view?.mountViz?.();
   await show();
 }
 

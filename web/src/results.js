@@ -3,9 +3,11 @@
 // the program with line numbers, its diagnostics and criteria with line links), and the class-list import
 // (POST /users/import, the generated passwords shown this once).
 
+import { Text } from "@codemirror/state";
 import { api, el } from "./dom.js";
 import { lang, message, t } from "./i18n.js";
 import { criteriaList, formatTime, scoreText } from "./history.js";
+import { mountViz } from "./viz.js";
 
 const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
 
@@ -43,7 +45,8 @@ export async function resultsSection() {
   return section;
 }
 
-// One submission, read-only: everything the trainee saw, without the 3D view.
+// One submission, read-only: everything the trainee saw. The 3D view (viz.js) is mounted once the section is in
+// the page: call section.mountViz().
 export async function submissionSection(id) {
   const section = el("section", { id: "submission-view", className: "submission-view" });
   const r = await api(`/submissions/${encodeURIComponent(id)}`);
@@ -79,6 +82,15 @@ export async function submissionSection(id) {
       : el("p", { className: "meta" }, t("diagnostics.none")),
     g ? el("h4", {}, t("history.criteria")) : null,
     g ? criteriaList(g.criteria, goLine) : null].filter(Boolean));
+  const viz = el("div", { id: "submission-viz", className: "viz submission-viz" });
+  section.append(el("h4", {}, t("viz.title")), viz);
+  // the 3D view reads the program as an editor's document and marks the line it plays
+  const doc = Text.of(lines);
+  const reader = { state: { doc }, dispatch: ({ selection }) => goLine(doc.lineAt(selection.anchor).number), focus() {} };
+  section.mountViz = async () => {
+    const scene = await mountViz(viz, reader, { dialect: s.dialect, exercise: s.exercise });
+    if (g) await scene?.graded(s.program || "");  // the deviation colours, as the trainee saw them
+  };
   return section;
 }
 
