@@ -56,6 +56,9 @@ def test_iso_dialects_share_the_compensation_rule(api: Api) -> None:
         g41 = next(c for c in body["codes"] if c["name"] == "G41")
         assert g41["rule_de"] == "Werkzeug links der Kontur, in Vorschubrichtung gesehen"
         assert next(a for a in body["addresses"] if a["name"] == "X")["unit"] == "mm"
+    beckhoff = _help(api, "beckhoff")
+    assert next(c for c in beckhoff["codes"] if c["name"] == "G301")["example"] == "N30 G301 I20"
+    assert {a["name"]: a["unit"] for a in beckhoff["addresses"]}["#FRC"] == "mm/min"
 
 
 def test_docs_are_generated_from_the_same_table() -> None:
