@@ -402,6 +402,22 @@ def _put_tiles(scene: Scene, tiles: Tiles) -> None:
         scene.tiles[key] = digest
 
 
+def show_deviation_bands(scene: Scene, bands: dict[str, tuple[np.ndarray, np.ndarray]]) -> None:
+    """A turned part's deviation: red bands around it where too much was removed, blue where too much is left
+    (lathe_deviation); the camera goes back to the drawing view."""
+    with scene.lock, scene.server.atomic():
+        s = scene.server.scene
+        s.remove_by_name("/deviation")
+        s.remove_by_name("/playback/current")
+        for name, colour in (("too_much", TOO_MUCH_COLOUR), ("too_little", TOO_LITTLE_COLOUR)):
+            vertices, triangles = bands.get(name, (np.zeros((0, 3)), np.zeros((0, 3))))
+            if len(triangles):
+                s.add_mesh_simple(f"/deviation/{name}", np.asarray(vertices) * M, triangles, color=colour,
+                                  side="double", cast_shadow=False, receive_shadow=False)
+        if scene.bounds is not None and any(len(t) for _, t in bands.values()):
+            _look(scene, _home(scene))
+
+
 def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, cell: float) -> None:
     """Colour the part where it leaves the tolerance band: red where too much material was removed, blue
     where too much is left (points at the cells' centres on the part's surface, mm). The camera goes back to
@@ -858,6 +874,8 @@ def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
         none = np.zeros((0, 3), np.float32)
         return {"too_much": none, "too_little": none, "cell": 0.0, "too_much_mm3": 0.0, "too_little_mm3": 0.0,
                 "largest_mm": 0.0}
+    if exercise.lathe:
+        return lathe_deviation(exercise, text, bool(spec.get("half")))
     d = deviation(exercise, text)
     area = d.part.grid.dx * d.part.grid.dy
     return {"too_much": d.points("over"), "too_little": d.points("left"), "cell": d.part.grid.dx,
@@ -1214,3 +1232,47 @@ def set_half(scene: Scene, half: bool, chunks: Tiles | None) -> bool:
             _put_tiles(scene, chunks)
         _chuck(scene)
         return scene.half
+
+
+BAND_LIFT = 0.08  # mm: a deviation band lies just outside the turned surface (inside the bore), not in it
+
+
+def lathe_deviation(exercise: Any, text: str, half: bool) -> dict[str, Any]:
+    """A turning exercise's deviation for the view (core.grading.turning, the geometry criterion's tolerance):
+    the volumes, the largest deviation and, as `bands`, revolved strips on the submitted part where it
+    leaves the band (too much removed red, too much left blue). Runs in a worker process."""
+    from core.grading.turning import compare_profiles, execute_turning
+
+    tol = next((c.tolerance if c.tolerance is not None else 0.05 for c in exercise.rubric if c.id == "geometry"),
+               0.05)
+    reference, submission = execute_turning(exercise, exercise.reference), execute_turning(exercise, text)
+    dev = compare_profiles(reference.sim.profile, submission.sim.profile, tol)
+    part = submission.sim.profile
+    bands = {"too_much": deviation_band(part, dev.over_outer > 0, dev.over_inner > 0, half),
+             "too_little": deviation_band(part, dev.left_outer > 0, dev.left_inner > 0, half)}
+    none = np.zeros((0, 3), np.float32)
+    largest = max(float(np.max(a, initial=0.0)) for a in (dev.over_outer, dev.left_outer, dev.over_inner,
+                                                           dev.left_inner))
+    return {"too_much": none, "too_little": none, "cell": 0.0, "bands": bands,
+            "too_much_samples": int(np.count_nonzero((dev.over_outer > 0) | (dev.over_inner > 0))),
+            "too_little_samples": int(np.count_nonzero((dev.left_outer > 0) | (dev.left_inner > 0))),
+            "too_much_mm3": dev.over_volume, "too_little_mm3": dev.left_volume, "largest_mm": largest}
+
+
+def deviation_band(part: Any, outside: np.ndarray, inside: np.ndarray, half: bool) -> tuple[np.ndarray, np.ndarray]:
+    """Revolved strips over the runs of marked Z samples: on the outside surface (lifted by BAND_LIFT) and in
+    the bore (lowered by it), scene mm."""
+    z0, dz = float(part.z0), float(part.dz)
+    outer = np.asarray(part.outer, np.float64)
+    inner = np.clip(np.asarray(part.inner, np.float64), 0.0, None)
+    zs = z0 + (np.arange(len(outer)) + 0.5) * dz
+    parts = []
+    for mask, radius, lift in ((outside, outer, BAND_LIFT), (inside, inner, -BAND_LIFT)):
+        mask = mask & (outer - inner > 1e-6)
+        edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
+        for i, j in zip(edges[::2], edges[1::2], strict=True):
+            z = np.concatenate([[z0 + i * dz], zs[i:j], [z0 + j * dz]])
+            r = np.clip(np.concatenate([[radius[i]], radius[i:j], [radius[j - 1]]]) + lift, 0.0, None)
+            keep = _simplified(z, r)
+            parts.append(revolve(np.stack([z[keep], r[keep]], -1), half))
+    return _merge(parts)

@@ -228,7 +228,12 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
     if body.exercise is None:
         raise ApiError("EXERCISE_REQUIRED")
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
-    data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, spec)
+    data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, {**spec, "half": scene.half})
+    if "bands" in data:  # a turned part: coloured bands around it; the counts are Z samples
+        await run_in_threadpool(viz.show_deviation_bands, scene, data["bands"])
+        return Deviation(too_much=data["too_much_samples"], too_little=data["too_little_samples"],
+                         too_much_mm3=round(data["too_much_mm3"], 2), too_little_mm3=round(data["too_little_mm3"], 2),
+                         largest_mm=round(data["largest_mm"], 3))
     await run_in_threadpool(viz.show_deviation, scene, data["too_much"], data["too_little"], data["cell"])
     return Deviation(too_much=len(data["too_much"]), too_little=len(data["too_little"]),
                      too_much_mm3=round(data["too_much_mm3"], 2), too_little_mm3=round(data["too_little_mm3"], 2),

@@ -181,3 +181,40 @@ def test_exercise_blank_and_its_tools_insert(api: Api) -> None:
     # the nose radius R0.8 rounds the insert's point: its outline stays 0.8 mm and more away from the sharp tip
     outline = np.asarray(shape["outline"])
     assert np.hypot(outline[:, 0], outline[:, 1]).min() > 0.3
+
+
+def test_deviation_after_grading_as_bands_on_the_turned_part(api: Api) -> None:
+    """A shoulder turned to Ø38 instead of Ø40 over 30 mm: red bands (too much removed) around the part there,
+    with the volume π·(20² − 19²)·30 mm³ less what the tolerance band keeps; the reference: no bands."""
+    from core.exercises import EXERCISES_DIR, load_exercise
+    from server import repository as repo
+    from server.seed import exercise_fields
+
+    doc = load_exercise(EXERCISES_DIR / "traub-tx8d" / "traub-01-srk-fase.yaml")
+    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("turning-"), "order": None})
+    with api.app.state.db.session() as db:
+        repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
+    token = api.client.post("/api/v1/viz").json()["token"]
+    wrong = doc.reference.replace("G1 X40 D2", "G1 X38 D2")
+    assert wrong != doc.reference
+    body = {"program": wrong, "dialect": "traub-tx8d", "exercise": doc.id}
+    assert api.client.post(f"/api/v1/viz/{token}/scene", json=body).status_code == 200
+    r = api.client.post(f"/api/v1/viz/{token}/deviation", json=body)
+    assert r.status_code == 200, r.text
+    d = r.json()
+    assert d["too_much"] > 0 and d["too_little"] == 0 and np.isclose(d["largest_mm"], 1.0 - 0.05, atol=0.02)
+    assert 0.8 * np.pi * (20**2 - 19**2) * 28 < d["too_much_mm3"] < np.pi * (20**2 - 19**2) * 31
+    ticket = api.app.state.scenes.ticket(token)
+    assert ticket is not None
+    handles = api.app.state.scenes.scene(ticket).server.scene._handle_from_node_name
+    band = np.asarray(handles["/deviation/too_much"].vertices) / viz.M
+    radius = np.hypot(band[:, 1], band[:, 2])
+    assert band[:, 0].min() > -31 and band[:, 0].max() < 0.5  # over the shoulder's 30 mm
+    shoulder = radius[(band[:, 0] > -29) & (band[:, 0] < -3)]
+    assert np.allclose(shoulder, 19 + viz.BAND_LIFT, atol=0.01)  # on the Ø38 surface, just outside it
+    assert radius.min() > 17  # down the chamfer D2 at the front
+    assert "/deviation/too_little" not in handles
+    body["program"] = doc.reference
+    r = api.client.post(f"/api/v1/viz/{token}/deviation", json=body)
+    assert r.json()["too_much"] == 0 and r.json()["too_little"] == 0
+    assert "/deviation/too_much" not in api.app.state.scenes.scene(ticket).server.scene._handle_from_node_name

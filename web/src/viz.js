@@ -143,7 +143,6 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
       lathe = Boolean(r.body.lathe);
       latheNote.hidden = !lathe;
       half.hidden = !lathe;
-      legend.style.display = lathe ? "none" : "";  // turned parts are not graded yet: no deviation colours
       for (const name of ["top", "front"]) {
         views.querySelector(`#view-${name}`).title = t(`viz.view.${name}${lathe ? "_lathe" : ""}_title`);
       }
