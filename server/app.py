@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import asyncio
 import gc
 import json
 import logging
@@ -17,11 +18,14 @@ from fastapi.staticfiles import StaticFiles
 
 from server import errors, live, viz
 from server.config import Settings
+from server.courses import finalizer as exam_finalizer
 from server.db import Database, migrate
 from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
 from server.routes import (
+    assignments,
     auth,
+    courses,
     dialects,
     drafts,
     examples,
@@ -86,11 +90,14 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         app.state.db = prepare_database(settings)
         app.state.workers.start()
+        # ended exams: the last drafts are submitted even when nobody asks (issue 19)
+        finalizer = asyncio.create_task(exam_finalizer(app.state.db, app.state.workers))
         gc.collect()
         gc.freeze()  # what start-up loaded stays: full collections need not walk it again
         try:
             yield
         finally:
+            finalizer.cancel()
             app.state.scenes.stop_all()
             app.state.workers.stop()
             app.state.db.engine.dispose()
@@ -111,7 +118,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     pages.install_not_found(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, me, users, exercises, examples, drafts, submissions, results, dialects, viz_routes):
+    for module in (pipeline, auth, me, users, exercises, examples, drafts, submissions, results, dialects, viz_routes,
+                   courses, assignments):
         api.include_router(module.router)
     api.include_router(live.router)
     app.include_router(api)

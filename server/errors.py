@@ -76,6 +76,29 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
                             "The reference does not score full marks ({score} of {max_score}): {detail_en}"),
     "EXERCISE_HAS_SUBMISSIONS": (409, "Die Aufgabe hat Abgaben und kann nicht gelöscht werden.",
                                  "The exercise has submissions and cannot be deleted."),
+    # courses, assignments and exams (issue 19)
+    "COURSE_NOT_FOUND": (404, "Klasse {course} nicht gefunden.", "Course {course} not found."),
+    "JOIN_CODE_INVALID": (404, "Zu diesem Beitrittscode gibt es keine Klasse.", "No course has this join code."),
+    "ASSIGNMENT_NOT_FOUND": (404, "Auftrag {assignment} nicht gefunden.", "Assignment {assignment} not found."),
+    "NOT_IN_ASSIGNMENT": (422, "Die Aufgabe »{exercise}« gehört nicht zu Auftrag {assignment}.",
+                          "Exercise '{exercise}' is not part of assignment {assignment}."),
+    "ASSIGNMENT_TIMES": (422, "Zeiten des Auftrags: {detail}", "Times of the assignment: {detail_en}"),
+    "ASSIGNMENT_NOT_OPEN": (409, "Der Auftrag ist noch nicht freigegeben (ab {opens_at}).",
+                            "The assignment is not open yet (from {opens_at})."),
+    "ASSIGNMENT_CLOSED": (409, ("Die Abgabefrist ist abgelaufen ({deadline}); verspätete Abgaben werden nicht "
+                                "angenommen."),
+                          "The deadline has passed ({deadline}); late submissions are not accepted."),
+    "ASSIGNMENT_SUBMITTED": (409, ("Für »{exercise}« ist in diesem Auftrag nur {limit} Abgabe erlaubt; sie ist "
+                                   "schon erfolgt."),
+                             "Only {limit} submission is allowed for '{exercise}' in this assignment; it was made."),
+    "EXAM_OVER": (403, ("Die Prüfungszeit ist abgelaufen; Abgaben und Entwürfe werden nicht mehr angenommen. Der "
+                        "letzte gespeicherte Entwurf wurde abgegeben."),
+                  ("The exam time is over; submissions and drafts are no longer accepted. The last saved draft "
+                   "was submitted.")),
+    "EXAM_RUNNING": (403, "Während der Prüfung (bis {end}) ist das nicht erlaubt.",
+                     "This is not allowed while the exam runs (until {end})."),
+    "EXAM_NOT_OVER": (409, "Die Ergebnisse lassen sich erst nach dem Ende der Prüfung freigeben.",
+                      "The results can be released only after the exam has ended."),
     "BODY_TOO_LARGE": (413, "Die Anfrage ist zu groß ({size} Bytes, höchstens {limit}).",
                        "The request is too large ({size} bytes, at most {limit})."),
     "PROGRAM_TOO_LARGE": (413, "Das Programm ist zu lang ({size} Zeichen, höchstens {limit}).",

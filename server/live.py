@@ -54,6 +54,7 @@ from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 from pydantic import Field, TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 
+from server import exams
 from server import repository as repo
 from server.config import Settings
 from server.db import Database
@@ -368,6 +369,9 @@ async def live(ws: WebSocket) -> None:
         return
     if not principal.has_scope("practice"):
         await refuse(ws, 4403, "MISSING_SCOPE")
+        return
+    if not await run_in_threadpool(exams.allows, database, principal.user_id, "live_diagnostics"):
+        await refuse(ws, 4403, "EXAM_RUNNING")  # an exam without live diagnostics runs for this trainee
         return
     if principal is ANONYMOUS:
         who, limit = f"address:{ws.client.host if ws.client else '-'}", settings.live_connections_per_address

@@ -1,4 +1,5 @@
-"""The database tables (SQLAlchemy 2): users, API keys, exercises, submissions, drafts. Migrations: server/migrations."""
+"""The database tables (SQLAlchemy 2): users, API keys, exercises, submissions, drafts, courses and assignments.
+Migrations: server/migrations."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from sqlalchemy import JSON, DateTime, ForeignKey, Integer, String, Text, UniqueConstraint
+from sqlalchemy import false as sa_false
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
 ROLES = ("student", "instructor", "admin")
@@ -92,6 +94,13 @@ class Submission(Base):
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
     # "<k|u><api key or user id>:<Idempotency-Key header>": a repeated request returns this submission
     idempotency_key: Mapped[str | None] = mapped_column(String(300), nullable=True, unique=True, index=True)
+    # the assignment it was made for (issue 19); late: after the deadline; held: an exam's, hidden from its
+    # author until the instructor releases the results; auto: the last draft, submitted at the exam's end
+    assignment_id: Mapped[int | None] = mapped_column(ForeignKey("assignments.id", ondelete="SET NULL"),
+                                                      nullable=True, index=True)
+    late: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
+    held: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
+    auto: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
 
 
 class Draft(Base):
@@ -105,3 +114,46 @@ class Draft(Base):
     exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"), index=True)
     program: Mapped[str] = mapped_column(Text)
     updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+class Course(Base):
+    """A class (Klasse): instructors and students (course_members); students join with `join_code`."""
+
+    __tablename__ = "courses"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    name: Mapped[str] = mapped_column(String(200))
+    join_code: Mapped[str] = mapped_column(String(32), unique=True, index=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+class CourseMember(Base):
+    __tablename__ = "course_members"
+    __table_args__ = (UniqueConstraint("course_id", "user_id", name="uq_course_members_course_user"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    course_id: Mapped[int] = mapped_column(ForeignKey("courses.id", ondelete="CASCADE"), index=True)
+    user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
+    role: Mapped[str] = mapped_column(String(20))  # "instructor" or "student"
+
+
+class Assignment(Base):
+    """Exercises (slugs, in order) set for a course: open from `opens_at`; practice until `deadline`, an exam
+    from `opens_at` for `duration_minutes` (its deadline is the end)."""
+
+    __tablename__ = "assignments"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    course_id: Mapped[int] = mapped_column(ForeignKey("courses.id", ondelete="CASCADE"), index=True)
+    title: Mapped[str] = mapped_column(String(200))
+    exercises: Mapped[list[str]] = mapped_column(JSON)
+    mode: Mapped[str] = mapped_column(String(20))  # "practice" or "exam"
+    late: Mapped[str] = mapped_column(String(20))  # "accept" or "refuse"
+    opens_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+    deadline: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+    duration_minutes: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    settings: Mapped[dict[str, Any]] = mapped_column(JSON)
+    released_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+    # an exam's drafts were submitted (after its end); finalising again changes nothing
+    finalized_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import secrets
 from collections.abc import Sequence
 from datetime import datetime
 from typing import Any, TypeVar
@@ -10,7 +11,18 @@ from sqlalchemy import func, or_, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from server.models import ApiKey, Base, Draft, Exercise, Submission, User, now
+from server.models import (
+    ApiKey,
+    Assignment,
+    Base,
+    Course,
+    CourseMember,
+    Draft,
+    Exercise,
+    Submission,
+    User,
+    now,
+)
 
 _Row = TypeVar("_Row", bound=Base)
 
@@ -42,7 +54,10 @@ def user_by_id(db: Session, user_id: int) -> User | None:
 
 
 def create_user(db: Session, username: str, password_hash: str, role: str, instructor_id: int | None = None) -> User:
-    return _insert(db, User(username=username, password_hash=password_hash, role=role, instructor_id=instructor_id))
+    user = _insert(db, User(username=username, password_hash=password_hash, role=role, instructor_id=instructor_id))
+    if instructor_id is not None:
+        enrol_managed(db, user.id, instructor_id)
+    return user
 
 
 def create_users(db: Session, rows: Sequence[tuple[str, str, str, int | None]]) -> list[User]:
@@ -54,6 +69,9 @@ def create_users(db: Session, rows: Sequence[tuple[str, str, str, int | None]]) 
     except IntegrityError as err:
         db.rollback()
         raise Duplicate(str(err.orig)) from err
+    for u in users:
+        if u.instructor_id is not None:
+            enrol_managed(db, u.id, u.instructor_id)
     return users
 
 
@@ -62,13 +80,33 @@ def users_by_names(db: Session, names: Sequence[str]) -> Sequence[User]:
 
 
 def set_instructor(db: Session, user: User, instructor_id: int | None) -> None:
+    if user.instructor_id is not None and user.instructor_id != instructor_id:
+        for course in courses_of(db, user.instructor_id, "instructor"):
+            if course.name == DEFAULT_COURSE:
+                remove_member(db, course.id, user.id)
     user.instructor_id = instructor_id
     db.commit()
+    if instructor_id is not None:
+        enrol_managed(db, user.id, instructor_id)
+
+
+DEFAULT_COURSE = "Meine Klasse"  # where students an instructor creates or is given go (migration 0006 too)
+_CODE_ALPHABET = "ABCDEFGHJKLMNPQRSTUVWXYZ23456789"  # no 0/O, 1/I
+
+
+def new_join_code() -> str:
+    return "".join(secrets.choice(_CODE_ALPHABET) for _ in range(8))
+
+
+def enrol_managed(db: Session, user_id: int, instructor_id: int) -> None:
+    """A student put under an instructor joins the instructor's course "Meine Klasse" (made if missing)."""
+    if user_id != instructor_id:
+        add_member(db, default_course(db, instructor_id, DEFAULT_COURSE, new_join_code()).id, user_id, "student")
 
 
 def students_of(db: Session, instructor_id: int) -> Sequence[User]:
-    """The users an instructor manages (users.instructor_id), by name."""
-    return db.scalars(select(User).where(User.instructor_id == instructor_id).order_by(User.username)).all()
+    """The students of every course the instructor teaches, by name."""
+    return db.scalars(select(User).where(User.id.in_(taught_students(instructor_id))).order_by(User.username)).all()
 
 
 def list_users(db: Session) -> Sequence[User]:
@@ -185,8 +223,8 @@ def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int |
             conds.append(Exercise.owner_id == owner_id)
         if api_key_id is not None:
             conds.append(Submission.api_key_id == api_key_id)
-        if instructor_id is not None:
-            conds.append(Submission.user_id.in_(select(User.id).where(User.instructor_id == instructor_id)))
+        if instructor_id is not None:  # the students of the courses they teach
+            conds.append(Submission.user_id.in_(taught_students(instructor_id)))
         if not conds:
             return []
         q = q.where(or_(*conds))
@@ -237,6 +275,147 @@ def delete_draft(db: Session, user_id: int, exercise_id: int) -> None:
 
 def drafts_of(db: Session, user_id: int) -> Sequence[Draft]:
     return db.scalars(select(Draft).where(Draft.user_id == user_id)).all()
+
+
+# --- courses and assignments (issue 19) ----------------------------------------------------------
+
+
+def create_course(db: Session, name: str, join_code: str, instructor_ids: Sequence[int]) -> Course:
+    course = _insert(db, Course(name=name, join_code=join_code))
+    for uid in instructor_ids:
+        add_member(db, course.id, uid, "instructor")
+    return course
+
+
+def course_by_id(db: Session, course_id: int) -> Course | None:
+    return db.get(Course, course_id)
+
+
+def course_by_code(db: Session, code: str) -> Course | None:
+    return db.scalars(select(Course).where(Course.join_code == code)).first()
+
+
+def courses_of(db: Session, user_id: int | None = None, role: str | None = None) -> Sequence[Course]:
+    """Every course (user_id None), or those the user is a member of (as `role`), by name."""
+    q = select(Course)
+    if user_id is not None:
+        sub = select(CourseMember.course_id).where(CourseMember.user_id == user_id)
+        if role is not None:
+            sub = sub.where(CourseMember.role == role)
+        q = q.where(Course.id.in_(sub))
+    return db.scalars(q.order_by(Course.name, Course.id)).all()
+
+
+def update_course(db: Session, course: Course, fields: dict[str, Any]) -> Course:
+    for name, value in fields.items():
+        setattr(course, name, value)
+    db.commit()
+    return course
+
+
+def delete_course(db: Session, course: Course) -> None:
+    db.delete(course)
+    db.commit()
+
+
+def members(db: Session, course_id: int) -> Sequence[tuple[CourseMember, User]]:
+    rows = db.execute(select(CourseMember, User).join(User, CourseMember.user_id == User.id)
+                      .where(CourseMember.course_id == course_id).order_by(CourseMember.role, User.username)).all()
+    return [(r[0], r[1]) for r in rows]
+
+
+def membership(db: Session, course_id: int, user_id: int) -> CourseMember | None:
+    return db.scalars(select(CourseMember).where(CourseMember.course_id == course_id,
+                                                 CourseMember.user_id == user_id)).first()
+
+
+def add_member(db: Session, course_id: int, user_id: int, role: str) -> CourseMember:
+    """Idempotent: an existing member keeps their row (with the new role)."""
+    row = membership(db, course_id, user_id)
+    if row is not None:
+        row.role = role
+        db.commit()
+        return row
+    try:
+        return _insert(db, CourseMember(course_id=course_id, user_id=user_id, role=role))
+    except Duplicate:
+        row = membership(db, course_id, user_id)
+        assert row is not None
+        return row
+
+
+def remove_member(db: Session, course_id: int, user_id: int) -> None:
+    row = membership(db, course_id, user_id)
+    if row is not None:
+        db.delete(row)
+        db.commit()
+
+
+def taught_students(instructor_id: int) -> Any:
+    """A subquery: the ids of the students of every course the user teaches."""
+    taught = select(CourseMember.course_id).where(CourseMember.user_id == instructor_id,
+                                                  CourseMember.role == "instructor")
+    return select(CourseMember.user_id).where(CourseMember.course_id.in_(taught), CourseMember.role == "student")
+
+
+def teaches(db: Session, instructor_id: int, student_id: int) -> bool:
+    return bool(db.scalar(select(func.count()).select_from(CourseMember).where(
+        CourseMember.user_id == student_id, CourseMember.role == "student",
+        CourseMember.course_id.in_(select(CourseMember.course_id).where(
+            CourseMember.user_id == instructor_id, CourseMember.role == "instructor")))))
+
+
+def default_course(db: Session, instructor_id: int, name: str, join_code: str) -> Course:
+    """The instructor's course `name` (the first one so named), made if there is none."""
+    for course in courses_of(db, instructor_id, "instructor"):
+        if course.name == name:
+            return course
+    return create_course(db, name, join_code, [instructor_id])
+
+
+def create_assignment(db: Session, **fields: Any) -> Assignment:
+    return _insert(db, Assignment(**fields))
+
+
+def assignment_by_id(db: Session, assignment_id: int) -> Assignment | None:
+    return db.get(Assignment, assignment_id)
+
+
+def assignments_of(db: Session, course_ids: Sequence[int]) -> Sequence[Assignment]:
+    if not course_ids:
+        return []
+    return db.scalars(select(Assignment).where(Assignment.course_id.in_(list(course_ids)))
+                      .order_by(Assignment.opens_at, Assignment.id)).all()
+
+
+def unfinalized_exams(db: Session, before: datetime) -> Sequence[Assignment]:
+    return db.scalars(select(Assignment).where(Assignment.mode == "exam", Assignment.finalized_at.is_(None),
+                                               Assignment.deadline <= before)).all()
+
+
+def save(db: Session, row: Base) -> None:
+    """Commit the changes made to `row`."""
+    db.add(row)
+    db.commit()
+
+
+def delete_row(db: Session, row: Base) -> None:
+    db.delete(row)
+    db.commit()
+
+
+def assignment_submissions(db: Session, assignment_id: int, user_id: int | None = None) -> Sequence[Submission]:
+    """An assignment's submissions (one user's), newest first."""
+    q = select(Submission).where(Submission.assignment_id == assignment_id)
+    if user_id is not None:
+        q = q.where(Submission.user_id == user_id)
+    return db.scalars(q.order_by(Submission.created_at.desc(), Submission.id.desc())).all()
+
+
+def release_submissions(db: Session, assignment_id: int) -> None:
+    for s in assignment_submissions(db, assignment_id):
+        s.held = False
+    db.commit()
 
 
 def ready(db: Session) -> datetime:

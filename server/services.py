@@ -14,6 +14,7 @@ from sqlalchemy.orm import Session
 from core.exercises import Exercise as ExerciseDocument
 from core.pipeline import DIALECTS
 from core.sheet import SheetUnavailable, pdf_engine
+from server import exams
 from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
@@ -328,6 +329,8 @@ def submission_out(submission: Submission, exercise: Exercise, author: User | No
     result = submission.result
     # instructors see the whole grade of what they may see (their students' work on any exercise)
     grading = grading_view(submission.grading, can_manage(principal, exercise) or principal.is_instructor())
+    if submission.held and not principal.is_instructor():
+        grading = None  # an exam's grade, before the instructor releases the results
     return SubmissionOut(
         id=submission.id, exercise=exercise.slug, user=author.username if author else None,
         external_user=submission.external_user, dialect=submission.dialect, created_at=submission.created_at,
@@ -369,6 +372,8 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
             return earlier, False
     exercise = get_exercise(db, body.exercise)
     check_program(settings, body.program, exercise.dialect)
+    context = exams.submission_context(db, principal.user if principal.api_key is None else None, exercise,
+                                       body.assignment)
     result = await workers.call(job_submission, body.program, exercise.dialect,
                                 exercise_spec(exercise, body.skip_blocks))
     try:
@@ -378,7 +383,7 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
             external_user=body.external_user if principal.api_key else None, program=body.program,
             dialect=exercise.dialect, error_count=result["errors"], warning_count=result["warnings"],
             result={"diagnostics": result["diagnostics"], "summary": result["summary"]}, grading=result["grading"],
-            idempotency_key=stored_key,
+            idempotency_key=stored_key, assignment_id=context.assignment_id, late=context.late, held=context.held,
         )
     except repo.Duplicate:
         # a retry with the same key was stored while this one was graded: answer with that one
@@ -425,16 +430,17 @@ def visible_submissions(db: Session, principal: Principal,
         everything=admin))
 
 
-def may_see(principal: Principal, submission: Submission, exercise: Exercise, author: User | None = None) -> bool:
+def may_see(principal: Principal, submission: Submission, exercise: Exercise, taught: bool = False) -> bool:
     """Admins: all; everyone their own; instructors: those to their exercises and those of the students they
-    manage (on any exercise, built-in ones too); keys: those made through the key, plus what their owner may see."""
+    teach in a course (`taught`; on any exercise, built-in ones too); keys: those made through the key, plus
+    what their owner may see."""
     if principal.user is not None and principal.user.role == "admin":
         return True
     if principal.user_id is not None and submission.user_id == principal.user_id:
         return True
     if principal.is_instructor() and exercise.owner_id == principal.user_id:
         return True
-    if principal.is_instructor() and author is not None and author.instructor_id == principal.user_id:
+    if principal.is_instructor() and taught:
         return True
     return principal.api_key is not None and submission.api_key_id == principal.api_key.id
 
@@ -446,7 +452,9 @@ def get_submission(db: Session, principal: Principal, submission_id: int) -> Sub
     submission = repo.submission_by_id(db, submission_id)
     exercise = repo.exercise_by_id(db, submission.exercise_id) if submission else None
     author = repo.user_by_id(db, submission.user_id) if submission and submission.user_id is not None else None
-    if submission is None or exercise is None or not may_see(principal, submission, exercise, author):
+    taught = (principal.is_instructor() and author is not None and principal.user_id is not None
+              and repo.teaches(db, principal.user_id, author.id))
+    if submission is None or exercise is None or not may_see(principal, submission, exercise, taught):
         raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
     return submission_out(submission, exercise, author, True, principal)
 
@@ -521,6 +529,7 @@ def save_draft(db: Session, settings: Settings, principal: Principal, slug: str,
     exercise = get_exercise(db, slug)
     if len(program) > settings.max_program_chars:
         raise ApiError("PROGRAM_TOO_LARGE", size=len(program), limit=settings.max_program_chars)
+    exams.check_exercise(db, principal.user, exercise)
     row = repo.save_draft(db, user_id, exercise.id, program)
     return DraftOut(exercise=slug, program=row.program, updated_at=row.updated_at)
 
@@ -558,8 +567,8 @@ def my_submissions(db: Session, principal: Principal, slug: str) -> list[MySubmi
     full = can_manage(principal, exercise)
     out = []
     for s in repo.own_submissions(db, principal.user_id, exercise.id, HISTORY_LIMIT):
-        score, max_score = _score(s)
-        grading = grading_view(s.grading, full)
+        score, max_score = _score(s) if not s.held else (None, None)
+        grading = grading_view(s.grading, full) if not s.held else None
         out.append(MySubmission(id=s.id, exercise=slug, created_at=s.created_at, score=score, max_score=max_score,
                                 error_count=s.error_count, warning_count=s.warning_count,
                                 criteria=grading["criteria"] if grading else [], program=s.program))
@@ -574,6 +583,8 @@ def my_progress(db: Session, principal: Principal) -> list[Progress]:
     drafts: dict[int, Any] = {}
     if principal.user_id is not None:
         for s in repo.own_submissions(db, principal.user_id):
+            if s.held:
+                continue  # an exam's, before its results are released
             by_exercise.setdefault(s.exercise_id, []).append(s)
         if principal.api_key is None:
             drafts = {d.exercise_id: d.updated_at for d in repo.drafts_of(db, principal.user_id)}
@@ -608,6 +619,7 @@ def solution(db: Session, principal: Principal, slug: str) -> Solution:
     exercise = get_exercise(db, slug)
     policy = (exercise.document or {}).get("solution") or "after_submission"
     if not principal.is_instructor():
+        exams.check_feature(db, principal.user, "solution")
         own = list(repo.own_submissions(db, principal.user_id, exercise.id)) if principal.user_id is not None else []
         if policy == "never":
             raise ApiError("SOLUTION_NEVER")
@@ -771,7 +783,7 @@ def results(db: Session, principal: Principal) -> Results:
     if principal.user is not None and principal.user.role == "admin":
         members = {u.id for u in users.values() if u.role == "student"}
     else:
-        members = {u.id for u in users.values() if u.instructor_id == principal.user_id}
+        members = {u.id for u in repo.students_of(db, principal.user_id)}  # type: ignore[arg-type]
     cells: dict[tuple[int, int], list[Submission]] = {}
     exercises: dict[int, Exercise] = {}
     for s, e, u in visible_submissions(db, principal, None):

@@ -7,7 +7,7 @@ from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Path, Request, Response
 
-from server import services
+from server import exams, services
 from server.deps import (
     AppSettings,
     AppWorkers,
@@ -40,6 +40,7 @@ def get_exercise(slug: Slug, db: DbSession, principal: Reader) -> ExerciseOut:
 @router.get("/{slug}/hints/{number}", response_model=Hint, responses=responses(401, 403, 404, 422))
 def exercise_hint(slug: Slug, number: Annotated[int, Path(ge=1, le=1000)], db: DbSession, principal: Reader) -> Hint:
     """The exercise's hint `number` (1 … `hint_count`), one at a time ("Tipp anzeigen")."""
+    exams.check_feature(db, principal.user, "hints")  # an exam that runs for the trainee may forbid hints
     return services.hint(db, slug, number)
 
 

@@ -18,7 +18,7 @@ from fastapi import APIRouter, Depends, Request, Response, WebSocket
 from pydantic import BaseModel, Field
 from starlette.concurrency import run_in_threadpool
 
-from server import services, viz
+from server import exams, services, viz
 from server.config import Settings
 from server.db import Database
 from server.deps import (
@@ -149,6 +149,7 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     A turning program (TRAUB) is shown in the lathe's drawing view — Z right, X up, the chuck on the left —
     with the part turned from the blank (the request's, the exercise's, else a bar around the program) in
     chunks along Z (`lathe` and `blank` in the answer)."""
+    exams.check_feature(db, principal.user, "viz")  # an exam that runs for the trainee may switch 3D off
     scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     if body.blank is not None:

@@ -14,8 +14,7 @@ def _set_instructor(api: Api, student: dict[str, str], instructor: dict[str, str
         user = repo.user_by_name(db, student["name"])
         boss = repo.user_by_name(db, instructor["name"])
         assert user is not None and boss is not None
-        user.instructor_id = boss.id
-        db.commit()
+        repo.set_instructor(db, user, boss.id)  # also enrols the student in the instructor's course
 
 
 def _submit(api: Api, who: dict[str, str], slug: str) -> int:

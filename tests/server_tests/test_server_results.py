@@ -17,8 +17,7 @@ def _manage(api: Api, student: dict[str, str], instructor: dict[str, str]) -> No
     with api.app.state.db.session() as db:
         user, boss = repo.user_by_name(db, student["name"]), repo.user_by_name(db, instructor["name"])
         assert user is not None and boss is not None
-        user.instructor_id = boss.id
-        db.commit()
+        repo.set_instructor(db, user, boss.id)  # also enrols the student in the instructor's course
 
 
 def test_results_json_and_csv(api: Api) -> None:
