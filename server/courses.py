@@ -522,6 +522,7 @@ async def my_assignments(db: Session, workers: Workers, principal: Principal) ->
                                     program=best.program if visible or a.mode != "exam" else None))
         end = exams.end_of(a)
         all_done = all(i.submitted for i in items)
+        status: Literal["upcoming", "open", "running", "submitted", "late", "closed"]
         if t < utc(a.opens_at):
             status = "upcoming"
         elif t < end:

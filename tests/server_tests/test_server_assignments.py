@@ -229,3 +229,26 @@ def test_running_exam_refuses_live_diagnostics_and_3d(api: Api) -> None:
     with api.client.websocket_connect(f"/api/v1/live?token={free['Authorization'].removeprefix('Bearer ')}") as ws:
         ws.send_text('{"type": "open", "version": 0, "text": "N10 M30\\n"}')
         assert '"update"' in ws.receive_text()
+
+
+def test_sheets_of_an_assignment(api: Api) -> None:
+    from core.sheet import SheetUnavailable, pdf_engine
+
+    student = api.user()
+    teacher, course = _course_with(api, student)
+    slugs = [builtin_exercise(api), builtin_exercise(api)]
+    later = _assign(api, teacher, course, title="Später", exercises=slugs, opens_at=_iso(60), deadline=_iso(120))
+    r = api.client.get(f"/api/v1/assignments/{later['id']}/sheets.pdf", headers=auth(student))
+    assert r.status_code == 409 and error_code(r) == "ASSIGNMENT_NOT_OPEN"
+    r = api.client.get(f"/api/v1/assignments/{later['id']}/sheets.pdf", headers=auth(teacher))
+    try:
+        pdf_engine()
+    except SheetUnavailable:
+        assert r.status_code == 503 and error_code(r) == "PDF_UNAVAILABLE"
+        return
+    from pypdf import PdfReader
+
+    assert r.status_code == 200 and r.headers["content-type"] == "application/pdf"
+    single = api.client.get(f"/api/v1/exercises/{slugs[0]}/sheet.pdf", headers=auth(teacher))
+    pages = len(PdfReader(io.BytesIO(r.content)).pages)
+    assert pages == 2 * len(PdfReader(io.BytesIO(single.content)).pages)  # both exercises' sheets
