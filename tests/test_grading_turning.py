@@ -11,7 +11,7 @@ import pytest
 from core.drawing import part_drawing
 from core.exercises import ExerciseError, builtin_exercises, parse_exercise
 from core.grading import grade
-from core.grading.turning import execute_turning
+from core.grading.turning import execute_turning, turned_deviation
 
 EXERCISES = builtin_exercises()
 TURNING = sorted(eid for eid, ex in EXERCISES.items() if ex.dialect == "traub-tx8d")
@@ -147,6 +147,15 @@ def test_volumes_of_a_simple_turned_part_through_the_grader() -> None:
     geo = criterion(grade(ex, bigger), "geometry")
     left = float(geo.message.split("gelassen: ")[1].split(" mm³")[0])  # type: ignore[attr-defined]
     assert left == pytest.approx(math.pi * (16 ** 2 - 15 ** 2) * 20, rel=0.02)
+
+
+def test_turned_deviation_marks_the_samples_for_the_view() -> None:
+    ex = parse_exercise(SIMPLE)
+    dev = turned_deviation(ex, ex.reference.replace("G0 X30\n", "G0 X28\n"))
+    zs = dev.part.zs[dev.over_outer > 0]
+    assert zs.min() == pytest.approx(-20, abs=0.2) and zs.max() == pytest.approx(0, abs=0.1)
+    assert float(dev.over_outer.max()) == pytest.approx(0.95, abs=0.01)  # 1 mm radially, less the band
+    assert not dev.left_outer.any() and not dev.over_inner.any()
 
 
 def test_lathe_safety_criterion_names_the_rapid_into_the_bar() -> None:

@@ -96,6 +96,14 @@ def compare_profiles(ref: RevolvedProfile, sub: RevolvedProfile, tol: float) -> 
                             float(left.sum()))
 
 
+def turned_deviation(exercise: Exercise, program: str) -> ProfileDeviation:
+    """The submitted turned part against the reference with the geometry criterion's tolerance (for the lathe's
+    3D view: the deviation in colour on the revolved part)."""
+    tol = next((c.tolerance for c in exercise.rubric if c.id == "geometry" and c.tolerance is not None), 0.05)
+    ref, sub = execute_turning(exercise, exercise.reference), execute_turning(exercise, program)
+    return compare_profiles(ref.sim.profile, sub.sim.profile, tol)
+
+
 def _worst(dev: ProfileDeviation, ref: RevolvedProfile, over: bool) -> tuple[float, float, float, float, bool]:
     """The sample deviating most: (depth mm, z, submitted radius, reference radius, inside)."""
     outer, inner = (dev.over_outer, dev.over_inner) if over else (dev.left_outer, dev.left_inner)
