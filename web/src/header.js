@@ -4,6 +4,7 @@
 
 import { api } from "./dom.js";
 import { lang } from "./i18n.js";
+import { safeNext } from "./redirect.js";
 import { keepState } from "./state.js";
 
 const TEXTS = {
@@ -33,7 +34,7 @@ export function mountHeader() {
     logout.textContent = tx.logout;
     logout.onclick = async () => {
       await api("/auth/logout", { method: "POST" });
-      location.href = "/login";
+      location.href = safeNext("/login");
     };
   }
   const toggle = document.getElementById("lang");
