@@ -128,6 +128,11 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     page.wait_for_selector("ul.exercises a", timeout=20000)
     assert "beste Abgabe 100/100" in page.locator("ul.exercises li").first.inner_text()
     shot(page, "list")
+    # in English: the dialect's name and the titles follow the switch
+    page.click("#lang")
+    page.wait_for_selector("h3.dialect-title >> text=PAL milling", timeout=20000)
+    assert page.locator("ul.exercises a").first.inner_text() == "G1 – contour of two straight lines"
+    assert "best 100/100" in page.locator("ul.exercises li").first.inner_text()
     ctx.close()  # type: ignore[attr-defined]
 
     # the instructor: both submissions in the results table (the best one linked), the CSV for Excel
