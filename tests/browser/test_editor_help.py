@@ -6,73 +6,19 @@ lines of "complete the program" exercises, which typing does not change and whic
 
 from __future__ import annotations
 
-import os
-import shutil
-import socket
-import subprocess
-import sys
-import time
-import urllib.request
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import pytest
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, running_server
 
-ROOT = Path(__file__).parents[2]
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-BUNDLE = ROOT / "server" / "static" / "app.js"
-
-pytestmark = [
-    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)"),
-]
-
-
-PASSWORD = "ein langes Passwort"
-
-
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
+pytestmark = [NEEDS_CHROMIUM]
 
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
-    port = free_port()
-    env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path_factory.mktemp("data")), "PALTRAINER_WORKERS": "1",
-           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "azubi", "--role", "student",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    url = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(200):
-            try:
-                with urllib.request.urlopen(f"{url}/readyz", timeout=1):
-                    break
-            except OSError:
-                time.sleep(0.1)
-        else:
-            pytest.fail("the server did not start")
+    with running_server(tmp_path_factory.mktemp("data"), [("azubi", "student")]) as url:
         yield url
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=[
-            "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync"])
-        yield b
-        b.close()
 
 
 PROGRAM = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G41 G0 X70 Y84 Z2\nN40 G2 X56.4 Y10 R21 RN5\nN50 G40\n"

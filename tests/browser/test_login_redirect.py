@@ -6,81 +6,27 @@ anyway) — and every page, /docs and the 3D view run under the Content-Security
 from __future__ import annotations
 
 import json
-import os
-import shutil
-import socket
-import subprocess
-import sys
-import time
-import urllib.request
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 from urllib.parse import quote
 
 import pytest
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, running_server
 
 from server.security import safe_redirect
 
-ROOT = Path(__file__).parents[2]
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-BUNDLE = ROOT / "server" / "static" / "app.js"
-
-pytestmark = [
-    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)"),
-]
-
-PASSWORD = "ein langes Passwort"
+pytestmark = [NEEDS_CHROMIUM]
 # what the payload does if it ever runs: an API key with every scope in the victim's name
 PAYLOAD = ("javascript:fetch('/api/v1/api-keys',{method:'POST',headers:{'Content-Type':'application/json'},"
            "body:JSON.stringify({name:'pwned',scopes:['practice','exercises:read','exercises:write',"
            "'submissions:read','submissions:write']})}).then(()=>{window.pwned=true})")
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
-    port = free_port()
-    data = str(tmp_path_factory.mktemp("data"))
-    env = {**os.environ, "PALTRAINER_DATA_DIR": data, "PALTRAINER_WORKERS": "1",
-           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
-    for name in ("lehrer1", "lehrer2", "lehrer3", "lehrer4"):
-        subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", name, "--role", "instructor",
-                        "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    url = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(200):
-            try:
-                with urllib.request.urlopen(f"{url}/readyz", timeout=1):
-                    break
-            except OSError:
-                time.sleep(0.1)
-        else:
-            pytest.fail("the server did not start")
+    teachers = [(f"lehrer{k}", "instructor") for k in (1, 2, 3, 4)]
+    with running_server(tmp_path_factory.mktemp("data"), teachers) as url:
         yield url
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[Any]:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=[
-            "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync"])
-        yield b
-        b.close()
 
 
 def _watch(page: Any) -> dict[str, list[str]]:

@@ -6,8 +6,6 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
-import socket
 import subprocess
 import sys
 import time
@@ -17,17 +15,10 @@ from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
+from browser_helpers import CHROMIUM, NEEDS_CHROMIUM, PASSWORD, ROOT, running_server  # noqa: F401 (shared)
 
-ROOT = Path(__file__).parents[2]
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-BUNDLE = ROOT / "server" / "static" / "app.js"
+pytestmark = [NEEDS_CHROMIUM]
 
-pytestmark = [
-    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)"),
-]
-
-
-PASSWORD = "ein langes Passwort"
 SERVER_DATA: list[str] = []  # the started server's data directory (users are made there with the admin CLI)
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS", "")) if os.environ.get("PALTRAINER_SCREENSHOTS") else None
 
@@ -38,49 +29,11 @@ def shot(page: object, name: str, tmp: Path) -> None:
     page.screenshot(path=str(folder / f"{name}.png"))  # type: ignore[attr-defined]
 
 
-def free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return int(s.getsockname()[1])
-
-
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
-    port = free_port()
     SERVER_DATA[:] = [str(tmp_path_factory.mktemp("data"))]
-    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0], "PALTRAINER_WORKERS": "2",
-           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "schueler", "--role", "student",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    url = f"http://127.0.0.1:{port}"
-    try:
-        for _ in range(200):
-            try:
-                with urllib.request.urlopen(f"{url}/readyz", timeout=1):
-                    break
-            except OSError:
-                time.sleep(0.1)
-        else:
-            pytest.fail("the server did not start")
+    with running_server(Path(SERVER_DATA[0]), [("schueler", "student")], workers=2) as url:
         yield url
-    finally:
-        proc.terminate()
-        proc.wait(timeout=10)
-
-
-@pytest.fixture(scope="module")
-def browser() -> Iterator[object]:
-    from playwright.sync_api import sync_playwright
-
-    with sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=[
-            "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-            "--disable-background-networking", "--disable-component-update", "--disable-sync"])
-        yield b
-        b.close()
 
 
 def test_practice_page_shows_live_diagnostics(server: str, browser: object) -> None:

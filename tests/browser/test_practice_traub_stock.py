@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 
 import pytest
-from test_practice_page import CHROMIUM, browser, server  # noqa: F401 (fixtures)
+from test_practice_page import CHROMIUM, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
 pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]

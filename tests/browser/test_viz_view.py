@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 import pytest
-from test_practice_page import CHROMIUM, PASSWORD, ROOT, browser, server  # noqa: F401 (fixtures)
+from test_practice_page import CHROMIUM, PASSWORD, ROOT, server  # noqa: F401 (fixtures)
 
 pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
 

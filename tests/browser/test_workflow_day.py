@@ -15,7 +15,7 @@ import time
 from pathlib import Path
 
 import pytest
-from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, browser, server  # noqa: F401 (fixtures)
+from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
 pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]

@@ -1,0 +1,73 @@
+"""What the browser tests share: Debian's Chromium, and a PAL Trainer server started on 127.0.0.1 with its own data
+folder, the built-in exercises and the users a test module needs (made with the admin CLI before it starts)."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+ROOT = Path(__file__).parents[2]
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+BUNDLE = ROOT / "server" / "static" / "app.js"
+PASSWORD = "ein langes Passwort"
+CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+NEEDS_CHROMIUM = pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@contextmanager
+def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: int = 1) -> Iterator[str]:
+    """`paltrainer serve` on a free loopback port with `users` ((name, role) pairs, password PASSWORD); its URL."""
+    assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
+    port = free_port()
+    env = {**os.environ, "PALTRAINER_DATA_DIR": str(data), "PALTRAINER_WORKERS": str(workers),
+           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
+    for name, role in users:
+        subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", name, "--role", role,
+                        "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        for _ in range(200):
+            try:
+                with urllib.request.urlopen(f"{url}/readyz", timeout=1):
+                    break
+            except OSError:
+                time.sleep(0.1)
+        else:
+            pytest.fail("the server did not start")
+        yield url
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+
+
+@contextmanager
+def chromium() -> Iterator[Any]:
+    """Debian's Chromium, headless, driven by Playwright (which downloads no browser of its own)."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS)
+        try:
+            yield b
+        finally:
+            b.close()
