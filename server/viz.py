@@ -1129,27 +1129,15 @@ def prism(outline: np.ndarray, thickness: float) -> tuple[np.ndarray, np.ndarray
 def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int | None) -> dict[str, Any]:
     """The turned part after the first `moves` moves (None: all) as chunks, with its profile and blank (the
     half-section toggle re-meshes the profile). Runs in a worker process."""
-    import copy
-
     from core.pipeline import run
     from core.sim import DEFAULT_LATHE_TOOLS, simulate_turning
-    from core.toolpath import Move
     from server.workers import make_setup
 
     setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
     toolpath = run(text, dialect, setup)
     blank = view_blank(spec, toolpath)
     if moves is not None:
-        prefix: list[Any] = []
-        count = 0
-        for c in toolpath.commands:
-            if isinstance(c, Move):
-                if count >= moves:
-                    break
-                count += 1
-            prefix.append(c)
-        toolpath = copy.copy(toolpath)
-        toolpath.commands = prefix
+        toolpath = toolpath.until_move(moves)
     result = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION)
     profile = profile_data(result.profile)
     return {"chunks": turned_chunks(profile, bool(spec.get("half"))), "profile": profile,

@@ -190,23 +190,10 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
 
 def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -> Any:
     """The stock after the first `moves` moves of the program, as coarse tiles (see core.sim.stock_tiles)."""
-    import copy
-
     from core.sim import Stock, simulate, stock_tiles
-    from core.toolpath import Move
 
     setup = make_setup(spec)
-    toolpath = run(text, dialect, setup)
-    prefix: list[Any] = []
-    count = 0
-    for c in toolpath.commands:
-        if isinstance(c, Move):
-            if count >= moves:
-                break
-            count += 1
-        prefix.append(c)
-    partial = copy.copy(toolpath)
-    partial.commands = prefix
+    partial = run(text, dialect, setup).until_move(moves)
     box = spec["stock"]
     result = simulate(partial, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
     return stock_tiles(result.heightmap, PLAYBACK_TRIANGLES)

@@ -7,6 +7,7 @@ diagnostics. What a single block means is the dialect's block executor (core/int
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import re
 from dataclasses import dataclass, field
@@ -70,6 +71,20 @@ class Toolpath:
             return self.initial, self.line_positions[0] if self.line_positions else (0.0, 0.0, 0.0)
         i = min(line, len(self.line_states)) - 1
         return self.line_states[i], self.line_positions[i]
+
+    def until_move(self, moves: int) -> Toolpath:
+        """The run as far as its first `moves` moves (for the stock after a block during playback)."""
+        commands: list[Move | Dwell | ToolChange] = []
+        count = 0
+        for c in self.commands:
+            if isinstance(c, Move):
+                if count >= moves:
+                    break
+                count += 1
+            commands.append(c)
+        partial = copy.copy(self)
+        partial.commands = commands
+        return partial
 
 
 @dataclass(slots=True)
