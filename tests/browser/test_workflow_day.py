@@ -215,6 +215,9 @@ def test_hints_one_at_a_time_and_the_solution_after_a_submission(server: str, br
     page.click("#solution-show")
     page.wait_for_selector("#solution-dialog", timeout=10000)
     shown = page.inner_text("#solution-program")
+    # both parts side by side, as the server renders them
+    for part in ("#solution-part-mine", "#solution-part-reference"):
+        wait_until(page, f"document.querySelector('{part}').naturalWidth > 0")
     shot(page, "solution")
     assert all(line in shown for line in reference.splitlines() if line.strip())
     page.click("#solution-close")

@@ -1,7 +1,7 @@
 // The Tipps tab: the exercise's hints one at a time ("Tipp anzeigen", GET /exercises/{slug}/hints/{n}; how many
 // were shown is kept in the browser) and "Musterlösung anzeigen" (GET /exercises/{slug}/solution): the
 // reference program side by side with the trainee's, read-only, in a dialog; when the exercise does not allow
-// it yet the server's reason is shown.
+// it yet the server's reason is shown; above each program the part it makes.
 
 import { api, el } from "./dom.js";
 import { lang, message, t } from "./i18n.js";
@@ -11,6 +11,17 @@ const shownKey = (slug) => `paltrainer-hints:${slug}`;
 function numbered(text) {
   return el("ol", { className: "submission-program" },
     ...text.replace(/\n$/, "").split("\n").map((line) => el("li", {}, line || " ")));
+}
+
+// The part a program makes, rendered by the server (the same view as the 3D area's picture), so the trainee sees
+// the model solution's part beside their own without a second live 3D scene.
+function partPicture(ex, text, id) {
+  const img = el("img", { className: "solution-part", id, alt: t("solution.part") });
+  fetch("/api/v1/viz/picture.png", {
+    method: "POST", credentials: "same-origin", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify({ program: text, dialect: ex.dialect, exercise: ex.slug }),
+  }).then(async (r) => { if (r.ok) img.src = URL.createObjectURL(await r.blob()); });
+  return el("figure", {}, img, el("figcaption", { className: "meta" }, t("solution.part")));
 }
 
 export function mountHints(container, ex, { program }) {
@@ -47,8 +58,10 @@ export function mountHints(container, ex, { program }) {
     const dialog = el("dialog", { className: "solution-dialog", id: "solution-dialog" },
       el("h2", {}, t("solution.title")),
       el("div", { className: "solution-compare" },
-        el("section", {}, el("h3", {}, t("solution.mine")), numbered(program())),
-        el("section", { id: "solution-program" }, el("h3", {}, t("solution.reference")), numbered(r.body.program))),
+        el("section", {}, el("h3", {}, t("solution.mine")), partPicture(ex, program(), "solution-part-mine"),
+          numbered(program())),
+        el("section", { id: "solution-program" }, el("h3", {}, t("solution.reference")),
+          partPicture(ex, r.body.program, "solution-part-reference"), numbered(r.body.program))),
       el("p", {}, el("button", { type: "button", id: "solution-close", onclick: () => dialog.close() }, t("solution.close"))));
     dialog.addEventListener("close", () => dialog.remove());
     document.body.append(dialog);

@@ -172,6 +172,7 @@ const TEXTS = {
   "solution.mine": ["Ihr Programm", "Your program"],
   "solution.reference": ["Musterlösung", "Model solution"],
   "solution.close": ["Schließen", "Close"],
+  "solution.part": ["Werkstück nach diesem Programm", "The part this program makes"],
   "results.title": ["Ergebnisse", "Results"],
   "results.failed": ["Die Ergebnisse konnten nicht geladen werden.", "The results could not be loaded."],
   "results.csv": ["Ergebnisse als CSV herunterladen", "Download the results as CSV"],
