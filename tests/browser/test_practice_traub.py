@@ -94,3 +94,26 @@ def test_turning_on_the_practice_page(server: str, browser: object) -> None:  # 
     page.wait_for_timeout(5000)  # viser's client has drawn (software rendering is slow)
     page.screenshot(path=str(SHOTS / "traub-practice-laptop.png"))
     context.close()
+
+
+CYCLE = ("%\nO2 (SCHRUPPEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nN40 G0 X60 Z2 M8\n"
+         "N50 G71 P60 Q80 I0.5 K0.1 D2.5 F0.25\nN60 G0 X30 Z2\nN70 G1 Z-20 F0.2\nN80 X60\n"
+         "N90 G0 X100 Z100 M9\nN100 M30\n")
+
+
+def test_hover_over_a_cycle_block_tells_its_passes(server: str, browser: object) -> None:  # noqa: F811
+    context = browser.new_context(viewport={"width": 1366, "height": 768})  # type: ignore[attr-defined]
+    page = context.new_page()
+    page.goto(f"{server}/practice?dialect=traub-tx8d")
+    page.wait_for_selector(".cm-content")
+    page.click(".cm-content")
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(CYCLE)
+    wait_until(page, "window.editor.state.doc.toString().includes('N100 M30')")
+    page.wait_for_selector(".diag-none", timeout=20000)
+    at = page.evaluate(COORDS, "G71 P60")
+    page.mouse.move(at["x"], at["y"])
+    note = page.wait_for_selector(".help-cycle", timeout=5000)
+    # Ø60 to Ø30 is 15 mm of stock less the 0.5 mm allowance, in passes of at most 2.5 mm: 6 passes
+    assert note.inner_text() == "Zyklus G71: 6 Schnitte in diesem Programm", note.inner_text()
+    context.close()

@@ -173,6 +173,7 @@ const TEXTS = {
   "solution.reference": ["Musterlösung", "Model solution"],
   "solution.close": ["Schließen", "Close"],
   "solution.part": ["Werkstück nach diesem Programm", "The part this program makes"],
+  "cycle.passes": ["Zyklus {code}: {n} Schnitte in diesem Programm", "Cycle {code}: {n} passes in this program"],
   "results.title": ["Ergebnisse", "Results"],
   "results.failed": ["Die Ergebnisse konnten nicht geladen werden.", "The results could not be loaded."],
   "results.csv": ["Ergebnisse als CSV herunterladen", "Download the results as CSV"],

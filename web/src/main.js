@@ -116,9 +116,21 @@ const hoverHelp = hoverTooltip((view, pos) => {
   const code = (address === "G" || address === "M") && m[2] ? help.codes[`${address}${parseInt(m[2], 10)}`] : null;
   const entry = code || help.addresses[address];
   if (!entry) return null;
+  // a cycle block: how many passes the cycle makes here (from the live toolpath of that line)
+  const cycle = code ? lives.get(view)?.cycles.get(line.number) : null;
+  const passes = cycle && cycle.code === `${address}${parseInt(m[2], 10)}` ? cycle.of : null;
   return {
     pos: line.from + m.index, end: line.from + m.index + m[0].length, above: true,
-    create() { return { dom: helpDom(help, entry, Boolean(code)) }; },
+    create() {
+      const dom = helpDom(help, entry, Boolean(code));
+      if (passes) {
+        const note = document.createElement("p");
+        note.className = "help-cycle";
+        note.textContent = t("cycle.passes", { code: cycle.code, n: passes });
+        dom.append(note);
+      }
+      return { dom };
+    },
   };
 });
 
@@ -134,6 +146,7 @@ class Live {
     this.onUpdate = onUpdate;
     this.version = 0;
     this.byLine = new Map();
+    this.cycles = new Map();  // line → the cycle its moves belong to ({code, pass, of}), for the hover
     this.timer = null;
     this.connect();
   }
@@ -149,6 +162,7 @@ class Live {
   open() {  // (again, when the tools change: the document is checked anew with them)
     this.version += 1;
     this.byLine.clear();
+    this.cycles.clear();
     this.ws.send(JSON.stringify({
       type: "open", version: this.version, text: this.text(), dialect: this.dialect, exercise: this.exercise,
       tools: this.tools,
@@ -174,6 +188,10 @@ class Live {
   receive(msg) {
     if (msg.type !== "update" || msg.version < this.version) return;  // stale: a newer one follows
     for (const entry of msg.diagnostics) this.byLine.set(entry.line, entry.items);
+    for (const entry of msg.toolpath || []) {
+      const move = (entry.moves || []).find((mv) => mv.cycle);
+      if (move) this.cycles.set(entry.line, move.cycle); else this.cycles.delete(entry.line);
+    }
     const doc = this.view.state.doc;
     const diagnostics = [];
     for (const [, items] of this.byLine) {
