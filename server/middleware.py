@@ -59,7 +59,7 @@ class RequestMiddleware:
                 await send_with_id(message)
 
         try:
-            if length is not None and length.isdigit() and int(length) > self.max_body:
+            if length is not None and length.isascii() and length.isdigit() and int(length) > self.max_body:
                 await self._reject(int(length), send_with_id)
                 return
             seen = 0

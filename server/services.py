@@ -491,8 +491,9 @@ _DIALECT_ORDER = {name: i for i, name in enumerate(DIALECTS)}
 
 def _natural(text: str) -> tuple[tuple[int, int | str], ...]:
     """A sort key that compares the numbers in a text as numbers: G2 before G3 before G23."""
-    return tuple((0, int(part)) if part.isdigit() else (1, part)
-                 for part in re.split(r"(\d+)", text.casefold()) if part)
+    # ASCII digits only: "²" is a digit to str.isdigit() but no number to int()
+    return tuple((0, int(part)) if part.isascii() and part.isdigit() else (1, part)
+                 for part in re.split(r"([0-9]+)", text.casefold()) if part)
 
 
 def list_order(exercise: Exercise) -> tuple[Any, ...]:
