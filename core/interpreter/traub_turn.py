@@ -25,11 +25,12 @@ from dataclasses import dataclass, field
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.interpreter import Toolpath, _steps, traub_cycles, turn_contour
+from core.interpreter import Toolpath, _dedupe, _steps, traub_cycles, turn_contour
+from core.interpreter.params import evaluate as evaluate_expression
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
 from core.limits import DIAGNOSTIC_STEPS
-from core.syntax.blocks import BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
+from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 Item = turn_contour.Item
@@ -163,38 +164,19 @@ def _l_valid(n: int) -> bool:
 def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic],
              reads: set[int] | None = None) -> float | None:
     """The value of an L-parameter expression, or None after an error (DECISIONS §21); `reads` collects
-    the numbers of the parameters it reads."""
-    if isinstance(expr, Num):
-        return expr.value
-    if isinstance(expr, ParamRef):
-        span = Span(line, expr.column, line, expr.end_column)
-        if not _l_valid(expr.number):
-            d.append(diag("TX-E110", span, number=expr.number))
+    the numbers of the parameters it reads. The arithmetic is PAL's (core/interpreter/params.py)."""
+    def resolve(ref: ParamRef, span: Span) -> float | None:
+        if not _l_valid(ref.number):
+            d.append(diag("TX-E110", span, number=ref.number))
             return None
         if reads is not None:
-            reads.add(expr.number)
-        if expr.number not in params:
-            d.append(diag("TX-W101", span, number=expr.number))
+            reads.add(ref.number)
+        if ref.number not in params:
+            d.append(diag("TX-W101", span, number=ref.number))
             return 0.0
-        return params[expr.number]
-    if isinstance(expr, Neg):
-        v = evaluate(expr.operand, params, line, d, reads)
-        return None if v is None else -v
-    assert isinstance(expr, BinOp)
-    left = evaluate(expr.left, params, line, d, reads)
-    right = evaluate(expr.right, params, line, d, reads)
-    if left is None or right is None:
-        return None
-    if expr.op == "+":
-        return left + right
-    if expr.op == "-":
-        return left - right
-    if expr.op == "*":
-        return left * right
-    if right == 0:
-        d.append(diag("PAL-E114", Span(line, expr.column, line, expr.end_column)))
-        return None
-    return left / right
+        return params[ref.number]
+
+    return evaluate_expression(expr, params, line, d, resolve)
 
 
 # -- one block --------------------------------------------------------------------------------
@@ -909,16 +891,3 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         del diags[limits.max_diagnostics - 1:]
         diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
     return result
-
-
-def _dedupe(diags: list[Diagnostic]) -> None:
-    """A block run many times (sections, subprograms) reports each finding once."""
-    seen: set[tuple[str, Span, str | None]] = set()
-    keep = []
-    for x in diags:
-        key = (x.code, x.span, x.source)
-        if key not in seen:
-            seen.add(key)
-            keep.append(x)
-    diags[:] = keep
-
