@@ -221,22 +221,13 @@ def list_courses(db: Session, principal: Principal) -> list[CourseOut]:
     return [course_out(db, c, user) for c in courses]
 
 
-def _instructor(db: Session, name: str) -> User:
-    other = repo.user_by_name(db, name)
-    if other is None:
-        raise ApiError("USER_NOT_FOUND", user=name)
-    if other.role not in ("instructor", "admin"):
-        raise ApiError("NOT_AN_INSTRUCTOR", user=name)
-    return other
-
-
 def create_course(db: Session, principal: Principal, body: CourseCreate) -> CourseOut:
     user = _user(principal)
     if user.role not in ("instructor", "admin"):
         raise ApiError("FORBIDDEN")
     ids = [] if _is_admin(user) else [user.id]
     for name in body.instructors:
-        other = _instructor(db, name)
+        other = services.instructor_named(db, name)
         if other.id not in ids:
             ids.append(other.id)
     for _ in range(3):
@@ -269,7 +260,7 @@ def list_members(db: Session, principal: Principal, course_id: int) -> list[Memb
 
 def add_member(db: Session, principal: Principal, course_id: int, body: MemberIn) -> MemberOut:
     course_for(db, principal, course_id, manage=True)
-    other = _instructor(db, body.username) if body.role == "instructor" else repo.user_by_name(db, body.username)
+    other = services.instructor_named(db, body.username) if body.role == "instructor" else repo.user_by_name(db, body.username)
     if other is None:
         raise ApiError("USER_NOT_FOUND", user=body.username)
     repo.add_member(db, course_id, other.id, body.role)
