@@ -6,7 +6,7 @@ from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Path, Response
 
-from server import courses
+from server import courses, insights
 from server.courses import AssignmentCreate, AssignmentOut, AssignmentResults, AssignmentUpdate, MyAssignment
 from server.deps import AppWorkers, CurrentPrincipal, DbSession, rate_limit
 from server.errors import responses
@@ -85,6 +85,15 @@ async def results(assignment_id: Id, db: DbSession, workers: AppWorkers, princip
             responses={200: CSV_RESPONSE[200], **responses(401, 403, 404, 503)})
 async def results_csv(assignment_id: Id, db: DbSession, workers: AppWorkers, principal: CurrentPrincipal) -> Response:
     return _csv(await courses.assignment_results_csv(db, workers, principal, assignment_id), assignment_id)
+
+
+@router.get("/assignments/{assignment_id}/insights", response_model=insights.AssignmentInsights,
+            responses=responses(401, 403, 404, 503))
+async def class_insights(assignment_id: Id, db: DbSession, workers: AppWorkers,
+                         principal: CurrentPrincipal) -> insights.AssignmentInsights:
+    """Instructors of the course: per exercise the class's most frequent diagnostics and the criteria most
+    students lost, with the block where most of them lost it (each student's best submission counts)."""
+    return await insights.assignment_insights(db, workers, principal, assignment_id)
 
 
 @router.get("/assignments/{assignment_id}/sheets.pdf", response_class=Response, responses={
