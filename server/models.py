@@ -157,3 +157,143 @@ class Assignment(Base):
     # an exam's drafts were submitted (after its end); finalising again changes nothing
     finalized_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+# --- LTI 1.3: platforms, tool keys, launches (server/lti/, migration 0007) -----------------------------------
+
+
+class LtiPlatform(Base):
+    """A learning platform (Moodle, ILIAS …) registered as an LTI 1.3 platform: one (issuer, client id)."""
+
+    __tablename__ = "lti_platforms"
+    __table_args__ = (UniqueConstraint("issuer", "client_id", name="uq_lti_platforms_issuer_client"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    issuer: Mapped[str] = mapped_column(String(500), index=True)
+    client_id: Mapped[str] = mapped_column(String(255))
+    auth_login_url: Mapped[str] = mapped_column(String(1000))  # the platform's OIDC authorization endpoint
+    token_url: Mapped[str] = mapped_column(String(1000))  # OAuth 2 token endpoint (AGS/NRPS access tokens)
+    jwks_url: Mapped[str] = mapped_column(String(1000))
+    name: Mapped[str] = mapped_column(String(200), default="")
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+class LtiDeployment(Base):
+    __tablename__ = "lti_deployments"
+    __table_args__ = (UniqueConstraint("platform_id", "deployment_id", name="uq_lti_deployments_platform_dep"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
+    deployment_id: Mapped[str] = mapped_column(String(255))
+
+
+class LtiToolKey(Base):
+    """Our RSA signing key: the private key encrypted with the server's secret (server/lti/keys.py); the newest
+    key without `retired_at` signs, every key without `retired_at` stays published at /lti/jwks."""
+
+    __tablename__ = "lti_tool_keys"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    kid: Mapped[str] = mapped_column(String(64), unique=True, index=True)
+    private_pem_encrypted: Mapped[str] = mapped_column(Text)
+    public_jwk: Mapped[dict[str, Any]] = mapped_column(JSON)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+    retired_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+
+
+class LtiUser(Base):
+    __tablename__ = "lti_users"
+    __table_args__ = (UniqueConstraint("platform_id", "sub", name="uq_lti_users_platform_sub"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
+    sub: Mapped[str] = mapped_column(String(255))
+    user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
+    name: Mapped[str] = mapped_column(String(200), default="")  # from the claims of the latest launch
+    email: Mapped[str] = mapped_column(String(320), default="")
+
+
+class LtiContext(Base):
+    """A platform's course (the context claim) and our course for it."""
+
+    __tablename__ = "lti_contexts"
+    __table_args__ = (UniqueConstraint("platform_id", "context_id", name="uq_lti_contexts_platform_context"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
+    context_id: Mapped[str] = mapped_column(String(255))
+    course_id: Mapped[int | None] = mapped_column(ForeignKey("courses.id", ondelete="SET NULL"), nullable=True,
+                                                  index=True)
+    title: Mapped[str] = mapped_column(String(500), default="")
+    memberships_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)  # NRPS
+
+
+class LtiResourceLink(Base):
+    """A placement of PAL Trainer in a platform's course: which exercise or assignment, and its AGS line item."""
+
+    __tablename__ = "lti_resource_links"
+    __table_args__ = (UniqueConstraint("platform_id", "resource_link_id", name="uq_lti_links_platform_link"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
+    context_pk: Mapped[int | None] = mapped_column(ForeignKey("lti_contexts.id", ondelete="SET NULL"),
+                                                   nullable=True, index=True)
+    resource_link_id: Mapped[str] = mapped_column(String(255))
+    title: Mapped[str] = mapped_column(String(500), default="")
+    exercise_slug: Mapped[str | None] = mapped_column(String(80), nullable=True)
+    assignment_id: Mapped[int | None] = mapped_column(ForeignKey("assignments.id", ondelete="SET NULL"),
+                                                      nullable=True)
+    lineitem_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)
+    lineitems_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)
+    ags_scopes: Mapped[list[str]] = mapped_column(JSON, default=list)
+
+
+class LtiLoginState(Base):
+    """An OIDC login in progress: `state` is kept here (no cookie: the tool runs in a cross-site iframe)."""
+
+    __tablename__ = "lti_login_states"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    state: Mapped[str] = mapped_column(String(128), unique=True, index=True)
+    nonce: Mapped[str] = mapped_column(String(128))
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"))
+    expires_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), index=True)
+
+
+class LtiNonce(Base):
+    """A nonce of an accepted id_token: a second token with it is a replay (kept until the token expired)."""
+
+    __tablename__ = "lti_nonces"
+    __table_args__ = (UniqueConstraint("platform_id", "nonce", name="uq_lti_nonces_platform_nonce"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"))
+    nonce: Mapped[str] = mapped_column(String(255))
+    expires_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), index=True)
+
+
+class LtiLaunch(Base):
+    """One accepted launch: who, from which link, to which exercise; `ticket_hash` is the one-time ticket in the
+    URL that the page exchanges for its API token. A deep-linking request keeps its return URL and data here."""
+
+    __tablename__ = "lti_launches"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
+    deployment_id: Mapped[str] = mapped_column(String(255))
+    message_type: Mapped[str] = mapped_column(String(64))
+    user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
+    lti_user_pk: Mapped[int] = mapped_column(ForeignKey("lti_users.id", ondelete="CASCADE"))
+    resource_link_pk: Mapped[int | None] = mapped_column(ForeignKey("lti_resource_links.id", ondelete="SET NULL"),
+                                                         nullable=True, index=True)
+    exercise_slug: Mapped[str | None] = mapped_column(String(80), nullable=True)
+    role: Mapped[str] = mapped_column(String(20))
+    ticket_hash: Mapped[str] = mapped_column(String(64), unique=True, index=True)
+    ticket_expires_at: Mapped[datetime] = mapped_column(DateTime(timezone=True))
+    ticket_used_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+    deep_link_return_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)
+    deep_link_data: Mapped[str | None] = mapped_column(Text, nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now, index=True)
+
+
+# --- end of LTI 1.3 (F) ----------------------------------------------------------------------------------------
