@@ -20,6 +20,7 @@ from server import errors, live, viz
 from server.config import Settings
 from server.courses import finalizer as exam_finalizer
 from server.db import Database, migrate
+from server.lti import ags as lti_ags
 from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
 from server.routes import (
@@ -92,12 +93,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         app.state.workers.start()
         # ended exams: the last drafts are submitted even when nobody asks (issue 19)
         finalizer = asyncio.create_task(exam_finalizer(app.state.db, app.state.workers))
+        # LTI grade passback: the score queue is sent (and retried) even when nobody asks (issue 20)
+        score_drainer = asyncio.create_task(lti_ags.drainer(app.state.db))
         gc.collect()
         gc.freeze()  # what start-up loaded stays: full collections need not walk it again
         try:
             yield
         finally:
             finalizer.cancel()
+            score_drainer.cancel()
             app.state.scenes.stop_all()
             app.state.workers.stop()
             app.state.db.engine.dispose()

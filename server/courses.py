@@ -17,6 +17,7 @@ from server.db import Database
 from server.deps import Principal
 from server.errors import ApiError
 from server.export import csv_text
+from server.lti import ags as lti_ags
 from server.models import Assignment, Course, Submission, User, now
 from server.schemas import ImportedUser, Slug, Time, Title, Username, text, utc
 from server.workers import Workers, job_submission
@@ -445,13 +446,14 @@ async def finalize_exam(db: Session, workers: Workers, a: Assignment) -> int:
             result = await workers.call(job_submission, draft.program, exercise.dialect,
                                         services.exercise_spec(exercise, False))
             try:
-                repo.create_submission(
+                submission = repo.create_submission(
                     db, exercise_id=exercise.id, user_id=user.id, program=draft.program, dialect=exercise.dialect,
                     error_count=result["errors"], warning_count=result["warnings"],
                     result={"diagnostics": result["diagnostics"], "summary": result["summary"]},
                     grading=result["grading"], idempotency_key=f"exam{a.id}:u{user.id}:{slug}",
                     assignment_id=a.id, late=False, held=a.released_at is None, auto=True)
                 made += 1
+                lti_ags.after_graded(db, submission)  # sent to the platform once the results are released
             except repo.Duplicate:
                 continue  # another process finalised this one first
     fresh = repo.assignment_by_id(db, a.id)

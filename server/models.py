@@ -6,7 +6,7 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Any
 
-from sqlalchemy import JSON, DateTime, ForeignKey, Integer, String, Text, UniqueConstraint
+from sqlalchemy import JSON, DateTime, Float, ForeignKey, Integer, String, Text, UniqueConstraint
 from sqlalchemy import false as sa_false
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
@@ -297,3 +297,38 @@ class LtiLaunch(Base):
 
 
 # --- end of LTI 1.3 (F) ----------------------------------------------------------------------------------------
+
+
+# --- LTI 1.3 Assignment and Grade Services: the score queue (server/lti/ags.py, migration 0008) --------------
+
+
+class LtiScore(Base):
+    """A grade on its way to a platform's line item (AGS): one row per submission, kept until the platform took
+    it. `state`: pending (sent by the drainer when `next_attempt_at` is due), sent, failed (given up after
+    ags.MAX_ATTEMPTS; an instructor may retry), superseded (a newer submission's row carries the grade)."""
+
+    __tablename__ = "lti_scores"
+    __table_args__ = (UniqueConstraint("submission_id", name="uq_lti_scores_submission"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    submission_id: Mapped[int] = mapped_column(ForeignKey("submissions.id", ondelete="CASCADE"))
+    platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
+    resource_link_pk: Mapped[int | None] = mapped_column(ForeignKey("lti_resource_links.id", ondelete="SET NULL"),
+                                                         nullable=True, index=True)
+    course_id: Mapped[int | None] = mapped_column(ForeignKey("courses.id", ondelete="SET NULL"), nullable=True,
+                                                  index=True)
+    user_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
+    exercise_slug: Mapped[str] = mapped_column(String(80))
+    lineitem_url: Mapped[str] = mapped_column(String(1000))
+    lti_sub: Mapped[str] = mapped_column(String(255))  # the platform's user id: the score's userId
+    score_given: Mapped[float | None] = mapped_column(Float, nullable=True)  # of 100; None: not graded
+    timestamp: Mapped[datetime] = mapped_column(DateTime(timezone=True))  # the submission's time
+    state: Mapped[str] = mapped_column(String(12), default="pending", index=True)
+    attempts: Mapped[int] = mapped_column(Integer, default=0)
+    next_attempt_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now, index=True)
+    last_error: Mapped[str | None] = mapped_column(String(500), nullable=True)
+    sent_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+# --- end of the LTI score queue (G) ------------------------------------------------------------------------------

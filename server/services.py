@@ -20,6 +20,7 @@ from server.config import Settings
 from server.deps import Principal
 from server.errors import ApiError
 from server.export import csv_text
+from server.lti import ags as lti_ags
 from server.models import ApiKey, Exercise, Submission, User
 from server.schemas import (
     ApiKeyCreated,
@@ -391,6 +392,7 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
         if earlier is None:
             raise ApiError("CONFLICT") from None
         return earlier, False
+    lti_ags.after_graded(db, submission)  # the grade to the learning platform's gradebook, if it came from one
     return submission_out(submission, exercise, principal.user, True, principal), True
 
 

@@ -1,0 +1,313 @@
+"""LTI Assignment and Grade Services: a graded submission's score goes to the platform's line item.
+
+after_graded() puts a row into the score queue (lti_scores, one per submission) when the trainee came from a
+platform's link with a line item; the app's background task drain() sends due rows with an OAuth 2
+client-credentials token (our JWT assertion, signed with server.lti.keys.signing_key) and retries failures
+with exponential backoff, so that no score is lost while the platform is down or the server restarts.
+A row is claimed before it is sent (a compare-and-set on next_attempt_at), so two replicas never send it twice.
+
+The score sent is the trainee's best so far for that exercise (of 100): the gradebook never goes down because a
+later try was worse. An exam's score waits until the instructor releases the results.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import logging
+import threading
+import time
+import uuid
+from dataclasses import dataclass
+from datetime import UTC, datetime, timedelta
+from typing import Any
+from urllib.parse import urlsplit, urlunsplit
+
+import httpx
+import jwt
+from sqlalchemy import select, update
+from sqlalchemy.orm import Session
+
+from server.db import Database
+from server.lti.keys import signing_key
+from server.models import Exercise, LtiContext, LtiPlatform, LtiResourceLink, LtiScore, LtiUser, Submission
+
+log = logging.getLogger("paltrainer.lti")
+
+SCORE_SCOPE = "https://purl.imsglobal.org/spec/lti-ags/scope/score"
+SCORE_MEDIA_TYPE = "application/vnd.ims.lis.v1.score+json"
+ASSERTION_TYPE = "urn:ietf:params:oauth:client-assertion-type:jwt-bearer"
+SCORE_MAXIMUM = 100.0
+
+BACKOFF_BASE = timedelta(seconds=30)
+BACKOFF_CAP = timedelta(hours=6)
+MAX_ATTEMPTS = 20  # 30 s doubling to 6 h: about three days of retries (a platform down over a weekend)
+LEASE = timedelta(minutes=2)  # a claimed row is not picked again for this long (its sender may still be at it)
+DRAIN_EVERY_SECONDS = 5.0
+BATCH = 50
+HTTP_TIMEOUT = 10.0
+
+
+def _utc(value: datetime) -> datetime:
+    """SQLite gives naive datetimes back (stored as UTC)."""
+    return value.replace(tzinfo=UTC) if value.tzinfo is None else value
+
+
+def backoff(attempts: int) -> timedelta:
+    """How long to wait after the `attempts`-th failed attempt: 30 s, 1 min, 2 min … at most 6 h."""
+    return min(BACKOFF_BASE * (2 ** max(attempts - 1, 0)), BACKOFF_CAP)
+
+
+# --- the queue ------------------------------------------------------------------------------------------------
+
+
+def _percent(submission: Submission) -> float | None:
+    grading = submission.grading
+    if not grading or not grading.get("max_score"):
+        return None
+    return round(100.0 * float(grading["score"]) / float(grading["max_score"]), 2)
+
+
+def _best_percent(db: Session, submission: Submission) -> float | None:
+    """The best score (of 100) of the author's submissions of this exercise up to this one."""
+    q = select(Submission).where(Submission.exercise_id == submission.exercise_id,
+                                 Submission.user_id == submission.user_id, Submission.id <= submission.id,
+                                 Submission.grading.is_not(None))
+    scores = [p for p in (_percent(s) for s in db.scalars(q)) if p is not None]
+    return max(scores) if scores else None
+
+
+def _lti_user(db: Session, platform_id: int, user_id: int) -> LtiUser | None:
+    return db.scalars(select(LtiUser).where(LtiUser.platform_id == platform_id, LtiUser.user_id == user_id)
+                      .order_by(LtiUser.id.desc())).first()
+
+
+def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiScore | None:
+    """The submission's row in the score queue (the existing one if there is one: once per submission); None if
+    the link has no line item to post to or the user has no identity on the link's platform."""
+    existing = db.scalars(select(LtiScore).where(LtiScore.submission_id == submission.id)).first()
+    if existing is not None:
+        return existing
+    if not link.lineitem_url or submission.user_id is None:
+        return None
+    if link.ags_scopes and SCORE_SCOPE not in link.ags_scopes:
+        return None  # the platform did not grant the score scope for this link
+    lti_user = _lti_user(db, link.platform_id, submission.user_id)
+    exercise = db.get(Exercise, submission.exercise_id)
+    if lti_user is None or exercise is None:
+        return None
+    context = db.get(LtiContext, link.context_pk) if link.context_pk is not None else None
+    # an older score still waiting for the same grade book cell is carried by this one (the best so far)
+    db.execute(update(LtiScore).where(LtiScore.platform_id == link.platform_id,
+                                      LtiScore.lineitem_url == link.lineitem_url, LtiScore.lti_sub == lti_user.sub,
+                                      LtiScore.state == "pending").values(state="superseded"))
+    row = LtiScore(submission_id=submission.id, platform_id=link.platform_id, resource_link_pk=link.id,
+                   course_id=context.course_id if context else None, user_id=submission.user_id,
+                   exercise_slug=exercise.slug, lineitem_url=link.lineitem_url, lti_sub=lti_user.sub,
+                   score_given=_best_percent(db, submission), timestamp=_utc(submission.created_at),
+                   state="pending", attempts=0, next_attempt_at=datetime.now(UTC))
+    db.add(row)
+    db.commit()
+    return row
+
+
+def after_graded(db: Session, submission: Submission) -> None:
+    """Hook: called wherever a submission got its grade. Queues its score if the author came from a platform's
+    link with a line item for this exercise. Never fails the submission: a problem here is logged."""
+    if submission.user_id is None:
+        return
+    try:
+        from server.lti.launch import resource_link_for
+
+        exercise = db.get(Exercise, submission.exercise_id)
+        link = resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None
+        if link is not None:
+            enqueue(db, submission, link)
+    except Exception:  # the grade is stored either way; the instructor sees a missing passback in the status
+        db.rollback()
+        log.exception("queueing the LTI score failed", extra={"job": f"submission {submission.id}"})
+
+
+def retry(db: Session, row: LtiScore) -> LtiScore:
+    """A failed row back into the queue, due now, with a fresh count."""
+    row.state = "pending"
+    row.attempts = 0
+    row.next_attempt_at = datetime.now(UTC)
+    db.commit()
+    return row
+
+
+# --- sending --------------------------------------------------------------------------------------------------
+
+
+def score_json(row: LtiScore) -> dict[str, Any]:
+    """The AGS score (application/vnd.ims.lis.v1.score+json) of a queued row."""
+    body: dict[str, Any] = {"userId": row.lti_sub, "scoreMaximum": SCORE_MAXIMUM,
+                            "timestamp": _utc(row.timestamp).isoformat(timespec="milliseconds")}
+    if row.score_given is None:  # handed in, not graded by us (an exercise without grading)
+        body.update(activityProgress="Submitted", gradingProgress="Pending")
+    else:
+        body.update(scoreGiven=row.score_given, activityProgress="Completed", gradingProgress="FullyGraded")
+    return body
+
+
+def scores_url(lineitem_url: str) -> str:
+    """The line item's score service: its path + "/scores", its query kept (Moodle's carry ?type_id=…)."""
+    parts = urlsplit(lineitem_url)
+    return urlunsplit(parts._replace(path=parts.path.rstrip("/") + "/scores"))
+
+
+class PassbackError(Exception):
+    """The platform did not take the score (yet); the message goes into the row's last_error."""
+
+
+@dataclass
+class _Token:
+    value: str
+    expires: float  # time.monotonic()
+
+
+_tokens: dict[tuple[int, str, str, str], _Token] = {}
+_tokens_lock = threading.Lock()
+
+
+def forget_tokens() -> None:
+    with _tokens_lock:
+        _tokens.clear()
+
+
+def client_assertion(db: Session, platform: LtiPlatform) -> str:
+    """Our signed JWT that authenticates us at the platform's token endpoint (IMS Security Framework 4.1)."""
+    kid, key = signing_key(db)
+    db.commit()  # the first call makes and stores our key
+    issued = int(time.time())
+    claims = {"iss": platform.client_id, "sub": platform.client_id, "aud": platform.token_url, "iat": issued,
+              "exp": issued + 300, "jti": uuid.uuid4().hex}
+    return jwt.encode(claims, key, algorithm="RS256", headers={"kid": kid})
+
+
+async def access_token(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, scopes: list[str]) -> str:
+    """A bearer token for `scopes`, from the cache until a minute before it expires."""
+    scope = " ".join(sorted(scopes))
+    cache_key = (platform.id, platform.token_url, platform.client_id, scope)
+    with _tokens_lock:
+        cached = _tokens.get(cache_key)
+    if cached is not None and cached.expires > time.monotonic():
+        return cached.value
+    form = {"grant_type": "client_credentials", "client_assertion_type": ASSERTION_TYPE,
+            "client_assertion": client_assertion(db, platform), "scope": scope}
+    try:
+        resp = await client.post(platform.token_url, data=form, headers={"Accept": "application/json"})
+    except httpx.HTTPError as err:
+        raise PassbackError(f"token endpoint unreachable: {type(err).__name__}") from err
+    if resp.status_code != 200:
+        raise PassbackError(f"token endpoint answered {resp.status_code}: {resp.text[:200]}")
+    try:
+        body = resp.json()
+        value = str(body["access_token"])
+        lifetime = float(body.get("expires_in", 3600))
+    except (ValueError, KeyError, TypeError) as err:
+        raise PassbackError("token endpoint gave no access_token") from err
+    with _tokens_lock:
+        _tokens[cache_key] = _Token(value, time.monotonic() + max(lifetime - 60, 0))
+    return value
+
+
+async def post_score(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, row: LtiScore) -> None:
+    token = await access_token(client, db, platform, [SCORE_SCOPE])
+    try:
+        resp = await client.post(scores_url(row.lineitem_url), json=score_json(row),
+                                 headers={"Authorization": f"Bearer {token}", "Content-Type": SCORE_MEDIA_TYPE})
+    except httpx.HTTPError as err:
+        raise PassbackError(f"score service unreachable: {type(err).__name__}") from err
+    if resp.status_code == 401:
+        forget_tokens()  # revoked or expired early: the next attempt asks for a new one
+    if not 200 <= resp.status_code < 300:
+        raise PassbackError(f"score service answered {resp.status_code}: {resp.text[:200]}")
+
+
+def _claim(db: Session, row_id: int, at: datetime) -> bool:
+    """Take a due row for this sender (pushing its next attempt past the lease); False if another took it."""
+    result = db.execute(update(LtiScore).where(LtiScore.id == row_id, LtiScore.state == "pending",
+                                               LtiScore.next_attempt_at <= at)
+                        .values(next_attempt_at=at + LEASE))
+    db.commit()
+    return bool(getattr(result, "rowcount", 0) == 1)
+
+
+def _due(db: Session, at: datetime) -> list[int]:
+    """Pending rows due at `at`, oldest first; an exam's scores only once its results are released."""
+    q = (select(LtiScore.id).join(Submission, Submission.id == LtiScore.submission_id)
+         .where(LtiScore.state == "pending", LtiScore.next_attempt_at <= at, Submission.held.is_(False))
+         .order_by(LtiScore.next_attempt_at, LtiScore.id).limit(BATCH))
+    return list(db.scalars(q))
+
+
+def _failed(db: Session, row: LtiScore, at: datetime, error: str) -> None:
+    """Record a failed attempt: the next one after the backoff, or given up after MAX_ATTEMPTS."""
+    db.rollback()
+    row = db.get(LtiScore, row.id) or row
+    row.attempts += 1
+    row.last_error = error[:500]
+    if row.attempts >= MAX_ATTEMPTS:
+        row.state = "failed"
+        log.warning("LTI score given up", extra={"job": f"score {row.id}: {row.last_error}"})
+    else:
+        row.next_attempt_at = at + backoff(row.attempts)
+    db.commit()
+
+
+async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: datetime) -> bool:
+    """One attempt at a claimed row; the row records the outcome. True if the platform took the score."""
+    platform = db.get(LtiPlatform, row.platform_id)
+    try:
+        if platform is None:
+            raise PassbackError("platform no longer registered")
+        await post_score(client, db, platform, row)
+    except PassbackError as err:
+        _failed(db, row, at, str(err))
+        return False
+    except Exception as err:  # our key unreadable, a database hiccup …: retried the same way
+        log.exception("sending an LTI score failed", extra={"job": f"score {row.id}"})
+        _failed(db, row, at, f"{type(err).__name__}: {err}")
+        return False
+    row.attempts += 1
+    row.state = "sent"
+    row.sent_at = datetime.now(UTC)
+    row.last_error = None
+    db.commit()
+    return True
+
+
+async def drain(database: Database, at: datetime | None = None, client: httpx.AsyncClient | None = None) -> int:
+    """Send every due row once (rows another sender claimed are skipped); returns how many the platforms took."""
+    at = at or datetime.now(UTC)
+    own = client is None
+    http = client or httpx.AsyncClient(timeout=HTTP_TIMEOUT)
+    sent = 0
+    try:
+        with database.session() as db:
+            for row_id in _due(db, at):
+                if not _claim(db, row_id, at):
+                    continue
+                row = db.get(LtiScore, row_id)
+                if row is not None:
+                    db.refresh(row)
+                    sent += await send(http, db, row, at)
+    finally:
+        if own:
+            await http.aclose()
+    return sent
+
+
+async def drainer(database: Database) -> None:
+    """The app's background task: drains the score queue every few seconds."""
+    async with httpx.AsyncClient(timeout=HTTP_TIMEOUT) as client:
+        while True:
+            try:
+                await drain(database, client=client)
+            except asyncio.CancelledError:
+                raise
+            except Exception:  # a failed round is retried on the next one
+                log.exception("sending LTI scores failed")
+            await asyncio.sleep(DRAIN_EVERY_SECONDS)
+
