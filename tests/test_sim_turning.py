@@ -368,3 +368,53 @@ def test_cycle_time_facing_past_the_centre_runs_at_the_limit() -> None:
     a = turn(to_centre, Blank(40, 100), SHARP).cycle_time - _rapids(to_centre, SHARP)
     b = turn(past, Blank(40, 100), SHARP).cycle_time - _rapids(past, SHARP)
     assert b - a == pytest.approx(1 / (0.1 * 2000) * 60, rel=1e-6)
+
+
+# --- rapids that leave a shoulder are no collision; rapids into the part are ------------------------------
+
+TX31_TOOLS = table("tools: [{number: 2, kind: turning, diameter: 1.6, nose_radius: 0.8, quadrant: 4, insert: C}, "
+                   "{number: 4, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 4, insert: C}]")
+C08 = table("tools: [{number: 1, kind: turning, diameter: 1.6, nose_radius: 0.8, quadrant: 1, insert: C}]")
+
+
+def test_g71_roughing_has_no_rapid_into_material() -> None:
+    # every pass ends at a shoulder and lifts straight out: the 93° edge slides along the 3° face it has just
+    # cut, which is no rapid into the material. TX-17's contour roughed with G71 D3 and a C insert R0.8:
+    g71 = ("G95\nG96 V180 T0101 M4\nG92 S3000\nG0 X64 Z2\nG71 P10 Q20 I0.5 K0.1 D3 F0.3\nG0 X100 Z50\n"
+           "N10 G46\nG0 X16 Z2\nG1 X20 Z0 F0.15\nG1 Z-15\nG2 X40 Z-25 R10\nG1 Z-40\nG3 X60 Z-50 R10\nG1 Z-75\n"
+           "G1 X64 Z-77\nN20 G40\nG0 X100 Z50\nM30\n")
+    assert events(turn(g71, Blank(62, 120, chuck_length=30), C08)) == []
+    # the manual's TX-31 (G89, inside) in a tube Ø130 × 100 with a Ø28 bore: its roughing has no event at all
+    program = (SEEDS / "tx-31-g71-g89.nc").read_text(encoding="utf-8")
+    result = simulate_turning(run(program, "traub-tx8d", RunSetup(tools=TX31_TOOLS)),
+                              Blank(130, 100, bore=28, chuck_length=20), TX31_TOOLS)
+    assert [e for e in events(result) if e[1] <= 5] == []
+    assert result.removed_volume > 200_000
+
+
+def test_g72_facing_retracts_are_no_rapid_into_material() -> None:
+    # each facing pass ends above the contour and backs off along +Z over the 7° minor edge it has just cut
+    g72 = ("G95\nG96 V180 T0101 M4\nG92 S3000\nG0 X84 Z1\nG72 P70 Q80 I0.1 K0.3 D2 F0.3\nG0 X100 Z50\n"
+           "N70 G46\nG0 X84 Z-20\nG1 X50 F0.15\nG1 Z-10\nG1 X30 Z0\nG1 Z1\nN80 G40\nG0 X100 Z50\nM30\n")
+    result = turn(g72, Blank(80, 80, chuck_length=20), C08)
+    assert [e for e in events(result) if e[0] == "SIM-E001"] == []
+    assert result.removed_volume > 10_000
+
+
+@pytest.mark.parametrize("block,line", [
+    ("G0 X30 Z-5", 4),  # diagonally into the bar
+    ("G0 Z-10\nG0 X34", 5),  # radially down from above the bar
+    ("G0 X36 Z-1", 4),  # 1 mm into the front face
+])
+def test_a_rapid_into_the_part_is_still_one(block: str, line: int) -> None:
+    program = f"G95\nG97 S1000 T0101 M4\nG0 X42 Z2\n{block}\nG0 X100 Z100\nM30\n"
+    result = turn(program, Blank(40, 100), C08)
+    assert ("SIM-E001", line) in events(result)
+
+
+def test_a_rapid_into_the_shoulder_after_a_pass_is_one() -> None:
+    # the pass ends at Z−20 before a shoulder; a rapid 1 mm further towards the chuck runs into its face
+    program = "G95\nG97 S1000 T0101 M4\nG0 X34 Z2\nG1 Z-20 F0.2\nG0 Z-21\nG0 X100 Z100\nM30\n"
+    assert ("SIM-E001", 5) in events(turn(program, Blank(40, 100), C08))
+    lift = program.replace("G0 Z-21\n", "G0 X36\n")  # the same pass lifting straight out: no collision
+    assert events(turn(lift, Blank(40, 100), C08)) == []

@@ -26,9 +26,6 @@ from core.toolpath import Move
 
 # the turning simulation's events that make a program unsafe (SIM-E010, the work limit, is none of them)
 LATHE_SAFETY_EVENTS = {"SIM-E001", "SIM-E006", "SIM-E008", "SIM-E011", "SIM-E012", "SIM-E013", "SIM-E014"}
-# a rapid that shaves less than this cross-section (mm²) off the part grazes the sliver a pass leaves at a
-# shoulder (a 93° edge leaves a 3° lip that a straight retract touches); it is no collision
-GRAZE_SECTION = 0.1
 ARC_CHORDS = 256  # chords of one arc where grading looks at its points
 NAME_REACH = 3.0  # mm: material left standing names the block whose path passes this near it
 Verdict = tuple[bool, str, str, list[int]]
@@ -178,10 +175,9 @@ def turned_geometry(ref: Turned, sub: Turned, tol: float) -> Verdict:
 
 
 def unsafe_events(sub: Turned) -> list[Diagnostic]:
-    """The turning events that cost the safety criterion, in order; a rapid's graze (GRAZE_SECTION) is none."""
-    ring = math.pi * sub.sim.blank.diameter
-    return [e for e in sub.sim.events if e.code in LATHE_SAFETY_EVENTS
-            and not (e.code == "SIM-E001" and float(e.params.get("volume", math.inf)) <= GRAZE_SECTION * ring)]
+    """The turning events that cost the safety criterion, in order (a retract sliding along the face it has just
+    cut is no event of the simulation's: LatheMachine.face_tolerance)."""
+    return [e for e in sub.sim.events if e.code in LATHE_SAFETY_EVENTS]
 
 
 def may_cut_turning(m: Move, ex: Exercise) -> bool:

@@ -76,6 +76,10 @@ class LatheMachine:
     rapid_rate: float = 12_000.0  # mm/min along the straight path of a rapid move
     tool_change_time: float = 1.0  # s per turret index
     touch_tolerance: float = 0.01  # mm: a radius changed by less than this is touched, not cut
+    # mm: a rapid that takes no more than this from a face (radially or along Z, at least one Z sample) slides
+    # along it: a straight retract over the clearance a pass's end leaves (lifting 1 mm from the 3° face of a
+    # 93° edge takes 0.05 mm, backing 0.5 mm off the 7° minor edge of a C insert after facing 0.06 mm)
+    face_tolerance: float = 0.1
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,7 +112,8 @@ class RevolvedProfile:
         return _volume(self.outer, self.inner, self.gap_lo, self.gap_hi, self.dz)
 
 
-def _volume(outer: Array, inner: Array, gap_lo: Array, gap_hi: Array, dz: float) -> float:
+def _area(outer: Array, inner: Array, gap_lo: Array, gap_hi: Array) -> Array:
+    """r_out² − r_in² less the gap's, per sample (the material's ring area / π)."""
     o, i = np.clip(outer, 0, None), np.clip(inner, 0, None)
     area = np.clip(o ** 2 - i ** 2, 0, None)
     gap = ~np.isnan(gap_lo)
@@ -116,7 +121,11 @@ def _volume(outer: Array, inner: Array, gap_lo: Array, gap_hi: Array, dz: float)
         lo = np.clip(gap_lo[gap], i[gap], o[gap])
         hi = np.clip(gap_hi[gap], i[gap], o[gap])
         area[gap] -= np.clip(hi ** 2 - lo ** 2, 0, None)
-    return float(math.pi * np.sum(area, dtype=np.float64) * dz)
+    return area
+
+
+def _volume(outer: Array, inner: Array, gap_lo: Array, gap_hi: Array, dz: float) -> float:
+    return float(math.pi * np.sum(_area(outer, inner, gap_lo, gap_hi), dtype=np.float64) * dz)
 
 
 @dataclass(frozen=True, slots=True)
@@ -329,6 +338,7 @@ class _Run:
         glo, ghi = self.p.gap_lo[i0:i1], self.p.gap_hi[i0:i1]
         tol = self.machine.touch_tolerance
         material = outer > inner
+        prior = (outer.copy(), inner.copy(), glo.copy(), ghi.copy()) if mv.kind == "rapid" else None
         before = _volume(outer, inner, glo, ghi, self.p.dz)
         # the swept shape covers low … high at each z: it cuts where it reaches the surface it comes from, and
         # takes a gap below the surface with it; a cut that stays inside the material becomes a gap
@@ -363,12 +373,56 @@ class _Run:
                 k = int(np.argmax(low[:jaws] < self.blank.jaw_radius))
                 self.events.add(diag("SIM-E012", mv.span, tool=mv.tool, z=round(float(self.zs[i0 + k]), 3),
                                      jaw=round(self.p.z0 + self.blank.clamp, 3)))
+        if prior is not None and bool(cut.any()):
+            cut = self._deep(ins.inside, i0, prior, tol)  # a rapid sliding along a face it touches is no collision
         old = np.where(under, uhi, old)
         new = np.where(under, ulo, new)
         if removed > 1e-6 and bool(cut.any()):
             self._cut_events(mv, ins, path, removed, cut, old, new, i0)
         if ins.holder:
             self._holder(mv, ins, pieces)
+
+    def _deep(self, inside: bool, i0: int, before: tuple[Array, Array, Array, Array], tol: float
+              ) -> npt.NDArray[np.bool_]:
+        """The samples of the window from i0 where a rapid took material deeper than `face_tolerance` from the
+        space that was open before it, both radially and along Z: a cut into the part. Less is a tool sliding
+        along a face it touches (a straight retract over the clearance a 93° edge leaves at the end of a pass).
+        `before` is the window's outer, inner, gap_lo and gap_hi before the move; the profile holds them after.
+        """
+        n = len(before[0])
+        b_out, b_in, b_lo, b_hi = before
+        a_out, a_in, a_lo, a_hi = (a[i0:i0 + n] for a in (self.p.outer, self.p.inner, self.p.gap_lo, self.p.gap_hi))
+        gap_b, gap_a = ~np.isnan(b_lo), ~np.isnan(a_lo)
+        # the thickness taken at each sample, radially (the ring's area over its circumference)
+        thick = (_area(b_out, b_in, b_lo, b_hi) - _area(a_out, a_in, a_lo, a_hi)) / np.maximum(2 * b_out, 1e-9)
+        face = self.machine.face_tolerance
+        # the deepest radius taken: where the part after the move first leaves the material before it, going
+        # into the part from its cutting side
+        if inside:
+            exit_b, exit_a = np.where(gap_b, b_hi, b_in), np.where(gap_a, a_hi, a_in)
+            deepest = np.where(exit_a > exit_b + tol, exit_a, np.where(gap_b, b_lo, b_in))
+        else:
+            exit_b, exit_a = np.where(gap_b, b_lo, b_out), np.where(gap_a, a_lo, a_out)
+            deepest = np.where(exit_a < exit_b - tol, exit_a, np.where(gap_b, b_hi, b_out))
+        reach = max(1, math.floor(face / self.p.dz + 0.5))
+        # the profile before the move from reach samples before the window to reach after; beyond the bar: open
+        lo, hi = max(0, i0 - reach), min(len(self.zs), i0 + n + reach)
+        pad = (reach - (i0 - lo), reach - (hi - i0 - n))
+        rows = []
+        for arr, old, fill in ((self.p.outer, b_out, -np.inf), (self.p.inner, b_in, np.inf),
+                               (self.p.gap_lo, b_lo, np.nan), (self.p.gap_hi, b_hi, np.nan)):
+            row = arr[lo:hi].copy()
+            row[i0 - lo:i0 - lo + n] = old
+            rows.append(np.pad(row, pad, constant_values=fill))
+        deep = thick > max(face, tol)
+        for k in range(-reach, reach + 1):
+            if k == 0:
+                continue
+            o, i, g_lo, g_hi = (row[reach + k:reach + k + n] for row in rows)
+            with np.errstate(invalid="ignore"):
+                open_ = (o <= deepest + tol) | (i >= deepest - tol) | ((deepest >= g_lo - tol) & (deepest <= g_hi + tol))
+            deep &= ~open_
+        return deep
 
     @staticmethod
     def _gap(under: npt.NDArray[np.bool_], ulo: Array, uhi: Array, glo: Array, ghi: Array, inner: Array,
