@@ -39,6 +39,7 @@ from server.routes import (
     submissions,
     users,
 )
+from server.routes import lti as lti_routes
 from server.routes import viz as viz_routes
 from server.seed import load_exercises
 from server.workers import Workers
@@ -130,6 +131,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(health.router)
     app.include_router(pages.router)
     app.include_router(viz_routes.pages)
+    lti_routes.install(app)  # /lti/… and /api/v1/admin/lti/… (issue 20)
     app.mount("/static", StaticFiles(directory=STATIC, check_dir=False), name="static")
 
     install_openapi(app)

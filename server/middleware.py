@@ -165,8 +165,14 @@ def viser_script_hashes() -> tuple[str, ...]:
     return tuple(hashes)
 
 
-def content_security_policy(path: str, frame_ancestors: list[str]) -> str:
+def content_security_policy(path: str, frame_ancestors: list[str],
+                            extra: dict[str, list[str]] | None = None) -> str:
+    """`extra` (a route's request.state.csp_extra): "frame-ancestors" replaces the setting's origins for this
+    response (an LTI page: its platform only), other directives are added to (a form posted to a platform)."""
     policy = {k: list(v) for k, v in _BASE_POLICY.items()}
+    extra = extra or {}
+    if "frame-ancestors" in extra:
+        frame_ancestors = extra["frame-ancestors"]
     if path.startswith("/viz/") and path.endswith("/"):
         # viser's client page (see viser_script_hashes): its two scripts by hash, its decoders are
         # WebAssembly (one fetched from a data: URL), its mesh decoders run in workers made from blob: URLs
@@ -175,6 +181,9 @@ def content_security_policy(path: str, frame_ancestors: list[str]) -> str:
         policy["worker-src"] += ["blob:"]
     # an origin is one token: a value with a space, ";" or "," could add directives of its own
     policy["frame-ancestors"] = ["'self'", *(o for o in frame_ancestors if re.fullmatch(r"[^\s;,']+", o))]
+    for name, values in extra.items():
+        if name != "frame-ancestors" and name in policy:
+            policy[name] += [v for v in values if re.fullmatch(r"[^\s;,']+", v)]
     return "; ".join(f"{name} {' '.join(values)}" for name, values in policy.items())
 
 
@@ -192,7 +201,10 @@ class SecurityHeadersMiddleware:
 
         async def send_with_headers(message: Message) -> None:
             if message["type"] == "http.response.start":
-                message["headers"] = [*message.get("headers", []), (b"content-security-policy", csp),
+                extra = scope.get("state", {}).get("csp_extra")  # set by the route (server/routes/lti.py)
+                policy = csp if extra is None else content_security_policy(
+                    scope["path"], self.settings.frame_ancestors, extra).encode("latin-1")
+                message["headers"] = [*message.get("headers", []), (b"content-security-policy", policy),
                                       (b"x-content-type-options", b"nosniff"), (b"referrer-policy", b"same-origin")]
             await send(message)
 

@@ -180,6 +180,7 @@ def verify(db: Session, cache: JwksCache, id_token: str | None, state: str | Non
     if login is None or _aware(login.expires_at) < _now():
         raise LtiRefusal("LTI_BAD_STATE", "Der Start ist unbekannt oder abgelaufen (state); bitte erneut aus der "
                          "Lernplattform öffnen.", "Unknown or expired launch state; open it again from the platform.")
+    platform_id, expected_nonce = login.platform_id, login.nonce
     db.delete(login)  # a state is good for one launch
     db.commit()
     if not id_token:
@@ -191,7 +192,7 @@ def verify(db: Session, cache: JwksCache, id_token: str | None, state: str | Non
         raise LtiRefusal("LTI_BAD_TOKEN", "Das id_token ist kein gültiges JWT.",
                          "The id_token is not a valid JWT.") from exc
     issuer = unverified.get("iss")
-    platform = db.get(LtiPlatform, login.platform_id)
+    platform = db.get(LtiPlatform, platform_id)
     if not isinstance(issuer, str) or platform is None or not registration.platforms_of_issuer(db, issuer):
         raise _unregistered(str(issuer))
     if platform.issuer != issuer:
@@ -227,7 +228,7 @@ def verify(db: Session, cache: JwksCache, id_token: str | None, state: str | Non
     if db.scalars(select(LtiNonce).where(LtiNonce.platform_id == platform.id, LtiNonce.nonce == nonce)).first():
         raise LtiRefusal("LTI_REPLAY", "Dieses id_token wurde schon verwendet (nonce); bitte erneut aus der "
                          "Lernplattform öffnen.", "This id_token was used before (nonce).", 403)
-    if not secrets.compare_digest(nonce, login.nonce):
+    if not secrets.compare_digest(nonce.encode("utf-8"), expected_nonce.encode("utf-8")):
         raise LtiRefusal("LTI_BAD_NONCE", "Das id_token gehört nicht zu diesem Start (nonce).",
                          "The id_token does not belong to this launch (nonce).", 403)
     keep = max(float(claims["exp"]) - time.time() + LEEWAY_SECONDS, NONCE_KEEP_SECONDS)

@@ -1,0 +1,15 @@
+// The framed page after an LTI launch: exchange the one-time ticket (URL fragment) for the page's API token,
+// keep it in this tab (sessionStorage: no third-party cookie needed) and go on to the exercise.
+(async () => {
+  const status = document.getElementById("status");
+  const ticket = new URLSearchParams(location.hash.slice(1)).get("ticket");
+  history.replaceState(null, "", location.pathname + location.search);
+  if (!ticket) { status.textContent = status.dataset.missing; return; }
+  const r = await fetch("/lti/session", {
+    method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify({ ticket }),
+  }).catch(() => null);
+  const body = r && r.ok ? await r.json() : null;
+  if (!body) { status.textContent = status.dataset.failed; return; }
+  sessionStorage.setItem("paltrainer-token", body.token);
+  location.replace(body.next);
+})();

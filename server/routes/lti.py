@@ -1,0 +1,375 @@
+"""LTI 1.3 endpoints: /lti/login, /lti/launch, /lti/jwks, /lti/config, /lti/register, /lti/open, /lti/session,
+/lti/exercise/{slug}, /lti/deep-link, and the admin's /api/v1/admin/lti/… (docs/lti.md).
+
+The pages a platform frames get a Content-Security-Policy whose frame-ancestors name that platform only
+(request.state.csp_extra, read by server/middleware.py); refused launches answer a German page and are logged.
+"""
+
+from __future__ import annotations
+
+import logging
+from datetime import UTC, datetime, timedelta
+from html import escape
+from pathlib import Path
+from typing import Annotated, Any
+
+import jwt
+from fastapi import APIRouter, Depends, FastAPI, Form, Request
+from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, RedirectResponse, Response
+from pydantic import BaseModel, ConfigDict, Field, field_validator
+
+from server import repository as repo
+from server.deps import AppSettings, DbSession, Principal, require_admin
+from server.errors import ApiError
+from server.lti import deep_linking, keys, launch, registration
+from server.models import LtiPlatform
+from server.routes import pages
+from server.security import make_token
+
+log = logging.getLogger("paltrainer.lti")
+router = APIRouter(include_in_schema=False)
+admin = APIRouter(prefix="/api/v1/admin/lti", tags=["lti"])
+STATIC = Path(__file__).resolve().parents[1] / "lti" / "static"
+DEEP_LINK_TICKET_MINUTES = 30  # the teacher picks exercises meanwhile
+REGISTRATION_DAYS = 7
+AdminPrincipal = Annotated[Principal, Depends(require_admin)]
+
+
+def install(app: FastAPI) -> None:
+    """The LTI routes, the platform-JWKS cache and the HTTP transport (tests put a loopback one there)."""
+    keys.configure(app.state.settings)
+    app.state.lti_jwks = launch.JwksCache()
+    app.state.lti_transport = None
+    app.include_router(router)
+    app.include_router(admin)
+
+
+def _base(request: Request) -> str:
+    return str(request.base_url).rstrip("/")
+
+
+def _frame(request: Request, platform: LtiPlatform | None, form_action: list[str] | None = None) -> None:
+    """Let `platform` (its issuer's and login page's origins) frame this response, and post forms to
+    `form_action`; without a platform: anyone may frame it (used for pages with nothing to click)."""
+    origins = sorted({registration.origin(platform.issuer), registration.origin(platform.auth_login_url)}) \
+        if platform is not None else ["*"]
+    extra: dict[str, list[str]] = {"frame-ancestors": origins}
+    if form_action:
+        extra["form-action"] = form_action
+    request.state.csp_extra = extra
+
+
+def _html(title: str, body: str, status: int = 200, script: str | None = None) -> HTMLResponse:
+    tag = f'\n  <script src="/lti/static/{script}" defer></script>' if script else ""
+    return HTMLResponse(
+        f'<!doctype html>\n<html lang="de">\n<head>\n  <meta charset="utf-8">\n'
+        f'  <meta name="viewport" content="width=device-width, initial-scale=1">\n'
+        f'  <title>PAL Trainer – {escape(title)}</title>\n  <link rel="icon" href="data:,">\n'
+        f'  <link rel="stylesheet" href="/static/app.css">{tag}\n</head>\n<body class="lti">\n'
+        f'<header><h1>PAL Trainer</h1></header>\n<main>\n{body}\n</main>\n</body>\n</html>\n', status_code=status)
+
+
+def refused(request: Request, err: launch.LtiRefusal) -> HTMLResponse:
+    """The page of a refused launch (German first); logged with its code."""
+    log.warning("lti launch refused", extra={"job": f"{err.code}: {err.message_en}",
+                                             "client": request.client.host if request.client else "-"})
+    _frame(request, None)
+    body = (f'<h2>Start aus der Lernplattform abgelehnt</h2>\n<p class="error" data-code="{escape(err.code)}">'
+            f'{escape(err.message)}</p>\n<p lang="en"><small>Launch refused: {escape(err.message_en)}</small></p>\n'
+            f'<p><small>Code: {escape(err.code)}</small></p>')
+    return _html("Start abgelehnt", body, status=err.status)
+
+
+# --- keys and configuration --------------------------------------------------------------------------
+
+
+@router.get("/lti/jwks")
+def jwks(db: DbSession) -> JSONResponse:
+    data = keys.jwks(db)
+    db.commit()  # a first key made now is kept
+    return JSONResponse(data, headers={"Cache-Control": "public, max-age=300"})
+
+
+@router.get("/lti/static/{name}")
+def static(name: str) -> Response:
+    if name not in ("open.js", "autosubmit.js", "close.js"):
+        return pages.not_found()
+    return FileResponse(STATIC / name, media_type="text/javascript")
+
+
+def registration_code(settings: Any, minutes: int = REGISTRATION_DAYS * 24 * 60) -> str:
+    """A signed code that allows one dynamic registration URL to be used (until it expires)."""
+    now = datetime.now(UTC)
+    return jwt.encode({"purpose": "lti-register", "iat": now, "exp": now + timedelta(minutes=minutes)},
+                      settings.jwt_secret(), algorithm="HS256")
+
+
+def _code_ok(settings: Any, code: str | None) -> bool:
+    if not code:
+        return False
+    try:
+        claims = jwt.decode(code, settings.jwt_secret(), algorithms=["HS256"], options={"require": ["exp"]})
+    except jwt.PyJWTError:
+        return False
+    return bool(claims.get("purpose") == "lti-register")
+
+
+def registration_url(base: str, settings: Any) -> str:
+    return f"{base}/lti/register?code={registration_code(settings)}"
+
+
+@router.get("/lti/config")
+def config(request: Request) -> HTMLResponse:
+    """The URLs a platform's admin enters (German, English below each)."""
+    urls = registration.tool_urls(_base(request))
+    rows = [("Tool-URL / Start-URL", "Tool URL", urls["tool_url"]),
+            ("Login-URL (OpenID Connect Login initiieren)", "Initiate login URL", urls["login_url"]),
+            ("Weiterleitungs-URL(s)", "Redirection URI(s)", urls["redirect_url"]),
+            ("Öffentlicher Schlüsselsatz (JWKS-URL)", "Public keyset URL", urls["jwks_url"]),
+            ("Deep-Linking-URL (Inhaltsauswahl)", "Content selection URL", urls["deep_linking_url"])]
+    table = "\n".join(f"<tr><th>{escape(de)}<br><small lang=\"en\">{escape(en)}</small></th>"
+                      f"<td><code>{escape(url)}</code></td></tr>" for de, en, url in rows)
+    body = (
+        "<h2>LTI 1.3: PAL Trainer in Moodle, ILIAS und anderen Lernplattformen</h2>\n"
+        "<p>Diese Adressen trägt die Administration der Lernplattform beim Anlegen des externen Tools ein "
+        "(LTI-Version 1.3, Schlüsseltyp: Schlüsselsatz-URL). Anleitung: docs/lti.md.</p>\n"
+        f'<table class="lti-config">\n{table}\n</table>\n'
+        "<h3>Dynamische Registrierung (Moodle 4.x)</h3>\n"
+        "<p>Die Registrierungs-URL mit Code erzeugt die Administration von PAL Trainer: "
+        "<code>paltrainer admin lti-registration-url</code> oder "
+        "<code>POST /api/v1/admin/lti/registration-url</code>. Ohne gültigen Code wird keine Plattform "
+        f"registriert. Adresse: <code>{escape(urls['registration_url'])}?code=…</code></p>\n"
+        "<h3>Benutzerdefinierte Parameter</h3>\n<p><code>exercise=&lt;Kennung der Aufgabe&gt;</code> oder "
+        "<code>assignment=&lt;Nummer der Aufgabenstellung&gt;</code>; mit Deep Linking setzt PAL Trainer sie "
+        "selbst.</p>\n"
+        '<p lang="en"><small>English: the URLs above go into the platform\'s external tool form (LTI 1.3, '
+        "public keyset URL). Dynamic registration needs a registration URL with a code from "
+        "<code>paltrainer admin lti-registration-url</code>.</small></p>")
+    _frame(request, None)
+    return _html("LTI-Konfiguration", body)
+
+
+# --- dynamic registration ----------------------------------------------------------------------------
+
+
+@router.get("/lti/register")
+async def register(request: Request, db: DbSession, settings: AppSettings) -> HTMLResponse:
+    params = request.query_params
+    _frame(request, None)
+    if not _code_ok(settings, params.get("code")):
+        return refused(request, launch.LtiRefusal(
+            "LTI_REGISTRATION_CODE", "Die Registrierungs-URL ist ungültig oder abgelaufen; bitte bei der "
+            "Administration von PAL Trainer eine neue erzeugen lassen.",
+            "The registration URL is invalid or expired; ask PAL Trainer's admin for a new one.", 403))
+    openid = params.get("openid_configuration")
+    if not openid:
+        return refused(request, launch.LtiRefusal(
+            "LTI_REGISTRATION_INCOMPLETE", "Der Aufruf enthält keine openid_configuration der Plattform.",
+            "The request carries no openid_configuration.", 400))
+    try:
+        platform = await registration.dynamic_register(db, openid, params.get("registration_token"),
+                                                       _base(request), request.app.state.lti_transport)
+    except registration.RegistrationError as err:
+        return refused(request, launch.LtiRefusal("LTI_REGISTRATION_FAILED", err.message, err.message_en, 502))
+    body = (f"<h2>PAL Trainer ist registriert</h2>\n<p>Plattform: {escape(platform.name)} "
+            f"({escape(platform.issuer)}), Client-ID <code>{escape(platform.client_id)}</code>.</p>\n"
+            '<p>Dieses Fenster kann geschlossen werden.</p>\n<p lang="en"><small>PAL Trainer is registered; '
+            "this window may be closed.</small></p>")
+    return _html("Registriert", body, script="close.js")
+
+
+# --- launch ------------------------------------------------------------------------------------------
+
+
+@router.api_route("/lti/login", methods=["GET", "POST"])
+async def login(request: Request, db: DbSession) -> Response:
+    """OIDC third-party login initiation: on to the platform's registered authorization endpoint."""
+    params: dict[str, str] = {k: v for k, v in request.query_params.items()}
+    if request.method == "POST":
+        form = await request.form()
+        params.update({k: v for k, v in form.items() if isinstance(v, str)})
+    try:
+        target = launch.begin_login(db, params)
+    except launch.LtiRefusal as err:
+        return refused(request, err)
+    return RedirectResponse(target, status_code=302)
+
+
+@router.post("/lti/launch")
+def launch_(request: Request, db: DbSession, id_token: Annotated[str | None, Form()] = None,
+            state: Annotated[str | None, Form()] = None) -> Response:
+    try:
+        verified = launch.verify(db, request.app.state.lti_jwks, id_token, state)
+        row, ticket = launch.accept(db, verified)
+    except launch.LtiRefusal as err:
+        db.rollback()
+        return refused(request, err)
+    platform = verified.platform
+    if row.message_type == launch.DEEP_LINKING_REQUEST:
+        row.ticket_expires_at = datetime.now(UTC) + timedelta(minutes=DEEP_LINK_TICKET_MINUTES)
+        db.commit()
+        _frame(request, platform)
+        return picker(db, ticket)
+    if row.exercise_slug is None:
+        _frame(request, platform)
+        what = "Lehrkräfte wählen die Aufgabe über »Inhalt auswählen« (Deep Linking) oder den Parameter " \
+               "<code>exercise=…</code>." if row.role != "learner" else "Bitte die Lehrkraft fragen."
+        return _html("Keine Aufgabe", "<h2>Dieser Link ist keiner Aufgabe zugeordnet</h2>\n"
+                     f"<p>{what}</p>\n<p lang=\"en\"><small>This link names no exercise.</small></p>")
+    return RedirectResponse(f"/lti/open?p={platform.id}#ticket={ticket}", status_code=303)
+
+
+@router.get("/lti/open")
+def open_page(request: Request, db: DbSession, p: int | None = None) -> HTMLResponse:
+    """Exchanges the ticket (script open.js) and goes on to the exercise."""
+    _frame(request, db.get(LtiPlatform, p) if p is not None and 0 < p < 2**31 else None)
+    body = ('<p id="status" data-missing="Der Start enthält kein Ticket; bitte erneut aus der Lernplattform öffnen." '
+            'data-failed="Das Ticket ist abgelaufen oder schon verwendet; bitte erneut aus der Lernplattform '
+            'öffnen.">PAL Trainer wird geöffnet …</p>')
+    return _html("Wird geöffnet", body, script="open.js")
+
+
+class TicketIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    ticket: str = Field(min_length=10, max_length=200)
+
+
+@router.post("/lti/session")
+def session(body: TicketIn, request: Request, db: DbSession, settings: AppSettings) -> JSONResponse:
+    """The one-time ticket of a launch → the page's API token (bearer) and where to go."""
+    row = launch.redeem(db, body.ticket)
+    user = repo.user_by_id(db, row.user_id) if row is not None else None
+    if row is None or user is None or row.exercise_slug is None:
+        log.warning("lti ticket refused", extra={"client": request.client.host if request.client else "-"})
+        raise ApiError("BAD_TOKEN")
+    token = make_token(settings.jwt_secret(), user.id, user.role, settings.token_minutes, user.token_version)
+    return JSONResponse({"token": token, "next": f"/lti/exercise/{row.exercise_slug}?p={row.platform_id}",
+                         "role": row.role})
+
+
+@router.get("/lti/exercise/{slug}")
+def exercise_page(slug: str, request: Request, db: DbSession, p: int | None = None) -> HTMLResponse:
+    """The exercise page, framable by the platform `p` (the page's script sends the token from open.js)."""
+    _frame(request, db.get(LtiPlatform, p) if p is not None and 0 < p < 2**31 else None)
+    if p is None:
+        request.state.csp_extra = {}
+    return pages.exercise(slug, None)
+
+
+# --- deep linking ------------------------------------------------------------------------------------
+
+
+def _exercises(db: DbSession) -> list[Any]:
+    return [e for e in repo.list_exercises(db) if e.document is not None]
+
+
+def picker(db: DbSession, ticket: str) -> HTMLResponse:
+    items = "\n".join(
+        f'<li><label><input type="checkbox" name="exercise" value="{escape(e.slug)}"> {escape(e.title_de)} '
+        f'<small>({escape(e.slug)}, {escape(e.dialect)})</small></label></li>' for e in _exercises(db))
+    body = ("<h2>Aufgaben für den Kurs auswählen</h2>\n<p>Jede gewählte Aufgabe wird ein eigener Link im Kurs, "
+            "mit einer Bewertung von 0 bis 100 Punkten.</p>\n"
+            f'<form method="post" action="/lti/deep-link">\n<input type="hidden" name="ticket" '
+            f'value="{escape(ticket)}">\n<ul class="lti-picker">\n{items}\n</ul>\n'
+            '<button type="submit">Einfügen</button>\n</form>\n'
+            '<p lang="en"><small>Pick the exercises to place in the course; each becomes a link with a grade '
+            "item of 100 points.</small></p>")
+    return _html("Aufgaben auswählen", body)
+
+
+@router.post("/lti/deep-link")
+def deep_link(request: Request, db: DbSession, ticket: Annotated[str, Form(max_length=200)],
+              exercise: Annotated[list[str] | None, Form(max_length=500)] = None) -> HTMLResponse:
+    """The signed LtiDeepLinkingResponse, posted back to the platform by the page (autosubmit.js / button)."""
+    row = launch.redeem(db, ticket)
+    if row is None or row.message_type != launch.DEEP_LINKING_REQUEST or row.deep_link_return_url is None \
+            or row.role == "learner":
+        return refused(request, launch.LtiRefusal(
+            "LTI_BAD_TICKET", "Die Auswahl ist abgelaufen oder wurde schon gesendet; bitte erneut aus der "
+            "Lernplattform öffnen.", "The selection has expired or was sent already.", 403))
+    platform = db.get(LtiPlatform, row.platform_id)
+    assert platform is not None
+    wanted = list(dict.fromkeys(exercise or []))
+    chosen = [e for e in _exercises(db) if e.slug in wanted]
+    chosen.sort(key=lambda e: wanted.index(e.slug))
+    token = deep_linking.response_jwt(db, row, platform, chosen, f"{_base(request)}/lti/launch")
+    db.commit()
+    if not registration.url_ok(row.deep_link_return_url):
+        return refused(request, launch.LtiRefusal("LTI_BAD_DEEP_LINKING", "Die Rücksprungadresse der Plattform "
+                                                  "ist ungültig.", "The platform's return URL is invalid."))
+    _frame(request, platform, form_action=[registration.origin(row.deep_link_return_url)])
+    body = (f'<form id="deep-link-return" method="post" action="{escape(row.deep_link_return_url)}">\n'
+            f'<input type="hidden" name="JWT" value="{escape(token)}">\n'
+            f"<p>{len(chosen)} Aufgabe(n) ausgewählt.</p>\n"
+            '<button type="submit">Zurück zur Lernplattform</button>\n</form>')
+    return _html("Auswahl senden", body, script="autosubmit.js")
+
+
+# --- admin API ---------------------------------------------------------------------------------------
+
+
+class PlatformIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    issuer: str = Field(min_length=1, max_length=500, description="The platform's issuer (iss), e.g. Moodle's URL")
+    client_id: str = Field(min_length=1, max_length=255)
+    auth_login_url: str = Field(max_length=1000, description="OIDC authorization endpoint of the platform")
+    token_url: str = Field(max_length=1000, description="OAuth 2 access token URL of the platform")
+    jwks_url: str = Field(max_length=1000, description="Public keyset URL of the platform")
+    deployment_ids: list[str] = Field(default=[], max_length=50)
+    name: str = Field(default="", max_length=200)
+
+    @field_validator("auth_login_url", "token_url", "jwks_url")
+    @classmethod
+    def _url(cls, v: str) -> str:
+        if not registration.url_ok(v):
+            raise ValueError("https URL required")
+        return v
+
+    @field_validator("deployment_ids")
+    @classmethod
+    def _deployments(cls, v: list[str]) -> list[str]:
+        if any(not d or len(d) > 255 for d in v):
+            raise ValueError("deployment ids: 1 to 255 characters")
+        return v
+
+
+@admin.post("/platforms", status_code=201)
+def add_platform(body: PlatformIn, db: DbSession, _: AdminPrincipal) -> dict[str, Any]:
+    """Register a platform (or update the one with this issuer and client id; deployment ids are added)."""
+    return registration.platform_out(db, registration.register(db, **body.model_dump()))
+
+
+@admin.get("/platforms")
+def list_platforms(db: DbSession, _: AdminPrincipal) -> list[dict[str, Any]]:
+    return [registration.platform_out(db, p) for p in registration.platforms(db)]
+
+
+@admin.post("/registration-url")
+def new_registration_url(request: Request, settings: AppSettings, _: AdminPrincipal) -> dict[str, str]:
+    """A dynamic registration URL (valid 7 days) for a platform's admin (Moodle: "Tool URL")."""
+    return {"url": registration_url(_base(request), settings)}
+
+
+@admin.get("/keys")
+def list_keys(db: DbSession, _: AdminPrincipal) -> list[dict[str, Any]]:
+    return keys.listing(db)
+
+
+@admin.post("/keys/rotate", status_code=201)
+def rotate_key(db: DbSession, _: AdminPrincipal) -> dict[str, Any]:
+    """A new signing key; the old ones stay published until retired."""
+    row = keys.rotate(db)
+    db.commit()
+    return {"kid": row.kid}
+
+
+@admin.post("/keys/{kid}/retire")
+def retire_key(kid: str, db: DbSession, _: AdminPrincipal) -> dict[str, str]:
+    """Take a key out of /lti/jwks (after platforms have fetched the newer one)."""
+    if not keys.retire(db, kid):
+        raise ApiError("NOT_FOUND")
+    db.commit()
+    return {"kid": kid}
+
