@@ -40,6 +40,7 @@ from server.routes import (
     users,
 )
 from server.routes import lti as lti_routes
+from server.routes import lti_grades as lti_grade_routes
 from server.routes import viz as viz_routes
 from server.seed import load_exercises
 from server.workers import Workers
@@ -127,6 +128,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                    courses, assignments):
         api.include_router(module.router)
     api.include_router(live.router)
+    api.include_router(lti_grade_routes.router)  # grade passback status and roster (issue 20)
     app.include_router(api)
     app.include_router(health.router)
     app.include_router(pages.router)

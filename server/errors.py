@@ -99,6 +99,16 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
                      "This is not allowed while the exam runs (until {end})."),
     "EXAM_NOT_OVER": (409, "Die Ergebnisse lassen sich erst nach dem Ende der Prüfung freigeben.",
                       "The results can be released only after the exam has ended."),
+    # LTI grades and roster (issue 20)
+    "LTI_NO_ROSTER": (409, ("Diese Klasse ist mit keinem Kurs einer Lernplattform verbunden, der eine Teilnehmerliste "
+                            "anbietet; zuerst PAL Trainer aus dem Kurs der Lernplattform als Lehrkraft starten."),
+                      ("This course is linked to no learning-platform course that offers a roster; launch PAL "
+                       "Trainer from the platform's course as an instructor first.")),
+    "LTI_PLATFORM_ERROR": (502, "Die Lernplattform hat nicht wie erwartet geantwortet: {detail}",
+                           "The learning platform did not answer as expected: {detail}"),
+    "LTI_SCORE_NOT_FOUND": (404, "Notenübertragung {score} nicht gefunden.", "Grade passback {score} not found."),
+    "LTI_SCORE_NOT_FAILED": (409, "Nur eine aufgegebene Notenübertragung lässt sich erneut senden.",
+                             "Only a grade passback that was given up can be sent again."),
     "BODY_TOO_LARGE": (413, "Die Anfrage ist zu groß ({size} Bytes, höchstens {limit}).",
                        "The request is too large ({size} bytes, at most {limit})."),
     "PROGRAM_TOO_LARGE": (413, "Das Programm ist zu lang ({size} Zeichen, höchstens {limit}).",
