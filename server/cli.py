@@ -204,3 +204,6 @@ def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
     r = sub.add_parser("revoke-api-key", help="API-Schlüssel widerrufen / revoke an API key")
     r.add_argument("prefix", help="the key's id after pal_, e.g. 1a2b3c4d")
     r.set_defaults(handler=_revoke_api_key)
+    from server.lti.cli import register as register_lti
+
+    register_lti(sub)  # lti-register, lti-platforms, lti-registration-url, lti-keys (docs/lti.md)

@@ -26,20 +26,27 @@ from server.config import Settings
 from server.models import LtiToolKey
 
 _HKDF_INFO = b"paltrainer lti tool key encryption v1"
-_secret: str | None = None  # set by configure(): the app's and the CLI's settings
+# the server's secret per database URL (several apps in one process, as in tests, each keep their own), and
+# the last one configured for a session whose URL was not configured
+_secrets: dict[str, str] = {}
+_last: list[str] = []
 
 
 def configure(settings: Settings) -> None:
-    """Remember the server's secret key (the app calls this on start, the CLI before it touches keys)."""
-    global _secret
-    _secret = settings.jwt_secret()
+    """Remember the server's secret key for its database (the app calls this on start, the CLI before it
+    touches keys)."""
+    secret = settings.jwt_secret()
+    _secrets[settings.url] = secret
+    _last[:] = [secret]
 
 
-def _fernet() -> Fernet:
-    if _secret is None:
+def _fernet(db: Session) -> Fernet:
+    url = db.get_bind().url.render_as_string(hide_password=False)
+    secret = _secrets.get(url) or (_last[0] if _last else None)
+    if secret is None:
         configure(Settings())
-    assert _secret is not None
-    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=_HKDF_INFO).derive(_secret.encode("utf-8"))
+        secret = _last[0]
+    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=_HKDF_INFO).derive(secret.encode("utf-8"))
     return Fernet(base64.urlsafe_b64encode(derived))
 
 
@@ -52,7 +59,7 @@ def new_key(db: Session) -> LtiToolKey:
     jwk: dict[str, Any] = json.loads(RSAAlgorithm.to_jwk(private.public_key()))
     jwk.pop("key_ops", None)  # "use" says it; some platforms refuse keys with both
     jwk.update({"kid": kid, "alg": "RS256", "use": "sig"})
-    row = LtiToolKey(kid=kid, private_pem_encrypted=_fernet().encrypt(pem).decode("ascii"), public_jwk=jwk,
+    row = LtiToolKey(kid=kid, private_pem_encrypted=_fernet(db).encrypt(pem).decode("ascii"), public_jwk=jwk,
                      created_at=datetime.now(UTC))
     db.add(row)
     db.flush()
@@ -68,7 +75,7 @@ def signing_key(db: Session) -> tuple[str, rsa.RSAPrivateKey]:
     """(kid, private key) of the current key; the first call makes one."""
     row = _current(db) or new_key(db)
     try:
-        pem = _fernet().decrypt(row.private_pem_encrypted.encode("ascii"))
+        pem = _fernet(db).decrypt(row.private_pem_encrypted.encode("ascii"))
     except InvalidToken as exc:  # the secret key changed since the key was stored: rotate (see docs/lti.md)
         raise RuntimeError("LTI tool key cannot be decrypted with this secret key; run "
                            "`paltrainer admin lti-keys --rotate`") from exc
