@@ -5,9 +5,11 @@ import {
 } from "./pages.js";
 
 import { boot } from "./boot.js";
+import { installBearer } from "./lti.js";
 import { translatePage } from "./i18n.js";
 import { safeNext } from "./redirect.js";
 
+installBearer();  // before anything asks the API (LTI launches: no cookie in the iframe)
 translatePage();
 window.PalTrainer = {
   mountEditor, mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz, safeNext,
