@@ -37,6 +37,56 @@ def test_the_built_in_set_has_the_turning_examples_of_every_kind() -> None:
         assert f"Ø{ex.blank.diameter:g}" in ex.task.de  # the task states the blank
 
 
+# each example of the manual the issue names: the exercise that teaches it and the words its reference must use
+MANUAL_EXAMPLES = {
+    "TX-17": ("traub-02-uebersichtskontur", ("G2 ", "G3 ")),
+    "TX-21/TX-25": ("traub-04-geometriezug", ("G1 A180", "A135")),
+    "TX-27": ("traub-01-srk-fase", ("G46",)),
+    "TX-30": ("traub-10-schruppen-g71-g88", ("G88", "G71 P50 Q60", "G1 X38 A205", "E0.12")),
+    "TX-31": ("traub-11-innen-g71-g89", ("G89", "G71 P51 Q61", "U0.3 A150")),
+    "TX-32": ("traub-05-planschruppen-g72", ("G88", "G72 P70 Q80")),
+    "TX-33": ("traub-06-g72-unterprogramm", ("G72 A520", "G22 A520", "O520")),
+    "TX-40": ("traub-07-gewinde-g76", ("G76",)),
+    "TX-43/TX-45": ("traub-08-bohren-unterprogramm", ("G 22 A 8000", "O8000")),
+}
+
+
+@pytest.mark.parametrize("seed", MANUAL_EXAMPLES)
+def test_every_named_example_of_the_manual_has_its_exercise(seed: str) -> None:
+    eid, words = MANUAL_EXAMPLES[seed]
+    ex = EXERCISES[eid]
+    assert ex.dialect == "traub-tx8d" and seed.split("/")[0] in ex.source
+    for word in words:
+        assert word in ex.reference, word
+
+
+def test_the_inner_contour_exercise_turns_a_tube_from_inside() -> None:
+    # TX-31: the bore is widened by the inside tools (P4), the outside stays the blank's Ø140
+    ex = EXERCISES["traub-11-innen-g71-g89"]
+    assert ex.blank is not None and ex.blank.inner_diameter == 30
+    part = execute_turning(ex, ex.reference).sim.profile
+    k = int((-50.0 - part.z0) / part.dz)
+    assert 2 * part.inner[k] == pytest.approx(60.0, abs=0.02) and 2 * part.outer[k] == pytest.approx(140.0)
+    k = int((-63.5 - part.z0) / part.dz)  # the undercut under the Ø60 bore
+    assert 2 * part.inner[k] == pytest.approx(60.6, abs=0.05)
+    # without the undercut's block the bore keeps Ø60 there: material left, named on the line before
+    program = "\n".join(line for line in ex.reference.splitlines() if line != "G1 U0.3 A150 F0.08")
+    geo = criterion(grade(ex, program), "geometry")
+    assert not geo.passed and "Material stehen gelassen" in geo.message and "Bohrung Ø60.00 statt Ø60.60" in geo.message  # type: ignore[attr-defined]
+
+
+def test_the_falling_cone_is_roughed_with_g88_and_left_with_g89() -> None:
+    ex = EXERCISES["traub-10-schruppen-g71-g88"]
+    head, contour = ex.reference.split("G0 X150 Z50\n", 1)
+    roughing = head + "G0 X150 Z50\nM30\n" + contour  # the program ends before the finishing
+    with_g88 = execute_turning(ex, roughing).sim.profile
+    with_g89 = execute_turning(ex, roughing.replace("G88", "G89")).sim.profile
+    k = int((-60.0 - with_g88.z0) / with_g88.dz)  # on the cone, between Ø65 at Z−45 and Ø38 at Z−73.95
+    cone = 65 - 2 * (60 - 45) * math.tan(math.radians(25))
+    assert 0 < 2 * with_g88.outer[k] - cone < 1.0  # within the allowance I0.5
+    assert 2 * with_g89.outer[k] > 65  # G89: the cone is left at the level of the last pass above Ø65
+
+
 @pytest.mark.parametrize("eid", TURNING)
 def test_turning_reference_scores_100(eid: str) -> None:
     ex = EXERCISES[eid]

@@ -418,3 +418,19 @@ def test_a_rapid_into_the_shoulder_after_a_pass_is_one() -> None:
     assert ("SIM-E001", 5) in events(turn(program, Blank(40, 100), C08))
     lift = program.replace("G0 Z-21\n", "G0 X36\n")  # the same pass lifting straight out: no collision
     assert events(turn(lift, Blank(40, 100), C08)) == []
+
+
+def test_finishing_a_shoulder_after_roughing_measures_only_the_material_it_takes() -> None:
+    # four roughing passes end at Z−14.95 (the 93° edge leaves a thin wall over an empty gap at the shoulder);
+    # the V finishing tool faces up the shoulder and rounds its edge R3: the deepest chip is 3 mm, within the
+    # insert's 4 mm; the gap below the wall was empty and is no depth of cut
+    tools = table("tools: [{number: 1, kind: turning, diameter: 1.6, nose_radius: 0.8, quadrant: 1, insert: C}, "
+                  "{number: 5, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 1, insert: V}]")
+    passes = "".join(f"G0 X{x}\nG1 Z-14.95\nG0 X{x + 2}\nG0 Z2\n" for x in (52, 44, 36))
+    program = (f"G95\nG97 S1000 T0101 M4\nG0 X60 Z2\nG1 Z-14.95 F0.3\nG0 X62\nG0 Z2\n{passes}G0 X100 Z50\n"
+               "G97 S1500 T0505 M4\nG0 X30 Z2\nG1 Z-15 F0.15\nG1 X54\nG2 X60 Z-18 R3\nG1 Z-25\nG1 X64\n"
+               "G0 X100 Z50\nM30\n")
+    result = turn(program, Blank(60, 100), tools)
+    assert events(result) == []
+    deep = program.replace("G1 X54\nG2 X60 Z-18 R3\n", "G1 X48\nG2 X60 Z-21 R6\n")  # a 6 mm fillet is too deep
+    assert [code for code, _ in events(turn(deep, Blank(60, 100), tools))] == ["SIM-E013"]

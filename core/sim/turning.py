@@ -348,6 +348,8 @@ class _Run:
             new = np.where(reach, np.minimum(np.maximum(inner, high), outer), inner)
             with np.errstate(invalid="ignore"):
                 joined = reach & (new >= glo - tol)
+                # what the cut took ends where the gap it opens begins (the gap was empty already)
+                taken = np.where(joined & (new <= ghi + tol), glo, new)
             new = np.where(joined, np.maximum(new, ghi), new)
         else:
             old = outer.copy()
@@ -356,6 +358,7 @@ class _Run:
             new = np.maximum(new, 0.0)
             with np.errstate(invalid="ignore"):
                 joined = reach & (new <= ghi + tol)
+                taken = np.where(joined & (new >= glo - tol), ghi, new)
             new = np.where(joined, np.minimum(new, glo), new)
         glo[joined] = np.nan
         ghi[joined] = np.nan
@@ -376,7 +379,7 @@ class _Run:
         if prior is not None and bool(cut.any()):
             cut = self._deep(ins.inside, i0, prior, tol)  # a rapid sliding along a face it touches is no collision
         old = np.where(under, uhi, old)
-        new = np.where(under, ulo, new)
+        new = np.where(under, ulo, taken)
         if removed > 1e-6 and bool(cut.any()):
             self._cut_events(mv, ins, path, removed, cut, old, new, i0)
         if ins.holder:
