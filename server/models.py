@@ -322,6 +322,8 @@ class LtiScore(Base):
     lineitem_url: Mapped[str] = mapped_column(String(1000))
     lti_sub: Mapped[str] = mapped_column(String(255))  # the platform's user id: the score's userId
     score_given: Mapped[float | None] = mapped_column(Float, nullable=True)  # of 100; None: not graded
+    # "Completed"; "InProgress" for an assignment's line item while some of its exercises are not handed in
+    activity_progress: Mapped[str] = mapped_column(String(20), default="Completed")
     timestamp: Mapped[datetime] = mapped_column(DateTime(timezone=True))  # the submission's time
     state: Mapped[str] = mapped_column(String(12), default="pending", index=True)
     attempts: Mapped[int] = mapped_column(Integer, default=0)

@@ -29,7 +29,17 @@ from sqlalchemy.orm import Session
 
 from server.db import Database
 from server.lti.keys import signing_key
-from server.models import Exercise, LtiContext, LtiPlatform, LtiResourceLink, LtiScore, LtiUser, Submission
+from server.models import (
+    Assignment,
+    Exercise,
+    LtiContext,
+    LtiLaunch,
+    LtiPlatform,
+    LtiResourceLink,
+    LtiScore,
+    LtiUser,
+    Submission,
+)
 
 log = logging.getLogger("paltrainer.lti")
 
@@ -76,6 +86,21 @@ def _best_percent(db: Session, submission: Submission) -> float | None:
     return max(scores) if scores else None
 
 
+def _assignment_score(db: Session, submission: Submission, assignment: Assignment) -> tuple[float, bool]:
+    """An assignment link's score: the mean of the author's best score (of 100) per exercise of the assignment
+    (an exercise not handed in counts 0), and whether every exercise was handed in."""
+    slugs = list(assignment.exercises)
+    ids = {slug: pk for slug, pk in db.execute(select(Exercise.slug, Exercise.id).where(Exercise.slug.in_(slugs)))}
+    best: dict[int, float] = {}
+    q = select(Submission).where(Submission.assignment_id == assignment.id, Submission.user_id == submission.user_id,
+                                 Submission.id <= submission.id)
+    for s in db.scalars(q):
+        best[s.exercise_id] = max(best.get(s.exercise_id, 0.0), _percent(s) or 0.0)
+    scores = [best.get(ids.get(slug, -1), 0.0) for slug in slugs]
+    done = all(ids.get(slug, -1) in best for slug in slugs)
+    return (round(sum(scores) / len(scores), 2) if scores else 0.0), done
+
+
 def _lti_user(db: Session, platform_id: int, user_id: int) -> LtiUser | None:
     return db.scalars(select(LtiUser).where(LtiUser.platform_id == platform_id, LtiUser.user_id == user_id)
                       .order_by(LtiUser.id.desc())).first()
@@ -100,14 +125,31 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
     db.execute(update(LtiScore).where(LtiScore.platform_id == link.platform_id,
                                       LtiScore.lineitem_url == link.lineitem_url, LtiScore.lti_sub == lti_user.sub,
                                       LtiScore.state == "pending").values(state="superseded"))
+    assignment = db.get(Assignment, link.assignment_id) if link.assignment_id is not None else None
+    if assignment is not None and submission.assignment_id == assignment.id:
+        score, done = _assignment_score(db, submission, assignment)
+        progress = "Completed" if done else "InProgress"
+    else:
+        score, progress = _best_percent(db, submission), "Completed"
     row = LtiScore(submission_id=submission.id, platform_id=link.platform_id, resource_link_pk=link.id,
                    course_id=context.course_id if context else None, user_id=submission.user_id,
                    exercise_slug=exercise.slug, lineitem_url=link.lineitem_url, lti_sub=lti_user.sub,
-                   score_given=_best_percent(db, submission), timestamp=_utc(submission.created_at),
+                   score_given=score, activity_progress=progress, timestamp=_utc(submission.created_at),
                    state="pending", attempts=0, next_attempt_at=datetime.now(UTC))
     db.add(row)
     db.commit()
     return row
+
+
+def _assignment_link(db: Session, submission: Submission) -> LtiResourceLink | None:
+    """The link of the author's latest launch into the submission's assignment (its line item is the whole
+    assignment's), or None."""
+    if submission.assignment_id is None:
+        return None
+    q = (select(LtiResourceLink).join(LtiLaunch, LtiLaunch.resource_link_pk == LtiResourceLink.id)
+         .where(LtiLaunch.user_id == submission.user_id, LtiResourceLink.assignment_id == submission.assignment_id)
+         .order_by(LtiLaunch.created_at.desc(), LtiLaunch.id.desc()).limit(1))
+    return db.scalars(q).first()
 
 
 def after_graded(db: Session, submission: Submission) -> None:
@@ -119,7 +161,8 @@ def after_graded(db: Session, submission: Submission) -> None:
         from server.lti.launch import resource_link_for
 
         exercise = db.get(Exercise, submission.exercise_id)
-        link = resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None
+        link = _assignment_link(db, submission) or (
+            resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None)
         if link is not None:
             enqueue(db, submission, link)
     except Exception:  # the grade is stored either way; the instructor sees a missing passback in the status
@@ -145,8 +188,9 @@ def score_json(row: LtiScore) -> dict[str, Any]:
                             "timestamp": _utc(row.timestamp).isoformat(timespec="milliseconds")}
     if row.score_given is None:  # handed in, not graded by us (an exercise without grading)
         body.update(activityProgress="Submitted", gradingProgress="Pending")
-    else:
-        body.update(scoreGiven=row.score_given, activityProgress="Completed", gradingProgress="FullyGraded")
+    else:  # an assignment link with exercises still open: InProgress, its score so far is the grade for now
+        body.update(scoreGiven=row.score_given, activityProgress=row.activity_progress or "Completed",
+                    gradingProgress="FullyGraded")
     return body
 
 

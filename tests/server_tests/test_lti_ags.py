@@ -19,8 +19,11 @@ from server.config import Settings
 from server.db import Database, migrate
 from server.lti import ags, keys
 from server.models import (
+    Assignment,
+    Course,
     Exercise,
     LtiContext,
+    LtiLaunch,
     LtiPlatform,
     LtiResourceLink,
     LtiScore,
@@ -40,11 +43,12 @@ class World:
     user_id: int
     exercise_id: int
 
-    def submit(self, score: int | None, max_score: int = 10) -> Submission:
+    def submit(self, score: int | None, max_score: int = 10, exercise_id: int | None = None,
+               assignment_id: int | None = None) -> Submission:
         grading = None if score is None else {"score": score, "max_score": max_score, "criteria": []}
         with self.database.session() as db:
-            sub = Submission(exercise_id=self.exercise_id, user_id=self.user_id, program="N10 M30\n",
-                             dialect="pal-mill", result={}, grading=grading)
+            sub = Submission(exercise_id=exercise_id or self.exercise_id, user_id=self.user_id, program="N10 M30\n",
+                             dialect="pal-mill", result={}, grading=grading, assignment_id=assignment_id)
             db.add(sub)
             db.commit()
             return sub
@@ -228,3 +232,41 @@ def test_no_score_lost_across_a_server_restart(tmp_path: Path) -> None:
         w.platform.stop()
         w.database.engine.dispose()
         ags.forget_tokens()
+
+
+def test_an_assignment_link_gets_the_mean_of_its_exercises(world: World) -> None:
+    """A link placed for a whole assignment (custom assignment=…): one grade, the mean of the best score per
+    exercise; InProgress until every exercise was handed in."""
+    now = datetime.now(UTC)
+    with world.database.session() as db:
+        first = db.get(LtiResourceLink, world.link_id)
+        assert first is not None
+        course = Course(name="FT-2A", join_code="LTIAGS01")
+        second = Exercise(slug="pal-taschen", title_de="Taschen", dialect="pal-mill")
+        db.add_all([course, second])
+        db.flush()
+        a = Assignment(course_id=course.id, title="Woche 3", exercises=["pal-nuten", "pal-taschen"], mode="practice",
+                       late="accept", opens_at=now - timedelta(hours=1), deadline=now + timedelta(days=1), settings={})
+        db.add(a)
+        db.flush()
+        link = LtiResourceLink(platform_id=first.platform_id, context_pk=first.context_pk, resource_link_id="link-2",
+                               assignment_id=a.id, lineitem_url=first.lineitem_url.replace("li-1", "li-2"),
+                               ags_scopes=[ags.SCORE_SCOPE])
+        db.add(link)
+        db.flush()
+        lti_user = db.scalars(select(LtiUser)).one()
+        db.add(LtiLaunch(platform_id=first.platform_id, deployment_id="1", message_type="LtiResourceLinkRequest",
+                         user_id=world.user_id, lti_user_pk=lti_user.id, resource_link_pk=link.id,
+                         exercise_slug="pal-nuten", role="learner", ticket_hash="x" * 64, ticket_expires_at=now))
+        db.commit()
+        ids = (a.id, second.id)
+    world.platform.start()
+    for score, exercise in ((8, None), (10, ids[1])):
+        sub = world.submit(score, exercise_id=exercise, assignment_id=ids[0])
+        with world.database.session() as db:
+            stored = db.get(Submission, sub.id)
+            assert stored is not None
+            ags.after_graded(db, stored)
+        world.drain(datetime.now(UTC))
+    assert [(item, s["scoreGiven"], s["activityProgress"]) for item, s in world.state.scores] == [
+        ("li-2", 40.0, "InProgress"), ("li-2", 90.0, "Completed")]

@@ -34,7 +34,7 @@ from sqlalchemy import select
 from server import repository as repo
 from server.app import create_app
 from server.lti import ags
-from server.models import LtiContext
+from server.models import LtiContext, LtiScore
 from server.security import hash_password, make_token
 
 
@@ -258,3 +258,24 @@ def test_7_roster_pulled_with_nrps(setup: Setup) -> None:
         mine = api.post("/api/v1/courses", json={"name": "Ohne Lernplattform"}, headers=other).json()
         r = api.post(f"/api/v1/courses/{mine['id']}/lti/roster", headers=other)
         assert r.status_code == 409 and r.json()["error"]["code"] == "LTI_NO_ROSTER"
+
+
+def test_8_a_given_up_passback_is_sent_again_by_the_instructor(setup: Setup) -> None:
+    teacher = bearer(setup.session("moodle-teacher-1", exercise=setup.slug, link="link-1")["token"])
+    learner = bearer(setup.session("moodle-student-2", exercise=setup.slug, link="link-1")["token"])
+    with setup.api() as api:
+        sent = api.get("/api/v1/lti/scores", params={"state": "sent"}, headers=teacher).json()["scores"][0]
+        r = api.post(f"/api/v1/lti/scores/{sent['id']}/retry", headers=teacher)
+        assert r.status_code == 409 and r.json()["error"]["code"] == "LTI_SCORE_NOT_FAILED"
+        with setup.app.state.db.session() as db:  # as after ags.MAX_ATTEMPTS failed attempts
+            row = db.get(LtiScore, sent["id"])
+            assert row is not None
+            row.state, row.attempts = "failed", ags.MAX_ATTEMPTS
+            db.commit()
+        before = len(setup.state.scores)
+        assert api.post(f"/api/v1/lti/scores/{sent['id']}/retry", headers=learner).status_code == 404
+        r = api.post(f"/api/v1/lti/scores/{sent['id']}/retry", headers=teacher)
+        assert r.status_code == 200, r.text
+        assert (r.json()["state"], r.json()["attempts"]) == ("pending", 0)
+    wait_for(lambda: len(setup.state.scores) == before + 1)
+    assert setup.state.scores[-1][1]["userId"] == "moodle-student-2"

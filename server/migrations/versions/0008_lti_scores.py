@@ -31,6 +31,7 @@ def upgrade() -> None:
         sa.Column("lineitem_url", sa.String(1000), nullable=False),
         sa.Column("lti_sub", sa.String(255), nullable=False),
         sa.Column("score_given", sa.Float(), nullable=True),
+        sa.Column("activity_progress", sa.String(20), nullable=False, server_default="Completed"),
         sa.Column("timestamp", _TZ, nullable=False),
         sa.Column("state", sa.String(12), nullable=False),
         sa.Column("attempts", sa.Integer(), nullable=False),
