@@ -109,6 +109,17 @@ def instructor(who: Viewer) -> HTMLResponse:
     return _page("instructor", "Abgaben", who=who)
 
 
+@router.get("/courses/{course_id}", response_model=None)
+def course(course_id: str, who: Viewer) -> HTMLResponse | RedirectResponse:
+    """An instructor's course: members, assignments, the results matrix and the class's insights (the page asks
+    the API, which decides who may see what)."""
+    if not (course_id.isascii() and course_id.isdigit()):
+        return not_found()
+    if who is None:
+        return RedirectResponse(f"/login?next=/courses/{course_id}", status_code=303)
+    return _page("course", "Klasse", who=who)
+
+
 @router.get("/about")
 def about(who: Viewer) -> HTMLResponse:
     """Über / Lizenzen: PAL Trainer's licence and those of the browser packages bundled with it."""

@@ -2,6 +2,7 @@
 // inline script, so that the Content-Security-Policy can forbid inline script (script-src 'self').
 
 import { mountAbout } from "./about.js";
+import { mountCourse } from "./page-course.js";
 import { mountHeader } from "./header.js";
 import { mountPractice } from "./page-practice.js";
 import { restoreState } from "./state.js";
@@ -15,6 +16,7 @@ const PAGES = {
   instructor: () => mountInstructor(document.getElementById("submissions")),
   login: () => mountLogin(document.getElementById("login"), document.getElementById("message")),
   about: () => mountAbout(document.getElementById("about")),
+  course: () => mountCourse(document.getElementById("course"), Number(location.pathname.split("/")[2])),
 };
 
 export async function boot() {

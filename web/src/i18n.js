@@ -242,6 +242,9 @@ const TEXTS = {
 
 export const lang = localStorage.getItem("paltrainer-lang") === "en" ? "en" : "de";
 
+// A page module's own texts (same shape as TEXTS), so that it need not edit this shared table.
+export function addTexts(more) { Object.assign(TEXTS, more); }
+
 export function t(key, params = {}) {
   const entry = TEXTS[key];
   let text = entry ? entry[lang === "en" ? 1 : 0] : key;

@@ -10,6 +10,7 @@ import { loginUrl, safeNext } from "./redirect.js";
 import { classImportSection, resultsSection, submissionHref, submissionSection } from "./results.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
+import { coursesSection } from "./page-course.js";
 
 export { mountExercise } from "./page-exercise.js";
 
@@ -102,8 +103,9 @@ export async function mountInstructor(parent) {
   };
   // results.js: one submission opened (?submission=ID), the results table, the class list
   const opened = new URLSearchParams(location.search).get("submission");
-  const [view, results] = await Promise.all([opened ? submissionSection(opened) : null, resultsSection()]);
-  parent.replaceChildren(view ?? "", results,
+  const [view, courses, results] = await Promise.all([opened ? submissionSection(opened) : null, coursesSection(),
+    resultsSection()]);
+  parent.replaceChildren(view ?? "", courses, results,
     el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
     list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message,
     classImportSection());

@@ -47,6 +47,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   let pictureTimer = null;
   let pictureUrl = null;
   let renewing = false;
+  let gradedText = null;  // the graded program whose deviation colours the view shows (again after switching on)
   const modal = el("p", { id: "modal-state", className: "meta" }, "");
   const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
   const picture = el("img", { id: "viz-picture", alt: t("viz.picture_alt") });
@@ -189,6 +190,20 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     frame.src = session.body.url;
     await look("iso");  // the frame's shape first: the first picture fills it
     await refresh(view.state.doc.toString());
+    if (gradedText !== null) await showDeviation(gradedText);  // graded while the view was off
+  }
+
+  // after grading: where the part leaves the tolerance band, in colour (the camera shows it)
+  async function showDeviation(text) {
+    if (!token || !exercise) return;
+    const r = await api(`/viz/${token}/deviation`, post({ program: text, dialect, exercise }));
+    if (!r.ok) return;
+    const d = r.body;
+    deviation.textContent = d.too_much || d.too_little
+      ? t("deviation.shown", { much: number(d.too_much_mm3, 1), little: number(d.too_little_mm3, 1),
+        largest: number(d.largest_mm, 2) })
+      : t("deviation.none");
+    modal.after(deviation);
   }
 
   function disable() {
@@ -227,6 +242,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   return {
     changed(text) {
       deviation.remove();
+      gradedText = null;
       clearTimeout(timer);
       timer = setTimeout(() => refresh(text), 500);
       if (!token) { clearTimeout(pictureTimer); pictureTimer = setTimeout(() => updatePicture(text), 1000); }
@@ -235,16 +251,9 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
       setup = next;
       if (token) refresh(view.state.doc.toString()); else updatePicture(view.state.doc.toString());
     },
-    async graded(text) {  // after grading: where the part leaves the tolerance band, in colour (the camera shows it)
-      if (!token || !exercise) return;
-      const r = await api(`/viz/${token}/deviation`, post({ program: text, dialect, exercise }));
-      if (!r.ok) return;
-      const d = r.body;
-      deviation.textContent = d.too_much || d.too_little
-        ? t("deviation.shown", { much: number(d.too_much_mm3, 1), little: number(d.too_little_mm3, 1),
-          largest: number(d.largest_mm, 2) })
-        : t("deviation.none");
-      modal.after(deviation);
+    async graded(text) {  // the deviation colours now, or as soon as the view is switched on
+      gradedText = text;
+      await showDeviation(text);
     },
     pointer(line) {  // clicking a line in the editor moves playback to its first step
       const index = lines.indexOf(line);

@@ -1,0 +1,431 @@
+// The instructor's course page (/courses/{id}): the class (join code, members, adding by name, the class list),
+// its assignments (list, a new one: exercises, times, practice or exam with its conditions, late policy), and
+// for the chosen assignment the results matrix (students × exercises, best score, late marks; a cell opens the
+// submission above it), CSV and PDF task sheets, releasing an exam's results, and what the class got wrong
+// (GET /assignments/{id}/insights). The instructor page's list of courses and "Neue Klasse" are here too.
+
+import { api, el } from "./dom.js";
+import { addTexts, lang, message, t } from "./i18n.js";
+import { loginUrl } from "./redirect.js";
+import { submissionSection } from "./results.js";
+
+addTexts({
+  "title.course": ["PAL Trainer – Klasse", "PAL Trainer – Course"],
+  "course.heading": ["Klasse", "Course"],
+  "course.missing": ["Diese Klasse gibt es nicht oder Sie sehen sie nicht.", "This course does not exist or you cannot see it."],
+  "course.only_instructors": ["Diese Seite ist für die Lehrkräfte der Klasse.", "This page is for the course's instructors."],
+  "course.back": ["← Lehrer-Bereich", "← Instructor"],
+  "course.instructors": ["Lehrkräfte: {names}", "Instructors: {names}"],
+  "course.code": ["Beitrittscode für die Schüler:", "Join code for the students:"],
+  "course.code_help": ["Die Schüler geben ihn nach dem Anmelden auf ihrer Startseite ein.",
+    "The students enter it on their home page after logging in."],
+  "course.new_code": ["Neuen Code erzeugen", "New code"],
+  "course.new_code_confirm": ["Einen neuen Beitrittscode erzeugen? Der alte gilt dann nicht mehr.",
+    "Make a new join code? The old one stops working."],
+  "members.title": ["Teilnehmer ({n})", "Members ({n})"],
+  "members.none": ["Noch keine Schüler in dieser Klasse.", "No students in this course yet."],
+  "members.role": ["Rolle", "Role"],
+  "members.role.student": ["Schüler", "student"],
+  "members.role.instructor": ["Lehrkraft", "instructor"],
+  "members.remove": ["entfernen", "remove"],
+  "members.remove_label": ["{name} aus der Klasse entfernen", "Remove {name} from the course"],
+  "members.remove_confirm": ["{name} aus der Klasse entfernen? Die Abgaben bleiben erhalten.",
+    "Remove {name} from the course? Their submissions stay."],
+  "members.add": ["Hinzufügen", "Add"],
+  "members.add_label": ["Benutzername eines vorhandenen Kontos", "User name of an existing account"],
+  "members.added": ["{name} ist jetzt in der Klasse.", "{name} is now in the course."],
+  "members.import": ["Klassenliste (CSV) importieren", "Import a class list (CSV)"],
+  "members.import_help": ["Eine Zeile je Schüler: Name;Passwort oder nur Name (dann wird ein Passwort erzeugt). Die Konten werden neu angelegt und kommen in diese Klasse.",
+    "One line per student: name;password or just the name (a password is generated). The accounts are created and put into this course."],
+  "assignments.title": ["Aufträge", "Assignments"],
+  "assignments.none": ["Noch keine Aufträge.", "No assignments yet."],
+  "assignments.col.title": ["Auftrag", "Assignment"],
+  "assignments.col.mode": ["Art", "Mode"],
+  "assignments.col.opens": ["Freigabe", "Opens"],
+  "assignments.col.deadline": ["Abgabefrist / Ende", "Deadline / end"],
+  "mode.practice": ["Übung", "practice"],
+  "mode.exam": ["Prüfung", "exam"],
+  "assignments.released": ["Ergebnisse freigegeben", "results released"],
+  "assignments.held": ["Ergebnisse noch verborgen", "results still hidden"],
+  "assignments.new": ["Neuen Auftrag anlegen", "New assignment"],
+  "form.title": ["Titel", "Title"],
+  "form.exercises": ["Aufgaben", "Exercises"],
+  "form.opens": ["Freigabe ab", "Opens at"],
+  "form.deadline": ["Abgabefrist", "Deadline"],
+  "form.mode": ["Art", "Mode"],
+  "form.duration": ["Dauer (Minuten)", "Duration (minutes)"],
+  "form.late": ["Nach der Frist", "After the deadline"],
+  "form.late.accept": ["als verspätet annehmen", "accept as late"],
+  "form.late.refuse": ["nicht mehr annehmen", "refuse"],
+  "form.settings": ["Während der Bearbeitung erlaubt", "Allowed while working"],
+  "form.settings_help": ["Eine Prüfung beginnt mit Prüfungsbedingungen: alles aus, eine Abgabe.",
+    "An exam starts with exam conditions: everything off, one submission."],
+  "setting.live_diagnostics": ["Meldungen beim Tippen", "live messages while typing"],
+  "setting.viz": ["3D-Ansicht", "3D view"],
+  "setting.hints": ["Tipps", "hints"],
+  "setting.solution": ["Musterlösung", "model solution"],
+  "setting.free_practice": ["Freies Üben", "free practice"],
+  "setting.max_submissions": ["Abgaben je Aufgabe (0 = beliebig viele)", "Submissions per exercise (0 = any number)"],
+  "form.create": ["Auftrag anlegen", "Create the assignment"],
+  "form.no_exercise": ["Bitte mindestens eine Aufgabe wählen.", "Please choose at least one exercise."],
+  "form.created": ["Auftrag »{title}« angelegt.", "Assignment '{title}' created."],
+  "matrix.title": ["Ergebnisse: {title}", "Results: {title}"],
+  "matrix.csv": ["Ergebnisse als CSV (Excel)", "Results as CSV (Excel)"],
+  "matrix.sheets": ["Aufgabenblätter (PDF)", "Task sheets (PDF)"],
+  "matrix.release": ["Ergebnisse für die Schüler freigeben", "Release the results to the students"],
+  "matrix.release_confirm": ["Die Ergebnisse jetzt für die Schüler freigeben?", "Release the results to the students now?"],
+  "matrix.student": ["Schüler", "Student"],
+  "matrix.total": ["Summe", "Total"],
+  "matrix.none": ["Keine Schüler in der Klasse.", "No students in the course."],
+  "matrix.late": ["verspätet", "late"],
+  "matrix.auto": ["autom.", "auto"],
+  "matrix.auto_title": ["Am Prüfungsende automatisch abgegeben (letzter Entwurf)", "Submitted automatically at the exam's end (last draft)"],
+  "matrix.cell_title": ["Abgabe von {user} öffnen ({time})", "Open {user}'s submission ({time})"],
+  "matrix.note": ["Je Zelle die beste Abgabe; ein Klick öffnet sie oben.", "Each cell: the best submission; a click opens it above."],
+  "matrix.close": ["Abgabe schließen", "Close the submission"],
+  "insights.title": ["Was die Klasse falsch gemacht hat", "What the class got wrong"],
+  "insights.basis": ["Je Schüler zählt die beste Abgabe.", "Each student's best submission counts."],
+  "insights.capped": ["Nur die neuesten {n} Abgaben wurden ausgewertet.", "Only the newest {n} submissions were read."],
+  "insights.submitted": ["{n} von {of} Schülern haben abgegeben.", "{n} of {of} students submitted."],
+  "insights.nothing": ["Noch keine Abgaben.", "No submissions yet."],
+  "insights.diagnostics": ["Häufigste Meldungen", "Most frequent messages"],
+  "insights.no_diagnostics": ["Keine Meldungen.", "No messages."],
+  "insights.criteria": ["Verlorene Kriterien", "Lost criteria"],
+  "insights.no_criteria": ["Alle haben alle Kriterien erfüllt.", "Everyone met every criterion."],
+  "insights.of": ["{n} von {of}", "{n} of {of}"],
+  "insights.lost": ["verloren das Kriterium »{name}«", "lost the {name} criterion"],
+  "insights.where": ["{n} davon bei {block}", "{n} of them at {block}"],
+  "insights.students": ["Schüler", "students"],
+  "courses.title": ["Meine Klassen", "My courses"],
+  "courses.all": ["Alle Klassen", "All courses"],
+  "courses.none": ["Noch keine Klasse.", "No course yet."],
+  "courses.students": ["{n} Schüler", "{n} students"],
+  "courses.new": ["Neue Klasse", "New course"],
+  "courses.name": ["Name der Klasse (z. B. FA 23a)", "Name of the course (e.g. FA 23a)"],
+  "courses.create": ["Klasse anlegen", "Create the course"],
+});
+
+const error = (r, fallback) => (r.body?.error && message(r.body.error)) || t(fallback);
+const post = (body) => ({ method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
+const titleOf = (e) => (e ? (lang === "en" && e.title_en ? e.title_en : e.title_de) : "");
+const query = () => new URLSearchParams(location.search);
+// times to the minute: "22.11.2026, 18:46"
+const formatTime = (iso) => new Date(iso).toLocaleString(lang === "en" ? "en-GB" : "de-DE",
+  { dateStyle: "medium", timeStyle: "short" });
+const SETTINGS = ["live_diagnostics", "viz", "hints", "solution", "free_practice"];
+
+// -- the instructor page's list of courses and "Neue Klasse" ---------------------------------------------
+export async function coursesSection() {
+  const section = el("section", { id: "courses" });
+  const r = await api("/courses");
+  const admin = document.body.dataset.role === "admin";
+  const list = r.ok && r.body.length
+    ? el("ul", { className: "courses", id: "course-list" }, ...r.body.map((c) => el("li", {},
+      el("a", { href: `/courses/${c.id}` }, c.name), el("span", { className: "meta" },
+        ` · ${t("courses.students", { n: c.students })} · ${c.instructors.join(", ")}`))))
+    : el("p", { className: "meta" }, r.ok ? t("courses.none") : error(r, "instructor.error"));
+  const name = el("input", { type: "text", id: "course-name", required: true, maxLength: 200 });
+  const note = el("p", { role: "status" });
+  const form = el("form", { className: "inline-form", id: "course-new" },
+    el("label", {}, `${t("courses.name")} `, name), " ", el("button", { type: "submit" }, t("courses.create")), note);
+  form.onsubmit = async (event) => {
+    event.preventDefault();
+    const made = await api("/courses", post({ name: name.value.trim() }));
+    if (made.ok) location.href = `/courses/${made.body.id}`;
+    else { note.className = "error"; note.textContent = error(made, "instructor.error"); }
+  };
+  section.append(el("h3", {}, t(admin ? "courses.all" : "courses.title")), list,
+    el("details", {}, el("summary", {}, t("courses.new")), form));
+  return section;
+}
+
+// -- the course page ---------------------------------------------------------------------------------
+export async function mountCourse(parent, id) {
+  const [course, members, exercises, assignments] = await Promise.all([api(`/courses/${id}`),
+    api(`/courses/${id}/members`), api("/exercises"), api(`/courses/${id}/assignments`)]);
+  if (course.status === 401) {
+    location.href = loginUrl();
+    return;
+  }
+  if (!course.ok || !members.ok) {
+    parent.replaceChildren(el("p", { className: "error" }, t(course.ok ? "course.only_instructors" : "course.missing")));
+    return;
+  }
+  const c = course.body;
+  document.getElementById("course-title").textContent = `${t("course.heading")} ${c.name}`;
+  document.title = `PAL Trainer – ${c.name}`;
+  const byslug = new Map((exercises.body || []).map((e) => [e.slug, e]));
+  const list = assignments.body || [];
+  const chosen = list.find((a) => String(a.id) === query().get("assignment")) || list.at(-1);
+  const opened = query().get("submission");
+  const view = opened ? await submissionSection(opened) : null;
+  if (view) {
+    const close = new URLSearchParams(location.search);
+    close.delete("submission");
+    view.prepend(el("p", {}, el("a", { href: `?${close}`, id: "submission-close" }, t("matrix.close"))));
+  }
+  parent.replaceChildren(...[
+    el("p", { className: "meta" }, el("a", { href: "/instructor" }, t("course.back")), " · ",
+      t("course.instructors", { names: c.instructors.join(", ") })),
+    view,
+    chosen ? await resultsPart(chosen, byslug) : null,
+    assignmentsPart(id, list, chosen, byslug, exercises.body || []),
+    membersPart(c, members.body),
+  ].filter(Boolean));
+  view?.mountViz?.();
+}
+
+function joinCode(c) {
+  const code = el("code", { id: "join-code", className: "join-code" }, c.join_code || "–");
+  const renew = el("button", { type: "button", id: "join-renew", className: "link-button" }, t("course.new_code"));
+  renew.onclick = async () => {
+    if (!confirm(t("course.new_code_confirm"))) return;
+    const r = await api(`/courses/${c.id}`, { method: "PATCH", headers: { "Content-Type": "application/json" },
+      body: JSON.stringify({ new_join_code: true }) });
+    if (r.ok) code.textContent = r.body.join_code;
+  };
+  return el("div", { className: "join-box" }, el("p", {}, `${t("course.code")} `, code, " ", renew),
+    el("p", { className: "meta" }, t("course.code_help")));
+}
+
+function membersPart(c, members) {
+  const students = members.filter((m) => m.role === "student");
+  const rows = el("tbody", {}, ...members.map((m) => {
+    const remove = el("button", { type: "button", className: "link-button" }, t("members.remove"));
+    remove.setAttribute("aria-label", t("members.remove_label", { name: m.username }));
+    remove.onclick = async () => {
+      if (!confirm(t("members.remove_confirm", { name: m.username }))) return;
+      const r = await api(`/courses/${c.id}/members/${encodeURIComponent(m.username)}`, { method: "DELETE" });
+      if (r.ok) location.reload();
+    };
+    return el("tr", {}, el("td", {}, m.username), el("td", {}, t(`members.role.${m.role}`)),
+      el("td", {}, m.role === "student" ? remove : ""));
+  }));
+  const name = el("input", { type: "text", id: "member-name", required: true, maxLength: 64, autocomplete: "off" });
+  const note = el("p", { role: "status", id: "member-note" });
+  const add = el("form", { className: "inline-form", id: "member-add" },
+    el("label", {}, `${t("members.add_label")} `, name), " ", el("button", { type: "submit" }, t("members.add")));
+  add.onsubmit = async (event) => {
+    event.preventDefault();
+    const r = await api(`/courses/${c.id}/members`, post({ username: name.value.trim() }));
+    note.className = r.ok ? "ok" : "error";
+    note.textContent = r.ok ? t("members.added", { name: r.body.username }) : error(r, "instructor.error");
+    if (r.ok) {
+      rows.append(el("tr", {}, el("td", {}, r.body.username), el("td", {}, t(`members.role.${r.body.role}`)), el("td")));
+      name.value = "";
+    }
+  };
+  // the class list: new accounts in this course, the generated passwords shown this once
+  const file = el("input", { type: "file", id: "course-class-file", accept: ".csv,.txt,text/csv" });
+  file.setAttribute("aria-label", t("classlist.file"));
+  const out = el("div", { id: "course-class-result", role: "status" });
+  file.onchange = async () => {
+    const chosen = file.files[0];
+    if (!chosen) return;
+    out.replaceChildren(el("p", {}, t("classlist.busy")));
+    const r = await api(`/courses/${c.id}/members/import`, { method: "POST", headers: { "Content-Type": "text/csv" },
+      body: await chosen.text() });
+    file.value = "";
+    if (!r.ok) {
+      const errors = r.body?.error?.details?.errors || [];
+      out.replaceChildren(el("p", { className: "error" }, error(r, "classlist.failed")),
+        el("ul", { className: "error" }, ...errors.map((e) => el("li", {},
+          `${e.row ? `${t("classlist.row", { n: e.row })}: ` : ""}${message(e)}`))));
+      return;
+    }
+    const users = r.body.users;
+    for (const u of users) rows.append(el("tr", {}, el("td", {}, u.username), el("td", {}, t("members.role.student")), el("td")));
+    out.replaceChildren(el("p", { className: "ok" }, t("classlist.done", { n: users.length })),
+      el("p", { className: "meta" }, t("classlist.once")),
+      el("table", { className: "passwords", id: "course-passwords" },
+        el("thead", {}, el("tr", {}, el("th", {}, t("login.user")), el("th", {}, t("login.password")))),
+        el("tbody", {}, ...users.map((u) => el("tr", {}, el("td", {}, u.username),
+          el("td", {}, u.password ?? t("classlist.given")))))));
+  };
+  return el("section", { id: "members" },
+    el("h3", {}, t("members.title", { n: students.length })), joinCode(c),
+    students.length ? null : el("p", { className: "meta" }, t("members.none")),
+    el("table", { id: "member-table", className: "members" }, el("thead", {}, el("tr", {},
+      el("th", {}, t("login.user")), el("th", {}, t("members.role")),
+      el("th", {}, el("span", { className: "visually-hidden" }, t("members.remove"))))), rows),
+    add, note,
+    el("h4", {}, t("members.import")), el("p", { className: "meta" }, t("members.import_help")), el("p", {}, file), out);
+}
+
+// -- assignments: the list and a new one --------------------------------------------------------------
+const localInput = (date) => {  // a Date as <input type=datetime-local> wants it (local time, minutes)
+  const d = new Date(date.getTime() - date.getTimezoneOffset() * 60000);
+  return d.toISOString().slice(0, 16);
+};
+
+function assignmentsPart(courseId, list, chosen, byslug, exercises) {
+  const rows = list.map((a) => el("tr", { className: a.id === chosen?.id ? "chosen" : "" },
+    el("td", {}, el("a", { href: `?assignment=${a.id}`, ...(a.id === chosen?.id ? { ariaCurrent: "true" } : {}) }, a.title),
+      el("span", { className: "meta" }, ` · ${a.exercises.map((s) => titleOf(byslug.get(s)) || s).join(", ")}`)),
+    el("td", {}, t(`mode.${a.mode}`), a.mode === "exam"
+      ? el("span", { className: "meta" }, ` · ${a.duration_minutes} min · ${t(a.released ? "assignments.released" : "assignments.held")}`) : null,
+    a.mode === "practice" && a.late === "refuse" ? el("span", { className: "meta" }, ` · ${t("form.late.refuse")}`) : null),
+    el("td", {}, formatTime(a.opens_at)), el("td", {}, formatTime(a.deadline))));
+  return el("section", { id: "assignments" }, el("h3", {}, t("assignments.title")),
+    list.length ? el("div", { className: "results-wrap" }, el("table", { id: "assignment-table" },
+      el("thead", {}, el("tr", {}, ...["title", "mode", "opens", "deadline"].map((k) => el("th", {}, t(`assignments.col.${k}`))))),
+      el("tbody", {}, ...rows)))
+      : el("p", { className: "meta" }, t("assignments.none")),
+    el("details", { id: "assignment-new", open: !list.length }, el("summary", {}, t("assignments.new")),
+      assignmentForm(courseId, exercises)));
+}
+
+function assignmentForm(courseId, exercises) {
+  const field = (label, input) => el("label", { className: "field" }, label, input);
+  const title = el("input", { type: "text", id: "a-title", required: true, maxLength: 200 });
+  // the exercises by dialect, as on the exercise list
+  const groups = [];
+  for (const e of exercises) {
+    if (groups.at(-1)?.dialect !== e.dialect) groups.push({ dialect: e.dialect,
+      title: (lang === "en" && e.dialect_title_en) || e.dialect_title || e.dialect, items: [] });
+    groups.at(-1).items.push(e);
+  }
+  const picker = el("div", { className: "exercise-picker", id: "a-exercises", tabIndex: 0 },
+    ...groups.map((g) => el("div", {}, el("p", { className: "picker-group" }, g.title), ...g.items.map((e) =>
+      el("label", { className: "check" }, el("input", { type: "checkbox", value: e.slug, name: "exercise" }), ` ${titleOf(e)}`)))));
+  picker.setAttribute("aria-label", t("form.exercises"));
+  const now = new Date();
+  const opens = el("input", { type: "datetime-local", id: "a-opens", required: true, value: localInput(now) });
+  const deadline = el("input", { type: "datetime-local", id: "a-deadline",
+    value: localInput(new Date(now.getTime() + 7 * 86400000)) });
+  const mode = el("select", { id: "a-mode" }, ...["practice", "exam"].map((m) => el("option", { value: m }, t(`mode.${m}`))));
+  const duration = el("input", { type: "number", id: "a-duration", min: 1, max: 1440, value: 90 });
+  const late = el("select", { id: "a-late" }, ...["accept", "refuse"].map((v) => el("option", { value: v }, t(`form.late.${v}`))));
+  const boxes = Object.fromEntries(SETTINGS.map((k) => [k, el("input", { type: "checkbox", id: `a-${k}`, checked: true })]));
+  const maxSubs = el("input", { type: "number", id: "a-max", min: 0, max: 1000, value: 0 });
+  const deadlineField = field(t("form.deadline"), deadline);
+  const durationField = field(t("form.duration"), duration);
+  const lateField = field(t("form.late"), late);
+  // the mode's defaults (server/exams.py): an exam under exam conditions, practice with everything
+  const applyMode = () => {
+    const exam = mode.value === "exam";
+    for (const box of Object.values(boxes)) box.checked = !exam;
+    maxSubs.value = exam ? 1 : 0;
+    deadlineField.hidden = exam;
+    lateField.hidden = exam;
+    durationField.hidden = !exam;
+  };
+  mode.onchange = applyMode;
+  const note = el("p", { role: "status", id: "a-note" });
+  const form = el("form", { id: "assignment-form", className: "assignment-form" },
+    el("div", { className: "form-grid" }, field(t("form.title"), title), field(t("form.mode"), mode),
+      field(t("form.opens"), opens), deadlineField, durationField, lateField),
+    el("fieldset", {}, el("legend", {}, t("form.exercises")), picker),
+    el("fieldset", { id: "a-settings" }, el("legend", {}, t("form.settings")),
+      el("p", { className: "meta" }, t("form.settings_help")),
+      ...SETTINGS.map((k) => el("label", { className: "check" }, boxes[k], ` ${t(`setting.${k}`)}`)),
+      el("label", { className: "field" }, t("setting.max_submissions"), maxSubs)),
+    el("p", {}, el("button", { type: "submit", className: "primary" }, t("form.create"))), note);
+  applyMode();
+  form.onsubmit = async (event) => {
+    event.preventDefault();
+    const chosen = [...picker.querySelectorAll("input:checked")].map((b) => b.value);
+    if (!chosen.length) {
+      note.className = "error";
+      note.textContent = t("form.no_exercise");
+      return;
+    }
+    const exam = mode.value === "exam";
+    const body = { title: title.value.trim(), exercises: chosen, mode: mode.value,
+      opens_at: new Date(opens.value).toISOString(),
+      ...(exam ? { duration_minutes: Number(duration.value) }
+        : { deadline: deadline.value ? new Date(deadline.value).toISOString() : null, late: late.value }),
+      settings: { ...Object.fromEntries(SETTINGS.map((k) => [k, boxes[k].checked])), max_submissions: Number(maxSubs.value) } };
+    const r = await api(`/courses/${courseId}/assignments`, post(body));
+    note.className = r.ok ? "ok" : "error";
+    note.textContent = r.ok ? t("form.created", { title: r.body.title })
+      : `${error(r, "instructor.error")}${r.body?.error?.details?.detail ? ` ${message(r.body.error.details, "detail", "detail_en")}` : ""}`;
+    if (r.ok) location.href = `/courses/${courseId}?assignment=${r.body.id}`;
+  };
+  return form;
+}
+
+// -- one assignment: results matrix, downloads, release, insights ------------------------------------------
+async function resultsPart(a, byslug) {
+  const [results, insights] = await Promise.all([api(`/assignments/${a.id}/results`), api(`/assignments/${a.id}/insights`)]);
+  const section = el("section", { id: "assignment-results" }, el("h3", {}, t("matrix.title", { title: a.title })));
+  section.append(el("p", { className: "meta" }, `${t(`mode.${a.mode}`)} · ${formatTime(a.opens_at)} – ${formatTime(a.deadline)}`));
+  const links = el("p", { className: "actions" },
+    el("a", { id: "matrix-csv", href: `/api/v1/assignments/${a.id}/results.csv`, download: `auftrag-${a.id}.csv` }, t("matrix.csv")),
+    " · ", el("a", { id: "matrix-sheets", href: `/api/v1/assignments/${a.id}/sheets.pdf${lang === "en" ? "?lang=en" : ""}`,
+      target: "_blank", rel: "noopener" }, t("matrix.sheets")));
+  if (a.mode === "exam" && !a.released) {
+    const release = el("button", { type: "button", id: "matrix-release" }, t("matrix.release"));
+    const note = el("span", { role: "status" });
+    release.onclick = async () => {
+      if (!confirm(t("matrix.release_confirm"))) return;
+      const r = await api(`/assignments/${a.id}/release`, { method: "POST" });
+      if (r.ok) { release.remove(); note.className = "ok"; note.textContent = t("assignments.released"); }
+      else { note.className = "error"; note.textContent = error(r, "instructor.error"); }
+    };
+    links.append(" · ", release, " ", note);
+  }
+  section.append(links);
+  if (!results.ok) {
+    section.append(el("p", { className: "error" }, error(results, "results.failed")));
+    return section;
+  }
+  const { exercises, trainees } = results.body;
+  if (!trainees.length) section.append(el("p", { className: "meta" }, t("matrix.none")));
+  else {
+    const here = new URLSearchParams(location.search);
+    here.set("assignment", a.id);
+    const href = (submission) => { here.set("submission", submission); return `?${here}`; };
+    const head = el("tr", {}, el("th", { scope: "col" }, t("matrix.student")),
+      ...exercises.map((s) => el("th", { scope: "col" }, titleOf(byslug.get(s)) || s)),
+      el("th", { scope: "col", className: "num" }, t("matrix.total")));
+    const rows = trainees.map((row) => el("tr", {}, el("th", { scope: "row" }, row.username),
+      ...exercises.map((s) => {
+        const cell = row.results[s];
+        if (!cell) return el("td", { className: "num meta" }, "–");
+        const label = cell.score === null ? t("history.ungraded") : `${cell.score}/${cell.max_score}`;
+        return el("td", { className: `num${cell.late ? " late" : ""}` },
+          el("a", { href: href(cell.submission), title: t("matrix.cell_title", { user: row.username,
+            time: formatTime(cell.created_at) }) }, label),
+          cell.late ? el("span", { className: "tag tag-late" }, t("matrix.late")) : null,
+          cell.auto ? el("span", { className: "tag", title: t("matrix.auto_title") }, t("matrix.auto")) : null);
+      }),
+      el("td", { className: "num" }, row.total === null ? "–" : `${row.total}/${row.max_total}`)));
+    section.append(el("div", { className: "results-wrap" },
+      el("table", { className: "results-table", id: "matrix" }, el("thead", {}, head), el("tbody", {}, ...rows))),
+    el("p", { className: "meta" }, t("matrix.note")));
+  }
+  section.append(insightsPart(insights, byslug));
+  return section;
+}
+
+function insightsPart(r, byslug) {
+  const section = el("section", { id: "insights", className: "insights" }, el("h3", {}, t("insights.title")));
+  if (!r.ok) {
+    section.append(el("p", { className: "error" }, error(r, "results.failed")));
+    return section;
+  }
+  const d = r.body;
+  section.append(el("p", { className: "meta" }, t("insights.basis"),
+    d.capped ? ` ${t("insights.capped", { n: d.scanned })}` : ""));
+  const where = (w) => (w ? el("span", { className: "meta" }, ` (${t("insights.where", { n: w.students, block: w.block })})`) : null);
+  for (const ex of d.exercises) {
+    const part = el("div", { className: "insight", id: `insight-${ex.exercise}` },
+      el("h4", {}, titleOf(byslug.get(ex.exercise)) || ex.title_de || ex.exercise),
+      el("p", { className: "meta" }, ex.students ? t("insights.submitted", { n: ex.students, of: d.students }) : t("insights.nothing")));
+    if (ex.students) {
+      part.append(el("div", { className: "insight-cols" },
+        el("div", {}, el("h5", {}, t("insights.diagnostics")), ex.diagnostics.length
+          ? el("ul", { className: "insight-diagnostics" }, ...ex.diagnostics.map((x) => el("li", {},
+            el("strong", {}, t("insights.of", { n: x.students, of: ex.students })), ` · ${x.code}: ${message(x)}`, where(x.where))))
+          : el("p", { className: "meta" }, t("insights.no_diagnostics"))),
+        el("div", {}, el("h5", {}, t("insights.criteria")), ex.criteria.length
+          ? el("ul", { className: "insight-criteria" }, ...ex.criteria.map((x) => el("li", {},
+            el("strong", {}, t("insights.of", { n: x.lost, of: x.of })),
+            ` ${t("insights.lost", { name: lang === "en" ? x.name_en : x.name })}`, where(x.where))))
+          : el("p", { className: "meta" }, t("insights.no_criteria")))));
+    }
+    section.append(part);
+  }
+  return section;
+}
