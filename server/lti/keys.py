@@ -41,7 +41,7 @@ def configure(settings: Settings) -> None:
 
 
 def _fernet(db: Session) -> Fernet:
-    url = db.get_bind().url.render_as_string(hide_password=False)
+    url = db.get_bind().engine.url.render_as_string(hide_password=False)
     secret = _secrets.get(url) or (_last[0] if _last else None)
     if secret is None:
         configure(Settings())

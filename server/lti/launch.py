@@ -325,7 +325,8 @@ def _resource_link(db: Session, platform: LtiPlatform, claims: dict[str, Any],
         db.add(row)
     row.title = str(rl.get("title") or "")[:500]
     row.context_pk = context.id if context is not None else None
-    custom = claims.get(CLAIM_CUSTOM) if isinstance(claims.get(CLAIM_CUSTOM), dict) else {}
+    given = claims.get(CLAIM_CUSTOM)
+    custom: dict[str, Any] = given if isinstance(given, dict) else {}
     slug = custom.get("exercise")
     row.exercise_slug = slug if isinstance(slug, str) and repo.exercise_by_slug(db, slug) else None
     assignment_id = str(custom.get("assignment", ""))
