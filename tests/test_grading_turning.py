@@ -5,6 +5,7 @@ technology criterion on the feed per revolution, the volumes of a turned part, t
 from __future__ import annotations
 
 import math
+import re
 
 import pytest
 
@@ -114,6 +115,40 @@ def test_a_wrong_diameter_costs_the_geometry_criterion_with_its_line() -> None:
     assert "0.50 mm" in geo.message and f"Zeile {line}" in geo.message  # type: ignore[attr-defined]
     assert "Too much material removed" in geo.message_en  # type: ignore[attr-defined]
     assert result.score == 50
+
+
+# a diameter programmed 1 mm too small (0.6 mm for the thread's root) in each built-in exercise, and the block
+# that then cuts the surface where the part deviates most
+WRONG_DIAMETER = {
+    "traub-01-srk-fase": ("G1 X40 D2", "G1 X39 D2", "G1 Z-30"),
+    "traub-02-uebersichtskontur": ("G1 X20 Z0 F0.15", "G1 X19 Z0 F0.15", "G1 Z-15"),
+    "traub-03-schruppen-g71-fehler": ("G1 X20 Z0 F0.15", "G1 X19 Z0 F0.15", "G1 Z-15"),
+    "traub-04-geometriezug": ("G1 X50 A135", "G1 X49 A135", "G1 Z-60"),
+    "traub-05-planschruppen-g72": ("G1 X60 R2 F0.15", "G1 X59 R2 F0.15", "G1 X59 R2 F0.15"),
+    "traub-06-g72-unterprogramm": ("G1 X60 R2 F0.15", "G1 X59 R2 F0.15", "G1 X59 R2 F0.15"),
+    "traub-07-gewinde-g76": ("G76 X33.1", "G76 X32.5", "G76 X32.5 Z-29 K0.92 H8 F1.5"),
+    "traub-09-srk-fehler": ("G1 X40 D2", "G1 X39 D2", "G1 Z-30"),
+    "traub-10-schruppen-g71-g88": ("G1 X65 R5", "G1 X64 R5", "G1 Z-45"),
+    "traub-11-innen-g71-g89": ("G1 X60\n", "G1 X61\n", "G1 Z-65 R0.6"),
+}
+
+
+@pytest.mark.parametrize("eid", sorted(WRONG_DIAMETER))
+def test_a_wrong_diameter_costs_the_geometry_of_every_exercise(eid: str) -> None:
+    ex = EXERCISES[eid]
+    was, wrong, cutter = WRONG_DIAMETER[eid]
+    assert ex.reference.count(was) == 1
+    program = ex.reference.replace(was, wrong)
+    geo = criterion(grade(ex, program), "geometry")
+    assert not geo.passed and geo.points == 0 and "Zu viel Material abgetragen" in geo.message  # type: ignore[attr-defined]
+    assert [program.splitlines()[n - 1] for n in geo.lines][:1] == [cutter]  # type: ignore[attr-defined]
+
+
+@pytest.mark.parametrize("eid", [e for e in TURNING if "G46" in EXERCISES[e].reference])
+def test_srk_off_costs_the_geometry_of_every_exercise(eid: str) -> None:
+    ex = EXERCISES[eid]
+    geo = criterion(grade(ex, re.sub(r"\bG46\b", "", ex.reference)), "geometry")
+    assert not geo.passed and geo.lines  # type: ignore[attr-defined]
 
 
 def test_srk_off_leaves_material_and_names_the_line() -> None:

@@ -151,8 +151,12 @@ def turned_geometry(ref: Turned, sub: Turned, tol: float) -> Verdict:
         if not (gouge if over else left):
             continue
         depth, z, have, want, inside = _worst(dev, rp, over)
-        # over-cut: whatever cut there, a rapid too; material left: the feed that should have cut it
-        line = line_near(sub.toolpath, z, have, math.inf, True) if over else \
+        # over-cut: the block whose cut left the surface there (the simulation's record, else the nearest path);
+        # material left: the feed that should have cut it
+        k = min(len(rp.zs) - 1, max(0, int((z - rp.z0) / rp.dz)))
+        cutter = int((sub.sim.profile.cut_inner if inside else sub.sim.profile.cut_outer)[k])
+        line: int | None = cutter if over and cutter > 0 else \
+            line_near(sub.toolpath, z, have, math.inf, True) if over else \
             line_near(sub.toolpath, z, have, NAME_REACH, False)
         if line is not None:
             lines.append(line)

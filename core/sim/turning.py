@@ -102,6 +102,9 @@ class RevolvedProfile:
     # thin wall above it): gap_lo … gap_hi is empty although outer says material; NaN: none
     gap_lo: Array
     gap_hi: Array
+    # the line of the block that last moved the outer (inner) surface of each sample, 0: never cut there
+    cut_outer: npt.NDArray[np.int64]
+    cut_inner: npt.NDArray[np.int64]
 
     @property
     def zs(self) -> Array:
@@ -165,7 +168,8 @@ def simulate_turning(toolpath: Toolpath, blank: Blank, tools: ToolTable = DEFAUL
                         limit=limits.max_samples))
     dz = blank.length / n
     profile = RevolvedProfile(-blank.length, dz, np.full(n, blank.diameter / 2), np.full(n, blank.bore / 2),
-                              np.full(n, np.nan), np.full(n, np.nan))
+                              np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, dtype=np.int64),
+                              np.zeros(n, dtype=np.int64))
     run = _Run(profile, blank, tools, machine, limits, events)
     complete = True
     try:
@@ -369,6 +373,8 @@ class _Run:
         if under.any():
             self._gap(under, ulo, uhi, glo, ghi, inner, outer, ins.inside, tol)
         cut = (np.abs(new - old) > tol) | under
+        moved = np.abs(surface - old) > tol  # the surface this move leaves (the grader names its line)
+        (self.p.cut_inner if ins.inside else self.p.cut_outer)[i0:i1][moved] = mv.line
         removed = before - _volume(outer, inner, glo, ghi, self.p.dz)
         if not ins.inside:
             jaws = self.jaw_samples - i0
