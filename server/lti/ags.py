@@ -278,12 +278,13 @@ def _claim(db: Session, row_id: int, at: datetime) -> bool:
     return bool(getattr(result, "rowcount", 0) == 1)
 
 
-def _due(db: Session, at: datetime) -> list[int]:
-    """Pending rows due at `at`, oldest first; an exam's scores only once its results are released."""
-    q = (select(LtiScore.id).join(Submission, Submission.id == LtiScore.submission_id)
+def _due(db: Session, at: datetime) -> list[tuple[int, int]]:
+    """(id, platform id) of the pending rows due at `at`, oldest first; an exam's scores only once its results
+    are released."""
+    q = (select(LtiScore.id, LtiScore.platform_id).join(Submission, Submission.id == LtiScore.submission_id)
          .where(LtiScore.state == "pending", LtiScore.next_attempt_at <= at, Submission.held.is_(False))
          .order_by(LtiScore.next_attempt_at, LtiScore.id).limit(BATCH))
-    return list(db.scalars(q))
+    return [(r[0], r[1]) for r in db.execute(q)]
 
 
 def _failed(db: Session, row: LtiScore, at: datetime, error: str) -> None:
@@ -328,15 +329,20 @@ async def drain(database: Database, at: datetime | None = None, client: httpx.As
     own = client is None
     http = client or httpx.AsyncClient(timeout=HTTP_TIMEOUT)
     sent = 0
+    failing: set[int] = set()  # platforms that refused or did not answer in this round: their rows wait
     try:
         with database.session() as db:
-            for row_id in _due(db, at):
-                if not _claim(db, row_id, at):
+            for row_id, platform_id in _due(db, at):
+                if platform_id in failing or not _claim(db, row_id, at):
                     continue
                 row = db.get(LtiScore, row_id)
-                if row is not None:
-                    db.refresh(row)
-                    sent += await send(http, db, row, at)
+                if row is None:
+                    continue
+                db.refresh(row)
+                if await send(http, db, row, at):
+                    sent += 1
+                else:
+                    failing.add(platform_id)
     finally:
         if own:
             await http.aclose()

@@ -270,3 +270,25 @@ def test_an_assignment_link_gets_the_mean_of_its_exercises(world: World) -> None
         world.drain(datetime.now(UTC))
     assert [(item, s["scoreGiven"], s["activityProgress"]) for item, s in world.state.scores] == [
         ("li-2", 40.0, "InProgress"), ("li-2", 90.0, "Completed")]
+
+
+def test_a_platform_that_does_not_answer_costs_one_attempt_per_round(world: World) -> None:
+    world.enqueue(world.submit(7))
+    with world.database.session() as db:  # a second trainee of the same course
+        ben = User(username="ben", password_hash="-", role="student")
+        db.add(ben)
+        db.flush()
+        link = db.get(LtiResourceLink, world.link_id)
+        assert link is not None
+        db.add(LtiUser(platform_id=link.platform_id, sub="moodle-user-8", user_id=ben.id))
+        db.commit()
+        world.user_id, anna = ben.id, world.user_id
+    world.enqueue(world.submit(9))
+    world.user_id = anna
+    t0 = datetime.now(UTC)
+    assert world.drain(t0) == 0
+    assert sorted(r.attempts for r in world.rows()) == [0, 1]  # the second waits for the next round
+    world.platform.start()
+    assert world.drain(t0 + timedelta(minutes=1)) == 2
+    assert sorted((s["userId"], s["scoreGiven"]) for _, s in world.state.scores) == [
+        ("moodle-user-7", 70.0), ("moodle-user-8", 90.0)]
