@@ -273,3 +273,21 @@ def test_the_drawing_of_a_turning_exercise_is_a_titled_placeholder(lang: str, no
     ex = EXERCISES["traub-01-srk-fase"]
     svg = part_drawing(ex, lang)
     assert svg.startswith("<") and note in svg and "Ø44 × 80" in svg and ex.title.get(lang) in svg
+
+
+def test_lathe_syntax_criterion_names_the_first_error() -> None:
+    ex = parse_exercise(SIMPLE)
+    program = ex.reference.replace("G1 Z-20 F0.2", "G1 Z-20 F0.2 Y5")  # a lathe has no Y
+    syntax = criterion(grade(ex, program), "syntax")
+    assert not syntax.passed and syntax.lines[0] == 4  # type: ignore[attr-defined]
+    assert "Zeile 4" in syntax.message and "»Y«" in syntax.message and "line 4" in syntax.message_en  # type: ignore[attr-defined]
+    assert criterion(grade(ex, ex.reference), "syntax").passed  # type: ignore[attr-defined]
+
+
+def test_lathe_safety_criterion_counts_every_turning_event() -> None:
+    # the spindle never switched on (no M4): the cuts run at zero speed, SIM-E006 on the first cutting line
+    ex = parse_exercise(SIMPLE)
+    safety = criterion(grade(ex, ex.reference.replace("T0101 M4", "T0101")), "safety")
+    assert not safety.passed and safety.lines[0] == 4 and "stehender Spindel" in safety.message  # type: ignore[attr-defined]
+    # a straight retract from the end of each pass is none of them (the reference lifts to X42 at Z−19)
+    assert criterion(grade(ex, ex.reference), "safety").passed  # type: ignore[attr-defined]

@@ -45,20 +45,22 @@ def _stock(text: str) -> Stock:
 
 
 def _blank(text: str) -> Blank:
-    """`bar:D,L[,C]` or `tube:D,d,L[,C]`: diameter, bore, length and clamping length C in mm."""
+    """`bar:D,L[,C[,J]]` or `tube:D,d,L[,C[,J]]`: diameter, bore, length, clamping length C and the jaws'
+    outer diameter J in mm."""
     try:
         kind, rest = text.split(":", 1)
         values = [float(v) for v in rest.split(",")]
-        if kind == "bar" and len(values) in (2, 3):
-            return Blank(values[0], values[1], 0.0, values[2] if len(values) == 3 else None)
-        if kind == "tube" and len(values) in (3, 4):
-            return Blank(values[0], values[2], values[1], values[3] if len(values) == 4 else None)
-        raise ValueError
+        if kind == "bar" and 2 <= len(values) <= 4:
+            values.insert(1, 0.0)
+        elif not (kind == "tube" and 3 <= len(values) <= 5):
+            raise ValueError
+        d, bore, length, *chuck = values
+        return Blank(d, length, bore, chuck[0] if chuck else None, chuck[1] if len(chuck) == 2 else None)
     except ValueError:
         raise argparse.ArgumentTypeError(
-            f"»{text}«: erwartet bar:D,L[,C] oder tube:D,d,L[,C] (Durchmesser, Bohrung, Länge, Spannlänge in mm, "
-            f"Bohrung < Durchmesser, Spannlänge < Länge), z. B. {DEFAULT_BLANK} / expected bar:D,L[,C] or "
-            "tube:D,d,L[,C]") from None
+            f"»{text}«: erwartet bar:D,L[,C[,J]] oder tube:D,d,L[,C[,J]] (Durchmesser, Bohrung, Länge, Spannlänge, "
+            f"Backendurchmesser in mm, Bohrung < Durchmesser < Backendurchmesser, Spannlänge < Länge), "
+            f"z. B. {DEFAULT_BLANK} / expected bar:D,L[,C[,J]] or tube:D,d,L[,C[,J]]") from None
 
 
 def _resolution(text: str) -> float:
@@ -85,9 +87,10 @@ def register(subparsers: Any, common: argparse.ArgumentParser) -> None:
                               help="Zerspanung simulieren: Rohteil, Kollisionen, Laufzeit / simulate the machining")
     p.add_argument("--stock", type=_stock, default=_stock(DEFAULT_STOCK), metavar="X0,Y0,Z0:X1,Y1,Z1",
                    help=f"Rohteil als zwei Ecken in Werkstückkoordinaten (Standard {DEFAULT_STOCK})")
-    p.add_argument("--blank", type=_blank, default=None, metavar="bar:D,L[,C]|tube:D,d,L[,C]",
-                   help=(f"Drehen: Rohteil Stange oder Rohr mit Spannlänge C im Futter (Standard {DEFAULT_BLANK}) / "
-                         "turning: the bar or tube and its clamping length"))
+    p.add_argument("--blank", type=_blank, default=None, metavar="bar:D,L[,C[,J]]|tube:D,d,L[,C[,J]]",
+                   help=(f"Drehen: Rohteil Stange oder Rohr mit Spannlänge C im Futter und Backendurchmesser J "
+                         f"(Standard {DEFAULT_BLANK}) / turning: the bar or tube, its clamping length and the jaws' "
+                         "diameter"))
     p.add_argument("--tools", metavar="YAML", help="Werkzeugtabelle (YAML, docs/tools.md) / tool table")
     p.add_argument("--resolution", type=_resolution, default=None, metavar="MM",
                    help=(f"Rasterweite in mm (Standard {DEFAULT_RESOLUTION}; Drehen: Abstand in Z, Standard "
