@@ -10,16 +10,21 @@ Scenario 1: one session edits a 500-block PAL program; each keystroke changes on
 client waits for the update that carries that keystroke's version before typing the next one.
 Scenario 2: 50 sessions edit their own copy of the program at the same time, each typing one
 keystroke every --interval seconds (with ±50 % random jitter), independently of the answers;
-by default at 0.3 s (a fast typist, all 50 typing at once), 0.5 s, 1 s and 2 s.
+by default at 0.3 s (a fast typist, all 50 typing at once).
+Scenario 3: 200 sessions, one keystroke per 1 s each (a school's evening before the exam).
 Latency = time from sending a keystroke's edit to receiving the first update whose version is at
 least that keystroke's version (the server answers only the newest version when edits pile up).
-This prints figures; it is a benchmark, not a test. Only 127.0.0.1 is contacted.
+Every keystroke must be answered and no answer may be an error; both are counted and printed.
+The targets (issue 21, on a 2-core machine): scenario 1 p95 < 10 ms, 2 p95 < 100 ms, 3 p95 < 150 ms.
+The header prints the machine's cores and its load average before the run: other work on the machine
+shows in the figures. This prints figures; it is a benchmark, not a test. Only 127.0.0.1 is contacted.
 """
 
 from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
 import datetime
 import json
 import os
@@ -39,8 +44,9 @@ from contextlib import contextmanager
 from websockets.asyncio.client import ClientConnection, connect
 
 SEED = 20261122
-TARGET_SINGLE_P95_MS = 20.0
+TARGET_SINGLE_P95_MS = 10.0
 TARGET_CONCURRENT_P95_MS = 100.0
+TARGET_SCHOOL_P95_MS = 150.0  # 200 sessions, one key per 1 s
 
 
 def program(blocks: int = 500) -> list[str]:
@@ -79,6 +85,7 @@ def server(workers: int, exercises: bool = False) -> Iterator[str]:
         port = s.getsockname()[1]
     data = tempfile.mkdtemp(prefix="paltrainer-bench-")
     env = {**os.environ, "PALTRAINER_DATA_DIR": data, "PALTRAINER_WORKERS": str(workers),
+           "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000",  # every session comes from 127.0.0.1
            "PALTRAINER_LOG_LEVEL": "WARNING", "PALTRAINER_LOAD_EXERCISES": "true" if exercises else "false"}
     env.pop("DATABASE_URL", None)
     proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
@@ -112,6 +119,7 @@ class Session:
         self.version = 0
         self.pending: dict[int, float] = {}  # version → send time
         self.latencies: list[float] = []
+        self.errors: list[dict[str, object]] = []
         self.newest = asyncio.Event()
 
     async def open(self) -> None:
@@ -130,7 +138,8 @@ class Session:
             now = time.perf_counter()
             msg = json.loads(raw)
             if msg["type"] != "update":
-                raise RuntimeError(f"server error: {msg}")
+                self.errors.append(msg)
+                continue
             for v in [v for v in self.pending if v <= msg["version"]]:
                 self.latencies.append((now - self.pending.pop(v)) * 1000)
             if not self.pending:
@@ -158,10 +167,12 @@ async def single(url: str, n: int) -> list[float]:
         return s.latencies
 
 
-async def concurrent(url: str, sessions: int, per_session: int, interval: float) -> tuple[list[float], float]:
+async def concurrent(url: str, sessions: int, per_session: int, interval: float,
+                     ) -> tuple[list[float], float, int, int]:
+    """Latencies, seconds, errors received and keystrokes never answered."""
     lines = program()
 
-    async def one(i: int, start: asyncio.Event) -> list[float]:
+    async def one(i: int, start: asyncio.Event) -> tuple[list[float], int, int]:
         rng = random.Random(SEED + i)
         async with connect(url, max_size=None, compression=None) as ws:
             s = Session(ws, lines)
@@ -175,17 +186,19 @@ async def concurrent(url: str, sessions: int, per_session: int, interval: float)
                 await asyncio.sleep(interval * rng.uniform(0.5, 1.5))
             s.newest.clear()
             if s.pending:
-                await asyncio.wait_for(s.newest.wait(), 30)
+                with contextlib.suppress(TimeoutError):
+                    await asyncio.wait_for(s.newest.wait(), 30)
             task.cancel()
-            return s.latencies
+            return s.latencies, len(s.errors), len(s.pending)
 
     start = asyncio.Event()
     tasks = [asyncio.create_task(one(i, start)) for i in range(sessions)]
-    await asyncio.sleep(2.0)  # all sessions open before typing starts
+    await asyncio.sleep(2.0 + sessions / 100)  # all sessions open before typing starts
     t0 = time.perf_counter()
     start.set()
     results = await asyncio.gather(*tasks)
-    return [x for r in results for x in r], time.perf_counter() - t0
+    return ([x for r in results for x in r[0]], time.perf_counter() - t0, sum(r[1] for r in results),
+            sum(r[2] for r in results))
 
 
 def pct(values: list[float], p: float) -> float:
@@ -208,11 +221,17 @@ async def main_async(args: argparse.Namespace, url: str) -> bool:
     lat = await single(url, n)
     ok &= report("1 session, 500 blocks", lat, TARGET_SINGLE_P95_MS)
     per = 15 if args.quick else 40
-    for interval in (float(x) for x in args.interval.split(",")):
-        lat, seconds = await concurrent(url, args.sessions, per, interval)
-        ok &= report(f"{args.sessions} sessions, one key per {interval:g} s", lat, TARGET_CONCURRENT_P95_MS)
-        print(f"  {args.sessions} sessions × {per} keystrokes, one every {interval:g} s ± 50 % per session: "
-              f"{args.sessions / interval:.0f} keystrokes/s offered, {len(lat) / seconds:.0f} keystrokes/s answered")
+    runs = [(args.sessions, float(x), TARGET_CONCURRENT_P95_MS) for x in args.interval.split(",")]
+    if args.school:
+        runs.append((200, 1.0, TARGET_SCHOOL_P95_MS))
+    for sessions, interval, target in runs:
+        lat, seconds, errors, unanswered = await concurrent(url, sessions, per, interval)
+        ok &= report(f"{sessions} sessions, one key per {interval:g} s", lat, target)
+        ok &= errors == 0 and unanswered == 0
+        print(f"  {sessions} sessions × {per} keystrokes, one every {interval:g} s ± 50 % per session: "
+              f"{sessions / interval:.0f} keystrokes/s offered, {len(lat) / seconds:.0f} keystrokes/s answered; "
+              f"errors {errors}, keystrokes never answered {unanswered}; load average now "
+              f"{os.getloadavg()[0]:.2f}")
     return ok
 
 
@@ -221,12 +240,16 @@ def main() -> int:
     parser.add_argument("--url", help="ws:// URL of a running server's /api/v1/live (default: start one)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes of the started server")
     parser.add_argument("--sessions", type=int, default=50)
-    parser.add_argument("--interval", default="0.3,0.5,1,2",
+    parser.add_argument("--interval", default="0.3",
                         help="seconds between one session's keystrokes; a comma list runs scenario 2 once for each")
+    parser.add_argument("--no-school", dest="school", action="store_false",
+                        help="leave out scenario 3 (200 sessions, one key per 1 s)")
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
+    load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
     print(f"{datetime.date.today()}  Python {platform.python_version()}  {platform.system()} {platform.machine()}, "
-          f"{os.cpu_count()} cores; program: {len(program())} blocks")
+          f"{os.cpu_count()} cores (os.cpu_count()), load average {load} (1, 5, 15 min) before the run; "
+          f"program: {len(program())} blocks; server: {args.workers} worker processes")
     if args.url:
         ok = asyncio.run(main_async(args, args.url))
     else:

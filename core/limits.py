@@ -9,7 +9,10 @@ segments (PAL-I019), counted before a point is made.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from core.diagnostics import Diagnostic, diag
+from core.syntax.blocks import BinOp, Block, Expr, Neg
 
 
 @dataclass(frozen=True, slots=True)
@@ -32,3 +35,59 @@ class Limits:
 DIAGNOSTIC_STEPS = 20  # making a diagnostic costs about as much as evaluating twenty terms
 
 DEFAULT_LIMITS = Limits()
+
+
+@dataclass(slots=True)
+class Budget:
+    """The work one run has done so far against its limits; both run loops (the shared one in
+    core/interpreter/__init__.py and TRAUB's) count through it, in this order per block: `block` before the
+    block runs, `reported` for its diagnostics, `made` for its moves. A returned diagnostic stops the run."""
+
+    limits: Limits
+    executed: int = 0  # blocks executed (loops count every pass)
+    steps: int = 0  # evaluation steps
+    moves: int = 0  # programmed moves
+    costs: dict[int, int] = field(default_factory=dict)  # id(block) → the evaluation steps of its words
+
+    def block(self, block: Block) -> Diagnostic | None:
+        """Count one execution of `block`: PAL-E013 or PAL-E016 when that spends a budget."""
+        self.executed += 1
+        if self.executed > self.limits.max_executed_blocks:
+            return diag("PAL-E013", block.span, limit=self.limits.max_executed_blocks)
+        cost = self.costs.get(id(block))
+        if cost is None:
+            cost = self.costs[id(block)] = block_steps(block)
+        self.steps += cost
+        if self.steps > self.limits.max_evaluation_steps:
+            return diag("PAL-E016", block.span, limit=self.limits.max_evaluation_steps)
+        return None
+
+    def reported(self, count: int) -> None:
+        """A block reported `count` diagnostics."""
+        self.steps += DIAGNOSTIC_STEPS * count
+
+    def made(self, moves: int, block: Block) -> Diagnostic | None:
+        """`block` programmed `moves` moves: PAL-E017 (and none counted) when they do not fit."""
+        if moves and self.moves + moves > self.limits.max_moves:
+            return diag("PAL-E017", block.span, limit=self.limits.max_moves)
+        self.moves += moves
+        return None
+
+    @property
+    def counters(self) -> tuple[int, int, int]:
+        return self.executed, self.steps, self.moves
+
+
+def block_steps(block: Block) -> int:
+    """The evaluation steps of one execution of `block`: one per word, one per term of each expression."""
+    return len(block.words) + sum(_terms(w.expr) for w in block.words if w.expr is not None) + sum(
+        1 + _terms(a.expr) for a in block.assignments)
+
+
+def _terms(expr: Expr) -> int:
+    """Numbers, parameters and operators in `expr` (depth-limited by the parser, PAL-E014)."""
+    if isinstance(expr, BinOp):
+        return 1 + _terms(expr.left) + _terms(expr.right)
+    if isinstance(expr, Neg):
+        return 1 + _terms(expr.operand)
+    return 1

@@ -19,6 +19,7 @@ from core.dialects.pal_mill import TABLE as PAL_MILL_TABLE
 from core.dialects.sinumerik_iso import TABLE as ISO_TABLE
 from core.dialects.traub_tx8d import TABLE as TRAUB_TABLE
 from core.interpreter import BlockExecutor, Toolpath, interpret
+from core.interpreter.checkpoints import Keep
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
 from core.interpreter.traub_turn import run_program as traub_run
@@ -72,6 +73,7 @@ class Memo:
 
     lines: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = field(default_factory=dict)
     readings: dict[Any, Any] = field(default_factory=dict)
+    runs: Keep = field(default_factory=Keep)  # the last run's checkpoints (core/interpreter/checkpoints.py)
 
 
 def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None, memo: Memo | None = None) -> Toolpath:
@@ -91,7 +93,7 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
         toolpath = d.runner(program, setup, diagnostics, library)
     else:
         toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
-                             memo.readings if memo is not None else None)
+                             memo.readings if memo is not None else None, memo.runs if memo is not None else None)
     toolpath.diagnostics.sort(key=lambda x: (x.span.line, x.span.column))
     toolpath.limits = setup.limits
     return toolpath

@@ -15,11 +15,25 @@ from typing import Any, Protocol
 
 from core.diagnostics import Diagnostic, diag
 from core.dialects.codes import CodeTable
+from core.interpreter.checkpoints import (
+    MAX_STEPS,
+    STATS,
+    CallPoint,
+    Checkpoint,
+    Keep,
+    LineMap,
+    RepeatPoint,
+    Trace,
+    UnitKey,
+    Unmappable,
+    changed_lines,
+    structure_kept,
+)
 from core.interpreter.contour import Item, Planned, finish
 from core.interpreter.followups import FollowUps
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
-from core.limits import DEFAULT_LIMITS, DIAGNOSTIC_STEPS, Limits
-from core.syntax.blocks import BinOp, Block, Expr, Neg, Program, Span
+from core.limits import DEFAULT_LIMITS, Budget, Limits
+from core.syntax.blocks import Block, Program, Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 
@@ -95,6 +109,7 @@ class Unit:
     source: str | None  # None: the program file; "L200": a file of the program library
     blocks: list[Block]
     numbers: dict[int, int] = field(default_factory=dict)  # block number N → index of its first block
+    first: int = 1  # the line of its first block (a unit's blocks are consecutive lines)
 
     def __post_init__(self) -> None:
         for i, b in enumerate(self.blocks):
@@ -104,6 +119,10 @@ class Unit:
     @property
     def name(self) -> str:
         return "Hauptprogramm" if self.number is None else f"L{self.number}"
+
+    @property
+    def key(self) -> UnitKey:
+        return self.source, self.number
 
 
 _SUB_HEADER = re.compile(r"L\s*(\d+)")
@@ -118,7 +137,7 @@ def split_units(program: Program) -> tuple[Unit, dict[int, Unit]]:
         m = _SUB_HEADER.fullmatch(b.header or "")
         if m is not None:
             current = []
-            subs.setdefault(int(m.group(1)), Unit(int(m.group(1)), None, current))
+            subs.setdefault(int(m.group(1)), Unit(int(m.group(1)), None, current, first=b.line + 1))
             continue
         current.append(b)
     for u in subs.values():
@@ -145,23 +164,37 @@ class _Repeat:
     return_index: int
 
 
+def _call_points(calls: list[_Call]) -> tuple[CallPoint, ...]:
+    return tuple((c.unit.key, c.unit.first + c.return_index, c.callee.key, c.remaining, c.line, c.source)
+                 for c in calls)
+
+
+def _repeat_points(repeats: list[_Repeat]) -> tuple[RepeatPoint, ...]:
+    return tuple((r.unit.key, r.unit.first + r.start, r.unit.first + r.end, r.remaining,
+                  r.unit.first + r.return_index) for r in repeats)
+
+
 def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup: RunSetup,
               diagnostics: list[Diagnostic] | None = None, library: dict[int, Program] | None = None,
-              readings: dict[Any, Any] | None = None) -> Toolpath:
+              readings: dict[Any, Any] | None = None, keep: Keep | None = None) -> Toolpath:
     """Execute the program from its first block, following calls, repeats and jumps; never raises on user input.
 
     `readings` is the executor's reading of blocks kept from an earlier run of the same blocks (see
-    core.pipeline.Memo); it is pruned to this program's blocks.
+    core.pipeline.Memo); it is pruned to this program's blocks. `keep` holds the checkpoints of the previous
+    run of the same document (core/interpreter/checkpoints.py): this run executes only what the change can
+    affect and takes the rest over; the result is the same as a full run's. It then holds this run's.
     """
     limits = setup.limits
     result = Toolpath(diagnostics=list(diagnostics or []), limits=limits)
     diags = result.diagnostics
+    n_initial = len(diags)  # the parser's diagnostics come first
     state = result.initial = switch_on_state(table)
     position = setup.start
     params = result.params
     main, subs = split_units(program)
     for number, prog in (library or {}).items():
         subs.setdefault(number, Unit(number, f"L{number}", prog.blocks))
+    units = {main.key: main, **{u.key: u for u in subs.values()}}
     n_lines = len(program.blocks)
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines
@@ -173,12 +206,50 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     repeats: list[_Repeat] = []
     unit, index = main, 0
     ended = False
-    executed = 0
-    steps = 0  # evaluation steps (see core.limits.Limits.max_evaluation_steps)
-    costs: dict[int, int] = {}  # id(block) → the evaluation steps of its words
-    moves = 0  # programmed moves
+    budget = Budget(limits)
     last_line = 0
     follow = FollowUps()  # what blocks dropped by an error leave unknown (follow-up errors)
+    # -- checkpoints: this run's, and where the previous run's let it start and stop ---------------
+    identity = (setup, table, execute)
+    trace = Trace(program.blocks, identity, limits) if keep is not None else None
+    set_at = [-1] * n_lines if trace is not None else []
+    last_set = -1
+    params_now: dict[int, float] = {}  # a copy of params as they are now (the checkpoints share it)
+    step = 0
+    old = keep.trace if keep is not None else None
+    meet: dict[tuple[UnitKey, int], list[int]] = {}  # (unit, old line) → steps of the previous run to meet
+    lines = LineMap(1, 1, 0)
+    resume_at: Checkpoint | None = None
+    if old is not None and trace is not None:
+        resumed = _resume(old, trace, program.blocks, identity, units)
+        if resumed is None:
+            STATS["full"] += 1
+        else:
+            k, lines, meet, resume_at = resumed
+            STATS["to_end"] += 1  # until it meets the previous run
+        if resumed is not None and resume_at is not None:
+            cp = resume_at
+            unit, index = units[cp.unit], cp.line - units[cp.unit].first
+            state, position = cp.state, cp.position
+            params.update(cp.params)
+            params_now = cp.params
+            calls = [_Call(units[u], r - units[u].first, units[c], n, ln, src) for u, r, c, n, ln, src in cp.calls]
+            repeats = [_Repeat(units[u], a - units[u].first, b - units[u].first, n, r - units[u].first)
+                       for u, a, b, n, r in cp.repeats]
+            follow.unknown = cp.unknown
+            for _, where, unknown in trace.at_log:
+                follow.at.setdefault(where, unknown)
+            budget.executed, budget.steps, budget.moves = old.executed[k], old.steps[k], old.moves[k]
+            planned = old.items[:old.planned[k]]
+            diags.extend(old.loop_diags[:old.diags[k]])
+            last_line, last_set = old.last_line[k], old.last_set[k]
+            for i, at in enumerate(old.set_at):
+                if 0 <= at < k:
+                    n = lines.line(i + 1) - 1
+                    states[n], positions[n], set_at[n] = old.states[i], old.positions[i], at
+            step = k
+    elif trace is not None:
+        STATS["full"] += 1
 
     def report(d: Diagnostic) -> None:
         diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
@@ -205,39 +276,68 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
         block = unit.blocks[index]
+        if trace is not None:
+            cp = Checkpoint(unit.key, block.line, state, position, params_now,
+                            _call_points(calls) if calls else (), _repeat_points(repeats) if repeats else (),
+                            follow.unknown)
+            if meet:
+                was = lines.back(block.line, unit.source)
+                candidates = meet.get((unit.key, was)) if was is not None else None
+                if candidates is not None and old is not None:
+                    done = _take_over(old, trace, candidates, cp, lines, step, budget, planned, diags,
+                                      n_initial, follow, states, positions, set_at, last_line, last_set)
+                    if done is not None:
+                        STATS["to_end"] -= 1
+                        STATS["incremental"] += 1
+                        state, position, ended, last_line, last_set = done
+                        params.clear()
+                        params.update(old.params)
+                        break
+            if step < MAX_STEPS:
+                trace.checkpoints.append(cp)
+                trace.executed.append(budget.executed)
+                trace.steps.append(budget.steps)
+                trace.moves.append(budget.moves)
+                trace.planned.append(len(planned))
+                trace.diags.append(len(diags) - n_initial)
+                trace.last_line.append(last_line)
+                trace.last_set.append(last_set)
+            else:
+                trace = None  # too long to keep: the next run is a full one
         here = index
         index += 1
+        step += 1
         if not block.ok or block.is_empty or block.header is not None:
             if not block.ok:
                 follow.dropped(block)
             continue
         if unit is main:
-            last_line = block.line
+            last_line, last_set = block.line, step - 1
         if block.skip is not None and setup.skip_blocks:
             continue
-        executed += 1
-        if executed > limits.max_executed_blocks:
-            report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
+        spent = budget.block(block)
+        if spent is not None:
+            report(spent)
             ended = True  # stopped: a missing M30 is no news
-            break
-        cost = costs.get(id(block))
-        if cost is None:
-            cost = costs[id(block)] = _steps(block)
-        steps += cost
-        if steps > limits.max_evaluation_steps:
-            report(diag("PAL-E016", block.span, limit=limits.max_evaluation_steps))
-            ended = True
+            if trace is not None:
+                trace.spent = True
             break
         out = execute(setup, state, position, block, params, cache=cache)
+        if trace is not None:
+            if follow.unknown:
+                trace.at_log.append((step - 1, (unit.source, block.line), follow.unknown))
+            if block.assignments:
+                params_now = dict(params)
         follow.ran(block, unit.source, out.diagnostics, getattr(out, "executed", True), out.position != position,
                    out.state.active("dimensions") != "G91")
-        steps += DIAGNOSTIC_STEPS * len(out.diagnostics)
-        made = sum(type(c) is Planned for c in out.commands)
-        if made and moves + made > limits.max_moves:
-            report(diag("PAL-E017", block.span, limit=limits.max_moves))
+        budget.reported(len(out.diagnostics))
+        spent = budget.made(sum(type(c) is Planned for c in out.commands), block)
+        if spent is not None:
+            report(spent)
             ended = True
+            if trace is not None:
+                trace.spent = True
             break
-        moves += made
         if calls:
             stack = tuple((c.source, c.line) for c in calls)
             for c in out.commands:
@@ -250,6 +350,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         if unit.source is None:
             states[block.line - 1] = state
             positions[block.line - 1] = position
+            if trace is not None:
+                set_at[block.line - 1] = step - 1
         # -- program flow -----------------------------------------------------------------------
         if cache is None and (out.flow is not None or out.repeat is not None or out.sub_end):
             cache = {}
@@ -267,6 +369,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 unit, index = callee, 0
                 continue
         elif out.flow is not None:  # a G29 jump that is taken
+            if trace is not None:
+                trace.labels = True
             target = unit.numbers.get(out.flow[1])
             if target is None:
                 report(diag("PAL-E406", block.span, number=out.flow[1]))
@@ -274,6 +378,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 index = target
                 continue
         if out.repeat is not None:
+            if trace is not None:
+                trace.labels = True
             first, last, count = out.repeat
             start, end = unit.numbers.get(first), unit.numbers.get(last)
             if start is None or end is None:
@@ -305,6 +411,15 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             if unit is main and rest is not None:
                 diags.append(diag("PAL-W101", rest.span))
             break
+    if trace is not None and keep is not None:
+        trace.items = planned
+        trace.loop_diags = diags[n_initial:]
+        trace.states, trace.positions, trace.set_at = list(states), list(positions), set_at
+        trace.state, trace.position, trace.params = state, position, dict(params)
+        trace.unknown, trace.final_line, trace.final_set = follow.unknown, last_line, last_set
+        trace.ended, trace.counters = ended, budget.counters
+    if keep is not None:
+        keep.trace = trace
     truncated = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
     if not ended and not truncated and (program.blocks or not diags):  # a rejected program needs no second word
         line = last_line or 1
@@ -340,19 +455,115 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     return result
 
 
-def _steps(block: Block) -> int:
-    """The evaluation steps of one execution of `block`: one per word, one per term of each expression."""
-    return len(block.words) + sum(_terms(w.expr) for w in block.words if w.expr is not None) + sum(
-        1 + _terms(a.expr) for a in block.assignments)
+def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, ...], units: dict[UnitKey, Unit],
+            ) -> tuple[int, LineMap, dict[tuple[UnitKey, int], list[int]], Checkpoint | None] | None:
+    """Where this run starts from the previous run's checkpoints: (step, line map, the previous run's steps
+    it may meet again, the checkpoint or None for the program start); None: a full run. Fills `trace` with
+    the steps before the start."""
+    if (not old.checkpoints or old.setup[1] is not identity[1] or old.setup[2] is not identity[2]
+            or old.setup[0] != identity[0]):
+        return None
+    first, old_end, new_end = changed_lines(old.blocks, blocks)
+    if not structure_kept(old.blocks, blocks, first, old_end, new_end, old.labels):
+        return None
+    lines = LineMap(first, old_end, new_end - old_end)
+    # the changed lines and the one before them, from which the run goes on into them
+    lo = max(1, first - 1)
+    touch_end = old_end if lines.delta == 0 else 1 << 60  # lines after an insertion or deletion move too
+    cps = old.checkpoints
+    last = len(cps) - 1
+    k, last_touch = last, -1
+    for i, cp in enumerate(cps):
+        if cp.unit[0] is None and lo <= cp.line < touch_end:
+            k = min(k, i)
+            if cp.line < old_end:
+                last_touch = i
+    meet: dict[tuple[UnitKey, int], list[int]] = {}
+    # the previous run's last step is never taken over: M30 looks at the blocks after it (PAL-W101)
+    for j in range(max(k, last_touch + 1), last):
+        cp = cps[j]
+        meet.setdefault((cp.unit, cp.line), []).append(j)
+    # the step before the first changed one runs again, so that it goes on to what now follows it
+    r = k - 1
+    if r < 0:
+        return 0, lines, meet, None
+    try:
+        start = lines.checkpoint(cps[r])
+        kept = cps[:r] if lines.delta == 0 else [lines.checkpoint(cp) for cp in cps[:r]]
+    except Unmappable:
+        return None
+    if start.unit not in units or any(c[0] not in units or c[2] not in units for c in start.calls):
+        return None
+    trace.checkpoints = kept
+    trace.executed, trace.steps, trace.moves = old.executed[:r], old.steps[:r], old.moves[:r]
+    trace.planned, trace.diags = old.planned[:r], old.diags[:r]
+    trace.last_line, trace.last_set = old.last_line[:r], old.last_set[:r]
+    trace.at_log = [(st, (src, lines.line(ln, src)), lines.unknown(unk)) for st, (src, ln), unk in old.at_log
+                    if st < r]
+    trace.labels = old.labels
+    return r, lines, meet, start
 
 
-def _terms(expr: Expr) -> int:
-    """Numbers, parameters and operators in `expr` (depth-limited by the parser, PAL-E014)."""
-    if isinstance(expr, BinOp):
-        return 1 + _terms(expr.left) + _terms(expr.right)
-    if isinstance(expr, Neg):
-        return 1 + _terms(expr.operand)
-    return 1
+def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint, lines: LineMap, step: int,
+               budget: Budget, planned: list[Item], diags: list[Diagnostic], n_initial: int, follow: FollowUps,
+               states: list[ModalState | None], positions: list[Vec3 | None], set_at: list[int], last_line: int,
+               last_set: int) -> tuple[ModalState, Vec3, bool, int, int] | None:
+    """If the run, about to take step `step` in state `now`, is where the previous run was at one of its
+    steps `candidates`, append the rest of the previous run (its lines mapped) to this one's lists and trace
+    and answer (state, position, ended, last line, the step that set it) at the end; else None."""
+    for j in candidates:
+        if not old.fits(budget.executed, budget.steps, budget.moves, j):
+            continue
+        try:
+            then = lines.checkpoint(old.checkpoints[j])
+            if then != now:
+                continue
+            shift = lines.delta != 0
+            items = old.items[old.planned[j]:]
+            found = old.loop_diags[old.diags[j]:]
+            cps = old.checkpoints[j:]
+            if shift:
+                items = [lines.item(x) for x in items]
+                found = [lines.diagnostic(x) for x in found]
+                cps = [lines.checkpoint(x) for x in cps]
+            at_log = [(st - j + step, (src, lines.line(ln, src)), lines.unknown(unk))
+                      for st, (src, ln), unk in old.at_log if st >= j]
+            unknown = lines.unknown(old.unknown)
+            moved = [(lines.line(i + 1) - 1, i) for i, at in enumerate(old.set_at) if at >= j]
+            final_line = lines.line(old.final_line) if old.final_set >= j else last_line
+            tail_lines = [(lines.line(ln), at - j + step) if at >= j else (last_line, last_set)
+                          for ln, at in zip(old.last_line[j:], old.last_set[j:], strict=True)]
+        except Unmappable:
+            continue
+        d_e, d_s, d_m = budget.executed - old.executed[j], budget.steps - old.steps[j], budget.moves - old.moves[j]
+        d_p, d_d = len(planned) - old.planned[j], len(diags) - n_initial - old.diags[j]
+        planned.extend(items)
+        diags.extend(found)
+        for st, where, unk in at_log:
+            follow.at.setdefault(where, unk)
+        trace.at_log.extend(at_log)
+        follow.unknown = unknown
+        for n, i in moved:
+            states[n], positions[n], set_at[n] = old.states[i], old.positions[i], old.set_at[i] - j + step
+        e, s, m = old.counters
+        budget.executed, budget.steps, budget.moves = e + d_e, s + d_s, m + d_m
+        if len(trace.checkpoints) + len(cps) <= MAX_STEPS:
+            trace.checkpoints.extend(cps)
+            trace.executed.extend(x + d_e for x in old.executed[j:])
+            trace.steps.extend(x + d_s for x in old.steps[j:])
+            trace.moves.extend(x + d_m for x in old.moves[j:])
+            trace.planned.extend(x + d_p for x in old.planned[j:])
+            trace.diags.extend(x + d_d for x in old.diags[j:])
+            trace.last_line.extend(ln for ln, _ in tail_lines)
+            trace.last_set.extend(at for _, at in tail_lines)
+        else:
+            trace.checkpoints.clear()  # too long to keep: the next run is a full one
+        trace.spent = old.spent
+        trace.labels = trace.labels or old.labels  # the steps taken over may have resolved block numbers
+        final_set = old.final_set - j + step if old.final_set >= j else last_set
+        assert old.state is not None
+        return old.state, old.position, old.ended, final_line, final_set
+    return None
 
 
 def _dedupe(diags: list[Diagnostic]) -> None:

@@ -25,11 +25,11 @@ from dataclasses import dataclass, field
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.interpreter import Toolpath, _dedupe, _steps, traub_cycles, turn_contour
+from core.interpreter import Toolpath, _dedupe, traub_cycles, turn_contour
 from core.interpreter.params import evaluate as evaluate_expression
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
-from core.limits import DIAGNOSTIC_STEPS
+from core.limits import Budget
 from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
@@ -726,10 +726,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     calls: list[_Frame] = []
     unit, index, end_index = main, 0, None
     ended = False
-    executed = 0
-    steps = 0  # evaluation steps (core.limits.Limits.max_evaluation_steps)
-    costs: dict[int, int] = {}  # id(block) → the evaluation steps of its words
-    moves = 0  # programmed moves (core.limits.Limits.max_moves)
+    budget = Budget(limits)
     last_line = 0
 
     def report(d: Diagnostic) -> None:
@@ -768,28 +765,19 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             continue
         if unit is main:
             last_line = block.line
-        executed += 1
-        if executed > limits.max_executed_blocks:
-            report(diag("PAL-E013", block.span, limit=limits.max_executed_blocks))
-            ended = True
-            break
-        cost = costs.get(id(block))
-        if cost is None:
-            cost = costs[id(block)] = _steps(block)
-        steps += cost
-        if steps > limits.max_evaluation_steps:
-            report(diag("PAL-E016", block.span, limit=limits.max_evaluation_steps))
+        spent = budget.block(block)
+        if spent is not None:
+            report(spent)
             ended = True
             break
         run.program = calls[-1].callee.name if calls else None
         out = run.execute(block)
-        steps += DIAGNOSTIC_STEPS * len(out.diagnostics)
-        made = sum(type(c) is TurnItem or type(c) is Move for c in out.items)
-        if made and moves + made > limits.max_moves:
-            report(diag("PAL-E017", block.span, limit=limits.max_moves))
+        budget.reported(len(out.diagnostics))
+        spent = budget.made(sum(type(c) is TurnItem or type(c) is Move for c in out.items), block)
+        if spent is not None:
+            report(spent)
             ended = True
             break
-        moves += made
         if calls or unit.source is not None:
             stack = tuple((None if c.unit.source is None else c.unit.source, c.line) for c in calls)
             for k, it in enumerate(out.items):

@@ -1,0 +1,206 @@
+"""Incremental live checking: a run that restarts from the previous run's checkpoints and takes over the rest
+of it gives exactly a full run's answer, for any sequence of edits (core/interpreter/checkpoints.py).
+
+The comparison is of the JSON the live socket is built from: every move, dwell, tool change and diagnostic
+(with its line), the final position, and the state after each line.
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from core.interpreter.checkpoints import STATS
+from core.interpreter.state import RunSetup
+from core.limits import Limits
+from core.pipeline import Memo, run, toolpath_json
+from server.workers import job_live
+
+# small budgets: endless loops end quickly, and the budgets' diagnostics are part of what is compared
+SMALL = RunSetup(limits=Limits(max_executed_blocks=400, max_moves=150, max_evaluation_steps=4_000,
+                               max_diagnostics=60, max_answer_commands=120))
+
+PAL_LINES = [
+    "N10 T1 TC1 M6", "N20 S1200 F150 M3", "G0 X10 Y10 Z2", "G1 Z-2", "G1 X20 Y15", "G1 X35 Y40",
+    "G2 X30 Y15 R10", "G3 X20 Y15 R10", "G2 X40 Y20 I10 J0", "P1=5", "P2=P1*2+1", "G1 X=P1 Y=P2",
+    "P3=P3+1", "G91", "G90", "G1 X5", "G91 G1 X5", "G41 G1 X10 Y10", "G40 G1 X0", "G1 X30 RN3",
+    "G1 Y30 RN-2", "N100 G1 X40", "N110 G0 Z5", "G23 N100 N110 H2", "G29 N110", "G29 N100", "G22 L10",
+    "G22 L10 H2", "G22 L20", "M17", "M30", "G4 F1", "T2 M6", "G54", "G59 X10", "G17", "F0", "M5",
+    # broken, half-typed, empty and comment lines
+    "", "; Kommentar", "G1 X", "G1 X1 X2", "N", "P4=", "G7", "G2 X10 R", "N12 G1 X5 Y(", "(offen",
+]
+PAL_HEADERS = ["%L10", "%L20"]
+
+ISO_LINES = [
+    "N10 T1 M6", "N20 S1200 M3", "N30 G17 G90 G00 X-20 Y10 Z2", "N40 G01 Z-2 F150", "G01 X40",
+    "G03 X60 Y30 R20", "G01 Y50", "G02 X80 Y70 I20 J0", "G91 G01 X5", "G90", "G00 Z50", "M30", "G04 X1",
+    "", "G01 X", "G99", "; Satz",
+]
+
+TRAUB_LINES = [
+    "G59 X0 Z210", "G95", "G96 V180 T0101 M4", "G92 S3000", "G0 X54 Z2 M8", "G0 X100 Z50",
+    "G1 X20 Z0 F0.15", "G1 A180", "G2 X40 Z-20 R10", "G1 Z-30", "G1 X50 A135", "G1 Z-60", "G1 X54 Z-62",
+    "N10 G46", "N20 G40", "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "G22 A8001", "M9", "M30", "G97 S1000 M3",
+    "G1 X30 F0,2", "G1 U-2", "", "G1 X", "G7", "(Kommentar)", "L1=10", "G1 X=L1 Z-5",
+]
+TRAUB_SUB = ["%", "O 8001", "G00 X40 Z2", "G01 X20 F0,2", "M99", "%"]
+
+
+def live_json(text: str, dialect: str, setup: RunSetup, memo: Memo | None) -> str:
+    """What the live answer is made of, as JSON (plus the state after each line)."""
+    tp = run(text, dialect, setup, memo)
+    data: dict[str, Any] = toolpath_json(tp)
+    data["states"] = [[s.to_json(), list(p)] for s, p in zip(tp.line_states, tp.line_positions, strict=True)]
+    return json.dumps(data, sort_keys=True)
+
+
+def edits(pool: list[str]) -> st.SearchStrategy[tuple[str, int, int, list[str]]]:
+    """(kind, at, count, lines): replace, insert or delete lines at a relative position (0..1000)."""
+    line = st.one_of(st.sampled_from(pool), st.sampled_from(pool).map(lambda s: s[: len(s) // 2]))
+    return st.tuples(st.sampled_from(["replace", "insert", "delete", "type"]), st.integers(0, 1000),
+                     st.integers(1, 3), st.lists(line, min_size=1, max_size=3))
+
+
+def apply(lines: list[str], edit: tuple[str, int, int, list[str]]) -> list[str]:
+    kind, at, count, new = edit
+    i = at * len(lines) // 1001 if lines else 0
+    if kind == "insert":
+        return lines[:i] + new + lines[i:]
+    if kind == "delete":
+        return lines[:i] + lines[i + count:]
+    if kind == "type" and lines:  # one more character of a line from the pool, as a typist does
+        target = new[0] or "X1"
+        current = lines[i]
+        return lines[:i] + [target[: len(current) + 1] if target.startswith(current) else target[:1]] + lines[i + 1:]
+    return lines[:i] + new + lines[i + 1:]
+
+
+def check_sequence(start: list[str], steps: list[tuple[str, int, int, list[str]]], dialect: str,
+                   setup: RunSetup) -> None:
+    memo = Memo()
+    lines = start
+    for k in range(len(steps) + 1):
+        text = "\n".join(lines) + "\n"
+        assert live_json(text, dialect, setup, memo) == live_json(text, dialect, setup, None), \
+            f"after {k} edits of {start!r} by {steps!r}"
+        if k < len(steps):
+            lines = apply(lines, steps[k])
+
+
+PAL_PROGRAM = st.tuples(
+    st.lists(st.sampled_from(PAL_LINES), min_size=3, max_size=30),
+    st.lists(st.tuples(st.sampled_from(PAL_HEADERS), st.lists(st.sampled_from(PAL_LINES), max_size=6)),
+             max_size=2),
+).map(lambda p: ["N10 T1 TC1 M6", "N20 S1200 F150 M3", *p[0], "M30"]
+      + [x for header, body in p[1] for x in (header, *body, "M17")])
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(PAL_PROGRAM, st.lists(edits(PAL_LINES + PAL_HEADERS), min_size=1, max_size=8))
+def test_pal_milling_incremental_equals_full_run(program: list[str], steps: list[Any]) -> None:
+    check_sequence(program, steps, "pal-mill", SMALL)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(PAL_PROGRAM, st.lists(edits(PAL_LINES), min_size=1, max_size=6))
+def test_pal_milling_incremental_equals_full_run_default_limits(program: list[str], steps: list[Any]) -> None:
+    setup = RunSetup(limits=Limits(max_executed_blocks=3_000))  # endless loops stay affordable
+    check_sequence(program, steps, "pal-mill", setup)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.sampled_from(ISO_LINES), min_size=2, max_size=25), st.lists(edits(ISO_LINES), min_size=1,
+                                                                               max_size=6))
+def test_iso_incremental_equals_full_run(program: list[str], steps: list[Any]) -> None:
+    check_sequence(program, steps, "sinumerik-iso", SMALL)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.sampled_from(TRAUB_LINES), min_size=2, max_size=20), st.booleans(),
+       st.lists(edits(TRAUB_LINES), min_size=1, max_size=5))
+def test_traub_incremental_equals_full_run(program: list[str], sub: bool, steps: list[Any]) -> None:
+    check_sequence(["%", "O 4711", *program, "M30", "%", *(TRAUB_SUB if sub else [])], steps, "traub-tx8d",
+                   RunSetup())
+
+
+def fold(answers: list[dict[str, Any]]) -> dict[str, Any]:
+    """The document a client holds after these live answers (as server/live.py folds them)."""
+    doc: dict[str, dict[int, Any]] = {"diagnostics": {}, "toolpath": {}}
+    final: Any = None
+    for a in answers:
+        for part in ("diagnostics", "toolpath"):
+            if a["full"]:
+                doc[part].clear()
+            for n, value in a[part].items():
+                if part == "diagnostics" and not value or part == "toolpath" and not any(value.values()):
+                    doc[part].pop(n, None)
+                else:
+                    doc[part][n] = value
+        final = a["final"]
+    return {"diagnostics": doc["diagnostics"], "toolpath": doc["toolpath"], "final": final}
+
+
+def typing(lines: list[str], line: int, target: str) -> list[list[str]]:
+    """The documents while `target` is typed into line `line` character by character."""
+    return [lines[:line - 1] + [target[:i]] + lines[line:] for i in range(1, len(target) + 1)]
+
+
+def bench_program(blocks: int = 500) -> list[str]:
+    lines = ["N10 T1 TC1 M6", "N20 S1200 F150 M3", "N30 G0 X10 Y10 Z2", "N40 G1 Z-2"]
+    while len(lines) < blocks - 1:
+        n = (len(lines) + 1) * 10
+        lines.append(f"N{n} G1 X{len(lines) % 70 + 5} Y{len(lines) * 7 % 60 + 5}" if n % 30 else
+                     f"N{n} G2 X{len(lines) % 70 + 5} Y{len(lines) * 7 % 60 + 5} R40")
+    return [*lines, f"N{blocks * 10} G0 Z50 M30"]
+
+
+@pytest.mark.parametrize("dialect", ["pal-mill", "traub-tx8d"])
+def test_live_answers_fold_to_a_full_answer_while_typing_and_breaking_lines(dialect: str) -> None:
+    """The worker's live job, keystroke by keystroke (in-line typing, a new line, a deleted line): the
+    client's folded document equals the answer of a fresh document after every keystroke."""
+    lines = bench_program(120) if dialect == "pal-mill" else ["%", "O 4711", *TRAUB_LINES[:13], "M30", "%"]
+    docs = [lines, *typing(lines, 40 if dialect == "pal-mill" else 8, "N395 G91 G1 X5 Y-3 F200")]
+    docs.append(docs[-1][:20] + ["G1 X50 Y20"] + docs[-1][20:])  # a new line (Enter)
+    docs.append(docs[-1][:10] + docs[-1][11:])  # a deleted line
+    docs.append(docs[-1][:-1])  # M30 gone
+    spec = {"skip_blocks": None}
+    answers = []
+    for gen, doc in enumerate(docs):
+        text = "\n".join(doc) + "\n"
+        answers.append(job_live("inc", gen, gen + 1, text, dialect, spec))
+        fresh = fold([job_live(f"fresh-{gen}", 0, 1, text, dialect, spec)])
+        assert json.dumps(fold(answers), sort_keys=True) == json.dumps(fresh, sort_keys=True), gen
+
+
+def test_typing_in_a_long_program_takes_over_the_previous_run() -> None:
+    """Typing a line in the middle of a 500-block program re-runs a few blocks, not the program: the runs
+    meet the previous run again (STATS counts them), and a new line or a deleted one shifts the rest."""
+    lines = bench_program(500)
+    memo = Memo()
+    run("\n".join(lines) + "\n", "pal-mill", RunSetup(), memo)
+    before = STATS.copy()
+    docs = typing(lines, 250, "N2495 G1 X33 Y44")
+    docs.append(docs[-1][:100] + ["N995 G1 X20 Y20"] + docs[-1][100:])
+    docs.append(docs[-1][:300] + docs[-1][301:])
+    for doc in docs:
+        text = "\n".join(doc) + "\n"
+        assert live_json(text, "pal-mill", RunSetup(), memo) == live_json(text, "pal-mill", RunSetup(), None)
+    assert STATS["incremental"] - before["incremental"] == len(docs)
+    assert memo.runs.trace is not None and len(memo.runs.trace.checkpoints) > 490
+
+
+def test_a_loop_across_the_edit_runs_to_the_end_and_stays_correct() -> None:
+    """A G23 section around the edited line: the previous run meets it in every pass, so the new run can only
+    take over after the last pass; a G29 jump back over it the same."""
+    text = ("N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X0 Y0 Z2\nN40 G91 G1 X5\nN50 G1 Y{y}\nN60 G90\n"
+            "N70 G23 N40 N60 H3\nN80 G1 X0 Y0\nN90 M30\n")
+    memo = Memo()
+    for y in (1, 2, 3, 13):
+        t = text.format(y=y)
+        assert live_json(t, "pal-mill", RunSetup(), memo) == live_json(t, "pal-mill", RunSetup(), None)
+    tp = run(text.format(y=13), "pal-mill", RunSetup(), memo)
+    assert [round(m.end[1], 3) for m in tp.moves if m.line == 5] == [13, 26, 39, 52]
