@@ -492,3 +492,33 @@ def test_the_manuals_most_complete_turning_program_simulates_quickly() -> None:
         best = min(best, time.perf_counter() - start)
     assert result.resolution == 0.05 and result.removed_volume > 500_000
     assert best < 1.0
+
+
+def _pixels(png: bytes) -> np.ndarray:
+    """RGB rows of the half-section PNG (one IDAT, filter 0 on every row, as lathe_export writes it)."""
+    import zlib
+    width, height = struct.unpack(">II", png[16:24])
+    start = png.index(b"IDAT") + 4
+    length = struct.unpack(">I", png[start - 8:start - 4])[0]
+    raw = np.frombuffer(zlib.decompress(png[start:start + length]), dtype=np.uint8).reshape(height, 1 + 3 * width)
+    assert not raw[:, 0].any()
+    return raw[:, 1:].reshape(height, width, 3)
+
+
+def test_half_section_png_shows_the_cut_open_tube() -> None:
+    # a tube Ø40/Ø20 turned to Ø30 over 20 mm: above the axis the section (material between the bore and the
+    # outside, the turned-off ring in the blank's colour), below it the view of the part (the bore hidden)
+    from core.sim.lathe_export import BLANK, MATERIAL, VIEW
+    blank = Blank(40, 100, bore=20)
+    png = half_section_png(turn(CYLINDER, blank, OUTSIDE).profile, blank)
+    img = _pixels(png)
+    width = img.shape[1]
+    scale = width / (blank.length + 10.0)  # pixels per mm (lathe_export's frame: 5 mm margins)
+    jaw_r = blank.jaw_radius
+
+    def at(z: float, x: float) -> tuple[int, ...]:
+        return tuple(int(v) for v in img[int((jaw_r + 5.0 - x) * scale), int((z + blank.length + 5.0) * scale)])
+
+    assert at(-10, 12.5) == MATERIAL and at(-10, 17.5) == BLANK and at(-10, 5) == (255, 255, 255)  # the bore
+    assert at(-10, -12.5) == VIEW and at(-10, -5) == VIEW and at(-10, -17.5) == BLANK
+    assert at(-50, 17.5) == MATERIAL and at(-50, -17.5) == VIEW  # behind the shoulder the blank's Ø40
