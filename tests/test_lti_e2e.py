@@ -28,7 +28,7 @@ from lti_platform import (
     free_port,
     platform_app,
 )
-from server_helpers import builtin_exercise, make_settings, reference_of
+from server_tests.server_helpers import builtin_exercise, make_settings, reference_of
 from sqlalchemy import select
 
 from server import repository as repo

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 from lti_platform import CLIENT_ID, PlatformState, Served, free_port, platform_app
-from server_helpers import BACKENDS, make_settings
+from server_tests.server_helpers import BACKENDS, make_settings
 from sqlalchemy import select
 
 from server.config import Settings
