@@ -29,6 +29,7 @@ from sqlalchemy.orm import Session
 
 from server.db import Database
 from server.lti.keys import signing_key
+from server.lti.launch import resource_link_for
 from server.models import (
     Assignment,
     Exercise,
@@ -158,8 +159,6 @@ def after_graded(db: Session, submission: Submission) -> None:
     if submission.user_id is None:
         return
     try:
-        from server.lti.launch import resource_link_for
-
         exercise = db.get(Exercise, submission.exercise_id)
         link = _assignment_link(db, submission) or (
             resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None)
