@@ -185,6 +185,13 @@ def test_course_page_accessibility_and_strangers(server: str, browser: Any, teac
     serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
                if v["impact"] in ("serious", "critical")]
     assert not serious, serious
+    # in English: the page's own texts follow the switch
+    page.click("#lang")
+    page.wait_for_selector("#course-title >> text=Course Zugänglich")
+    page.wait_for_selector("#assignment-form")
+    assert "New assignment" in page.inner_text("#assignments") and "Join code" in page.inner_text("#members")
+    fits(page)
+    page.screenshot(path=str(SHOTS / "course-new-laptop-en.png"), full_page=True)
     page.context.close()
     # a student of no course sees no course page; nobody logged in is sent to the login
     stranger = browser.new_page()
