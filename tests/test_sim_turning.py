@@ -522,3 +522,14 @@ def test_half_section_png_shows_the_cut_open_tube() -> None:
     assert at(-10, 12.5) == MATERIAL and at(-10, 17.5) == BLANK and at(-10, 5) == (255, 255, 255)  # the bore
     assert at(-10, -12.5) == VIEW and at(-10, -5) == VIEW and at(-10, -17.5) == BLANK
     assert at(-50, 17.5) == MATERIAL and at(-50, -17.5) == VIEW  # behind the shoulder the blank's Ø40
+
+
+def test_boring_passes_retract_from_their_shoulder_without_a_collision() -> None:
+    # inside the same as outside: three passes of a boring bar (P4) end at Z−20 and lift 0.5 mm towards the
+    # axis; a rapid along the bore at a larger diameter is a collision
+    bar = table("tools: [{number: 9, kind: turning, diameter: 1.6, nose_radius: 0.8, quadrant: 4, insert: C}]")
+    passes = "".join(f"G0 X{x}\nG1 Z-20 F0.2\nG0 X{x - 1}\nG0 Z2\n" for x in (24, 28, 32))
+    program = "G95\nG97 S1000 T0909 M4\nG0 X20 Z2\n" + passes + "G0 X100 Z100\nM30\n"
+    assert events(turn(program, Blank(60, 100, bore=20), bar)) == []
+    crash = "G95\nG97 S1000 T0909 M4\nG0 X24 Z2\nG0 Z-10\nG0 Z2\nG0 X100 Z100\nM30\n"
+    assert events(turn(crash, Blank(60, 100, bore=20), bar)) == [("SIM-E001", 4)]
