@@ -1,6 +1,6 @@
 """Turning exercises and their grading: the lathe format (blank, insert tools, V or S, F per revolution), every
 built-in turning reference scores 100, typical mistakes cost the geometry criterion with the line named, the
-technology criterion on the feed per revolution, the volumes of a turned part, the drawing's placeholder."""
+technology criterion on the feed per revolution, the volumes of a turned part, the drawing's title."""
 
 from __future__ import annotations
 
@@ -269,10 +269,10 @@ def test_the_turning_format_and_its_mistakes() -> None:
 
 
 @pytest.mark.parametrize("lang,note", [("de", "Zeichnung für Drehteile folgt"), ("en", "drawing of turned parts to follow")])
-def test_the_drawing_of_a_turning_exercise_is_a_titled_placeholder(lang: str, note: str) -> None:
+def test_the_drawing_of_a_turning_exercise_is_titled_and_no_placeholder(lang: str, note: str) -> None:
     ex = EXERCISES["traub-01-srk-fase"]
-    svg = part_drawing(ex, lang)
-    assert svg.startswith("<") and note in svg and "Ø44 × 80" in svg and ex.title.get(lang) in svg
+    svg = part_drawing(ex, lang)  # the drawing itself: tests/test_drawing_lathe.py
+    assert svg.startswith("<") and note not in svg and "Ø44 × 80" in svg and ex.title.get(lang) in svg
 
 
 def test_lathe_syntax_criterion_names_the_first_error() -> None:

@@ -31,44 +31,27 @@ from core.drawing.features import (
     points,
     visible,
 )
+from core.drawing.frame import (
+    KIND_NAMES_EN,
+    LABELS,
+    MARGIN,
+    SCALES,
+    SHEET,
+    SPACING,
+    TITLE_BLOCK,
+    frame,
+    scale_text,
+    title_block,
+    value,
+)
 from core.drawing.svg import THICK, THIN, Svg, num
+from core.drawing.turned import turned_part_drawing
 from core.exercises import Exercise
 from core.grading import execute
 from core.sim.engine import HeightMap, Stock
-from core.tools import KIND_NAMES_DE
 
-SHEET = (297.0, 210.0)  # A4 landscape, mm
-MARGIN = 10.0
-TITLE_BLOCK = (112.0, 34.0)
-SCALES = (10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01)
-TEXT = 3.5  # mm, dimension text height
-SPACING = 4.5  # mm between neighbouring ordinate texts
 MAX_ORDINATES = 16  # more distinct X or Y values than this: a coordinate table instead
 FLAT_SHARE = 0.01  # more cut cells than this off every programmed floor: the floors are free-form
-
-KIND_NAMES_EN = {"end_mill": "end mill", "slot_drill": "slot drill", "ball_nose": "ball-nose mill",
-                 "torus": "torus mill", "twist_drill": "twist drill", "spot_drill": "spot drill"}
-
-LABELS = {
-    "de": {"blank": "Rohteil", "scale": "Maßstab", "tools": "Werkzeuge", "zero": "Nullpunkt", "section": "Schnitt",
-           "depth": "Tiefe", "slot": "Nut {w} breit", "table": "Koordinaten", "point": "Punkt", "units": "Maße in mm",
-           "top": "Draufsicht", "exercise": "Aufgabe", "title": "Benennung", "centre": "M"},
-    "en": {"blank": "Blank", "scale": "Scale", "tools": "Tools", "zero": "Zero", "section": "Section",
-           "depth": "depth", "slot": "slot {w} wide", "table": "Coordinates", "point": "Point", "units": "Dimensions in mm",
-           "top": "Top view", "exercise": "Exercise", "title": "Title", "centre": "C"},
-}
-
-
-def value(v: float, lang: str) -> str:
-    """A dimension value as the drawing prints it: at most 3 decimals, a decimal comma in German."""
-    s = f"{round(v, 3):.3f}".rstrip("0").rstrip(".")
-    if s in ("-0", ""):
-        s = "0"
-    return s.replace(".", ",") if lang == "de" else s
-
-
-def scale_text(s: float) -> str:
-    return f"{num(s)}:1" if s >= 1 else f"1:{num(1 / s)}"
 
 
 @dataclass(frozen=True)
@@ -398,49 +381,11 @@ def _section(svg: Svg, L: Layout, hm: HeightMap, floors: list[float], lang: str)
     return y
 
 
-def _title_block(svg: Svg, exercise: Exercise, L: Layout, lang: str) -> None:
-    labels = LABELS[lang]
-    w, h = TITLE_BLOCK
-    x, y = SHEET[0] - MARGIN - w, SHEET[1] - MARGIN - h
-    svg.path(f"M{num(x)} {num(y)} h{num(w)} v{num(h)} h{num(-w)} Z", width=THICK)
-    for k in (1, 2, 3):
-        svg.line((x, y + k * h / 4), (x + w, y + k * h / 4), width=THIN)
-    svg.line((x + 28, y), (x + 28, y + h), width=THIN)
-    st = L.stock
-    tools = []
-    for t in sorted(exercise.tool_table().tools.values(), key=lambda t: t.number):
-        names = KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN
-        if t.kind == "turning":  # a lathe tool: its insert's nose radius, not a diameter
-            tools.append(f"T{t.number} R{value(t.nose_radius, lang)}")
-        else:
-            tools.append(f"T{t.number} {names.get(t.kind, t.kind)} Ø{value(t.diameter, lang)}")
-    if exercise.blank is not None:  # a bar or tube: diameters and length
-        b = exercise.blank
-        bore = f"/Ø{value(b.inner_diameter, lang)}" if b.inner_diameter else ""
-        blank = f"Ø{value(b.diameter, lang)}{bore} × {value(b.length, lang)} · {labels['units']}"
-    else:
-        blank = (f"{value(st.x1 - st.x0, lang)} × {value(st.y1 - st.y0, lang)} × {value(st.z1 - st.z0, lang)} · "
-                 f"{labels['scale']} {scale_text(L.s)} · {labels['units']}")
-    rows = [(labels["title"], exercise.title.get(lang)), (labels["blank"], blank),
-            (labels["tools"], ", ".join(tools)), (labels["zero"], exercise.stock.zero.get(lang))]
-    for k, (label, text) in enumerate(rows):
-        ty = y + k * h / 4 + 5.6
-        svg.text((x + 1.5, ty), label, size=2.5)
-        big = k == 0 and len(text) <= 40
-        svg.text((x + 30, ty), _fit(text, 40 if big else 46), size=3.5 if big else 3.0,
-                 weight="bold" if k == 0 else None)
-    svg.text((x + w, y + h + 4.0), f"PAL Trainer · {labels['exercise']} {exercise.id}", size=2.5, anchor="end")
-
-
-def _fit(text: str, chars: int) -> str:
-    return text if len(text) <= chars else text[: chars - 1] + "…"
-
-
 def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     """The dimensioned drawing of the exercise's part as an SVG document (A4 landscape, mm)."""
     lang = "en" if lang == "en" else "de"
     if exercise.lathe:
-        return _turned_part_placeholder(exercise, lang)
+        return turned_part_drawing(exercise, lang)
     stock = exercise.stock.stock()
     result = execute(exercise, exercise.reference)
     hm = result.sim.heightmap
@@ -456,8 +401,7 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     bx1, by1 = L.top(stock.x1, stock.y0)
     svg.defs.append(f'<clipPath id="blank"><rect x="{num(bx0)}" y="{num(by0)}" width="{num(bx1 - bx0)}" '
                     f'height="{num(by1 - by0)}"/></clipPath>')
-    svg.path(f"M{num(MARGIN)} {num(MARGIN)} H{num(SHEET[0] - MARGIN)} V{num(SHEET[1] - MARGIN)} H{num(MARGIN)} Z",
-             width=THICK)
+    frame(svg)
     svg.text((bx0, by0 - 5.0), LABELS[lang]["top"], size=3.5)
     # the machined part's edges, then the blank as a phantom line
     for edge in _edges(hm, floors):
@@ -478,16 +422,9 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
         _ordinates(svg, L, pts, lang)
     _annotations(svg, L, feats, lang)
     _section(svg, L, hm, [] if free else floors, lang)
-    _title_block(svg, exercise, L, lang)
+    title_block(svg, exercise, L.s, lang)
     return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")
 
 
-def _turned_part_placeholder(exercise: Exercise, lang: str) -> str:
-    """A lathe exercise's sheet until turned parts are drawn: the frame, a note and the title block."""
-    svg = Svg(*SHEET)
-    svg.path(f"M{num(MARGIN)} {num(MARGIN)} H{num(SHEET[0] - MARGIN)} V{num(SHEET[1] - MARGIN)} H{num(MARGIN)} Z",
-             width=THICK)
-    note = "Zeichnung für Drehteile folgt" if lang == "de" else "drawing of turned parts to follow"
-    svg.text((SHEET[0] / 2, SHEET[1] / 2 - 20), note, anchor="middle", size=5.0)
-    _title_block(svg, exercise, _layout(exercise.stock.stock()), lang)
-    return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")
+# what other packages take from here (core/sheet: the sheet's size and the number format)
+__all__ = ["KIND_NAMES_EN", "MARGIN", "SHEET", "part_drawing", "scale_text", "turned_part_drawing", "value"]

@@ -40,6 +40,9 @@ LABELS = {
     "de": {"sheet": "Aufgabenblatt", "form": "Programmierblatt", "name": "Name:", "date": "Datum:",
            "exercise": "Aufgabe", "data": "Rohteil, Werkzeuge und Schnittdaten",
            "blank": "Rohteil {x} × {y} × {z} mm, Werkstücknullpunkt: {zero}.",
+           "bar": "Rohteil Stange Ø{d} × {l} mm, Werkstücknullpunkt: {zero}.",
+           "tube": "Rohteil Rohr Ø{d} / Ø{i} × {l} mm, Werkstücknullpunkt: {zero}.",
+           "feed_rev": "F (mm/U)", "nose": "Ø / R (mm)",
            "tool": "Werkzeug", "kind": "Art", "diameter": "Ø (mm)", "speed": "S (1/min)",
            "feed": "F (mm/min)",
            "remark": "Bemerkung", "start": "Ausgangsprogramm", "drawing": "Bemaßte Zeichnung des Fertigteils",
@@ -49,6 +52,9 @@ LABELS = {
     "en": {"sheet": "Task sheet", "form": "Programming form", "name": "Name:", "date": "Date:",
            "exercise": "Exercise", "data": "Blank, tools and cutting data",
            "blank": "Blank {x} × {y} × {z} mm, workpiece zero: {zero}.",
+           "bar": "Blank: bar Ø{d} × {l} mm, workpiece zero: {zero}.",
+           "tube": "Blank: tube Ø{d} / Ø{i} × {l} mm, workpiece zero: {zero}.",
+           "feed_rev": "F (mm/rev)", "nose": "Ø / R (mm)",
            "tool": "Tool", "kind": "Kind", "diameter": "Ø (mm)", "speed": "S (rpm)", "feed": "F (mm/min)",
            "remark": "Remark", "start": "Start program",
            "drawing": "Dimensioned drawing of the finished part",
@@ -133,13 +139,17 @@ def _task_page(exercise: Exercise, lang: str) -> str:
         cut = cutting.get(tool.number)
         # the kind only (the tool's name repeats its Ø, which has its own column)
         kind = kinds.get(tool.kind, tool.name or tool.kind)
-        cells = [f"T{tool.number}", kind[:1].upper() + kind[1:],
-                 value(tool.diameter, lang) if tool.diameter else "–", _speed(cut, lang),
+        size = value(tool.diameter, lang) if tool.diameter else "–"
+        if tool.kind == "turning":  # a lathe tool: its nose radius
+            size = f"R{value(tool.nose_radius, lang)}"
+        cells = [f"T{tool.number}", kind[:1].upper() + kind[1:], size, _speed(cut, lang),
                  value(cut.feed, lang) if cut else "–"]
         rows.append("      <tr>" + "".join(f'<td class="num">{_e(c)}</td>' if k >= 2 else f"<td>{_e(c)}</td>"
                                             for k, c in enumerate(cells)) + "</tr>")
+    columns = ("tool", "kind", "nose", "speed", "feed_rev") if exercise.lathe else ("tool", "kind", "diameter", "speed",
+                                                                                     "feed")
     headings = "".join(f'<th class="num">{_e(labels[k])}</th>' if n >= 2 else f"<th>{_e(labels[k])}</th>"
-                       for n, k in enumerate(("tool", "kind", "diameter", "speed", "feed")))
+                       for n, k in enumerate(columns))
     start = ""
     if exercise.kind != "write" and exercise.start_program:
         start = (f'  <div class="start">\n    <h2>{_e(labels["start"])}</h2>\n'
@@ -147,6 +157,11 @@ def _task_page(exercise: Exercise, lang: str) -> str:
     percent = round(190.0 * (0.78 if start else 1.0) / DRAWING_CROP[2] * 100)
     blank = labels["blank"].format(x=value(st.x1 - st.x0, lang), y=value(st.y1 - st.y0, lang),
                                    z=value(st.z1 - st.z0, lang), zero=exercise.stock.zero.get(lang))
+    if exercise.blank is not None:  # a lathe's bar or tube
+        b = exercise.blank
+        blank = labels["tube" if b.inner_diameter else "bar"].format(
+            d=value(b.diameter, lang), i=value(b.inner_diameter, lang), l=value(b.length, lang),
+            zero=exercise.stock.zero.get(lang))
     return _template("task.html").substitute(
         sheet_label=_e(labels["sheet"]), name_label=_e(labels["name"]), date_label=_e(labels["date"]),
         title=_e(exercise.title.get(lang)),

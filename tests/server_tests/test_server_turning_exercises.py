@@ -1,5 +1,5 @@
 """The built-in turning exercises through the API: seeded, listed with their dialect, a reference submission scores
-100, and their drawing is the placeholder sheet."""
+100, and their drawing is the turned part's, dimensioned (Ø, lengths from the face)."""
 
 from __future__ import annotations
 
@@ -32,4 +32,5 @@ def test_builtin_turning_exercises_are_listed_and_graded(api: Api) -> None:
                         headers=auth(student))
     assert r.status_code == 201 and r.json()["score"] == 50
     drawing = api.client.get("/api/v1/exercises/traub-01-srk-fase/drawing.svg", headers=auth(student))
-    assert drawing.status_code == 200 and "Zeichnung für Drehteile folgt" in drawing.text
+    assert drawing.status_code == 200 and drawing.headers["content-type"].startswith("image/svg+xml")
+    assert ">Ø40</text>" in drawing.text and ">2×45°</text>" in drawing.text and "Zeichnung für Drehteile" not in drawing.text
