@@ -44,11 +44,12 @@ class World:
     exercise_id: int
 
     def submit(self, score: int | None, max_score: int = 10, exercise_id: int | None = None,
-               assignment_id: int | None = None) -> Submission:
+               assignment_id: int | None = None, held: bool = False) -> Submission:
         grading = None if score is None else {"score": score, "max_score": max_score, "criteria": []}
         with self.database.session() as db:
             sub = Submission(exercise_id=exercise_id or self.exercise_id, user_id=self.user_id, program="N10 M30\n",
-                             dialect="pal-mill", result={}, grading=grading, assignment_id=assignment_id)
+                             dialect="pal-mill", result={}, grading=grading, assignment_id=assignment_id,
+                             held=held)
             db.add(sub)
             db.commit()
             return sub
@@ -292,3 +293,21 @@ def test_a_platform_that_does_not_answer_costs_one_attempt_per_round(world: Worl
     assert world.drain(t0 + timedelta(minutes=1)) == 2
     assert sorted((s["userId"], s["scoreGiven"]) for _, s in world.state.scores) == [
         ("moodle-user-7", 70.0), ("moodle-user-8", 90.0)]
+
+
+def test_an_exam_score_waits_for_the_release_and_shows_in_no_other_score(world: World) -> None:
+    world.platform.start()
+    exam = world.submit(10, held=True)  # an exam's, results not released yet
+    world.enqueue(exam)
+    assert world.drain(datetime.now(UTC)) == 0
+    world.enqueue(world.submit(5))  # practice afterwards: its best so far is 50, not the exam's 100
+    assert world.drain(datetime.now(UTC)) == 1
+    assert [s["scoreGiven"] for _, s in world.state.scores] == [50.0]
+    assert [r.state for r in world.rows()] == ["pending", "sent"]
+    with world.database.session() as db:  # the instructor releases the results
+        stored = db.get(Submission, exam.id)
+        assert stored is not None
+        stored.held = False
+        db.commit()
+    assert world.drain(datetime.now(UTC)) == 1
+    assert [s["scoreGiven"] for _, s in world.state.scores] == [50.0, 100.0]

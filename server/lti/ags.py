@@ -24,7 +24,7 @@ from urllib.parse import urlsplit, urlunsplit
 
 import httpx
 import jwt
-from sqlalchemy import select, update
+from sqlalchemy import or_, select, update
 from sqlalchemy.orm import Session
 
 from server.db import Database
@@ -79,10 +79,12 @@ def _percent(submission: Submission) -> float | None:
 
 
 def _best_percent(db: Session, submission: Submission) -> float | None:
-    """The best score (of 100) of the author's submissions of this exercise up to this one."""
+    """The best score (of 100) of the author's submissions of this exercise up to this one; an exam's that is
+    not released yet counts only for its own row (which waits for the release)."""
     q = select(Submission).where(Submission.exercise_id == submission.exercise_id,
                                  Submission.user_id == submission.user_id, Submission.id <= submission.id,
-                                 Submission.grading.is_not(None))
+                                 Submission.grading.is_not(None),
+                                 or_(Submission.held.is_(False), Submission.id == submission.id))
     scores = [p for p in (_percent(s) for s in db.scalars(q)) if p is not None]
     return max(scores) if scores else None
 
@@ -122,10 +124,13 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
     if lti_user is None or exercise is None:
         return None
     context = db.get(LtiContext, link.context_pk) if link.context_pk is not None else None
-    # an older score still waiting for the same grade book cell is carried by this one (the best so far)
+    # an older score still waiting for the same grade book cell is carried by this one (the best so far);
+    # not an exam's waiting for its release: this one does not carry it
+    released = select(Submission.id).where(Submission.held.is_(False))
     db.execute(update(LtiScore).where(LtiScore.platform_id == link.platform_id,
                                       LtiScore.lineitem_url == link.lineitem_url, LtiScore.lti_sub == lti_user.sub,
-                                      LtiScore.state == "pending").values(state="superseded"))
+                                      LtiScore.state == "pending", LtiScore.submission_id.in_(released))
+               .values(state="superseded"))
     assignment = db.get(Assignment, link.assignment_id) if link.assignment_id is not None else None
     if assignment is not None and submission.assignment_id == assignment.id:
         score, done = _assignment_score(db, submission, assignment)
