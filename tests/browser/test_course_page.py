@@ -81,7 +81,7 @@ def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher
     # the instructor page: no course yet; "Neue Klasse" leads to the new course's page
     page.goto(f"{server}/instructor")
     page.wait_for_selector("#courses")
-    page.click("#courses summary")
+    assert page.is_visible("#course-name")  # without a course the form is open
     page.fill("#course-name", "FA 24b")
     page.click("#course-new button[type=submit]")
     page.wait_for_url("**/courses/*")

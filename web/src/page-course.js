@@ -135,7 +135,7 @@ export async function coursesSection() {
     else { note.className = "error"; note.textContent = error(made, "instructor.error"); }
   };
   section.append(el("h3", {}, t(admin ? "courses.all" : "courses.title")), list,
-    el("details", {}, el("summary", {}, t("courses.new")), form));
+    el("details", { open: r.ok && !r.body.length }, el("summary", {}, t("courses.new")), form));
   return section;
 }
 
