@@ -98,3 +98,20 @@ def test_feature_of_a_block() -> None:
     assert insights.feature(program, 3) == "M30"
     assert insights.feature(program, 9) is None and insights.feature(program, 0) is None
     assert insights.feature("N10 G01 X1", 1) == "G1"
+
+
+def test_course_page_route(api: Api) -> None:
+    """/courses/{id}: the page for a logged-in user (the API decides what it shows), the login first without a
+    session (and back here afterwards), the 404 page for a path that names no course."""
+    from server.deps import SESSION_COOKIE
+
+    r = api.client.get("/courses/7", follow_redirects=False)
+    assert r.status_code == 303 and r.headers["location"] == "/login?next=/courses/7"
+    teacher = api.user("instructor")
+    cookie = {"Cookie": f"{SESSION_COOKIE}={teacher['Authorization'].removeprefix('Bearer ')}"}
+    r = api.client.get("/courses/7", headers=cookie)
+    assert r.status_code == 200 and 'data-page="course"' in r.text and 'id="course"' in r.text
+    assert f'data-user="{teacher["name"]}"' in r.text
+    for path in ("/courses/abc", "/courses/%C2%B2"):
+        r = api.client.get(path, headers=cookie)
+        assert r.status_code == 404 and "Seite nicht gefunden" in r.text
