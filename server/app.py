@@ -19,7 +19,7 @@ from fastapi.staticfiles import StaticFiles
 from server import errors, live, viz
 from server.config import Settings
 from server.courses import finalizer as exam_finalizer
-from server.db import Database, migrate
+from server.db import Database, migrate, startup_lock
 from server.lti import ags as lti_ags
 from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
@@ -52,11 +52,12 @@ API_PREFIX = "/api/v1"
 def prepare_database(settings: Settings) -> Database:
     """Migrate to the newest schema and load the built-in exercises."""
     database = Database(settings)
-    migrate(database.engine)
-    if settings.load_exercises:
-        with database.session() as db:
-            n = load_exercises(db, settings.exercises_dir)
-        log.info("exercises loaded", extra={"job": f"{n} built-in"})
+    with startup_lock(database.engine):  # replicas starting at once: one after the other
+        migrate(database.engine)
+        if settings.load_exercises:
+            with database.session() as db:
+                n = load_exercises(db, settings.exercises_dir)
+            log.info("exercises loaded", extra={"job": f"{n} built-in"})
     return database
 
 
@@ -118,7 +119,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         redoc_url=None,
     )
     app.state.settings = settings
-    app.state.limiter = RateLimiter()
+    app.state.limiter = RateLimiter(settings.redis_url)
     app.state.workers = Workers(settings.workers, settings.job_seconds)
     app.state.scenes = viz.Scenes(settings.jwt_secret(), settings)
     errors.install(app)

@@ -74,6 +74,16 @@ def _create_user(args: argparse.Namespace) -> int:
     return 0
 
 
+def _migrate(args: argparse.Namespace) -> int:
+    """The schema and the built-in exercises, once for many servers (the Kubernetes Job: deploy/kubernetes/)."""
+    from server.app import prepare_database
+    from server.config import Settings
+
+    prepare_database(Settings()).engine.dispose()
+    print("Datenbank ist aktuell / database is up to date")
+    return 0
+
+
 def _set_instructor(args: argparse.Namespace) -> int:
     from server import services
     from server.errors import ApiError
@@ -201,6 +211,9 @@ def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
     k.set_defaults(handler=_create_api_key)
     lk = sub.add_parser("list-api-keys", help="API-Schlüssel auflisten / list API keys")
     lk.set_defaults(handler=_list_api_keys)
+    m = sub.add_parser("migrate", help="Datenbank auf den neuesten Stand bringen, Aufgaben laden / migrate the "
+                                       "database and load the built-in exercises (before the servers start)")
+    m.set_defaults(handler=_migrate)
     r = sub.add_parser("revoke-api-key", help="API-Schlüssel widerrufen / revoke an API key")
     r.add_argument("prefix", help="the key's id after pal_, e.g. 1a2b3c4d")
     r.set_defaults(handler=_revoke_api_key)

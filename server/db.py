@@ -62,6 +62,26 @@ def migrate(engine: Engine) -> None:
         command.upgrade(cfg, "head")
 
 
+STARTUP_LOCK = 21_2100  # the PostgreSQL advisory lock of migrating and loading the exercises
+
+
+@contextmanager
+def startup_lock(engine: Engine) -> Iterator[None]:
+    """Replicas that start at once against one PostgreSQL database migrate it and load the exercises one after
+    the other (the first does the work, the others find it done); SQLite has one server only."""
+    if engine.dialect.name != "postgresql":
+        yield
+        return
+    with engine.connect() as conn:
+        conn.execute(text("SELECT pg_advisory_lock(:key)"), {"key": STARTUP_LOCK})
+        conn.commit()
+        try:
+            yield
+        finally:
+            conn.execute(text("SELECT pg_advisory_unlock(:key)"), {"key": STARTUP_LOCK})
+            conn.commit()
+
+
 def ping(engine: Engine) -> None:
     with engine.connect() as conn:
         conn.execute(text("SELECT 1"))

@@ -34,6 +34,8 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "FORBIDDEN": (403, "Dafür fehlt die Berechtigung.", "You are not allowed to do this."),
     "VIZ_FOREIGN": (403, "Diese 3D-Ansicht gehört zu einer anderen Sitzung; bitte die Seite neu laden.",
                     "This 3D view belongs to another session; please reload the page."),
+    "VIZ_ELSEWHERE": (410, "Diese 3D-Ansicht lief auf einem anderen Server, der nicht mehr antwortet; bitte neu öffnen.",
+                      "This 3D view ran on another server that no longer answers; please open it again."),
     "MISSING_SCOPE": (403, "Dem API-Schlüssel fehlt der Bereich »{scope}«.", "The API key lacks the scope '{scope}'."),
     "FREE_PRACTICE_OFF": (401, "Freies Üben ist abgeschaltet; bitte anmelden.",
                           "Free practice is switched off; please log in."),
@@ -169,7 +171,7 @@ def error_response(err: ApiError) -> JSONResponse:
 
 
 _DESCRIPTIONS = {401: "Not authenticated", 403: "Forbidden", 404: "Not found", 409: "Conflict",
-                 413: "Too large", 422: "Invalid request", 429: "Rate limited", 503: "Time limit or not ready"}
+                 410: "Gone (a 3D view of a replica that stopped)", 413: "Too large", 422: "Invalid request", 429: "Rate limited", 503: "Time limit or not ready"}
 
 
 def responses(*statuses: int) -> dict[int | str, dict[str, Any]]:

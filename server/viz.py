@@ -131,6 +131,7 @@ class Scenes:
         self.per_address = int(getattr(settings, "viz_sessions_per_address", 40))
         self.total = int(getattr(settings, "viz_sessions_max", 200))
         self.idle_seconds = float(getattr(settings, "viz_idle_seconds", 900.0))
+        self.replica = str(getattr(settings, "replica_id", "") or "")  # the tokens' prefix (deploy/haproxy.cfg)
         self._scenes: dict[str, Scene] = {}
         self._lock = threading.Lock()
 
@@ -139,11 +140,19 @@ class Scenes:
         sid = uuid.uuid4().hex
         payload = {"sid": sid, "kind": "viz", "own": owner, "quota": quota,
                    "exp": int(time.time()) + TOKEN_MINUTES * 60}
-        return jwt.encode(payload, self._secret, algorithm="HS256")
+        signed = jwt.encode(payload, self._secret, algorithm="HS256")
+        return f"{self.replica}.{signed}" if self.replica else signed
+
+    def elsewhere(self, token: str) -> bool:
+        """The token names another replica: its scene lives there (or died with it), never here."""
+        return bool(self.replica) and replica_of(token) != self.replica
 
     def ticket(self, token: str) -> Ticket | None:
+        """What a token of this replica says; None if it is invalid, expired or another replica's."""
+        if replica_of(token) != self.replica:
+            return None
         try:
-            payload = jwt.decode(token, self._secret, algorithms=["HS256"])
+            payload = jwt.decode(".".join(token.split(".")[-3:]), self._secret, algorithms=["HS256"])
         except jwt.PyJWTError:
             return None
         if payload.get("kind") != "viz" or not payload.get("sid") or not payload.get("own"):
@@ -204,6 +213,13 @@ class Scenes:
 
     def __len__(self) -> int:
         return len(self._scenes)
+
+
+def replica_of(token: str) -> str:
+    """The replica a 3D token names: "r2.eyJ…" (a JWT has three parts; a fourth in front names the replica
+    that made it, REPLICA_ID) → "r2"; a token without one is a single server's → ""."""
+    parts = token.split(".")
+    return parts[0] if len(parts) == 4 else ""
 
 
 def _stop(scene: Scene, reason: str) -> None:
@@ -748,7 +764,7 @@ def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     from server.workers import make_setup
 
     if is_lathe(dialect):
-        return lathe_picture(text, dialect, spec)
+        return turned_picture(text, dialect, spec)
     setup = make_setup(spec, DEFAULT_SIM_TOOLS)
     lo, hi = spec["stock"]["min"], spec["stock"]["max"]
     result = simulate(run(text, dialect, setup), Stock(*lo, *hi), setup.tools, spec["resolution"])
@@ -758,59 +774,20 @@ def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
 PICTURE_SIZE = (480, 320)  # pixels: the lathe's picture while the 3D view is off
 
 
-def lathe_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
-    """A turning program's toolpath in the drawing view (PNG): Z to the right, X up, the spindle axis
-    dash-dotted, feed moves solid blue and rapid moves dashed orange as in the 3D view; the picture frames the
-    feed moves and the axis. What the page shows while the 3D view is off, until the turning stock exists."""
-    from core.pipeline import drawing, run
+def turned_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
+    """A turning program's part after it, turned from the blank the 3D view turns (view_blank), as a half
+    section in the drawing view (core/drawing/turned_picture.py): the PNG the page shows while the 3D view is
+    off."""
+    from core.drawing.turned_picture import half_section_image
+    from core.pipeline import run
+    from core.sim import DEFAULT_LATHE_TOOLS, simulate_turning
     from server.workers import make_setup
 
-    toolpath = run(text, dialect, make_setup(spec))
-    drawn, _ = drawing(toolpath, 0.05)
-    paths = [(np.asarray(points, dtype=np.float64)[:, [2, 0]], m.kind == "rapid")  # (z, radius)
-             for m, points in zip(toolpath.moves, drawn, strict=False)]
-    framed = [p for p, rapid in paths if not rapid] or [p for p, _ in paths] or [np.zeros((1, 2))]
-    pts = np.vstack(framed)
-    lo, hi = pts.min(axis=0), pts.max(axis=0)
-    lo[1], hi[1] = min(lo[1], 0.0), max(hi[1], 0.0)
-    width, height = PICTURE_SIZE
-    span = np.maximum(hi - lo, 1.0)
-    scale = 0.86 * min(width / span[0], height / span[1])
-    centre = (lo + hi) / 2
-    image = np.empty((height, width, 3), dtype=np.uint8)
-    image[:] = BACKGROUND
-
-    def pixels(p: np.ndarray) -> np.ndarray:
-        return np.stack([width / 2 + (p[:, 0] - centre[0]) * scale, height / 2 - (p[:, 1] - centre[1]) * scale], -1)
-
-    def stroke(p: np.ndarray, colour: tuple[int, int, int], pattern: tuple[float, ...] = (), thick: bool = False) -> None:
-        """A polyline (pixels) sampled every half pixel; `pattern` alternates drawn and left-out lengths."""
-        samples, along = [], []
-        travelled = 0.0
-        for a, b in itertools.pairwise(p):
-            n = int(min(np.ceil(np.linalg.norm(b - a) * 2), 4000)) + 1
-            t = np.linspace(0.0, 1.0, n)[:, None]
-            samples.append(a + (b - a) * t)
-            along.append(travelled + np.linalg.norm(b - a) * t[:, 0])
-            travelled += float(np.linalg.norm(b - a))
-        if not samples:
-            return
-        xy, dist = np.vstack(samples), np.concatenate(along)
-        if pattern:
-            phase = dist % sum(pattern)
-            edges = np.cumsum(pattern)
-            xy = xy[np.searchsorted(edges, phase, side="right") % 2 == 0]
-        xy = np.rint(xy).astype(np.int64)
-        if thick:
-            xy = np.vstack([xy, xy + [0, 1], xy + [1, 0]])
-        inside = (xy[:, 0] >= 0) & (xy[:, 0] < width) & (xy[:, 1] >= 0) & (xy[:, 1] < height)
-        image[xy[inside, 1], xy[inside, 0]] = colour
-
-    axis_z = np.array([[lo[0] - 0.1 * span[0] - 5, 0.0], [hi[0] + 0.1 * span[0] + 5, 0.0]])
-    stroke(pixels(axis_z), AXIS_COLOUR, (18.0, 4.0, 3.0, 4.0))
-    for p, rapid in paths:
-        stroke(pixels(p), RAPID_COLOUR if rapid else FEED_COLOUR, (6.0, 4.0) if rapid else (), thick=not rapid)
-    return _png(image)
+    setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
+    toolpath = run(text, dialect, setup)
+    blank = view_blank(spec, toolpath)
+    profile = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION).profile
+    return _png(half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE))
 
 
 def _png(image: np.ndarray) -> bytes:

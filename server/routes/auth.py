@@ -49,8 +49,8 @@ def checked_login(request: Request, db: Session, settings: Settings, username: s
     try:
         return services.login(db, username, password)
     except ApiError:
-        for who, _ in budgets:
-            limiter.record(LOGIN_FAILURES, who)
+        for who, limit in budgets:
+            limiter.record(LOGIN_FAILURES, who, limit)
         raise
 
 

@@ -9,12 +9,13 @@ route that starts work is rate-limited per user or address; live scenes are capp
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 import re
 import secrets
 from typing import Any, Literal
 
-from fastapi import APIRouter, Depends, Request, Response, WebSocket
+from fastapi import APIRouter, Depends, Request, Response, WebSocket, WebSocketDisconnect
 from pydantic import BaseModel, Field
 from starlette.concurrency import run_in_threadpool
 
@@ -112,8 +113,8 @@ def _who(principal: Principal, cookie: str | None) -> str:
 
 def _ticket(scenes: viz.Scenes, token: str, who: str) -> viz.Ticket:
     ticket = scenes.ticket(token)
-    if ticket is None:
-        raise ApiError("BAD_TOKEN")
+    if ticket is None:  # another replica's token: that replica stopped (the page opens a scene here)
+        raise ApiError("VIZ_ELSEWHERE" if scenes.elsewhere(token) else "BAD_TOKEN")
     if ticket.owner != who or who == "anon:-":
         raise ApiError("VIZ_FOREIGN")
     return ticket
@@ -140,7 +141,7 @@ def new_session(request: Request, response: Response, settings: AppSettings, pri
     return VizSession(token=token, url=f"/viz/{token}/")
 
 
-@router.post("/{token}/scene", response_model=SceneResult, responses=responses(401, 403, 404, 413, 422, 429, 503),
+@router.post("/{token}/scene", response_model=SceneResult, responses=responses(401, 403, 404, 410, 413, 422, 429, 503),
              dependencies=SCENE_LIMIT)
 async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
                     workers: AppWorkers, principal: PracticePrincipal) -> SceneResult:
@@ -171,7 +172,7 @@ def _log_failure(task: asyncio.Task[Any]) -> None:
         log.error("3D view: the fine stock could not be shown", exc_info=task.exception())
 
 
-@router.post("/{token}/playhead", responses=responses(401, 403, 429), dependencies=STEP_LIMIT)
+@router.post("/{token}/playhead", responses=responses(401, 403, 410, 429), dependencies=STEP_LIMIT)
 async def put_playhead(token: str, body: Playhead, request: Request, workers: AppWorkers,
                        principal: PracticePrincipal) -> dict[str, Any]:
     """Move the tool to the end of toolpath segment `index` and show the stock after its move; answers that
@@ -190,7 +191,7 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
     return {"index": body.index, "line": line}
 
 
-@router.post("/{token}/section", responses=responses(401, 403, 422, 429, 503), dependencies=STEP_LIMIT)
+@router.post("/{token}/section", responses=responses(401, 403, 410, 422, 429, 503), dependencies=STEP_LIMIT)
 async def put_section(token: str, body: Section, request: Request, workers: AppWorkers,
                       principal: PracticePrincipal) -> dict[str, bool]:
     """Turning: cut the part open along the drawing plane to show bores and grooves (the back half with the cut
@@ -202,7 +203,7 @@ async def put_section(token: str, body: Section, request: Request, workers: AppW
     return {"half": await run_in_threadpool(viz.set_half, scene, body.half, chunks)}
 
 
-@router.post("/{token}/view", responses=responses(401, 403, 422, 429), dependencies=STEP_LIMIT)
+@router.post("/{token}/view", responses=responses(401, 403, 410, 422, 429), dependencies=STEP_LIMIT)
 async def put_view(token: str, body: View, request: Request, principal: PracticePrincipal) -> dict[str, str]:
     """Point the camera at the part from above, from the front or from the front right above (iso), the part
     centred and filling the view."""
@@ -211,7 +212,7 @@ async def put_view(token: str, body: View, request: Request, principal: Practice
     return {"view": scene.view}
 
 
-@router.post("/{token}/layers", responses=responses(401, 403, 422, 429), dependencies=STEP_LIMIT)
+@router.post("/{token}/layers", responses=responses(401, 403, 410, 422, 429), dependencies=STEP_LIMIT)
 async def put_layers(token: str, body: Layers, request: Request, principal: PracticePrincipal) -> dict[str, bool]:
     """Show or hide the rapid moves, the feed moves, the programmed contour and the stock; answers all four."""
     scene = await run_in_threadpool(_scene, request, token, principal)
@@ -219,7 +220,7 @@ async def put_layers(token: str, body: Layers, request: Request, principal: Prac
 
 
 @router.post("/{token}/deviation", response_model=Deviation,
-             responses=responses(401, 403, 404, 413, 422, 429, 503), dependencies=SCENE_LIMIT)
+             responses=responses(401, 403, 404, 410, 413, 422, 429, 503), dependencies=SCENE_LIMIT)
 async def put_deviation(token: str, body: ProgramRequest, request: Request, db: DbSession, settings: AppSettings,
                         workers: AppWorkers, principal: PracticePrincipal) -> Deviation:
     """Colour the part of a program for an exercise where it leaves the tolerance band of the reference
@@ -247,12 +248,12 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
 async def picture(body: SimulateRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
                   _: PracticePrincipal) -> Response:
     """The stock after the program seen from above, rendered on the server: what the page shows while the 3D
-    view is off (no graphics acceleration). Needs no 3D session. For a turning program (TRAUB): its toolpath
-    in the lathe's drawing view, Z right, X up (header `X-Picture-View: lathe`)."""
+    view is off (no graphics acceleration). Needs no 3D session. For a turning program (TRAUB): the turned
+    part after it as a half section in the lathe's drawing view, Z right, X up (header `X-Picture-View: lathe`)."""
     body.resolution = max(body.resolution, 0.25)  # a picture of at most 480 pixels needs no finer cells
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     png: bytes = await workers.call(viz.job_picture_now, body.program, body.dialect, spec)
-    # a turning program's picture is its toolpath in the drawing view (the page words its caption so)
+    # a turning program's picture is its turned part in half section (the page words its caption so)
     view = {"X-Picture-View": "lathe"} if viz.is_lathe(body.dialect) else {}
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store", **view})
 
@@ -261,6 +262,9 @@ async def picture(body: SimulateRequest, db: DbSession, settings: AppSettings, w
 def viewer(token: str, request: Request, principal: OptionalPrincipal) -> Response:
     scenes = _scenes(request)
     ticket = scenes.ticket(token)
+    if ticket is None and scenes.elsewhere(token):
+        return Response("Diese 3D-Ansicht lief auf einem anderen Server – bitte die Seite neu laden.",
+                        status_code=410, media_type="text/plain")
     if ticket is None:
         return Response("Sitzung abgelaufen – bitte die Seite neu laden.", status_code=401, media_type="text/plain")
     if ticket.owner != _who(principal, request.cookies.get(viz.VIZ_COOKIE)):
@@ -287,8 +291,23 @@ async def viewer_socket(ws: WebSocket, token: str) -> None:
     protocol = next((p for p in offered if p.startswith("viser-v")), None)
     who = await run_in_threadpool(_ws_who, ws.app.state.db, ws.app.state.settings, ws) if ticket else None
     if ticket is None or protocol is None or who != ticket.owner:
-        await ws.close(code=4403)
+        await ws.close(code=4410 if scenes.elsewhere(token) else 4403)
         return
     scene = await run_in_threadpool(scenes.scene, ticket)
     await ws.accept(subprotocol=protocol)
     await viz.bridge(ws, scene.port, protocol)
+
+
+@pages.websocket("/viz/{token}/alive")
+async def alive_socket(ws: WebSocket, token: str) -> None:
+    """Open as long as this replica holds the token's scene: the page watches it (web/src/viz.js) and opens a
+    new scene, on another replica, as soon as it closes. Says nothing; closes 4410 for another replica's token
+    (that replica stopped) and 4401 for an invalid one."""
+    scenes = _scenes(ws)
+    if scenes.ticket(token) is None:
+        await ws.close(code=4410 if scenes.elsewhere(token) else 4401)
+        return
+    await ws.accept()
+    with contextlib.suppress(WebSocketDisconnect):
+        while True:
+            await ws.receive_text()  # the page sends nothing; this waits for its close
