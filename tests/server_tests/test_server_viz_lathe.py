@@ -95,18 +95,23 @@ def _pixels(png: bytes) -> np.ndarray:
     return rows[:, 1:].reshape(height, width, 3)
 
 
-def test_picture_of_a_turning_program_is_its_toolpath_in_the_drawing_view(api: Api) -> None:
-    """While the 3D view is off: not a milling block from above but the toolpath, Z right, X up."""
+def test_picture_of_a_turning_program_is_its_turned_part_in_half_section(api: Api) -> None:
+    """While the 3D view is off: not a milling block from above but the turned part, Z right, X up, the upper
+    half cut open and hatched (core/drawing/turned_picture.py); test_drawing_lathe.py looks at it closer."""
+    from core.drawing import turned_picture as tp
+
     r = api.client.post("/api/v1/viz/picture.png", json={"program": TURNING, "dialect": "traub-tx8d"})
     assert r.status_code == 200 and r.headers["x-picture-view"] == "lathe"
     image = _pixels(r.content)
-    blue = np.all(image == viz.FEED_COLOUR, axis=2)
-    rows, cols = np.nonzero(blue)
-    assert len(rows) > 100
-    # the feed moves reach from Z2 down to Z-30 and from R20 up to R30: wider than high, and the highest
-    # point (R30, the arc's end at Z-30) is at the left
-    assert cols.max() - cols.min() > rows.max() - rows.min()
-    assert cols[rows == rows.min()].mean() < (cols.min() + cols.max()) / 2
+    section = np.all(image == tp.SECTION, axis=2) | np.all(image == tp.HATCH, axis=2)
+    rows, cols = np.nonzero(section)
+    assert len(rows) > 1000 and np.all(image == tp.HATCH, axis=2).sum() > 100
+    axis = int(np.argmax(np.all(image == tp.AXIS, axis=2).sum(axis=1)))
+    assert rows.max() <= axis  # the section is the upper half, the view the lower
+    # the part is Ø40 at the face and Ø60 behind Z-30: the section is higher at the left than at the right
+    left = np.flatnonzero(section[:, cols.min() + 2]).min()
+    right = np.flatnonzero(section[:, cols.max() - 2]).min()
+    assert axis - left > 1.3 * (axis - right)
     milling = api.client.post("/api/v1/viz/picture.png", json={"program": TURNING.replace("%\n", ""),
                                                                 "dialect": "pal-mill"})
     assert "x-picture-view" not in milling.headers
