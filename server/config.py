@@ -24,7 +24,7 @@ class Settings(BaseSettings):
     redis_url: str | None = Field(default=None, validation_alias=AliasChoices("REDIS_URL", "PALTRAINER_REDIS_URL"))
     # this server's name behind a load balancer: the 3D tokens start with it, so that the balancer sends a
     # scene's requests to the replica that holds it (deploy/haproxy.cfg); letters, digits and "-" only
-    replica_id: str = Field(default="", pattern=r"^[A-Za-z0-9-]{0,32}$",
+    replica_id: str = Field(default="", pattern=r"^[A-Za-z0-9-]{0,63}$",
                             validation_alias=AliasChoices("REPLICA_ID", "PALTRAINER_REPLICA_ID"))
     data_dir: Path = Path("data")
     secret_key: str | None = None  # None: generated once and kept in <data_dir>/secret_key
