@@ -275,3 +275,20 @@ def test_half_section_picture_of_the_turned_part() -> None:
     assert math.isclose(chuck / face, 31 / 10, rel_tol=0.08)  # the blank's Ø62 at the chuck, Ø20 at the face
     removed = np.all(image == tp.REMOVED, axis=2)
     assert removed.sum() > 1000  # what was turned away, inside the blank's outline
+
+
+@pytest.mark.parametrize("program,lengths", [
+    ("M30\n", ["0"]),  # nothing turned: the bar and its face, no placeholder
+    ("G95\nG97 S1000 T0101 M4\nG0 X10 Z-20\nG0 X100 Z50\nM30\n", ["0"]),  # a rapid through the bar cuts nothing drawn
+    ("G95\nG97 S1000 T0101 M4\nG0 X42 Z-2\nG1 X-1 F0.2\nG0 Z2\nG0 X100 Z50\nM30\n", ["0", "2"]),  # faced to Z-2
+    ("G95\nG97 S600 T0202 M4\nG0 X42 Z-30\nG1 X0 F0.05\nG0 X42\nG0 X100 Z50\nM30\n", ["0", "30"]),  # parted off
+    ("G95\nG97 S1000 T0101 M4\nG1 X30 Z-10 F\nM30\n", ["0"]),  # a syntax error
+])
+def test_any_program_gets_a_drawing(program: str, lengths: list[str]) -> None:
+    ex = parse_exercise(GROOVE.split("reference: |")[0] + "reference: |\n" + "".join(f"  {line}\n" for line in
+                                                                                   program.splitlines()))
+    svg = part_drawing(ex)
+    texts = [t for t in ET.fromstring(svg).iter(f"{SVG}text") if t.get("class") == "dim"]
+    assert [t.text for t in texts if t.get("data-kind") == "z"] == lengths
+    assert all(t.get("data-kind") != "d" or float(t.get("data-value", "0")) > 0 for t in texts)
+    assert "Zeichnung für Drehteile" not in svg and "nan" not in svg.lower()

@@ -336,7 +336,8 @@ def _on_surface(part: TurnedPart, elements: list[Seg], tools: ToolTable, dz: flo
         tol = _tolerance(e, tools, dz)
         dist = _distance(pts, part.loops)
         near = dist <= tol
-        if near.mean() < ON_PART or e.length() * (t1 - t0) < SAME:
+        # a drill's bore is the part's wherever it is left (a boring bar may have widened the rest of it)
+        if (near.sum() < 3 if e.drilled else near.mean() < ON_PART) or e.length() * (t1 - t0) < SAME:
             continue
         reach = tol + _nose(e, tools)  # the nose leaves its radius in an inside corner
         along = (ts - t0) * e.length()
@@ -467,7 +468,9 @@ def _grooves(toolpath: Toolpath, tools: ToolTable, part: TurnedPart, dz: float) 
         a = min(walls, key=lambda z: abs(z - lo))
         b = min(walls, key=lambda z: abs(z - hi))
         bottom = min(radii, key=lambda r: abs(r - depth), default=math.nan)
-        if abs(a - lo) <= tol and abs(b - hi) <= tol and (walls[a] or walls[b]) and abs(bottom - depth) <= tol:
+        if depth < 0.5 or not (abs(bottom - depth) <= tol):  # cut off, not grooved
+            continue
+        if abs(a - lo) <= tol and abs(b - hi) <= tol and (walls[a] or walls[b]):
             part.grooves.append((a, b, bottom))
             part.groove_walls |= {z for z in (a, b) if walls[z]}
 
@@ -494,7 +497,8 @@ def points(part: TurnedPart) -> list[tuple[P, bool]]:
 
 
 def _z_values(part: TurnedPart) -> None:
-    zs = [0.0] + [p[0] for p, _ in points(part)]
+    # the points' Z, and a face's even where the blank cuts its ends off (its Z is programmed all along it)
+    zs = [0.0] + [p[0] for p, _ in points(part)] + [e.a[0] for e in part.surface if e.face]
     zs += [t.z_lo for t in part.threads] + sorted(part.groove_walls)
     out: list[float] = []
     for z in sorted((z for z in zs if -part.blank.length - SAME <= z <= SAME), reverse=True):
