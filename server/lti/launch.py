@@ -2,8 +2,9 @@
 (user, course membership, resource link), ending in a one-time ticket the framed page exchanges for its token.
 
 Why a ticket and no cookie: the page runs in the platform's iframe, on another site; browsers drop third-party
-cookies there. The launch answers with a redirect to /lti/open#ticket=…; the page's script exchanges the ticket
-(valid 2 minutes, once) for an API token it keeps in sessionStorage and sends as a bearer token.
+cookies there (and may refuse it storage). The launch answers with a redirect to /lti/open#ticket=…; the page's
+script exchanges the ticket (valid 2 minutes, once) for an API token, which the exercise page gets in its URL
+fragment (#token=…, never sent to a server) and sends as a bearer token.
 """
 
 from __future__ import annotations

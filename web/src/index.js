@@ -1,11 +1,11 @@
 // The bundle's entry: everything the pages call, as window.PalTrainer.
+import { installBearer } from "./lti.js";  // first: storage fallback before any module reads it
 import { mountEditor, setTools } from "./main.js";
 import {
   mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz,
 } from "./pages.js";
 
 import { boot } from "./boot.js";
-import { installBearer } from "./lti.js";
 import { translatePage } from "./i18n.js";
 import { safeNext } from "./redirect.js";
 

@@ -1,5 +1,6 @@
-// The framed page after an LTI launch: exchange the one-time ticket (URL fragment) for the page's API token,
-// keep it in this tab (sessionStorage: no third-party cookie needed) and go on to the exercise.
+// The framed page after an LTI launch: exchange the one-time ticket (URL fragment) for the page's API token and
+// go on to the exercise. The token travels in the next page's URL fragment (never sent to a server, no Referer):
+// browsers that block storage in a cross-site frame (no third-party cookies, no sessionStorage) still work.
 (async () => {
   const status = document.getElementById("status");
   const ticket = new URLSearchParams(location.hash.slice(1)).get("ticket");
@@ -10,6 +11,5 @@
   }).catch(() => null);
   const body = r && r.ok ? await r.json() : null;
   if (!body) { status.textContent = status.dataset.failed; return; }
-  sessionStorage.setItem("paltrainer-token", body.token);
-  location.replace(body.next);
+  location.replace(`${body.next}#token=${encodeURIComponent(body.token)}`);
 })();
