@@ -288,6 +288,7 @@ function assignmentForm(courseId, exercises) {
   const picker = el("div", { className: "exercise-picker", id: "a-exercises", tabIndex: 0 },
     ...groups.map((g) => el("div", {}, el("p", { className: "picker-group" }, g.title), ...g.items.map((e) =>
       el("label", { className: "check" }, el("input", { type: "checkbox", value: e.slug, name: "exercise" }), ` ${titleOf(e)}`)))));
+  picker.setAttribute("role", "group");  // a scrolling box of checkboxes, reachable by keyboard
   picker.setAttribute("aria-label", t("form.exercises"));
   const now = new Date();
   const opens = el("input", { type: "datetime-local", id: "a-opens", required: true, value: localInput(now) });
