@@ -15,7 +15,7 @@ from collections.abc import Iterator
 from html import escape
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
-from typing import Any
+from typing import Any, ClassVar
 from urllib.parse import parse_qs, urlencode, urlsplit
 
 import jwt
@@ -35,6 +35,7 @@ class Platform(BaseHTTPRequestHandler):
 
     issuer = ""
     tool = ""
+    returned: ClassVar[list[str]] = []  # the deep-linking answers (JWT) posted back to the platform
 
     def log_message(self, *args: Any) -> None:
         pass
@@ -54,24 +55,41 @@ class Platform(BaseHTTPRequestHandler):
             self._send(json.dumps({"keys": [JWK]}), "application/json")
         elif url.path == "/course":
             login = self.tool + "/lti/login?" + urlencode({
-                "iss": self.issuer, "login_hint": "u-7", "target_link_uri": self.tool + "/lti/launch",
+                "iss": self.issuer, "login_hint": query.get("who", "u-7"),
+                "target_link_uri": self.tool + "/lti/launch",
                 "client_id": "browser-client", "lti_deployment_id": "d-1"})
             self._send(f'<!doctype html><title>Kurs</title><iframe id="tool" src="{escape(login)}" '
                        'width="1200" height="900"></iframe>')
         elif url.path == "/auth":
             now = int(time.time())
-            claims = {"iss": self.issuer, "aud": query["client_id"], "sub": "u-7", "iat": now, "exp": now + 300,
+            claims = {"iss": self.issuer, "aud": query["client_id"], "sub": query["login_hint"], "iat": now,
+                      "exp": now + 300,
                       "nonce": query["nonce"], "name": "Lena Lernend",
                       LTI + "message_type": "LtiResourceLinkRequest", LTI + "version": "1.3.0",
                       LTI + "deployment_id": "d-1", LTI + "target_link_uri": query["redirect_uri"],
                       LTI + "roles": ["http://purl.imsglobal.org/vocab/lis/v2/membership#Learner"],
                       LTI + "context": {"id": "c-1", "title": "Fachklasse"},
                       LTI + "resource_link": {"id": "rl-1"}, LTI + "custom": {"exercise": "pal-01-g1-gerade"}}
+            if query["login_hint"] == "teacher":  # content selection (deep linking) by an instructor
+                claims.update({
+                    LTI + "message_type": "LtiDeepLinkingRequest",
+                    LTI + "roles": ["http://purl.imsglobal.org/vocab/lis/v2/membership#Instructor"],
+                    "https://purl.imsglobal.org/spec/lti-dl/claim/deep_linking_settings": {
+                        "deep_link_return_url": f"{self.issuer}/return", "accept_types": ["ltiResourceLink"],
+                        "accept_multiple": True, "data": "d-42"}})
             token = jwt.encode(claims, KEY, algorithm="RS256", headers={"kid": "platform-1"})
             self._send(f'<!doctype html><form method="post" action="{escape(query["redirect_uri"])}">'
                        f'<input type="hidden" name="id_token" value="{escape(token)}">'
                        f'<input type="hidden" name="state" value="{escape(query["state"])}"></form>'
                        "<script>document.forms[0].submit()</script>")
+        else:
+            self.send_error(404)
+
+    def do_POST(self) -> None:
+        body = self.rfile.read(int(self.headers.get("Content-Length", "0"))).decode("utf-8")
+        if urlsplit(self.path).path == "/return":
+            Platform.returned.append(parse_qs(body)["JWT"][0])
+            self._send("<!doctype html><p id='done'>Inhalt übernommen</p>")
         else:
             self.send_error(404)
 
@@ -121,4 +139,27 @@ def test_learner_launch_opens_the_exercise_inside_the_platform_frame(browser: An
                                  " && i.naturalWidth > 0)", timeout=30000)
     assert csp == [], csp
     assert refused == [], refused  # nothing was refused for want of a cookie, no script failed
+    context.close()
+
+
+def test_deep_linking_answer_goes_back_to_the_platform_without_inline_script(
+        browser: Any, platform_and_tool: tuple[str, str]) -> None:
+    issuer, _ = platform_and_tool
+    context = browser.new_context()
+    page = context.new_page()
+    csp: list[str] = []
+    page.on("console", lambda m: csp.append(m.text) if "Content Security Policy" in m.text else None)
+    page.goto(f"{issuer}/course?who=teacher")
+    picker = page.frame_locator("#tool")
+    picker.locator("input[value='pal-01-g1-gerade']").check(timeout=30000)
+    picker.locator("input[value='pal-02-g1-rn-radius']").check()
+    picker.locator("button[type=submit]").click()
+    # autosubmit.js (a file of ours, no inline script) posts the signed answer to the platform
+    picker.locator("#done").wait_for(timeout=30000)
+    assert len(Platform.returned) == 1
+    claims = jwt.decode(Platform.returned[0], options={"verify_signature": False})
+    items = claims["https://purl.imsglobal.org/spec/lti-dl/claim/content_items"]
+    assert [i["custom"]["exercise"] for i in items] == ["pal-01-g1-gerade", "pal-02-g1-rn-radius"]
+    assert claims["https://purl.imsglobal.org/spec/lti-dl/claim/data"] == "d-42"
+    assert csp == [], csp
     context.close()
