@@ -195,3 +195,27 @@ def test_admin_lists_platforms_and_rotates_keys(client: TestClient, platform: Pl
     assert old not in {k["kid"] for k in client.get("/lti/jwks").json()["keys"]}
     # students may not register platforms
     assert client.get("/api/v1/admin/lti/platforms").status_code == 401
+
+
+def test_assignment_link_opens_its_first_exercise_only_in_its_own_course(client: TestClient,
+                                                                         platform: Platform) -> None:
+    ctx = {LTI + "context": {"id": "course-asg", "title": "Klasse mit Aufgabenstellung"}}
+    teacher = _open(client, launch(client, platform, sub="teacher-asg", roles=INSTRUCTOR, **ctx))
+    headers = {"Authorization": f"Bearer {teacher['token']}"}
+    with client.app.state.db.session() as db:  # type: ignore[attr-defined]
+        course_id = db.scalars(select(LtiContext.course_id).where(LtiContext.context_id == "course-asg")).one()
+    body = {"title": "Übung Konturen", "exercises": ["pal-02-g1-rn-radius", SLUG], "mode": "practice",
+            "opens_at": "2026-01-01T08:00:00Z", "deadline": "2099-01-01T08:00:00Z"}
+    r = client.post(f"/api/v1/courses/{course_id}/assignments", json=body, headers=headers)
+    assert r.status_code == 201, r.text
+    assignment = r.json()["id"]
+    custom = {LTI + "custom": {"assignment": str(assignment)},
+              LTI + "resource_link": {"id": "link-asg", "title": "Übung"}}
+    pupil = _open(client, launch(client, platform, sub="pupil-asg", roles=LEARNER, **ctx, **custom))
+    assert pupil["next"].startswith("/lti/exercise/pal-02-g1-rn-radius?")
+    # the same assignment id from another platform course opens nothing
+    other = {LTI + "context": {"id": "course-other", "title": "Andere Klasse"}}
+    launch(client, platform, sub="teacher-other", roles=INSTRUCTOR, **other)
+    r = launch(client, platform, sub="pupil-other", roles=LEARNER, **other,
+               **{**custom, LTI + "resource_link": {"id": "link-asg-2"}})
+    assert r.status_code == 200 and "keiner Aufgabe zugeordnet" in r.text
