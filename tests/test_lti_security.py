@@ -185,3 +185,11 @@ def test_platform_jwks_is_cached_and_fetched_again_for_a_new_kid() -> None:
 def test_login_needs_its_parameters(client: TestClient, caplog: pytest.LogCaptureFixture) -> None:
     refused(client.get("/lti/login", params={"iss": "https://lms.example.test"}), "LTI_LOGIN_INCOMPLETE", caplog,
             400)
+
+
+def test_login_sends_the_id_token_only_to_our_launch(client: TestClient, platform: Platform,
+                                                     caplog: pytest.LogCaptureFixture) -> None:
+    for target in ("https://evil.example/steal", "javascript:alert(1)", "http://127.0.0.1/lti/jwks"):
+        r = client.get("/lti/login", params={"iss": platform.issuer, "login_hint": "1", "client_id": platform.client_id,
+                                             "target_link_uri": target}, follow_redirects=False)
+        refused(r, "LTI_BAD_TARGET", caplog, 400)

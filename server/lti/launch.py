@@ -16,7 +16,7 @@ import time
 from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
 from typing import Any
-from urllib.parse import urlencode
+from urllib.parse import urlencode, urlsplit
 
 import httpx
 import jwt
@@ -133,6 +133,14 @@ def begin_login(db: Session, params: dict[str, str]) -> str:
         raise LtiRefusal("LTI_LOGIN_INCOMPLETE", "Der Anmeldeanfrage der Plattform fehlen Angaben "
                          "(iss, login_hint, target_link_uri).",
                          "The platform's login request lacks iss, login_hint or target_link_uri.")
+    try:
+        target_path = urlsplit(target).path
+    except ValueError:
+        target_path = ""
+    if target_path != "/lti/launch" or not registration.url_ok(target):
+        # the id_token goes to redirect_uri: only ever our launch endpoint (the platform checks the host too)
+        raise LtiRefusal("LTI_BAD_TARGET", "Die Zieladresse des Starts (target_link_uri) ist nicht /lti/launch "
+                         "von PAL Trainer.", "The launch's target_link_uri is not PAL Trainer's /lti/launch.")
     candidates = registration.platforms_of_issuer(db, issuer)
     client_id = params.get("client_id")
     if client_id:
