@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import re
+from array import array
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -108,13 +109,18 @@ class Unit:
     number: int | None  # None: the main program
     source: str | None  # None: the program file; "L200": a file of the program library
     blocks: list[Block]
-    numbers: dict[int, int] = field(default_factory=dict)  # block number N → index of its first block
     first: int = 1  # the line of its first block (a unit's blocks are consecutive lines)
+    _numbers: dict[int, int] | None = None
 
-    def __post_init__(self) -> None:
-        for i, b in enumerate(self.blocks):
-            if b.number is not None:
-                self.numbers.setdefault(b.number, i)
+    @property
+    def numbers(self) -> dict[int, int]:
+        """Block number N → index of its first block (made when a jump or repeat first needs it)."""
+        if self._numbers is None:
+            self._numbers = {}
+            for i, b in enumerate(self.blocks):
+                if b.number is not None:
+                    self._numbers.setdefault(b.number, i)
+        return self._numbers
 
     @property
     def name(self) -> str:
@@ -130,8 +136,11 @@ _SUB_HEADER = re.compile(r"L\s*(\d+)")
 
 def split_units(program: Program) -> tuple[Unit, dict[int, Unit]]:
     """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header."""
-    main: list[Block] = []
+    headers = [i for i, b in enumerate(program.blocks) if b.header is not None]
     subs: dict[int, Unit] = {}
+    if not any(_SUB_HEADER.fullmatch(program.blocks[i].header or "") for i in headers):
+        return Unit(None, None, program.blocks), subs
+    main: list[Block] = []
     current = main
     for b in program.blocks:
         m = _SUB_HEADER.fullmatch(b.header or "")
@@ -140,8 +149,6 @@ def split_units(program: Program) -> tuple[Unit, dict[int, Unit]]:
             subs.setdefault(int(m.group(1)), Unit(int(m.group(1)), None, current, first=b.line + 1))
             continue
         current.append(b)
-    for u in subs.values():
-        u.__post_init__()
     return Unit(None, None, main), subs
 
 
@@ -242,11 +249,21 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             budget.executed, budget.steps, budget.moves = old.executed[k], old.steps[k], old.moves[k]
             planned = old.items[:old.planned[k]]
             diags.extend(old.loop_diags[:old.diags[k]])
-            last_line, last_set = old.last_line[k], old.last_set[k]
-            for i, at in enumerate(old.set_at):
-                if 0 <= at < k:
-                    n = lines.line(i + 1) - 1
-                    states[n], positions[n], set_at[n] = old.states[i], old.positions[i], at
+            last_line, last_set = _last_main(old, k)
+            # the state after each line as of step k: lines are met once (the previous run's last setting of
+            # a line is its only one before k, if it is before k) or else step by step
+            if old.revisits:
+                cps, sets = old.checkpoints, old.sets
+                for i in range(k):
+                    if sets[i]:
+                        n = cps[i].line - 1
+                        states[n], positions[n], set_at[n] = cps[i + 1].state, cps[i + 1].position, i
+                trace.revisits = True
+            else:
+                for i, at in enumerate(old.set_at):
+                    if 0 <= at < k:
+                        n = lines.line(i + 1) - 1
+                        states[n], positions[n], set_at[n] = old.states[i], old.positions[i], at
             step = k
     elif trace is not None:
         STATS["full"] += 1
@@ -300,8 +317,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 trace.moves.append(budget.moves)
                 trace.planned.append(len(planned))
                 trace.diags.append(len(diags) - n_initial)
-                trace.last_line.append(last_line)
-                trace.last_set.append(last_set)
+                trace.sets.append(0)
             else:
                 trace = None  # too long to keep: the next run is a full one
         here = index
@@ -351,7 +367,10 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             states[block.line - 1] = state
             positions[block.line - 1] = position
             if trace is not None:
+                if set_at[block.line - 1] >= 0:
+                    trace.revisits = True
                 set_at[block.line - 1] = step - 1
+                trace.sets[-1] = 1
         # -- program flow -----------------------------------------------------------------------
         if cache is None and (out.flow is not None or out.repeat is not None or out.sub_end):
             cache = {}
@@ -496,12 +515,23 @@ def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, 
         return None
     trace.checkpoints = kept
     trace.executed, trace.steps, trace.moves = old.executed[:r], old.steps[:r], old.moves[:r]
-    trace.planned, trace.diags = old.planned[:r], old.diags[:r]
-    trace.last_line, trace.last_set = old.last_line[:r], old.last_set[:r]
+    trace.planned, trace.diags, trace.sets = old.planned[:r], old.diags[:r], old.sets[:r]
     trace.at_log = [(st, (src, lines.line(ln, src)), lines.unknown(unk)) for st, (src, ln), unk in old.at_log
                     if st < r]
     trace.labels = old.labels
     return r, lines, meet, start
+
+
+def _last_main(old: Trace, k: int) -> tuple[int, int]:
+    """The last line of the main program the previous run met before step `k` (for PAL-W102), and its step."""
+    main = (None, None)
+    for i in range(k - 1, -1, -1):
+        cp = old.checkpoints[i]
+        if cp.unit == main:
+            b = old.blocks[cp.line - 1]
+            if b.ok and not b.is_empty and b.header is None:
+                return cp.line, i
+    return 0, -1
 
 
 def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint, lines: LineMap, step: int,
@@ -529,10 +559,7 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
             at_log = [(st - j + step, (src, lines.line(ln, src)), lines.unknown(unk))
                       for st, (src, ln), unk in old.at_log if st >= j]
             unknown = lines.unknown(old.unknown)
-            moved = [(lines.line(i + 1) - 1, i) for i, at in enumerate(old.set_at) if at >= j]
             final_line = lines.line(old.final_line) if old.final_set >= j else last_line
-            tail_lines = [(lines.line(ln), at - j + step) if at >= j else (last_line, last_set)
-                          for ln, at in zip(old.last_line[j:], old.last_set[j:], strict=True)]
         except Unmappable:
             continue
         d_e, d_s, d_m = budget.executed - old.executed[j], budget.steps - old.steps[j], budget.moves - old.moves[j]
@@ -543,23 +570,28 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
             follow.at.setdefault(where, unk)
         trace.at_log.extend(at_log)
         follow.unknown = unknown
-        for n, i in moved:
-            states[n], positions[n], set_at[n] = old.states[i], old.positions[i], old.set_at[i] - j + step
+        # the lines the rest of the previous run set last (none of them changed lines)
+        first, delta, old_states, old_positions = lines.first, lines.delta, old.states, old.positions
+        for i, at in enumerate(old.set_at):
+            if at >= j:
+                n = i if i + 1 < first else i + delta
+                if set_at[n] >= 0:
+                    trace.revisits = True
+                states[n], positions[n], set_at[n] = old_states[i], old_positions[i], at - j + step
         e, s, m = old.counters
         budget.executed, budget.steps, budget.moves = e + d_e, s + d_s, m + d_m
         if len(trace.checkpoints) + len(cps) <= MAX_STEPS:
             trace.checkpoints.extend(cps)
-            trace.executed.extend(x + d_e for x in old.executed[j:])
-            trace.steps.extend(x + d_s for x in old.steps[j:])
-            trace.moves.extend(x + d_m for x in old.moves[j:])
-            trace.planned.extend(x + d_p for x in old.planned[j:])
-            trace.diags.extend(x + d_d for x in old.diags[j:])
-            trace.last_line.extend(ln for ln, _ in tail_lines)
-            trace.last_set.extend(at for _, at in tail_lines)
+            for mine, theirs, d in ((trace.executed, old.executed, d_e), (trace.steps, old.steps, d_s),
+                                    (trace.moves, old.moves, d_m), (trace.planned, old.planned, d_p),
+                                    (trace.diags, old.diags, d_d)):
+                mine.extend(theirs[j:] if d == 0 else array("q", [x + d for x in theirs[j:]]))
+            trace.sets.extend(old.sets[j:])
         else:
             trace.checkpoints.clear()  # too long to keep: the next run is a full one
         trace.spent = old.spent
         trace.labels = trace.labels or old.labels  # the steps taken over may have resolved block numbers
+        trace.revisits = trace.revisits or old.revisits
         final_set = old.final_set - j + step if old.final_set >= j else last_set
         assert old.state is not None
         return old.state, old.position, old.ended, final_line, final_set

@@ -25,6 +25,7 @@ pass (or runs to the end). `STATS` counts how each run went.
 from __future__ import annotations
 
 import dataclasses
+from array import array
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any, NamedTuple
@@ -42,7 +43,7 @@ CallPoint = tuple[UnitKey, int, UnitKey, int, int, str | None]
 RepeatPoint = tuple[UnitKey, int, int, int, int]  # a G23 section: unit, start line, end line, remaining, return line
 
 STATS: Counter[str] = Counter()  # "full", "incremental" (met the previous run), "to_end" (restarted, ran on)
-MAX_STEPS = 20_000  # a run that meets more blocks keeps no trace (memory); the next run is a full one
+MAX_STEPS = 10_000  # a run that meets more blocks keeps no trace (memory: ~150 bytes a step); the next runs in full
 
 
 class Checkpoint(NamedTuple):
@@ -67,15 +68,14 @@ class Trace:
     setup: Any  # the RunSetup, code table and block executor of the run: another one runs in full
     limits: Limits  # the limits of the run
     checkpoints: list[Checkpoint] = field(default_factory=list)
-    # per step: the budgets' counters, the lengths of the planned items and of the loop's diagnostics, the
-    # last line of the main program met and the step that met it (-1: none)
-    executed: list[int] = field(default_factory=list)
-    steps: list[int] = field(default_factory=list)
-    moves: list[int] = field(default_factory=list)
-    planned: list[int] = field(default_factory=list)
-    diags: list[int] = field(default_factory=list)
-    last_line: list[int] = field(default_factory=list)
-    last_set: list[int] = field(default_factory=list)
+    # per step: the budgets' counters, the lengths of the planned items and of the loop's diagnostics
+    executed: array[int] = field(default_factory=lambda: array("q"))
+    steps: array[int] = field(default_factory=lambda: array("q"))
+    moves: array[int] = field(default_factory=lambda: array("q"))
+    planned: array[int] = field(default_factory=lambda: array("q"))
+    diags: array[int] = field(default_factory=lambda: array("q"))
+    sets: bytearray = field(default_factory=bytearray)  # 1: the step set its line's state (line_states)
+    revisits: bool = False  # a line's state was set more than once (loops, calls)
     # every FollowUps.ran with something unknown: (step, (source, line), unknown) — `at` is first-wins
     at_log: list[tuple[int, tuple[str | None, int], dict[str, int]]] = field(default_factory=list)
     labels: bool = False  # a G29 jump or G23 repeat was resolved by block number
