@@ -21,7 +21,7 @@ from core.drawing.svg import THICK, THIN, Svg, num
 from core.drawing.turned_features import SAME, P, Seg, TurnedPart, loops, points, turned_part
 from core.exercises import Exercise
 
-DIM_GAP = 6.0  # mm on paper between neighbouring diameter dimension lines
+CLEAR = 4.0  # mm on paper: a diameter's line this far from edges and other lines stands clear
 ROW_HEIGHT = 5.5  # mm between the rows of callouts under the part
 MAX_ROWS = 6
 ROW_GAP = 9.0  # mm from the part's top to the running dimensions' line
@@ -228,15 +228,15 @@ class _Diameter:
 def _same_radius(part: TurnedPart, z: float, r: float, inside: bool, length: float) -> tuple[float, float]:
     """The Z range around z where the part keeps the radius r (a point's diameter may be dimensioned there)."""
     same = np.abs((part.inner if inside else part.outer) - r) < 0.02
-    k = int(np.clip(np.searchsorted(part.zs, z), 0, len(part.zs) - 1))
-    for j in (k, k - 1):
-        if 0 <= j < len(same) and same[j]:
-            a = b = j
-            while a > 0 and same[a - 1] and part.zs[a - 1] > -length:
-                a -= 1
-            while b + 1 < len(same) and same[b + 1]:
-                b += 1
-            return float(part.zs[a]), float(part.zs[b])
+    near = np.flatnonzero(same & (np.abs(part.zs - z) <= 1.0))  # the nose may round the corner at z itself
+    if len(near):
+        j = int(near[np.argmin(np.abs(part.zs[near] - z))])
+        a = b = j
+        while a > 0 and same[a - 1] and part.zs[a - 1] > -length:
+            a -= 1
+        while b + 1 < len(same) and same[b + 1]:
+            b += 1
+        return float(part.zs[a]), float(part.zs[b])
     return z, z
 
 
@@ -290,7 +290,7 @@ def _candidates(d: _Diameter) -> list[float]:
     if hi - lo < 0.5:
         return [(d.lo + d.hi) / 2]
     mid = (lo + hi) / 2
-    steps = np.arange(lo, hi + 1e-9, 0.5)
+    steps = np.arange(lo, hi + 1e-9, 0.25)
     return [mid] + sorted((float(x) for x in steps), key=lambda x: abs(x - mid))
 
 
@@ -318,8 +318,12 @@ def _diameter_lines(svg: Svg, L: Layout, part: TurnedPart, dims: list[_Diameter]
         top, low = L.axis - d.r * L.s, L.axis + d.r * L.s
         length = _width(d.text)
         place = None
-        for x in _candidates(d):
-            line = (x - 1.5, top, x + 1.5, low)
+        walls = [(b[0] + b[2]) / 2 for b in edges + lines]
+        mid = _candidates(d)[0]
+        # first where the line stands clear of the view's edges and other lines, nearest the middle
+        for x in sorted(_candidates(d), key=lambda x: (min((abs(x - w) for w in walls), default=99.0) < CLEAR,
+                                                       abs(x - mid))):
+            line = (x - 1.0, top, x + 1.0, low)
             if not _free(line, edges + lines + texts) or not _touches(part, d, (x - L.right) / L.s):
                 continue
             z = (x - L.right) / L.s
