@@ -1,4 +1,7 @@
-"""POST /check, /run, /simulate: the pipeline for a program text, computed in a worker process."""
+"""POST /check, /run, /simulate: the pipeline for a program text, computed in a worker process.
+
+A trainee in a running exam gets them only as its settings allow (like the live socket and the 3D view):
+/check and /run are live diagnostics, /simulate is the 3D view."""
 
 from __future__ import annotations
 
@@ -6,7 +9,7 @@ from typing import Any
 
 from fastapi import APIRouter, Depends
 
-from server import services
+from server import exams, services
 from server.deps import AppSettings, AppWorkers, DbSession, PracticePrincipal, rate_limit
 from server.errors import responses
 from server.schemas import CheckResponse, ProgramRequest, RunResponse, SimulateRequest, SimulateResponse
@@ -19,8 +22,9 @@ ERRORS = responses(401, 403, 404, 413, 422, 429, 503)
 @router.post("/check", response_model=CheckResponse, responses=ERRORS,
              dependencies=[Depends(rate_limit("check", "rate_check_per_minute"))])
 async def check(req: ProgramRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
-                _: PracticePrincipal) -> Any:
+                principal: PracticePrincipal) -> Any:
     """Diagnostics of a program, in the shape of `paltrainer check --json`."""
+    exams.check_feature(db, principal.user, "live_diagnostics")
     spec = services.run_spec(db, settings, req)
     return await workers.call(job_check, req.program, req.dialect, spec)
 
@@ -28,8 +32,9 @@ async def check(req: ProgramRequest, db: DbSession, settings: AppSettings, worke
 @router.post("/run", response_model=RunResponse, responses=ERRORS,
              dependencies=[Depends(rate_limit("check", "rate_check_per_minute"))])
 async def run(req: ProgramRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
-              _: PracticePrincipal) -> Any:
+              principal: PracticePrincipal) -> Any:
     """The toolpath of a program, in the shape of `paltrainer run --json`."""
+    exams.check_feature(db, principal.user, "live_diagnostics")
     spec = services.run_spec(db, settings, req)
     return await workers.call(job_run, req.program, req.dialect, spec)
 
@@ -39,7 +44,8 @@ if HAS_SIM:
     @router.post("/simulate", response_model=SimulateResponse, responses=ERRORS,
                  dependencies=[Depends(rate_limit("simulate", "rate_simulate_per_minute"))])
     async def simulate(req: SimulateRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
-                       _: PracticePrincipal) -> Any:
+                       principal: PracticePrincipal) -> Any:
         """Stock results and events, in the shape of `paltrainer simulate --json`."""
+        exams.check_feature(db, principal.user, "viz")
         spec = services.simulate_spec(db, settings, req)
         return await workers.call(job_simulate, req.program, req.dialect, spec)

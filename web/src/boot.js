@@ -4,6 +4,7 @@
 import { mountAbout } from "./about.js";
 import { mountCourse } from "./page-course.js";
 import { mountHeader } from "./header.js";
+import { mountHome } from "./page-home.js";
 import { mountPractice } from "./page-practice.js";
 import { restoreState } from "./state.js";
 import { mountExercise, mountExerciseList, mountInstructor, mountLogin } from "./pages.js";
@@ -12,7 +13,7 @@ const PAGES = {
   practice: () => mountPractice(document.getElementById("practice")),
   exercise: () => mountExercise(document.getElementById("exercise"),
     decodeURIComponent(location.pathname.split("/").pop())),
-  exercises: () => mountExerciseList(document.getElementById("list")),
+  exercises: () => Promise.all([mountHome(document.getElementById("home")), mountExerciseList(document.getElementById("list"))]),
   instructor: () => mountInstructor(document.getElementById("submissions")),
   login: () => mountLogin(document.getElementById("login"), document.getElementById("message")),
   about: () => mountAbout(document.getElementById("about")),

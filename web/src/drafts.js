@@ -33,7 +33,9 @@ export async function loadDraft(slug) {
 }
 
 // Keeps the editor's text: call changed(text) on every change; forget() for "Zurücksetzen".
-export function draftSaver(slug, user, start, initial = null, pending = false) {
+// onState(state, error) (optional) hears "saving", "saved", "offline" and "refused" (the server said no, e.g. after
+// an exam's end: its error, no further tries).
+export function draftSaver(slug, user, start, initial = null, pending = false, onState = null) {
   const name = key(user, slug);
   const url = `/api/v1/exercises/${slug}/draft`;
   let text = initial ?? start;
@@ -41,6 +43,8 @@ export function draftSaver(slug, user, start, initial = null, pending = false) {
   let timer = null;
   let last = 0;  // when the last save left
   const status = { state: "idle" };
+  let stopped = false;
+  const set = (state, error = null) => { status.state = state; onState?.(state, error); };
 
   const keepLocal = (synced) => {
     try {
@@ -52,23 +56,32 @@ export function draftSaver(slug, user, start, initial = null, pending = false) {
   const send = async (keepalive = false) => {
     clearTimeout(timer);
     timer = null;
-    if (!dirty) return;
+    if (!dirty || stopped) return;
     const sent = text;
     last = Date.now();
-    status.state = "saving";
+    set("saving");
+    let refused = null;
     try {
       const r = await fetch(url, sent === start
         ? { method: "DELETE", credentials: "same-origin", keepalive }
         : { method: "PUT", credentials: "same-origin", keepalive, headers: { "Content-Type": "application/json" },
           body: JSON.stringify({ program: sent }) });
-      if (!r.ok) throw new Error(String(r.status));
+      if (r.status === 403 || r.status === 409) {  // refused (an exam's rules): trying again changes nothing
+        refused = (await r.json().catch(() => null))?.error || {};
+      } else if (!r.ok) {
+        throw new Error(String(r.status));
+      }
+      if (refused) {
+        set("refused", refused);
+        return;
+      }
       if (sent === text) {
         dirty = false;
         keepLocal(true);
       }
-      status.state = "saved";
+      set("saved");
     } catch {
-      status.state = "offline";  // kept in the browser; the next change or going online sends it again
+      set("offline");  // kept in the browser; the next change or going online sends it again
       schedule();
     }
   };
@@ -87,6 +100,7 @@ export function draftSaver(slug, user, start, initial = null, pending = false) {
 
   return {
     status,
+    stop() { stopped = true; clearTimeout(timer); timer = null; },  // no more saves (an exam ended)
     changed(next) {
       if (next === text) return;
       text = next;

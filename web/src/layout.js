@@ -72,9 +72,10 @@ export function mountDrawer(root) {
     const warnings = list.querySelectorAll(".diag-warning").length;
     const all = list.querySelectorAll(".diag:not(.diag-none)").length;
     count.textContent = `(${all})`;
-    status.textContent = all ? t("drawer.summary", { errors, warnings, e: t(errors === 1 ? "drawer.error" : "drawer.errors"),
+    const notice = list.querySelector(".diag-notice");  // the live check's own trouble (main.js) comes first
+    status.textContent = notice ? notice.textContent : all ? t("drawer.summary", { errors, warnings, e: t(errors === 1 ? "drawer.error" : "drawer.errors"),
       w: t(warnings === 1 ? "drawer.warning" : "drawer.warnings") }) : t("diagnostics.none");
-    status.className = `status-line${errors ? " error" : ""}`;
+    status.className = `status-line${errors || notice ? " error" : ""}`;
   }).observe(list, { childList: true });
   return {
     open: () => set(true),

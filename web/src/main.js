@@ -137,26 +137,53 @@ const hoverHelp = hoverTooltip((view, pos) => {
 const completeAddresses = completionSource(() => help);
 
 // -- live diagnostics over the WebSocket -------------------------------------------------------
+// How long to wait before the socket connects again after it closed (ms), or null: not again. The one place
+// of this rule (a replica that died: the next connect reaches another one). 4401/4403 (not logged in,
+// forbidden, e.g. a running exam without live diagnostics) do not get better by trying again; 4429 (too many
+// open connections) after a long wait; anything else doubling from 1 s up to 30 s.
+export function reconnectDelay(code, attempt) {
+  if (code === 4401 || code === 4403) return null;
+  if (code === 4429) return 60000;
+  return Math.min(30000, 1000 * 2 ** Math.min(attempt, 5));
+}
+
+// The German (or English) sentence for a close code: why the live check stopped or pauses.
+function closeText(code, reason, delay) {
+  if (code === 4403 && reason === "EXAM_RUNNING") return t("live.exam");
+  if (code === 4401) return t("live.login");
+  if (code === 4403) return t("live.forbidden");
+  if (code === 4429) return t("live.too_many", { s: Math.round(delay / 1000) });
+  return t("live.retry", { s: Math.round(delay / 1000) });
+}
+
 class Live {
-  constructor(view, dialect, exercise, tools, onUpdate) {
+  constructor(view, dialect, exercise, tools, onUpdate, onNotice) {
     this.view = view;
     this.dialect = dialect;
     this.exercise = exercise;
     this.tools = tools;
     this.onUpdate = onUpdate;
+    this.onNotice = onNotice;  // a line for the messages panel (an error of the server, a lost connection)
     this.version = 0;
     this.byLine = new Map();
     this.cycles = new Map();  // line → the cycle its moves belong to ({code, pass, of}), for the hover
     this.timer = null;
+    this.attempt = 0;  // failed connects since the last open one
     this.connect();
   }
 
   connect() {
     const scheme = location.protocol === "https:" ? "wss" : "ws";
     this.ws = new WebSocket(`${scheme}://${location.host}/api/v1/live`);
-    this.ws.onopen = () => this.open();
+    this.ws.onopen = () => { this.attempt = 0; this.open(); };
     this.ws.onmessage = (event) => this.receive(JSON.parse(event.data));
-    this.ws.onclose = () => setTimeout(() => this.connect(), 1000);
+    this.ws.onclose = (event) => {
+      const delay = reconnectDelay(event.code, this.attempt);
+      this.onNotice(closeText(event.code, event.reason, delay));
+      if (delay === null) return;
+      this.attempt += 1;
+      setTimeout(() => this.connect(), delay);
+    };
   }
 
   open() {  // (again, when the tools change: the document is checked anew with them)
@@ -186,6 +213,10 @@ class Live {
   }
 
   receive(msg) {
+    if (msg.type === "error") {  // a refused frame or a failed run: say so (the next update clears it)
+      this.onNotice(`${msg.code}: ${message(msg)}`);
+      return;
+    }
     if (msg.type !== "update" || msg.version < this.version) return;  // stale: a newer one follows
     for (const entry of msg.diagnostics) this.byLine.set(entry.line, entry.items);
     for (const entry of msg.toolpath || []) {
@@ -218,14 +249,23 @@ const lives = new WeakMap();  // editor view → its live connection
 // Free practice: check the program with these tools ([{number, diameter}], null: the default table).
 export function setTools(view, tools) { lives.get(view)?.setTools(tools); }
 
+// The program can be read, not changed (an exam's time is over, its one submission made).
+const locks = new WeakMap();  // editor view → the compartment of its read-only state
+export function setReadOnly(view, on) {
+  view.dispatch({ effects: locks.get(view).reconfigure(EditorState.readOnly.of(on)) });
+}
+
 export async function mountEditor(parent, {
   text = "", dialect = "pal-mill", list = null, exercise = null, tools = null, onChange = null, onPointer = null,
   locked = null,  // {lines, start}: line numbers of the start program that stay as they are (kind complete)
+  live: withLive = true,  // false (an exam without live diagnostics): no socket, no hover help, no completion
+  readOnly = false,
 } = {}) {
-  await loadHelp(dialect);
+  if (withLive) await loadHelp(dialect);
   comments = COMMENTS[dialect] || /;.*/g;
   let live = null;
   const language = new Compartment();
+  const editable = new Compartment();
   const view = new EditorView({
     parent,
     state: EditorState.create({
@@ -233,8 +273,10 @@ export async function mountEditor(parent, {
       extensions: [
         lineNumbers(), highlightActiveLineGutter(), highlightActiveLine(), drawSelection(), history(),
         keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
-        language.of(MODES[dialect] || palMode), syntaxHighlighting(palHighlight), lintGutter(), hoverHelp,
-        enterKeymap, autocompletion({ override: [completeAddresses] }), germanPhrases,  // Enter: before the list's
+        language.of(MODES[dialect] || palMode), syntaxHighlighting(palHighlight),
+        // enterKeymap before the completion list's Enter
+        withLive ? [lintGutter(), hoverHelp, enterKeymap, autocompletion({ override: [completeAddresses] })] : [],
+        germanPhrases, editable.of(EditorState.readOnly.of(readOnly)),
         EditorView.contentAttributes.of({ "aria-label": t("program.label") }), lockedLines(text, locked?.lines, locked?.start),
         EditorView.updateListener.of((u) => {
           if (u.docChanged && live) live.changed();
@@ -246,6 +288,16 @@ export async function mountEditor(parent, {
       ],
     }),
   });
+  locks.set(view, editable);
+  if (!withLive) return view;
+  // a notice (the server's error, a lost connection) stands in the messages panel until the next update
+  const notice = (text) => {
+    if (!list) return;
+    const li = list.querySelector(".diag-notice") || document.createElement("li");
+    li.className = "diag diag-none diag-notice";
+    li.textContent = text;
+    list.prepend(li);
+  };
   live = new Live(view, dialect, exercise, tools, (diagnostics) => {
     if (!list) return;
     list.replaceChildren(...diagnostics.map((d) => {
@@ -262,7 +314,7 @@ export async function mountEditor(parent, {
       li.textContent = t("diagnostics.none");
       list.append(li);
     }
-  });
+  }, notice);
   lives.set(view, live);
   return view;
 }

@@ -10,13 +10,16 @@ import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle
 import { mountEditor } from "./main.js";
 import { loginUrl } from "./redirect.js";
 import { mountViz } from "./viz.js";
+import { examContext, examNotice, mountExam, prepareExam } from "./page-exam.js";
 
 export async function mountExercise(root, slug) {
+  // a trainee in an exam gets the exam's page (page-exam.js): what it forbids goes before the tabs are mounted
+  const [r, exam] = await Promise.all([api(`/exercises/${slug}`), examContext(slug)]);
+  if (exam) prepareExam(root, exam);
   const showTab = mountTabs(root);
   mountSideToggle(root);
   mountSplitters(root);
   const drawer = mountDrawer(root);
-  const r = await api(`/exercises/${slug}`);
   if (r.status === 401) {
     location.href = loginUrl();
     return;
@@ -54,6 +57,14 @@ export async function mountExercise(root, slug) {
     root.querySelector("#drawing-large").replaceChildren(drawingZoom(drawing, slug, sheet));
   } else {
     root.querySelector("#drawing-large").replaceChildren(el("p", { className: "meta" }, t("drawing.none")));
+  }
+  if (exam?.blocked || exam?.phase === "upcoming") {
+    examNotice(root, exam);
+    return;
+  }
+  if (exam) {
+    await mountExam(root, slug, ex, exam, { drawer, title });
+    return;
   }
   const list = root.querySelector("#diagnostics");
   let scene = null;

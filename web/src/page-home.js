@@ -1,0 +1,92 @@
+// The trainee's start page above the exercise list: their courses, joining a course with its code, and the
+// assignments (GET /me/assignments) with opening time, deadline, mode, status and a link into each exercise.
+
+import { api, el } from "./dom.js";
+import { lang, message, t } from "./i18n.js";
+import { clock, formatTime } from "./page-exam.js";
+import "./texts-exam.js";
+
+const DONE = new Set(["submitted", "late", "closed"]);
+
+export async function mountHome(section) {
+  if (document.body.dataset.role !== "student") return;  // courses are joined by trainees
+  const [courses, mine, exercises, progress] = await Promise.all([
+    api("/courses"), api("/me/assignments"), api("/exercises"), api("/me/progress")]);
+  if (!courses.ok) return;
+  const titles = new Map((exercises.ok ? exercises.body : []).map((e) =>
+    [e.slug, lang === "en" && e.title_en ? e.title_en : e.title_de]));
+  const drafts = new Set((progress.ok ? progress.body : []).filter((p) => p.status === "draft").map((p) => p.exercise));
+  const assignments = mine.ok ? mine.body : [];
+  const open = assignments.filter((a) => !DONE.has(a.status));
+  const done = assignments.filter((a) => DONE.has(a.status));
+  const running = assignments.find((a) => a.mode === "exam" && a.status === "running");
+  section.replaceChildren(...[
+    running ? el("p", { className: "exam-banner", role: "status" },
+      t("home.exam_running", { title: running.title, left: clock(running.seconds_left) }), " ",
+      el("a", { href: exerciseHref(running, running.exercises[0]) }, t("home.to_exam"))) : null,
+    el("h2", {}, t("home.assignments")),
+    open.length ? el("div", { className: "assignments" }, ...open.map((a) => card(a, titles, drafts)))
+      : el("p", { className: "meta" }, t("home.no_assignments")),
+    done.length ? el("details", { className: "assignments-done" }, el("summary", {}, t("home.done", { n: done.length })),
+      ...done.map((a) => card(a, titles, drafts))) : null,
+    el("h2", {}, t("home.courses")),
+    courses.body.length ? el("ul", { className: "my-courses" }, ...courses.body.map((c) => el("li", {},
+      el("strong", {}, c.name), c.instructors.length
+        ? el("span", { className: "meta" }, ` · ${t("home.instructors", { names: c.instructors.join(", ") })}`) : null)))
+      : el("p", { className: "meta" }, t("home.no_courses")),
+    joinForm(section)].filter(Boolean));
+}
+
+const exerciseHref = (a, slug) => `/exercises/${encodeURIComponent(slug)}?assignment=${a.id}`;
+
+function card(a, titles, drafts) {
+  const started = a.status !== "upcoming";
+  const times = [
+    t("assignment.opens", { time: formatTime(a.opens_at) }),
+    t(a.mode === "exam" ? "assignment.exam_end" : "assignment.deadline", { time: formatTime(a.deadline) }),
+    a.seconds_left !== null && !DONE.has(a.status) ? t("assignment.left", { left: clock(a.seconds_left) }) : null,
+    a.mode === "practice" && a.late === "accept" ? t("assignment.late_ok") : null,
+  ].filter(Boolean).join(" · ");
+  return el("article", { className: `assignment assignment-${a.status}` },
+    el("h3", {}, a.title, " ",
+      el("span", { className: `badge mode-${a.mode}` }, a.mode === "exam" ? t("mode.exam", { min: a.duration_minutes }) : t("mode.practice")),
+      " ", el("span", { className: `badge status-${a.status}` }, t(`astatus.${a.status}`))),
+    el("p", { className: "meta" }, `${t("assignment.course", { name: a.course_name })} · ${times}`),
+    el("ul", { className: "assignment-items" }, ...a.items.map((item) => el("li", {},
+      started ? el("a", { href: exerciseHref(a, item.exercise) }, titles.get(item.exercise) || item.exercise)
+        : el("span", {}, titles.get(item.exercise) || item.exercise),
+      " ", el("span", { className: "meta item-status" }, `· ${itemStatus(a, item, drafts)}`)))));
+}
+
+// not started / draft / submitted (late, automatically) / held until released / the released score
+function itemStatus(a, item, drafts) {
+  if (!item.submitted) return t(drafts.has(item.exercise) ? "item.draft" : "item.not_started");
+  const how = t(item.auto ? "item.auto" : item.late ? "item.late" : "item.submitted");
+  if (!a.results_visible) return `${how} – ${t("item.held")}`;
+  return item.score === null ? how : `${how} – ${t("item.score", { score: item.score, max: item.max_score })}`;
+}
+
+function joinForm(section) {
+  const input = el("input", { id: "join-code", name: "code", required: true, maxLength: 32, autocomplete: "off" });
+  const status = el("p", { id: "join-message", role: "status" });
+  const form = el("form", { className: "join", id: "join" },
+    el("h2", {}, t("home.join")),
+    el("label", { htmlFor: "join-code" }, t("home.code")), " ", input, " ",
+    el("button", { type: "submit" }, t("home.join_button")), status);
+  form.onsubmit = async (event) => {
+    event.preventDefault();
+    const r = await api("/courses/join", {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify({ code: input.value.trim() }),
+    });
+    if (!r.ok) {
+      status.className = "error";
+      status.textContent = (r.body?.error && message(r.body.error)) || t("home.join_failed");
+      return;
+    }
+    await mountHome(section);
+    const again = section.querySelector("#join-message");
+    again.className = "ok";
+    again.textContent = t("home.joined", { name: r.body.name });
+  };
+  return form;
+}
