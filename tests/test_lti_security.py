@@ -153,6 +153,10 @@ def test_learner_never_gets_instructor_rights(client: TestClient, platform: Plat
     headers = {"Authorization": f"Bearer {session['token']}"}
     assert client.get(f"/api/v1/courses/{member.course_id}/members", headers=headers).status_code == 403
     assert client.get("/api/v1/admin/lti/platforms", headers=headers).status_code == 403
+    # an account made by a launch has no password: nothing logs in as it
+    for password in ("!lti", "", "x" * 12):
+        r = client.post("/api/v1/auth/token", data={"username": user.username, "password": password})
+        assert r.status_code in (401, 422), r.text
     # unknown roles, look-alikes and mentors are learners
     assert role_of({LTI + "roles": ["urn:lti:role:ims/lis/Instructor", "Instructor#Learner",
                                     "http://purl.imsglobal.org/vocab/lis/v2/membership#Mentor"]}) == "learner"
