@@ -134,6 +134,9 @@ def test_learner_launch_opens_the_exercise_inside_the_platform_frame(browser: An
     # no cookie was needed (the tool set none): the token came in the URL fragment, which no server sees
     assert not [c for c in context.cookies() if c["domain"] in ("127.0.0.1", "localhost")]
     assert "#token=" in tool_frame.url
+    # the frame shows the exercise alone: no links to pages that would need a login of their own
+    assert tool_frame.locator("header nav a").count() == 0
+    assert tool_frame.locator("#lang").is_visible()
     # the drawing (an <img> of the API) came with the token too
     tool_frame.wait_for_function("() => [...document.images].some(i => i.src.startsWith('blob:') && i.complete"
                                  " && i.naturalWidth > 0)", timeout=30000)

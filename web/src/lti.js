@@ -29,6 +29,11 @@ export function installBearer() {
   // kept in the fragment (not moved to storage): a reload of the frame keeps working
   const token = new URLSearchParams(location.hash.slice(1)).get("token");
   if (!token) return;
+  // in the platform's frame the page is the exercise alone: the site's navigation (pages that need a login
+  // of their own) gives way to the language switch
+  const nav = document.querySelector("header nav");
+  const lang = document.getElementById("lang");
+  if (nav && lang) nav.replaceChildren(lang);
   const original = window.fetch.bind(window);
   window.fetch = (input, init = {}) => {
     const url = new URL(typeof input === "string" ? input : input.url, location.href);
