@@ -6,7 +6,7 @@ height map's outlines at each floor height). Coordinate dimensioning from the wo
 drawings do: X values below the top view, Y values to its left, Z values beside a section through the
 deepest feature. Where a part has more points than ordinates can show, or floors that are not flat,
 the drawing lists the points in a coordinate table instead: it never prints a number the program does
-not give.
+not give. A turning exercise's part is drawn by core/drawing/turned.py (a half section with Ø dimensions).
 """
 
 from __future__ import annotations

@@ -18,7 +18,7 @@ import numpy as np
 
 from core.drawing.frame import LABELS, MARGIN, SCALES, SHEET, SPACING, TITLE_BLOCK, frame, title_block, value
 from core.drawing.svg import THICK, THIN, Svg, num
-from core.drawing.turned_features import SAME, P, Seg, TurnedPart, loops, points, turned_part
+from core.drawing.turned_features import SAME, P, TurnedPart, loops, points, turned_part
 from core.exercises import Exercise
 
 CLEAR = 4.0  # mm on paper: a diameter's line this far from edges and other lines stands clear
@@ -222,7 +222,6 @@ class _Diameter:
     kind: str
     raw: str
     inside: bool
-    x: float = 0.0
 
 
 def _same_radius(part: TurnedPart, z: float, r: float, inside: bool, length: float) -> tuple[float, float]:
@@ -242,7 +241,7 @@ def _same_radius(part: TurnedPart, z: float, r: float, inside: bool, length: flo
 
 def _diameters(part: TurnedPart, L: Layout, lang: str) -> list[_Diameter]:
     """A dimension line per cylinder of the part (outside and bore) and per thread; a programmed point's
-    diameter no cylinder gives (the end of a taper or arc) gets one at its Z."""
+    diameter no cylinder gives (the end of a taper or arc, a groove's bottom) gets one where the part has it."""
     out: list[_Diameter] = []
     shown: dict[bool, list[float]] = {True: [], False: []}
     for t in part.threads:
@@ -352,7 +351,6 @@ def _diameter_lines(svg: Svg, L: Layout, part: TurnedPart, dims: list[_Diameter]
             place = (x, x - 0.9, y, y + 1.0)
             under.append((x - 0.3, low, x + 0.3, y))
         x, base, y_text, end = place
-        d.x = x
         lines.append((x - 0.3, top, x + 0.3, low))
         svg.line((x, top), (x, max(end, low)), width=THIN)
         svg.arrow((x, top), (x, top + 5.0))
@@ -485,6 +483,3 @@ def turned_part_drawing(exercise: Exercise, lang: str = "de") -> str:
     _draw_callouts(svg, L, part, lang, boxes)
     title_block(svg, exercise, L.s, lang)
     return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")
-
-
-__all__ = ["Seg", "turned_part_drawing"]
