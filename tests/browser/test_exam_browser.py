@@ -2,11 +2,12 @@
 that the run stays short the exam started 2 minutes minus LEFT seconds ago — the server's real clock ends it, no
 test-only setting. Trainee 1 joins with the code on the home page, sees the exam there, opens it: task, drawing,
 editor and countdown, no messages panel, no 3D view, no hints, no free-practice link; types, the draft is saved,
-the page is closed. Trainee 2 keeps the page open and sees, when the countdown ends, that the time is over and
-the last draft was submitted. The server submits both drafts; the results stay hidden until the instructor
-releases them, then trainee 1 sees score, criteria and the 3D view of the program. The live socket is not opened
-during the exam; free practice's socket is refused (4403) and not tried again. Screenshots of home and exam page
-at 1366×768 and 768×1024 (PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/), axe-core on both."""
+the page is closed. Trainee 3 finds other exercises closed, submits by hand (asked twice: one submission) and
+sees no score. Trainee 2 keeps the page open and sees, when the countdown ends, that the time is over and the
+last draft was submitted. The server submits the drafts; the results stay hidden until the instructor releases
+them, then trainee 1 sees score, criteria and the 3D view of the program. The live socket is not opened during
+the exam; free practice's socket is refused (4403) and not tried again. Screenshots of home and exam page at
+1366×768 and 768×1024 (PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/), axe-core on both."""
 
 from __future__ import annotations
 
@@ -30,8 +31,8 @@ SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent /
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
 SLUG = "pal-01-g1-gerade"
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
-TEACHER, FIRST, SECOND = "pruef-lehrer", "pruef-azubi", "pruef-azubi2"
-LEFT = 50  # seconds of the 2-minute exam still to go when it is made: enough to open, type and save twice
+TEACHER, FIRST, SECOND, THIRD = "pruef-lehrer", "pruef-azubi", "pruef-azubi2", "pruef-azubi3"
+LEFT = 60  # seconds of the 2-minute exam still to go when it is made: enough for three trainees to open and type
 
 
 def admin(*args: str) -> None:
@@ -43,7 +44,7 @@ def admin(*args: str) -> None:
 @pytest.fixture(scope="module")
 def teacher(server: str) -> httpx.Client:  # noqa: F811
     admin("create-user", TEACHER, "--role", "instructor", "--password", PASSWORD)
-    for name in (FIRST, SECOND):
+    for name in (FIRST, SECOND, THIRD):
         admin("create-user", name, "--role", "student", "--password", PASSWORD)
     client = httpx.Client(base_url=f"{server}/api/v1", timeout=60)
     r = client.post("/auth/token", data={"username": TEACHER, "password": PASSWORD})
@@ -107,6 +108,10 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     second.fill("#join-code", course["join_code"])
     second.click("form#join button[type=submit]")
     second.wait_for_selector("#join-message.ok")
+    third = login(browser, server, THIRD)
+    third.fill("#join-code", course["join_code"])
+    third.click("form#join button[type=submit]")
+    third.wait_for_selector("#join-message.ok")
 
     opens = datetime.now(UTC) - timedelta(seconds=120 - LEFT)
     r = teacher.post(f"/courses/{course['id']}/assignments", json={
@@ -157,6 +162,22 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     wait_until(second, "document.getElementById('save-state')?.textContent.includes('Entwurf gespeichert')")
     shot(second, "page-tablet")
     accessible(second)
+    # trainee 3: another exercise is closed while the exam runs; in the exam one submission, asked twice
+    third.goto(f"{server}/exercises/pal-05-g2-kreisbogen")
+    third.wait_for_selector(".exam-notice")
+    assert "kannst du nur deren Aufgaben bearbeiten" in third.inner_text(".exam-notice")
+    assert third.locator(".cm-content").count() == 0
+    third.click(".exam-notice a")
+    third.wait_for_selector("#countdown")
+    third.wait_for_selector(".cm-content")
+    type_program(third, REFERENCE)
+    third.click("#submit")
+    assert third.inner_text("#submit") == "Endgültig abgeben?"
+    third.click("#submit")
+    third.wait_for_selector("#result p:has-text('Abgegeben')", timeout=20000)
+    assert "sobald es freigegeben ist" in third.inner_text("#result") and third.is_disabled("#submit")
+    assert third.locator("#result .score").count() == 0  # no score during the exam
+    third.context.close()
     # trainee 2 keeps the page open: when the countdown ends the page says so and takes no more typing
     wait_until(second, "document.getElementById('exam-message')?.textContent.includes('Prüfungszeit ist abgelaufen')",
                timeout=max(5.0, end - time.monotonic() + 10))
@@ -183,6 +204,7 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     rows = {row["username"]: row["results"][SLUG] for row in results["trainees"]}
     assert rows[FIRST]["auto"] is True and rows[SECOND]["auto"] is True
     assert rows[FIRST]["score"] == rows[FIRST]["max_score"] and rows[FIRST]["score"] > (rows[SECOND]["score"] or 0)
+    assert rows[THIRD]["auto"] is False and rows[THIRD]["score"] == rows[THIRD]["max_score"]
 
     # trainee 1 comes back before the release: time over, submitted, no score
     first = login(browser, server, FIRST)
