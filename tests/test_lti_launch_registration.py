@@ -95,6 +95,10 @@ def test_admin_registration_validates_urls(client: TestClient) -> None:
             "token_url": "https://x.example/t", "jwks_url": "https://x.example/k"}
     r = client.post("/api/v1/admin/lti/platforms", json=body, headers=admin_headers(client))
     assert r.status_code == 422 and r.json()["error"]["code"] == "VALIDATION"
+    # the issuer is an https URL too (LTI 1.3 core 5.1.2): it names the origin allowed to frame our pages
+    body = {**body, "auth_login_url": "https://x.example/a", "issuer": "x.example; script-src *"}
+    r = client.post("/api/v1/admin/lti/platforms", json=body, headers=admin_headers(client))
+    assert r.status_code == 422 and r.json()["error"]["code"] == "VALIDATION"
 
 
 def test_private_keys_are_stored_encrypted(client: TestClient) -> None:

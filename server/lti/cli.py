@@ -20,7 +20,8 @@ def _database() -> Any:
 def _register(args: argparse.Namespace) -> int:
     from server.lti import registration
 
-    urls = {"--auth-url": args.auth_url, "--token-url": args.token_url, "--jwks-url": args.jwks_url}
+    urls = {"--issuer": args.issuer, "--auth-url": args.auth_url, "--token-url": args.token_url,
+            "--jwks-url": args.jwks_url}
     bad = [name for name, url in urls.items() if not registration.url_ok(url)]
     if bad:
         print(f"Keine gültige https-Adresse / not a valid https URL: {', '.join(bad)}", file=sys.stderr)

@@ -320,7 +320,7 @@ class PlatformIn(BaseModel):
     deployment_ids: list[str] = Field(default=[], max_length=50)
     name: str = Field(default="", max_length=200)
 
-    @field_validator("auth_login_url", "token_url", "jwks_url")
+    @field_validator("issuer", "auth_login_url", "token_url", "jwks_url")
     @classmethod
     def _url(cls, v: str) -> str:
         if not registration.url_ok(v):
