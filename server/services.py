@@ -375,6 +375,9 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
     check_program(settings, body.program, exercise.dialect)
     context = exams.submission_context(db, principal.user if principal.api_key is None else None, exercise,
                                        body.assignment)
+    # the connection goes back to the pool while the worker grades: many submissions waiting at once must not
+    # hold every pooled connection (the next request's query would block the event loop waiting for one)
+    db.commit()
     result = await workers.call(job_submission, body.program, exercise.dialect,
                                 exercise_spec(exercise, body.skip_blocks))
     try:

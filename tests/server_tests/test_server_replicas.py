@@ -8,6 +8,7 @@ from __future__ import annotations
 import socket
 import time
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 from fastapi.testclient import TestClient
@@ -18,6 +19,8 @@ from server import viz
 from server.app import create_app
 from server.config import Settings
 from server.ratelimit import RateLimiter
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
@@ -99,3 +102,30 @@ def test_without_redis_the_limits_hold_in_the_process() -> None:
     assert [limiter.hit("submit", "user:1", 2) for _ in range(2)] == [0, 0]
     assert limiter.hit("submit", "user:1", 2) > 0
     assert time.monotonic() - started < 5  # one refused connection, then the process's counts for a while
+
+
+def test_a_submission_being_graded_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Many submissions waiting for a worker at once must not take every pooled connection: a request that then
+    needs one would wait for the pool inside the event loop, and the replica would stall (bench/scale.py with
+    16 clients on one replica did)."""
+    workers = replica.app.state.workers
+    pool = replica.app.state.db.engine.pool
+    held: list[int] = []
+    original = workers.call
+
+    async def call(*args: object, **kwargs: object) -> object:
+        held.append(pool.checkedout())
+        return await original(*args, **kwargs)
+
+    monkeypatch.setattr(workers, "call", call)
+    with replica.app.state.db.session() as db:
+        from server import repository as repo
+        from server.seed import load_exercises
+        if repo.exercise_by_slug(db, "pal-01-g1-gerade") is None:
+            load_exercises(db, ROOT / "exercises")
+    user = replica.user()
+    program = (ROOT / "exercises" / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8")
+    r = replica.client.post("/api/v1/submissions", json={"exercise": "pal-01-g1-gerade", "program": program},
+                            headers={"Authorization": user["Authorization"]})
+    assert r.status_code == 201, r.text
+    assert held == [0]
