@@ -239,6 +239,11 @@ def test_7_roster_pulled_with_nrps(setup: Setup) -> None:
     other = setup.user("instructor", "andere-lehrkraft")
     url = f"/api/v1/courses/{course}/lti/roster"
     with setup.api() as api:
+        linked = api.get(f"/api/v1/courses/{course}/lti", headers=teacher)
+        assert linked.status_code == 200
+        assert linked.json() == [{"platform": "Moodle der Berufsschule", "context": "Fertigungstechnik 2A",
+                                  "roster": True}]
+        assert api.get(f"/api/v1/courses/{course}/lti", headers=learner).status_code == 403
         assert api.post(url).status_code == 401
         assert api.post(url, headers=learner).status_code == 403
         assert api.post(url, headers=other).status_code == 404  # not their course
@@ -256,6 +261,7 @@ def test_7_roster_pulled_with_nrps(setup: Setup) -> None:
         assert len(api.get(f"/api/v1/courses/{course}/members", headers=teacher).json()) == 3
         # a course no platform course is linked to has no roster to pull
         mine = api.post("/api/v1/courses", json={"name": "Ohne Lernplattform"}, headers=other).json()
+        assert api.get(f"/api/v1/courses/{mine['id']}/lti", headers=other).json() == []
         r = api.post(f"/api/v1/courses/{mine['id']}/lti/roster", headers=other)
         assert r.status_code == 409 and r.json()["error"]["code"] == "LTI_NO_ROSTER"
 

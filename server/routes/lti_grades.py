@@ -15,7 +15,7 @@ from server import courses
 from server.deps import CurrentPrincipal, DbSession
 from server.errors import ApiError, ErrorBody, responses
 from server.lti import ags, nrps
-from server.models import CourseMember, LtiScore, LtiUser, Submission, User
+from server.models import CourseMember, LtiContext, LtiPlatform, LtiScore, LtiUser, Submission, User
 from server.schemas import DB_INT_MAX, Slug, utc
 
 router = APIRouter(tags=["lti"])
@@ -125,6 +125,24 @@ def retry(score_id: Id, db: DbSession, principal: CurrentPrincipal) -> ScoreOut:
                                                 LtiUser.sub == row.lti_sub)).first()
     return _score_out(row, sub, db.get(User, row.user_id) if row.user_id else None,
                       lti_user.name if lti_user else "")
+
+
+class LinkedCourse(BaseModel):
+    """A learning-platform course linked to this course (made by an instructor's launch from it)."""
+
+    platform: str  # the platform's name
+    context: str  # the platform course's title
+    roster: bool  # the platform offers its roster (NRPS): POST …/lti/roster can pull it
+
+
+@router.get("/courses/{course_id}/lti", response_model=list[LinkedCourse], responses=responses(401, 403, 404))
+def linked_courses(course_id: Id, db: DbSession, principal: CurrentPrincipal) -> list[LinkedCourse]:
+    """The course's instructors and admins: the learning-platform courses linked to it (empty: none)."""
+    courses.course_for(db, principal, course_id, manage=True)
+    rows = db.execute(select(LtiContext, LtiPlatform).join(LtiPlatform, LtiPlatform.id == LtiContext.platform_id)
+                      .where(LtiContext.course_id == course_id).order_by(LtiContext.id)).all()
+    return [LinkedCourse(platform=p.name or p.issuer, context=c.title, roster=c.memberships_url is not None)
+            for c, p in rows]
 
 
 @router.post("/courses/{course_id}/lti/roster", response_model=nrps.RosterOut,
