@@ -339,8 +339,7 @@ function assignmentForm(courseId, exercises) {
       settings: { ...Object.fromEntries(SETTINGS.map((k) => [k, boxes[k].checked])), max_submissions: Number(maxSubs.value) } };
     const r = await api(`/courses/${courseId}/assignments`, post(body));
     note.className = r.ok ? "ok" : "error";
-    note.textContent = r.ok ? t("form.created", { title: r.body.title })
-      : `${error(r, "instructor.error")}${r.body?.error?.details?.detail ? ` ${message(r.body.error.details, "detail", "detail_en")}` : ""}`;
+    note.textContent = r.ok ? t("form.created", { title: r.body.title }) : error(r, "instructor.error");
     if (r.ok) location.href = `/courses/${courseId}?assignment=${r.body.id}`;
   };
   return form;
