@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 from lti_platform import CLIENT_ID, PlatformState, Served, free_port, platform_app
-from server_tests.server_helpers import BACKENDS, make_settings
-from sqlalchemy import select
+from server_tests.server_helpers import BACKENDS, POSTGRES_URL, make_settings
+from sqlalchemy import create_engine, select, text
 
 from server.config import Settings
 from server.db import Database, migrate
@@ -70,8 +70,20 @@ class World:
         return asyncio.run(ags.drain(self.database, at=at))
 
 
+def own_postgres_schema(name: str) -> str:
+    """A fresh schema of its own in the test database (other server tests use the public one meanwhile)."""
+    assert POSTGRES_URL
+    engine = create_engine(POSTGRES_URL.replace("postgresql://", "postgresql+psycopg://", 1))
+    with engine.begin() as conn:
+        conn.execute(text(f"DROP SCHEMA IF EXISTS {name} CASCADE"))
+        conn.execute(text(f"CREATE SCHEMA {name}"))
+    engine.dispose()
+    return f"{POSTGRES_URL}{'&' if '?' in POSTGRES_URL else '?'}options=-csearch_path%3D{name}"
+
+
 def build(tmp: Path, backend: str) -> World:
-    settings = make_settings(tmp, backend)
+    settings = (make_settings(tmp, "sqlite", database_url=own_postgres_schema("lti_ags"))
+                if backend == "postgresql" else make_settings(tmp, backend))
     keys.configure(settings)
     database = Database(settings)
     migrate(database.engine)
