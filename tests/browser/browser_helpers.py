@@ -46,7 +46,7 @@ def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: i
                             cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     url = f"http://127.0.0.1:{port}"
     try:
-        for _ in range(200):
+        for _ in range(600):  # up to a minute: on a busy CI machine the first start imports slowly
             try:
                 with urllib.request.urlopen(f"{url}/readyz", timeout=1):
                     break

@@ -5,12 +5,14 @@ import { mountAbout } from "./about.js";
 import { mountCourse } from "./page-course.js";
 import { mountHeader } from "./header.js";
 import { mountHome } from "./page-home.js";
+import { practiceBlocked } from "./page-exam.js";
 import { mountPractice } from "./page-practice.js";
 import { restoreState } from "./state.js";
 import { mountExercise, mountExerciseList, mountInstructor, mountLogin } from "./pages.js";
 
 const PAGES = {
-  practice: () => mountPractice(document.getElementById("practice")),
+  practice: async () => (await practiceBlocked(document.getElementById("practice")))
+    || mountPractice(document.getElementById("practice")),
   exercise: () => mountExercise(document.getElementById("exercise"),
     decodeURIComponent(location.pathname.split("/").pop())),
   exercises: () => Promise.all([mountHome(document.getElementById("home")), mountExerciseList(document.getElementById("list"))]),

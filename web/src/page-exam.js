@@ -79,6 +79,22 @@ export function examNotice(root, ctx) {
   root.querySelector("#submit").hidden = true;
 }
 
+// Free practice while an exam without it runs for the trainee: a notice with the way to the exam instead of the
+// editor (true), else nothing happens (false).
+export async function practiceBlocked(root) {
+  if (document.body.dataset.role !== "student") return false;
+  const r = await api("/me/assignments");
+  const exam = r.ok ? r.body.find((a) => a.mode === "exam" && a.seconds_left !== null && !a.settings.free_practice) : null;
+  if (!exam) return false;
+  document.getElementById("nav-practice")?.setAttribute("hidden", "");
+  root.className = "narrow";
+  root.replaceChildren(el("div", { className: "exam-notice" },
+    el("h2", {}, t("nav.practice")),
+    el("p", { role: "status" }, t("exam.no_practice", { title: exam.title })),
+    el("p", {}, el("a", { href: `/exercises/${exam.exercises[0]}?assignment=${exam.id}` }, t("home.to_exam")))));
+  return true;
+}
+
 function rules(s) {
   return [!s.live_diagnostics && t("exam.rule.live"), !s.viz && t("exam.rule.viz"), !s.hints && t("exam.rule.hints"),
     s.max_submissions === 1 ? t("exam.rule.one") : s.max_submissions ? t("exam.rule.n", { n: s.max_submissions }) : null]

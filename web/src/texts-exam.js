@@ -71,6 +71,8 @@ addTexts({
   "exam.upcoming": ["Die Prüfung „{title}“ beginnt {time}.", "The exam “{title}” starts {time}."],
   "exam.blocked": ["Während der Prüfung „{title}“ kannst du nur deren Aufgaben bearbeiten.",
     "During the exam “{title}” you can only work on its exercises."],
+  "exam.no_practice": ["Während der Prüfung „{title}“ ist freies Üben gesperrt.",
+    "Free practice is closed during the exam “{title}”."],
   "exam.confirm": ["Endgültig abgeben?", "Submit for good?"],
   "exam.confirm_title": ["Nach der Abgabe kannst du das Programm nicht mehr ändern.",
     "After submitting you cannot change the program any more."],
