@@ -79,6 +79,7 @@ class PlatformState:
     members: list[Member] = field(default_factory=list)
     scores: list[tuple[str, dict[str, Any]]] = field(default_factory=list)  # (line item id, score JSON)
     deep_linked: list[dict[str, Any]] = field(default_factory=list)
+    lineitems: list[dict[str, Any]] = field(default_factory=list)  # made by the tool (AGS line item service)
     token_requests: int = 0
     tool_jwks: dict[str, Any] | None = None  # the tool's keys as entered by hand; None: fetched from its /lti/jwks
 
@@ -147,13 +148,17 @@ class Grades(AssignmentsGradesService):
     def find_lineitems(self, page: int = 1, limit: int | None = None, line_item_id: str | None = None,
                        resource_link_id: str | None = None, resource_id: str | None = None,
                        tag: str | None = None) -> TPage:
-        return {"content": [], "has_next": False, "next": None}
+        items = [i for i in self.state.lineitems if resource_link_id in (None, i.get("resourceLinkId"))]
+        return {"content": items, "has_next": False, "next": None}
 
     def find_lineitem(self, line_item_id: str) -> TLineItem:
         return {"id": line_item_id, "scoreMaximum": 100}
 
     def create_lineitem(self, creation_data: TLineItem) -> TLineItem:
-        return creation_data
+        item = t.cast(TLineItem, {**creation_data,
+                                  "id": f"{self.ags.lineitems_url}/made-{len(self.state.lineitems) + 1}/lineitem"})
+        self.state.lineitems.append(dict(item))
+        return item
 
     def update_lineitem(self, update_data: TLineItem) -> TLineItem:
         return update_data
@@ -236,8 +241,11 @@ def platform_app(base: str, tool: str, state: PlatformState) -> FastAPI:
             launch.set_resource_link_claim(hint["link"], title="PAL-Aufgabe")
             if hint.get("exercise"):
                 launch.set_custom_parameters_claim({"exercise": hint["exercise"]})
-            launch.set_ags(f"{base}/lineitems", f"{base}/lineitems/{hint['lineitem']}/lineitem",
-                           allow_creating_lineitems=False)
+            if hint.get("lineitem"):
+                launch.set_ags(f"{base}/lineitems", f"{base}/lineitems/{hint['lineitem']}/lineitem",
+                               allow_creating_lineitems=False)
+            else:  # a link without a grade item: the tool may make one (scope lineitem)
+                launch.set_ags(f"{base}/lineitems", None, allow_creating_lineitems=True)
         try:
             return t.cast(Response, launch.lti_launch())
         except lti_errors.PreflightRequestValidationException as err:  # wrong client id, no nonce …
@@ -267,6 +275,21 @@ def platform_app(base: str, tool: str, state: PlatformState) -> FastAPI:
             return _answer(service.handle_resp(service.handle_update_score, line_item_id=item))
         except jwt.PyJWTError as err:  # a token the platform did not sign, or expired
             return JSONResponse({"error": type(err).__name__}, status_code=401)
+
+    @app.api_route("/lineitems", methods=["GET", "POST"])
+    async def lineitems(request: Request) -> Response:
+        c = conf()
+        c.get_registration()
+        body = await request.json() if request.method == "POST" else None
+        service = Grades(service_request(request, body), c, base, state)
+        handler = service.handle_create_lineitem if request.method == "POST" else service.handle_get_lineitems
+        try:
+            resp = service.handle_resp(handler)
+        except jwt.PyJWTError as err:
+            return JSONResponse({"error": type(err).__name__}, status_code=401)
+        if request.method == "GET" and resp.code == 200:  # the spec's answer is the array of line items
+            return JSONResponse(resp.result["content"], media_type=resp.media_type)
+        return _answer(resp)
 
     @app.get("/contexts/{context}/memberships")
     def memberships(context: str, request: Request) -> Response:

@@ -285,3 +285,18 @@ def test_8_a_given_up_passback_is_sent_again_by_the_instructor(setup: Setup) -> 
         assert (r.json()["state"], r.json()["attempts"]) == ("pending", 0)
     wait_for(lambda: len(setup.state.scores) == before + 1)
     assert setup.state.scores[-1][1]["userId"] == "moodle-student-2"
+
+
+def test_9_a_link_without_a_grade_item_gets_one_made_once(setup: Setup) -> None:
+    s = setup.session("moodle-student-2", exercise=setup.slug, link="link-3", lineitem="")
+    before = len(setup.state.scores)
+    with setup.api() as api:
+        for _ in range(2):
+            r = api.post("/api/v1/submissions", json={"exercise": setup.slug, "program": reference_of()},
+                         headers=bearer(s["token"]))
+            assert r.status_code == 201, r.text
+            count = len(setup.state.scores)
+            wait_for(lambda count=count: len(setup.state.scores) == count + 1)
+    assert [(i["resourceLinkId"], i["scoreMaximum"], i["resourceId"]) for i in setup.state.lineitems] == [
+        ("link-3", 100, setup.slug)]
+    assert [item for item, _ in setup.state.scores[before:]] == ["made-1", "made-1"]

@@ -46,6 +46,9 @@ log = logging.getLogger("paltrainer.lti")
 
 SCORE_SCOPE = "https://purl.imsglobal.org/spec/lti-ags/scope/score"
 SCORE_MEDIA_TYPE = "application/vnd.ims.lis.v1.score+json"
+LINEITEM_SCOPE = "https://purl.imsglobal.org/spec/lti-ags/scope/lineitem"
+LINEITEM_MEDIA_TYPE = "application/vnd.ims.lis.v2.lineitem+json"
+LINEITEMS_MEDIA_TYPE = "application/vnd.ims.lis.v2.lineitemcontainer+json"
 ASSERTION_TYPE = "urn:ietf:params:oauth:client-assertion-type:jwt-bearer"
 SCORE_MAXIMUM = 100.0
 
@@ -115,7 +118,10 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
     existing = db.scalars(select(LtiScore).where(LtiScore.submission_id == submission.id)).first()
     if existing is not None:
         return existing
-    if not link.lineitem_url or submission.user_id is None:
+    # a link without a line item of its own gets one made by the drainer, if the platform lets us ("" till then)
+    may_make = bool(link.lineitems_url) and LINEITEM_SCOPE in (link.ags_scopes or [])
+    target = link.lineitem_url or ("" if may_make else None)
+    if target is None or submission.user_id is None:
         return None
     if link.ags_scopes and SCORE_SCOPE not in link.ags_scopes:
         return None  # the platform did not grant the score scope for this link
@@ -127,8 +133,8 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
     # an older score still waiting for the same grade book cell is carried by this one (the best so far);
     # not an exam's waiting for its release: this one does not carry it
     released = select(Submission.id).where(Submission.held.is_(False))
-    db.execute(update(LtiScore).where(LtiScore.platform_id == link.platform_id,
-                                      LtiScore.lineitem_url == link.lineitem_url, LtiScore.lti_sub == lti_user.sub,
+    cell = or_(LtiScore.resource_link_pk == link.id, LtiScore.lineitem_url == link.lineitem_url)
+    db.execute(update(LtiScore).where(LtiScore.platform_id == link.platform_id, cell, LtiScore.lti_sub == lti_user.sub,
                                       LtiScore.state == "pending", LtiScore.submission_id.in_(released))
                .values(state="superseded"))
     assignment = db.get(Assignment, link.assignment_id) if link.assignment_id is not None else None
@@ -139,7 +145,7 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
         score, progress = _best_percent(db, submission), "Completed"
     row = LtiScore(submission_id=submission.id, platform_id=link.platform_id, resource_link_pk=link.id,
                    course_id=context.course_id if context else None, user_id=submission.user_id,
-                   exercise_slug=exercise.slug, lineitem_url=link.lineitem_url, lti_sub=lti_user.sub,
+                   exercise_slug=exercise.slug, lineitem_url=target, lti_sub=lti_user.sub,
                    score_given=score, activity_progress=progress, timestamp=_utc(submission.created_at),
                    state="pending", attempts=0, next_attempt_at=datetime.now(UTC))
     db.add(row)
@@ -260,7 +266,43 @@ async def access_token(client: httpx.AsyncClient, db: Session, platform: LtiPlat
     return value
 
 
+async def ensure_lineitem(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, row: LtiScore) -> str:
+    """The line item of the row's link: the one the link has, else the platform's line item for this resource
+    link (found by resource_link_id, or made with a maximum of 100) — kept on the link for all its rows."""
+    link = db.get(LtiResourceLink, row.resource_link_pk) if row.resource_link_pk is not None else None
+    if link is None or not link.lineitems_url:
+        raise PassbackError("the link has no line item and none can be made")
+    if not link.lineitem_url:
+        token = await access_token(client, db, platform, [LINEITEM_SCOPE])
+        auth = {"Authorization": f"Bearer {token}"}
+        try:
+            found = await client.get(link.lineitems_url, params={"resource_link_id": link.resource_link_id},
+                                     headers={**auth, "Accept": LINEITEMS_MEDIA_TYPE})
+            items = found.json() if found.status_code == 200 else []
+            mine = [i for i in items if isinstance(i, dict) and i.get("resourceLinkId") == link.resource_link_id
+                    and isinstance(i.get("id"), str)] if isinstance(items, list) else []
+            if mine:
+                link.lineitem_url = mine[0]["id"][:1000]
+            else:
+                made = await client.post(link.lineitems_url, json={
+                    "scoreMaximum": SCORE_MAXIMUM, "label": (link.title or row.exercise_slug)[:200],
+                    "resourceLinkId": link.resource_link_id, "resourceId": row.exercise_slug},
+                    headers={**auth, "Content-Type": LINEITEM_MEDIA_TYPE, "Accept": LINEITEM_MEDIA_TYPE})
+                if made.status_code not in (200, 201) or not isinstance(made.json().get("id"), str):
+                    raise PassbackError(f"line item service answered {made.status_code}: {made.text[:200]}")
+                link.lineitem_url = made.json()["id"][:1000]
+        except httpx.HTTPError as err:
+            raise PassbackError(f"line item service unreachable: {type(err).__name__}") from err
+        except ValueError as err:
+            raise PassbackError("line item service answered no JSON") from err
+    row.lineitem_url = link.lineitem_url
+    db.commit()
+    return row.lineitem_url
+
+
 async def post_score(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, row: LtiScore) -> None:
+    if not row.lineitem_url:
+        await ensure_lineitem(client, db, platform, row)
     token = await access_token(client, db, platform, [SCORE_SCOPE])
     try:
         resp = await client.post(scores_url(row.lineitem_url), json=score_json(row),
