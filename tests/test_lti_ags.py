@@ -19,6 +19,7 @@ from server.config import Settings
 from server.db import Database, migrate
 from server.lti import ags, keys
 from server.models import (
+    ApiKey,
     Assignment,
     Course,
     Exercise,
@@ -323,3 +324,25 @@ def test_an_exam_score_waits_for_the_release_and_shows_in_no_other_score(world: 
         db.commit()
     assert world.drain(datetime.now(UTC)) == 1
     assert [s["scoreGiven"] for _, s in world.state.scores] == [50.0, 100.0]
+
+
+def test_a_submission_through_an_api_key_is_not_passed_back_for_the_key_owner(world: World) -> None:
+    with world.database.session() as db:
+        link = db.get(LtiResourceLink, world.link_id)
+        user = db.get(User, world.user_id)
+        assert link is not None and user is not None
+        key = ApiKey(name="lms", prefix="pt_test1", key_hash="-", scopes=["submissions:write"], owner_id=user.id)
+        db.add(key)
+        db.add(LtiLaunch(platform_id=link.platform_id, deployment_id="1", message_type="LtiResourceLinkRequest",
+                         user_id=user.id, lti_user_pk=db.scalars(select(LtiUser)).one().id, resource_link_pk=link.id,
+                         exercise_slug="pal-nuten", role="learner", ticket_hash="y" * 64,
+                         ticket_expires_at=datetime.now(UTC)))
+        db.commit()
+        for api_key_id in (key.id, None):
+            sub = Submission(exercise_id=world.exercise_id, user_id=user.id, api_key_id=api_key_id,
+                             external_user="azubi-17" if api_key_id else None, program="N10 M30\n",
+                             dialect="pal-mill", result={}, grading={"score": 3, "max_score": 10, "criteria": []})
+            db.add(sub)
+            db.commit()
+            ags.after_graded(db, sub)
+    assert [(r.lti_sub, r.score_given) for r in world.rows()] == [("moodle-user-7", 30.0)]  # the user's own only

@@ -167,8 +167,8 @@ def _assignment_link(db: Session, submission: Submission) -> LtiResourceLink | N
 def after_graded(db: Session, submission: Submission) -> None:
     """Hook: called wherever a submission got its grade. Queues its score if the author came from a platform's
     link with a line item for this exercise. Never fails the submission: a problem here is logged."""
-    if submission.user_id is None:
-        return
+    if submission.user_id is None or submission.api_key_id is not None:
+        return  # made through an API key: for the key's learner (external_user), not its owner's gradebook cell
     try:
         exercise = db.get(Exercise, submission.exercise_id)
         link = _assignment_link(db, submission) or (
