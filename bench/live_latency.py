@@ -38,6 +38,7 @@ import sys
 import tempfile
 import time
 import urllib.request
+from collections import Counter
 from collections.abc import Iterator
 from contextlib import contextmanager
 
@@ -120,6 +121,7 @@ class Session:
         self.pending: dict[int, float] = {}  # version → send time
         self.latencies: list[float] = []
         self.errors: list[dict[str, object]] = []
+        self.runs: Counter[str] = Counter()  # how the worker checked each update ("run")
         self.newest = asyncio.Event()
 
     async def open(self) -> None:
@@ -140,13 +142,14 @@ class Session:
             if msg["type"] != "update":
                 self.errors.append(msg)
                 continue
+            self.runs[str(msg.get("run"))] += 1
             for v in [v for v in self.pending if v <= msg["version"]]:
                 self.latencies.append((now - self.pending.pop(v)) * 1000)
             if not self.pending:
                 self.newest.set()
 
 
-async def single(url: str, n: int) -> list[float]:
+async def single(url: str, n: int) -> tuple[list[float], Counter[str]]:
     lines = program()
     rng = random.Random(SEED)
     async with connect(url, max_size=None, compression=None) as ws:
@@ -164,15 +167,15 @@ async def single(url: str, n: int) -> list[float]:
             await s.edit(*next(keys))
             await s.newest.wait()
         task.cancel()
-        return s.latencies
+        return s.latencies, s.runs
 
 
 async def concurrent(url: str, sessions: int, per_session: int, interval: float,
-                     ) -> tuple[list[float], float, int, int]:
-    """Latencies, seconds, errors received and keystrokes never answered."""
+                     ) -> tuple[list[float], float, int, int, Counter[str]]:
+    """Latencies, seconds, errors received, keystrokes never answered and how the updates were checked."""
     lines = program()
 
-    async def one(i: int, start: asyncio.Event) -> tuple[list[float], int, int]:
+    async def one(i: int, start: asyncio.Event) -> tuple[list[float], int, int, Counter[str]]:
         rng = random.Random(SEED + i)
         async with connect(url, max_size=None, compression=None) as ws:
             s = Session(ws, lines)
@@ -189,7 +192,7 @@ async def concurrent(url: str, sessions: int, per_session: int, interval: float,
                 with contextlib.suppress(TimeoutError):
                     await asyncio.wait_for(s.newest.wait(), 30)
             task.cancel()
-            return s.latencies, len(s.errors), len(s.pending)
+            return s.latencies, len(s.errors), len(s.pending), s.runs
 
     start = asyncio.Event()
     tasks = [asyncio.create_task(one(i, start)) for i in range(sessions)]
@@ -198,12 +201,17 @@ async def concurrent(url: str, sessions: int, per_session: int, interval: float,
     start.set()
     results = await asyncio.gather(*tasks)
     return ([x for r in results for x in r[0]], time.perf_counter() - t0, sum(r[1] for r in results),
-            sum(r[2] for r in results))
+            sum(r[2] for r in results), sum((r[3] for r in results), Counter()))
 
 
 def pct(values: list[float], p: float) -> float:
     ordered = sorted(values)
     return ordered[min(len(ordered) - 1, round(p / 100 * (len(ordered) - 1)))]
+
+
+def checked(runs: Counter[str]) -> str:
+    """How the server checked the updates (each update's "run"): incremental, to the end, in full."""
+    return ", ".join(f"{k} {runs[k]}" for k in ("incremental", "to_end", "full") if runs[k]) or "-"
 
 
 def report(name: str, lat: list[float], target: float) -> bool:
@@ -218,20 +226,21 @@ def report(name: str, lat: list[float], target: float) -> bool:
 async def main_async(args: argparse.Namespace, url: str) -> bool:
     ok = True
     n = 100 if args.quick else 400
-    lat = await single(url, n)
+    lat, runs = await single(url, n)
     ok &= report("1 session, 500 blocks", lat, TARGET_SINGLE_P95_MS)
+    print(f"  updates checked: {checked(runs)}; load average now {os.getloadavg()[0]:.2f}")
     per = 15 if args.quick else 40
     runs = [(args.sessions, float(x), TARGET_CONCURRENT_P95_MS) for x in args.interval.split(",")]
     if args.school:
         runs.append((200, 1.0, TARGET_SCHOOL_P95_MS))
     for sessions, interval, target in runs:
-        lat, seconds, errors, unanswered = await concurrent(url, sessions, per, interval)
+        lat, seconds, errors, unanswered, runs = await concurrent(url, sessions, per, interval)
         ok &= report(f"{sessions} sessions, one key per {interval:g} s", lat, target)
         ok &= errors == 0 and unanswered == 0
         print(f"  {sessions} sessions × {per} keystrokes, one every {interval:g} s ± 50 % per session: "
               f"{sessions / interval:.0f} keystrokes/s offered, {len(lat) / seconds:.0f} keystrokes/s answered; "
-              f"errors {errors}, keystrokes never answered {unanswered}; load average now "
-              f"{os.getloadavg()[0]:.2f}")
+              f"errors {errors}, keystrokes never answered {unanswered}; updates checked: {checked(runs)}; "
+              f"load average now {os.getloadavg()[0]:.2f}")
     return ok
 
 

@@ -87,6 +87,8 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
         sub, sub_diagnostics = parser.parse_program(sub_text, setup.limits)
         library[number] = sub
         diagnostics += [dataclasses.replace(x, source=f"{d.library_prefix}{number}") for x in sub_diagnostics]
+    if memo is not None:
+        memo.runs.kind = "full"  # TRAUB's run loop runs in full
     if d.runner is not None:
         if setup.skip_blocks is None:
             setup = dataclasses.replace(setup, skip_blocks=d.skip_blocks)

@@ -20,6 +20,9 @@ server → client
    "final": [x, y, z]}
      Only the lines whose diagnostics or toolpath differ from the previous update are listed; an empty
      list clears a line. The first update after open lists every line that has something.
+     "run" says how the worker checked the document (for monitoring and bench/live_latency.py; the result
+     is the same): "incremental" (from the block before the first changed line until it met the previous
+     run again, core/interpreter/checkpoints.py), "to_end" (from there to the end) or "full".
   {"type": "error", "version": 7, "code": "STALE_VERSION", "message": "...", "message_en": "..."}
 
 The document is re-run in a worker process after each change. Edits that arrive while a run is in
@@ -45,6 +48,7 @@ import contextlib
 import json
 import logging
 import uuid
+import weakref
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import Annotated, Any
@@ -62,7 +66,7 @@ from server.deps import ANONYMOUS, SESSION_COOKIE, Principal, resolve
 from server.errors import ApiError
 from server.schemas import ToolSpec
 from server.services import check_program, exercise_spec
-from server.workers import Workers, job_live, job_live_close
+from server.workers import Workers, job_live, job_live_batch, job_live_close
 
 router = APIRouter()
 log = logging.getLogger("paltrainer.server")
@@ -122,6 +126,78 @@ def split_lines(text: str) -> list[str]:
     if len(lines) > 1 and lines[-1] == "":
         lines.pop()
     return lines
+
+
+class LiveBatch:
+    """The live runs waiting for one worker process, handed to it together (`job_live_batch`): under load a
+    process answers every document that waited with one round trip instead of one each."""
+
+    most = 64  # documents in one job
+
+    def __init__(self, workers: Workers, slot: int) -> None:
+        self.workers, self.slot = workers, slot
+        self.waiting: list[tuple[tuple[Any, ...], asyncio.Future[dict[str, Any]]]] = []
+        self.task: asyncio.Task[None] | None = None
+
+    async def run(self, *request: Any) -> dict[str, Any]:
+        """job_live(*request)'s answer; ApiError as `Workers.call` raises it."""
+        loop = asyncio.get_running_loop()
+        if self.task is not None and (self.task.done() or self.task.get_loop() is not loop):
+            self.task = None  # an event loop that ended (tests start one per client)
+            self.waiting = [(r, f) for r, f in self.waiting if f.get_loop() is loop and not f.done()]
+        future: asyncio.Future[dict[str, Any]] = loop.create_future()
+        self.waiting.append((request, future))
+        if self.task is None:
+            self.task = asyncio.create_task(self._drain())
+        return await future
+
+    async def _drain(self) -> None:
+        batch: list[tuple[tuple[Any, ...], asyncio.Future[dict[str, Any]]]] = []
+        try:
+            while self.waiting:
+                batch, self.waiting = self.waiting[:self.most], self.waiting[self.most:]
+                try:  # job_live is looked up here, at each call (tests replace it)
+                    answers = await self.workers.call(job_live_batch, job_live, [r for r, _ in batch],
+                                                      self.workers.seconds / 4, affinity=self.slot)
+                except ApiError as err:
+                    for _, f in batch:
+                        if not f.done():
+                            f.set_exception(ApiError(err.code, **err.params))
+                    continue
+                except Exception:  # a defect here or in the job's hand-over: each session says so
+                    log.exception("live batch failed")
+                    for _, f in batch:
+                        if not f.done():
+                            f.set_exception(RuntimeError("live batch failed"))
+                    continue
+                later = []
+                for (request, f), answer in zip(batch, answers, strict=True):
+                    if f.done():
+                        continue  # the session went away
+                    if answer is None:
+                        later.append((request, f))  # the job's time was up: first in the next one
+                    elif answer.get("failed"):
+                        f.set_exception(RuntimeError("live run failed"))
+                    else:
+                        f.set_result(answer)
+                self.waiting[:0] = later
+        except asyncio.CancelledError:  # the server stops: nobody waits in vain
+            for _, f in [*batch, *self.waiting]:
+                f.cancel()
+            self.waiting = []
+            raise
+        finally:
+            self.task = None
+
+
+_BATCHES: weakref.WeakKeyDictionary[Workers, dict[int, LiveBatch]] = weakref.WeakKeyDictionary()
+
+
+def live_batch(workers: Workers, slot: int) -> LiveBatch:
+    batches = _BATCHES.setdefault(workers, {})
+    if slot not in batches:
+        batches[slot] = LiveBatch(workers, slot)
+    return batches[slot]
 
 
 class LiveSession:
@@ -285,14 +361,14 @@ class LiveSession:
         text = doc.text
         if len(text) > self.settings.max_program_chars:
             raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=self.settings.max_program_chars)
-        result = await self.workers.call(job_live, self.doc_id, self.gen, self.gen + 1, text, doc.dialect,
-                                         doc.spec, affinity=self.slot)
+        result = await live_batch(self.workers, self.slot).run(self.doc_id, self.gen, self.gen + 1, text,
+                                                               doc.dialect, doc.spec)
         if self.doc is not doc:
             return  # reopened meanwhile
         self.apply(result)
         diags, path = self.changes()
         await self.send({"type": "update", "version": version, "line_count": len(doc.lines),
-                         "diagnostics": diags, "toolpath": path, "final": result["final"]})
+                         "diagnostics": diags, "toolpath": path, "final": result["final"], "run": result["run"]})
 
     async def close(self) -> None:
         """Forget the open document, here and in its worker."""

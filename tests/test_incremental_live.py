@@ -204,3 +204,19 @@ def test_a_loop_across_the_edit_runs_to_the_end_and_stays_correct() -> None:
         assert live_json(t, "pal-mill", RunSetup(), memo) == live_json(t, "pal-mill", RunSetup(), None)
     tp = run(text.format(y=13), "pal-mill", RunSetup(), memo)
     assert [round(m.end[1], 3) for m in tp.moves if m.line == 5] == [13, 26, 39, 52]
+
+
+def test_a_batch_of_live_documents_answers_each_and_a_failing_one_fails_alone() -> None:
+    """The documents waiting for one worker go in one job (server/live.py LiveBatch): each gets its own
+    answer, a run that raises fails only its own document, and once the job's time is up the rest waits
+    for the next job (None) instead of running over the job's time limit."""
+    from server.workers import job_live_batch
+
+    good = ("batch-a", 0, 1, "N10 G0 X5 Y0 Z2\nN20 M30\n", "pal-mill", {"skip_blocks": None})
+    bad = ("batch-b", 0, 1, None, "pal-mill", {"skip_blocks": None})  # no text: the run raises
+    again = ("batch-a", 1, 2, *good[3:])
+    answers = job_live_batch(job_live, [good, bad, again], 10.0)
+    assert answers[0] is not None and answers[0]["final"] == [5.0, 0.0, 2.0]
+    assert answers[1] == {"failed": True}
+    assert answers[2] is not None and answers[2]["toolpath"] == {}  # the same text again: nothing changed
+    assert job_live_batch(job_live, [good, good], 0.0)[1:] == [None]  # the first always runs

@@ -227,6 +227,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     meet: dict[tuple[UnitKey, int], list[int]] = {}  # (unit, old line) → steps of the previous run to meet
     lines = LineMap(1, 1, 0)
     resume_at: Checkpoint | None = None
+    kind = "full"
     if old is not None and trace is not None:
         resumed = _resume(old, trace, program.blocks, identity, units)
         if resumed is None:
@@ -234,6 +235,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         else:
             k, lines, meet, resume_at = resumed
             STATS["to_end"] += 1  # until it meets the previous run
+            kind = "to_end"
         if resumed is not None and resume_at is not None:
             cp = resume_at
             unit, index = units[cp.unit], cp.line - units[cp.unit].first
@@ -287,8 +289,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         if index >= len(unit.blocks):
             if not calls:
                 break
-            report(diag("PAL-E409", Span(unit.blocks[-1].line if unit.blocks else 1, 1, 1, 1),
-                        number=unit.number))
+            end = unit.blocks[-1].line if unit.blocks else max(1, unit.first - 1)  # empty: its header
+            report(diag("PAL-E409", Span(end, 1, end, 1), number=unit.number))
             frame = calls.pop()
             unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
@@ -306,6 +308,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                     if done is not None:
                         STATS["to_end"] -= 1
                         STATS["incremental"] += 1
+                        kind = "incremental"
                         state, position, ended, last_line, last_set = done
                         params.clear()
                         params.update(old.params)
@@ -438,7 +441,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         trace.unknown, trace.final_line, trace.final_set = follow.unknown, last_line, last_set
         trace.ended, trace.counters = ended, budget.counters
     if keep is not None:
-        keep.trace = trace
+        keep.trace, keep.kind = trace, kind
     truncated = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
     if not ended and not truncated and (program.blocks or not diags):  # a rejected program needs no second word
         line = last_line or 1

@@ -150,7 +150,7 @@ class LineMap:
         return None
 
     def span(self, span: Span, source: str | None = None) -> Span:
-        if source is not None or span.line < self.first:
+        if source is not None or (span.line < self.first and span.end_line < self.first):
             return span
         return Span(self.line(span.line), span.column, self.line(span.end_line), span.end_column)
 
@@ -231,3 +231,4 @@ class Keep:
     """Where a document's runs keep their trace for the next run (core.pipeline.Memo holds one)."""
 
     trace: Trace | None = None
+    kind: str = "full"  # how the last run went: "full", "incremental" or "to_end" (as STATS counts)
