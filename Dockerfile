@@ -1,4 +1,7 @@
 # PAL Trainer server: `paltrainer serve` on 0.0.0.0:8000, data (SQLite file, secret key) in the volume /data.
+# Several replicas of this image (docs/deploy.md): the same DATABASE_URL, PALTRAINER_SECRET_KEY and REDIS_URL
+# for all, and each its own REPLICA_ID (the load balancer routes the 3D view by it; Kubernetes: the pod's name);
+# `paltrainer admin migrate` once before they start.
 
 # The editor bundle (CodeMirror 6 by esbuild) → /server/static/app.js, Swagger UI's files → /server/static/swagger
 FROM node:20-slim AS web

@@ -47,6 +47,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   let pictureTimer = null;
   let pictureUrl = null;
   let renewing = false;
+  let watch = null;  // the socket that stays open while the scene's server lives (/viz/{token}/alive)
   let gradedText = null;  // the graded program whose deviation colours the view shows (again after switching on)
   const modal = el("p", { id: "modal-state", className: "meta" }, "");
   const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
@@ -127,8 +128,8 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   async function refresh(text) {
     if (!token) return;
     const r = await api(`/viz/${token}/scene`, post(body(text)));
-    if ((r.status === 401 || r.status === 403) && !renewing) {  // the token expired or belongs to another
-      renewing = true;  // session (after logging in, say): a fresh one, once
+    if ((r.status === 401 || r.status === 403 || r.status === 410) && !renewing) {  // the token expired, belongs
+      renewing = true;  // to another session (after logging in, say) or its server stopped: a fresh one, once
       try { await enable(); } finally { renewing = false; }
       return;
     }
@@ -175,13 +176,19 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   });
 
   // -- on and off ----------------------------------------------------------------------------------
-  async function enable() {
-    const session = await api("/viz", { method: "POST" });
+  async function enable(attempts = 1) {
+    let session = await api("/viz", { method: "POST" });
+    for (let i = 1; i < attempts && !session.ok && session.status !== 429; i++) {  // a server is restarting
+      await new Promise((resolve) => setTimeout(resolve, 300 * i));
+      session = await api("/viz", { method: "POST" });
+    }
     if (!session.ok) {
       offer((session.body?.error && message_(session.body.error)) || t("viz.none"));
       return;
     }
     token = session.body.token;
+    delete frame.dataset.segments;  // until the new scene has answered
+    watchScene(token);
     stage.replaceChildren(frame);
     container.replaceChildren(toolbar, stage, controls, modal, el("p", { className: "viz-switch" },
       button("viz-off", t("viz.off"), "", disable)));
@@ -206,9 +213,28 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     modal.after(deviation);
   }
 
+  // With several servers each scene lives on one of them (the token names it; the load balancer routes by
+  // it). When that server stops, this socket closes at once and a new scene opens on another one.
+  function watchScene(current) {
+    watch?.close();
+    const scheme = location.protocol === "https:" ? "wss" : "ws";
+    const ws = new WebSocket(`${scheme}://${location.host}/viz/${current}/alive`);
+    let opened = false;  // a socket that never opened (a proxy without WebSockets) is no reason for a new scene
+    watch = ws;
+    ws.onopen = () => { opened = true; };
+    ws.onclose = async () => {
+      if (watch !== ws || token !== current || !opened || renewing) return;
+      watch = null;
+      renewing = true;
+      try { await enable(5); } finally { renewing = false; }
+    };
+  }
+
   function disable() {
     stop();
     token = null;
+    watch?.close();
+    watch = null;
     frame.removeAttribute("src");
     offer(t("viz.is_off"));
   }
