@@ -83,6 +83,7 @@ class Cluster:
     replicas: int = 3
     workers: int = 1  # worker processes per replica
     env: dict[str, str] = field(default_factory=dict)  # more settings for every replica
+    users: str = ""  # a class list ("name;password" lines) made while the replicas start
     tmp: Path = field(default_factory=lambda: Path(tempfile.mkdtemp(prefix="paltrainer-cluster-")))
     ports: dict[str, int] = field(default_factory=dict)
     processes: dict[str, subprocess.Popen[bytes]] = field(default_factory=dict)
@@ -112,6 +113,8 @@ class Cluster:
             self.ports[name] = free_port()
             self.start_replica(name)
         started = time.monotonic()
+        if self.users:
+            self.admin("import-users", "-", stdin=self.users.encode())
         for name in REPLICAS[:self.replicas]:
             wait_http(f"{self.replica_url(name)}/readyz", 90)
         self.startup_seconds = time.monotonic() - started

@@ -18,10 +18,12 @@ import asyncio
 import json
 import os
 import random
+import shutil
 import time
 from collections import Counter
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from typing import Any
 
 import httpx
 import pytest
@@ -51,9 +53,8 @@ def cluster() -> Iterator[Cluster]:
     assert POSTGRES_URL
     env = {"PALTRAINER_RATE_CHECK_PER_MINUTE": str(CHECK_LIMIT), "PALTRAINER_RATE_SUBMIT_PER_MINUTE": "1000",
            "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000"}
-    with Cluster(own_schema(POSTGRES_URL, "scale"), replicas=3, workers=1, env=env) as c:
-        lines = "".join(f"scale{i};{PASSWORD}\n" for i in range(USERS + 1))
-        c.admin("import-users", "-", stdin=lines.encode())
+    users = "".join(f"scale{i};{PASSWORD}\n" for i in range(USERS + 1))
+    with Cluster(own_schema(POSTGRES_URL, "scale"), replicas=3, workers=1, env=env, users=users) as c:
         yield c
 
 
@@ -126,9 +127,9 @@ async def live_session(ws_url: str, n: int, killed: asyncio.Event, done: asyncio
 
 
 async def viz_failover(client: httpx.AsyncClient, cluster: Cluster, killed: asyncio.Event) -> tuple[float, float]:
-    """A 3D view on the victim: seconds from the kill until a new scene is open on another replica (the page
-    noticed, got a new token and its viewer page), and until that scene shows the program (a run in a worker,
-    behind the load's)."""
+    """A 3D view on the victim: seconds from the kill until the page has opened a new scene on another replica
+    (noticed, asked for a new session, got its token), and until that scene's viewer is up and shows the
+    program (a viser server started and a run in a worker, behind the load's)."""
     for _ in range(10):  # round-robin: one of the next three sessions is on the victim
         r = await client.post(f"{cluster.url}/api/v1/viz")
         assert r.status_code == 201, r.text
@@ -149,10 +150,10 @@ async def viz_failover(client: httpx.AsyncClient, cluster: Cluster, killed: asyn
     r = await client.post(f"{cluster.url}/api/v1/viz")
     assert r.status_code == 201, r.text
     token = r.json()["token"]
+    opened = time.monotonic() - started  # the page has a new scene's token and points its frame at it
     assert not token.startswith(f"{VICTIM}.")
     r = await client.get(f"{cluster.url}/viz/{token}/")  # the frame's page: the new scene's viser is up
     assert r.status_code == 200, r.text
-    opened = time.monotonic() - started
     r = await client.post(f"{cluster.url}/api/v1/viz/{token}/scene", json={"program": PROGRAM})
     assert r.status_code == 200 and r.json()["segments"] > 0, r.text
     return opened, time.monotonic() - started
@@ -235,3 +236,46 @@ async def rate_limits_hold(client: httpx.AsyncClient, cluster: Cluster, token: s
                                                                           "password": "wrong-password"})
         logins[r.status_code] += 1
     assert logins == {401: 5, 429: 3}, logins
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+def test_the_page_opens_a_new_scene_when_its_replica_dies(cluster: Cluster) -> None:
+    """In Chromium: the practice page's 3D view; its replica is killed; within 2 s the frame shows a scene of
+    another replica, which then shows the program. Runs after the test above, on the two replicas left."""
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=CHROMIUM, args=["--headless", "--no-sandbox", "--disable-gpu"])
+        try:
+            page = browser.new_page(viewport={"width": 1366, "height": 768})
+            page.goto(f"{cluster.url}/practice")
+            page.wait_for_selector(".cm-content")
+            page.click(".cm-content")
+            page.keyboard.press("Control+a")
+            page.keyboard.insert_text(PROGRAM)
+            page.click("#viz-on", timeout=30000)  # off by itself in a headless browser (software WebGL)
+            segments = "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5"
+            poll(page, segments, 30)
+            replica = page.evaluate("document.getElementById('viz-frame').getAttribute('src')").split("/")[2]
+            replica = replica.split(".")[0]
+            cluster.kill(replica)
+            killed = time.monotonic()
+            poll(page, f"!document.getElementById('viz-frame').getAttribute('src').startsWith('/viz/{replica}.')", 5)
+            moved = time.monotonic() - killed
+            poll(page, segments, 20)
+            shown = time.monotonic() - killed
+        finally:
+            browser.close()
+    assert moved < 2.0, f"the page opened a new scene {moved:.2f} s after its replica died"
+    print(f"\n3D view in the browser: new scene after {moved:.2f} s, showing the program after {shown:.2f} s")
+
+
+def poll(page: Any, expression: str, seconds: float) -> None:
+    """Wait for a JavaScript expression (the pages' Content-Security-Policy forbids Playwright's eval)."""
+    deadline = time.monotonic() + seconds
+    while not page.evaluate(expression):
+        assert time.monotonic() < deadline, f"not within {seconds} s: {expression}"
+        time.sleep(0.05)
