@@ -10,13 +10,18 @@ import itertools
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from core.interpreter import Toolpath
+from core.interpreter.state import RunSetup
 from core.pipeline import run
+from core.sim import parse_tool_table
+from core.sim.turning import Blank, simulate_turning
 from core.toolpath import Move
+from core.tools import ToolTable, turning_tool
 from tests.conftest import codes
 
 SEEDS = Path(__file__).with_name("seeds") / "traub"
@@ -28,8 +33,12 @@ def traub(text: str) -> Toolpath:
     return run(text, "traub-tx8d")
 
 
+def seed_text(name: str) -> str:
+    return (SEEDS / name).read_text(encoding="utf-8")
+
+
 def seed(name: str) -> Toolpath:
-    return traub((SEEDS / name).read_text(encoding="utf-8"))
+    return traub(seed_text(name))
 
 
 def xz(p: tuple[float, float, float]) -> tuple[float, float]:
@@ -108,7 +117,9 @@ def test_tx30_g71_passes_at_start_minus_depth_spread_evenly_and_g88_follows_the_
     assert passes(tp, 5) == 10
     first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 10)
     assert (xz(first[0].start), xz(first[0].end)) == ((92.7, 2.0), (92.7, -119.95))  # Z-120 + K0.05
-    assert (xz(last[0].start), xz(last[-1].end)) == ((27.0, 2.0), (27.0, 0.55))  # X26 + 2·I, Z0.5 + K
+    assert (xz(last[0].start), xz(last[0].end)) == ((27.0, 2.0), (27.0, 0.55))  # X26 + 2·I, Z0.5 + K
+    # … then on the contour + allowance: the chamfer, Ø30 + 2·I, up the shoulder to the level of pass 9
+    assert [xz(m.end) for m in last[1:]] == [(28.0, 0.55), (31.0, -0.95), (31.0, -14.95), (34.3, -14.95)]
     for n in range(1, 11):  # every pass starts with one feed from the start Z
         assert xz(first_of_pass(tp, 5, n)[0].start)[1] == 2.0
     falling = [m for m in cuts(tp, 5) if m.feed == pytest.approx(0.12)]
@@ -123,7 +134,8 @@ def test_tx31_g71_inside_with_g89_skips_the_undercut() -> None:
     # inner: from the bore X30 out to X120 − 2·I0.5 = X119 → 44.5 mm radial at D3.5 → 13 passes
     assert passes(tp, 5) == 13
     first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 13)
-    assert len(first) == 1 and xz(first[0].start) == (36.846, 2.0) and xz(first[0].end) == (36.846, -74.95)
+    assert xz(first[0].start) == (36.846, 2.0) and xz(first[0].end) == (36.846, -74.95)
+    assert [xz(m.end) for m in first[1:]] == [(30.0, -74.95)]  # up the face Z-75 + K to the start X30
     assert (xz(last[0].start), xz(last[0].end)) == ((119.0, 2.0), (119.0, 0.05))  # along X120 − 2·I to the face
     # the undercut U0.3 A150 at Z-62…-62.52 (X60…X60.6) is never entered
     assert not [m for m in cuts(tp, 5) if 2 * m.end[0] > 59.5 and m.end[2] < -62.0]
@@ -461,9 +473,9 @@ def _removed(feeds: list[Move], x: float, z: float) -> bool:
        st.floats(0, 0.4), st.sampled_from(["G88", "G89"]))
 def test_g71_on_a_shaft_leaves_no_more_than_the_allowance(steps: list[tuple[float, float]], depth: float,
                                                           allowance: float, falling: str) -> None:
-    """A shaft of cylinders and shoulders: after roughing, every point of the blank more than one depth D above
-    the contour plus the allowance has been under a cut (checked on a 0.25 mm grid). Within D of it a step of
-    the staircase may stay: the passes are horizontal levels (DECISIONS 20), the finishing takes the rest."""
+    """A shaft of cylinders and shoulders: after roughing, every point of the blank above the contour plus the
+    allowance has been under a cut (checked on a 0.25 mm grid): each pass runs on along a step that lies between
+    its level and the one before, so no step of the staircase stays for the finishing tool (TX-30's Ø65)."""
     x, z = 5.0, 0.0
     pts = [(x, z)]
     for length, rise in steps:
@@ -484,7 +496,7 @@ def test_g71_on_a_shaft_leaves_no_more_than_the_allowance(steps: list[tuple[floa
         # the contour's radius at gz (in front of the face: its first point, where the passes end)
         wall = max(px for px, pz in pts if pz >= gz - 1e-9) if gz <= 0 else pts[0][0]
         surface = wall + allowance
-        gx = surface + depth + 0.05
+        gx = surface + 0.05
         while gx < start[0] - 0.05:
             assert _removed(feeds, gx, gz), (gx, gz, blocks, depth, allowance, falling)
             gx += 0.25
@@ -579,3 +591,65 @@ def test_g88_passes_never_feed_below_the_contour_plus_allowance(pts: list[tuple[
             assert x <= top + 1e-6 and z <= 1 + 1e-6, blocks
             if shifted[-1][1] - 1e-6 <= z < shifted[0][1] - 1e-6:  # in front of the contour's start: the blank
                 assert x >= _boundary(shifted, z) - 1e-5, (p, blocks)
+
+
+# -- TX-30 with the manual's D4: the passes bring every step down to the allowance ----------------------------
+
+TX30_TOOLS = parse_tool_table(
+    "tools: [{number: 4, kind: turning, diameter: 1.6, nose_radius: 0.8, quadrant: 1, insert: D},"
+    " {number: 5, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 1, insert: V}]")
+
+
+def _tx30_part(z: float) -> float:
+    """TX-30's finished radius at z (N50…N60): chamfer D1.5 on Ø30, R5 on the Ø65 shoulder, the cone A205 to Ø38,
+    R6 into the Ø100 face, its chamfer D2."""
+    cone_end = -45 - 13.5 / math.tan(math.radians(25))
+    if z > 0.5:
+        return 0.0
+    if z > -1:
+        return 13.5 + (0.5 - z)
+    if z > -15:
+        return 15.0
+    if z > -20:
+        return 27.5 + math.sqrt(max(0.0, 25 - (z + 20) ** 2))
+    if z > -45:
+        return 32.5
+    if z > cone_end:
+        return 32.5 - (-45 - z) * math.tan(math.radians(25))
+    if z > -114:
+        return 19.0
+    if z > -120:
+        return 25 - math.sqrt(max(0.0, 36 - (z + 114) ** 2))
+    return 48 + (-120 - z) if z > -122 else 50.0
+
+
+def _excess(tp: Toolpath, tools: ToolTable, zones: list[tuple[float, float]]) -> tuple[float, float]:
+    """The largest radial excess over the allowance I0.5 after TX-30's cycle (line 5), and where (Z)."""
+    rough = simulate_turning(tp.until_move(sum(1 for m in tp.moves if m.line <= 5)), Blank(100, 160, chuck_length=30),
+                             tools, 0.05)
+    assert [(e.code, e.span.line) for e in rough.events if e.severity.value == "error"] == []
+    worst = (-math.inf, 0.0)
+    for z, r in zip(rough.profile.zs, rough.profile.outer, strict=True):
+        if any(lo < z < hi for lo, hi in zones):
+            # within a sample (0.05 mm) and the allowance K0.05 along Z of a wall the larger radius counts
+            part = max(_tx30_part(z - dz) for dz in np.linspace(-0.05, 0.1, 7))
+            worst = max(worst, (float(r) - part - 0.5, float(z)))
+    return worst
+
+
+def test_tx30_g71_g88_with_d4_roughs_every_step_down_to_the_allowance() -> None:
+    """The manual's TX-30 (D4 from X100 on a Ø100 bar, T4 a D insert R0.8): no pass rapids into the Ø65 step, the
+    finishing tool meets no more than the allowance, and after the cycle the part carries at most the allowance
+    I0.5 (radial) / K0.05 (along Z) anywhere on the contour."""
+    tp = run(seed_text("tx-30-g71-g88.nc"), "traub-tx8d", RunSetup(tools=TX30_TOOLS))
+    assert [d.code for d in tp.diagnostics if d.severity.value == "error"] == []
+    whole = simulate_turning(tp, Blank(100, 160, chuck_length=30), TX30_TOOLS, 0.05)
+    assert [(e.code, e.span.line) for e in whole.events if e.severity.value == "error"] == []
+    # the cylinders Ø30, Ø65 and Ø38 with the real insert
+    worst = _excess(tp, TX30_TOOLS, [(-14, -2), (-44, -21), (-113, -75)])
+    assert worst[0] <= 0.01, f"{worst[0]:.3f} mm more than the allowance at Z{worst[1]:.2f}"
+    # the whole contour along the path itself (a sharp insert: the nose radius of the roughing tool leaves its
+    # own small rest on chamfers and roundings, as any uncompensated path does)
+    sharp = ToolTable({4: turning_tool(4, 0.0, 1)})
+    worst = _excess(run(seed_text("tx-30-g71-g88.nc"), "traub-tx8d", RunSetup(tools=sharp)), sharp, [(-123, 0.5)])
+    assert worst[0] <= 0.01, f"{worst[0]:.3f} mm more than the allowance at Z{worst[1]:.2f}"

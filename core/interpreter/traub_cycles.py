@@ -5,10 +5,13 @@ need nothing special), each carrying `cycle = (code, pass, passes)`; thread move
 `thread=True` and the pitch. The geometry follows spec §11–§12 and DECISIONS 20:
 
 - the start point bounds the blank; contour roughing G71 (levels in X) and G72 (levels in Z) cut first at
-  start − depth, the stock is spread equally over ceil(stock / D) passes, every pass is one feed move that
-  ends on the contour plus the allowances I (X, radius) and K (Z); infeed, lift and return are rapid.
-  G89 skips falling contour sections, G88 follows them (into each pocket along the falling flank, with
-  the reduced feed E);
+  start − depth, the stock is spread equally over ceil(stock / D) passes, every pass feeds along its level
+  until it meets the contour plus the allowances I (X, radius) and K (Z) and then on along that contour up to
+  the level of the pass before (a shoulder, a step between two levels, a rounding), so that only the
+  allowance is left for finishing — the manual's tool "turns the shoulder" and lifts from it (L2856); a
+  step between two levels left standing would meet the next pass's rapid approach. Infeed, lift and return
+  are rapid. G89 skips falling contour sections (a pass stops at their crest), G88 follows them (down each
+  falling flank with the reduced feed E);
 - G74 (levels in X, depth I, chip breaking every K) and G75 (levels in Z, depth K, chip breaking every I)
   with the lift D (negative: from the second cut on); without X/U (G74) or Z/W (G75) they drill;
 - G83: first depth D, then H equal sections of the rest; G84: rapid distance D, first depth I, each further
@@ -29,6 +32,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -355,6 +359,93 @@ def _entry(poly: list[tuple[float, float]], level: float, upper: float, v_in: fl
     return path[::-1]
 
 
+def _band(poly: list[tuple[float, float]], level: float, upper: float,
+          v_start: float) -> list[list[tuple[float, float]]]:
+    """G88: the runs of one pass between `level` and the previous pass at `upper`. The tool stays at the lower of
+    the level and the contour wherever the contour lies below `upper`: along the level where the contour is
+    lower, on the contour (up a shoulder, over a step, down a falling flank) where it lies between the two, so
+    that no step is left above the allowance; where the contour rises above `upper` a run ends (lift) and the
+    next one begins where it comes down through `upper` again. `poly` runs with v non-increasing; before its
+    first point everything is free, after its last point nothing."""
+    low = min(level, min(u for u, _ in poly)) - 1.0
+    ext = [(low, max(v_start, poly[0][1]) + 1.0), (low, poly[0][1]), *poly]
+    runs: list[list[tuple[float, float]]] = []
+    run: list[tuple[float, float]] = []
+
+    def add(p: tuple[float, float]) -> None:
+        if not run or abs(run[-1][0] - p[0]) > 1e-9 or abs(run[-1][1] - p[1]) > 1e-9:
+            run.append(p)
+
+    for (u0, v0), (u1, v1) in itertools.pairwise(ext):
+        if v1 > v_start + 1e-9:
+            continue
+        if v0 > v_start + 1e-9:  # clip to the blank's side of the start point
+            t = (v0 - v_start) / (v0 - v1)
+            u0, v0 = u0 + (u1 - u0) * t, v_start
+        cuts = sorted({0.0, 1.0, *((b - u0) / (u1 - u0) for b in (level, upper)
+                                   if abs(u1 - u0) > 1e-12 and 0 < (b - u0) / (u1 - u0) < 1)})
+        for t0, t1 in itertools.pairwise(cuts):
+            a = (u0 + (u1 - u0) * t0, v0 + (v1 - v0) * t0)
+            b = (u0 + (u1 - u0) * t1, v0 + (v1 - v0) * t1)
+            mid = (a[0] + b[0]) / 2
+            if mid > upper + 1e-9:  # above the previous pass: nothing to cut, the run ends here
+                if run:
+                    runs.append(run)
+                run = []
+            elif mid < level:
+                add((level, a[1]))
+                add((level, b[1]))
+            else:
+                add(a)
+                add(b)
+    if run:
+        runs.append(run)
+    return [_straight(r) for r in runs if len(r) > 1]
+
+
+def _straight(path: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """`path` without the points inside straight stretches (one move per straight piece)."""
+    out = path[:1]
+    for k in range(1, len(path)):
+        p = path[k]
+        if k + 1 < len(path) and len(out) >= 1:
+            a, c = out[-1], path[k + 1]
+            d1, d2 = (p[0] - a[0], p[1] - a[1]), (c[0] - p[0], c[1] - p[1])
+            if abs(d1[0] * d2[1] - d1[1] * d2[0]) < 1e-12 and d1[0] * d2[0] + d1[1] * d2[1] > 0:
+                continue
+        out.append(p)
+    return out
+
+
+def _climb(poly: list[tuple[float, float]], level: float, upper: float, v_end: float) -> list[tuple[float, float]]:
+    """G89: from where a pass meets the contour at (level, v_end), along the rising contour up to the previous
+    pass at `upper` (a shoulder, a step, a rising cone); it stops at a crest (the falling section behind it is
+    skipped) and at an undercut. The path starts with (level, v_end)."""
+    path = [(level, v_end)]
+    for k, ((u0, v0), (u1, v1)) in enumerate(itertools.pairwise(poly)):
+        if u1 < u0 - 1e-12:
+            continue
+        if abs(v0 - v1) < 1e-12:
+            hit = abs(v0 - v_end) < 1e-9 and u0 - 1e-9 <= level <= u1 + 1e-9
+        else:
+            t = (v_end - v0) / (v1 - v0)
+            hit = -1e-9 <= t <= 1 + 1e-9 and abs(u0 + (u1 - u0) * t - level) < 1e-6
+        if hit:
+            break
+    else:
+        return path
+    for u, v in poly[k + 1:]:
+        pu, pv = path[-1]
+        if u < pu - 1e-9 or v > pv + 1e-9:
+            break
+        if u >= upper - 1e-9:
+            t = (upper - pu) / (u - pu) if u - pu > 1e-12 else 0.0
+            path.append((upper, pv + (v - pv) * t))
+            break
+        path.append((u, v))
+    return _straight(path)
+
+
 def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: dict[str, float],
                    words: dict[str, Word], follow: bool, setup: CycleSetup, limit: int, d: list[Diagnostic],
                    span: Span) -> None:
@@ -426,6 +517,9 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
     lift = min(setup.lift, step)
     reduced = values.get("E")
     o.passes = n
+    if code != "G70":  # G70's tools (setting angle J < 90°) cannot turn up a shoulder: its passes stay level
+        _follow_passes(o, poly, n, u_s, v_s, step, bottom, lift, reduced, follow, ahead, norm, back)
+        return
     for i in range(1, n + 1):
         level = u_s - i * step if i < n else bottom
         upper = level + step
@@ -449,6 +543,45 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
             o.feed(back(level, lo), i)
             o.rapid(back(level + lift, lo), i)
             o.rapid(back(top, lo), i)
+        o.rapid(back(top, v_s), i)
+    o.rapid(start, n)
+
+
+def _follow_passes(o: _Out, poly: list[tuple[float, float]], n: int, u_s: float, v_s: float, step: float,
+                   bottom: float, lift: float, reduced: float | None, falling: bool, ahead: list[float],
+                   norm: Callable[[XZ], tuple[float, float]], back: Callable[[float, float], XZ]) -> None:
+    """G71/G72: n passes at equal levels; each runs along its level and then on the contour up to the level of the
+    pass before, so that after the last one only the allowance is left (G88: also down the falling flanks)."""
+    start = o.pos
+    for i in range(1, n + 1):
+        level = u_s - i * step if i < n else bottom
+        upper = u_s - (i - 1) * step
+        if falling:
+            runs = _band(poly, level, upper, v_s)
+        else:
+            main = _reach(poly, level, v_s, ahead)
+            if main is not None:
+                runs = [[(level, v_s), *_climb(poly, level, upper, main[1])]]
+            else:  # the contour rises through the level before the start point: on it from the start on
+                on = [u for u in _u_at(poly, v_s) if level - 1e-9 <= u <= upper + 1e-9]
+                runs = [_climb(poly, min(on), upper, v_s)] if on else []
+            runs = [r for r in runs if len(r) > 1]
+        top = u_s + lift  # between runs: above the blank
+        for k, path in enumerate(runs):
+            first = path[0]
+            if k == 0 and abs(first[1] - v_s) < 1e-9:
+                o.rapid(back(*first), i)  # the infeed at the start point
+            else:
+                o.rapid(back(top, norm(o.pos)[1]), i)
+                o.rapid(back(top, first[1]), i)
+                o.rapid(back(first[0] + lift, first[1]), i)
+                o.feed(back(*first), i, reduced)
+            for a, b in itertools.pairwise(path):
+                o.feed(back(*b), i, reduced if b[0] < a[0] - 1e-9 else None)
+            o.rapid(back(path[-1][0] + lift, path[-1][1]), i)
+        if len(runs) == 1 and abs(runs[0][0][1] - v_s) < 1e-9:
+            top = max(u for u, _ in runs[0]) + lift  # back above what this pass left
+        o.rapid(back(top, norm(o.pos)[1]), i)
         o.rapid(back(top, v_s), i)
     o.rapid(start, n)
 
