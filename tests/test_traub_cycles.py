@@ -653,3 +653,15 @@ def test_tx30_g71_g88_with_d4_roughs_every_step_down_to_the_allowance() -> None:
     sharp = ToolTable({4: turning_tool(4, 0.0, 1)})
     worst = _excess(run(seed_text("tx-30-g71-g88.nc"), "traub-tx8d", RunSetup(tools=sharp)), sharp, [(-123, 0.5)])
     assert worst[0] <= 0.01, f"{worst[0]:.3f} mm more than the allowance at Z{worst[1]:.2f}"
+
+
+def test_g71_last_pass_below_an_approach_chamfer_runs_on_the_contour() -> None:
+    """TX-17 (exercise traub-02): the contour starts in front of the face (X16 Z2, chamfer to X20 Z0), so the
+    lowest level X17 meets it at the start point. That pass runs on the contour from there (the chamfer, Ø20 +
+    2·I to the arc) instead of being dropped and leaving Ø20 at the level of the pass before (X23.05)."""
+    tp = traub(READY + "G0 X64 Z2\nG71 P10 Q20 I0.5 K0.1 D3 F0.3\nM30\nN10 G46\nG0 X16 Z2\nG1 X20 Z0 F0.15\n"
+               "G1 Z-15\nG2 X40 Z-25 R10\nG1 Z-40\nG3 X60 Z-50 R10\nG1 Z-75\nG1 X64 Z-77\nN20 G40\n")
+    assert passes(tp, 3) == 8
+    last = first_of_pass(tp, 3, 8)
+    assert [(xz(m.start), xz(m.end)) for m in last[:2]] == [((17.2, 2.0), (21.0, 0.1)), ((21.0, 0.1), (21.0, -14.9))]
+    assert xz(last[-1].end) == (23.05, -19.295)  # up the R10 arc to the level of pass 7
