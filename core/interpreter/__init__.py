@@ -224,7 +224,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     params_now: dict[int, float] = {}  # a copy of params as they are now (the checkpoints share it)
     step = 0
     old = keep.trace if keep is not None else None
-    meet: dict[tuple[UnitKey, int], list[int]] = {}  # (unit, old line) → steps of the previous run to meet
+    meet: Meeting | None = None  # the steps of the previous run this one may meet
     lines = LineMap(1, 1, 0)
     resume_at: Checkpoint | None = None
     kind = "full"
@@ -289,8 +289,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         if index >= len(unit.blocks):
             if not calls:
                 break
-            end = unit.blocks[-1].line if unit.blocks else max(1, unit.first - 1)  # empty: its header
-            report(diag("PAL-E409", Span(end, 1, end, 1), number=unit.number))
+            tail = unit.blocks[-1].line if unit.blocks else max(1, unit.first - 1)  # empty: its header
+            report(diag("PAL-E409", Span(tail, 1, tail, 1), number=unit.number))
             frame = calls.pop()
             unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
@@ -301,8 +301,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                             follow.unknown)
             if meet:
                 was = lines.back(block.line, unit.source)
-                candidates = meet.get((unit.key, was)) if was is not None else None
-                if candidates is not None and old is not None:
+                candidates = meet.get(unit.key, was) if was is not None else None
+                if candidates and old is not None:
                     done = _take_over(old, trace, candidates, cp, lines, step, budget, planned, diags,
                                       n_initial, follow, states, positions, set_at, last_line, last_set)
                     if done is not None:
@@ -321,6 +321,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 trace.planned.append(len(planned))
                 trace.diags.append(len(diags) - n_initial)
                 trace.sets.append(0)
+                trace.where.append(block.line if unit.source is None else 0)
             else:
                 trace = None  # too long to keep: the next run is a full one
         here = index
@@ -463,7 +464,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             current_state, current_position = states[i], positions[i]  # type: ignore[assignment]
     result.line_states = states  # type: ignore[assignment]
     result.line_positions = positions  # type: ignore[assignment]
-    if readings is not None:  # keep only what this program's blocks can use again
+    if readings is not None and len(readings) > 2 * n_lines + 256:  # keep what this program's blocks can use
         alive = {id(b) for b in program.blocks}
         for key in [k for k in readings if k[0] not in alive]:
             del readings[key]
@@ -477,8 +478,42 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     return result
 
 
+main_key: UnitKey = (None, None)
+
+
+class Meeting:
+    """The steps `start` ≤ j < `stop` of the previous run, found by unit and line: where this run may meet it."""
+
+    def __init__(self, old: Trace, start: int, stop: int) -> None:
+        self.old, self.start, self.stop = old, start, stop
+        self.library: dict[tuple[UnitKey, int], list[int]] | None = None
+
+    def __bool__(self) -> bool:
+        return self.start < self.stop
+
+    def get(self, key: UnitKey, line: int) -> list[int]:
+        old = self.old
+        found: list[int] = []
+        if key[0] is None:  # a unit of the program file: its lines are in `where`
+            where, i = old.where, self.start
+            while True:
+                try:
+                    i = where.index(line, i, self.stop)
+                except ValueError:
+                    return found
+                found.append(i)
+                i += 1
+        if self.library is None:
+            self.library = {}
+            for j in range(self.start, self.stop):
+                cp = old.checkpoints[j]
+                if cp.unit[0] is not None:
+                    self.library.setdefault((cp.unit, cp.line), []).append(j)
+        return self.library.get((key, line), found)
+
+
 def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, ...], units: dict[UnitKey, Unit],
-            ) -> tuple[int, LineMap, dict[tuple[UnitKey, int], list[int]], Checkpoint | None] | None:
+            ) -> tuple[int, LineMap, Meeting, Checkpoint | None] | None:
     """Where this run starts from the previous run's checkpoints: (step, line map, the previous run's steps
     it may meet again, the checkpoint or None for the program start); None: a full run. Fills `trace` with
     the steps before the start."""
@@ -491,20 +526,26 @@ def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, 
     lines = LineMap(first, old_end, new_end - old_end)
     # the changed lines and the one before them, from which the run goes on into them
     lo = max(1, first - 1)
-    touch_end = old_end if lines.delta == 0 else 1 << 60  # lines after an insertion or deletion move too
     cps = old.checkpoints
     last = len(cps) - 1
     k, last_touch = last, -1
-    for i, cp in enumerate(cps):
-        if cp.unit[0] is None and lo <= cp.line < touch_end:
-            k = min(k, i)
-            if cp.line < old_end:
-                last_touch = i
-    meet: dict[tuple[UnitKey, int], list[int]] = {}
+    where = old.where  # per step: its line in the program file, 0 in a library program
+    if lines.delta == 0:  # few lines to look for, each found by the array's own search
+        backwards = where[::-1]
+        for line in range(lo, old_end):
+            if line in where:
+                k = min(k, where.index(line))
+                last_touch = max(last_touch, last - backwards.index(line))
+    else:  # lines after an insertion or deletion move too: the restart is before the first step at any
+        for i, line in enumerate(where):
+            if line >= lo:
+                k = min(k, i)
+                if line < old_end:
+                    last_touch = i
+    if old.ended and cps[last].unit == main_key and cps[last].line < old_end:
+        last_touch = last  # its M30 looked at the blocks after it for PAL-W101, the changed ones among them
     # the previous run's last step is never taken over: M30 looks at the blocks after it (PAL-W101)
-    for j in range(max(k, last_touch + 1), last):
-        cp = cps[j]
-        meet.setdefault((cp.unit, cp.line), []).append(j)
+    meet = Meeting(old, max(k, last_touch + 1), last)
     # the step before the first changed one runs again, so that it goes on to what now follows it
     r = k - 1
     if r < 0:
@@ -519,6 +560,7 @@ def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, 
     trace.checkpoints = kept
     trace.executed, trace.steps, trace.moves = old.executed[:r], old.steps[:r], old.moves[:r]
     trace.planned, trace.diags, trace.sets = old.planned[:r], old.diags[:r], old.sets[:r]
+    trace.where = old.where[:r]
     trace.at_log = [(st, (src, lines.line(ln, src)), lines.unknown(unk)) for st, (src, ln), unk in old.at_log
                     if st < r]
     trace.labels = old.labels
@@ -590,6 +632,10 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
                                     (trace.diags, old.diags, d_d)):
                 mine.extend(theirs[j:] if d == 0 else array("q", [x + d for x in theirs[j:]]))
             trace.sets.extend(old.sets[j:])
+            if delta == 0:
+                trace.where.extend(old.where[j:])
+            else:
+                trace.where.extend(array("q", [x + delta if x >= first else x for x in old.where[j:]]))
         else:
             trace.checkpoints.clear()  # too long to keep: the next run is a full one
         trace.spent = old.spent

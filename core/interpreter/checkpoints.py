@@ -75,6 +75,7 @@ class Trace:
     planned: array[int] = field(default_factory=lambda: array("q"))
     diags: array[int] = field(default_factory=lambda: array("q"))
     sets: bytearray = field(default_factory=bytearray)  # 1: the step set its line's state (line_states)
+    where: array[int] = field(default_factory=lambda: array("q"))  # the step's line in the file (0: library)
     revisits: bool = False  # a line's state was set more than once (loops, calls)
     # every FollowUps.ran with something unknown: (step, (source, line), unknown) — `at` is first-wins
     at_log: list[tuple[int, tuple[str | None, int], dict[str, int]]] = field(default_factory=list)

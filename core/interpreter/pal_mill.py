@@ -77,12 +77,14 @@ def execute_block(
     if cache is None:
         reading = _read(block, table, setup, new_params, codes.get("motion"), codes.get("plane"))
     else:
+        # the entry holds its block: while it is kept, no other block can have the block's id
         key = (id(block), codes.get("motion"), codes.get("plane"))
-        cached: Reading | None = cache.get(key)
+        hit: tuple[Block, Reading] | None = cache.get(key)
+        cached = hit[1] if hit is not None and hit[0] is block else None
         reading = cached if cached is not None else _read(block, table, setup, new_params, codes.get("motion"),
                                                           codes.get("plane"))
         if cached is None and reading.cacheable:
-            cache[key] = reading
+            cache[key] = (block, reading)
     d.extend(reading.diagnostics)
     gs, ms, words, values = reading.gs, reading.ms, reading.words, reading.values
     owner, owner_word, motion = reading.owner, reading.owner_word, reading.motion
