@@ -257,6 +257,16 @@ def exercise_page(slug: str, request: Request, db: DbSession, p: int | None = No
     return pages.exercise(slug, None)
 
 
+@router.get("/courses/{course_id}/lti")
+def course_page(course_id: int, request: Request, db: DbSession, p: int | None = None) -> HTMLResponse:
+    """The instructor's course page inside the platform `p`'s frame (reached from the framed exercise page; the
+    page's script sends the token of the URL fragment, the API decides what it shows). Without `p`: not framable."""
+    platform = db.get(LtiPlatform, p) if p is not None and 0 < p < 2**31 else None
+    if platform is not None:
+        _frame(request, platform)
+    return pages.course_frame()
+
+
 # --- deep linking ------------------------------------------------------------------------------------
 
 

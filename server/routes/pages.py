@@ -120,6 +120,11 @@ def course(course_id: str, who: Viewer) -> HTMLResponse | RedirectResponse:
     return _page("course", "Klasse", who=who)
 
 
+def course_frame() -> HTMLResponse:
+    """The course page without a session cookie: inside a learning platform's frame (server/routes/lti.py)."""
+    return _page("course", "Klasse")
+
+
 @router.get("/about")
 def about(who: Viewer) -> HTMLResponse:
     """Über / Lizenzen: PAL Trainer's licence and those of the browser packages bundled with it."""

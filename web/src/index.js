@@ -1,5 +1,6 @@
 // The bundle's entry: everything the pages call, as window.PalTrainer.
 import { installBearer } from "./lti.js";  // first: storage fallback before any module reads it
+import { instructorCourseLinks, keepFrameOnLinks } from "./lti-frame.js";
 import { mountEditor, setTools } from "./main.js";
 import {
   mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz,
@@ -16,3 +17,5 @@ window.PalTrainer = {
   setTools,
 };
 boot();
+keepFrameOnLinks();  // in a platform's frame: links keep the platform and the token
+instructorCourseLinks();  // and an instructor finds their course page there

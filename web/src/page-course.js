@@ -8,6 +8,7 @@ import { api, el } from "./dom.js";
 import { addTexts, lang, message, t } from "./i18n.js";
 import { loginUrl } from "./redirect.js";
 import { submissionSection } from "./results.js";
+import { ltiPart } from "./course-lti.js";
 
 addTexts({
   "title.course": ["PAL Trainer – Klasse", "PAL Trainer – Course"],
@@ -170,6 +171,11 @@ export async function mountCourse(parent, id) {
     view,
     chosen ? await resultsPart(chosen, byslug) : null,
     assignmentsPart(id, list, chosen, byslug, exercises.body || []),
+    // shown only when a learning-platform course is linked; a roster pull shows the new members below
+    await ltiPart(id, list, (slug) => titleOf(byslug.get(slug)), async () => {
+      const now = await api(`/courses/${id}/members`);
+      if (now.ok) document.getElementById("members")?.replaceWith(membersPart(c, now.body));
+    }),
     membersPart(c, members.body),
   ].filter(Boolean));
   view?.mountViz?.();
