@@ -201,6 +201,14 @@ def test_instructor_pulls_the_roster_and_follows_the_grade_passback(browser: Any
     assert frame.inner_text("#lti-courses") == "»Fertigungstechnik 2A« in Moodle der Berufsschule"
     assert frame.inner_text("#members h3") == "Teilnehmer (0)"
     assert frame.inner_text("#lti-grades-body") == "Noch keine Noten für die Lernplattform."
+    # a new assignment made inside the frame: the page that follows is still the framed course page
+    frame.fill("#a-title", "Konturen")
+    frame.check(f"#a-exercises input[value='{s.slug}']")
+    frame.click("#assignment-form button[type=submit]")
+    frame.locator("#assignment-results").wait_for(timeout=30000)
+    assert re.search(r"/courses/\d+/lti\?assignment=\d+&p=\d+#token=", frame.url), frame.url
+    assert frame.inner_text("#assignment-results h3") == "Ergebnisse: Konturen"
+    assert frame.locator("#lti-scope option").all_inner_texts() == ["die ganze Klasse", "Konturen"]
 
     # the roster: Anna and Carla come from the platform, the teacher is already there
     frame.click("#lti-roster")
@@ -265,6 +273,10 @@ def test_instructor_pulls_the_roster_and_follows_the_grade_passback(browser: Any
     assert [x[1]["userId"] for x in s.state.scores] == ["moodle-student-2", "moodle-student-2"]
     frame.evaluate("document.getElementById('lti').scrollIntoView()")
     page.screenshot(path=str(SHOTS / "course-lti-sent-laptop.png"))
+    # narrowed to the assignment (her submissions count for it: its exercise, in its time)
+    frame.select_option("#lti-scope", label="Konturen")
+    frame.wait_for_timeout(500)
+    assert counts(frame) == {"sent": 2, "pending": 0, "failed": 0}
     assert errors == [], errors
 
 

@@ -17,21 +17,28 @@ const framed = () => {
   return token && platform ? { token, platform } : null;
 };
 
-export function keepFrameOnLinks() {
+// `href` as it must be inside the platform's frame (the framed course page, ?p=, the token); else `href` itself
+export function framedHref(href) {
   const frame = framed();
-  if (!frame) return;
+  const url = new URL(href, location.href);
+  if (!frame || url.origin !== location.origin || url.pathname.startsWith("/api/")) return href;
+  // a course page link (/courses/{id}…) stays the framed course page
+  const course = url.pathname.match(/^\/courses\/(\d+)$/);
+  if (course) url.pathname = `/courses/${course[1]}/lti`;
+  if (!url.searchParams.has("p")) url.searchParams.set("p", frame.platform);
+  url.hash = `token=${encodeURIComponent(frame.token)}`;
+  return url.href;
+}
+
+export function keepFrameOnLinks() {
+  if (!framed()) return;
   document.addEventListener("click", (event) => {
     const link = event.target instanceof Element ? event.target.closest("a[href]") : null;
     if (!link || link.target || link.hasAttribute("download") || event.defaultPrevented) return;
-    const url = new URL(link.getAttribute("href"), location.href);
-    if (url.origin !== location.origin || url.pathname.startsWith("/api/")) return;
-    // a course page link (/courses/{id}…) stays the framed course page
-    const course = url.pathname.match(/^\/courses\/(\d+)$/);
-    if (course) url.pathname = `/courses/${course[1]}/lti`;
-    if (!url.searchParams.has("p")) url.searchParams.set("p", frame.platform);
-    url.hash = `token=${encodeURIComponent(frame.token)}`;
+    const href = framedHref(link.getAttribute("href"));
+    if (href === link.getAttribute("href")) return;
     event.preventDefault();
-    location.assign(url.href);
+    location.assign(href);
   });
 }
 

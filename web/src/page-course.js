@@ -9,6 +9,7 @@ import { addTexts, lang, message, t } from "./i18n.js";
 import { loginUrl } from "./redirect.js";
 import { submissionSection } from "./results.js";
 import { ltiPart } from "./course-lti.js";
+import { framedHref } from "./lti-frame.js";
 
 addTexts({
   "title.course": ["PAL Trainer – Klasse", "PAL Trainer – Course"],
@@ -346,7 +347,7 @@ function assignmentForm(courseId, exercises) {
     const r = await api(`/courses/${courseId}/assignments`, post(body));
     note.className = r.ok ? "ok" : "error";
     note.textContent = r.ok ? t("form.created", { title: r.body.title }) : error(r, "instructor.error");
-    if (r.ok) location.href = `/courses/${courseId}?assignment=${r.body.id}`;
+    if (r.ok) location.href = framedHref(`/courses/${courseId}?assignment=${r.body.id}`);  // in a platform's frame too
   };
   return form;
 }
