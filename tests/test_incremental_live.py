@@ -29,11 +29,22 @@ PAL_LINES = [
     "G2 X30 Y15 R10", "G3 X20 Y15 R10", "G2 X40 Y20 I10 J0", "P1=5", "P2=P1*2+1", "G1 X=P1 Y=P2",
     "P3=P3+1", "G91", "G90", "G1 X5", "G91 G1 X5", "G41 G1 X10 Y10", "G40 G1 X0", "G1 X30 RN3",
     "G1 Y30 RN-2", "N100 G1 X40", "N110 G0 Z5", "G23 N100 N110 H2", "G29 N110", "G29 N100", "G22 L10",
-    "G22 L10 H2", "G22 L20", "M17", "M30", "G4 F1", "T2 M6", "G54", "G59 X10", "G17", "F0", "M5",
+    "G22 L10 H2", "G22 L20", "G22 L30", "M17", "M30", "G4 F1", "T2 M6", "G54", "G59 X10", "G17", "F0", "M5",
+    "/G1 X7", "/N115 G0 Z9",
     # broken, half-typed, empty and comment lines
     "", "; Kommentar", "G1 X", "G1 X1 X2", "N", "P4=", "G7", "G2 X10 R", "N12 G1 X5 Y(", "(offen",
 ]
 PAL_HEADERS = ["%L10", "%L20"]
+
+# a subprogram of the program library (an exercise's subprograms): its lines are its own, never shifted
+LIBRARY = RunSetup(limits=SMALL.limits, subprograms=((30, "G91 G1 X2\nG90\nM17\n"),))
+SKIPPING = RunSetup(limits=SMALL.limits, skip_blocks=True)
+
+BECKHOFF_LINES = [
+    "N05 G17 G00 G90 X0 Y0", "G01 F2000 X100 G301=20 #FRC=500", "Y100 G302=20 #FRC=1000", "X0 G301=20",
+    "N120 G301 I20", "X-60", "G00 G90 X0 Y0", "G01 F2000 X200 #CHR=20 #FRC=500", "Y100 #RND=20", "X0 #CHF=35",
+    "G00 G91 X100 Y0", "G01 Y100 F200", "M30", "", "G01 X", "T1 M6", "S1000 M3",
+]
 
 ISO_LINES = [
     "N10 T1 M6", "N20 S1200 M3", "N30 G17 G90 G00 X-20 Y10 Z2", "N40 G01 Z-2 F150", "G01 X40",
@@ -103,6 +114,20 @@ PAL_PROGRAM = st.tuples(
 @given(PAL_PROGRAM, st.lists(edits(PAL_LINES + PAL_HEADERS), min_size=1, max_size=8))
 def test_pal_milling_incremental_equals_full_run(program: list[str], steps: list[Any]) -> None:
     check_sequence(program, steps, "pal-mill", SMALL)
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(PAL_PROGRAM, st.lists(edits(PAL_LINES + PAL_HEADERS), min_size=1, max_size=6), st.booleans())
+def test_pal_milling_with_a_library_subprogram_or_skipped_blocks(program: list[str], steps: list[Any],
+                                                                  skipping: bool) -> None:
+    check_sequence(program, steps, "pal-mill", SKIPPING if skipping else LIBRARY)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.sampled_from(BECKHOFF_LINES), min_size=2, max_size=20),
+       st.lists(edits(BECKHOFF_LINES), min_size=1, max_size=6))
+def test_beckhoff_incremental_equals_full_run(program: list[str], steps: list[Any]) -> None:
+    check_sequence(program, steps, "beckhoff", SMALL)
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])

@@ -250,7 +250,9 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 follow.at.setdefault(where, unknown)
             budget.executed, budget.steps, budget.moves = old.executed[k], old.steps[k], old.moves[k]
             planned = old.items[:old.planned[k]]
-            diags.extend(old.loop_diags[:old.diags[k]])
+            # (a subprogram without blocks names its header line, which may lie after the change)
+            diags.extend(old.loop_diags[:old.diags[k]] if lines.delta == 0 else
+                         [lines.diagnostic(d) for d in old.loop_diags[:old.diags[k]]])
             last_line, last_set = _last_main(old, k)
             # the state after each line as of step k: lines are met once (the previous run's last setting of
             # a line is its only one before k, if it is before k) or else step by step
@@ -553,6 +555,9 @@ def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, 
     try:
         start = lines.checkpoint(cps[r])
         kept = cps[:r] if lines.delta == 0 else [lines.checkpoint(cp) for cp in cps[:r]]
+        if lines.delta != 0:
+            for d in old.loop_diags[:old.diags[r]]:
+                lines.diagnostic(d)  # the run maps them once it starts
     except Unmappable:
         return None
     if start.unit not in units or any(c[0] not in units or c[2] not in units for c in start.calls):
