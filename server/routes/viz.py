@@ -156,6 +156,7 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     if body.blank is not None:
         spec["blank"] = body.blank.model_dump()
     spec["half"] = scene.half
+    db.commit()  # the pooled connection is free while the worker runs (services.create_submission says why)
     data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program = (body.program, body.dialect, spec)
@@ -230,6 +231,7 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
     if body.exercise is None:
         raise ApiError("EXERCISE_REQUIRED")
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
+    db.commit()  # the pooled connection is free while the worker runs
     data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, {**spec, "half": scene.half})
     if "bands" in data:  # a turned part: coloured bands around it; the counts are Z samples
         await run_in_threadpool(viz.show_deviation_bands, scene, data["bands"])

@@ -118,14 +118,39 @@ def test_a_submission_being_graded_holds_no_database_connection(replica: Api, mo
         return await original(*args, **kwargs)
 
     monkeypatch.setattr(workers, "call", call)
-    with replica.app.state.db.session() as db:
-        from server import repository as repo
-        from server.seed import load_exercises
-        if repo.exercise_by_slug(db, "pal-01-g1-gerade") is None:
-            load_exercises(db, ROOT / "exercises")
+    with_exercises(replica)
     user = replica.user()
     program = (ROOT / "exercises" / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8")
     r = replica.client.post("/api/v1/submissions", json={"exercise": "pal-01-g1-gerade", "program": program},
                             headers={"Authorization": user["Authorization"]})
     assert r.status_code == 201, r.text
     assert held == [0]
+
+
+def test_a_3d_scene_being_computed_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+    workers = replica.app.state.workers
+    pool = replica.app.state.db.engine.pool
+    held: list[int] = []
+    original = workers.call
+
+    async def call(*args: object, **kwargs: object) -> object:
+        held.append(pool.checkedout())
+        return await original(*args, **kwargs)
+
+    monkeypatch.setattr(workers, "call", call)
+    with_exercises(replica)
+    auth = {"Authorization": replica.user()["Authorization"]}
+    token = replica.client.post("/api/v1/viz", headers=auth).json()["token"]
+    r = replica.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "exercise": "pal-01-g1-gerade"},
+                            headers=auth)
+    assert r.status_code == 200, r.text
+    assert held == [0]
+
+
+def with_exercises(api: Api) -> None:
+    from server import repository as repo
+    from server.seed import load_exercises
+
+    with api.app.state.db.session() as db:
+        if repo.exercise_by_slug(db, "pal-01-g1-gerade") is None:
+            load_exercises(db, ROOT / "exercises")
