@@ -68,7 +68,8 @@ def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = No
 @dataclass
 class Memo:
     """What one run keeps for the next run of the same document, changed in a few lines (the live editor):
-    the parsed lines and the executor's reading of each block. Use one memo per document, dialect and set-up.
+    the parsed lines, the executor's reading of each block and the run's checkpoints, from which the next
+    run restarts (core/interpreter/checkpoints.py). Use one memo per document, dialect and set-up.
     """
 
     lines: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = field(default_factory=dict)

@@ -187,9 +187,10 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     """Execute the program from its first block, following calls, repeats and jumps; never raises on user input.
 
     `readings` is the executor's reading of blocks kept from an earlier run of the same blocks (see
-    core.pipeline.Memo); it is pruned to this program's blocks. `keep` holds the checkpoints of the previous
-    run of the same document (core/interpreter/checkpoints.py): this run executes only what the change can
-    affect and takes the rest over; the result is the same as a full run's. It then holds this run's.
+    core.pipeline.Memo; each entry holds its block); once it has grown it is pruned to this program's blocks.
+    `keep` holds the checkpoints of the previous run of the same document (core/interpreter/checkpoints.py):
+    this run executes only what the change can affect and takes the rest over; the result is the same as a
+    full run's. It then holds this run's.
     """
     limits = setup.limits
     result = Toolpath(diagnostics=list(diagnostics or []), limits=limits)
