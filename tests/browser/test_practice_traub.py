@@ -72,11 +72,11 @@ def test_turning_on_the_practice_page(server: str, browser: object) -> None:  # 
     page.wait_for_timeout(800)
     assert not page.query_selector(".pal-help")
 
-    # off by itself here (software WebGL): the server's picture is the toolpath in the drawing view
+    # off by itself here (software WebGL): the server's picture is the turned part in half section
     page.wait_for_selector("#viz-on")
     wait_until(page, "document.getElementById('viz-picture')?.dataset.text?.includes('N90 U4')")
     wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100")
-    assert "XZ-Ebene" in page.inner_text(".viz-picture-note")
+    assert "Halbschnitt" in page.inner_text(".viz-picture-note")
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / "traub-practice-picture-laptop.png"))
 
