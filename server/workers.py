@@ -261,12 +261,12 @@ class _LiveCache:
     """One live document's last result in this worker: per line, its diagnostics and its commands, and
     the pipeline's memo (parsed lines, block readings) for the next run of the same dialect and set-up."""
 
-    __slots__ = ("commands", "diagnostics", "gen", "memo", "memo_key")
+    __slots__ = ("commands", "diagnostics", "gen", "json", "memo", "memo_key")
 
     def __init__(self, gen: int, diagnostics: dict[int, tuple[Any, ...]], commands: dict[int, tuple[Any, ...]],
-                 memo: Memo, memo_key: str) -> None:
+                 memo: Memo, memo_key: str, json: dict[int, tuple[Any, dict[str, Any]]] | None = None) -> None:
         self.gen, self.diagnostics, self.commands = gen, diagnostics, commands
-        self.memo, self.memo_key = memo, memo_key
+        self.memo, self.memo_key, self.json = memo, memo_key, json or {}
 
 
 _LIVE: OrderedDict[str, _LiveCache] = OrderedDict()
@@ -280,12 +280,50 @@ def _by_line(items: Any) -> dict[int, tuple[Any, ...]]:
     return {k: tuple(v) for k, v in out.items()}
 
 
-def _path_json(commands: tuple[Any, ...]) -> dict[str, list[dict[str, Any]]]:
+def _path_json(commands: tuple[Any, ...], to_json: Callable[[Any], dict[str, Any]] | None = None,
+               ) -> dict[str, list[dict[str, Any]]]:
     entry: dict[str, list[dict[str, Any]]] = {"moves": [], "dwells": [], "tool_changes": []}
     for c in commands:
         kind = type(c).__name__
-        entry["moves" if kind == "Move" else "dwells" if kind == "Dwell" else "tool_changes"].append(c.to_json())
+        entry["moves" if kind == "Move" else "dwells" if kind == "Dwell" else "tool_changes"].append(
+            c.to_json() if to_json is None else to_json(c))
     return entry
+
+
+class _Json:
+    """The JSON of the moves of a live document's last answer, kept with the moves (so no other object can
+    have their ids): a move taken over from the previous run with its line shifted (Keep.shifted) gets the
+    JSON of the move it was made from, with the new lines, instead of being converted again."""
+
+    def __init__(self, known: dict[int, tuple[Any, dict[str, Any]]], shifted: dict[int, Any]) -> None:
+        self.known, self.shifted = known, shifted
+
+    def __call__(self, c: Any) -> dict[str, Any]:
+        hit = self.known.get(id(c))
+        if hit is not None and hit[0] is c:
+            return hit[1]
+        data: dict[str, Any] | None = None
+        was = self.shifted.get(id(c))
+        if was is not None:
+            hit = self.known.get(id(was))
+            if hit is not None and hit[0] is was:  # only the span and the calling lines differ
+                data = {**hit[1], "line": c.span.line,
+                        "call_stack": [{"source": src, "line": line} for src, line in c.call_stack]}
+        if data is None:
+            data = c.to_json()
+        self.known[id(c)] = (c, data)
+        return data
+
+    def kept(self, commands: dict[int, tuple[Any, ...]]) -> dict[int, tuple[Any, dict[str, Any]]]:
+        """The JSON of these commands that is known (for the next answer)."""
+        known = self.known
+        out = {}
+        for line in commands.values():
+            for c in line:
+                hit = known.get(id(c))
+                if hit is not None and hit[0] is c:
+                    out[id(c)] = hit
+        return out
 
 
 def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
@@ -303,14 +341,15 @@ def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: d
     full = cached is None or cached.gen != base_gen
     old_d = {} if full or cached is None else cached.diagnostics
     old_c = {} if full or cached is None else cached.commands
-    _LIVE[doc] = _LiveCache(gen, diagnostics, commands, memo, memo_key)
-    while len(_LIVE) > _LIVE_MAX:
-        _LIVE.popitem(last=False)
+    to_json = _Json(cached.json if cached is not None and cached.memo is memo else {}, memo.runs.shifted)
     d_out = {n: [x.to_json() for x in diagnostics.get(n, ())] for n in old_d.keys() | diagnostics.keys()
              if old_d.get(n) != diagnostics.get(n)}
     empty: tuple[Any, ...] = ()
-    c_out = {n: _path_json(commands.get(n, empty)) for n in old_c.keys() | commands.keys()
+    c_out = {n: _path_json(commands.get(n, empty), to_json) for n in old_c.keys() | commands.keys()
              if old_c.get(n) != commands.get(n)}
+    _LIVE[doc] = _LiveCache(gen, diagnostics, commands, memo, memo_key, to_json.kept(commands))
+    while len(_LIVE) > _LIVE_MAX:
+        _LIVE.popitem(last=False)
     p = toolpath.final_position
     return {"full": full, "gen": gen, "diagnostics": d_out, "toolpath": c_out,
             "final": [round(p[0], 6), round(p[1], 6), round(p[2], 6)], "run": memo.runs.kind}

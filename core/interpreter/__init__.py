@@ -229,6 +229,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     lines = LineMap(1, 1, 0)
     resume_at: Checkpoint | None = None
     kind = "full"
+    shifted: dict[int, Move] = {}  # moves taken over with their lines shifted → the previous run's (Keep)
     if old is not None and trace is not None:
         resumed = _resume(old, trace, program.blocks, identity, units)
         if resumed is None:
@@ -307,7 +308,8 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 candidates = meet.get(unit.key, was) if was is not None else None
                 if candidates and old is not None:
                     done = _take_over(old, trace, candidates, cp, lines, step, budget, planned, diags,
-                                      n_initial, follow, states, positions, set_at, last_line, last_set)
+                                      n_initial, follow, states, positions, set_at, last_line, last_set,
+                                      shifted)
                     if done is not None:
                         STATS["to_end"] -= 1
                         STATS["incremental"] += 1
@@ -445,7 +447,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         trace.unknown, trace.final_line, trace.final_set = follow.unknown, last_line, last_set
         trace.ended, trace.counters = ended, budget.counters
     if keep is not None:
-        keep.trace, keep.kind = trace, kind
+        keep.trace, keep.kind, keep.shifted = trace, kind, shifted
     truncated = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
     if not ended and not truncated and (program.blocks or not diags):  # a rejected program needs no second word
         line = last_line or 1
@@ -588,7 +590,7 @@ def _last_main(old: Trace, k: int) -> tuple[int, int]:
 def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint, lines: LineMap, step: int,
                budget: Budget, planned: list[Item], diags: list[Diagnostic], n_initial: int, follow: FollowUps,
                states: list[ModalState | None], positions: list[Vec3 | None], set_at: list[int], last_line: int,
-               last_set: int) -> tuple[ModalState, Vec3, bool, int, int] | None:
+               last_set: int, shifted: dict[int, Move]) -> tuple[ModalState, Vec3, bool, int, int] | None:
     """If the run, about to take step `step` in state `now`, is where the previous run was at one of its
     steps `candidates`, append the rest of the previous run (its lines mapped) to this one's lists and trace
     and answer (state, position, ended, last line, the step that set it) at the end; else None."""
@@ -603,6 +605,7 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
             items = old.items[old.planned[j]:]
             found = old.loop_diags[old.diags[j]:]
             cps = old.checkpoints[j:]
+            was = items
             if shift:
                 items = [lines.item(x) for x in items]
                 found = [lines.diagnostic(x) for x in found]
@@ -615,6 +618,10 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
             continue
         d_e, d_s, d_m = budget.executed - old.executed[j], budget.steps - old.steps[j], budget.moves - old.moves[j]
         d_p, d_d = len(planned) - old.planned[j], len(diags) - n_initial - old.diags[j]
+        if shift:  # (only now: an id kept from a candidate given up could name another object later)
+            for a, b in zip(was, items, strict=True):
+                if isinstance(a, Planned) and isinstance(b, Planned) and b.move is not a.move:
+                    shifted[id(b.move)] = a.move
         planned.extend(items)
         diags.extend(found)
         for st, where, unk in at_log:

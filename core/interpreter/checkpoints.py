@@ -233,3 +233,5 @@ class Keep:
 
     trace: Trace | None = None
     kind: str = "full"  # how the last run went: "full", "incremental" or "to_end" (as STATS counts)
+    # the moves the last run took over with their lines shifted: id(new move) → the previous run's move
+    shifted: dict[int, Move] = field(default_factory=dict)

@@ -100,11 +100,18 @@ class BlockParser:
             return Program(blocks, line_count), diagnostics
         kept: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = {}
         blocks = []
+        moved: dict[str, Block] | None = None  # the memo's lines without diagnostics, by text
         for n, raw in enumerate(lines, 1):
             known = memo.get((n, raw))
             if known is None:
-                found: list[Diagnostic] = []
-                known = (self.parse_line(raw, n, limits, found), found)
+                if moved is None:
+                    moved = {text: b for (_, text), (b, d) in memo.items() if not d}
+                other = moved.get(raw)
+                if other is not None:  # a line that moved (lines inserted or deleted above it)
+                    known = (_relined(other, n), [])
+                else:
+                    found: list[Diagnostic] = []
+                    known = (self.parse_line(raw, n, limits, found), found)
             kept[(n, raw)] = known
             blocks.append(known[0])
             diagnostics.extend(known[1])
@@ -314,3 +321,10 @@ def _expr(node: Tree[Token] | Token, depth: int = 0) -> Expr:
 def parser_for(grammar: str, valued_codes: frozenset[str] = frozenset()) -> BlockParser:
     """The (cached) parser of grammar file `<grammar>.lark` in this package."""
     return BlockParser(Path(__file__).with_name(f"{grammar}.lark"), valued_codes)
+
+
+def _relined(block: Block, line: int) -> Block:
+    """`block` as the parse of its text in line `line` (a block is its text and its line)."""
+    return Block(line, block.text, block.number, tuple(w._replace(line=line) for w in block.words),
+                 tuple(a._replace(line=line) for a in block.assignments), block.skip, block.comment, block.header,
+                 block.ok)
