@@ -245,3 +245,19 @@ def test_a_batch_of_live_documents_answers_each_and_a_failing_one_fails_alone() 
     assert answers[1] == {"failed": True}
     assert answers[2] is not None and answers[2]["toolpath"] == {}  # the same text again: nothing changed
     assert job_live_batch(job_live, [good, good], 0.0)[1:] == [None]  # the first always runs
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(PAL_PROGRAM, st.lists(edits(PAL_LINES), min_size=1, max_size=6))
+def test_live_answers_fold_to_a_full_answer_for_any_edits(program: list[str], steps: list[Any]) -> None:
+    """The worker's answers (only what changed; moves taken over with shifted lines reuse their JSON), folded
+    as the client does, equal a fresh document's answer after every edit, byte for byte."""
+    spec: dict[str, Any] = {"skip_blocks": None}
+    lines, answers = program, []
+    for gen in range(len(steps) + 1):
+        text = "\n".join(lines) + "\n"
+        answers.append(job_live("fold", gen, gen + 1, text, "pal-mill", spec))
+        fresh = fold([job_live(f"fold-fresh-{gen}", 0, 1, text, "pal-mill", spec)])
+        assert json.dumps(fold(answers), sort_keys=True) == json.dumps(fresh, sort_keys=True), (program, steps)
+        if gen < len(steps):
+            lines = apply(lines, steps[gen])
