@@ -26,6 +26,7 @@ async def check(req: ProgramRequest, db: DbSession, settings: AppSettings, worke
     """Diagnostics of a program, in the shape of `paltrainer check --json`."""
     exams.check_feature(db, principal.user, "live_diagnostics")
     spec = services.run_spec(db, settings, req)
+    db.commit()  # the connection goes back to the pool while the worker computes (as for submissions)
     return await workers.call(job_check, req.program, req.dialect, spec)
 
 
@@ -36,6 +37,7 @@ async def run(req: ProgramRequest, db: DbSession, settings: AppSettings, workers
     """The toolpath of a program, in the shape of `paltrainer run --json`."""
     exams.check_feature(db, principal.user, "live_diagnostics")
     spec = services.run_spec(db, settings, req)
+    db.commit()  # the connection goes back to the pool while the worker computes (as for submissions)
     return await workers.call(job_run, req.program, req.dialect, spec)
 
 
@@ -48,4 +50,5 @@ if HAS_SIM:
         """Stock results and events, in the shape of `paltrainer simulate --json`."""
         exams.check_feature(db, principal.user, "viz")
         spec = services.simulate_spec(db, settings, req)
+        db.commit()  # the connection goes back to the pool while the worker computes
         return await workers.call(job_simulate, req.program, req.dialect, spec)

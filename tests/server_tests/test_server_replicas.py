@@ -154,3 +154,23 @@ def with_exercises(api: Api) -> None:
     with api.app.state.db.session() as db:
         if repo.exercise_by_slug(db, "pal-01-g1-gerade") is None:
             load_exercises(db, ROOT / "exercises")
+
+
+@pytest.mark.parametrize("path", ["/api/v1/check", "/api/v1/run", "/api/v1/simulate"])
+def test_a_program_being_checked_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch,
+                                                              path: str) -> None:
+    """/check, /run and /simulate wait for a worker like a submission: without their connection."""
+    workers = replica.app.state.workers
+    pool = replica.app.state.db.engine.pool
+    held: list[int] = []
+    original = workers.call
+
+    async def call(*args: object, **kwargs: object) -> object:
+        held.append(pool.checkedout())
+        return await original(*args, **kwargs)
+
+    monkeypatch.setattr(workers, "call", call)
+    auth = {"Authorization": replica.user()["Authorization"]}
+    r = replica.client.post(path, json={"program": GOOD, "dialect": "pal-mill"}, headers=auth)
+    assert r.status_code == 200, r.text
+    assert held == [0]
