@@ -5,6 +5,7 @@
 
 import { api, el } from "./dom.js";
 import { addTexts, t } from "./i18n.js";
+import { safeNext } from "./redirect.js";
 
 addTexts({
   "ltiframe.course": ["Klasse {name}", "Course {name}"],
@@ -27,7 +28,7 @@ export function framedHref(href) {
   if (course) url.pathname = `/courses/${course[1]}/lti`;
   if (!url.searchParams.has("p")) url.searchParams.set("p", frame.platform);
   url.hash = `token=${encodeURIComponent(frame.token)}`;
-  return url.href;
+  return url.pathname + url.search + url.hash;  // a path on this site: the one redirect rule (safeNext) takes it
 }
 
 export function keepFrameOnLinks() {
@@ -38,7 +39,7 @@ export function keepFrameOnLinks() {
     const href = framedHref(link.getAttribute("href"));
     if (href === link.getAttribute("href")) return;
     event.preventDefault();
-    location.assign(href);
+    location.assign(safeNext(href));
   });
 }
 

@@ -80,7 +80,8 @@ export function installBearer() {
       const save = Object.assign(document.createElement("a"), { href, download: link.getAttribute("download") });
       save.click();
     } else {
-      window.open(href, "_blank", "noopener");
+      // a blob of ours in a new tab, through a link rather than window.open (the one redirect rule)
+      Object.assign(document.createElement("a"), { href, target: "_blank", rel: "noopener" }).click();
     }
   });
 }

@@ -6,7 +6,7 @@
 
 import { api, el } from "./dom.js";
 import { addTexts, lang, message, t } from "./i18n.js";
-import { loginUrl } from "./redirect.js";
+import { loginUrl, safeNext } from "./redirect.js";
 import { submissionSection } from "./results.js";
 import { ltiPart } from "./course-lti.js";
 import { framedHref } from "./lti-frame.js";
@@ -133,7 +133,7 @@ export async function coursesSection() {
   form.onsubmit = async (event) => {
     event.preventDefault();
     const made = await api("/courses", post({ name: name.value.trim() }));
-    if (made.ok) location.href = `/courses/${made.body.id}`;
+    if (made.ok) location.href = safeNext(`/courses/${made.body.id}`);
     else { note.className = "error"; note.textContent = error(made, "instructor.error"); }
   };
   section.append(el("h3", {}, t(admin ? "courses.all" : "courses.title")), list,
@@ -347,7 +347,7 @@ function assignmentForm(courseId, exercises) {
     const r = await api(`/courses/${courseId}/assignments`, post(body));
     note.className = r.ok ? "ok" : "error";
     note.textContent = r.ok ? t("form.created", { title: r.body.title }) : error(r, "instructor.error");
-    if (r.ok) location.href = framedHref(`/courses/${courseId}?assignment=${r.body.id}`);  // in a platform's frame too
+    if (r.ok) location.href = safeNext(framedHref(`/courses/${courseId}?assignment=${r.body.id}`));  // in a platform's frame too
   };
   return form;
 }
