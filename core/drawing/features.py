@@ -18,6 +18,21 @@ from core.toolpath import Move, Vec3
 from core.tools import ToolTable
 
 EPS = 1e-6
+
+
+def start_and_sweep(start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float],
+                    cw: bool) -> tuple[float, float]:
+    """An arc's start angle and signed sweep (radians, counter-clockwise positive); end = start is a full circle.
+    Milled (x, y) and turned (z, r) drawings both use it."""
+    a0 = math.atan2(start[1] - centre[1], start[0] - centre[0])
+    sweep = math.atan2(end[1] - centre[1], end[0] - centre[0]) - a0
+    if cw:
+        while sweep >= -EPS:
+            sweep -= 2 * math.pi
+    else:
+        while sweep <= EPS:
+            sweep += 2 * math.pi
+    return a0, sweep
 POINT_TOLERANCE = 1e-3  # mm; values closer than this are one dimension
 
 
@@ -54,17 +69,7 @@ class Element:
     def angles(self) -> tuple[float, float]:
         """Start angle and signed sweep (radians, counter-clockwise positive)."""
         assert self.center is not None
-        cx, cy = self.center
-        a0 = math.atan2(self.start[1] - cy, self.start[0] - cx)
-        a1 = math.atan2(self.end[1] - cy, self.end[0] - cx)
-        sweep = a1 - a0
-        if self.direction == "cw":
-            while sweep >= -EPS:
-                sweep -= 2 * math.pi
-        else:
-            while sweep <= EPS:
-                sweep += 2 * math.pi
-        return a0, sweep
+        return start_and_sweep(self.start, self.end, self.center, self.direction == "cw")
 
     def length(self) -> float:
         if self.center is None:

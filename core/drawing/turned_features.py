@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
+from core.drawing.features import start_and_sweep
 from core.exercises import Exercise
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
@@ -62,17 +63,7 @@ class Seg:
     def angles(self) -> tuple[float, float]:
         """Start angle and signed sweep in the (z, r) plane (radians, counter-clockwise positive)."""
         assert self.centre is not None
-        cz, cr = self.centre
-        a0 = math.atan2(self.a[1] - cr, self.a[0] - cz)
-        a1 = math.atan2(self.b[1] - cr, self.b[0] - cz)
-        sweep = a1 - a0
-        if self.cw:
-            while sweep >= -EPS:
-                sweep -= 2 * math.pi
-        else:
-            while sweep <= EPS:
-                sweep += 2 * math.pi
-        return a0, sweep
+        return start_and_sweep(self.a, self.b, self.centre, self.cw)
 
     def length(self) -> float:
         if self.centre is None:

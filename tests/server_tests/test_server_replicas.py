@@ -104,10 +104,8 @@ def test_without_redis_the_limits_hold_in_the_process() -> None:
     assert time.monotonic() - started < 5  # one refused connection, then the process's counts for a while
 
 
-def test_a_submission_being_graded_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Many submissions waiting for a worker at once must not take every pooled connection: a request that then
-    needs one would wait for the pool inside the event loop, and the replica would stall (bench/scale.py with
-    16 clients on one replica did)."""
+def connections_held_at_worker_calls(replica: Api, monkeypatch: pytest.MonkeyPatch) -> list[int]:
+    """The pool's checked-out connections at each worker call, as the calls happen."""
     workers = replica.app.state.workers
     pool = replica.app.state.db.engine.pool
     held: list[int] = []
@@ -118,6 +116,14 @@ def test_a_submission_being_graded_holds_no_database_connection(replica: Api, mo
         return await original(*args, **kwargs)
 
     monkeypatch.setattr(workers, "call", call)
+    return held
+
+
+def test_a_submission_being_graded_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Many submissions waiting for a worker at once must not take every pooled connection: a request that then
+    needs one would wait for the pool inside the event loop, and the replica would stall (bench/scale.py with
+    16 clients on one replica did)."""
+    held = connections_held_at_worker_calls(replica, monkeypatch)
     with_exercises(replica)
     user = replica.user()
     program = (ROOT / "exercises" / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8")
@@ -128,16 +134,7 @@ def test_a_submission_being_graded_holds_no_database_connection(replica: Api, mo
 
 
 def test_a_3d_scene_being_computed_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
-    workers = replica.app.state.workers
-    pool = replica.app.state.db.engine.pool
-    held: list[int] = []
-    original = workers.call
-
-    async def call(*args: object, **kwargs: object) -> object:
-        held.append(pool.checkedout())
-        return await original(*args, **kwargs)
-
-    monkeypatch.setattr(workers, "call", call)
+    held = connections_held_at_worker_calls(replica, monkeypatch)
     with_exercises(replica)
     auth = {"Authorization": replica.user()["Authorization"]}
     token = replica.client.post("/api/v1/viz", headers=auth).json()["token"]
@@ -160,16 +157,7 @@ def with_exercises(api: Api) -> None:
 def test_a_program_being_checked_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch,
                                                               path: str) -> None:
     """/check, /run and /simulate wait for a worker like a submission: without their connection."""
-    workers = replica.app.state.workers
-    pool = replica.app.state.db.engine.pool
-    held: list[int] = []
-    original = workers.call
-
-    async def call(*args: object, **kwargs: object) -> object:
-        held.append(pool.checkedout())
-        return await original(*args, **kwargs)
-
-    monkeypatch.setattr(workers, "call", call)
+    held = connections_held_at_worker_calls(replica, monkeypatch)
     auth = {"Authorization": replica.user()["Authorization"]}
     r = replica.client.post(path, json={"program": GOOD, "dialect": "pal-mill"}, headers=auth)
     assert r.status_code == 200, r.text
