@@ -6,6 +6,9 @@ from __future__ import annotations
 import json
 import secrets
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
 from urllib.parse import parse_qs, urlsplit
 
@@ -135,3 +138,23 @@ def launch(client: TestClient, platform: Platform, token_for: Any = None, state:
     token = token_for(nonce) if token_for else platform.sign(platform.claims(nonce, **claims))
     return client.post("/lti/launch", data={"id_token": token, "state": state if state is not None else got_state},
                        follow_redirects=False)
+
+
+@contextmanager
+def tool_client(data: Path) -> Iterator[TestClient]:
+    """PAL Trainer (the tool) with the PAL milling exercises, on a fresh database under `data`."""
+    from server.app import create_app
+    from server.config import Settings
+
+    settings = Settings(data_dir=data / "data", secret_key="lti-test-secret-of-at-least-thirty-two-bytes",
+                        workers=1, exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill")
+    with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
+        yield c
+
+
+def registered_platform(client: TestClient) -> Platform:
+    """A platform installed (its JWKS served to the tool) and registered with the tool."""
+    p = Platform()
+    install(client, p)
+    register(client, p)
+    return p

@@ -7,7 +7,6 @@ from __future__ import annotations
 import re
 from collections.abc import Iterator
 from html import unescape
-from pathlib import Path
 
 import jwt
 import pytest
@@ -18,15 +17,13 @@ from lti_testplatform import (
     LTI,
     Platform,
     admin_headers,
-    install,
     launch,
     login,
-    register,
+    registered_platform,
+    tool_client,
 )
 from sqlalchemy import select
 
-from server.app import create_app
-from server.config import Settings
 from server.lti.launch import resource_link_for
 from server.models import CourseMember, LtiContext, LtiResourceLink, LtiUser, User
 
@@ -35,19 +32,13 @@ SLUG = "pal-01-g1-gerade"
 
 @pytest.fixture(scope="module")
 def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
-    tmp = tmp_path_factory.mktemp("lti")
-    settings = Settings(data_dir=tmp / "data", secret_key="lti-test-secret-of-at-least-thirty-two-bytes",
-                        workers=1, exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill")
-    with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
+    with tool_client(tmp_path_factory.mktemp("lti")) as c:
         yield c
 
 
 @pytest.fixture(scope="module")
 def platform(client: TestClient) -> Platform:
-    p = Platform()
-    install(client, p)
-    register(client, p)
-    return p
+    return registered_platform(client)
 
 
 def _open(client: TestClient, response) -> dict:  # type: ignore[no-untyped-def]

@@ -7,36 +7,37 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 import httpx
 import pytest
 from fastapi.testclient import TestClient
-from lti_testplatform import INSTRUCTOR, LEARNER, LTI, Platform, install, launch, login, register, rsa_key
+from lti_testplatform import (
+    INSTRUCTOR,
+    LEARNER,
+    LTI,
+    Platform,
+    launch,
+    login,
+    registered_platform,
+    rsa_key,
+    tool_client,
+)
 from sqlalchemy import select
 
-from server.app import create_app
-from server.config import Settings
 from server.lti.launch import JwksCache, role_of
 from server.models import CourseMember, LtiUser, User
 
 
 @pytest.fixture(scope="module")
 def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
-    tmp = tmp_path_factory.mktemp("lti-security")
-    settings = Settings(data_dir=tmp / "data", secret_key="lti-security-secret-of-at-least-32-bytes",
-                        workers=1, exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill")
-    with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
+    with tool_client(tmp_path_factory.mktemp("lti-security")) as c:
         yield c
 
 
 @pytest.fixture(scope="module")
 def platform(client: TestClient) -> Platform:
-    p = Platform()
-    install(client, p)
-    register(client, p)
-    return p
+    return registered_platform(client)
 
 
 def refused(response: httpx.Response, code: str, caplog: pytest.LogCaptureFixture, status: int = 403) -> None:
