@@ -39,7 +39,7 @@ class Dialect:
     valued_codes: frozenset[str] = frozenset()  # codes the grammar takes with a value (G301=20)
     # a dialect with its own run loop (TRAUB: programs in one file, sections, L parameters) instead of
     # the shared one with `execute`
-    runner: Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program]], Toolpath] | None = None
+    runner: Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program], Keep | None], Toolpath] | None = None
     skip_blocks: bool = False  # the default of the skip switch: True = "/" blocks are not executed
     library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
     lathe: bool = False  # turning: X is shown as a diameter (the moves' x is the radius, DECISIONS §15)
@@ -88,12 +88,10 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
         sub, sub_diagnostics = parser.parse_program(sub_text, setup.limits)
         library[number] = sub
         diagnostics += [dataclasses.replace(x, source=f"{d.library_prefix}{number}") for x in sub_diagnostics]
-    if memo is not None:
-        memo.runs.kind = "full"  # TRAUB's run loop runs in full
     if d.runner is not None:
         if setup.skip_blocks is None:
             setup = dataclasses.replace(setup, skip_blocks=d.skip_blocks)
-        toolpath = d.runner(program, setup, diagnostics, library)
+        toolpath = d.runner(program, setup, diagnostics, library, memo.runs if memo is not None else None)
     else:
         toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
                              memo.readings if memo is not None else None, memo.runs if memo is not None else None)

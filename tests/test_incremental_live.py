@@ -261,3 +261,43 @@ def test_live_answers_fold_to_a_full_answer_for_any_edits(program: list[str], st
         assert json.dumps(fold(answers), sort_keys=True) == json.dumps(fresh, sort_keys=True), (program, steps)
         if gen < len(steps):
             lines = apply(lines, steps[gen])
+
+
+# a TRAUB program with a roughing cycle over a P/Q contour, a subprogram called by G22 and L parameters
+TRAUB_BODY = [
+    "G59 X0 Z210", "G95", "G96 V180 T0101 M4", "G92 S3000", "L1=10", "L2=L1*2", "G0 X54 Z2 M8", "N10 G46",
+    "G1 X20 Z0 F0.15", "G1 X=L1 Z-5", "G1 Z-30", "G2 X40 Z-40 R10", "G1 X50 A135", "N20 G40",
+    "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "G0 X100 Z50", "G22 A8001", "L1=L1+1", "G22 A8001 H2",
+]
+TRAUB_EDITS = [
+    "G0 X100 Z50", "G1 X30 F0,2", "G1 U-2", "L1=12", "L3=L1+L2", "G1 X=L2 Z-8", "G22 A8001", "M9", "G97 S1000 M3",
+    "G1 Z-20", "G2 X40 Z-20 R10", "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "", "G1 X", "G7", "(Kommentar)", "G1 A180",
+]
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.lists(st.sampled_from(TRAUB_EDITS), max_size=8), st.integers(1, 3),
+       st.lists(edits(TRAUB_EDITS), min_size=1, max_size=6))
+def test_traub_cycles_subprograms_and_l_parameters_incremental_equal_full_runs(
+        extra: list[str], copies: int, steps: list[Any]) -> None:
+    body = [x for _ in range(copies) for x in TRAUB_BODY] + extra
+    check_sequence(["%", "O 4711", *body, "M30", "%", *TRAUB_SUB], steps, "traub-tx8d", SMALL)
+    check_sequence(["%", "O 4711", *body, "M30", "%", *TRAUB_SUB], steps, "traub-tx8d", RunSetup())
+
+
+def test_typing_in_a_long_traub_program_takes_over_the_previous_run() -> None:
+    """Typing, a new line and a deleted line in a 500-block TRAUB program with cycles, subprogram calls and L
+    parameters: each run meets the previous one again (STATS) and answers what a full run answers."""
+    body = [x for _ in range(27) for x in TRAUB_BODY][:495]
+    lines = ["%", "O 4711", *body, "M30", "%", *TRAUB_SUB]
+    memo = Memo()
+    run("\n".join(lines) + "\n", "traub-tx8d", RunSetup(), memo)
+    before = STATS.copy()
+    docs = typing(lines, 250, "G1 X44 Z-12")
+    docs.append(docs[-1][:100] + ["G1 X20 Z-3"] + docs[-1][100:])
+    docs.append(docs[-1][:300] + docs[-1][301:])
+    for doc in docs:
+        text = "\n".join(doc) + "\n"
+        assert live_json(text, "traub-tx8d", RunSetup(), memo) == live_json(text, "traub-tx8d", RunSetup(), None)
+    assert STATS["full"] == before["full"]
+    assert STATS["incremental"] - before["incremental"] >= len(docs) - 2

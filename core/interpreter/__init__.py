@@ -224,7 +224,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     last_set = -1
     params_now: dict[int, float] = {}  # a copy of params as they are now (the checkpoints share it)
     step = 0
-    old = keep.trace if keep is not None else None
+    old = keep.trace if keep is not None and isinstance(keep.trace, Trace) else None
     meet: Meeting | None = None  # the steps of the previous run this one may meet
     lines = LineMap(1, 1, 0)
     resume_at: Checkpoint | None = None

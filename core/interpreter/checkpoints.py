@@ -231,7 +231,7 @@ def structure_kept(old: list[Block], new: list[Block], first: int, old_end: int,
 class Keep:
     """Where a document's runs keep their trace for the next run (core.pipeline.Memo holds one)."""
 
-    trace: Trace | None = None
+    trace: Any = None  # a Trace, or TRAUB's run loop's TurnTrace (core/interpreter/traub_trace.py)
     kind: str = "full"  # how the last run went: "full", "incremental" or "to_end" (as STATS counts)
     # the moves the last run took over with their lines shifted: id(new move) → the previous run's move
     shifted: dict[int, Move] = field(default_factory=dict)

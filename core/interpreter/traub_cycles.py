@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 from core.diagnostics import Diagnostic, diag
+from core.interpreter.traub_trace import INF as INF_LINE
 from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind
 
@@ -220,7 +221,9 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
         blocks = unit.blocks[i:j + 1]
     # the same contour read again from the same state gives the same points (a cycle repeated by G22)
     plain = all(w.expr is None for b in blocks for w in b.words) and all(not b.assignments for b in blocks)
-    key = (id(blocks[0]) if blocks else 0, len(blocks), run.position, run.reference, run.turn.zero())
+    if unit.source is None and blocks:  # the lines it reads (checkpoints: core/interpreter/traub_trace.py)
+        run.read.append((unit.line, INF_LINE) if "A" in values else (blocks[0].line - 1, blocks[-1].line))
+    key = (unit.source, blocks[0].line if blocks else 0, len(blocks), run.position, run.reference, run.turn.zero())
     if plain and key in run.cycles.contours:
         return run.cycles.contours[key]
     run.cycles.work += 20 * len(blocks)  # reading a contour block costs about as much as twenty pass points

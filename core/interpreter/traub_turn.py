@@ -21,13 +21,28 @@ import dataclasses
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
 from core.interpreter import Toolpath, _dedupe, traub_cycles, turn_contour
+from core.interpreter.checkpoints import STATS, Keep, LineMap, Unmappable, changed_lines
 from core.interpreter.params import evaluate as evaluate_expression
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
+from core.interpreter.traub_trace import (
+    INF,
+    FramePoint,
+    Key,
+    TurnPoint,
+    TurnTrace,
+    carry_contours,
+    map_contours,
+    map_diagnostic,
+    map_item,
+    map_point,
+    touches,
+)
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
 from core.limits import Budget
 from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
@@ -327,6 +342,7 @@ class TurnRun:
         self._state: ModalState | None = None
         self.programs: list[Unit] = []  # the main program and every O program of the run (cycle contours)
         self.cycles = traub_cycles.CycleState()
+        self.read: list[tuple[int, int]] = []  # program-file lines lo < line ≤ hi a cycle read (checkpoints)
 
     # -- helpers ------------------------------------------------------------------------------
 
@@ -698,8 +714,11 @@ def _to_workpiece(c: turn_contour.Command, dx: float, dz: float) -> turn_contour
 
 
 def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic] | None = None,
-                library: dict[int, Program] | None = None) -> Toolpath:
-    """Execute a TRAUB program from its first block; never raises on user input."""
+                library: dict[int, Program] | None = None, keep: Keep | None = None) -> Toolpath:
+    """Execute a TRAUB program from its first block; never raises on user input.
+
+    `keep` holds the checkpoints of the previous run of the same document (core/interpreter/traub_trace.py):
+    this run executes only what the change can affect and takes the rest over; the result is a full run's."""
     limits = setup.limits
     result = Toolpath(diagnostics=list(diagnostics or []))
     diags = result.diagnostics
@@ -727,29 +746,74 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     unit, index, end_index = main, 0, None
     ended = False
     budget = Budget(limits)
-    last_line = 0
+    last_line, last_set = 0, -1
+    # -- checkpoints: this run's, and where the previous run's let it start and stop -----------------
+    n_initial = len(diags)
+    keys: dict[Key, Unit] = {(None, None): main, **{(u.source, u.number): u for u in units.values()}}
+    trace = TurnTrace(program.blocks, setup) if keep is not None else None
+    if trace is not None:
+        trace.units = ((main.number, 0), *((u.number, u.line) for u in others))
+    old = keep.trace if keep is not None and isinstance(keep.trace, TurnTrace) else None
+    kind = "full"
+    step = 0
+    lm = LineMap(1, 1, 0)
+    meet: dict[tuple[Key, int], list[int]] = {}
+    came_from: int | None = 0  # the program-file line the run passed last on its way (None: a jump)
+    if trace is not None:
+        resumed = _resume(old, trace, program.blocks, setup, keys) if old is not None else None
+        if resumed is None or old is None:
+            STATS["full"] += 1
+        else:
+            kind = "to_end"
+            STATS["to_end"] += 1  # until it meets the previous run
+            r, lm, meet, cp = resumed
+            if cp is not None:
+                unit, index, end_index, calls = _place(cp, keys)
+                _restore(run, cp.run, map_contours(lm, old.contours[r], {}))
+                budget.executed, budget.steps, budget.moves = old.counters[r]
+                for s in range(r):
+                    lib = bool(old.library[s])
+                    for it in old.items[old.n_items[s]:old.n_items[s + 1]]:
+                        new = map_item(lm, it, lib)
+                        items.append(new)
+                        if id(it) in old.early:
+                            run.early.add(id(new))
+                    was_set = old.sets[s]
+                    if was_set is not None:
+                        at = lm.line(was_set[0] + 1) - 1
+                        states[at], positions[at] = was_set[1], was_set[2]
+                diags.extend(map_diagnostic(lm, x) for x in old.loop_diags[:old.n_diags[r]])
+                last_line = lm.line(old.lasts[r][0]) if old.lasts[r][0] else 0
+                last_set = old.lasts[r][1]
+                came_from = None
+                step = r
 
     def report(d: Diagnostic) -> None:
         diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
 
     def leave() -> bool:
         """Finish a run of the current call: repeat it or return. False when there is no call."""
-        nonlocal unit, index, end_index
+        nonlocal unit, index, end_index, came_from
         if not calls:
             return False
         frame = calls[-1]
         if frame.remaining > 0:
             frame.remaining -= 1
             index = frame.start
+            came_from = None
             return True
         calls.pop()
         unit, index = frame.unit, frame.return_index
+        came_from = frame.line if unit.source is None else None  # on after the calling block
         end_index = calls[-1].end if calls else None
         return True
 
     while True:
         at_section_end = end_index is not None and index > end_index
         if index >= len(unit.blocks) or at_section_end:
+            if trace is not None and unit.source is None and not at_section_end:
+                tail = unit.blocks[-1].line if unit.blocks else unit.line
+                trace.touches.append((step, tail, INF, True))  # the lines after its last block
             if not calls:
                 break
             if not at_section_end and calls[-1].end is None and unit is not main:
@@ -758,13 +822,50 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             leave()
             continue
         block = unit.blocks[index]
+        if trace is not None:
+            if unit.source is None:
+                if came_from is None and index == 0:
+                    came_from = unit.line if unit is not main else 0
+                if came_from is not None and came_from < block.line:
+                    trace.touches.append((step, came_from, block.line, True))
+            cp = TurnPoint((unit.source, None if unit is main else unit.number), block.line,
+                           None if end_index is None else unit.blocks[end_index].line,
+                           tuple(_frame_point(c, main) for c in calls), snapshot(run))
+            if meet and old is not None:
+                candidates = meet.get((cp.unit, cp.line))
+                if candidates:
+                    done = _take_over(old, trace, candidates, cp, lm, step, budget, run, items, diags, states,
+                                      positions, limits, n_initial, (last_line, last_set))
+                    if done is not None:
+                        STATS["to_end"] -= 1
+                        STATS["incremental"] += 1
+                        kind = "incremental"
+                        ended, took_last = done
+                        if took_last is not None:
+                            last_line, last_set = took_last
+                        break
+            if step < MAX_TRACE:
+                trace.points.append(cp)
+                contours = run.cycles.contours  # it only grows: a copy when it has
+                same = trace.contours and len(trace.contours[-1]) == len(contours)
+                trace.contours.append(trace.contours[-1] if same else dict(contours))
+                trace.counters.append(budget.counters)
+                trace.n_items.append(len(items))
+                trace.n_diags.append(len(diags) - n_initial)
+                trace.lasts.append((last_line, last_set))
+                trace.library.append(unit.source is not None)
+                trace.sets.append(None)
+            else:
+                trace = None  # too long to keep: the next run is a full one
+        came_from = block.line if unit.source is None else None
         index += 1
+        step += 1
         if block.is_empty:
             continue
         if block.skip is not None and not run.turn.skip_on:
             continue
         if unit is main:
-            last_line = block.line
+            last_line, last_set = block.line, step - 1
         spent = budget.block(block)
         if spent is not None:
             report(spent)
@@ -772,6 +873,10 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             break
         run.program = calls[-1].callee.name if calls else None
         out = run.execute(block)
+        if run.read:
+            if trace is not None:
+                trace.touches.extend((step - 1, lo, hi, False) for lo, hi in run.read)
+            run.read.clear()
         budget.reported(len(out.diagnostics))
         spent = budget.made(sum(type(c) is TurnItem or type(c) is Move for c in out.items), block)
         if spent is not None:
@@ -793,6 +898,8 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             states[block.line - 1] = run.modal_state()
             p = run.last_known
             positions[block.line - 1] = (p[0], 0.0, p[1])
+            if trace is not None:
+                trace.sets[-1] = (block.line - 1, states[block.line - 1], positions[block.line - 1])  # type: ignore[assignment]
         if out.call is not None:
             target, first_n, last_n, count = out.call
             callee = unit if target is None else units.get(target)
@@ -824,6 +931,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
                 continue
             calls.append(_Frame(unit, index, callee, start, stop, count - 1, block.line))
             unit, index, end_index = callee, start, stop
+            came_from = None
             continue
         if out.sub_end:
             if not calls:
@@ -838,10 +946,19 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
                 ended = True
                 break
             ended = True
+            if trace is not None and unit.source is None:
+                trace.touches.append((step - 1, block.line, INF, False))  # PAL-W101 looks at the rest
             rest = next((b for b in unit.blocks[index:] if not b.is_empty), None)
             if rest is not None:
                 diags.append(diag("PAL-W101", rest.span))
             break
+    if trace is not None and keep is not None:
+        trace.items, trace.loop_diags, trace.early = items, diags[n_initial:], set(run.early)
+        trace.final, trace.final_contours = TurnPoint((None, None), 0, None, (), snapshot(run)), run.cycles.contours
+        trace.ended, trace.end_counters, trace.last = ended, budget.counters, (last_line, last_set)
+        trace.spent = any(x.code in ("PAL-E013", "PAL-E016", "PAL-E017") for x in trace.loop_diags)
+    if keep is not None:
+        keep.trace, keep.kind, keep.shifted = trace, kind, {}
     if not ended and (program.blocks or not diags):
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
@@ -879,3 +996,203 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         del diags[limits.max_diagnostics - 1:]
         diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
     return result
+
+
+# -- checkpoints (core/interpreter/traub_trace.py) -----------------------------------------------
+
+MAX_TRACE = 10_000  # a run that meets more blocks keeps no trace; the next runs in full
+
+
+def snapshot(run: TurnRun) -> tuple[Any, ...]:
+    """What of the run's state the rest of the run depends on (the contour cache apart: `_take_over`)."""
+    c = run.cycles
+    return (dataclasses.replace(run.turn), run.position, run.last_known, dict(run.params), run.nose, run.reference,
+            run.program, tuple(run.srk_window), run.srk_reported, dict(run.callee_reads), dict(run.late),
+            c.pitch, c.repeatable, c.work, c.in_contour, len(c.contours))
+
+
+def _shift_run(lm: LineMap, snap: tuple[Any, ...]) -> tuple[Any, ...]:
+    if snap[10] and not lm.identity:
+        raise Unmappable  # a late L assignment's line (TX-W107): rare, run on
+    return snap
+
+
+def _restore(run: TurnRun, snap: tuple[Any, ...], contours: dict[Any, Any]) -> None:
+    (turn, run.position, run.last_known, params, run.nose, run.reference, run.program, window, run.srk_reported,
+     reads, late, pitch, repeatable, work, in_contour, _) = snap
+    run.turn = dataclasses.replace(turn)
+    run.params, run.callee_reads, run.late, run.srk_window = dict(params), dict(reads), dict(late), list(window)
+    run.cycles.pitch, run.cycles.repeatable, run.cycles.work = pitch, repeatable, work
+    run.cycles.in_contour, run.cycles.contours = in_contour, dict(contours)
+    run._state = None
+
+
+def _key(u: Unit, main: Unit) -> Key:
+    return (u.source, None if u is main else u.number)
+
+
+def _frame_point(c: _Frame, main: Unit) -> FramePoint:
+    callee = c.callee.blocks
+    return (_key(c.unit, main), c.line, _key(c.callee, main),
+            callee[c.start].line if c.start < len(callee) else -1,
+            None if c.end is None else callee[c.end].line, c.remaining)
+
+
+def _index(u: Unit, line: int) -> int:
+    if line < 0:
+        return len(u.blocks)
+    for i, b in enumerate(u.blocks):
+        if b.line == line:
+            return i
+    raise Unmappable
+
+
+def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, int | None, list[_Frame]]:
+    """The loop's position and call stack at `cp` (Unmappable where a line is no block of its program)."""
+    unit = keys[cp.unit]
+    calls = []
+    for u, c, k, s, e, n in cp.calls:
+        caller, callee = keys[u], keys[k]
+        calls.append(_Frame(caller, _index(caller, c) + 1, callee, _index(callee, s),
+                            None if e is None else _index(callee, e), n, c))
+    return unit, _index(unit, cp.line), None if cp.end is None else _index(unit, cp.end), calls
+
+
+def _map_touch(lm: LineMap, lo: int, hi: int) -> tuple[int, int]:
+    return (lo if lo <= 0 else lm.line(lo + 1) - 1), (hi if hi >= INF else lm.line(hi))
+
+
+def _resume(old: TurnTrace, trace: TurnTrace, blocks: list[Block], setup: RunSetup, keys: dict[Key, Unit],
+            ) -> tuple[int, LineMap, dict[tuple[Key, int], list[int]], TurnPoint | None] | None:
+    """Where this run starts from the previous run's checkpoints: (step, line map, the previous run's steps it
+    may meet by program and line, the checkpoint or None for the start); None: a full run. Fills `trace` with
+    the steps before the start."""
+    if not old.points or old.setup != setup:
+        return None
+    first, old_end, new_end = changed_lines(old.blocks, blocks)
+    lo = max(1, first - 1)
+    was, now = old.blocks[lo - 1:old_end - 1], blocks[lo - 1:new_end - 1]
+    for b in (*was, *now):  # programs and block numbers as they were: calls, sections and contours the same
+        if b.header is not None or (b.ok and _program_number(b) is not None):
+            return None
+    if [b.number for b in was if b.ok and b.number is not None] != [
+            b.number for b in now if b.ok and b.number is not None]:
+        return None
+    lm = LineMap(first, old_end, new_end - old_end)
+    try:  # an O block starts a program unless it heads the main program: what the change may decide
+        if tuple((u, lm.line(ln) if ln else 0) for u, ln in old.units) != trace.units:
+            return None
+    except Unmappable:
+        return None
+    n = len(old.points)
+    k, last_exec, last_arrival = n - 1, -1, -1
+    for s, after, upto, arrival in old.touches:
+        if touches(after, upto, first, old_end):
+            k = min(k, s)
+            if arrival:
+                last_arrival = max(last_arrival, s)
+            else:
+                last_exec = max(last_exec, s)
+    start = max(k, last_exec + 1, last_arrival)
+    meet: dict[tuple[Key, int], list[int]] = {}
+    for j in range(start, n):
+        p = old.points[j]
+        try:
+            meet.setdefault((p.unit, p.line if p.unit[0] is not None else lm.line(p.line)), []).append(j)
+        except Unmappable:
+            continue
+    r = k - 1
+    done: dict[int, dict[Any, Any]] = {}
+    try:
+        if r < 0:
+            cp = None
+            r = 0
+        else:
+            cp = map_point(lm, old.points[r], _shift_run)
+            _place(cp, keys)
+            trace.points = [map_point(lm, p, _shift_run) for p in old.points[:r]]
+            trace.touches = [(s, *_map_touch(lm, a, b), arr) for s, a, b, arr in old.touches
+                             if s < r or (s == r and arr)]
+            for d in old.loop_diags[:old.n_diags[r]]:
+                map_diagnostic(lm, d)
+            trace.contours = [map_contours(lm, c, done) for c in old.contours[:r]]
+            map_contours(lm, old.contours[r], done)
+    except (Unmappable, KeyError):
+        return None
+    trace.counters = old.counters[:r]
+    trace.n_items, trace.n_diags, trace.lasts = old.n_items[:r], old.n_diags[:r], old.lasts[:r]
+    trace.library, trace.sets = old.library[:r], old.sets[:r]
+    if lm.delta:
+        trace.lasts = [(lm.line(a) if a else 0, b) for a, b in trace.lasts]
+        trace.sets = [None if x is None else (lm.line(x[0] + 1) - 1, x[1], x[2]) for x in trace.sets]
+    return r, lm, meet, cp
+
+
+def _take_over(old: TurnTrace, trace: TurnTrace, candidates: list[int], now: TurnPoint, lm: LineMap, step: int,
+               budget: Budget, run: TurnRun, items: list[Item], diags: list[Diagnostic],
+               states: list[ModalState | None], positions: list[Vec3 | None], limits: Any, n_initial: int,
+               current: tuple[int, int]) -> tuple[bool, tuple[int, int] | None] | None:
+    """If the run, about to take step `step` at `now`, is where the previous run was at one of its steps
+    `candidates`, append the rest of the previous run (its lines mapped) and answer (ended, the last main line
+    and its step if the rest set it); else None."""
+    contours = run.cycles.contours
+    for j in candidates:
+        if not old.fits(limits, budget.counters, j):
+            continue
+        try:
+            if map_point(lm, old.points[j], _shift_run) != now:
+                continue
+            then = old.contours[j]
+            if then is not contours and {(k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]) for k in then} != set(
+                    contours):
+                continue
+            assert old.final is not None
+            final = _shift_run(lm, old.final.run)
+            new_items: list[Item] = []
+            early: list[int] = []
+            for s in range(j, len(old.points)):
+                lib = bool(old.library[s])
+                stop = old.n_items[s + 1] if s + 1 < len(old.points) else len(old.items)
+                for it in old.items[old.n_items[s]:stop]:
+                    new = map_item(lm, it, lib)
+                    new_items.append(new)
+                    if id(it) in old.early:
+                        early.append(id(new))
+            found = [map_diagnostic(lm, d) for d in old.loop_diags[old.n_diags[j]:]]
+            done: dict[int, dict[Any, Any]] = {}
+            base = old.contours[j]
+            cache = [carry_contours(lm, base, contours, c, done) for c in old.contours[j:]]
+            final_contours = carry_contours(lm, base, contours, old.final_contours, done)
+            sets = [None if x is None else (lm.line(x[0] + 1) - 1, x[1], x[2]) for x in old.sets[j:]]
+            points = [map_point(lm, p, _shift_run) for p in old.points[j:]]
+            touched = [(s - j + step, *_map_touch(lm, a, b), arr) for s, a, b, arr in old.touches
+                       if s > j or (s == j and not arr)]
+            lasts = [(lm.line(a) if a else 0, b - j + step) if b >= j else current for a, b in old.lasts[j:]]
+            last = (lm.line(old.last[0]), old.last[1] - j + step) if old.last[1] >= j else None
+        except Unmappable:
+            continue
+        d = tuple(x - y for x, y in zip(budget.counters, old.counters[j], strict=True))
+        n_items, n_diags = len(items) - old.n_items[j], len(diags) - n_initial - old.n_diags[j]
+        items.extend(new_items)
+        run.early.update(early)
+        for x in sets:
+            if x is not None:
+                states[x[0]], positions[x[0]] = x[1], x[2]
+        _restore(run, final, final_contours)
+        e, s_, m = old.end_counters
+        budget.executed, budget.steps, budget.moves = e + d[0], s_ + d[1], m + d[2]
+        if len(trace.points) + len(points) <= MAX_TRACE:
+            trace.points.extend(points)
+            trace.contours.extend(cache)
+            trace.counters.extend((a + d[0], b + d[1], c + d[2]) for a, b, c in old.counters[j:])
+            trace.n_items.extend(x + n_items for x in old.n_items[j:])
+            trace.n_diags.extend(x + n_diags for x in old.n_diags[j:])
+            trace.lasts.extend(lasts)
+            trace.library.extend(old.library[j:])
+            trace.sets.extend(sets)
+            trace.touches.extend(touched)
+        else:
+            trace.points.clear()
+        diags.extend(found)
+        return old.ended, last
+    return None
