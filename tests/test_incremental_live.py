@@ -267,11 +267,12 @@ def test_live_answers_fold_to_a_full_answer_for_any_edits(program: list[str], st
 TRAUB_BODY = [
     "G59 X0 Z210", "G95", "G96 V180 T0101 M4", "G92 S3000", "L1=10", "L2=L1*2", "G0 X54 Z2 M8", "N10 G46",
     "G1 X20 Z0 F0.15", "G1 X=L1 Z-5", "G1 Z-30", "G2 X40 Z-40 R10", "G1 X50 A135", "N20 G40",
-    "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "G0 X100 Z50", "G22 A8001", "L1=L1+1", "G22 A8001 H2",
+    "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "G0 X100 Z50", "G22 A8001", "L1=L1+1", "G22 A8001 H2", "G22 P10 Q20",
 ]
 TRAUB_EDITS = [
     "G0 X100 Z50", "G1 X30 F0,2", "G1 U-2", "L1=12", "L3=L1+L2", "G1 X=L2 Z-8", "G22 A8001", "M9", "G97 S1000 M3",
     "G1 Z-20", "G2 X40 Z-20 R10", "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "", "G1 X", "G7", "(Kommentar)", "G1 A180",
+    "N10 G46", "N20 G40", "N10 G1 X30",
 ]
 
 
@@ -293,7 +294,7 @@ def test_typing_in_a_long_traub_program_takes_over_the_previous_run() -> None:
     memo = Memo()
     run("\n".join(lines) + "\n", "traub-tx8d", RunSetup(), memo)
     before = STATS.copy()
-    docs = typing(lines, 250, "G1 X44 Z-12")
+    docs = typing(lines, 253, "G1 X44 Z-12")  # (line 253 is "G1 Z-30")
     docs.append(docs[-1][:100] + ["G1 X20 Z-3"] + docs[-1][100:])
     docs.append(docs[-1][:300] + docs[-1][301:])
     for doc in docs:

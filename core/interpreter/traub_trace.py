@@ -18,7 +18,7 @@ from typing import Any, NamedTuple
 
 from core.diagnostics import Diagnostic, diag
 from core.interpreter import turn_contour
-from core.interpreter.checkpoints import LineMap
+from core.interpreter.checkpoints import LineMap, Unmappable
 from core.interpreter.state import ModalState, RunSetup
 from core.limits import Limits
 from core.syntax.blocks import Block
@@ -89,6 +89,17 @@ def map_point(lm: LineMap, p: TurnPoint, shift_run: Any) -> TurnPoint:
     """`p` in the new numbering (Unmappable where it names a changed line)."""
     if lm.identity:
         return p
+    if lm.delta == 0:  # the same lines; only whether it names a changed one
+        first, end = lm.first, lm.end
+        if (p.unit[0] is None and first <= p.line < end) or (p.end is not None and p.unit[0] is None
+                                                             and first <= p.end < end):
+            raise Unmappable
+        for u, c, k, s, e, _ in p.calls:
+            if (u[0] is None and first <= c < end) or (k[0] is None and (first <= s < end or (
+                    e is not None and first <= e < end))):
+                raise Unmappable
+        shift_run(lm, p.run)
+        return p
 
     def ln(line: int, source: str | None) -> int:
         return line if line < 0 else lm.line(line, source)
@@ -101,7 +112,7 @@ def map_point(lm: LineMap, p: TurnPoint, shift_run: Any) -> TurnPoint:
 
 def map_item(lm: LineMap, item: turn_contour.Item, library: bool) -> turn_contour.Item:
     """An item of a block in the new numbering (a library program's block keeps its lines, not its call stack)."""
-    if lm.identity:
+    if lm.delta == 0:  # the same lines (an item of a step that meets the change is never mapped)
         return item
     if isinstance(item, turn_contour.TurnItem):
         t = _move(lm, item.template, library)

@@ -826,8 +826,10 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             if unit.source is None:
                 if came_from is None and index == 0:
                     came_from = unit.line if unit is not main else 0
-                if came_from is not None and came_from < block.line:
-                    trace.touches.append((step, came_from, block.line, True))
+                # (after a jump by block number: the block itself, which may have changed but kept its N)
+                scan = block.line - 1 if came_from is None else came_from
+                if scan < block.line:
+                    trace.touches.append((step, scan, block.line, True))
             cp = TurnPoint((unit.source, None if unit is main else unit.number), block.line,
                            None if end_index is None else unit.blocks[end_index].line,
                            tuple(_frame_point(c, main) for c in calls), snapshot(run))
