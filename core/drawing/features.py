@@ -179,12 +179,14 @@ def on_stock(p: tuple[float, float], stock: Stock, margin: float = POINT_TOLERAN
     return stock.x0 - margin <= p[0] <= stock.x1 + margin and stock.y0 - margin <= p[1] <= stock.y1 + margin
 
 
-def _clip_parameters(e: Element, stock: Stock) -> tuple[float, float] | None:
-    """The part of a line (as parameters 0…1) inside the stock's rectangle (Liang–Barsky); None: outside."""
-    (x0, y0), (x1, y1) = e.start, e.end
+def clip_line(a: tuple[float, float], b: tuple[float, float],
+              box: tuple[float, float, float, float]) -> tuple[float, float] | None:
+    """The part of the line a→b (as parameters 0…1) inside box = (u0, u1, v0, v1) (Liang–Barsky); None: outside.
+    Milled (x, y) and turned (z, r) drawings both use it."""
+    (x0, y0), (x1, y1) = a, b
     dx, dy = x1 - x0, y1 - y0
     t0, t1 = 0.0, 1.0
-    for p, q in ((-dx, x0 - stock.x0), (dx, stock.x1 - x0), (-dy, y0 - stock.y0), (dy, stock.y1 - y0)):
+    for p, q in ((-dx, x0 - box[0]), (dx, box[1] - x0), (-dy, y0 - box[2]), (dy, box[3] - y0)):
         if abs(p) < EPS:
             if q < -POINT_TOLERANCE:
                 return None
@@ -195,6 +197,11 @@ def _clip_parameters(e: Element, stock: Stock) -> tuple[float, float] | None:
         else:
             t1 = min(t1, t)
     return (t0, t1) if t1 - t0 > EPS else None
+
+
+def _clip_parameters(e: Element, stock: Stock) -> tuple[float, float] | None:
+    """The part of a line (as parameters 0…1) inside the stock's rectangle; None: outside."""
+    return clip_line(e.start, e.end, (stock.x0, stock.x1, stock.y0, stock.y1))
 
 
 def visible(e: Element, stock: Stock) -> bool:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import numpy.typing as npt
 
-from core.drawing.features import start_and_sweep
+from core.drawing.features import clip_line, start_and_sweep
 from core.exercises import Exercise
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
@@ -269,20 +269,7 @@ def _clip(e: Seg, blank: Blank) -> tuple[float, float] | None:
     clipped exactly (Liang–Barsky), an arc on fine samples."""
     box = (-blank.length, 0.0, blank.bore / 2, blank.diameter / 2)
     if e.centre is None:
-        (z0, r0), (z1, r1) = e.a, e.b
-        dz, dr = z1 - z0, r1 - r0
-        t0, t1 = 0.0, 1.0
-        for p, q in ((-dz, z0 - box[0]), (dz, box[1] - z0), (-dr, r0 - box[2]), (dr, box[3] - r0)):
-            if abs(p) < EPS:
-                if q < -SAME:
-                    return None
-                continue
-            t = q / p
-            if p < 0:
-                t0 = max(t0, t)
-            else:
-                t1 = min(t1, t)
-        return (t0, t1) if t1 - t0 > EPS else None
+        return clip_line(e.a, e.b, box)
     ts = np.linspace(0.0, 1.0, 201)
     inside = [float(t) for t in ts if box[0] - SAME <= e.point(float(t))[0] <= box[1] + SAME
               and box[2] - SAME <= e.point(float(t))[1] <= box[3] + SAME]
