@@ -80,11 +80,12 @@ def keystrokes(lines: list[str], rng: random.Random) -> Iterator[tuple[int, str]
 
 
 @contextmanager
-def server(workers: int, exercises: bool = False) -> Iterator[str]:
+def server(workers: int, exercises: bool = False, data: str | None = None) -> Iterator[str]:
+    """`paltrainer serve` on a free port of 127.0.0.1 with its own data directory (`data`, else a new one)."""
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
-    data = tempfile.mkdtemp(prefix="paltrainer-bench-")
+    data = data or tempfile.mkdtemp(prefix="paltrainer-bench-")
     env = {**os.environ, "PALTRAINER_DATA_DIR": data, "PALTRAINER_WORKERS": str(workers),
            "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000",  # every session comes from 127.0.0.1
            "PALTRAINER_LOG_LEVEL": "WARNING", "PALTRAINER_LOAD_EXERCISES": "true" if exercises else "false"}

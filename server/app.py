@@ -95,7 +95,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         app.state.db = prepare_database(settings)
         app.state.workers.start()
         # ended exams: the last drafts are submitted even when nobody asks (issue 19)
-        finalizer = asyncio.create_task(exam_finalizer(app.state.db, app.state.workers))
+        finalizer = asyncio.create_task(exam_finalizer(app.state.db, app.state.workers, settings.finalize_seconds))
         # LTI grade passback: the score queue is sent (and retried) even when nobody asks (issue 20)
         score_drainer = asyncio.create_task(lti_ags.drainer(app.state.db))
         gc.collect()

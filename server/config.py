@@ -57,6 +57,8 @@ class Settings(BaseSettings):
     viz_sessions_per_address: int = 40  # live anonymous 3D sessions from one address (a class behind one NAT)
     viz_sessions_max: int = 200  # live 3D sessions in all
     viz_idle_seconds: float = 900.0  # a 3D session unused this long is stopped
+    # how often the server looks for ended exams to submit their last drafts (pages say "wird abgegeben" till then)
+    finalize_seconds: float = 3.0
     log_level: str = "INFO"
 
     @cached_property

@@ -1,5 +1,5 @@
 """Courses (Klassen), their members and assignments; exams: the automatic submission at the end and releasing
-the results (issue 19). The rules a trainee meets while working are in server/exams.py."""
+the results (issue 19). The rules a trainee meets while working are in server/access.py."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field
 from sqlalchemy.orm import Session
 
-from server import exams, services
+from server import access, services
 from server import repository as repo
 from server.db import Database
 from server.deps import Principal
@@ -133,6 +133,7 @@ class AssignmentOut(BaseModel):
 class MyExercise(BaseModel):
     exercise: str
     submitted: bool
+    draft: bool = Field(default=False, description="A draft of it is saved (an exam's own draft for an exam)")
     late: bool = False
     auto: bool = Field(default=False, description="The last draft, submitted at the exam's end")
     submission: int | None = None
@@ -143,8 +144,11 @@ class MyExercise(BaseModel):
 
 
 class MyAssignment(AssignmentOut):
-    status: Literal["upcoming", "open", "running", "submitted", "late", "closed"]
+    status: Literal["upcoming", "open", "running", "submitting", "submitted", "late", "closed"] = Field(
+        description="submitting: the exam is over and its last drafts are being submitted (a moment)")
     seconds_left: int | None = Field(description="Until the deadline / the exam's end, while open")
+    seconds_to_start: int | None = Field(default=None, description="Until it opens, while upcoming (the server's "
+                                                                     "clock: a page need not trust its own)")
     results_visible: bool
     items: list[MyExercise]
 
@@ -302,12 +306,14 @@ def join(db: Session, principal: Principal, code: str) -> CourseOut:
 # --- assignments ---------------------------------------------------------------------------------------
 
 
-def assignment_out(db: Session, a: Assignment) -> AssignmentOut:
+def assignment_out(db: Session, a: Assignment, student: bool = False) -> AssignmentOut:
+    """The assignment; to a student an exam names its exercises only from its start."""
     course = repo.course_by_id(db, a.course_id)
+    hidden = student and a.mode == "exam" and now() < utc(a.opens_at)
     return AssignmentOut(id=a.id, course=a.course_id, course_name=course.name if course else "", title=a.title,
-                         exercises=list(a.exercises), mode=a.mode, late=a.late,  # type: ignore[arg-type]
-                         opens_at=a.opens_at, deadline=exams.end_of(a), duration_minutes=a.duration_minutes,
-                         settings=exams.settings_of(a), released=a.released_at is not None,
+                         exercises=[] if hidden else list(a.exercises), mode=a.mode, late=a.late,  # type: ignore[arg-type]
+                         opens_at=a.opens_at, deadline=access.end_of(a), duration_minutes=a.duration_minutes,
+                         settings=access.settings_of(a), released=a.released_at is not None,
                          created_at=a.created_at)
 
 
@@ -345,7 +351,8 @@ def _settings(body: AssignmentSettings | None) -> dict[str, Any]:
 
 def list_assignments(db: Session, principal: Principal, course_id: int) -> list[AssignmentOut]:
     course_for(db, principal, course_id)
-    return [assignment_out(db, a) for a in repo.assignments_of(db, [course_id])]
+    student = not _manages(db, _user(principal), course_id)
+    return [assignment_out(db, a, student) for a in repo.assignments_of(db, [course_id])]
 
 
 def create_assignment(db: Session, principal: Principal, course_id: int, body: AssignmentCreate) -> AssignmentOut:
@@ -394,10 +401,9 @@ def delete_assignment(db: Session, principal: Principal, assignment_id: int) -> 
     repo.delete_row(db, assignment_for(db, principal, assignment_id, manage=True))
 
 
-async def get_assignment(db: Session, workers: Workers, principal: Principal, assignment_id: int) -> AssignmentOut:
+def get_assignment(db: Session, principal: Principal, assignment_id: int) -> AssignmentOut:
     a = assignment_for(db, principal, assignment_id)
-    await finalize_exam(db, workers, a)
-    return assignment_out(db, a)
+    return assignment_out(db, a, student=not _manages(db, _user(principal), a.course_id))
 
 
 async def assignment_sheets(db: Session, workers: Workers, principal: Principal, assignment_id: int,
@@ -416,7 +422,7 @@ async def assignment_sheets(db: Session, workers: Workers, principal: Principal,
 def release(db: Session, principal: Principal, assignment_id: int) -> AssignmentOut:
     """Students see their exam results from now on (score, criteria, program)."""
     a = assignment_for(db, principal, assignment_id, manage=True)
-    if a.mode == "exam" and now() < exams.end_of(a):
+    if a.mode == "exam" and now() < access.end_of(a):
         raise ApiError("EXAM_NOT_OVER")
     if a.released_at is None:
         a.released_at = now()
@@ -427,39 +433,53 @@ def release(db: Session, principal: Principal, assignment_id: int) -> Assignment
 
 # --- the end of an exam: the last drafts become submissions -------------------------------------------
 
+FINALIZE_LEASE = timedelta(minutes=10)  # a replica that stopped while finalising is taken over after this
+FINALIZE_GRADING_AT_ONCE = 4  # drafts graded at the same time (the workers queue the rest)
+
 
 async def finalize_exam(db: Session, workers: Workers, a: Assignment) -> int:
-    """After an exam's end, submit every student's last saved draft of each exam exercise they did not submit
-    (idempotent: a stored key per student and exercise). Returns the number of new submissions."""
-    if a.mode != "exam" or a.finalized_at is not None or now() < exams.end_of(a):
+    """After an exam's end, submit every student's last saved draft of that exam for each exam exercise they did
+    not submit. One caller at a time does it, across replicas (a lease on the exam's row); each draft is graded
+    once and stored once (an idempotency key per student and exercise; the attempt limit holds against a
+    submission that raced it). Readers never call this: the background task does. Returns the number of new
+    submissions."""
+    t = now()
+    if a.mode != "exam" or a.finalized_at is not None or t < access.end_of(a):
         return 0
+    if not repo.claim_finalizing(db, a.id, t, t + FINALIZE_LEASE):
+        return 0  # another task or replica is at it
+    limit = int(access.settings_of(a)["max_submissions"] or 0)
+    students = {user.id for member, user in repo.members(db, a.course_id) if member.role == "student"}
+    exercises = {e.id: e for e in (repo.exercise_by_slug(db, slug) for slug in a.exercises) if e is not None}
+    done = {(s.user_id, s.exercise_id) for s in repo.assignment_submissions(db, a.id)}
+    todo = [d for d in repo.exam_drafts(db, a.id)
+            if d.user_id in students and d.exercise_id in exercises and (d.user_id, d.exercise_id) not in done]
+    db.commit()  # no connection is held while the workers grade
+    at_once = asyncio.Semaphore(FINALIZE_GRADING_AT_ONCE)
+
+    async def graded(program: str, exercise_id: int) -> dict[str, Any]:
+        async with at_once:
+            exercise = exercises[exercise_id]
+            result: dict[str, Any] = await workers.call(job_submission, program, exercise.dialect,
+                                                        services.exercise_spec(exercise, False))
+            return result
+
+    results = await asyncio.gather(*(graded(d.program, d.exercise_id) for d in todo))
     made = 0
-    for member, user in repo.members(db, a.course_id):
-        if member.role != "student":
-            continue
-        done = {s.exercise_id for s in repo.assignment_submissions(db, a.id, user.id)}
-        for slug in a.exercises:
-            exercise = repo.exercise_by_slug(db, slug)
-            draft = repo.draft(db, user.id, exercise.id) if exercise is not None else None
-            if exercise is None or draft is None or exercise.id in done:
-                continue
-            result = await workers.call(job_submission, draft.program, exercise.dialect,
-                                        services.exercise_spec(exercise, False))
-            try:
-                submission = repo.create_submission(
-                    db, exercise_id=exercise.id, user_id=user.id, program=draft.program, dialect=exercise.dialect,
-                    error_count=result["errors"], warning_count=result["warnings"],
-                    result={"diagnostics": result["diagnostics"], "summary": result["summary"]},
-                    grading=result["grading"], idempotency_key=f"exam{a.id}:u{user.id}:{slug}",
-                    assignment_id=a.id, late=False, held=a.released_at is None, auto=True)
-                made += 1
-                lti_ags.after_graded(db, submission)  # sent to the platform once the results are released
-            except repo.Duplicate:
-                continue  # another process finalised this one first
-    fresh = repo.assignment_by_id(db, a.id)
-    if fresh is not None and fresh.finalized_at is None:
-        fresh.finalized_at = now()
-        repo.save(db, fresh)
+    for draft, result in zip(todo, results, strict=True):
+        exercise = exercises[draft.exercise_id]
+        fields = {"exercise_id": exercise.id, "user_id": draft.user_id, "program": draft.program, "dialect": exercise.dialect,
+                      "error_count": result["errors"], "warning_count": result["warnings"],
+                      "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
+                      "grading": result["grading"], "idempotency_key": f"exam{a.id}:u{draft.user_id}:{exercise.slug}",
+                      "assignment_id": a.id, "late": False, "held": a.released_at is None, "auto": True}
+        try:
+            submission = services.store_attempt(db, fields, limit, exercise.slug)
+        except (repo.Duplicate, ApiError):
+            continue  # stored by an earlier finaliser, or the trainee's own submission came first
+        made += 1
+        lti_ags.after_graded(db, submission)  # sent to the platform once the results are released
+    repo.finish_finalizing(db, a.id, now())
     return made
 
 
@@ -471,11 +491,9 @@ async def finalize_ended_exams(database: Database, workers: Workers) -> int:
     return made
 
 
-FINALIZE_EVERY_SECONDS = 30
-
-
-async def finalizer(database: Database, workers: Workers) -> None:
-    """The app's background task: ended exams are finalised even when nobody asks (reads finalise too)."""
+async def finalizer(database: Database, workers: Workers, every: float) -> None:
+    """The app's background task: ended exams are finalised a few seconds after their end, whether anybody looks
+    or not; pages only read (MyAssignment.status "submitting" until it is done)."""
     while True:
         try:
             await finalize_ended_exams(database, workers)
@@ -483,58 +501,64 @@ async def finalizer(database: Database, workers: Workers) -> None:
             raise
         except Exception:  # a failed round is retried on the next one
             log.exception("finalising ended exams failed")
-        await asyncio.sleep(FINALIZE_EVERY_SECONDS)
+        await asyncio.sleep(every)
 
 
 # --- what the trainee sees, what the instructor sees --------------------------------------------------------
 
 
-async def my_assignments(db: Session, workers: Workers, principal: Principal) -> list[MyAssignment]:
-    """The caller's assignments (as a student) with deadline, status and their submissions; an exam's scores
-    only once released."""
+def my_assignments(db: Session, principal: Principal) -> list[MyAssignment]:
+    """The caller's assignments (as a student of the course) with deadline, status and their submissions; an
+    exam's scores only once released, its exercises only from its start. Only reads (the background task
+    submits an ended exam's drafts)."""
     user = _user(principal)
     out = []
     t = now()
-    for a in exams.student_assignments(db, user.id):
-        await finalize_exam(db, workers, a)
+    sit = access.situation(db, user)
+    drafts = {(d.assignment_id, d.exercise_id) for d in repo.all_drafts_of(db, user.id)}
+    for a in repo.student_assignments(db, user.id):
         subs = repo.assignment_submissions(db, a.id, user.id)
-        visible = a.mode != "exam" or a.released_at is not None
+        scope = a.id if a.mode == "exam" else None  # an exam's drafts are its own; practice has the practice draft
         items = []
-        for slug in a.exercises:
+        for slug in ([] if a.mode == "exam" and t < utc(a.opens_at) else a.exercises):
             exercise = repo.exercise_by_slug(db, slug)
             mine = [s for s in subs if exercise is not None and s.exercise_id == exercise.id]
+            drafted = exercise is not None and (scope, exercise.id) in drafts
             if not mine:
-                items.append(MyExercise(exercise=slug, submitted=False))
+                items.append(MyExercise(exercise=slug, submitted=False, draft=drafted))
                 continue
             best = services.best_of(mine)
+            visible = access.grade_visible(sit, best, slug)
             score, max_score = services._score(best) if visible else (None, None)
             grading = services.grading_view(best.grading, False) if visible else None
-            items.append(MyExercise(exercise=slug, submitted=True, late=best.late, auto=best.auto,
+            items.append(MyExercise(exercise=slug, submitted=True, draft=drafted, late=best.late, auto=best.auto,
                                     submission=best.id, score=score, max_score=max_score,
                                     criteria=grading["criteria"] if grading else None,
                                     program=best.program if visible or a.mode != "exam" else None))
-        end = exams.end_of(a)
+        end = access.end_of(a)
         all_done = all(i.submitted for i in items)
-        status: Literal["upcoming", "open", "running", "submitted", "late", "closed"]
+        status: Literal["upcoming", "open", "running", "submitting", "submitted", "late", "closed"]
         if t < utc(a.opens_at):
             status = "upcoming"
         elif t < end:
             status = "submitted" if all_done else "running" if a.mode == "exam" else "open"
+        elif a.mode == "exam" and a.finalized_at is None:
+            status = "submitting"
         elif all_done:
             status = "late" if any(i.late for i in items) else "submitted"
         else:
             status = "open" if a.mode == "practice" and a.late == "accept" else "closed"
-        out.append(MyAssignment(**assignment_out(db, a).model_dump(), status=status,
+        out.append(MyAssignment(**assignment_out(db, a, student=True).model_dump(), status=status,
                                 seconds_left=int((end - t).total_seconds()) if utc(a.opens_at) <= t < end else None,
-                                results_visible=visible, items=items))
+                                seconds_to_start=int((utc(a.opens_at) - t).total_seconds()) if t < utc(a.opens_at)
+                                else None,
+                                results_visible=a.mode != "exam" or a.released_at is not None, items=items))
     return out
 
 
-async def assignment_results(db: Session, workers: Workers, principal: Principal,
-                             assignment_id: int) -> AssignmentResults:
+def assignment_results(db: Session, principal: Principal, assignment_id: int) -> AssignmentResults:
     """Students × the assignment's exercises with the best score (instructors of the course and admins)."""
     a = assignment_for(db, principal, assignment_id, manage=True)
-    await finalize_exam(db, workers, a)
     exercises = {e.id: e.slug for e in (repo.exercise_by_slug(db, s) for s in a.exercises) if e is not None}
     by_user: dict[int, list[Submission]] = {}
     for s in repo.assignment_submissions(db, a.id):
@@ -564,9 +588,9 @@ RESULT_COLUMNS = ("Benutzer", "Aufgabe", "Punktzahl", "Höchstpunktzahl", "Proze
                   "Automatisch abgegeben", "Abgabe", "Zeitpunkt")
 
 
-async def assignment_results_csv(db: Session, workers: Workers, principal: Principal, assignment_id: int) -> str:
+def assignment_results_csv(db: Session, principal: Principal, assignment_id: int) -> str:
     """The results for German Excel (the project's CSV: `;`, UTF-8 with BOM, decimal comma, local time)."""
-    table = await assignment_results(db, workers, principal, assignment_id)
+    table = assignment_results(db, principal, assignment_id)
     rows: list[list[object]] = []
     for trainee in table.trainees:
         for slug in table.exercises:

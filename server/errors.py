@@ -97,8 +97,20 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
                         "letzte gespeicherte Entwurf wurde abgegeben."),
                   ("The exam time is over; submissions and drafts are no longer accepted. The last saved draft "
                    "was submitted.")),
-    "EXAM_RUNNING": (403, "Während der Prüfung (bis {end}) ist das nicht erlaubt.",
-                     "This is not allowed while the exam runs (until {end})."),
+    "EXAM_RUNNING": (403, "Während der Prüfung (bis {until} Uhr) ist das nicht erlaubt.",
+                     "This is not allowed while the exam runs (until {until})."),
+    "EXAM_ELSEWHERE": (403, ("Diese Aufgabe gehört gerade zur laufenden Prüfung »{title}«: Entwürfe und Abgaben gehen "
+                             "nur dorthin."),
+                       "This exercise belongs to the running exam '{title}': drafts and submissions go there only."),
+    "EXAM_WITHHELD": (403, ("Diese Aufgabe ist Teil der Prüfung »{title}«: Musterlösung, Tipps, der Vergleich mit "
+                            "der Musterlösung und die Bewertung von Übungsabgaben gibt es erst, wenn die Ergebnisse "
+                            "freigegeben sind."),
+                      ("This exercise is part of the exam '{title}': the model solution, hints, the comparison with "
+                       "it and the grades of practice submissions follow once the results are released.")),
+    "EXAM_EXERCISE_LOCKED": (403, ("Diese Aufgabe wird gerade in einer Prüfung bearbeitet; ohne Anmeldung ist sie "
+                                   "bis zu deren Ende ({until} Uhr) gesperrt."),
+                             ("This exercise is being worked on in an exam; without logging in it is locked until "
+                              "the exam's end ({until}).")),
     "EXAM_NOT_OVER": (409, "Die Ergebnisse lassen sich erst nach dem Ende der Prüfung freigeben.",
                       "The results can be released only after the exam has ended."),
     # LTI grades and roster (issue 20)

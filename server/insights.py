@@ -20,7 +20,6 @@ from server import courses, services
 from server import repository as repo
 from server.deps import Principal
 from server.models import Submission
-from server.workers import Workers
 
 MAX_SUBMISSIONS = 5000  # newest first; a class of 30 with 10 exercises and 15 tries each fits
 TOP = 5  # diagnostics and criteria shown per exercise
@@ -168,11 +167,10 @@ def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: list
                            diagnostics=diagnostics, criteria=criteria)
 
 
-async def assignment_insights(db: Session, workers: Workers, principal: Principal,
-                              assignment_id: int) -> AssignmentInsights:
-    """Instructors of the course and admins (students: 403, other instructors: 404)."""
+def assignment_insights(db: Session, principal: Principal, assignment_id: int) -> AssignmentInsights:
+    """Instructors of the course and admins (students: 403, other instructors: 404). An ended exam's last drafts
+    count once the background task has submitted them (a few seconds after the end)."""
     a = courses.assignment_for(db, principal, assignment_id, manage=True)
-    await courses.finalize_exam(db, workers, a)  # an ended exam's last drafts count too
     students = {u.id for m, u in repo.members(db, a.course_id) if m.role == "student"}
     rows = _newest(db, a.id)
     capped = len(rows) > MAX_SUBMISSIONS

@@ -38,7 +38,9 @@ deeply, a lone surrogate such as "\ud800" in any string) gets an error BAD_MESSA
 run that fails gets an error (TIME_LIMIT, WORKER_FAILED, BUSY, RUN_FAILED) at its version; a frame over
 PALTRAINER_MAX_BODY_BYTES closes the socket with 1009. Refusals close the socket: 4401 (not logged in),
 4403 (key without `practice`, or a browser page of another site: `Origin` is neither this site nor one of
-PALTRAINER_CORS_ORIGINS), 4429 (too many open connections of this user or address).
+PALTRAINER_CORS_ORIGINS; and at any message, after an error frame with the code, when server/access.py refuses
+live diagnostics now: EXAM_RUNNING, EXAM_EXERCISE_LOCKED), 4429 (too many open connections of this user or
+address).
 """
 
 from __future__ import annotations
@@ -58,12 +60,13 @@ from fastapi import APIRouter, WebSocket, WebSocketDisconnect
 from pydantic import Field, TypeAdapter, ValidationError
 from starlette.concurrency import run_in_threadpool
 
-from server import exams
+from server import access
 from server import repository as repo
 from server.config import Settings
 from server.db import Database
 from server.deps import ANONYMOUS, SESSION_COOKIE, Principal, resolve
 from server.errors import ApiError
+from server.models import now
 from server.schemas import ToolSpec
 from server.services import check_program, exercise_spec
 from server.workers import Workers, job_live, job_live_batch, job_live_close
@@ -97,12 +100,55 @@ class LiveError(Exception):
         self.code, self.params = code, params
 
 
+class Refused(Exception):
+    """server/access.py refuses live diagnostics now (an exam started): the socket closes with 4403 and the code."""
+
+    def __init__(self, err: ApiError) -> None:
+        super().__init__(err.code)
+        self.error = err
+
+
+class Gate:
+    """server/access.py for one live connection, asked at every message: the trainee's situation is read on
+    connect and again every `refresh` seconds (an exam created meanwhile counts from then on), and the rules are
+    applied to it at each message's moment (an exam that starts while the socket is open stops it at its start)."""
+
+    refresh = 10.0
+
+    def __init__(self, database: Database, principal: Principal) -> None:
+        self.database, self.user = database, access.acting_user(principal)
+        self.read: tuple[float, str | None, access.Situation] | None = None
+
+    def _situation(self, slug: str | None) -> access.Situation:
+        with self.database.session() as db:
+            return access.situation(db, self.user, slug)
+
+    async def situation(self, slug: str | None) -> access.Situation:
+        loop = asyncio.get_running_loop()
+        if self.read is None or loop.time() - self.read[0] > self.refresh or self.read[1] != slug:
+            self.read = (loop.time(), slug, await run_in_threadpool(self._situation, slug))
+        return self.read[2]
+
+    async def on_connect(self) -> ApiError | None:
+        """Refused at once only where a running exam switches live diagnostics off (the exercise comes later)."""
+        exam = access.switched_off(await self.situation(None), "live", now())
+        return None if exam is None else ApiError("EXAM_RUNNING", end=exam.end.isoformat(),
+                                                  until=access.german_time(exam.end))
+
+    async def check(self, slug: str | None) -> None:
+        try:
+            access.decide(await self.situation(slug), "live", slug)
+        except ApiError as err:
+            raise Refused(err) from None
+
+
 @dataclass
 class Document:
     lines: list[str] = field(default_factory=list)
     version: int = -1
     dialect: str = ""
     spec: dict[str, Any] = field(default_factory=dict)
+    exercise: str | None = None
 
     @property
     def text(self) -> str:
@@ -203,8 +249,10 @@ def live_batch(workers: Workers, slot: int) -> LiveBatch:
 class LiveSession:
     """One editor connection: the document, the last result sent, and the task that re-runs it."""
 
-    def __init__(self, ws: WebSocket, settings: Settings, database: Database, workers: Workers) -> None:
+    def __init__(self, ws: WebSocket, settings: Settings, database: Database, workers: Workers,
+                 gate: Gate | None = None) -> None:
         self.ws, self.settings, self.database, self.workers = ws, settings, database, workers
+        self.gate = gate
         self.doc: Document | None = None
         self.doc_id = ""
         self.slot = 0
@@ -258,12 +306,15 @@ class LiveSession:
         text = msg.get("text", "")
         if not isinstance(text, str):
             raise LiveError("BAD_MESSAGE", detail="text")
+        slug = msg.get("exercise") if kind == "open" else self.doc.exercise if self.doc else None
+        if self.gate is not None:
+            await self.gate.check(str(slug) if slug is not None else None)
         if kind == "open":
             dialect, spec = await run_in_threadpool(self._open_spec, msg)
             check_program(self.settings, text, dialect)
             lines = split_lines(text)
             self._check_lines(len(lines))
-            self.doc = Document(lines, version, dialect, spec)
+            self.doc = Document(lines, version, dialect, spec, str(slug) if slug is not None else None)
             if self.doc_id:
                 await self.close()
             self.doc_id = uuid.uuid4().hex
@@ -446,7 +497,8 @@ async def live(ws: WebSocket) -> None:
     if not principal.has_scope("practice"):
         await refuse(ws, 4403, "MISSING_SCOPE")
         return
-    if not await run_in_threadpool(exams.allows, database, principal.user_id, "live_diagnostics"):
+    gate = Gate(database, principal)
+    if await gate.on_connect() is not None:
         await refuse(ws, 4403, "EXAM_RUNNING")  # an exam without live diagnostics runs for this trainee
         return
     if principal is ANONYMOUS:
@@ -458,7 +510,7 @@ async def live(ws: WebSocket) -> None:
         await refuse(ws, 4429, TOO_MANY_CONNECTIONS.format(limit=limit))
         return
     try:
-        await serve(ws, settings, LiveSession(ws, settings, database, app.state.workers))
+        await serve(ws, settings, LiveSession(ws, settings, database, app.state.workers, gate))
     finally:
         registry.leave(who)
 
@@ -511,6 +563,10 @@ async def serve(ws: WebSocket, settings: Settings, session: LiveSession) -> None
                     version = msg["version"]
                 check_text(msg)
                 await session.handle(msg)
+            except Refused as refused:  # an exam began (or locks the exercise): the connection ends, said why
+                await session.send_error(refused.error.code, version, **refused.error.params)
+                await refuse(ws, 4403, refused.error.code)
+                break
             except (LiveError, ApiError) as err:
                 await session.send_error(err.code, version, **err.params)
             except (WebSocketDisconnect, asyncio.CancelledError):

@@ -6,8 +6,9 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Any
 
-from sqlalchemy import JSON, DateTime, Float, ForeignKey, Integer, String, Text, UniqueConstraint
+from sqlalchemy import JSON, DateTime, Float, ForeignKey, Index, Integer, String, Text, UniqueConstraint
 from sqlalchemy import false as sa_false
+from sqlalchemy import text as sa_text
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 
 ROLES = ("student", "instructor", "admin")
@@ -78,6 +79,9 @@ class Exercise(Base):
 
 class Submission(Base):
     __tablename__ = "submissions"
+    # `attempt` counts the submissions to an assignment with a limit: two racing for the last one cannot both stay
+    __table_args__ = (UniqueConstraint("assignment_id", "user_id", "exercise_id", "attempt",
+                                       name="uq_submissions_attempt"),)
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="RESTRICT"), index=True)
@@ -101,17 +105,27 @@ class Submission(Base):
     late: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     held: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     auto: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
+    # 1 … the assignment's max_submissions where it has a limit (server/access.py), else null
+    attempt: Mapped[int | None] = mapped_column(Integer, nullable=True)
 
 
 class Draft(Base):
-    """A trainee's unsubmitted program for one exercise: saved while typing, brought back on the next visit."""
+    """A trainee's unsubmitted program for one exercise: saved while typing, brought back on the next visit.
+    The practice draft has no assignment; an exam's draft belongs to that exam (it never leaves it, and no
+    practice draft enters it)."""
 
     __tablename__ = "drafts"
-    __table_args__ = (UniqueConstraint("user_id", "exercise_id", name="uq_drafts_user_exercise"),)
+    __table_args__ = (
+        UniqueConstraint("user_id", "exercise_id", "assignment_id", name="uq_drafts_user_exercise_assignment"),
+        Index("uq_drafts_practice", "user_id", "exercise_id", unique=True,
+              sqlite_where=sa_text("assignment_id IS NULL"), postgresql_where=sa_text("assignment_id IS NULL")),
+    )
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
     exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"), index=True)
+    assignment_id: Mapped[int | None] = mapped_column(ForeignKey("assignments.id", ondelete="CASCADE"),
+                                                      nullable=True)
     program: Mapped[str] = mapped_column(Text)
     updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
 
@@ -156,6 +170,8 @@ class Assignment(Base):
     released_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
     # an exam's drafts were submitted (after its end); finalising again changes nothing
     finalized_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+    # the lease of the one replica that submits the drafts after the end (another takes over once it expired)
+    finalizing_until: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
 
 

@@ -7,7 +7,7 @@ from collections.abc import Sequence
 from datetime import datetime
 from typing import Any, TypeVar
 
-from sqlalchemy import func, or_, select
+from sqlalchemy import func, or_, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
@@ -247,34 +247,47 @@ def own_submissions(db: Session, user_id: int, exercise_id: int | None = None,
 # --- drafts ------------------------------------------------------------------------------
 
 
-def draft(db: Session, user_id: int, exercise_id: int) -> Draft | None:
-    return db.scalars(select(Draft).where(Draft.user_id == user_id, Draft.exercise_id == exercise_id)).first()
+def draft(db: Session, user_id: int, exercise_id: int, assignment_id: int | None = None) -> Draft | None:
+    """The practice draft (`assignment_id` None) or the draft for that exam."""
+    scope = Draft.assignment_id.is_(None) if assignment_id is None else Draft.assignment_id == assignment_id
+    return db.scalars(select(Draft).where(Draft.user_id == user_id, Draft.exercise_id == exercise_id, scope)).first()
 
 
-def save_draft(db: Session, user_id: int, exercise_id: int, program: str) -> Draft:
+def save_draft(db: Session, user_id: int, exercise_id: int, program: str, assignment_id: int | None = None) -> Draft:
     """Insert or replace the draft; two tabs saving at the same moment end with one row (the later text)."""
     for _ in range(3):
-        row = draft(db, user_id, exercise_id)
+        row = draft(db, user_id, exercise_id, assignment_id)
         if row is not None:
             row.program, row.updated_at = program, now()
             db.commit()
             return row
         try:
-            return _insert(db, Draft(user_id=user_id, exercise_id=exercise_id, program=program, updated_at=now()))
+            return _insert(db, Draft(user_id=user_id, exercise_id=exercise_id, assignment_id=assignment_id,
+                                     program=program, updated_at=now()))
         except Duplicate:
             continue  # the other request inserted it first: update that row
     raise Duplicate("draft")
 
 
-def delete_draft(db: Session, user_id: int, exercise_id: int) -> None:
-    row = draft(db, user_id, exercise_id)
+def delete_draft(db: Session, user_id: int, exercise_id: int, assignment_id: int | None = None) -> None:
+    row = draft(db, user_id, exercise_id, assignment_id)
     if row is not None:
         db.delete(row)
         db.commit()
 
 
 def drafts_of(db: Session, user_id: int) -> Sequence[Draft]:
+    """The user's practice drafts (an exam's drafts stay with the exam)."""
+    return db.scalars(select(Draft).where(Draft.user_id == user_id, Draft.assignment_id.is_(None))).all()
+
+
+def all_drafts_of(db: Session, user_id: int) -> Sequence[Draft]:
+    """The user's drafts, practice and exams' alike."""
     return db.scalars(select(Draft).where(Draft.user_id == user_id)).all()
+
+
+def exam_drafts(db: Session, assignment_id: int) -> Sequence[Draft]:
+    return db.scalars(select(Draft).where(Draft.assignment_id == assignment_id)).all()
 
 
 # --- courses and assignments (issue 19) ----------------------------------------------------------
@@ -388,9 +401,46 @@ def assignments_of(db: Session, course_ids: Sequence[int]) -> Sequence[Assignmen
                       .order_by(Assignment.opens_at, Assignment.id)).all()
 
 
+def student_assignments(db: Session, user_id: int) -> Sequence[Assignment]:
+    """The assignments of every course the user is a student of (their role in the course decides, not their
+    account's role)."""
+    courses = select(CourseMember.course_id).where(CourseMember.user_id == user_id, CourseMember.role == "student")
+    return db.scalars(select(Assignment).where(Assignment.course_id.in_(courses))
+                      .order_by(Assignment.opens_at, Assignment.id)).all()
+
+
+def unreleased_exams(db: Session) -> Sequence[Assignment]:
+    """Every exam whose results are not released: upcoming, running, or ended and held."""
+    return db.scalars(select(Assignment).where(Assignment.mode == "exam", Assignment.released_at.is_(None))).all()
+
+
 def unfinalized_exams(db: Session, before: datetime) -> Sequence[Assignment]:
     return db.scalars(select(Assignment).where(Assignment.mode == "exam", Assignment.finalized_at.is_(None),
                                                Assignment.deadline <= before)).all()
+
+
+def claim_finalizing(db: Session, assignment_id: int, at: datetime, until: datetime) -> bool:
+    """Take the lease of finalising an ended exam: True for the one caller (of any replica) that got it; an
+    expired lease (its replica stopped) can be taken again."""
+    claimed = db.execute(
+        update(Assignment).where(Assignment.id == assignment_id, Assignment.finalized_at.is_(None),
+                                 or_(Assignment.finalizing_until.is_(None), Assignment.finalizing_until < at))
+        .values(finalizing_until=until).execution_options(synchronize_session=False))
+    db.commit()
+    return bool(claimed.rowcount)  # type: ignore[attr-defined]
+
+
+def finish_finalizing(db: Session, assignment_id: int, at: datetime) -> None:
+    db.execute(update(Assignment).where(Assignment.id == assignment_id)
+               .values(finalized_at=at, finalizing_until=None).execution_options(synchronize_session=False))
+    db.commit()
+
+
+def count_attempts(db: Session, assignment_id: int, user_id: int, exercise_id: int) -> int:
+    """The submissions of a user to one exercise of an assignment."""
+    return int(db.scalar(select(func.count()).select_from(Submission).where(
+        Submission.assignment_id == assignment_id, Submission.user_id == user_id,
+        Submission.exercise_id == exercise_id)) or 0)
 
 
 def save(db: Session, row: Base) -> None:

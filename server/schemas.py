@@ -465,13 +465,16 @@ class SubmissionOut(BaseModel):
     external_user: str | None
     dialect: str
     created_at: Time
-    error_count: int
-    warning_count: int
+    error_count: int | None = Field(description="null for its author while held (an exam's, not yet released)")
+    warning_count: int | None = Field(description="null for its author while held")
     grading: dict[str, Any] | None = Field(
         description="The grade as `paltrainer grade --json` (hidden criteria only for the exercise's owner and "
-                    "admins); null if the exercise is not gradable")
-    score: int | None = Field(description="Points out of grading.max_score; null if not graded")
-    summary: RunSummary
+                    "admins); null if the exercise is not gradable, and for its author while held or while the "
+                    "exercise is in an unreleased exam of their course (docs/server.md, \"Exams\")")
+    score: int | None = Field(description="Points out of grading.max_score; null if not graded or not shown")
+    held: bool = Field(default=False, description="An exam's submission as its author sees it before the results "
+                                                  "are released: stored and handed in, nothing else until then")
+    summary: RunSummary | None = Field(description="null for its author while held")
     diagnostics: list[DiagnosticOut] | None = Field(description="The check diagnostics (detail views only)")
     program: str | None = Field(description="The program (detail views only)")
     lms: LmsResult | None = Field(default=None, description="The grade for a learning platform; null if not graded")
@@ -488,6 +491,8 @@ class DraftIn(BaseModel):
 
 class DraftOut(BaseModel):
     exercise: str
+    assignment: int | None = Field(default=None, description="The exam this draft belongs to; null: the practice "
+                                                             "draft")
     program: str | None = Field(description="The saved text; null: no draft (start from the exercise's start_program)")
     updated_at: Time | None
 
@@ -500,9 +505,11 @@ class MySubmission(BaseModel):
     created_at: Time
     score: int | None
     max_score: int | None
-    error_count: int
-    warning_count: int
-    criteria: list[dict[str, Any]] = Field(description="The grade's criteria as the trainee sees them (no hidden ones)")
+    error_count: int | None = Field(description="null while held (an exam's, not yet released)")
+    warning_count: int | None
+    held: bool = False
+    criteria: list[dict[str, Any]] = Field(description="The grade's criteria as the trainee sees them (no hidden "
+                                                       "ones; none while held or withheld by an exam)")
     program: str
 
 

@@ -14,7 +14,7 @@ from sqlalchemy.orm import Session
 from core.exercises import Exercise as ExerciseDocument
 from core.pipeline import DIALECTS
 from core.sheet import SheetUnavailable, pdf_engine
-from server import exams
+from server import access
 from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
@@ -172,9 +172,14 @@ def can_manage(principal: Principal, exercise: Exercise) -> bool:
     return principal.user.role == "instructor" and exercise.owner_id == principal.user.id
 
 
-def exercise_out(db: Session, exercise: Exercise, principal: Principal) -> ExerciseOut:
+def exercise_out(db: Session, exercise: Exercise, principal: Principal,
+                 sit: access.Situation | None = None) -> ExerciseOut:
+    """The exercise as `principal` may see it (`sit`: their situation, when the caller has it already)."""
     owner = repo.user_by_id(db, exercise.owner_id) if exercise.owner_id is not None else None
     full = can_manage(principal, exercise)
+    if full:  # not while an exam of a course they sit as a student withholds it
+        sit = sit or access.situation(db, access.acting_user(principal), exercise.slug)
+        full = access.allowed(sit, "reference", exercise.slug)
     rubric = exercise.rubric
     if not full and isinstance(rubric, dict) and isinstance(rubric.get("criteria"), list):
         rubric = {**rubric, "criteria": [c for c in rubric["criteria"] if not (isinstance(c, dict) and c.get("hidden"))]}
@@ -325,19 +330,44 @@ def grading_view(grading: dict[str, Any] | None, full: bool) -> dict[str, Any] |
     return {**grading, "criteria": [c for c in grading.get("criteria", []) if not c.get("hidden")]}
 
 
-def submission_out(submission: Submission, exercise: Exercise, author: User | None, detail: bool,
-                   principal: Principal) -> SubmissionOut:
+class Readers:
+    """The situations of submissions' authors, read once per author while a list is written."""
+
+    def __init__(self, db: Session) -> None:
+        self.db = db
+        self.known: dict[int, access.Situation] = {}
+
+    def of(self, author: User | None, submission: Submission, slug: str) -> access.Situation:
+        if author is None or submission.external_user is not None:
+            return access.situation(self.db, None, slug)
+        if author.id not in self.known:
+            self.known[author.id] = access.situation(self.db, author, slug)
+        return self.known[author.id]
+
+
+def submission_out(db: Session, submission: Submission, exercise: Exercise, author: User | None, detail: bool,
+                   principal: Principal, readers: Readers | None = None) -> SubmissionOut:
+    """A submission as its reader may see it. Its author (or the key that made it) sees an exam's submission as
+    handed in and nothing else until the results are released, and no score or criteria of a practice
+    submission while the exercise is in an unreleased exam of their course (server/access.py); instructors see
+    the whole grade of what they may see (their students' work on any exercise)."""
     result = submission.result
-    # instructors see the whole grade of what they may see (their students' work on any exercise)
-    grading = grading_view(submission.grading, can_manage(principal, exercise) or principal.is_instructor())
-    if submission.held and not principal.is_instructor():
-        grading = None  # an exam's grade, before the instructor releases the results
+    own = ((principal.user_id is not None and submission.user_id == principal.user_id)
+           or (principal.api_key is not None and submission.api_key_id == principal.api_key.id))
+    held = submission.held and own
+    if own:
+        sit = (readers or Readers(db)).of(author, submission, exercise.slug)
+        visible = access.grade_visible(sit, submission, exercise.slug)
+        full = can_manage(principal, exercise) and access.allowed(sit, "reference", exercise.slug)
+    else:
+        visible, full = True, can_manage(principal, exercise) or principal.is_instructor()
+    grading = grading_view(submission.grading, full) if visible else None
     return SubmissionOut(
         id=submission.id, exercise=exercise.slug, user=author.username if author else None,
         external_user=submission.external_user, dialect=submission.dialect, created_at=submission.created_at,
-        error_count=submission.error_count, warning_count=submission.warning_count, grading=grading,
-        score=grading["score"] if grading else None,
-        summary=result["summary"], diagnostics=result["diagnostics"] if detail else None,
+        error_count=None if held else submission.error_count, warning_count=None if held else submission.warning_count,
+        grading=grading, score=grading["score"] if grading else None, held=held,
+        summary=None if held else result["summary"], diagnostics=result["diagnostics"] if detail and not held else None,
         program=submission.program if detail else None, lms=lms_result(grading),
     )
 
@@ -373,22 +403,26 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
             return earlier, False
     exercise = get_exercise(db, body.exercise)
     check_program(settings, body.program, exercise.dialect)
-    context = exams.submission_context(db, principal.user if principal.api_key is None else None, exercise,
-                                       body.assignment)
+    external = body.external_user if principal.api_key is not None else None
+    verdict = access.check(db, principal, "submit", exercise.slug, body.assignment, external)
+    target = verdict.assignment
+    if target is not None and verdict.limit and principal.user_id is not None and repo.count_attempts(
+            db, target.id, principal.user_id, exercise.id) >= verdict.limit:
+        raise ApiError("ASSIGNMENT_SUBMITTED", exercise=exercise.slug, limit=verdict.limit)
     # the connection goes back to the pool while the worker grades: many submissions waiting at once must not
     # hold every pooled connection (the next request's query would block the event loop waiting for one)
     db.commit()
     result = await workers.call(job_submission, body.program, exercise.dialect,
                                 exercise_spec(exercise, body.skip_blocks))
+    fields = {"exercise_id": exercise.id, "user_id": principal.user_id,
+                  "api_key_id": principal.api_key.id if principal.api_key else None, "external_user": external,
+                  "program": body.program, "dialect": exercise.dialect, "error_count": result["errors"],
+                  "warning_count": result["warnings"],
+                  "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
+                  "grading": result["grading"], "idempotency_key": stored_key,
+                  "assignment_id": target.id if target else None, "late": verdict.late, "held": verdict.held}
     try:
-        submission = repo.create_submission(
-            db, exercise_id=exercise.id, user_id=principal.user_id,
-            api_key_id=principal.api_key.id if principal.api_key else None,
-            external_user=body.external_user if principal.api_key else None, program=body.program,
-            dialect=exercise.dialect, error_count=result["errors"], warning_count=result["warnings"],
-            result={"diagnostics": result["diagnostics"], "summary": result["summary"]}, grading=result["grading"],
-            idempotency_key=stored_key, assignment_id=context.assignment_id, late=context.late, held=context.held,
-        )
+        submission = store_attempt(db, fields, verdict.limit if target is not None else 0, exercise.slug)
     except repo.Duplicate:
         # a retry with the same key was stored while this one was graded: answer with that one
         earlier = _earlier_submission(db, principal, stored_key, body) if stored_key else None
@@ -396,7 +430,26 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
             raise ApiError("CONFLICT") from None
         return earlier, False
     lti_ags.after_graded(db, submission)  # the grade to the learning platform's gradebook, if it came from one
-    return submission_out(submission, exercise, principal.user, True, principal), True
+    return submission_out(db, submission, exercise, principal.user, True, principal), True
+
+
+def store_attempt(db: Session, fields: dict[str, Any], limit: int, slug: str) -> Submission:
+    """Store a submission; to an assignment with a limit as its next attempt (1 … limit), which the database
+    holds unique: of submissions racing for the last attempt one is stored, the others are refused with 409
+    ASSIGNMENT_SUBMITTED. repo.Duplicate for any other unique key (the idempotency key)."""
+    if not limit or fields.get("user_id") is None:
+        return repo.create_submission(db, **fields)
+    for _ in range(limit):
+        done = repo.count_attempts(db, fields["assignment_id"], fields["user_id"], fields["exercise_id"])
+        if done >= limit:
+            break
+        try:
+            return repo.create_submission(db, **fields, attempt=done + 1)
+        except repo.Duplicate:
+            if fields.get("idempotency_key") and repo.submission_by_idempotency_key(db, fields["idempotency_key"]):
+                raise
+            continue  # another submission took this attempt: count again
+    raise ApiError("ASSIGNMENT_SUBMITTED", exercise=slug, limit=limit)
 
 
 def may_name_learners(principal: Principal) -> bool:
@@ -416,7 +469,7 @@ def _earlier_submission(db: Session, principal: Principal, stored_key: str,
     exercise = repo.exercise_by_id(db, earlier.exercise_id)
     if exercise is None or exercise.slug != body.exercise or earlier.program != body.program:
         raise ApiError("IDEMPOTENCY_CONFLICT")
-    return submission_out(earlier, exercise, principal.user, True, principal)
+    return submission_out(db, earlier, exercise, principal.user, True, principal)
 
 
 def visible_submissions(db: Session, principal: Principal,
@@ -461,7 +514,7 @@ def get_submission(db: Session, principal: Principal, submission_id: int) -> Sub
               and repo.teaches(db, principal.user_id, author.id))
     if submission is None or exercise is None or not may_see(principal, submission, exercise, taught):
         raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
-    return submission_out(submission, exercise, author, True, principal)
+    return submission_out(db, submission, exercise, author, True, principal)
 
 
 CSV_COLUMNS = ("id", "exercise", "user", "external_user", "created_at", "error_count", "warning_count",
@@ -522,26 +575,34 @@ def _draft_user(principal: Principal) -> int:
     return principal.user.id
 
 
-def get_draft(db: Session, principal: Principal, slug: str) -> DraftOut:
+def get_draft(db: Session, principal: Principal, slug: str, assignment: int | None = None) -> DraftOut:
+    """The draft the editor starts with: the named exam's, else the running exam's with this exercise, else the
+    practice draft (server/access.py decides which and whether)."""
     user_id = _draft_user(principal)
     exercise = get_exercise(db, slug)
-    row = repo.draft(db, user_id, exercise.id)
-    return DraftOut(exercise=slug, program=row.program if row else None, updated_at=row.updated_at if row else None)
+    scope = access.check(db, principal, "read_draft", slug, assignment).draft_scope
+    row = repo.draft(db, user_id, exercise.id, scope)
+    return DraftOut(exercise=slug, assignment=scope, program=row.program if row else None,
+                    updated_at=row.updated_at if row else None)
 
 
-def save_draft(db: Session, settings: Settings, principal: Principal, slug: str, program: str) -> DraftOut:
+def save_draft(db: Session, settings: Settings, principal: Principal, slug: str, program: str,
+               assignment: int | None = None) -> DraftOut:
     """Replace the caller's draft (the same text twice is the same state: PUT is idempotent)."""
     user_id = _draft_user(principal)
     exercise = get_exercise(db, slug)
     if len(program) > settings.max_program_chars:
         raise ApiError("PROGRAM_TOO_LARGE", size=len(program), limit=settings.max_program_chars)
-    exams.check_exercise(db, principal.user, exercise)
-    row = repo.save_draft(db, user_id, exercise.id, program)
-    return DraftOut(exercise=slug, program=row.program, updated_at=row.updated_at)
+    scope = access.check(db, principal, "draft", slug, assignment).draft_scope
+    row = repo.save_draft(db, user_id, exercise.id, program, scope)
+    return DraftOut(exercise=slug, assignment=scope, program=row.program, updated_at=row.updated_at)
 
 
-def delete_draft(db: Session, principal: Principal, slug: str) -> None:
-    repo.delete_draft(db, _draft_user(principal), get_exercise(db, slug).id)
+def delete_draft(db: Session, principal: Principal, slug: str, assignment: int | None = None) -> None:
+    user_id = _draft_user(principal)
+    exercise = get_exercise(db, slug)
+    scope = access.check(db, principal, "draft", slug, assignment).draft_scope
+    repo.delete_draft(db, user_id, exercise.id, scope)
 
 
 # --- the trainee's history and progress (issue 15) -------------------------------------------------
@@ -564,29 +625,35 @@ def best_of(submissions: list[Submission]) -> Submission:
 
 
 def my_submissions(db: Session, principal: Principal, slug: str) -> list[MySubmission]:
-    """The caller's own submissions to one exercise, newest first, with program and criteria."""
+    """The caller's own submissions to one exercise, newest first, with program and criteria (as far as they may
+    see them now: server/access.py)."""
     if not principal.has_scope("submissions:read"):
         raise ApiError("MISSING_SCOPE", scope="submissions:read")
     exercise = get_exercise(db, slug)
     if principal.user_id is None:
         return []
-    full = can_manage(principal, exercise)
+    sit = access.situation(db, access.acting_user(principal), slug)
+    full = can_manage(principal, exercise) and access.allowed(sit, "reference", slug)
     out = []
     for s in repo.own_submissions(db, principal.user_id, exercise.id, HISTORY_LIMIT):
-        score, max_score = _score(s) if not s.held else (None, None)
-        grading = grading_view(s.grading, full) if not s.held else None
+        visible = access.grade_visible(sit, s, slug)
+        score, max_score = _score(s) if visible else (None, None)
+        grading = grading_view(s.grading, full) if visible else None
         out.append(MySubmission(id=s.id, exercise=slug, created_at=s.created_at, score=score, max_score=max_score,
-                                error_count=s.error_count, warning_count=s.warning_count,
+                                error_count=None if s.held else s.error_count,
+                                warning_count=None if s.held else s.warning_count, held=s.held,
                                 criteria=grading["criteria"] if grading else [], program=s.program))
     return out
 
 
 def my_progress(db: Session, principal: Principal) -> list[Progress]:
-    """Per exercise (in list order): not started, a draft, or submitted with the best score."""
+    """Per exercise (in list order): not started, a draft, or submitted with the best score (as far as the caller
+    may see it now)."""
     if not principal.has_scope("submissions:read"):
         raise ApiError("MISSING_SCOPE", scope="submissions:read")
     by_exercise: dict[int, list[Submission]] = {}
     drafts: dict[int, Any] = {}
+    sit = access.situation(db, access.acting_user(principal))
     if principal.user_id is not None:
         for s in repo.own_submissions(db, principal.user_id):
             if s.held:
@@ -597,7 +664,8 @@ def my_progress(db: Session, principal: Principal) -> list[Progress]:
     out = []
     for e in sorted_exercises(db):
         subs = by_exercise.get(e.id, [])
-        best = best_of(subs) if subs else None
+        shown = [s for s in subs if access.grade_visible(sit, s, e.slug)]
+        best = best_of(shown) if shown else None
         score, max_score = _score(best) if best else (None, None)
         status = "submitted" if subs else "draft" if e.id in drafts else "not_started"
         out.append(Progress(exercise=e.slug, status=status, best_score=score, max_score=max_score,  # type: ignore[arg-type]
@@ -609,9 +677,10 @@ def my_progress(db: Session, principal: Principal) -> list[Progress]:
 # --- hints and the reference solution (issue 15) --------------------------------------------------
 
 
-def hint(db: Session, slug: str, number: int) -> Hint:
-    """The exercise's hints one at a time (1 … count)."""
+def hint(db: Session, principal: Principal, slug: str, number: int) -> Hint:
+    """The exercise's hints one at a time (1 … count), as far as server/access.py allows them now."""
     exercise = get_exercise(db, slug)
+    access.check(db, principal, "hints", slug)
     hints = (exercise.document or {}).get("hints") or []
     if not 1 <= number <= len(hints):
         raise ApiError("HINT_NOT_FOUND", hint=number, count=len(hints))
@@ -620,12 +689,13 @@ def hint(db: Session, slug: str, number: int) -> Hint:
 
 
 def solution(db: Session, principal: Principal, slug: str) -> Solution:
-    """The reference program: instructors and admins always; students as the exercise's `solution` allows
-    (never, after their first submission, after a submission with full marks)."""
+    """The reference program: instructors and admins always, unless an exam of a course they sit as a student
+    withholds it (server/access.py); students as the exercise's `solution` allows (never, after their first
+    submission, after a submission with full marks)."""
     exercise = get_exercise(db, slug)
     policy = (exercise.document or {}).get("solution") or "after_submission"
+    access.check(db, principal, "solution", slug)
     if not principal.is_instructor():
-        exams.check_feature(db, principal.user, "solution")
         own = list(repo.own_submissions(db, principal.user_id, exercise.id)) if principal.user_id is not None else []
         if policy == "never":
             raise ApiError("SOLUTION_NEVER")

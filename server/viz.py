@@ -115,6 +115,7 @@ class Scene:
     segment_centre: list[bool] = field(default_factory=list)  # lathe: the segment's end is the nose centre (SRK)
     moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
+    exercise: str | None = None  # the exercise of what is shown (server/access.py asks about it)
     tiles: dict[str, str] = field(default_factory=dict)  # stock tile shown → its digest (resend only changes)
     generation: int = 0  # counts scene and playhead updates: a late refinement of an older one is dropped
     refining: Any = None  # the task that sends the fine level of detail after the coarse one
@@ -164,6 +165,11 @@ class Scenes:
         return found.sid if found else None
 
     # -- scenes ---------------------------------------------------------------------------------
+    def live(self, ticket: Ticket) -> Scene | None:
+        """The ticket's scene if it is live (nothing is started)."""
+        with self._lock:
+            return self._scenes.get(ticket.sid)
+
     def scene(self, ticket: Ticket) -> Scene:
         """The ticket's scene, started if it is not live (after making room within the caps)."""
         stopped: list[tuple[Scene, str]] = []

@@ -27,6 +27,7 @@ import jwt
 from sqlalchemy import or_, select, update
 from sqlalchemy.orm import Session
 
+from server import access
 from server.db import Database
 from server.lti.keys import signing_key
 from server.lti.launch import resource_link_for
@@ -40,6 +41,7 @@ from server.models import (
     LtiScore,
     LtiUser,
     Submission,
+    User,
 )
 
 log = logging.getLogger("paltrainer.lti")
@@ -171,6 +173,10 @@ def after_graded(db: Session, submission: Submission) -> None:
         return  # made through an API key: for the key's learner (external_user), not its owner's gradebook cell
     try:
         exercise = db.get(Exercise, submission.exercise_id)
+        author = db.get(User, submission.user_id)
+        if exercise is None or author is None or not (submission.held or access.grade_visible(
+                access.situation(db, author, exercise.slug), submission, exercise.slug)):
+            return  # a practice grade an exam of the author's course withholds (server/access.py): not passed on
         link = _assignment_link(db, submission) or (
             resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None)
         if link is not None:

@@ -35,15 +35,16 @@ def create_assignment(course_id: Id, body: AssignmentCreate, db: DbSession,
 
 
 @router.get("/me/assignments", response_model=list[MyAssignment], responses=responses(401, 403, 503))
-async def my_assignments(db: DbSession, workers: AppWorkers, principal: CurrentPrincipal) -> list[MyAssignment]:
-    """The caller's assignments with deadline, status and their submissions (an exam's scores once released)."""
-    return await courses.my_assignments(db, workers, principal)
+def my_assignments(db: DbSession, principal: CurrentPrincipal) -> list[MyAssignment]:
+    """The caller's assignments with deadline, status and their submissions (an exam's scores once released;
+    its exercises from its start; status `submitting` for the moment after its end until its last drafts are
+    submitted)."""
+    return courses.my_assignments(db, principal)
 
 
 @router.get("/assignments/{assignment_id}", response_model=AssignmentOut, responses=responses(401, 403, 404, 503))
-async def get_assignment(assignment_id: Id, db: DbSession, workers: AppWorkers,
-                         principal: CurrentPrincipal) -> AssignmentOut:
-    return await courses.get_assignment(db, workers, principal, assignment_id)
+def get_assignment(assignment_id: Id, db: DbSession, principal: CurrentPrincipal) -> AssignmentOut:
+    return courses.get_assignment(db, principal, assignment_id)
 
 
 @router.patch("/assignments/{assignment_id}", response_model=AssignmentOut, responses=responses(401, 403, 404, 422))
@@ -73,27 +74,26 @@ def _csv(text: str, assignment_id: int) -> Response:
 
 @router.get("/assignments/{assignment_id}/results", response_model=AssignmentResults,
             responses={**CSV_RESPONSE, **responses(401, 403, 404, 503)})
-async def results(assignment_id: Id, db: DbSession, workers: AppWorkers, principal: CurrentPrincipal,
-                  format: Literal["json", "csv"] = "json") -> AssignmentResults | Response:
+def results(assignment_id: Id, db: DbSession, principal: CurrentPrincipal,
+            format: Literal["json", "csv"] = "json") -> AssignmentResults | Response:
     """Instructors of the course: students × exercises with the best score, late and automatic submissions."""
     if format == "csv":
-        return _csv(await courses.assignment_results_csv(db, workers, principal, assignment_id), assignment_id)
-    return await courses.assignment_results(db, workers, principal, assignment_id)
+        return _csv(courses.assignment_results_csv(db, principal, assignment_id), assignment_id)
+    return courses.assignment_results(db, principal, assignment_id)
 
 
 @router.get("/assignments/{assignment_id}/results.csv", response_class=Response,
             responses={200: CSV_RESPONSE[200], **responses(401, 403, 404, 503)})
-async def results_csv(assignment_id: Id, db: DbSession, workers: AppWorkers, principal: CurrentPrincipal) -> Response:
-    return _csv(await courses.assignment_results_csv(db, workers, principal, assignment_id), assignment_id)
+def results_csv(assignment_id: Id, db: DbSession, principal: CurrentPrincipal) -> Response:
+    return _csv(courses.assignment_results_csv(db, principal, assignment_id), assignment_id)
 
 
 @router.get("/assignments/{assignment_id}/insights", response_model=insights.AssignmentInsights,
             responses=responses(401, 403, 404, 503))
-async def class_insights(assignment_id: Id, db: DbSession, workers: AppWorkers,
-                         principal: CurrentPrincipal) -> insights.AssignmentInsights:
+def class_insights(assignment_id: Id, db: DbSession, principal: CurrentPrincipal) -> insights.AssignmentInsights:
     """Instructors of the course: per exercise the class's most frequent diagnostics and the criteria most
     students lost, with the block where most of them lost it (each student's best submission counts)."""
-    return await insights.assignment_insights(db, workers, principal, assignment_id)
+    return insights.assignment_insights(db, principal, assignment_id)
 
 
 @router.get("/assignments/{assignment_id}/sheets.pdf", response_class=Response, responses={

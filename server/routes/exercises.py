@@ -7,7 +7,7 @@ from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Path, Request, Response
 
-from server import exams, services
+from server import access, services
 from server.deps import (
     AppSettings,
     AppWorkers,
@@ -28,7 +28,8 @@ SHEET_NAME = {"de": "aufgabenblatt", "en": "task-sheet"}
 @router.get("", response_model=list[ExerciseOut], responses=responses(401, 403))
 def list_exercises(db: DbSession, principal: Reader) -> list[ExerciseOut]:
     """In the order of their sets: by dialect, then the exercise's `order`, then title."""
-    return [services.exercise_out(db, e, principal) for e in services.sorted_exercises(db)]
+    sit = access.situation(db, access.acting_user(principal))  # one for every exercise: the user's courses
+    return [services.exercise_out(db, e, principal, sit) for e in services.sorted_exercises(db)]
 
 
 @router.get("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404))
@@ -40,8 +41,7 @@ def get_exercise(slug: Slug, db: DbSession, principal: Reader) -> ExerciseOut:
 @router.get("/{slug}/hints/{number}", response_model=Hint, responses=responses(401, 403, 404, 422))
 def exercise_hint(slug: Slug, number: Annotated[int, Path(ge=1, le=1000)], db: DbSession, principal: Reader) -> Hint:
     """The exercise's hint `number` (1 … `hint_count`), one at a time ("Tipp anzeigen")."""
-    exams.check_feature(db, principal.user, "hints")  # an exam that runs for the trainee may forbid hints
-    return services.hint(db, slug, number)
+    return services.hint(db, principal, slug, number)
 
 
 @router.get("/{slug}/solution", response_model=Solution, responses=responses(401, 403, 404))

@@ -38,7 +38,8 @@ def list_submissions(db: DbSession, principal: CurrentPrincipal,
                      exercise: Annotated[Slug | None, Query(description="Only this exercise's")] = None
                      ) -> list[SubmissionOut]:
     """Students: their own; instructors: also those to their exercises; admins: all."""
-    return [services.submission_out(s, e, u, False, principal)
+    readers = services.Readers(db)
+    return [services.submission_out(db, s, e, u, False, principal, readers)
             for s, e, u in services.visible_submissions(db, principal, exercise)]
 
 

@@ -19,7 +19,7 @@ from fastapi import APIRouter, Depends, Request, Response, WebSocket, WebSocketD
 from pydantic import BaseModel, Field
 from starlette.concurrency import run_in_threadpool
 
-from server import exams, services, viz
+from server import access, services, viz
 from server.config import Settings
 from server.db import Database
 from server.deps import (
@@ -125,10 +125,31 @@ def _scene(request: Request, token: str, principal: Principal) -> viz.Scene:
     return _scenes(request).scene(ticket)
 
 
+def _allowed(database: Database, principal: Principal, action: access.Action, exercise: str | None) -> None:
+    """server/access.py on the 3D view: an exam that runs for the trainee may switch it off; the deviation
+    compares with a reference an exam may withhold; nobody unknown sees an exercise of a running exam."""
+    with database.session() as db:
+        access.check(db, principal, action, exercise)
+
+
+async def _gate(request: Request, principal: Principal, action: access.Action, exercise: str | None) -> None:
+    await run_in_threadpool(_allowed, request.app.state.db, principal, action, exercise)
+
+
+async def _driven(request: Request, token: str, principal: Principal) -> viz.Scene:
+    """The scene of a token for the calls that move what it shows (playhead, section, view, layers)."""
+    scene = await run_in_threadpool(_scene, request, token, principal)
+    await _gate(request, principal, "viz", scene.exercise)
+    return scene
+
+
 @router.post("", response_model=VizSession, status_code=201, responses=responses(401, 429), dependencies=NEW_LIMIT)
-def new_session(request: Request, response: Response, settings: AppSettings, principal: PracticePrincipal) -> VizSession:
+def new_session(request: Request, response: Response, db: DbSession, settings: AppSettings,
+                principal: PracticePrincipal) -> VizSession:
     """A token for a new scene of this user, key or (anonymous) browser; an anonymous browser gets its 3D
-    cookie with it (HttpOnly), which its later calls must carry."""
+    cookie with it (HttpOnly), which its later calls must carry. Refused while an exam without 3D runs for the
+    trainee."""
+    access.check(db, principal, "viz")
     cookie = request.cookies.get(viz.VIZ_COOKIE)
     if principal is ANONYMOUS and (not cookie or not _COOKIE_VALUE.match(cookie)):
         cookie = secrets.token_urlsafe(24)
@@ -150,7 +171,7 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     A turning program (TRAUB) is shown in the lathe's drawing view — Z right, X up, the chuck on the left —
     with the part turned from the blank (the request's, the exercise's, else a bar around the program) in
     chunks along Z (`lathe` and `blank` in the answer)."""
-    exams.check_feature(db, principal.user, "viz")  # an exam that runs for the trainee may switch 3D off
+    await _gate(request, principal, "viz", body.exercise)  # an exam that runs for the trainee may switch 3D off
     scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     if body.blank is not None:
@@ -159,7 +180,7 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     db.commit()  # the pooled connection is free while the worker runs (services.create_submission says why)
     data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
-    scene.program = (body.program, body.dialect, spec)
+    scene.program, scene.exercise = (body.program, body.dialect, spec), body.exercise
     if data["stock"] is not None and "fine" in data["stock"]:  # the coarse level of detail is out; the fine one follows
         scene.refining = asyncio.create_task(run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation))
         scene.refining.add_done_callback(_log_failure)
@@ -178,7 +199,7 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
                        principal: PracticePrincipal) -> dict[str, Any]:
     """Move the tool to the end of toolpath segment `index` and show the stock after its move; answers that
     segment's block line."""
-    scene = await run_in_threadpool(_scene, request, token, principal)
+    scene = await _driven(request, token, principal)
     line = await run_in_threadpool(viz.playhead, scene, body.index)
     if scene.has_stock and scene.program is not None and scene.moves:
         text, dialect, spec = scene.program
@@ -197,7 +218,7 @@ async def put_section(token: str, body: Section, request: Request, workers: AppW
                       principal: PracticePrincipal) -> dict[str, bool]:
     """Turning: cut the part open along the drawing plane to show bores and grooves (the back half with the cut
     face, the chuck halved too) or show it whole; kept for the session's next programs. Answers the state."""
-    scene = await run_in_threadpool(_scene, request, token, principal)
+    scene = await _driven(request, token, principal)
     chunks = None
     if scene.lathe and scene.turned is not None:
         chunks = await workers.call(viz.job_turned_chunks, scene.turned["profile"], body.half)
@@ -208,7 +229,7 @@ async def put_section(token: str, body: Section, request: Request, workers: AppW
 async def put_view(token: str, body: View, request: Request, principal: PracticePrincipal) -> dict[str, str]:
     """Point the camera at the part from above, from the front or from the front right above (iso), the part
     centred and filling the view."""
-    scene = await run_in_threadpool(_scene, request, token, principal)
+    scene = await _driven(request, token, principal)
     await run_in_threadpool(viz.set_view, scene, body.view, body.aspect)
     return {"view": scene.view}
 
@@ -216,7 +237,7 @@ async def put_view(token: str, body: View, request: Request, principal: Practice
 @router.post("/{token}/layers", responses=responses(401, 403, 410, 422, 429), dependencies=STEP_LIMIT)
 async def put_layers(token: str, body: Layers, request: Request, principal: PracticePrincipal) -> dict[str, bool]:
     """Show or hide the rapid moves, the feed moves, the programmed contour and the stock; answers all four."""
-    scene = await run_in_threadpool(_scene, request, token, principal)
+    scene = await _driven(request, token, principal)
     return await run_in_threadpool(viz.set_layers, scene, body.model_dump(exclude_none=True))
 
 
@@ -230,6 +251,7 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
     scene = await run_in_threadpool(_scene, request, token, principal)
     if body.exercise is None:
         raise ApiError("EXERCISE_REQUIRED")
+    await _gate(request, principal, "deviation", body.exercise)  # it compares with the reference
     spec = await run_in_threadpool(services.run_spec, db, settings, body)
     db.commit()  # the pooled connection is free while the worker runs
     data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, {**spec, "half": scene.half})
@@ -247,11 +269,12 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
 @router.post("/picture.png", response_class=Response, dependencies=PICTURE_LIMIT, responses={
     200: {"content": {"image/png": {}}, "description": "The stock after the program, from above (darker = deeper)"},
     **responses(401, 413, 422, 429, 503)})
-async def picture(body: SimulateRequest, db: DbSession, settings: AppSettings, workers: AppWorkers,
-                  _: PracticePrincipal) -> Response:
+async def picture(body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
+                  workers: AppWorkers, principal: PracticePrincipal) -> Response:
     """The stock after the program seen from above, rendered on the server: what the page shows while the 3D
     view is off (no graphics acceleration). Needs no 3D session. For a turning program (TRAUB): the turned
     part after it as a half section in the lathe's drawing view, Z right, X up (header `X-Picture-View: lathe`)."""
+    await _gate(request, principal, "viz", body.exercise)  # the 3D view's stand-in follows its rules
     body.resolution = max(body.resolution, 0.25)  # a picture of at most 480 pixels needs no finer cells
     spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
     png: bytes = await workers.call(viz.job_picture_now, body.program, body.dialect, spec)
@@ -275,10 +298,12 @@ def viewer(token: str, request: Request, principal: OptionalPrincipal) -> Respon
     return Response(viz.viser_page(), media_type="text/html", headers={"Cache-Control": "no-cache"})
 
 
-def _ws_who(database: Database, settings: Settings, ws: WebSocket) -> str | None:
+def _ws_who(database: Database, settings: Settings, ws: WebSocket, exercise: str | None) -> str | None:
+    """Who opens the viewer's socket, if the 3D view is allowed to them now (server/access.py); else None."""
     try:
         with database.session() as db:
             principal = resolve(db, settings, None, None, ws.cookies.get(SESSION_COOKIE))
+            access.check(db, principal, "viz", exercise)
     except ApiError:
         return None
     return _who(principal, ws.cookies.get(viz.VIZ_COOKIE))
@@ -291,7 +316,9 @@ async def viewer_socket(ws: WebSocket, token: str) -> None:
     ticket = scenes.ticket(token)
     offered = [p.strip() for p in ws.headers.get("sec-websocket-protocol", "").split(",") if p.strip()]
     protocol = next((p for p in offered if p.startswith("viser-v")), None)
-    who = await run_in_threadpool(_ws_who, ws.app.state.db, ws.app.state.settings, ws) if ticket else None
+    shown = scenes.live(ticket) if ticket else None
+    who = (await run_in_threadpool(_ws_who, ws.app.state.db, ws.app.state.settings, ws,
+                                   shown.exercise if shown else None) if ticket else None)
     if ticket is None or protocol is None or who != ticket.owner:
         await ws.close(code=4410 if scenes.elsewhere(token) else 4403)
         return

@@ -43,7 +43,8 @@ def make_settings(tmp: Path, backend: str, **overrides: Any) -> Settings:
     exercises.mkdir(exist_ok=True)
     values: dict[str, Any] = {"data_dir": tmp / "data", "exercises_dir": exercises, "secret_key": "test-secret-of-at-least-thirty-two-bytes",
                               "workers": 2, "rate_login_per_minute": 1000, "rate_check_per_minute": 1000,
-                              "rate_simulate_per_minute": 1000, "rate_submit_per_minute": 1000}
+                              "rate_simulate_per_minute": 1000, "rate_submit_per_minute": 1000,
+                              "finalize_seconds": 3600}  # the tests run the finaliser's rounds themselves
     if backend == "postgresql":
         assert POSTGRES_URL
         reset_postgres(POSTGRES_URL)

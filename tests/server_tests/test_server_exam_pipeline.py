@@ -13,25 +13,26 @@ from server import repository as repo
 from server.workers import HAS_SIM
 
 
-def _exam(api: Api, student: dict[str, str], **settings: Any) -> int:
+def _exam(api: Api, student: dict[str, str], **settings: Any) -> tuple[int, str]:
     teacher = api.user("instructor")
     course = api.client.post("/api/v1/courses", json={"name": "Prüfung"}, headers=auth(teacher)).json()
     assert api.client.post("/api/v1/courses/join", json={"code": course["join_code"]},
                            headers=auth(student)).status_code == 200
+    slug = builtin_exercise(api)
     r = api.client.post(f"/api/v1/courses/{course['id']}/assignments", headers=auth(teacher), json={
-        "title": "Prüfung G1", "exercises": [builtin_exercise(api)], "mode": "exam", "duration_minutes": 90,
+        "title": "Prüfung G1", "exercises": [slug], "mode": "exam", "duration_minutes": 90,
         "opens_at": (datetime.now(UTC) - timedelta(minutes=1)).isoformat(), "settings": settings})
     assert r.status_code == 201, r.text
-    return int(r.json()["id"])
+    return int(r.json()["id"]), slug
 
 
-def _post(api: Api, who: dict[str, str], path: str) -> Any:
-    return api.client.post(f"/api/v1/{path}", json={"program": GOOD}, headers=auth(who))
+def _post(api: Api, who: dict[str, str], path: str, exercise: str | None = None) -> Any:
+    return api.client.post(f"/api/v1/{path}", json={"program": GOOD, "exercise": exercise}, headers=auth(who))
 
 
 def test_running_exam_refuses_check_run_and_simulate(api: Api) -> None:
     student, free = api.user(), api.user()
-    exam = _exam(api, student)
+    exam, _ = _exam(api, student)
     paths = ["check", "run", *(["simulate"] if HAS_SIM else [])]
     for path in paths:
         r = _post(api, student, path)
@@ -50,9 +51,12 @@ def test_running_exam_refuses_check_run_and_simulate(api: Api) -> None:
 
 def test_exam_settings_decide_which_pipeline_requests_are_allowed(api: Api) -> None:
     student = api.user()
-    _exam(api, student, live_diagnostics=True, viz=False)
-    assert _post(api, student, "check").status_code == 200
-    assert _post(api, student, "run").status_code == 200
+    _, slug = _exam(api, student, live_diagnostics=True, viz=False)
+    assert _post(api, student, "check", slug).status_code == 200
+    assert _post(api, student, "run", slug).status_code == 200
     if HAS_SIM:
-        r = _post(api, student, "simulate")
+        r = _post(api, student, "simulate", slug)
         assert r.status_code == 403 and error_code(r) == "EXAM_RUNNING"
+    # without the exam's exercise it is free practice, which the exam does not allow
+    r = _post(api, student, "check")
+    assert r.status_code == 403 and error_code(r) == "EXAM_RUNNING"

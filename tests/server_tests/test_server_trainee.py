@@ -14,7 +14,8 @@ def test_draft_round_trip_per_user(api: Api) -> None:
     slug = builtin_exercise(api)
     alice, bob = api.user(), api.user()
     r = api.client.get(f"/api/v1/exercises/{slug}/draft", headers=auth(alice))
-    assert r.status_code == 200 and r.json() == {"exercise": slug, "program": None, "updated_at": None}
+    assert r.status_code == 200 and r.json() == {"exercise": slug, "assignment": None, "program": None,
+                                                "updated_at": None}
     r = api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT}, headers=auth(alice))
     assert r.status_code == 200 and r.json()["program"] == DRAFT and r.json()["updated_at"]
     # the same text again is the same state; a newer text replaces it
