@@ -2,8 +2,11 @@
 imports two students from a class list, creates a practice assignment with the form; the students submit (one in
 time, one after the deadline); the results matrix shows both scores and the late mark, a cell opens the submission
 (whose deviation colours appear when the 3D view is switched on later), the insights name the class's most
-frequent diagnostic and lost criterion. No horizontal overflow at 1366×768 and 768×1024, no serious axe-core
-finding. Screenshots: PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/."""
+frequent diagnostic and lost criterion. The heading's number of members follows adding by name, removing and the
+class list; the mode reads "Übung" / "Prüfung" in the form and "Prüfung · 45 min" in the list and headings (no
+placeholder, "null", "undefined" or "NaN" anywhere on the page), and choosing an exam shows what it means for the
+class's practice. No horizontal overflow at 1366×768 and 768×1024, no serious axe-core finding. Screenshots:
+PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/."""
 
 from __future__ import annotations
 
@@ -75,6 +78,18 @@ def fits(page: Any) -> None:
     assert page.evaluate("document.documentElement.scrollWidth <= innerWidth"), page.evaluate(WIDER)
 
 
+def no_placeholders(page: Any) -> None:
+    """No text of the page (the select's options too) shows an unfilled {placeholder}, null, undefined or NaN."""
+    text = page.evaluate("document.body.innerText + ' ' + [...document.querySelectorAll('option')]"
+                         ".map((o) => o.textContent).join(' ')")
+    found = [w for w in ("{", "}", "null", "undefined", "NaN") if w in text]
+    assert not found, (found, [line for line in text.splitlines() if any(w in line for w in found)])
+
+
+def members_heading(page: Any) -> str:
+    return str(page.inner_text("#members h3"))
+
+
 def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher: str) -> None:  # noqa: F811
     SHOTS.mkdir(parents=True, exist_ok=True)
     page = login(browser, server)
@@ -89,6 +104,7 @@ def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher
     page.wait_for_selector("#join-code")
     assert page.inner_text("#course-title") == "Klasse FA 24b"
     assert len(page.inner_text("#join-code")) == 8
+    assert members_heading(page) == "Teilnehmer (0)"
 
     # the class list: two students, in this course
     csv = "Name;Passwort\n" + "".join(f"{n};{p}\n" for n, p in STUDENTS.items())
@@ -98,6 +114,7 @@ def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher
     assert "2 Schüler angelegt." in page.inner_text("#course-class-result")
     members = page.inner_text("#member-table")
     assert all(name in members for name in STUDENTS)
+    page.wait_for_selector("#members h3:has-text('Teilnehmer (2)')")  # the heading counts the imported too
 
     # a practice assignment: exercise picked from the list, opening now, deadline in a week, late accepted
     page.fill("#a-title", "Geraden üben")
@@ -204,3 +221,82 @@ def test_course_page_accessibility_and_strangers(server: str, browser: Any, teac
     stranger.wait_for_selector("#course p.error")
     assert "gibt es nicht" in stranger.inner_text("#course")
     stranger.close()
+
+
+def test_member_count_and_exam_texts(server: str, browser: Any, teacher: str) -> None:  # noqa: F811
+    """The heading's number of members follows adding by name and removing; the mode select reads "Übung" and
+    "Prüfung", the exam's list row and heading "Prüfung · 45 min"; mode exam shows the note on what the exam means
+    for the class's practice; nothing unfilled on the page, in German and English."""
+    boss = token(server, TEACHER, PASSWORD)
+    course = call(server, "POST", "/courses", boss, {"name": "FA 24c"})
+    for name in ("kurs-clara", "kurs-dora"):
+        call(server, "POST", "/users", boss, {"username": name, "password": PASSWORD, "role": "student"})
+    page = login(browser, server, bypass_csp=True)
+    page.on("dialog", lambda dialog: dialog.accept())  # "… aus der Klasse entfernen?"
+    page.goto(f"{server}/courses/{course['id']}")
+    page.wait_for_selector("#assignment-form")
+    assert members_heading(page) == "Teilnehmer (0)" and page.is_visible("text=Noch keine Schüler in dieser Klasse.")
+    # adding by name: the heading counts them, the "no students" line goes
+    for n, name in enumerate(("kurs-clara", "kurs-dora"), start=1):
+        page.fill("#member-name", name)
+        page.click("#member-add button[type=submit]")
+        page.wait_for_selector(f"#members h3:has-text('Teilnehmer ({n})')")
+        assert f"{name} ist jetzt in der Klasse." in page.inner_text("#member-note")
+        assert name in page.inner_text("#member-table")
+    assert not page.is_visible("text=Noch keine Schüler in dieser Klasse.")
+    # removing (after the confirmation): one fewer, the row gone, no reload needed
+    page.click("#member-table button[aria-label='kurs-clara aus der Klasse entfernen']")
+    page.wait_for_selector("#members h3:has-text('Teilnehmer (1)')")
+    assert "kurs-clara" not in page.inner_text("#member-table") and "kurs-dora" in page.inner_text("#member-table")
+
+    # the form: the mode without a duration; an exam explains what it withholds until its release
+    assert page.locator("#a-mode option").all_text_contents() == ["Übung", "Prüfung"]
+    assert not page.is_visible("#a-exam-note")
+    page.select_option("#a-mode", "exam")
+    note = page.inner_text("#a-exam-note")
+    assert "Solange die Ergebnisse dieser Prüfung nicht freigegeben sind" in note
+    assert "weder Musterlösung noch Tipps" in note and "nicht bewertet" in note
+    no_placeholders(page)
+    fits(page)
+    page.locator("#assignment-form").screenshot(path=str(SHOTS / "course-exam-form-laptop.png"))
+    page.select_option("#a-mode", "practice")
+    assert not page.is_visible("#a-exam-note")
+
+    # an exam of 45 minutes from the form: its row and its heading say so
+    page.select_option("#a-mode", "exam")
+    page.fill("#a-title", "Klassenarbeit Geraden")
+    page.check(f"#a-exercises input[value='{SLUG}']")
+    page.fill("#a-duration", "45")
+    page.click("#assignment-form button[type=submit]")
+    page.wait_for_url("**/courses/*?assignment=*")
+    page.wait_for_selector("#assignment-results")
+    page.wait_for_selector("#members h3")
+    assert page.inner_text("#assignment-times").startswith("Prüfung · 45 min · ")
+    assert "Prüfung · 45 min · Ergebnisse noch verborgen" in page.inner_text("#assignment-table")
+    assert members_heading(page) == "Teilnehmer (1)"
+    no_placeholders(page)
+    page.add_script_tag(path=str(AXE))
+    result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
+    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
+               if v["impact"] in ("serious", "critical")]
+    assert not serious, serious
+    for size, (width, height) in SIZES.items():
+        page.set_viewport_size({"width": width, "height": height})
+        fits(page)
+        page.screenshot(path=str(SHOTS / f"course-exam-{size}.png"), full_page=True)
+
+    # in English
+    page.set_viewport_size({"width": 1366, "height": 768})
+    page.click("#lang")
+    page.wait_for_selector("#course-title >> text=Course FA 24c")
+    page.wait_for_selector("#assignment-results")
+    page.wait_for_selector("#members h3")
+    assert page.inner_text("#assignment-times").startswith("Exam · 45 min · ")
+    assert page.locator("#a-mode option").all_text_contents() == ["Practice", "Exam"]
+    assert members_heading(page) == "Members (1)"
+    page.click("#assignment-new summary")
+    page.select_option("#a-mode", "exam")
+    assert "neither the model solution nor hints" in page.inner_text("#a-exam-note")
+    no_placeholders(page)
+    page.click("#lang")  # back to German for the other tests of this browser (the choice is kept per context)
+    page.context.close()

@@ -1,17 +1,25 @@
-"""A 2-minute mock exam in Chromium (issue 19). The instructor (REST) makes a course and an exam of 2 minutes; so
-that the run stays short the exam started 2 minutes minus LEFT seconds ago — the server's real clock ends it, no
-test-only setting. Trainee 1 joins with the code on the home page, sees the exam there, opens it: task, drawing,
-editor and countdown, no messages panel, no 3D view, no hints, no free-practice link; types, the draft is saved,
-the page is closed. Trainee 3 finds other exercises closed, submits by hand (asked twice: one submission) and
-sees no score. Trainee 2 keeps the page open and sees, when the countdown ends, that the time is over and the
+"""A 2-minute mock exam in Chromium (issue 19 and the exam-integrity issue). The instructor (REST) makes a course and
+an exam of 2 minutes; so that the run stays short the exam started 2 minutes minus LEFT seconds ago — the server's
+real clock ends it, no test-only setting. Trainee 1 practised the exercise the day before (a practice draft with
+the reference on the server, and a copy never sent from the browser, typed offline); joins with the code on the
+home page, sees the exam there and no "Freies Üben" link, opens it: task, drawing, editor starting from the start
+program (not the practice draft) and countdown, no messages panel, no 3D view, no hints, no free-practice link;
+types, the draft is saved, the page is closed. Trainee 3 finds other exercises closed, submits by hand (asked
+twice: one submission) and sees no score. Trainee 5 retakes: an earlier exam on the exercise ended and is held
+(not released) with a draft of its own; the retake (the same exercise and another one) runs in the same window:
+its page starts from the start program, saves without refusal into the retake (checked over REST with
+?assignment=), and the retake's automatic submission is the retake's draft. An instructor's account that is a
+student of the course sits the exam like a trainee (banner, no free practice, no hints). Trainee 2 keeps the page
+open and sees, when the countdown ends, a read-only editor without "Abgeben", "wird abgegeben" and then that the
 last draft was submitted. The server submits the drafts; the results stay hidden until the instructor releases
-them, then trainee 1 sees score, criteria and the 3D view of the program. The live socket is not opened during
-the exam, free practice is closed; with free practice allowed but no live messages, its socket is refused (4403)
-and not tried again. Screenshots of home and exam page at
-1366×768 and 768×1024 (PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/), axe-core on both."""
+them, then trainee 1 sees score, criteria and the 3D view of the program; the practice draft is still there. The
+live socket is not opened during the exam, free practice is closed; with free practice allowed but no live
+messages, its socket is refused (4403) and not tried again. Screenshots of home and exam page at 1366×768 and
+768×1024 (PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/), axe-core on both."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import subprocess
@@ -31,9 +39,15 @@ pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installe
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
 SLUG = "pal-01-g1-gerade"
+OTHER = "pal-05-g2-kreisbogen"  # the retake's second exercise
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
 TEACHER, FIRST, SECOND, THIRD, FOURTH = "pruef-lehrer", "pruef-azubi", "pruef-azubi2", "pruef-azubi3", "pruef-azubi4"
-LEFT = 60  # seconds of the 2-minute exam still to go when it is made: enough for three trainees to open and type
+RETAKER, COLLEAGUE = "pruef-azubi5", "pruef-meisterin"  # a retake; an instructor's account that sits the exam
+LEFT = 60  # seconds of the 2-minute exam still to go when it is made: enough for the trainees to open and type
+EARLIER_DRAFT = "N10 T1 TC1 M6 ; erste Pruefung\nN20 M30\n"  # the retaker's draft in the earlier, held exam
+RETAKE_DRAFT = "N10 T1 TC1 M6 ; Wiederholung\nN20 G0 X0 Y0 Z2\nN30 M30\n"
+EDITOR_TEXT = "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"
+SAVED = "document.getElementById('save-state')?.textContent.includes('Entwurf gespeichert')"
 
 
 def admin(*args: str) -> None:
@@ -42,16 +56,22 @@ def admin(*args: str) -> None:
                    capture_output=True)
 
 
+def client(server: str, user: str) -> httpx.Client:  # noqa: F811
+    c = httpx.Client(base_url=f"{server}/api/v1", timeout=60)
+    r = c.post("/auth/token", data={"username": user, "password": PASSWORD})
+    c.headers["Authorization"] = f"Bearer {r.json()['access_token']}"
+    return c
+
+
 @pytest.fixture(scope="module")
 def teacher(server: str) -> httpx.Client:  # noqa: F811
     admin("create-user", TEACHER, "--role", "instructor", "--password", PASSWORD)
-    client = httpx.Client(base_url=f"{server}/api/v1", timeout=60)
-    r = client.post("/auth/token", data={"username": TEACHER, "password": PASSWORD})
-    client.headers["Authorization"] = f"Bearer {r.json()['access_token']}"
-    for name in (FIRST, SECOND, THIRD, FOURTH):  # the instructor makes the trainees (quicker than the admin CLI)
-        r = client.post("/users", json={"username": name, "password": PASSWORD, "role": "student"})
+    admin("create-user", COLLEAGUE, "--role", "instructor", "--password", PASSWORD)
+    c = client(server, TEACHER)
+    for name in (FIRST, SECOND, THIRD, FOURTH, RETAKER):  # the instructor makes the trainees (quicker than the CLI)
+        r = c.post("/users", json={"username": name, "password": PASSWORD, "role": "student"})
         assert r.status_code == 201, r.text
-    return client
+    return c
 
 
 def login(browser: Any, server: str, user: str, size: tuple[int, int] = (1366, 768)) -> Any:  # noqa: F811
@@ -85,16 +105,47 @@ def type_program(page: Any, text: str) -> None:
     page.keyboard.insert_text(text)
 
 
-def open_exam(page: Any, server: str) -> None:  # noqa: F811
+def open_exam(page: Any, server: str, assignment: int | None = None) -> None:  # noqa: F811
     page.goto(f"{server}/")
     page.wait_for_selector(".assignment a", timeout=20000)
-    page.click(f".assignment a[href^='/exercises/{SLUG}']")
+    page.click(f".assignment a[href^='/exercises/{SLUG}{f'?assignment={assignment}' if assignment else ''}']")
     page.wait_for_selector("#countdown", timeout=20000)
     page.wait_for_selector(".cm-content")
 
 
+def practice_link_hidden(page: Any) -> None:
+    """The header's "Freies Üben" is gone (the list of assignments is asked after the page has loaded)."""
+    wait_until(page, "document.getElementById('nav-practice')?.hidden === true")
+    assert not page.is_visible("#nav-practice") and not page.is_visible("a[href='/practice']")
+
+
+def new_exam(teacher: httpx.Client, course: int, title: str, exercises: list[str], opens: datetime,
+             minutes: int) -> dict[str, Any]:
+    r = teacher.post(f"/courses/{course}/assignments", json={
+        "title": title, "exercises": exercises, "mode": "exam", "opens_at": opens.isoformat(),
+        "duration_minutes": minutes})
+    assert r.status_code == 201, r.text
+    return dict(r.json())
+
+
+def exam_status(trainee: httpx.Client, exam: int) -> str:
+    return str(next(a["status"] for a in trainee.get("/me/assignments").json() if a["id"] == exam))
+
+
 def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> None:  # noqa: F811
     course = teacher.post("/courses", json={"name": "Prüfungsklasse"}).json()
+    # the retaker's earlier exam on the exercise: it runs for a few seconds, gets a draft of its own, ends and
+    # stays held (not released); the retake comes with the main exam below
+    earlier_course = teacher.post("/courses", json={"name": "Prüfung Januar"}).json()
+    retake_course = teacher.post("/courses", json={"name": "Wiederholer"}).json()
+    for c in (earlier_course, retake_course):
+        assert teacher.post(f"/courses/{c['id']}/members", json={"username": RETAKER}).status_code == 201
+    earlier = new_exam(teacher, earlier_course["id"], "Prüfung Januar", [SLUG],
+                       datetime.now(UTC) - timedelta(seconds=52), 1)
+    retaker = client(server, RETAKER)
+    r = retaker.put(f"/exercises/{SLUG}/draft", params={"assignment": earlier["id"]}, json={"program": EARLIER_DRAFT})
+    assert r.status_code == 200 and r.json()["assignment"] == earlier["id"], r.text
+
     # trainee 1 joins with the code on the home page; trainee 2 by the same code over the API's form too
     first = login(browser, server, FIRST)
     first.wait_for_selector("form#join")
@@ -106,6 +157,24 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     first.click("form#join button[type=submit]")
     first.wait_for_selector("#join-message.ok")
     assert "Prüfungsklasse" in first.inner_text("#join-message") and "Prüfungsklasse" in first.inner_text(".my-courses")
+    # the day before, trainee 1 practised the exercise: the reference as the practice draft on the server, and a
+    # line typed offline that only this browser keeps (never sent)
+    trainee1 = client(server, FIRST)
+    r = trainee1.put(f"/exercises/{SLUG}/draft", json={"program": REFERENCE})
+    assert r.status_code == 200 and r.json()["assignment"] is None, r.text
+    practice = first.context.new_page()
+    practice.goto(f"{server}/exercises/{SLUG}")
+    practice.wait_for_selector(".cm-content", timeout=20000)
+    wait_until(practice, f"{EDITOR_TEXT}.startsWith({json.dumps(REFERENCE.splitlines()[0])})")
+    first.context.set_offline(True)
+    practice.click(".cm-content")
+    practice.keyboard.press("Control+End")
+    practice.keyboard.type("; geuebt")
+    local_key = f"paltrainer-draft:{FIRST}:{SLUG}"
+    wait_until(practice, f"JSON.parse(localStorage.getItem('{local_key}') || 'null')?.synced === false")
+    practice.close()
+    first.context.set_offline(False)
+
     second = login(browser, server, SECOND, (768, 1024))
     second.fill("#join-code", course["join_code"])
     second.click("form#join button[type=submit]")
@@ -114,13 +183,19 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     third.fill("#join-code", course["join_code"])
     third.click("form#join button[type=submit]")
     third.wait_for_selector("#join-message.ok")
+    fifth = login(browser, server, RETAKER)
+    # an instructor's account that is a student of the class sits its exam (its role in the course decides)
+    assert teacher.post(f"/courses/{course['id']}/members", json={"username": COLLEAGUE}).status_code == 201
+    colleague = login(browser, server, COLLEAGUE)
+    start = teacher.get(f"/exercises/{SLUG}").json().get("start_program") or ""
+    deadline = time.monotonic() + 90
+    while exam_status(retaker, earlier["id"]) in ("upcoming", "running"):  # the earlier exam is over
+        assert time.monotonic() < deadline, "the earlier exam did not end"
+        time.sleep(0.5)
 
     opens = datetime.now(UTC) - timedelta(seconds=120 - LEFT)
-    r = teacher.post(f"/courses/{course['id']}/assignments", json={
-        "title": "Probeprüfung G1", "exercises": [SLUG], "mode": "exam", "opens_at": opens.isoformat(),
-        "duration_minutes": 2})
-    assert r.status_code == 201, r.text
-    exam = r.json()
+    exam = new_exam(teacher, course["id"], "Probeprüfung G1", [SLUG], opens, 2)
+    retake = new_exam(teacher, retake_course["id"], "Wiederholungsprüfung", [SLUG, OTHER], opens, 2)
     end = time.monotonic() + LEFT
 
     # free practice is closed during the exam: a notice with the way to the exam, no editor, no live socket
@@ -130,42 +205,51 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     first.wait_for_selector(".exam-notice")
     assert "freies Üben gesperrt" in first.inner_text(".exam-notice") and first.locator(".cm-content").count() == 0
 
-    # the home page: the running exam, its times, mode and status, a link into its exercise
+    # the home page: the running exam, its times, mode and status, a link into its exercise; no free practice
     first.goto(f"{server}/")
     first.wait_for_selector(".assignment a")
     home = first.inner_text("#home")
     assert "Prüfung läuft" in home and "Probeprüfung G1" in home and "Prüfung · 2 min" in home
-    assert "Läuft" in home and "nicht begonnen" in home and "Ende" in home
+    assert "Läuft" in home and "noch nicht abgegeben" in home and "Ende" in home
+    practice_link_hidden(first)
     shot(first, "home-laptop")
     accessible(first)
 
     open_exam(first, server)
-    assert re.search(r"Restzeit 00:[0-5]\d", first.inner_text("#countdown")), first.inner_text("#countdown")
+    assert re.search(r"Restzeit 0[01]:[0-5]\d", first.inner_text("#countdown")), first.inner_text("#countdown")
     assert "Probeprüfung G1" in first.inner_text("#exam-bar")
     assert first.is_visible("figure.drawing img")  # the task with its drawing
+    # the exam starts from the start program: neither the server's practice draft nor the browser's copy
+    assert first.evaluate(EDITOR_TEXT) == start.rstrip("\n"), first.evaluate(EDITOR_TEXT)
     # exam conditions: no messages panel, no 3D view, no hints, no free practice, no live socket, no code help
     assert not first.is_visible("#diagnostics") and not first.is_visible(".viz-pane")
-    assert first.locator("#tab-hints").count() == 0 and not first.is_visible("#nav-practice")
+    assert first.locator("#tab-hints").count() == 0 and first.locator("[role=tab]", has_text="Tipps").count() == 0
+    practice_link_hidden(first)
     assert first.locator(".cm-lint-marker, .cm-gutter-lint").count() == 0
     assert first.locator("#file-open").count() == 0
     type_program(first, REFERENCE)
-    wait_until(first, "document.getElementById('save-state')?.textContent.includes('Entwurf gespeichert')")
+    wait_until(first, SAVED)
     first.wait_for_timeout(500)
     assert not [s for s in sockets if s.url.endswith("/api/v1/live")]
     wait_until(first, "document.querySelector('figure.drawing img')?.naturalWidth > 100")
     shot(first, "page-laptop")
     accessible(first)
-    first.context.close()  # trainee 1 closes the browser; the draft is on the server
+    # in the browser the exam's draft has a key of its own; the practice copy is untouched
+    stored = first.evaluate(f"""[localStorage.getItem('{local_key}'),
+      localStorage.getItem('{local_key}:a{exam["id"]}')]""")
+    assert "; geuebt" in json.loads(stored[0])["program"] and json.loads(stored[1])["program"] == REFERENCE
+    first.context.close()  # trainee 1 closes the browser; the draft is on the server (the exam's)
+    assert trainee1.get(f"/exercises/{SLUG}/draft", params={"assignment": exam["id"]}).json()["program"] == REFERENCE
 
     open_exam(second, server)
     type_program(second, "N10 T1 TC1 M6\nN20 G0 X0 Y0 Z2\nN30 M30\n")
-    wait_until(second, "document.getElementById('save-state')?.textContent.includes('Entwurf gespeichert')")
+    wait_until(second, SAVED)
     shot(second, "page-tablet")
     accessible(second)
     # trainee 3: another exercise is closed while the exam runs; in the exam one submission, asked twice
-    third.goto(f"{server}/exercises/pal-05-g2-kreisbogen")
+    third.goto(f"{server}/exercises/{OTHER}")
     third.wait_for_selector(".exam-notice")
-    assert "kannst du nur deren Aufgaben bearbeiten" in third.inner_text(".exam-notice")
+    assert "können Sie nur deren Aufgaben bearbeiten" in third.inner_text(".exam-notice")
     assert third.locator(".cm-content").count() == 0
     third.click(".exam-notice a")
     third.wait_for_selector("#countdown")
@@ -178,19 +262,49 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     assert "sobald es freigegeben ist" in third.inner_text("#result") and third.is_disabled("#submit")
     assert third.locator("#result .score").count() == 0  # no score during the exam
     third.context.close()
-    # trainee 2 keeps the page open: when the countdown ends the page says so and takes no more typing
-    wait_until(second, "document.getElementById('exam-message')?.textContent.includes('Prüfungszeit ist abgelaufen')",
-               timeout=max(5.0, end - time.monotonic() + 10))
-    wait_until(second, "document.getElementById('exam-message').dataset.confirmed === 'true'")  # the server's word
-    assert "Entwurf wurde abgegeben" in second.inner_text("#exam-message")
-    assert second.is_disabled("#submit") or not second.is_visible("#submit")
+
+    # trainee 5 retakes: the held earlier exam on the home page, the retake running; its page starts from the
+    # start program (not the earlier exam's draft) and saves into the retake without a refusal
+    open_exam(fifth, server, retake["id"])
+    assert "Wiederholungsprüfung" in fifth.inner_text("#exam-bar")
+    assert fifth.evaluate(EDITOR_TEXT) == start.rstrip("\n"), fifth.evaluate(EDITOR_TEXT)
+    type_program(fifth, RETAKE_DRAFT)
+    wait_until(fifth, SAVED)
+    assert "Nicht gespeichert" not in fifth.inner_text("#exam-bar")
+    mine = retaker.get(f"/exercises/{SLUG}/draft", params={"assignment": retake["id"]}).json()
+    assert mine["assignment"] == retake["id"] and mine["program"] == RETAKE_DRAFT, mine
+    r = retaker.get(f"/exercises/{SLUG}/draft", params={"assignment": earlier["id"]})
+    assert r.status_code == 403 and r.json()["error"]["code"] == "EXAM_ELSEWHERE", r.text  # the retake's time
+    shot(fifth, "retake-laptop")
+    fifth.context.close()
+
+    # the instructor's account that is a student of the class: the exam as for any trainee
+    colleague.goto(f"{server}/")
+    colleague.wait_for_selector(".exam-banner")
+    assert "Probeprüfung G1" in colleague.inner_text(".exam-banner")
+    practice_link_hidden(colleague)
+    open_exam(colleague, server)
+    assert colleague.locator("#tab-hints").count() == 0 and not colleague.is_visible(".viz-pane")
+    practice_link_hidden(colleague)
+    colleague.context.close()
+
+    # trainee 2 keeps the page open: when the countdown ends the editor is read only, "Abgeben" is gone, the
+    # page says the exam is being submitted, then what the server submitted
+    wait_until(second, "document.getElementById('exam-message')?.textContent.includes('Ihre Prüfung wird abgegeben')",
+               timeout=max(5.0, end - time.monotonic() + 15))
+    assert not second.is_visible("#submit")
+    wait_until(second, "document.getElementById('exam-message').dataset.confirmed === 'true'", timeout=120)
+    message = second.inner_text("#exam-message")
+    assert "Entwurf wurde abgegeben" in message and "sobald es freigegeben ist" in message, message
+    assert not second.is_visible("#submit") and second.locator("#file-reset").count() == 0
     second.click(".cm-content")
     second.keyboard.type("XYZ")
     assert "XYZ" not in second.inner_text(".cm-content")
-    # the server refuses work after the end, with its message
-    r = second.evaluate("""fetch('/api/v1/exercises/pal-01-g1-gerade/draft', {method: 'PUT', credentials: 'same-origin',
-      headers: {'Content-Type': 'application/json'}, body: JSON.stringify({program: 'N10 M30'})})
-      .then(async (r) => [r.status, (await r.json()).error.message])""")
+    shot(second, "over-tablet")
+    # the server refuses work for the exam after its end, with its message; the draft can still be read
+    r = second.evaluate(f"""fetch('/api/v1/exercises/{SLUG}/draft?assignment={exam["id"]}', {{method: 'PUT',
+      credentials: 'same-origin', headers: {{'Content-Type': 'application/json'}},
+      body: JSON.stringify({{program: 'N10 M30'}})}}).then(async (r) => [r.status, (await r.json()).error.message])""")
     assert r[0] == 403 and "Prüfungszeit ist abgelaufen" in r[1]
     second.goto(f"{server}/")
     second.wait_for_selector("details.assignments-done")  # the exam is done: under "Abgeschlossene Aufträge"
@@ -199,20 +313,39 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     shot(second, "home-tablet")
     accessible(second)
 
-    # the server submitted both drafts (the read finalises the ended exam); scores stay with the instructor
+    # the server submitted both drafts; scores stay with the instructor
     results = teacher.get(f"/assignments/{exam['id']}/results").json()
-    rows = {row["username"]: row["results"][SLUG] for row in results["trainees"]}
+    rows = {row["username"]: row["results"][SLUG] for row in results["trainees"] if SLUG in row["results"]}
     assert rows[FIRST]["auto"] is True and rows[SECOND]["auto"] is True
     assert rows[FIRST]["score"] == rows[FIRST]["max_score"] and rows[FIRST]["score"] > (rows[SECOND]["score"] or 0)
     assert rows[THIRD]["auto"] is False and rows[THIRD]["score"] == rows[THIRD]["max_score"]
+    # the retake's automatic submission is the retake's draft, not the earlier exam's
+    deadline = time.monotonic() + 120
+    while exam_status(retaker, retake["id"]) == "submitting":
+        assert time.monotonic() < deadline, "the retake was not submitted"
+        time.sleep(1)
+    results = teacher.get(f"/assignments/{retake['id']}/results").json()
+    cell = {row["username"]: row["results"] for row in results["trainees"]}[RETAKER][SLUG]
+    assert cell["auto"] is True
+    assert teacher.get(f"/submissions/{cell['submission']}").json()["program"] == RETAKE_DRAFT
+    held = retaker.get(f"/exercises/{SLUG}/draft", params={"assignment": earlier["id"]}).json()
+    assert held["program"] == EARLIER_DRAFT, held  # the earlier exam's draft stays as it was
+    results = teacher.get(f"/assignments/{earlier['id']}/results").json()
+    cell = {row["username"]: row["results"] for row in results["trainees"]}[RETAKER][SLUG]
+    assert teacher.get(f"/submissions/{cell['submission']}").json()["program"] == EARLIER_DRAFT
 
     # trainee 1 comes back before the release: time over, submitted, no score
     first = login(browser, server, FIRST)
     first.goto(f"{server}/exercises/{SLUG}?assignment={exam['id']}")
     first.wait_for_selector("#exam-message:not(:empty)")
+    wait_until(first, "document.getElementById('exam-message').dataset.confirmed === 'true'")
     message = first.inner_text("#exam-message")
     assert "Prüfungszeit ist abgelaufen" in message and "Entwurf wurde abgegeben" in message
     assert "sobald es freigegeben ist" in message and first.locator("#result .score").count() == 0
+    assert not first.is_visible("#submit")
+    # the practice draft outlived the exam (with or without the offline line: the browser may have sent it as
+    # the practice page closed)
+    assert trainee1.get(f"/exercises/{SLUG}/draft").json()["program"].startswith(REFERENCE)
 
     assert teacher.post(f"/assignments/{exam['id']}/release").status_code == 200
     first.goto(f"{server}/exercises/{SLUG}?assignment={exam['id']}")
@@ -236,7 +369,8 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
 
 def test_refused_live_socket_is_not_tried_again(server: str, browser: Any, teacher: httpx.Client) -> None:  # noqa: F811
     """An exam that allows free practice but no live messages: the practice page's socket is refused with 4403
-    EXAM_RUNNING once; the page says so in German and does not connect again (it used to, every second)."""
+    EXAM_RUNNING once; the page says so in German and does not connect again (it used to, every second). Another
+    exercise's page keeps "Freies Üben" but follows the exam's settings: no Tipps tab, no 3D view."""
     course = teacher.post("/courses", json={"name": "Übungsklasse"}).json()
     r = teacher.post(f"/courses/{course['id']}/members", json={"username": FOURTH})
     assert r.status_code == 201, r.text
@@ -252,6 +386,12 @@ def test_refused_live_socket_is_not_tried_again(server: str, browser: Any, teach
     assert "keine Live-Prüfung" in page.inner_text("#diagnostics .diag-notice")
     time.sleep(3)  # the old client connected again every second
     assert len([s for s in sockets if s.url.endswith("/api/v1/live")]) == 1
+    # another exercise in free practice: the exam's settings still hold there (no Tipps tab, no 3D view)
+    page.goto(f"{server}/exercises/{OTHER}")
+    page.wait_for_selector(".cm-content", timeout=20000)
+    page.wait_for_selector("#tab-tools")
+    assert page.locator("#tab-hints").count() == 0 and not page.is_visible(".viz-pane")
+    assert page.is_visible("#nav-practice") and page.locator("#countdown").count() == 0
     assert teacher.delete(f"/courses/{course['id']}").status_code == 204
     page.context.close()
 

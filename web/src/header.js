@@ -1,9 +1,11 @@
 // The page header: who is logged in (the server puts the session's user into <body data-user data-role>) with
-// "Abmelden", instructor links only for instructors and admins, the "Über / Lizenzen" link, and the language
-// switch keeping the page's state across its reload (state.js).
+// "Abmelden", instructor links only for instructors and admins, "Freies Üben" not while an exam without it runs
+// for the user (on every page, page-exam.js), the "Über / Lizenzen" link, and the language switch keeping the
+// page's state across its reload (state.js).
 
 import { api } from "./dom.js";
 import { lang } from "./i18n.js";
+import { watchPracticeLink } from "./page-exam.js";
 import { safeNext } from "./redirect.js";
 import { keepState } from "./state.js";
 
@@ -22,6 +24,7 @@ export function mountHeader() {
   for (const node of document.querySelectorAll("[data-role=instructor]")) {
     node.hidden = !(role === "instructor" || role === "admin");
   }
+  watchPracticeLink();
   const login = document.getElementById("nav-login");
   const box = document.getElementById("nav-user");
   if (user && login && box) {

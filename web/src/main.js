@@ -150,6 +150,7 @@ export function reconnectDelay(code, attempt) {
 // The German (or English) sentence for a close code: why the live check stopped or pauses.
 function closeText(code, reason, delay) {
   if (code === 4403 && reason === "EXAM_RUNNING") return t("live.exam");
+  if (code === 4403 && reason === "EXAM_EXERCISE_LOCKED") return t("live.locked");
   if (code === 4401) return t("live.login");
   if (code === 4403) return t("live.forbidden");
   if (code === 4429) return t("live.too_many", { s: Math.round(delay / 1000) });

@@ -10,6 +10,8 @@ import { loginUrl, safeNext } from "./redirect.js";
 import { submissionSection } from "./results.js";
 import { ltiPart } from "./course-lti.js";
 import { framedHref } from "./lti-frame.js";
+import { modeLabel } from "./page-exam.js";
+import "./texts-exam.js";  // the modes: "Übung", "Prüfung", "Prüfung · 90 min"
 
 addTexts({
   "title.course": ["PAL Trainer – Klasse", "PAL Trainer – Course"],
@@ -45,8 +47,6 @@ addTexts({
   "assignments.col.mode": ["Art", "Mode"],
   "assignments.col.opens": ["Freigabe", "Opens"],
   "assignments.col.deadline": ["Abgabefrist / Ende", "Deadline / end"],
-  "mode.practice": ["Übung", "practice"],
-  "mode.exam": ["Prüfung", "exam"],
   "assignments.released": ["Ergebnisse freigegeben", "results released"],
   "assignments.held": ["Ergebnisse noch verborgen", "results still hidden"],
   "assignments.new": ["Neuen Auftrag anlegen", "New assignment"],
@@ -59,6 +59,11 @@ addTexts({
   "form.late": ["Nach der Frist", "After the deadline"],
   "form.late.accept": ["als verspätet annehmen", "accept as late"],
   "form.late.refuse": ["nicht mehr annehmen", "refuse"],
+  "form.exam_note": ["Solange die Ergebnisse dieser Prüfung nicht freigegeben sind, sehen die Schülerinnen und Schüler "
+    + "dieser Klasse zu den Aufgaben der Prüfung weder Musterlösung noch Tipps, und ihre Übungsabgaben zu diesen Aufgaben "
+    + "werden nicht bewertet.",
+  "Until the results of this exam are released, the students of this course see neither the model solution nor hints "
+    + "for the exam's exercises, and their practice submissions of these exercises are not graded."],
   "form.settings": ["Während der Bearbeitung erlaubt", "Allowed while working"],
   "form.settings_help": ["Eine Prüfung beginnt mit Prüfungsbedingungen: alles aus, eine Abgabe.",
     "An exam starts with exam conditions: everything off, one submission."],
@@ -195,19 +200,37 @@ function joinCode(c) {
     el("p", { className: "meta" }, t("course.code_help")));
 }
 
+// The class: heading with the number of students, join code, the members table, adding by name, the class list.
+// The heading and the table follow every add, removal and import (the server's list is read again).
 function membersPart(c, members) {
-  const students = members.filter((m) => m.role === "student");
-  const rows = el("tbody", {}, ...members.map((m) => {
+  const heading = el("h3", {});
+  const none = el("p", { className: "meta" }, t("members.none"));
+  const rows = el("tbody", {});
+  const row = (m) => {
     const remove = el("button", { type: "button", className: "link-button" }, t("members.remove"));
     remove.setAttribute("aria-label", t("members.remove_label", { name: m.username }));
     remove.onclick = async () => {
       if (!confirm(t("members.remove_confirm", { name: m.username }))) return;
       const r = await api(`/courses/${c.id}/members/${encodeURIComponent(m.username)}`, { method: "DELETE" });
-      if (r.ok) location.reload();
+      if (r.ok) await refresh(members.filter((x) => x.username !== m.username));
+      else { note.className = "error"; note.textContent = error(r, "instructor.error"); }
     };
     return el("tr", {}, el("td", {}, m.username), el("td", {}, t(`members.role.${m.role}`)),
       el("td", {}, m.role === "student" ? remove : ""));
-  }));
+  };
+  const render = (list) => {
+    members = list;
+    const students = list.filter((m) => m.role === "student").length;
+    heading.textContent = t("members.title", { n: students });
+    none.hidden = students > 0;
+    rows.replaceChildren(...list.map(row));
+  };
+  // the server's list after a change; should it not answer, `guess` (the list as the change left it)
+  const refresh = async (guess) => {
+    const now = await api(`/courses/${c.id}/members`);
+    render(now.ok ? now.body : guess);
+  };
+  render(members);
   const name = el("input", { type: "text", id: "member-name", required: true, maxLength: 64, autocomplete: "off" });
   const note = el("p", { role: "status", id: "member-note" });
   const add = el("form", { className: "inline-form", id: "member-add" },
@@ -218,8 +241,8 @@ function membersPart(c, members) {
     note.className = r.ok ? "ok" : "error";
     note.textContent = r.ok ? t("members.added", { name: r.body.username }) : error(r, "instructor.error");
     if (r.ok) {
-      rows.append(el("tr", {}, el("td", {}, r.body.username), el("td", {}, t(`members.role.${r.body.role}`)), el("td")));
       name.value = "";
+      await refresh([...members.filter((m) => m.username !== r.body.username), r.body]);
     }
   };
   // the class list: new accounts in this course, the generated passwords shown this once
@@ -241,7 +264,7 @@ function membersPart(c, members) {
       return;
     }
     const users = r.body.users;
-    for (const u of users) rows.append(el("tr", {}, el("td", {}, u.username), el("td", {}, t("members.role.student")), el("td")));
+    await refresh([...members, ...users.map((u) => ({ username: u.username, role: "student" }))]);
     out.replaceChildren(el("p", { className: "ok" }, t("classlist.done", { n: users.length })),
       el("p", { className: "meta" }, t("classlist.once")),
       el("table", { className: "passwords", id: "course-passwords" },
@@ -250,8 +273,7 @@ function membersPart(c, members) {
           el("td", {}, u.password ?? t("classlist.given")))))));
   };
   return el("section", { id: "members" },
-    el("h3", {}, t("members.title", { n: students.length })), joinCode(c),
-    students.length ? null : el("p", { className: "meta" }, t("members.none")),
+    heading, joinCode(c), none,
     el("table", { id: "member-table", className: "members" }, el("thead", {}, el("tr", {},
       el("th", {}, t("login.user")), el("th", {}, t("members.role")),
       el("th", {}, el("span", { className: "visually-hidden" }, t("members.remove"))))), rows),
@@ -269,8 +291,8 @@ function assignmentsPart(courseId, list, chosen, byslug, exercises) {
   const rows = list.map((a) => el("tr", { className: a.id === chosen?.id ? "chosen" : "" },
     el("td", {}, el("a", { href: `?assignment=${a.id}`, ...(a.id === chosen?.id ? { ariaCurrent: "true" } : {}) }, a.title),
       el("span", { className: "meta" }, ` · ${a.exercises.map((s) => titleOf(byslug.get(s)) || s).join(", ")}`)),
-    el("td", {}, t(`mode.${a.mode}`), a.mode === "exam"
-      ? el("span", { className: "meta" }, ` · ${a.duration_minutes} min · ${t(a.released ? "assignments.released" : "assignments.held")}`) : null,
+    el("td", {}, modeLabel(a), a.mode === "exam"
+      ? el("span", { className: "meta" }, ` · ${t(a.released ? "assignments.released" : "assignments.held")}`) : null,
     a.mode === "practice" && a.late === "refuse" ? el("span", { className: "meta" }, ` · ${t("form.late.refuse")}`) : null),
     el("td", {}, formatTime(a.opens_at)), el("td", {}, formatTime(a.deadline))));
   return el("section", { id: "assignments" }, el("h3", {}, t("assignments.title")),
@@ -309,7 +331,10 @@ function assignmentForm(courseId, exercises) {
   const deadlineField = field(t("form.deadline"), deadline);
   const durationField = field(t("form.duration"), duration);
   const lateField = field(t("form.late"), late);
-  // the mode's defaults (server/exams.py): an exam under exam conditions, practice with everything
+  // what an exam means for the class's practice until its results are released (server/access.py, rule 3)
+  const examNote = el("p", { id: "a-exam-note", className: "exam-banner" }, t("form.exam_note"));
+  examNote.style.fontWeight = "normal";
+  // the mode's defaults (server/access.py): an exam under exam conditions, practice with everything
   const applyMode = () => {
     const exam = mode.value === "exam";
     for (const box of Object.values(boxes)) box.checked = !exam;
@@ -317,12 +342,14 @@ function assignmentForm(courseId, exercises) {
     deadlineField.hidden = exam;
     lateField.hidden = exam;
     durationField.hidden = !exam;
+    examNote.hidden = !exam;
   };
   mode.onchange = applyMode;
   const note = el("p", { role: "status", id: "a-note" });
   const form = el("form", { id: "assignment-form", className: "assignment-form" },
     el("div", { className: "form-grid" }, field(t("form.title"), title), field(t("form.mode"), mode),
       field(t("form.opens"), opens), deadlineField, durationField, lateField),
+    examNote,
     el("fieldset", {}, el("legend", {}, t("form.exercises")), picker),
     el("fieldset", { id: "a-settings" }, el("legend", {}, t("form.settings")),
       el("p", { className: "meta" }, t("form.settings_help")),
@@ -356,7 +383,8 @@ function assignmentForm(courseId, exercises) {
 async function resultsPart(a, byslug) {
   const [results, insights] = await Promise.all([api(`/assignments/${a.id}/results`), api(`/assignments/${a.id}/insights`)]);
   const section = el("section", { id: "assignment-results" }, el("h3", {}, t("matrix.title", { title: a.title })));
-  section.append(el("p", { className: "meta" }, `${t(`mode.${a.mode}`)} · ${formatTime(a.opens_at)} – ${formatTime(a.deadline)}`));
+  section.append(el("p", { className: "meta", id: "assignment-times" },
+    `${modeLabel(a)} · ${formatTime(a.opens_at)} – ${formatTime(a.deadline)}`));
   const links = el("p", { className: "actions" },
     el("a", { id: "matrix-csv", href: `/api/v1/assignments/${a.id}/results.csv`, download: `auftrag-${a.id}.csv` }, t("matrix.csv")),
     " · ", el("a", { id: "matrix-sheets", href: `/api/v1/assignments/${a.id}/sheets.pdf${lang === "en" ? "?lang=en" : ""}`,

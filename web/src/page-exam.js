@@ -1,8 +1,10 @@
 // The exercise page during an exam (an assignment in mode "exam"): the task, the drawing, the editor with
 // highlighting only and a countdown to the server's end; the exam's settings decide what else is there
-// (live messages, 3D view, hints; the number of submissions). After the end the page says that the last saved
-// draft was submitted (the server does it, also when the browser was closed); once the instructor releases
-// the results it shows the score, the criteria and the 3D view of the submitted program.
+// (live messages, 3D view, hints; the number of submissions). The editor starts from the exam's own draft or
+// the start program, never from a practice draft, and saves into the exam. After the end the editor is read
+// only, "Abgeben" is gone, and the page says "wird abgegeben" until the server has submitted the last saved
+// drafts (also when the browser was closed), then what it submitted; once the instructor releases the results
+// it shows the score, the criteria and the 3D view of the submitted program.
 // page-exercise.js asks examContext() first and hands over to mountExam().
 
 import { api, el } from "./dom.js";
@@ -27,64 +29,121 @@ export function formatTime(iso) {
   return new Date(iso).toLocaleString(lang === "en" ? "en-GB" : "de-DE", { dateStyle: "medium", timeStyle: "short" });
 }
 
-// What this exercise page is for a trainee: null (an ordinary exercise), {blocked: exam} (an exam without
-// free practice runs and this exercise is not in it), or {exam, item, phase} with phase "upcoming",
-// "running", "over" (results held) or "released". ?assignment=ID (the home page's links) names the exam.
+// Who may have assignments: a logged-in user (the server names them in <body data-user>) or a learning platform's
+// frame with its token. The list holds the courses where the account is a student, whatever its role: an
+// instructor's account that is a student in a course sits that course's exams.
+function loggedIn() {
+  return Boolean(document.body.dataset.user) || new URLSearchParams(location.hash.slice(1)).has("token");
+}
+
+let mine = null;
+// The caller's assignments (GET /me/assignments), asked once per page (`fresh`: again); null when nobody is
+// logged in or there is no answer.
+export function myAssignments(fresh = false) {
+  if (!loggedIn()) return Promise.resolve(null);
+  if (!mine || fresh) {
+    mine = api("/me/assignments").then((r) => (r.ok ? r.body.map((a) => ({ ...a, received: Date.now() })) : null));
+  }
+  return mine;
+}
+
+const isRunning = (a) => a.mode === "exam" && a.seconds_left !== null;
+// the running exam that closes free practice (and every exercise outside it), if any
+const closing = (list, slug = null) => (list || []).find((a) => isRunning(a) && !a.settings.free_practice
+  && !(slug && a.exercises.includes(slug))) || null;
+
+// ms until an upcoming assignment opens, by the server's clock (its seconds_to_start when the list was read)
+const untilStart = (a) => (a.seconds_to_start != null && a.received
+  ? a.seconds_to_start * 1000 - (Date.now() - a.received) : Date.parse(a.opens_at) - Date.now());
+
+// The header's "Freies Üben": hidden on every page while an exam without free practice runs for the user, and
+// from the start of such an exam that is still to come (the list is asked again then).
+export async function watchPracticeLink(fresh = false) {
+  const list = await myAssignments(fresh);
+  if (!list) return;
+  const link = document.getElementById("nav-practice");
+  if (closing(list)) {
+    link?.setAttribute("hidden", "");
+    return;
+  }
+  const next = Math.min(...list.filter((a) => a.mode === "exam" && a.status === "upcoming" && !a.settings.free_practice)
+    .map(untilStart));
+  if (next < 6 * 3600 * 1000) setTimeout(() => watchPracticeLink(true), Math.max(next, 0) + 1000);
+}
+
+// What this exercise page is: null (an ordinary exercise), {blocked: exam} (an exam without free practice runs
+// and this exercise is not in it), {during: [exams]} (free practice on another exercise while exams run: their
+// settings still switch features off), or {exam, item, phase} with phase "upcoming", "running", "over" (results
+// held) or "released". ?assignment=ID (the home page's links) names the exam.
 export async function examContext(slug) {
-  if (document.body.dataset.role !== "student") return null;
-  const r = await api("/me/assignments");
-  if (!r.ok) return null;
+  const list = await myAssignments();
+  if (!list) return null;
   const wanted = Number(new URLSearchParams(location.search).get("assignment")) || null;
-  const exams = r.body.filter((a) => a.mode === "exam");
-  const running = exams.find((a) => a.seconds_left !== null);
-  if (running && !running.exercises.includes(slug) && !running.settings.free_practice) return { blocked: running };
+  const exams = list.filter((a) => a.mode === "exam");
   const has = (a) => a.exercises.includes(slug);
-  const exam = (running && has(running) ? running : null) || exams.find((a) => a.id === wanted && has(a))
+  const blocked = closing(exams, slug);
+  if (blocked) return { blocked };
+  const running = exams.filter(isRunning);
+  // an exam's exercises are named only from its start: an upcoming one is the page's when the link names it
+  const exam = running.find((a) => a.id === wanted && has(a)) || running.find(has)
+    || exams.find((a) => a.id === wanted && (has(a) || a.status === "upcoming"))
     || exams.find((a) => has(a) && !a.released && a.status !== "upcoming");
-  if (!exam) return null;
-  const phase = exam.status === "upcoming" ? "upcoming" : exam.seconds_left !== null ? "running"
+  if (!exam) return running.length ? { during: running } : null;
+  const phase = exam.status === "upcoming" ? "upcoming" : isRunning(exam) ? "running"
     : exam.results_visible ? "released" : "over";
   return { exam, phase, item: exam.items.find((i) => i.exercise === slug) };
 }
 
+const dropHints = (root) => {  // the Tipps tab with its panel ("Meine Abgaben" would show scores too)
+  root.querySelector("#tab-hints")?.remove();
+  root.querySelector("#panel-hints")?.remove();
+};
+
+const hideViz = (root) => {
+  root.classList.add("no-viz");
+  root.querySelector(".viz-pane").hidden = true;
+};
+
 // Before the page's tabs and panes are mounted: take away what the exam does not allow.
 export function prepareExam(root, ctx) {
+  if (ctx.during) {  // another exercise during exams with free practice: their switches hold here too
+    if (ctx.during.some((a) => !a.settings.hints)) dropHints(root);
+    if (ctx.during.some((a) => !a.settings.viz)) hideViz(root);
+    return;
+  }
   document.body.classList.add("exam-page");
   if (ctx.blocked || ctx.phase === "upcoming") return;
   const s = ctx.exam.settings;
   const running = ctx.phase === "running";
   root.classList.add("exam-mode");
-  if (!(running && s.hints)) {  // hints and "Meine Abgaben" (its earlier submissions would show scores)
-    root.querySelector("#tab-hints")?.remove();
-    root.querySelector("#panel-hints")?.remove();
-  }
+  if (!(running && s.hints)) dropHints(root);
   if (!(running && s.live_diagnostics)) {  // no messages panel: the drawer holds the result only
     root.classList.add("no-live");
     root.querySelector("#drawer-toggle [data-i18n]").textContent = t("result.title");
   }
-  if ((running && !s.viz) || ctx.phase === "over") {
-    root.classList.add("no-viz");
-    root.querySelector(".viz-pane").hidden = true;
-  }
+  if ((running && !s.viz) || ctx.phase === "over") hideViz(root);
   if (running && !s.free_practice) document.getElementById("nav-practice")?.setAttribute("hidden", "");
 }
 
-// The page when it is not the exam's (blocked, not yet started): a message where the editor would be.
+// The page when it is not the exam's (blocked, not yet started): a message where the editor would be. Before
+// its start an exam names no exercises: the page opens anew at the start.
 export function examNotice(root, ctx) {
   const a = ctx.blocked || ctx.exam;
   const text = ctx.blocked ? t("exam.blocked", { title: a.title }) : t("exam.upcoming", { title: a.title, time: formatTime(a.opens_at) });
   if (!ctx.blocked) root.querySelector("#panel-task").replaceChildren(el("h2", {}, a.title));  // the task from the start
   root.querySelector(".editor-pane").replaceChildren(el("div", { className: "exam-notice" },
-    el("p", { role: "status" }, text), el("p", {}, el("a", { href: `/exercises/${a.exercises[0]}?assignment=${a.id}` }, t("home.to_exam")))));
+    el("p", { role: "status" }, text),
+    ctx.blocked ? el("p", {}, el("a", { href: `/exercises/${a.exercises[0]}?assignment=${a.id}` }, t("home.to_exam")))
+      : el("p", { className: "meta" }, t("exam.opens_here"))));
   root.querySelector("#submit").hidden = true;
+  const wait = untilStart(a);
+  if (!ctx.blocked && wait < 24 * 3600 * 1000) setTimeout(() => location.reload(), Math.max(wait, 0) + 1500);
 }
 
-// Free practice while an exam without it runs for the trainee: a notice with the way to the exam instead of the
+// Free practice while an exam without it runs for the user: a notice with the way to the exam instead of the
 // editor (true), else nothing happens (false).
 export async function practiceBlocked(root) {
-  if (document.body.dataset.role !== "student") return false;
-  const r = await api("/me/assignments");
-  const exam = r.ok ? r.body.find((a) => a.mode === "exam" && a.seconds_left !== null && !a.settings.free_practice) : null;
+  const exam = closing(await myAssignments());
   if (!exam) return false;
   document.getElementById("nav-practice")?.setAttribute("hidden", "");
   root.className = "narrow";
@@ -93,6 +152,40 @@ export async function practiceBlocked(root) {
     el("p", { role: "status" }, t("exam.no_practice", { title: exam.title })),
     el("p", {}, el("a", { href: `/exercises/${exam.exercises[0]}?assignment=${exam.id}` }, t("home.to_exam")))));
   return true;
+}
+
+// The exam's mode with its duration where it is known: "Prüfung · 90 min"
+export function modeLabel(a) {
+  if (a.mode !== "exam") return t("mode.practice");
+  return a.duration_minutes ? t("mode.exam_minutes", { min: a.duration_minutes }) : t("mode.exam");
+}
+
+// What the server reports for the trainee's exercise once the exam is over and its drafts are submitted.
+function verdict(item) {
+  const over = t(item?.submitted ? (item.auto ? "exam.over" : "exam.over_submitted") : "exam.over_nothing");
+  return item?.submitted ? `${over} ${t("exam.held")}` : over;
+}
+
+const pause = (ms) => new Promise((done) => { setTimeout(done, ms); });
+const POLL = 2000;  // ms between two looks at the list while the server submits
+const POLLS = 60;  // about 2 minutes, then the start page has the answer
+
+// After the end: "wird abgegeben" while the server submits the last saved drafts (status "submitting"; it does so
+// a few seconds after the end, whether anybody looks or not), then what it reports. `now`: the exam as the list
+// said when the page opened (null: the countdown just ended; the list is asked in 2 s).
+async function awaitVerdict(note, examId, slug, now) {
+  for (let i = 0; i <= POLLS; i += 1) {
+    if (now && now.seconds_left === null && now.status !== "submitting") {
+      note.textContent = verdict(now.items.find((x) => x.exercise === slug));
+      note.dataset.confirmed = "true";  // the server's end has come and its list says what was submitted
+      return;
+    }
+    note.textContent = t("exam.submitting");
+    if (i === POLLS) break;
+    await pause(POLL);
+    now = (await myAssignments(true))?.find((x) => x.id === examId) ?? null;
+  }
+  note.textContent = t("exam.submitting_slow");
 }
 
 function rules(s) {
@@ -125,14 +218,14 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
   if (phase === "running") submit.before(barClock);
 
   if (phase !== "running") {  // over or released: the program as it was, read only
-    const draft = phase === "over" ? await loadDraft(slug) : null;
+    // held: the exam's own draft as the server kept it (what it submitted), never the practice draft
+    const draft = phase === "over" ? await loadDraft(slug, a.id, { local: false }) : null;
     const program = item?.program ?? draft?.program ?? "";
     const view = await mountEditor(root.querySelector("#editor"), {
       text: program, dialect: ex.dialect, exercise: slug, live: false, readOnly: true,
     });
     if (phase === "over") {
-      note.textContent = `${t(item?.submitted ? (item.auto ? "exam.over" : "exam.over_submitted") : "exam.over_nothing")} `
-        + (item?.submitted ? t("exam.held") : "");
+      await awaitVerdict(note, a.id, slug, a);
       return;
     }
     note.textContent = `${t("exam.released", { title: a.title })}. ${item?.submitted ? t("exam.your_program") : t("exam.none_submitted")}`;
@@ -143,13 +236,14 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
     return;
   }
 
-  // running: drafts save as usual (the server submits the last one at the end), the countdown runs
-  const draft = await loadDraft(slug);
+  // running: the exam's own draft (or the start program; never the practice draft) saves as usual, the server
+  // submits the last one at the end; the countdown runs
+  const draft = await loadDraft(slug, a.id);
   const saver = draftSaver(slug, draft.user, start, draft.program, draft.pending, (state, error) => {
     const time = new Date().toLocaleTimeString(lang === "en" ? "en-GB" : "de-DE", { timeStyle: "short" });
     saved.textContent = state === "refused" ? t("exam.refused", { message: message(error) || "" }) : t(`exam.${state}`, { time });
     saved.className = state === "refused" || state === "offline" ? "error" : "meta";
-  });
+  }, a.id);
   const limit = s.max_submissions || 0;
   const used = () => limit && item?.submitted && limit <= 1;  // the trainee's list tells submitted or not, not how often
   let scene = null;
@@ -159,24 +253,33 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
     onChange: (text) => { saver.changed(text); scene?.changed(text); }, onPointer: (line) => scene?.pointer(line),
   });
   const toolbar = root.querySelector("#editor-toolbar");
+  // "Zurücksetzen" forgets this exam's draft only
   editorToolbar(toolbar, view, { filename: () => `${slug}.nc`, heading: () => title, reset: () => { saver.forget(); return start; } });
   toolbar.querySelector("#file-open")?.remove();  // no prepared programs from the computer during an exam
   if (s.hints) mountHints(root.querySelector("#hints"), { ...ex, slug }, { program: () => view.state.doc.toString() });
   if (s.viz) scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
-  const held = () => { submit.disabled = true; note.textContent = t("exam.submitted"); };
+  const held = () => {
+    submit.disabled = true;
+    note.textContent = t("exam.submitted");
+    toolbar.querySelector("#file-reset")?.remove();
+  };
   if (used()) held();
 
   let armed = null;  // one submission: the first click asks, the second submits
+  const disarm = () => {
+    clearTimeout(armed);
+    armed = null;
+    submit.textContent = t("submit");
+    submit.title = "";
+  };
   submit.onclick = async () => {
     if (limit === 1 && !armed) {
       submit.textContent = t("exam.confirm");
       submit.title = t("exam.confirm_title");
-      armed = setTimeout(() => { armed = null; submit.textContent = t("submit"); submit.title = ""; }, 6000);
+      armed = setTimeout(disarm, 6000);
       return;
     }
-    clearTimeout(armed);
-    armed = null;
-    submit.textContent = t("submit");
+    disarm();
     submit.disabled = true;
     const r = await api("/submissions", {
       method: "POST", headers: { "Content-Type": "application/json" },
@@ -208,23 +311,16 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
   const timer = setInterval(tick, 1000);
   tick();
 
+  // the end: nothing more to type or hand in; the page waits for the server's word on what was submitted
   async function ended() {
     saver.stop();
     setReadOnly(view, true);
-    submit.disabled = true;
-    note.textContent = t("exam.over");
-    // the server's word on it: reading the list finalises the exam (retry while the server's end is not there)
-    for (let i = 0; i < 10; i += 1) {
-      await new Promise((done) => { setTimeout(done, 2000); });
-      const r = await api("/me/assignments");
-      const now = r.ok ? r.body.find((x) => x.id === a.id) : null;
-      if (!now || now.seconds_left !== null) continue;
-      const mine = now.items.find((x) => x.exercise === slug);
-      note.textContent = `${t(mine?.submitted ? (mine.auto ? "exam.over" : "exam.over_submitted") : "exam.over_nothing")} `
-        + (mine?.submitted ? t("exam.held") : "");
-      note.dataset.confirmed = "true";  // the server's end has come and its list says what was submitted
-      return;
-    }
+    disarm();
+    submit.hidden = true;
+    barClock.hidden = true;
+    toolbar.querySelector("#file-reset")?.remove();
+    root.querySelector(".exam-rules")?.remove();  // the conditions no longer matter; the message below does
+    await awaitVerdict(note, a.id, slug, null);
   }
 }
 

@@ -13,7 +13,8 @@ import { mountViz } from "./viz.js";
 import { examContext, examNotice, mountExam, prepareExam } from "./page-exam.js";
 
 export async function mountExercise(root, slug) {
-  // a trainee in an exam gets the exam's page (page-exam.js): what it forbids goes before the tabs are mounted
+  // a trainee in an exam gets the exam's page (page-exam.js): what it forbids goes before the tabs are mounted;
+  // on another exercise during an exam with free practice the exam's settings still take away hints and 3D
   const [r, exam] = await Promise.all([api(`/exercises/${slug}`), examContext(slug)]);
   if (exam) prepareExam(root, exam);
   const showTab = mountTabs(root);
@@ -62,16 +63,17 @@ export async function mountExercise(root, slug) {
     examNotice(root, exam);
     return;
   }
-  if (exam) {
+  if (exam && !exam.during) {
     await mountExam(root, slug, ex, exam, { drawer, title });
     return;
   }
   const list = root.querySelector("#diagnostics");
   let scene = null;
-  // the draft (server or browser, the newer) or the start program; every change is kept (drafts.js)
+  // the draft (server or browser, the newer) or the start program; every change is kept (drafts.js). The
+  // practice draft; should the server answer with a running exam's draft, the saver keeps to that exam.
   const start = ex.start_program || "";
   const draft = await loadDraft(slug);
-  const saver = draftSaver(slug, draft.user, start, draft.program, draft.pending);
+  const saver = draftSaver(slug, draft.user, start, draft.program, draft.pending, null, draft.assignment);
   const view = await mountEditor(root.querySelector("#editor"), {
     text: draft.program ?? start, dialect: ex.dialect, list, exercise: slug,
     locked: ex.kind === "complete" ? { lines: ex.locked_lines, start } : null,
@@ -86,9 +88,12 @@ export async function mountExercise(root, slug) {
     view.focus();
   };
   // "Meine Abgaben" (history.js): an earlier submission back into the editor
-  const history = mountHistory(root.querySelector("#my-submissions"), slug, { load: (program) => toolbar.replace(program), onLine: goLine });
-  mountHints(root.querySelector("#hints"), { ...ex, slug }, { program: () => view.state.doc.toString() });
-  scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
+  // (while an exam runs elsewhere its settings may have taken away the Tipps tab and the 3D view: prepareExam)
+  const history = root.querySelector("#my-submissions")
+    ? mountHistory(root.querySelector("#my-submissions"), slug, { load: (program) => toolbar.replace(program), onLine: goLine })
+    : null;
+  if (root.querySelector("#hints")) mountHints(root.querySelector("#hints"), { ...ex, slug }, { program: () => view.state.doc.toString() });
+  if (!root.querySelector(".viz-pane").hidden) scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");
   root.querySelector("#submit").onclick = async () => {
     drawer.open();
@@ -102,7 +107,7 @@ export async function mountExercise(root, slug) {
       result.replaceChildren(el("p", { className: "error" }, (sub.body?.error && message_(sub.body.error)) || t("submit.failed")));
       return;
     }
-    history.refresh();
+    history?.refresh();
     const g = sub.body.grading;
     if (!g) {
       result.replaceChildren(el("p", {}, t("submit.ungraded")));

@@ -1,22 +1,27 @@
 // The trainee's start page above the exercise list: their courses, joining a course with its code, and the
-// assignments (GET /me/assignments) with opening time, deadline, mode, status and a link into each exercise.
+// assignments (GET /me/assignments) with opening time, deadline, mode, status and a link into each exercise
+// (an exam's from its start).
 
 import { api, el } from "./dom.js";
 import { lang, message, t } from "./i18n.js";
-import { clock, formatTime } from "./page-exam.js";
+import { clock, formatTime, modeLabel, myAssignments, watchPracticeLink } from "./page-exam.js";
 import "./texts-exam.js";
 
-const DONE = new Set(["submitted", "late", "closed"]);
+const DONE = new Set(["submitting", "submitted", "late", "closed"]);
 
-export async function mountHome(section) {
-  if (document.body.dataset.role !== "student") return;  // courses are joined by trainees
-  const [courses, mine, exercises, progress] = await Promise.all([
-    api("/courses"), api("/me/assignments"), api("/exercises"), api("/me/progress")]);
-  if (!courses.ok) return;
+// `fresh`: ask the list anew (after joining a course). An account whose role is not trainee sees the section
+// only when it is a student in a course (an instructor who sits a course's exam): its assignments, no joining.
+export async function mountHome(section, fresh = false) {
+  const student = document.body.dataset.role === "student";
+  if (!document.body.dataset.user) return;
+  const assignments = (await myAssignments(fresh)) || [];
+  if (!student && !assignments.length) return;
+  const [courses, exercises, progress] = await Promise.all([
+    student ? api("/courses") : null, api("/exercises"), api("/me/progress")]);
+  if (student && !courses.ok) return;
   const titles = new Map((exercises.ok ? exercises.body : []).map((e) =>
     [e.slug, lang === "en" && e.title_en ? e.title_en : e.title_de]));
   const drafts = new Set((progress.ok ? progress.body : []).filter((p) => p.status === "draft").map((p) => p.exercise));
-  const assignments = mine.ok ? mine.body : [];
   const open = assignments.filter((a) => !DONE.has(a.status));
   const done = assignments.filter((a) => DONE.has(a.status));
   const running = assignments.find((a) => a.mode === "exam" && a.status === "running");
@@ -29,12 +34,12 @@ export async function mountHome(section) {
       : el("p", { className: "meta" }, t("home.no_assignments")),
     done.length ? el("details", { className: "assignments-done" }, el("summary", {}, t("home.done", { n: done.length })),
       ...done.map((a) => card(a, titles, drafts))) : null,
-    el("h2", {}, t("home.courses")),
-    courses.body.length ? el("ul", { className: "my-courses" }, ...courses.body.map((c) => el("li", {},
-      el("strong", {}, c.name), c.instructors.length
-        ? el("span", { className: "meta" }, ` · ${t("home.instructors", { names: c.instructors.join(", ") })}`) : null)))
-      : el("p", { className: "meta" }, t("home.no_courses")),
-    joinForm(section)].filter(Boolean));
+    ...(student ? [el("h2", {}, t("home.courses")),
+      courses.body.length ? el("ul", { className: "my-courses" }, ...courses.body.map((c) => el("li", {},
+        el("strong", {}, c.name), c.instructors.length
+          ? el("span", { className: "meta" }, ` · ${t("home.instructors", { names: c.instructors.join(", ") })}`) : null)))
+        : el("p", { className: "meta" }, t("home.no_courses")),
+      joinForm(section)] : [])].filter(Boolean));
 }
 
 const exerciseHref = (a, slug) => `/exercises/${encodeURIComponent(slug)}?assignment=${a.id}`;
@@ -49,17 +54,22 @@ function card(a, titles, drafts) {
   ].filter(Boolean).join(" · ");
   return el("article", { className: `assignment assignment-${a.status}` },
     el("h3", {}, a.title, " ",
-      el("span", { className: `badge mode-${a.mode}` }, a.mode === "exam" ? t("mode.exam", { min: a.duration_minutes }) : t("mode.practice")),
+      el("span", { className: `badge mode-${a.mode}` }, modeLabel(a)),
       " ", el("span", { className: `badge status-${a.status}` }, t(`astatus.${a.status}`))),
     el("p", { className: "meta" }, `${t("assignment.course", { name: a.course_name })} · ${times}`),
-    el("ul", { className: "assignment-items" }, ...a.items.map((item) => el("li", {},
+    a.items.length ? el("ul", { className: "assignment-items" }, ...a.items.map((item) => el("li", {},
       started ? el("a", { href: exerciseHref(a, item.exercise) }, titles.get(item.exercise) || item.exercise)
         : el("span", {}, titles.get(item.exercise) || item.exercise),
-      " ", el("span", { className: "meta item-status" }, `· ${itemStatus(a, item, drafts)}`)))));
+      " ", el("span", { className: "meta item-status" }, `· ${itemStatus(a, item, drafts)}`))))
+      : el("p", { className: "meta" }, t("assignment.exercises_later")));  // an exam before its start
 }
 
-// not started / draft / submitted (late, automatically) / held until released / the released score
+// not started / draft / submitted (late, automatically) / held until released / the released score. An exam
+// keeps drafts of its own: the practice drafts (/me/progress) say nothing about it.
 function itemStatus(a, item, drafts) {
+  if (!item.submitted && a.mode === "exam") {
+    return t(a.status === "submitting" ? "item.submitting" : item.draft ? "item.draft" : "item.open");
+  }
   if (!item.submitted) return t(drafts.has(item.exercise) ? "item.draft" : "item.not_started");
   const how = t(item.auto ? "item.auto" : item.late ? "item.late" : "item.submitted");
   if (!a.results_visible) return `${how} – ${t("item.held")}`;
@@ -83,7 +93,8 @@ function joinForm(section) {
       status.textContent = (r.body?.error && message(r.body.error)) || t("home.join_failed");
       return;
     }
-    await mountHome(section);
+    await mountHome(section, true);
+    watchPracticeLink();  // an exam of the new course may be running
     const again = section.querySelector("#join-message");
     again.className = "ok";
     again.textContent = t("home.joined", { name: r.body.name });
