@@ -162,6 +162,11 @@ def situation(db: Session, user: User | None, slug: str | None = None) -> Situat
     return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db) if slug in a.exercises))
 
 
+def unknown_situation(db: Session) -> Situation:
+    """The situation of a trainee who is not known, for work on any exercise: every unreleased exam."""
+    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db)))
+
+
 def german_time(t: datetime) -> str:
     return t.astimezone(BERLIN).strftime("%d.%m.%Y %H:%M")
 

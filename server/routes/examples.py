@@ -3,7 +3,8 @@
 The built-in exercises of kind `write` are the published PAL (and control makers') seed examples: their
 programs are public documents, so free practice may load them with the exercise's drawing. Exercises of
 kind `complete` and `fix` give only their start program (their reference is the answer to the task), and an
-exercise whose `solution` is `never` gives no reference either. Exercises made by instructors never appear.
+exercise whose `solution` is `never` gives no reference either; nor does one that is in an exam whose results
+are not released (server/access.py: nobody asking here is known). Exercises made by instructors never appear.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from typing import Any, Literal
 
 from fastapi import APIRouter, Depends, Response
 
-from server import services
+from server import access, services
 from server.deps import AppWorkers, DbSession, rate_limit
 from server.errors import ApiError, responses
 from server.models import Exercise
@@ -22,20 +23,19 @@ from server.schemas import Slug
 router = APIRouter(prefix="/examples", tags=["examples"])
 
 
-def _program(exercise: Exercise) -> tuple[str, str] | None:
+def _program(exercise: Exercise, sit: access.Situation) -> tuple[str, str] | None:
     """The program free practice may load (and which one it is), or None."""
     document: dict[str, Any] = exercise.document or {}
     start = str(document.get("start_program") or "")
-    if document.get("kind", "write") != "write":
-        return (start, "start") if start else None
-    if document.get("solution") == "never":
+    if document.get("kind", "write") != "write" or document.get("solution") == "never" or not access.allowed(
+            sit, "reference", exercise.slug):
         return (start, "start") if start else None
     return exercise.reference_program, "reference"
 
 
 def _builtin(db: DbSession, slug: str) -> Exercise:
     exercise = services.get_exercise(db, slug)
-    if not exercise.builtin or exercise.document is None or _program(exercise) is None:
+    if not exercise.builtin or exercise.document is None or _program(exercise, access.unknown_situation(db)) is None:
         raise ApiError("EXERCISE_NOT_FOUND", exercise=slug)
     return exercise
 
@@ -45,8 +45,9 @@ def list_examples(db: DbSession) -> list[dict[str, Any]]:
     """The built-in exercises' programs for free practice: slug, titles, dialect, kind, the program and whether
     it is the exercise's reference or its start program, the stock and the tools (in the exercises' order)."""
     examples = []
+    sit = access.unknown_situation(db)
     for exercise in services.sorted_exercises(db):
-        program = _program(exercise) if exercise.builtin and exercise.document is not None else None
+        program = _program(exercise, sit) if exercise.builtin and exercise.document is not None else None
         if program is None:
             continue
         examples.append({

@@ -413,3 +413,24 @@ def test_migration_0009_keeps_one_practice_draft_and_adds_exam_drafts(tmp_path: 
         assert conn.execute(text("SELECT program FROM drafts")).all() == [("N10 (geübt)",)]
     command.upgrade(cfg, "head")
     engine.dispose()
+
+
+def test_free_practice_examples_do_not_hand_out_an_exams_reference(api: Api) -> None:
+    """"Beispiel laden" (GET /examples, no account) gives the published reference of a built-in exercise — not
+    while the exercise is in an exam whose results are not released; then its start program, if it has one."""
+    teacher, student = api.user("instructor"), api.user()
+    slug = builtin_exercise(api)
+    course = course_with(api, teacher, student)
+
+    def example() -> dict[str, Any] | None:
+        return next((e for e in api.client.get("/api/v1/examples").json() if e["slug"] == slug), None)
+
+    assert example() is not None and example()["program"] == REFERENCE  # type: ignore[index]
+    exam = assign(api, teacher, course, [slug], start=24 * 60)
+    assert example() is None  # G1 has no start program: nothing to load while the exam withholds it
+    assert api.client.get(f"/api/v1/examples/{slug}/drawing.svg").status_code == 404
+    shift(api, exam, 24 * 60 + 91)
+    finalize(api)
+    assert example() is None
+    release(api, teacher, exam)
+    assert example()["program_is"] == "reference"  # type: ignore[index]
