@@ -171,6 +171,16 @@ CATALOGUE: dict[str, Entry] = {
                       "Cutter radius compensation without a tool: load a tool first (T)."),
     "PAL-E221": Entry(E, "Der Startpunkt liegt im Pol; {command} braucht einen Radius größer 0.",
                       "The start point lies on the pole; {command} needs a radius greater than 0."),
+    "PAL-W222": Entry(W, "Die Fräserradiuskorrektur wird ohne Anfahrbewegung angewählt: mit {command} fährt das "
+                         "Werkzeug hier schon auf der Kontur, und der Fräser schneidet in die Kontur, während sich die "
+                         "Korrektur aufbaut. Fahren Sie zuerst einen Punkt vor der Kontur an (mindestens den "
+                         "Fräserradius {tool_radius_de} mm entfernt) und wählen Sie {command} mit der Bewegung dorthin "
+                         "an, oder fahren Sie mit G45/G47 an.",
+                      "Cutter radius compensation is selected without an approach move: with {command} the tool "
+                      "already travels on the contour here, and the cutter cuts into the contour while the "
+                      "compensation builds up. First move to a point in front of the contour (at least the cutter "
+                      "radius {tool_radius} mm away) and select {command} with the move there, or approach with "
+                      "G45/G47."),
     # --- technology -----------------------------------------------------------------------
     "PAL-E301": Entry(E, "Vorschubbewegung mit Vorschub F0: es ist kein Vorschub programmiert.",
                       "Feed move with feed F0: no feed has been programmed."),
@@ -596,6 +606,23 @@ def has_errors(diagnostics: list[Diagnostic]) -> bool:
     return any(d.severity is Severity.ERROR for d in diagnostics)
 
 
+# What a code checks, where a row of the table cannot say it (docs/diagnostics.md, "Notes")
+NOTES: dict[str, str] = {
+    "PAL-W222": (
+        "PAL selects cutter radius compensation with a move to a point in front of the contour, which the control "
+        "approaches equidistantly (`N40 G42 G0 X-14 Y10` in the PAL examples; G45/G47 make the approach themselves). "
+        "The warning stands on the first move after G41/G42 (without G45/G47) when that move is no such approach: "
+        "(1) it is an arc (a contour element; the circular approach is G47); (2) it runs in the direction of the "
+        "contour's first element (within 20°) and does not start at least a cutter radius clear of that element on "
+        "the compensation side – the tool travels along the contour while the compensation builds up (`G0 X70 Y84` "
+        "then `G41 G1 Y23.6`); (3) the tool centre passes within an eighth of the cutter radius of the contour that "
+        "follows (its first four elements) – the cutter runs across the contour, typically because the tool stood on "
+        "the contour's line when G41/G42 was selected (`G0 X-14 Y10`, `G42`, `G1 X70`). None of the built-in "
+        "exercises' references, the seed programs (tests/seeds/) or the spec's worked examples warns "
+        "(tests/test_grading_corpus.py). The grader names it as the cause of a deviating geometry."),
+}
+
+
 def catalogue_markdown() -> str:
     """docs/diagnostics.md, generated from the catalogue (tests keep the two in step)."""
     rows = ["# Diagnostics", "",
@@ -615,7 +642,10 @@ def catalogue_markdown() -> str:
              "", "| Code | Depends on | Hängt ab von |", "|---|---|---|"]
     for code, (_, de, en) in FOLLOW_UPS.items():
         rows.append(f"| {code} | {en} | {de} |")
-    return "\n".join(rows) + "\n"
+    rows += ["", "## Notes", ""]
+    for code, note in NOTES.items():
+        rows += [f"**{code}**: {note}", ""]
+    return "\n".join(rows).rstrip("\n") + "\n"
 
 
 if __name__ == "__main__":

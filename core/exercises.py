@@ -92,13 +92,15 @@ class BlankSpec(_Model):
 
 class CuttingData(_Model):
     """What the task prescribes for one tool: spindle speed S (1/min) or, turning under G96, the cutting speed
-    V (m/min); feed F (mm/min, turning: mm per revolution). Turning: a tool may have several entries (roughing
-    and finishing feeds); a move passes when it matches one of them."""
+    V (m/min); feed F (mm/min, turning: mm per revolution); the spindle's direction M3 (clockwise) or M4
+    (counter-clockwise; None: the direction the reference program turns it in for this tool). Turning: a tool may
+    have several entries (roughing and finishing feeds); a move passes when it matches one of them."""
 
     tool: int = Field(ge=1, le=999)
     speed: float | None = Field(default=None, gt=0)
     cutting_speed: float | None = Field(default=None, gt=0)
     feed: float = Field(gt=0)
+    spindle: Literal["M3", "M4"] | None = None
 
     @model_validator(mode="after")
     def _one_speed(self) -> CuttingData:
@@ -203,6 +205,13 @@ class Exercise(_Model):
         if any(not 1 <= n <= len(lines) for n in self.locked_lines):
             raise _rule("locked_lines", f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
                         f"a line number is not in start_program (1 to {len(lines)})")
+        directions: dict[int, set[str]] = {}
+        for c in self.cutting_data:
+            if c.spindle is not None:
+                directions.setdefault(c.tool, set()).add(c.spindle)
+        if any(len(d) > 1 for d in directions.values()):
+            raise _rule("cutting_data", "ein Werkzeug hat nur eine Drehrichtung (spindle: M3 oder M4)",
+                        "a tool has one spindle direction (spindle: M3 or M4)")
         if self.dialect not in LATHE_DIALECTS and any(c.cutting_speed is not None for c in self.cutting_data):
             raise _rule("cutting_data", "cutting_speed (V) nur für Drehaufgaben; beim Fräsen speed (S)",
                         "cutting_speed (V) only for turning exercises; milling gives speed (S)")

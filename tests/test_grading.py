@@ -19,6 +19,7 @@ def lost(result: object) -> dict[str, int]:
     return {c.id: c.max_points - c.points for c in result.criteria if not c.passed}  # type: ignore[attr-defined]
 
 
+
 @pytest.mark.parametrize("eid", sorted(EXERCISES))
 def test_reference_scores_100_and_runs_without_error(eid: str) -> None:
     ex = EXERCISES[eid]
@@ -63,12 +64,19 @@ def test_equivalent_programs_score_100(eid: str, old: str, new: str) -> None:
     assert result.score == 100, lost(result)
 
 
-def test_one_mm_too_deep_loses_geometry_and_names_depth_and_line() -> None:
+def test_one_mm_too_deep_costs_the_floor_and_names_the_depth_and_its_line() -> None:
     result = grade(EXERCISES["pal-01-g1-gerade"], swap("pal-01-g1-gerade", "N50 G0 Z-2", "N50 G0 Z-3"))
-    assert lost(result) == {"geometry": 50}
+    # three features (the two walls and the floor Z-2): the walls stand where they should, the floor is 1 mm deep
+    assert lost(result) == {"geometry": 17}
     geometry = next(c for c in result.criteria if c.id == "geometry")
-    assert "1.00 mm zu tief" in geometry.message and "1.00 mm too deep" in geometry.message_en
-    assert geometry.lines == (7,)  # N60, the first cut at the wrong depth
+    assert geometry.status == "partial" and geometry.points == 33
+    assert geometry.message.startswith("2 von 3 Formelementen maßhaltig.")
+    assert "Zeile 6: Tiefe Z-3 statt Z-2 – 1 mm zu tief" in geometry.message
+    assert "Boden Z-2: 1 mm zu tief" in geometry.message and "1 mm too deep" in geometry.message_en
+    assert "Zu viel Material abgetragen: 1.330,0 mm³" in geometry.message  # 70 × 10 + 10 × 60 … mm² × 1 mm
+    assert "1,330.0 mm³" in geometry.message_en
+    assert geometry.lines == (6,)  # N50, the infeed to the wrong depth
+    assert geometry.cause is not None and (geometry.cause.code, geometry.cause.line) == ("depth", 6)
 
 
 def test_rapid_through_the_part_fails_safety_with_its_line() -> None:
@@ -151,5 +159,8 @@ def test_cli_contract() -> None:
     data = json.loads(ref.stdout)
     assert (data["score"], data["max_score"]) == (100, 100)
     assert set(data["criteria"][0]) == {"id", "status", "points", "max_points", "message", "message_en", "lines",
-                                        "hidden"}
+                                        "hidden", "cause", "causes", "features"}
+    assert {c["id"]: set(c) for c in data["criteria"]}["safety"] == {
+        "id", "status", "points", "max_points", "message", "message_en", "lines", "hidden", "cause", "causes"}
+    assert [f["ok"] for f in data["criteria"][0]["features"]] == [True] * 4  # three contour elements and the floor
     assert "diagnostics" in data

@@ -83,7 +83,7 @@ def _grade(args: argparse.Namespace) -> int:
         for c in result.criteria:
             if args.view == "student" and c.hidden:
                 continue
-            mark = "✓" if c.passed else "✗"
+            mark = {"passed": "✓", "partial": "◐", "failed": "✗"}[c.status]
             text = c.message if args.lang == "de" else c.message_en
             print(f"  {mark} {c.id:17s} {c.points:3d}/{c.max_points:<3d} {text}")
     return EXIT_OK if result.score == result.max_score else EXIT_ERRORS

@@ -22,12 +22,14 @@ from core.geometry.elements import (
     Transition,
     add,
     chamfer,
+    cross,
     dot,
     end_tangent,
     intersections,
     left,
     nearest,
     offset,
+    on_element,
     rounding,
     start_tangent,
     turn,
@@ -300,6 +302,17 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
                 return q
         return None
 
+    def following(k: int, side: int) -> list[Element]:
+        """The programmed contour elements after item `k` while the compensation `side` lasts (the first few)."""
+        found: list[Element] = []
+        for n in range(order[k] + 1, len(planned)):
+            q = planned[n][1]
+            if q.side != side or q.approach is not None or q.departure is not None or len(found) >= FOLLOWING:
+                break
+            if q.in_plane and q.move.kind != "rapid":
+                found.append(element_of(q.move))
+        return found
+
     for k, item in enumerate(items):
         if not isinstance(item, Planned):
             out.append(item)
@@ -345,6 +358,9 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
             else:
                 target = add((m.end[0], m.end[1]), left(t), r)
                 end = (target[0], target[1], m.end[2])
+                if _without_approach(m, start, target, t, r, following(k, p.side)):
+                    d.append(diag("PAL-W222", m.span, command="G41" if p.side > 0 else "G42",
+                                  tool_radius=p.radius, tool_radius_de=_fmt_de(p.radius)))
                 out.append(dataclasses.replace(m, kind="rapid" if m.kind == "rapid" else "feed", start=start, end=end,
                                                center=None, direction=None, radius=None, angle=None,
                                                programmed_end=m.end))
@@ -389,6 +405,67 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
             out.append(move_of(m, corner_arc, z1, z1, programmed=m.end))
             pos = (corner_arc.b[0], corner_arc.b[1], z1)
     return out
+
+
+# the approach check (PAL-W222) looks at the first few contour elements after the compensation is selected
+FOLLOWING = 4
+ALONG = math.sin(math.radians(20))  # a first move this close to the contour's direction runs along it
+CROSSING = 1 / 8  # a tool centre this close to the contour (in cutter radii) has the cutter across it
+
+
+def _without_approach(m: Move, start: Vec3, target: tuple[float, float], t: tuple[float, float], r: float,
+                      contour: list[Element]) -> bool:
+    """Whether the first move after G41/G42 (from the tool centre `start` to `target`, beside the contour's first
+    point; `r` the signed radius, > 0 left) is no approach but already lies on the contour (PAL-W222).
+
+    PAL selects the compensation with a move to a point in front of the contour, which the control approaches
+    equidistantly (`G42 G0 X-14 Y10`). The move is no such approach when
+    - it is an arc: an arc is a contour element (a circular approach is G47);
+    - it runs in the direction of the contour's first element (within 20°) and does not start clear of the contour
+      on the compensation side (a cutter radius or more): the tool travels along the contour while the
+      compensation builds up;
+    - the tool centre passes within an eighth of the cutter radius of the contour that follows: the cutter runs
+      across the contour (the tool stood on the contour, e.g. on the element before the first one).
+    """
+    if m.kind == "arc":
+        return True
+    s, p1 = (start[0], start[1]), (m.end[0], m.end[1])
+    length = math.dist(s, p1)
+    if length < 1e-9:
+        return False
+    u = ((p1[0] - s[0]) / length, (p1[1] - s[1]) / length)
+    side = 1.0 if r > 0 else -1.0
+    clear = side * dot((s[0] - p1[0], s[1] - p1[1]), left(t))  # > 0: S on the compensation side
+    if dot(u, t) > 0 and abs(cross(u, t)) < ALONG and clear < abs(r) - 1e-6:
+        return True
+    reach = abs(r) * CROSSING
+    steps = 32
+    for i in range(steps + 1):
+        q = (s[0] + (target[0] - s[0]) * i / steps, s[1] + (target[1] - s[1]) * i / steps)
+        if any(_distance(e, q) < reach - 1e-6 for e in contour):
+            return True
+    return False
+
+
+def _distance(e: Element, p: tuple[float, float]) -> float:
+    """The distance of `p` from the element `e` (a segment or an arc, its ends included)."""
+    if isinstance(e, Line):
+        dx, dy = e.b[0] - e.a[0], e.b[1] - e.a[1]
+        n2 = dx * dx + dy * dy
+        k = 0.0 if n2 < 1e-18 else max(0.0, min(1.0, ((p[0] - e.a[0]) * dx + (p[1] - e.a[1]) * dy) / n2))
+        return math.hypot(p[0] - e.a[0] - k * dx, p[1] - e.a[1] - k * dy)
+    ends = min(math.dist(p, e.a), math.dist(p, e.b))
+    if math.dist(p, e.c) < 1e-9:
+        return ends
+    on_circle = add(e.c, ((p[0] - e.c[0]) / math.dist(p, e.c), (p[1] - e.c[1]) / math.dist(p, e.c)), e.radius)
+    if e.full or on_element(e, on_circle):
+        return min(ends, abs(math.dist(p, e.c) - e.radius))
+    return ends
+
+
+def _fmt_de(v: float) -> str:
+    text = f"{v:.4f}".rstrip("0").rstrip(".")
+    return text.replace(".", ",")
 
 
 def _reverses(e1: Element, e2: Element) -> bool:

@@ -86,7 +86,8 @@ def test_exercise_page_data_and_picture(api: Api) -> None:
                            headers=auth(owner)).status_code == 201
     seen = api.client.get(f"/api/v1/exercises/{slug}", headers=auth(student)).json()
     assert seen["kind"] == "write"
-    assert seen["cutting_data"] == [{"tool": 1, "speed": 1200.0, "cutting_speed": None, "feed": 150.0}]
+    assert seen["cutting_data"] == [{"tool": 1, "speed": 1200.0, "cutting_speed": None, "feed": 150.0,
+                                     "spindle": "M3"}]
     assert seen["reference_program"] is None  # students never see the reference
     picture = api.client.get(f"/api/v1/exercises/{slug}/picture.png", headers=auth(student))
     assert picture.status_code == 200 and picture.headers["content-type"] == "image/png"

@@ -99,7 +99,9 @@ def test_deviation_colours_where_the_part_leaves_the_band(api: Api) -> None:
 
     graded = grade(parse_exercise(exercise_file(slug)), too_deep).to_json("instructor")
     geometry = next(c for c in graded["criteria"] if c["id"] == "geometry")
-    assert f"{gouge['too_much_mm3']:.1f} mm³" in geometry["message"]  # the volume the score names
+    from core.grading.numbers import volume
+    assert geometry["status"] in ("partial", "failed")
+    assert volume(gouge["too_much_mm3"]) in geometry["message"]  # the volume the score names, German form
     scenes: viz.Scenes = api.app.state.scenes
     ticket = scenes.ticket(token)
     assert ticket is not None
