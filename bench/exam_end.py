@@ -27,6 +27,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Awaitable, Callable
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 
@@ -138,18 +139,24 @@ async def run(base: str, trainees: int) -> bool:
     return ok
 
 
-def main() -> int:
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--trainees", type=int, default=30)
+def main_with(doc: str, run_bench: Callable[[str, int], Awaitable[bool]], trainees: int, tag: str) -> int:
+    """The command line of a class-sized bench: --trainees and --workers, the machine in a header line, then
+    `run_bench(base URL, trainees)` against a new `paltrainer serve` with an instructor made."""
+    parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    parser.add_argument("--trainees", type=int, default=trainees)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
     print(f"{platform.python_implementation()} {platform.python_version()}, {os.cpu_count()} cores, "
-          f"load {os.getloadavg()[0]:.1f}, {datetime.now(UTC):%Y-%m-%d %H:%M} UTC")
-    data = tempfile.mkdtemp(prefix="paltrainer-bench-exam-")
+          f"load {os.getloadavg()[0]:.1f}, {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {args.workers} workers")
+    data = tempfile.mkdtemp(prefix=f"paltrainer-bench-{tag}-")
     with server(args.workers, exercises=True, data=data) as url:
         base = url.replace("ws://", "http://").removesuffix("/api/v1/live")
         make_teacher(data)
-        return 0 if asyncio.run(run(base, args.trainees)) else 1
+        return 0 if asyncio.run(run_bench(base, args.trainees)) else 1
+
+
+def main() -> int:
+    return main_with(__doc__ or "", run, 30, "exam")
 
 
 if __name__ == "__main__":

@@ -51,10 +51,23 @@ def _database() -> Any:
     return prepare_database(settings.model_copy(update={"load_exercises": False}))
 
 
+def _lti_names(names: list[str]) -> bool:
+    """Refuse (with a message) names an LTI launch would give: True if any of `names` is one."""
+    from server.schemas import LTI_NAME_DE, LTI_NAME_EN, lti_reserved
+
+    reserved = [n for n in names if lti_reserved(n)]
+    for name in reserved:
+        print(f"Name »{name}« nicht erlaubt: {LTI_NAME_DE} / name '{name}' not allowed: {LTI_NAME_EN}",
+              file=sys.stderr)
+    return bool(reserved)
+
+
 def _create_user(args: argparse.Namespace) -> int:
     from server import services
     from server.errors import ApiError
 
+    if _lti_names([args.name]):
+        return 2
     password = args.password
     if password is None:
         password = getpass.getpass("Passwort / password: ")

@@ -47,12 +47,21 @@ class Settings(BaseSettings):
     rate_check_per_minute: int = 120  # check and run
     rate_simulate_per_minute: int = 30
     rate_submit_per_minute: int = 20
+    rate_lti_login_per_minute: int = 300  # LTI launches started per address (a school's classes behind one NAT)
+    rate_join_per_minute: int = 10  # join-code tries of one user (POST /courses/join)
+    rate_join_address_per_minute: int = 60  # join-code tries from one address, whoever asks
+    rate_enrol_per_minute: int = 60  # members added by name (POST /courses/{id}/members), per user
     rate_draft_per_minute: int = 120  # draft saves (the editor saves at most every 2 s, per tab)
     # the 3D view: each live session is a viser server (a thread, a port, a few descriptors)
     rate_viz_per_minute: int = 60  # new 3D sessions (a class behind one school address reloads at once)
     rate_viz_scene_per_minute: int = 120  # scene and deviation: each runs the program in a worker
     rate_viz_playhead_per_minute: int = 900  # playback steps (5 a second while playing), views, layers
     rate_picture_per_minute: int = 60  # the exercise's picture and the picture of the current state
+    # heavy requests (task sheets, pictures, drawings, submissions, simulations, 3D scenes and deviations) under
+    # way at once, per user or API key and per address for anonymous ones; beyond: 429 TOO_MANY_JOBS
+    heavy_jobs_per_user: int = Field(default=4, ge=1)
+    heavy_jobs_per_address: int = Field(default=30, ge=1)  # anonymous free practice: a class behind one NAT
+    submissions_with_details: int = Field(default=50, ge=1)  # per user and exercise the newest keep their diagnostics
     viz_sessions_per_user: int = 3  # live 3D sessions of one user (or key); beyond, the one idle longest stops
     viz_sessions_per_address: int = 40  # live anonymous 3D sessions from one address (a class behind one NAT)
     viz_sessions_max: int = 200  # live 3D sessions in all

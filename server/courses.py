@@ -5,11 +5,13 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 from sqlalchemy.orm import Session
+from starlette.concurrency import run_in_threadpool
 
 from server import access, services
 from server import repository as repo
@@ -18,7 +20,7 @@ from server.deps import Principal
 from server.errors import ApiError
 from server.export import csv_text
 from server.lti import ags as lti_ags
-from server.models import Assignment, Course, Submission, User, now
+from server.models import Assignment, Course, Exercise, User, now
 from server.schemas import ImportedUser, Slug, Time, Title, Username, text, utc
 from server.workers import Workers, job_submission
 
@@ -264,10 +266,20 @@ def list_members(db: Session, principal: Principal, course_id: int) -> list[Memb
 
 
 def add_member(db: Session, principal: Principal, course_id: int, body: MemberIn) -> MemberOut:
+    """Who may enrol whom: a further instructor of the course must be an instructor (or admin) account; a student
+    must be a student account, and an instructor adds only the students they manage (made by them, by their class
+    list, or put under them by an admin) — everybody else joins with the course's code, or an admin adds them.
+    An account the caller may not add answers as one that does not exist (no user-name oracle)."""
     course_for(db, principal, course_id, manage=True)
-    other = services.instructor_named(db, body.username) if body.role == "instructor" else repo.user_by_name(db, body.username)
-    if other is None:
-        raise ApiError("USER_NOT_FOUND", user=body.username)
+    caller = _user(principal)
+    if body.role == "instructor":
+        other = services.instructor_named(db, body.username)
+    else:
+        other = repo.user_by_name(db, body.username)
+        if other is None or not (_is_admin(caller) or other.instructor_id == caller.id):
+            raise ApiError("USER_NOT_FOUND", user=body.username)
+        if other.role != "student":
+            raise ApiError("NOT_A_STUDENT", user=body.username)
     repo.add_member(db, course_id, other.id, body.role)
     return MemberOut(username=other.username, role=body.role)
 
@@ -290,13 +302,12 @@ def import_members(db: Session, principal: Principal, course_id: int, data: byte
 
 
 def join(db: Session, principal: Principal, code: str) -> CourseOut:
-    """A student joins the course with `code` (case and spaces do not matter); joining twice is fine."""
+    """A student joins the course with `code` (case and spaces do not matter); joining twice is fine. Every
+    failure — no such code, or an account that cannot join as a student — is the same 404."""
     user = _user(principal)
     course = repo.course_by_code(db, code.strip().upper())
-    if course is None:
+    if course is None or user.role != "student":
         raise ApiError("JOIN_CODE_INVALID")
-    if user.role != "student":
-        raise ApiError("FORBIDDEN")
     member = repo.membership(db, course.id, user.id)
     if member is None:
         repo.add_member(db, course.id, user.id, "student")
@@ -408,12 +419,19 @@ def get_assignment(db: Session, principal: Principal, assignment_id: int) -> Ass
 
 async def assignment_sheets(db: Session, workers: Workers, principal: Principal, assignment_id: int,
                             lang: str) -> bytes:
-    """The assignment's exercises as one printed task sheet (instructors; students once it is open)."""
-    a = assignment_for(db, principal, assignment_id)
-    if not _manages(db, _user(principal), a.course_id) and now() < utc(a.opens_at):
-        raise ApiError("ASSIGNMENT_NOT_OPEN", opens_at=utc(a.opens_at).isoformat())
-    documents = [e.document for e in (repo.exercise_by_slug(db, s) for s in a.exercises)
-                 if e is not None and e.document is not None]
+    """The assignment's exercises as one printed task sheet (instructors; students once it is open): each
+    exercise's pages rendered (and kept) on their own, then put together (services.task_sheet)."""
+
+    def read() -> list[dict[str, Any]]:  # in the threadpool: no query on the event loop
+        a = assignment_for(db, principal, assignment_id)
+        if not _manages(db, _user(principal), a.course_id) and now() < utc(a.opens_at):
+            raise ApiError("ASSIGNMENT_NOT_OPEN", opens_at=utc(a.opens_at).isoformat())
+        documents = [e.document for e in (repo.exercise_by_slug(db, s) for s in a.exercises)
+                     if e is not None and e.document is not None]
+        db.commit()  # the pooled connection goes back before the wait for the workers
+        return documents
+
+    documents = await run_in_threadpool(read)
     if not documents:
         raise ApiError("NOT_FOUND")
     return await services.task_sheet(workers, documents, lang)
@@ -437,44 +455,43 @@ FINALIZE_LEASE = timedelta(minutes=10)  # a replica that stopped while finalisin
 FINALIZE_GRADING_AT_ONCE = 4  # drafts graded at the same time (the workers queue the rest)
 
 
-async def finalize_exam(db: Session, workers: Workers, a: Assignment) -> int:
-    """After an exam's end, submit every student's last saved draft of that exam for each exam exercise they did
-    not submit. One caller at a time does it, across replicas (a lease on the exam's row); each draft is graded
-    once and stored once (an idempotency key per student and exercise; the attempt limit holds against a
-    submission that raced it). Readers never call this: the background task does. Returns the number of new
-    submissions."""
+@dataclass(frozen=True)
+class _Finalising:
+    """An ended exam whose lease this caller holds, and the drafts it still has to submit."""
+
+    assignment: Assignment
+    limit: int
+    exercises: dict[int, Exercise]
+    drafts: list[tuple[int, int, str]]  # user, exercise, program
+
+
+def _claim(db: Session, a: Assignment) -> _Finalising | None:
+    """The exam's lease and its work, if it has ended, is not finalised and no other caller holds it."""
     t = now()
     if a.mode != "exam" or a.finalized_at is not None or t < access.end_of(a):
-        return 0
+        return None
     if not repo.claim_finalizing(db, a.id, t, t + FINALIZE_LEASE):
-        return 0  # another task or replica is at it
-    limit = int(access.settings_of(a)["max_submissions"] or 0)
+        return None  # another task or replica is at it
     students = {user.id for member, user in repo.members(db, a.course_id) if member.role == "student"}
     exercises = {e.id: e for e in (repo.exercise_by_slug(db, slug) for slug in a.exercises) if e is not None}
     done = {(s.user_id, s.exercise_id) for s in repo.assignment_submissions(db, a.id)}
-    todo = [d for d in repo.exam_drafts(db, a.id)
-            if d.user_id in students and d.exercise_id in exercises and (d.user_id, d.exercise_id) not in done]
+    drafts = [(d.user_id, d.exercise_id, d.program) for d in repo.exam_drafts(db, a.id)
+              if d.user_id in students and d.exercise_id in exercises and (d.user_id, d.exercise_id) not in done]
     db.commit()  # no connection is held while the workers grade
-    at_once = asyncio.Semaphore(FINALIZE_GRADING_AT_ONCE)
+    return _Finalising(a, int(access.settings_of(a)["max_submissions"] or 0), exercises, drafts)
 
-    async def graded(program: str, exercise_id: int) -> dict[str, Any]:
-        async with at_once:
-            exercise = exercises[exercise_id]
-            result: dict[str, Any] = await workers.call(job_submission, program, exercise.dialect,
-                                                        services.exercise_spec(exercise, False))
-            return result
 
-    results = await asyncio.gather(*(graded(d.program, d.exercise_id) for d in todo))
-    made = 0
-    for draft, result in zip(todo, results, strict=True):
-        exercise = exercises[draft.exercise_id]
-        fields = {"exercise_id": exercise.id, "user_id": draft.user_id, "program": draft.program, "dialect": exercise.dialect,
-                      "error_count": result["errors"], "warning_count": result["warnings"],
-                      "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
-                      "grading": result["grading"], "idempotency_key": f"exam{a.id}:u{draft.user_id}:{exercise.slug}",
-                      "assignment_id": a.id, "late": False, "held": a.released_at is None, "auto": True}
+def _store_finalised(db: Session, work: _Finalising, results: list[dict[str, Any]]) -> int:
+    a, made = work.assignment, 0
+    for (user_id, exercise_id, program), result in zip(work.drafts, results, strict=True):
+        exercise = work.exercises[exercise_id]
+        fields = {"exercise_id": exercise.id, "user_id": user_id, "program": program, "dialect": exercise.dialect,
+                  "error_count": result["errors"], "warning_count": result["warnings"],
+                  "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
+                  "grading": result["grading"], "idempotency_key": f"exam{a.id}:u{user_id}:{exercise.slug}",
+                  "assignment_id": a.id, "late": False, "held": a.released_at is None, "auto": True}
         try:
-            submission = services.store_attempt(db, fields, limit, exercise.slug)
+            submission = services.store_attempt(db, fields, work.limit, exercise.slug)
         except (repo.Duplicate, ApiError):
             continue  # stored by an earlier finaliser, or the trainee's own submission came first
         made += 1
@@ -483,10 +500,33 @@ async def finalize_exam(db: Session, workers: Workers, a: Assignment) -> int:
     return made
 
 
+async def finalize_exam(db: Session, workers: Workers, a: Assignment) -> int:
+    """After an exam's end, submit every student's last saved draft of that exam for each exam exercise they did
+    not submit. One caller at a time does it, across replicas (a lease on the exam's row); each draft is graded
+    once and stored once (an idempotency key per student and exercise; the attempt limit holds against a
+    submission that raced it). Readers never call this: the background task does. The database is used in the
+    thread pool only. Returns the number of new submissions."""
+    work = await run_in_threadpool(_claim, db, a)
+    if work is None:
+        return 0
+    at_once = asyncio.Semaphore(FINALIZE_GRADING_AT_ONCE)
+
+    async def graded(program: str, exercise_id: int) -> dict[str, Any]:
+        async with at_once:
+            exercise = work.exercises[exercise_id]
+            result: dict[str, Any] = await workers.call(job_submission, program, exercise.dialect,
+                                                        services.exercise_spec(exercise, False))
+            return result
+
+    results = await asyncio.gather(*(graded(program, eid) for _, eid, program in work.drafts))
+    made: int = await run_in_threadpool(_store_finalised, db, work, list(results))
+    return made
+
+
 async def finalize_ended_exams(database: Database, workers: Workers) -> int:
     made = 0
     with database.session() as db:
-        for a in repo.unfinalized_exams(db, now()):
+        for a in await run_in_threadpool(repo.unfinalized_exams, db, now()):
             made += await finalize_exam(db, workers, a)
     return made
 
@@ -557,11 +597,12 @@ def my_assignments(db: Session, principal: Principal) -> list[MyAssignment]:
 
 
 def assignment_results(db: Session, principal: Principal, assignment_id: int) -> AssignmentResults:
-    """Students × the assignment's exercises with the best score (instructors of the course and admins)."""
+    """Students × the assignment's exercises with the best score (instructors of the course and admins); the
+    submissions are read in their light columns (repo.assignment_scores: no program, diagnostics or criteria)."""
     a = assignment_for(db, principal, assignment_id, manage=True)
     exercises = {e.id: e.slug for e in (repo.exercise_by_slug(db, s) for s in a.exercises) if e is not None}
-    by_user: dict[int, list[Submission]] = {}
-    for s in repo.assignment_submissions(db, a.id):
+    by_user: dict[int, list[repo.Scored]] = {}
+    for s in repo.assignment_scores(db, a.id):
         if s.user_id is not None:
             by_user.setdefault(s.user_id, []).append(s)
     rows = []
@@ -572,7 +613,7 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
         for eid, slug in exercises.items():
             mine = [s for s in by_user.get(user.id, []) if s.exercise_id == eid]
             if mine:
-                best = services.best_of(mine)
+                best = services.best_of(mine)  # type: ignore[arg-type]  # Scored has the score as its grading
                 score, max_score = services._score(best)
                 cells[slug] = AssignmentResultCell(submission=best.id, score=score, max_score=max_score,
                                                    late=best.late, auto=best.auto, created_at=best.created_at)

@@ -1,8 +1,9 @@
-"""Request dependencies: the database session, who is asking (user or API key), role/scope rules, rate limits."""
+"""Request dependencies: the database session, who is asking (user or API key), role/scope rules, rate limits,
+the cap on heavy requests."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import AsyncIterator, Callable, Iterator
 from dataclasses import dataclass
 from typing import Annotated
 
@@ -118,6 +119,9 @@ def get_principal(
 ) -> Principal:
     principal = resolve(db, settings, bearer.credentials if bearer else None, api_key,
                         request.cookies.get(SESSION_COOKIE))
+    # the pooled connection goes back now: a route that reads no more holds none (however long it waits for a
+    # worker), and one that reads more takes one again (the user stays loaded: expire_on_commit is off)
+    db.commit()
     request.state.principal = principal.identity
     return principal
 
@@ -177,3 +181,20 @@ def rate_limit(bucket: str, setting: str) -> Callable[[Request, Principal, Setti
             raise ApiError("RATE_LIMITED", headers={"Retry-After": str(wait)}, retry_after=wait)
 
     return check
+
+
+async def heavy_job(request: Request, principal: OptionalPrincipal, settings: AppSettings) -> AsyncIterator[None]:
+    """A dependency of every route that computes something heavy in a worker (task sheets, pictures, drawings,
+    submissions, simulations, 3D scenes and deviations): at most PALTRAINER_HEAVY_JOBS_PER_USER of them at a
+    time per user or API key, PALTRAINER_HEAVY_JOBS_PER_ADDRESS per address for anonymous ones; one more is
+    answered 429 TOO_MANY_JOBS at once, without waiting for anything (Workers.admit)."""
+    workers: Workers = request.app.state.workers
+    if principal is ANONYMOUS:
+        owner, limit = f"ip:{client_address(request)}", settings.heavy_jobs_per_address
+    else:
+        owner, limit = principal.identity, settings.heavy_jobs_per_user
+    with workers.admit(owner, limit):
+        yield
+
+
+HEAVY = Depends(heavy_job)

@@ -72,6 +72,9 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "DRAFTS_USERS_ONLY": (403, "Entwürfe werden nur für angemeldete Benutzer gespeichert, nicht für API-Schlüssel.",
                           "Drafts are kept for logged-in users only, not for API keys."),
     "NOT_AN_INSTRUCTOR": (422, "»{user}« ist keine Lehrkraft.", "'{user}' is not an instructor."),
+    "NOT_A_STUDENT": (422, ("»{user}« ist kein Schülerkonto; Lehrkräfte und Admins werden nicht als Schüler "
+                            "eingetragen."),
+                      "'{user}' is not a student account; instructors and admins are not enrolled as students."),
     "CLASS_LIST_INVALID": (422, "Die Klassenliste ist ungültig: {detail}", "The class list is invalid: {detail_en}"),
     "REFERENCE_NOT_CLEAN": (422, ("Die Musterlösung erreicht nicht die volle Punktzahl ({score} von {max_score}): "
                                   "{detail}"),
@@ -119,7 +122,7 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
                       ("This course is linked to no learning-platform course that offers a roster; launch PAL "
                        "Trainer from the platform's course as an instructor first.")),
     "LTI_PLATFORM_ERROR": (502, "Die Lernplattform hat nicht wie erwartet geantwortet: {detail}",
-                           "The learning platform did not answer as expected: {detail}"),
+                           "The learning platform did not answer as expected: {detail_en}"),
     "LTI_SCORE_NOT_FOUND": (404, "Notenübertragung {score} nicht gefunden.", "Grade passback {score} not found."),
     "LTI_SCORE_NOT_FAILED": (409, "Nur eine aufgegebene Notenübertragung lässt sich erneut senden.",
                              "Only a grade passback that was given up can be sent again."),
@@ -129,6 +132,11 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
                           "The program is too long ({size} characters, at most {limit})."),
     "RATE_LIMITED": (429, "Zu viele Anfragen; bitte in {retry_after} s erneut versuchen.",
                      "Too many requests; please retry in {retry_after} s."),
+    "TOO_MANY_JOBS": (429, ("Sie haben schon {limit} rechenintensive Anfragen in Arbeit (PDF, Bilder, Zeichnungen, "
+                            "Abgaben, Simulation, 3D-Ansicht). Bitte warten Sie, bis eine davon fertig ist, und "
+                            "versuchen Sie es dann erneut."),
+                      ("You already have {limit} heavy requests in progress (PDF, pictures, drawings, submissions, "
+                       "simulation, 3D view). Please wait until one of them has finished, then try again.")),
     "TIME_LIMIT": (503, "Die Berechnung hat das Zeitlimit von {seconds} s überschritten.",
                    "The computation exceeded the time limit of {seconds} s."),
     "NOT_READY": (503, "Der Server ist nicht bereit: {detail}", "The server is not ready: {detail}"),

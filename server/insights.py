@@ -3,25 +3,26 @@ criteria most students lost, with the block where most of them lost it ("12 of 2
 7 of them at G47") — what the instructor discusses the next morning.
 
 Each student counts once per exercise, with the submission the results matrix shows: their best (the newest of
-equal scores). The cost is bounded: the newest MAX_SUBMISSIONS submissions of the assignment are read, no more
-(`capped` says when older ones were left out)."""
+equal scores). The cost is bounded: the newest MAX_SUBMISSIONS submissions of the assignment are read in their light
+columns (ids, authors, scores), no more (`capped` says when older ones were left out); program, diagnostics and
+criteria are read for each student's best submission only, DETAILS_AT_ONCE at a time."""
 
 from __future__ import annotations
 
 import re
 from collections import Counter
+from collections.abc import Iterable, Iterator
 from typing import Any, Literal
 
 from pydantic import BaseModel, Field
-from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from server import courses, services
 from server import repository as repo
 from server.deps import Principal
-from server.models import Submission
 
 MAX_SUBMISSIONS = 5000  # newest first; a class of 30 with 10 exercises and 15 tries each fits
+DETAILS_AT_ONCE = 100  # best submissions whose program, diagnostics and grade are in memory at a time
 TOP = 5  # diagnostics and criteria shown per exercise
 
 # the rubric's criteria (core.exercises.DEFAULT_RUBRIC) as the instructor names them
@@ -108,16 +109,16 @@ def _where(places: Counter[str]) -> Where | None:
     return Where(block=block, students=n)
 
 
-def _newest(db: Session, assignment_id: int) -> list[Submission]:
-    q = (select(Submission).where(Submission.assignment_id == assignment_id, Submission.user_id.is_not(None))
-         .order_by(Submission.created_at.desc(), Submission.id.desc()).limit(MAX_SUBMISSIONS + 1))
-    return list(db.scalars(q).all())
-
-
 _SEVERITY_ORDER = {"error": 0, "warning": 1, "info": 2}
 
 
-def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: list[Submission]) -> ExerciseInsight:
+def _details(db: Session, ids: list[int]) -> Iterator[Any]:
+    """Program, result and grade of these submissions (rows with .program, .result, .grading), a batch at a time."""
+    for start in range(0, len(ids), DETAILS_AT_ONCE):
+        yield from repo.submission_details(db, ids[start:start + DETAILS_AT_ONCE])
+
+
+def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: Iterable[Any]) -> ExerciseInsight:
     diag_students: Counter[str] = Counter()
     diag_places: dict[str, Counter[str]] = {}
     diag_texts: dict[str, Counter[tuple[str, str]]] = {}
@@ -126,8 +127,9 @@ def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: list
     lost_places: dict[str, Counter[str]] = {}
     points: dict[str, int] = {}
     order: dict[str, int] = {}
-    graded = 0
+    graded = students = 0
     for s in best:
+        students += 1
         seen: dict[str, dict[str, Any]] = {}
         for d in (s.result or {}).get("diagnostics", []):
             seen.setdefault(str(d.get("code")), d)  # the first one of a code in the program counts
@@ -163,7 +165,7 @@ def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: list
         de, en = CRITERION_NAMES.get(cid, (cid, cid))
         criteria.append(CriterionInsight(id=cid, name=de, name_en=en, lost=n, of=graded, points=points.get(cid, 0),
                                          where=_where(lost_places.get(cid, Counter()))))
-    return ExerciseInsight(exercise=slug, title_de=title_de, title_en=title_en, students=len(best), graded=graded,
+    return ExerciseInsight(exercise=slug, title_de=title_de, title_en=title_en, students=students, graded=graded,
                            diagnostics=diagnostics, criteria=criteria)
 
 
@@ -172,10 +174,10 @@ def assignment_insights(db: Session, principal: Principal, assignment_id: int) -
     count once the background task has submitted them (a few seconds after the end)."""
     a = courses.assignment_for(db, principal, assignment_id, manage=True)
     students = {u.id for m, u in repo.members(db, a.course_id) if m.role == "student"}
-    rows = _newest(db, a.id)
+    rows = repo.assignment_scores(db, a.id, MAX_SUBMISSIONS + 1)
     capped = len(rows) > MAX_SUBMISSIONS
     rows = rows[:MAX_SUBMISSIONS]
-    by_key: dict[tuple[int, int], list[Submission]] = {}
+    by_key: dict[tuple[int, int], list[repo.Scored]] = {}
     for s in rows:
         if s.user_id in students:
             by_key.setdefault((s.exercise_id, s.user_id), []).append(s)
@@ -184,7 +186,8 @@ def assignment_insights(db: Session, principal: Principal, assignment_id: int) -
         exercise = repo.exercise_by_slug(db, slug)
         if exercise is None:
             continue
-        best = [services.best_of(subs) for (eid, _), subs in by_key.items() if eid == exercise.id]
-        out.append(_exercise_insight(slug, exercise.title_de, exercise.title_en, best))
+        best = [services.best_of(subs).id  # type: ignore[arg-type]  # Scored has the score as its grading
+                for (eid, _), subs in by_key.items() if eid == exercise.id]
+        out.append(_exercise_insight(slug, exercise.title_de, exercise.title_en, _details(db, best)))
     return AssignmentInsights(assignment=a.id, title=a.title, basis="best", students=len(students),
                               scanned=len(rows), capped=capped, exercises=out)

@@ -288,6 +288,19 @@ class LtiNonce(Base):
     expires_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), index=True)
 
 
+class LtiRegistrationCode(Base):
+    """A dynamic registration URL's code that was used: each code registers one platform (migration 0010). Kept
+    until the code would have expired anyway."""
+
+    __tablename__ = "lti_registration_codes"
+    __table_args__ = (UniqueConstraint("jti", name="uq_lti_registration_codes_jti"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    jti: Mapped[str] = mapped_column(String(64))
+    used_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+    expires_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), index=True)
+
+
 class LtiLaunch(Base):
     """One accepted launch: who, from which link, to which exercise; `ticket_hash` is the one-time ticket in the
     URL that the page exchanges for its API token. A deep-linking request keeps its return URL and data here."""

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import secrets
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 from datetime import datetime
 from typing import Any, TypeVar
 
@@ -216,18 +217,10 @@ def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int |
     q = (select(Submission, Exercise, User).join(Exercise, Submission.exercise_id == Exercise.id)
          .outerjoin(User, Submission.user_id == User.id))
     if not everything:
-        conds = []
-        if user_id is not None:
-            conds.append(Submission.user_id == user_id)
-        if owner_id is not None:
-            conds.append(Exercise.owner_id == owner_id)
-        if api_key_id is not None:
-            conds.append(Submission.api_key_id == api_key_id)
-        if instructor_id is not None:  # the students of the courses they teach
-            conds.append(Submission.user_id.in_(taught_students(instructor_id)))
-        if not conds:
+        visible = visible_to(user_id=user_id, owner_id=owner_id, api_key_id=api_key_id, instructor_id=instructor_id)
+        if visible is None:
             return []
-        q = q.where(or_(*conds))
+        q = q.where(visible)
     if exercise_slug is not None:
         q = q.where(Exercise.slug == exercise_slug)
     rows = db.execute(q.order_by(Submission.created_at.desc(), Submission.id.desc())).all()
@@ -242,6 +235,133 @@ def own_submissions(db: Session, user_id: int, exercise_id: int | None = None,
         q = q.where(Submission.exercise_id == exercise_id)
     q = q.order_by(Submission.created_at.desc(), Submission.id.desc())
     return db.scalars(q.limit(limit) if limit else q).all()
+
+
+# --- submissions without their program and diagnostics: results, insights, the storage quota --------------
+
+
+@dataclass(frozen=True)
+class Scored:
+    """A submission's light columns: what the results tables, the insights' choice of each student's best and
+    the storage quota need — not its program, diagnostics or criteria. `grading` has the score only (enough for
+    services.best_of and services._score)."""
+
+    id: int
+    user_id: int | None
+    exercise_id: int
+    assignment_id: int | None
+    created_at: datetime
+    late: bool
+    auto: bool
+    held: bool
+    score: int | None
+    max_score: int | None
+
+    @property
+    def grading(self) -> dict[str, int] | None:
+        if self.score is None or self.max_score is None:
+            return None
+        return {"score": self.score, "max_score": self.max_score}
+
+
+_SCORE = Submission.grading["score"].as_float()  # read from the grade in the database, not the whole grade
+_MAX_SCORE = Submission.grading["max_score"].as_float()
+_SCORED = (Submission.id, Submission.user_id, Submission.exercise_id, Submission.assignment_id, Submission.created_at,
+           Submission.late, Submission.auto, Submission.held, _SCORE, _MAX_SCORE)
+_NEWEST = (Submission.created_at.desc(), Submission.id.desc())
+
+
+def _scored(rows: Iterable[Any]) -> list[Scored]:
+    return [Scored(r[0], r[1], r[2], r[3], r[4], bool(r[5]), bool(r[6]), bool(r[7]),
+                   None if r[8] is None else int(r[8]), None if r[9] is None else int(r[9])) for r in rows]
+
+
+def visible_to(*, user_id: int | None = None, owner_id: int | None = None, api_key_id: int | None = None,
+               instructor_id: int | None = None) -> Any:
+    """The condition of `list_submissions` on submissions (joined with their exercise) for these readers, or None
+    when it has none (nothing is visible)."""
+    conds = []
+    if user_id is not None:
+        conds.append(Submission.user_id == user_id)
+    if owner_id is not None:
+        conds.append(Exercise.owner_id == owner_id)
+    if api_key_id is not None:
+        conds.append(Submission.api_key_id == api_key_id)
+    if instructor_id is not None:  # their courses' work, and their managed students' practice
+        conds.append(instructed(instructor_id))
+    return or_(*conds) if conds else None
+
+
+def scored_submissions(db: Session, *, user_id: int | None = None, owner_id: int | None = None,
+                       api_key_id: int | None = None, everything: bool = False,
+                       instructor_id: int | None = None) -> list[Scored]:
+    """What `list_submissions` gives the same readers, newest first, in light columns (Scored)."""
+    q = select(*_SCORED).join(Exercise, Submission.exercise_id == Exercise.id)
+    if not everything:
+        cond = visible_to(user_id=user_id, owner_id=owner_id, api_key_id=api_key_id, instructor_id=instructor_id)
+        if cond is None:
+            return []
+        q = q.where(cond)
+    return _scored(db.execute(q.order_by(*_NEWEST)).all())
+
+
+def assignment_scores(db: Session, assignment_id: int, limit: int | None = None) -> list[Scored]:
+    """An assignment's submissions by users (not learning-platform learners), newest first, in light columns."""
+    q = (select(*_SCORED).where(Submission.assignment_id == assignment_id, Submission.user_id.is_not(None))
+         .order_by(*_NEWEST))
+    return _scored(db.execute(q.limit(limit) if limit is not None else q).all())
+
+
+def submission_details(db: Session, ids: Sequence[int]) -> Sequence[Any]:
+    """Program, result (diagnostics, summary) and grade of these submissions only: rows with .id, .program,
+    .result, .grading."""
+    if not ids:
+        return []
+    return db.execute(select(Submission.id, Submission.program, Submission.result, Submission.grading)
+                      .where(Submission.id.in_(list(ids))).order_by(Submission.id)).all()
+
+
+def exercises_by_ids(db: Session, ids: Iterable[int]) -> Sequence[Exercise]:
+    wanted = list(set(ids))
+    return db.scalars(select(Exercise).where(Exercise.id.in_(wanted))).all() if wanted else []
+
+
+def summarise_submissions(db: Session, submission: Submission, keep: int) -> int:
+    """The storage quota of one author (user; else API key and learner) and exercise, after `submission` was
+    stored: the newest `keep` submissions keep their diagnostics, and so does the best one of practice and of each
+    assignment (what the results tables and the insights count); the older ones are summarised — their
+    diagnostics list is dropped, their summary keeps how many there were (`diagnostics`), and program, counts and
+    grade stay (what the history and the tables show). Returns how many were summarised now; each is summarised
+    once (`summarised` in its result)."""
+    if submission.user_id is not None:
+        author = [Submission.user_id == submission.user_id]
+    else:
+        learner = (Submission.external_user.is_(None) if submission.external_user is None
+                   else Submission.external_user == submission.external_user)
+        author = [Submission.user_id.is_(None), Submission.api_key_id == submission.api_key_id, learner]
+    same = [Submission.exercise_id == submission.exercise_id, *author]
+    newest = select(Submission.id).where(*same).order_by(*_NEWEST).limit(keep)
+    older = db.execute(select(Submission.id, Submission.assignment_id).where(
+        *same, Submission.id.not_in(newest), Submission.result["summarised"].as_boolean().is_(None))).all()
+    if not older:
+        return 0
+    best = set()
+    for scope in {row[1] for row in older}:  # the best of practice (None) and of each assignment, as best_of chooses
+        in_scope = Submission.assignment_id.is_(None) if scope is None else Submission.assignment_id == scope
+        best.add(db.scalar(select(Submission.id).where(*same, in_scope, _SCORE.is_not(None))
+                           .order_by(_SCORE.desc(), *_NEWEST).limit(1)))
+    done = 0
+    for row_id, result in db.execute(select(Submission.id, Submission.result).where(
+            Submission.id.in_([row[0] for row in older if row[0] not in best]))).all():
+        result = dict(result or {})
+        summary = dict(result.get("summary") or {})
+        summary.setdefault("diagnostics", len(result.get("diagnostics") or []))
+        db.execute(update(Submission).where(Submission.id == row_id)
+                   .values(result={**result, "diagnostics": [], "summary": summary, "summarised": True})
+                   .execution_options(synchronize_session=False))
+        done += 1
+    db.commit()
+    return done
 
 
 # --- drafts ------------------------------------------------------------------------------
@@ -371,11 +491,21 @@ def taught_students(instructor_id: int) -> Any:
     return select(CourseMember.user_id).where(CourseMember.course_id.in_(taught), CourseMember.role == "student")
 
 
-def teaches(db: Session, instructor_id: int, student_id: int) -> bool:
-    return bool(db.scalar(select(func.count()).select_from(CourseMember).where(
-        CourseMember.user_id == student_id, CourseMember.role == "student",
-        CourseMember.course_id.in_(select(CourseMember.course_id).where(
-            CourseMember.user_id == instructor_id, CourseMember.role == "instructor")))))
+def instructed(instructor_id: int) -> Any:
+    """A condition on submissions: what an instructor sees of their students' work — the submissions to the
+    assignments of every course they teach, and the practice (no assignment) of the students they manage. Not a
+    student's work in another course, nor the practice of a student who merely joined their course."""
+    taught = select(CourseMember.course_id).where(CourseMember.user_id == instructor_id,
+                                                  CourseMember.role == "instructor")
+    managed = select(User.id).where(User.instructor_id == instructor_id)
+    return or_(Submission.assignment_id.in_(select(Assignment.id).where(Assignment.course_id.in_(taught))),
+               (Submission.assignment_id.is_(None)) & Submission.user_id.in_(managed))
+
+
+def instructs(db: Session, instructor_id: int, submission_id: int) -> bool:
+    """Whether the submission is among what the instructor sees of their students' work (`instructed`)."""
+    return bool(db.scalar(select(func.count()).select_from(Submission).where(
+        Submission.id == submission_id, instructed(instructor_id))))
 
 
 def default_course(db: Session, instructor_id: int, name: str, join_code: str) -> Course:
@@ -407,6 +537,13 @@ def student_assignments(db: Session, user_id: int) -> Sequence[Assignment]:
     courses = select(CourseMember.course_id).where(CourseMember.user_id == user_id, CourseMember.role == "student")
     return db.scalars(select(Assignment).where(Assignment.course_id.in_(courses))
                       .order_by(Assignment.opens_at, Assignment.id)).all()
+
+
+def taught_assignments(db: Session, instructor_id: int) -> Sequence[Assignment]:
+    """The assignments of every course the user teaches."""
+    courses = select(CourseMember.course_id).where(CourseMember.user_id == instructor_id,
+                                                   CourseMember.role == "instructor")
+    return db.scalars(select(Assignment).where(Assignment.course_id.in_(courses))).all()
 
 
 def unreleased_exams(db: Session) -> Sequence[Assignment]:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
@@ -61,8 +62,26 @@ Slug = text(80, min_length=1)  # looked up: an exercise's slug
 Dialect = text(40, min_length=1)
 # a program to check or submit: the body limit bounds it; settings.max_program_chars answers 413 above its own limit
 Program = text(1_000_000)
-Username = text(80, min_length=1)
-NewUsername = text(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$")
+Username = text(80, min_length=1)  # a name looked up (login, members): also the names launches made
+
+# "lti" and a digit begins the names of accounts an LTI launch makes (lti<platform>-…, server/lti/launch.py): no
+# one else may take such a name, so that no local account looks like one a platform user is meant to get
+_LTI_NAME = re.compile(r"lti[0-9]", re.IGNORECASE)
+LTI_NAME_DE = "Namen, die mit »lti« und einer Ziffer beginnen, sind Konten aus Lernplattformen vorbehalten"
+LTI_NAME_EN = "names starting with 'lti' and a digit are reserved for accounts from learning platforms"
+
+
+def lti_reserved(name: str) -> bool:
+    return _LTI_NAME.match(name) is not None
+
+
+def _not_lti_name(name: str) -> str:
+    if lti_reserved(name):
+        raise ValueError(f"{LTI_NAME_DE} / {LTI_NAME_EN}")
+    return name
+
+
+NewUsername = Annotated[text(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$"), AfterValidator(_not_lti_name)]
 Password = text(1000, min_length=1)
 NewPassword = text(1000, min_length=8)
 NewSlug = text(80, min_length=1, pattern=r"^[a-z0-9][a-z0-9-]*$")

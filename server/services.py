@@ -6,10 +6,12 @@ import asyncio
 import csv
 import re
 import secrets
+from dataclasses import dataclass
 from typing import Any
 from zoneinfo import ZoneInfo
 
 from sqlalchemy.orm import Session
+from starlette.concurrency import run_in_threadpool
 
 from core.exercises import Exercise as ExerciseDocument
 from core.pipeline import DIALECTS
@@ -23,6 +25,8 @@ from server.export import csv_text
 from server.lti import ags as lti_ags
 from server.models import ApiKey, Exercise, Submission, User
 from server.schemas import (
+    LTI_NAME_DE,
+    LTI_NAME_EN,
     ApiKeyCreated,
     ApiKeyOut,
     DraftOut,
@@ -46,11 +50,21 @@ from server.schemas import (
     SubmissionOut,
     UserCreate,
     UserOut,
+    lti_reserved,
     utc,
 )
 from server.security import hash_password, new_api_key, verify_password
 from server.seed import document_from_fields, exercise_fields
-from server.workers import Workers, job_drawing, job_picture, job_sheet, job_submission, job_validate_exercise
+from server.workers import (
+    Workers,
+    content_key,
+    job_drawing,
+    job_merge_pdfs,
+    job_picture,
+    job_sheet,
+    job_submission,
+    job_validate_exercise,
+)
 
 # --- pipeline requests ----------------------------------------------------------------------
 
@@ -203,30 +217,52 @@ def _document_view(document: dict[str, Any] | None) -> dict[str, Any]:
 
 
 async def exercise_picture(db: Session, workers: Workers, slug: str) -> bytes:
-    """A top view of the finished part (the reference machined on the stock), darker where deeper."""
-    exercise = get_exercise(db, slug)
-    if exercise.document is None:
-        raise ApiError("NOT_FOUND")
-    picture: bytes = await workers.call(job_picture, exercise.document)
+    """A top view of the finished part (the reference machined on the stock), darker where deeper; made once per
+    content of the exercise (Workers.cached)."""
+
+    def read() -> tuple[dict[str, Any], str]:  # in the threadpool: no query on the event loop
+        exercise = get_exercise(db, slug)
+        if exercise.document is None:
+            raise ApiError("NOT_FOUND")
+        db.commit()  # the pooled connection goes back before the wait for a worker
+        return exercise.document, content_key("picture", exercise.document)
+
+    document, key = await run_in_threadpool(read)
+    picture: bytes = await workers.cached(key, job_picture, document)
     return picture
 
 
 async def exercise_drawing(db: Session, workers: Workers, slug: str, lang: str) -> str:
-    """The dimensioned drawing of the exercise's part (SVG, core/drawing)."""
-    exercise = get_exercise(db, slug)
-    if exercise.document is None:
-        raise ApiError("NOT_FOUND")
-    svg: str = await workers.call(job_drawing, exercise.document, lang)
+    """The dimensioned drawing of the exercise's part (SVG, core/drawing); made once per content and language."""
+
+    def read() -> tuple[dict[str, Any], str]:  # in the threadpool: no query on the event loop
+        exercise = get_exercise(db, slug)
+        if exercise.document is None:
+            raise ApiError("NOT_FOUND")
+        db.commit()  # the pooled connection goes back before the wait for a worker
+        return exercise.document, content_key("drawing", exercise.document, lang)
+
+    document, key = await run_in_threadpool(read)
+    svg: str = await workers.cached(key, job_drawing, document, lang)
     return svg
 
 
 async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: str) -> bytes:
-    """Exercises as a printed task sheet (PDF, core/sheet): 503 PDF_UNAVAILABLE where WeasyPrint cannot be
-    loaded — checked here first (off the event loop: the first import takes a second), so that no worker is
-    taken for it and the rest of the server is unaffected."""
+    """Exercises as a printed task sheet (PDF, core/sheet): each exercise's pages are a worker job of their own,
+    kept by content (the exercise's document and the language: an edited exercise is rendered again), and several
+    are put together in one more job (kept as well) — no job grows with the number of exercises, and a class
+    asking for the same sheets costs one rendering. 503 PDF_UNAVAILABLE where WeasyPrint cannot be loaded:
+    checked here first (off the event loop: the first import takes a second), so that no worker is taken for it
+    and the rest of the server is unaffected. The caller holds no pooled database connection."""
     try:
         await asyncio.to_thread(pdf_engine)
-        pdf: bytes = await workers.call(job_sheet, documents, lang)
+        keys = await run_in_threadpool(lambda: [content_key("sheet", d, lang) for d in documents])
+        parts: list[bytes] = []
+        for document, key in zip(documents, keys, strict=True):  # one after the other: one job at a time per request
+            parts.append(await workers.cached(key, job_sheet, document, lang))
+        if len(parts) == 1:
+            return parts[0]
+        pdf: bytes = await workers.cached(content_key("sheets", keys), job_merge_pdfs, parts)
     except SheetUnavailable as err:
         raise ApiError("PDF_UNAVAILABLE", detail=err.message, detail_en=err.message_en) from None
     return pdf
@@ -234,10 +270,15 @@ async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: st
 
 async def exercise_sheet(db: Session, workers: Workers, slug: str, lang: str) -> bytes:
     """The exercise's printed task sheet with its empty programming form (PDF)."""
-    exercise = get_exercise(db, slug)
-    if exercise.document is None:
-        raise ApiError("NOT_FOUND")
-    return await task_sheet(workers, [exercise.document], lang)
+
+    def read() -> dict[str, Any]:  # in the threadpool: no query on the event loop
+        exercise = get_exercise(db, slug)
+        if exercise.document is None:
+            raise ApiError("NOT_FOUND")
+        db.commit()  # the pooled connection goes back before the wait for a worker
+        return exercise.document
+
+    return await task_sheet(workers, [await run_in_threadpool(read)], lang)
 
 
 def get_exercise(db: Session, slug: str) -> Exercise:
@@ -282,10 +323,14 @@ async def import_exercise(db: Session, settings: Settings, workers: Workers, pri
         raise ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
                        detail_en=ref["detail_en"])
     document = ExerciseDocument.model_validate(checked["document"])
+    return await run_in_threadpool(_store_exercise, db, document, principal.user_id)
+
+
+def _store_exercise(db: Session, document: ExerciseDocument, owner_id: int | None) -> Exercise:
     if repo.exercise_by_slug(db, document.id) is not None:
         raise ApiError("EXERCISE_EXISTS", exercise=document.id)
     try:
-        return repo.create_exercise(db, exercise_fields(document), principal.user_id)
+        return repo.create_exercise(db, exercise_fields(document), owner_id)
     except repo.Duplicate:
         raise ApiError("EXERCISE_EXISTS", exercise=document.id) from None
 
@@ -386,10 +431,34 @@ def lms_result(grading: dict[str, Any] | None) -> LmsResult | None:
                      comment_en=comment_en)
 
 
+@dataclass(frozen=True)
+class _Pending:
+    """A submission checked and ready for the worker to grade (what `_prepare_submission` found)."""
+
+    exercise: Exercise
+    verdict: access.Verdict
+    stored_key: str | None
+    external: str | None
+
+
 async def create_submission(db: Session, settings: Settings, workers: Workers, principal: Principal,
                             body: SubmissionCreate, idempotency_key: str | None = None) -> tuple[SubmissionOut, bool]:
     """Grade and store a submission; with an idempotency key already used by the same caller, the stored one
-    (and False: nothing new was made)."""
+    (and False: nothing new was made). The database is read and written in the thread pool, never on the event
+    loop, and no connection is held while the worker grades (many submissions waiting at once must not take
+    every pooled connection)."""
+    pending = await run_in_threadpool(_prepare_submission, db, settings, principal, body, idempotency_key)
+    if isinstance(pending, SubmissionOut):
+        return pending, False
+    result = await workers.call(job_submission, body.program, pending.exercise.dialect,
+                                exercise_spec(pending.exercise, body.skip_blocks))
+    return await run_in_threadpool(_store_submission, db, settings, principal, body, pending, result)
+
+
+def _prepare_submission(db: Session, settings: Settings, principal: Principal, body: SubmissionCreate,
+                        idempotency_key: str | None) -> _Pending | SubmissionOut:
+    """The checks before grading (scope, the exam rules, the limit); the earlier submission for a repeated
+    idempotency key. Gives the connection back."""
     if not principal.has_scope("submissions:write"):
         raise ApiError("MISSING_SCOPE", scope="submissions:write")
     if body.external_user is not None and principal.api_key is not None and not may_name_learners(principal):
@@ -400,7 +469,7 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
         stored_key = f"{who}:{idempotency_key}"
         earlier = _earlier_submission(db, principal, stored_key, body)
         if earlier is not None:
-            return earlier, False
+            return earlier
     exercise = get_exercise(db, body.exercise)
     check_program(settings, body.program, exercise.dialect)
     external = body.external_user if principal.api_key is not None else None
@@ -409,26 +478,29 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
     if target is not None and verdict.limit and principal.user_id is not None and repo.count_attempts(
             db, target.id, principal.user_id, exercise.id) >= verdict.limit:
         raise ApiError("ASSIGNMENT_SUBMITTED", exercise=exercise.slug, limit=verdict.limit)
-    # the connection goes back to the pool while the worker grades: many submissions waiting at once must not
-    # hold every pooled connection (the next request's query would block the event loop waiting for one)
     db.commit()
-    result = await workers.call(job_submission, body.program, exercise.dialect,
-                                exercise_spec(exercise, body.skip_blocks))
+    return _Pending(exercise, verdict, stored_key, external)
+
+
+def _store_submission(db: Session, settings: Settings, principal: Principal, body: SubmissionCreate,
+                      pending: _Pending, result: dict[str, Any]) -> tuple[SubmissionOut, bool]:
+    exercise, verdict, target = pending.exercise, pending.verdict, pending.verdict.assignment
     fields = {"exercise_id": exercise.id, "user_id": principal.user_id,
-                  "api_key_id": principal.api_key.id if principal.api_key else None, "external_user": external,
-                  "program": body.program, "dialect": exercise.dialect, "error_count": result["errors"],
-                  "warning_count": result["warnings"],
-                  "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
-                  "grading": result["grading"], "idempotency_key": stored_key,
-                  "assignment_id": target.id if target else None, "late": verdict.late, "held": verdict.held}
+              "api_key_id": principal.api_key.id if principal.api_key else None,
+              "external_user": pending.external, "program": body.program, "dialect": exercise.dialect,
+              "error_count": result["errors"], "warning_count": result["warnings"],
+              "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
+              "grading": result["grading"], "idempotency_key": pending.stored_key,
+              "assignment_id": target.id if target else None, "late": verdict.late, "held": verdict.held}
     try:
         submission = store_attempt(db, fields, verdict.limit if target is not None else 0, exercise.slug)
     except repo.Duplicate:
         # a retry with the same key was stored while this one was graded: answer with that one
-        earlier = _earlier_submission(db, principal, stored_key, body) if stored_key else None
+        earlier = _earlier_submission(db, principal, pending.stored_key, body) if pending.stored_key else None
         if earlier is None:
             raise ApiError("CONFLICT") from None
         return earlier, False
+    repo.summarise_submissions(db, submission, settings.submissions_with_details)  # the storage quota
     lti_ags.after_graded(db, submission)  # the grade to the learning platform's gradebook, if it came from one
     return submission_out(db, submission, exercise, principal.user, True, principal), True
 
@@ -474,8 +546,8 @@ def _earlier_submission(db: Session, principal: Principal, stored_key: str,
 
 def visible_submissions(db: Session, principal: Principal,
                         exercise: str | None) -> list[tuple[Submission, Exercise, User | None]]:
-    """Students: their own; instructors: their own and those to their exercises; admins: all;
-    API keys: those made through the key plus what their owner may see."""
+    """Students: their own; instructors: their own, those to their exercises and their students' work
+    (repo.instructed); admins: all; API keys: those made through the key plus what their owner may see."""
     if not principal.has_scope("submissions:read"):
         raise ApiError("MISSING_SCOPE", scope="submissions:read")
     if exercise is not None:
@@ -488,17 +560,17 @@ def visible_submissions(db: Session, principal: Principal,
         everything=admin))
 
 
-def may_see(principal: Principal, submission: Submission, exercise: Exercise, taught: bool = False) -> bool:
-    """Admins: all; everyone their own; instructors: those to their exercises and those of the students they
-    teach in a course (`taught`; on any exercise, built-in ones too); keys: those made through the key, plus
-    what their owner may see."""
+def may_see(principal: Principal, submission: Submission, exercise: Exercise, instructed: bool = False) -> bool:
+    """Admins: all; everyone their own; instructors: those to their exercises and their students' work
+    (`instructed`: an assignment of a course they teach, or the practice of a student they manage —
+    repo.instructed); keys: those made through the key, plus what their owner may see."""
     if principal.user is not None and principal.user.role == "admin":
         return True
     if principal.user_id is not None and submission.user_id == principal.user_id:
         return True
     if principal.is_instructor() and exercise.owner_id == principal.user_id:
         return True
-    if principal.is_instructor() and taught:
+    if principal.is_instructor() and instructed:
         return True
     return principal.api_key is not None and submission.api_key_id == principal.api_key.id
 
@@ -510,9 +582,9 @@ def get_submission(db: Session, principal: Principal, submission_id: int) -> Sub
     submission = repo.submission_by_id(db, submission_id)
     exercise = repo.exercise_by_id(db, submission.exercise_id) if submission else None
     author = repo.user_by_id(db, submission.user_id) if submission and submission.user_id is not None else None
-    taught = (principal.is_instructor() and author is not None and principal.user_id is not None
-              and repo.teaches(db, principal.user_id, author.id))
-    if submission is None or exercise is None or not may_see(principal, submission, exercise, taught):
+    instructed = (principal.is_instructor() and submission is not None and principal.user_id is not None
+                  and repo.instructs(db, principal.user_id, submission.id))
+    if submission is None or exercise is None or not may_see(principal, submission, exercise, instructed):
         raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
     return submission_out(db, submission, exercise, author, True, principal)
 
@@ -689,13 +761,14 @@ def hint(db: Session, principal: Principal, slug: str, number: int) -> Hint:
 
 
 def solution(db: Session, principal: Principal, slug: str) -> Solution:
-    """The reference program: instructors and admins always, unless an exam of a course they sit as a student
-    withholds it (server/access.py); students as the exercise's `solution` allows (never, after their first
-    submission, after a submission with full marks)."""
+    """The reference program: always for admins, the exercise's owner and the instructors of a course that sets
+    it (an assignment with it), unless an exam of a course they sit as a student withholds it
+    (server/access.py); everybody else — students, and instructors for other instructors' exercises — as the
+    exercise's `solution` allows (never, after their first submission, after a submission with full marks)."""
     exercise = get_exercise(db, slug)
     policy = (exercise.document or {}).get("solution") or "after_submission"
     access.check(db, principal, "solution", slug)
-    if not principal.is_instructor():
+    if not _answers_for(db, principal, exercise):
         own = list(repo.own_submissions(db, principal.user_id, exercise.id)) if principal.user_id is not None else []
         if policy == "never":
             raise ApiError("SOLUTION_NEVER")
@@ -706,6 +779,15 @@ def solution(db: Session, principal: Principal, slug: str) -> Solution:
             raise ApiError("SOLUTION_AFTER_FULL_MARKS")
     return Solution(exercise=slug, program=exercise.reference_program, dialect=exercise.dialect,
                     policy=policy)  # type: ignore[arg-type]  # the document was validated (core.exercises)
+
+
+def _answers_for(db: Session, principal: Principal, exercise: Exercise) -> bool:
+    """Who sees an exercise's reference whatever its policy: admins, its owner, the instructors who set it."""
+    user = principal.user
+    if user is None or user.role not in ("instructor", "admin"):
+        return False
+    return (user.role == "admin" or exercise.owner_id == user.id
+            or any(exercise.slug in a.exercises for a in repo.taught_assignments(db, user.id)))
 
 
 # --- users: instructors and their students, class lists (issue 15) -------------------------------
@@ -805,6 +887,8 @@ def parse_class_list(data: bytes) -> list[tuple[str, str | None]]:
         if not _NAME_RE.match(name):
             bad(i, f"Name »{name[:80]}«: nur Buchstaben ohne Umlaute, Ziffern und _ . @ - (höchstens 80 Zeichen)",
                 f"name '{name[:80]}': only letters without umlauts, digits and _ . @ - (at most 80 characters)")
+        elif lti_reserved(name):
+            bad(i, f"Name »{name}«: {LTI_NAME_DE}", f"name '{name}': {LTI_NAME_EN}")
         elif name.casefold() in seen:
             bad(i, f"Name »{name}« steht doppelt in der Liste", f"name '{name}' appears twice in the list")
         seen.add(name.casefold())
@@ -850,32 +934,38 @@ BERLIN = ZoneInfo("Europe/Berlin")
 
 def results(db: Session, principal: Principal) -> Results:
     """Trainees × exercises with the best score: for instructors their students and whoever submitted to their
-    exercises, for admins everyone; the columns are the exercises anyone of them submitted to."""
+    exercises, for admins everyone; the columns are the exercises anyone of them submitted to. The submissions
+    are read in their light columns (repo.scored_submissions: no program, diagnostics or criteria) for the same
+    readers as visible_submissions."""
     if not principal.has_scope("submissions:read"):
         raise ApiError("MISSING_SCOPE", scope="submissions:read")
     if not principal.is_instructor():
         raise ApiError("FORBIDDEN")
     users = {u.id: u for u in repo.list_users(db)}
-    if principal.user is not None and principal.user.role == "admin":
+    admin = principal.user is not None and principal.user.role == "admin"
+    if admin:
         members = {u.id for u in users.values() if u.role == "student"}
     else:
         members = {u.id for u in repo.students_of(db, principal.user_id)}  # type: ignore[arg-type]
-    cells: dict[tuple[int, int], list[Submission]] = {}
-    exercises: dict[int, Exercise] = {}
-    for s, e, u in visible_submissions(db, principal, None):
-        if u is None or u.id == principal.user_id:
+    instructor = principal.user_id  # an instructor (checked above) or a key acting for one
+    scored = repo.scored_submissions(db, user_id=principal.user_id, owner_id=instructor, instructor_id=instructor,
+                                     api_key_id=principal.api_key.id if principal.api_key else None,
+                                     everything=admin)
+    cells: dict[tuple[int, int], list[repo.Scored]] = {}
+    for s in scored:
+        if s.user_id is None or s.user_id == principal.user_id or s.user_id not in users:
             continue  # learning-platform learners have no account; the caller's own tries are not a trainee's
-        cells.setdefault((u.id, e.id), []).append(s)
-        exercises[e.id] = e
-        members.add(u.id)
-    columns = sorted(exercises.values(), key=list_order)
+        cells.setdefault((s.user_id, s.exercise_id), []).append(s)
+        members.add(s.user_id)
+    exercises = repo.exercises_by_ids(db, (eid for _, eid in cells))
+    columns = sorted(exercises, key=list_order)
     rows = []
     for uid in sorted(members, key=lambda i: users[i].username.casefold()):
         row: dict[str, ResultCell] = {}
         for e in columns:
             subs = cells.get((uid, e.id))
             if subs:
-                best = best_of(subs)
+                best = best_of(subs)  # type: ignore[arg-type]  # Scored has the score as its grading
                 score, max_score = _score(best)
                 row[e.slug] = ResultCell(best_score=score, max_score=max_score, best_submission=best.id,
                                          submissions=[s.id for s in subs], created_at=best.created_at)

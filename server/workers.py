@@ -3,7 +3,10 @@
 The jobs are plain top-level functions of plain data, so they cross the process boundary by pickle.
 Every job is submitted through `Workers.call`, which handles for all callers what can happen to a worker
 process: a job over the time limit (counted from its start) ends its process, a process that dies is
-replaced and its job retried once; see the class.
+replaced and its job retried once; see the class. Heavy jobs (everything but check, run and the live
+re-runs) never take the last free process, and one user has only so many heavy requests at a time
+(`Workers.admit`); results of pure jobs on content (pictures, drawings, task sheets) are kept by that content
+(`Workers.cached`).
 """
 
 from __future__ import annotations
@@ -11,14 +14,16 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import gc
+import hashlib
 import importlib.util
 import itertools
 import json
 import logging
 import multiprocessing
+import threading
 import time
-from collections import OrderedDict, defaultdict, deque
-from collections.abc import Callable
+from collections import Counter, OrderedDict, defaultdict, deque
+from collections.abc import Callable, Iterator
 from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from multiprocessing.connection import wait as mp_wait
@@ -111,13 +116,17 @@ def job_simulate(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any
     return simulation_json(result)
 
 
+STORED_DIAGNOSTICS = 200  # diagnostics a submission keeps (the first ones); its summary counts all of them
+
+
 def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
-    """A submission's result: its diagnostics, a summary of its run and, for an exercise the grader
-    can read, the grade (`paltrainer grade --json`, all criteria; None otherwise)."""
+    """A submission's result: its first STORED_DIAGNOSTICS diagnostics, a summary of its run (with the number
+    of all its diagnostics, `diagnostics`) and, for an exercise the grader can read, the grade (`paltrainer
+    grade --json`, all criteria; None otherwise). The error and warning counts are of all diagnostics."""
     toolpath = run(text, dialect, make_setup(spec))
     exercise = exercise_document(spec)
     grading = grade(exercise, text).to_json("instructor") if exercise is not None else None
-    diags = [d.to_json() for d in toolpath.diagnostics]
+    diags = [d.to_json() for d in toolpath.diagnostics[:STORED_DIAGNOSTICS]]
     kinds: dict[str, int] = defaultdict(int)
     for m in toolpath.moves:
         kinds[m.kind] += 1
@@ -127,7 +136,7 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
         "warnings": sum(d.severity is Severity.WARNING for d in toolpath.diagnostics),
         "summary": {"moves": len(toolpath.moves), "rapid": kinds["rapid"], "feed": kinds["feed"],
                     "arc": kinds["arc"], "tool_changes": len(toolpath.tool_changes),
-                    "dwells": len(toolpath.dwells)},
+                    "dwells": len(toolpath.dwells), "diagnostics": len(toolpath.diagnostics)},
         "grading": grading,
     }
 
@@ -234,11 +243,20 @@ def job_drawing(document: dict[str, Any], lang: str) -> str:
     return part_drawing(ExerciseDocument.model_validate(document), lang)
 
 
-def job_sheet(documents: list[dict[str, Any]], lang: str) -> bytes:
-    """The printed task sheets of exercises (PDF, core/sheet); SheetUnavailable without WeasyPrint."""
+def job_sheet(document: dict[str, Any], lang: str) -> bytes:
+    """The printed task sheet of one exercise (PDF, core/sheet): its task page and its programming-form pages;
+    SheetUnavailable without WeasyPrint. One exercise per job: an assignment's sheets are these, put together
+    (job_merge_pdfs), so that no job grows with the number of exercises."""
     from core.sheet import task_sheet_pdf
 
-    return task_sheet_pdf([ExerciseDocument.model_validate(d) for d in documents], lang)
+    return task_sheet_pdf([ExerciseDocument.model_validate(document)], lang)
+
+
+def job_merge_pdfs(parts: list[bytes]) -> bytes:
+    """PDFs one after the other as one (core.sheet.merge_pdfs)."""
+    from core.sheet import merge_pdfs
+
+    return merge_pdfs(parts)
 
 
 def job_validate_exercise(text: str) -> dict[str, Any]:
@@ -379,6 +397,45 @@ def job_live_batch(fn: Callable[..., dict[str, Any]], requests: list[tuple[Any, 
     return out
 
 
+# the jobs every page waits for while a trainee types: they may take any process; every other job is heavy and
+# leaves one process free for them (Workers.call)
+LIGHT_JOBS: frozenset[Callable[..., Any]] = frozenset({job_warm, job_check, job_run, job_live, job_live_batch,
+                                                      job_live_close})
+
+
+def content_key(*parts: Any) -> str:
+    """A key for job results that depend on nothing but `parts` (an exercise's document, the language …)."""
+    text = json.dumps(parts, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode("utf-8", errors="surrogatepass")).hexdigest()
+
+
+class _Results:
+    """Results of pure jobs by their content key, the least recently used dropped first beyond `budget` bytes."""
+
+    def __init__(self, budget: int) -> None:
+        self.budget, self.size = budget, 0
+        self.items: OrderedDict[str, bytes | str] = OrderedDict()
+        self.lock = threading.Lock()
+
+    def get(self, key: str) -> bytes | str | None:
+        with self.lock:
+            value = self.items.get(key)
+            if value is not None:
+                self.items.move_to_end(key)
+            return value
+
+    def put(self, key: str, value: Any) -> None:
+        if not isinstance(value, bytes | str) or len(value) > self.budget // 8:
+            return
+        with self.lock:
+            old = self.items.pop(key, None)
+            self.size += len(value) - (len(old) if old is not None else 0)
+            self.items[key] = value
+            while self.size > self.budget and self.items:
+                _, dropped = self.items.popitem(last=False)
+                self.size -= len(dropped)
+
+
 # --- the pool -------------------------------------------------------------------------------
 
 
@@ -409,6 +466,7 @@ class _Slot:
         self.generation = 0
         self.ready = False  # warmed up and not known dead
         self.job: Any = None  # _Job, _RESERVED or None (free)
+        self.heavy = False  # the job it holds is heavy
         self.watched: int | None = None  # the sentinel file descriptor the event loop watches
 
     def dead(self) -> bool:
@@ -425,17 +483,28 @@ class Workers:
     killed for running over time takes no other job with it; a process that dies (kill -9, the
     out-of-memory killer) is replaced at once, and the job that was in it runs once more (jobs are
     pure); a job that kills its process twice is answered 503 WORKER_FAILED.
+
+    Heavy jobs (all but LIGHT_JOBS: pictures, drawings, task sheets, grading, simulations, 3D scenes and
+    deviations) run in at most `heavy_processes` processes at once, one fewer than there are: however many
+    of them wait, a check, a run or a live update finds a process within one light job's time. `admit`
+    counts each user's heavy requests, `cached` keeps the results of jobs on content.
     """
 
     queue_seconds = 60.0  # longest wait for a free process before 503 BUSY
     respawn_delay = 1.0  # pause before starting again a process that failed to start
+    cache_bytes = 64 * 1024 * 1024  # results kept by `cached` (pictures, drawings, task sheets)
 
     def __init__(self, processes: int, seconds: float) -> None:
         self.processes, self.seconds = max(1, processes), seconds
+        self.heavy_processes = self.processes - 1 if self.processes > 1 else 1
         self._slots: list[_Slot] = []
         self._documents = [0] * self.processes  # live documents per slot
-        self._waiting: deque[tuple[int | None, asyncio.Future[_Slot]]] = deque()
+        self._waiting: deque[tuple[int | None, bool, asyncio.Future[_Slot]]] = deque()
         self._loop: asyncio.AbstractEventLoop | None = None
+        self._owners: Counter[str] = Counter()  # heavy requests under way, per user, key or address
+        self._owners_lock = threading.Lock()
+        self._results = _Results(self.cache_bytes)
+        self._flights: dict[str, asyncio.Future[Any]] = {}  # `cached` jobs under way, by key
 
     # -- life cycle
 
@@ -458,7 +527,7 @@ class Workers:
                 slot.process.kill()  # jobs are pure: nothing is lost
             if slot.pool is not None:
                 slot.pool.shutdown(wait=True, cancel_futures=True)
-        for _, waiter in self._waiting:
+        for _, _, waiter in self._waiting:
             if not waiter.done():
                 waiter.set_exception(ApiError("NOT_READY", detail="workers stopped"))
         self._waiting.clear()
@@ -476,6 +545,60 @@ class Workers:
     def pids(self) -> list[int]:
         """The worker processes' ids, one per slot."""
         return [slot.process.pid for slot in self._slots if slot.process is not None]
+
+    @property
+    def waiting(self) -> int:
+        """Callers waiting for a process."""
+        return sum(1 for _, _, waiter in self._waiting if not waiter.done())
+
+    @property
+    def busy(self) -> int:
+        """Processes running a job (or handed one)."""
+        return sum(1 for slot in self._slots if slot.job is not None)
+
+    @staticmethod
+    def is_heavy(fn: Callable[..., Any]) -> bool:
+        """Whether a job leaves the last free process to the light ones (all but LIGHT_JOBS)."""
+        return fn not in LIGHT_JOBS
+
+    # -- heavy requests per user, and results by content
+
+    @contextlib.contextmanager
+    def admit(self, owner: str, limit: int) -> Iterator[None]:
+        """One heavy request of `owner` (a user, key or address) while the block runs; 429 TOO_MANY_JOBS when
+        `owner` has `limit` of them under way already. Counted in this process (each replica on its own)."""
+        with self._owners_lock:
+            if self._owners[owner] >= limit:
+                raise ApiError("TOO_MANY_JOBS", headers={"Retry-After": "2"}, limit=limit)
+            self._owners[owner] += 1
+        try:
+            yield
+        finally:
+            with self._owners_lock:
+                self._owners[owner] -= 1
+                if self._owners[owner] <= 0:
+                    del self._owners[owner]
+
+    async def cached(self, key: str, fn: Any, *args: Any) -> Any:
+        """`call(fn, *args)` for a pure job whose result depends on nothing but `key` (content_key of its
+        input): a result made before is answered from memory (cache_bytes, least recently used dropped first),
+        and callers asking for the same key at once share one job."""
+        hit = self._results.get(key)
+        if hit is not None:
+            return hit
+        loop = asyncio.get_running_loop()
+        flight = self._flights.get(key)
+        if flight is None or flight.get_loop() is not loop:
+            flight = asyncio.ensure_future(self.call(fn, *args))
+            self._flights[key] = flight
+            flight.add_done_callback(lambda done: self._landed(key, done))
+        return await asyncio.shield(flight)  # a caller that goes away leaves the job to the others
+
+    def _landed(self, key: str, flight: asyncio.Future[Any]) -> None:
+        if self._flights.get(key) is flight:
+            del self._flights[key]
+        if not flight.cancelled() and flight.exception() is None:
+            self._results.put(key, flight.result())
 
     def _attach(self) -> asyncio.AbstractEventLoop:
         """The event loop the pool reports to: the one start() ran in, else the first caller's."""
@@ -574,9 +697,12 @@ class Workers:
     def release_slot(self, slot: int) -> None:
         self._documents[slot] = max(0, self._documents[slot] - 1)
 
-    def _free(self, affinity: int | None) -> _Slot | None:
-        """A slot that can start a job now: the document's own, or any (those with fewer live documents first)."""
+    def _free(self, affinity: int | None, heavy: bool = False) -> _Slot | None:
+        """A slot that can start a job now: the document's own, or any (those with fewer live documents first);
+        for a heavy job none while `heavy_processes` run heavy jobs."""
         if not self._slots:
+            return None
+        if heavy and sum(1 for s in self._slots if s.job is not None and s.heavy) >= self.heavy_processes:
             return None
         if affinity is not None:
             candidates = [self._slots[affinity % len(self._slots)]]
@@ -591,27 +717,28 @@ class Workers:
         return None
 
     def _dispatch(self) -> None:
-        """Hand free slots to the waiting callers, oldest first."""
+        """Hand free slots to the waiting callers, oldest first (a heavy one that must wait lets the light ones
+        behind it go first)."""
         for item in list(self._waiting):
-            affinity, waiter = item
+            affinity, heavy, waiter = item
             if waiter.done():
                 self._waiting.remove(item)
                 continue
-            slot = self._free(affinity)
+            slot = self._free(affinity, heavy)
             if slot is not None:
-                slot.job = _RESERVED
+                slot.job, slot.heavy = _RESERVED, heavy
                 waiter.set_result(slot)
                 self._waiting.remove(item)
 
     def _release(self, slot: _Slot, job: Any) -> None:
         if slot.job is job:
-            slot.job = None
+            slot.job, slot.heavy = None, False
             self._dispatch()
 
-    async def _acquire(self, affinity: int | None) -> _Slot:
+    async def _acquire(self, affinity: int | None, heavy: bool = False) -> _Slot:
         loop = self._attach()
         waiter: asyncio.Future[_Slot] = loop.create_future()
-        item = (affinity, waiter)
+        item = (affinity, heavy, waiter)
         self._waiting.append(item)
         self._dispatch()
         try:
@@ -672,22 +799,24 @@ class Workers:
                 raise ApiError("TIME_LIMIT", seconds=self.seconds) from None
             raise
 
-    async def call(self, fn: Any, *args: Any, affinity: int | None = None) -> Any:
+    async def call(self, fn: Any, *args: Any, affinity: int | None = None, heavy: bool | None = None) -> Any:
         """Run `fn(*args)` in a worker: TIME_LIMIT (503) when it runs longer than the limit, WORKER_FAILED (503)
-        when its process dies twice, BUSY (503) when no process is free for `queue_seconds`."""
+        when its process dies twice, BUSY (503) when no process is free for `queue_seconds`. `heavy` (by default
+        `is_heavy(fn)`): the job waits while `heavy_processes` run heavy jobs."""
         if not self._slots:
             raise ApiError("NOT_READY", detail="workers not started")
+        heavy = self.is_heavy(fn) if heavy is None else heavy
         home, loop = self._loop, asyncio.get_running_loop()
         if home is not None and home is not loop:
             if home.is_running():  # the pool's state belongs to its loop: the call runs there
                 return await asyncio.wrap_future(
-                    asyncio.run_coroutine_threadsafe(self.call(fn, *args, affinity=affinity), home))
+                    asyncio.run_coroutine_threadsafe(self.call(fn, *args, affinity=affinity, heavy=heavy), home))
             self._rehome()  # the loop start() ran in has ended: this one takes the pool over
         failures = 0
         while True:
             if not self._slots:
                 raise ApiError("NOT_READY", detail="workers stopped")
-            slot = await self._acquire(affinity)
+            slot = await self._acquire(affinity, heavy)
             try:
                 return await self._run_once(slot, fn, args)
             except _Requeue:

@@ -141,13 +141,14 @@ def launch(client: TestClient, platform: Platform, token_for: Any = None, state:
 
 
 @contextmanager
-def tool_client(data: Path) -> Iterator[TestClient]:
+def tool_client(data: Path, **settings_: Any) -> Iterator[TestClient]:
     """PAL Trainer (the tool) with the PAL milling exercises, on a fresh database under `data`."""
     from server.app import create_app
     from server.config import Settings
 
     settings = Settings(data_dir=data / "data", secret_key="lti-test-secret-of-at-least-thirty-two-bytes",
-                        workers=1, exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill")
+                        workers=1, exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill",
+                        **settings_)
     with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
         yield c
 

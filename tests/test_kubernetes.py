@@ -1,10 +1,12 @@
 """deploy/kubernetes/ (issue 21): every manifest is valid against the Kubernetes schemas (kubernetes-validate,
 which bundles them: no network), strictly (no unknown fields), and the pieces fit together — the Deployment
 reads the Secret's keys, probes /readyz and /healthz, the autoscaler and the disruption budget point at its
-pods, the Service selects them, the 3D view's Ingress sticks by cookie, the migration Job runs the migration."""
+pods, the Service selects them, the 3D view's Ingress sticks by cookie, the migration Job runs the migration;
+only the ingress controller reaches the app, and the app trusts forwarded addresses from nowhere else."""
 
 from __future__ import annotations
 
+import ipaddress
 from pathlib import Path
 from typing import Any
 
@@ -84,3 +86,30 @@ def test_the_3d_view_sticks_and_everything_has_tls() -> None:
     for ingress in ingresses.values():
         assert ingress["spec"]["tls"][0]["secretName"]
         assert ingress["spec"]["ingressClassName"] == "nginx"
+
+
+def test_forwarded_addresses_are_trusted_from_the_ingress_only() -> None:
+    """X-Forwarded-For decides whose budget a request uses up: a pod that could set it could use anyone's and
+    spare its own. The app trusts it from the pod network only, and only the ingress controller may connect."""
+    deployment = one("Deployment")
+    pod = deployment["spec"]["template"]
+    app = pod["spec"]["containers"][0]
+    assert "--proxy-headers" in app["command"]
+    trusted = {e["name"]: e for e in app["env"]}["FORWARDED_ALLOW_IPS"]["value"]
+    networks = [ipaddress.ip_network(part.strip()) for part in trusted.split(",")]  # no "*", no host names
+    assert networks and all(n.is_private and n.prefixlen >= 8 for n in networks), networks
+    policies = [d for d in documents() if d["kind"] == "NetworkPolicy"]
+    assert [p["metadata"]["name"] for p in policies] == ["paltrainer-web"]
+    spec = policies[0]["spec"]
+    assert spec["podSelector"]["matchLabels"].items() <= pod["metadata"]["labels"].items()
+    assert spec["podSelector"]["matchLabels"] == one("Service", "paltrainer")["spec"]["selector"]
+    assert spec["policyTypes"] == ["Ingress"]
+    (rule,) = spec["ingress"]
+    (peer,) = rule["from"]  # one peer: the controller's pods in the controller's namespace, both required
+    assert set(peer) == {"namespaceSelector", "podSelector"}
+    assert peer["namespaceSelector"]["matchLabels"] == {"kubernetes.io/metadata.name": "ingress-nginx"}
+    assert peer["podSelector"]["matchLabels"]["app.kubernetes.io/name"] == "ingress-nginx"
+    container_ports = {p["name"]: p["containerPort"] for p in app["ports"]}
+    assert [(p["protocol"], container_ports.get(p["port"], p["port"])) for p in rule["ports"]] == [("TCP", 8000)]
+    # the Ingress objects are served by that controller
+    assert {i["spec"]["ingressClassName"] for i in documents() if i["kind"] == "Ingress"} == {"nginx"}

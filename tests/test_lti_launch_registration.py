@@ -80,6 +80,30 @@ def test_dynamic_registration_needs_our_code_and_stores_the_platform(client: Tes
     assert moodle["auth_login_url"] == f"{ISSUER}/mod/lti/auth.php"
 
 
+def test_a_registration_url_registers_one_platform(client: TestClient) -> None:
+    seen: list[httpx.Request] = []
+    client.app.state.lti_transport = _moodle(seen)  # type: ignore[attr-defined]
+    url = client.post("/api/v1/admin/lti/registration-url", headers=admin_headers(client)).json()["url"]
+    path = url.removeprefix("http://127.0.0.1")
+    params = {"openid_configuration": f"{ISSUER}/mod/lti/openid-configuration.php", "registration_token": "reg-token-1"}
+    # opened without a platform's request (an admin trying the link): refused, and the URL still works
+    r = client.get(path)
+    assert r.status_code == 400 and 'data-code="LTI_REGISTRATION_INCOMPLETE"' in r.text
+    assert client.get(path + "&" + urlencode(params)).status_code == 200
+    fetched = len(seen)
+    # the same URL again, e.g. by a second platform whose admin got hold of it: refused, nothing fetched
+    again = client.get(path + "&" + urlencode(params))
+    assert again.status_code == 403 and 'data-code="LTI_REGISTRATION_CODE"' in again.text
+    assert "schon verwendet" in again.text
+    assert len(seen) == fetched
+    # a failed registration uses its URL up as well: the platform was contacted
+    url = client.post("/api/v1/admin/lti/registration-url", headers=admin_headers(client)).json()["url"]
+    other = {"openid_configuration": "https://other.example.test/mod/lti/openid-configuration.php"}
+    path = url.removeprefix("http://127.0.0.1")
+    assert client.get(path + "&" + urlencode(other)).status_code == 502
+    assert client.get(path + "&" + urlencode(params)).status_code == 403
+
+
 def test_dynamic_registration_refuses_a_configuration_of_another_site(client: TestClient) -> None:
     seen: list[httpx.Request] = []
     client.app.state.lti_transport = _moodle(seen)  # type: ignore[attr-defined]

@@ -7,6 +7,7 @@ from __future__ import annotations
 import logging
 import time
 from collections.abc import Iterator
+from datetime import UTC, datetime, timedelta
 from typing import Any
 
 import httpx
@@ -25,8 +26,9 @@ from lti_testplatform import (
 )
 from sqlalchemy import select
 
+from server.lti import launch as lti_launch
 from server.lti.launch import JwksCache, role_of
-from server.models import CourseMember, LtiUser, User
+from server.models import CourseMember, LtiLoginState, LtiPlatform, LtiUser, User
 
 
 @pytest.fixture(scope="module")
@@ -194,7 +196,49 @@ def test_login_needs_its_parameters(client: TestClient, caplog: pytest.LogCaptur
 
 def test_login_sends_the_id_token_only_to_our_launch(client: TestClient, platform: Platform,
                                                      caplog: pytest.LogCaptureFixture) -> None:
-    for target in ("https://evil.example/steal", "javascript:alert(1)", "http://127.0.0.1/lti/jwks"):
+    for target in ("https://evil.example/steal", "javascript:alert(1)", "http://127.0.0.1/lti/jwks",
+                   "https://evil.example/lti/launch", "http://127.0.0.1:8001/lti/launch",
+                   "https://127.0.0.1/lti/launch", "http://evil.example@127.0.0.1/lti/launch"):
         r = client.get("/lti/login", params={"iss": platform.issuer, "login_hint": "1", "client_id": platform.client_id,
                                              "target_link_uri": target}, follow_redirects=False)
         refused(r, "LTI_BAD_TARGET", caplog, 400)
+    # our own launch endpoint, as the platform has it registered, is fine
+    state, _ = login(client, platform)
+    assert state
+
+
+def test_logins_from_one_address_are_limited(tmp_path_factory: pytest.TempPathFactory) -> None:
+    with tool_client(tmp_path_factory.mktemp("lti-login-limit"), rate_lti_login_per_minute=5) as limited:
+        p = registered_platform(limited)
+        for _ in range(5):
+            assert login(limited, p)
+        r = limited.get("/lti/login", params={"iss": p.issuer, "login_hint": "1", "client_id": p.client_id,
+                                              "target_link_uri": "http://127.0.0.1/lti/launch"},
+                        follow_redirects=False)
+        assert r.status_code == 429 and 'data-code="RATE_LIMITED"' in r.text
+        assert "Zu viele Starts von dieser Adresse" in r.text and int(r.headers["retry-after"]) > 0
+        with limited.app.state.db.session() as db:  # type: ignore[attr-defined]
+            assert len(db.scalars(select(LtiLoginState)).all()) == 5  # nothing stored for the refused one
+
+
+def test_stored_login_states_are_bounded(client: TestClient, platform: Platform,
+                                         monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(lti_launch, "MAX_LOGIN_STATES", 4, raising=False)
+    with client.app.state.db.session() as db:  # type: ignore[attr-defined]
+        platform_id = db.scalars(select(LtiPlatform.id).where(LtiPlatform.issuer == platform.issuer)).one()
+        db.add(LtiLoginState(state="expired-one", nonce="n", platform_id=platform_id,
+                             expires_at=datetime.now(UTC) - timedelta(seconds=1)))
+        db.commit()
+    states = [login(client, platform) for _ in range(7)]
+    with client.app.state.db.session() as db:  # type: ignore[attr-defined]
+        kept = {row.state for row in db.scalars(select(LtiLoginState))}
+    assert kept == {state for state, _ in states[-4:]}  # the newest; the oldest and the expired one are gone
+    # a login that comes back finds its state; one pushed out starts again from the platform
+    newest, nonce = states[-1]
+    token = platform.sign(platform.claims(nonce, sub="bounded-1"))
+    assert client.post("/lti/launch", data={"id_token": token, "state": newest}, follow_redirects=False
+                       ).status_code == 303
+    oldest, nonce = states[0]
+    token = platform.sign(platform.claims(nonce, sub="bounded-2"))
+    r = client.post("/lti/launch", data={"id_token": token, "state": oldest})
+    assert r.status_code == 400 and 'data-code="LTI_BAD_STATE"' in r.text

@@ -4,6 +4,7 @@ Per exercise, a task page — title, task text, the dimensioned drawing (core/dr
 cutting data, and for kinds complete and fix the start program — then empty programming-form pages
 ("Programmierblatt": one column per address and a wide remark column, 25 rows a page). Several exercises
 make one document. The HTML comes from the templates next to this file; WeasyPrint turns it into PDF.
+`merge_pdfs` puts PDFs made one exercise at a time one after the other (pypdf).
 
 WeasyPrint needs Pango and HarfBuzz from the system, so it is imported only when a PDF is made: without
 it everything else works, and `task_sheet_pdf` raises `SheetUnavailable`, saying what is missing.
@@ -14,6 +15,7 @@ from __future__ import annotations
 import base64
 import html
 import importlib
+import io
 import math
 import re
 from collections.abc import Sequence
@@ -216,3 +218,24 @@ def task_sheet_pdf(exercises: Sequence[Exercise], lang: str = "de") -> bytes:
     document = task_sheet_html(exercises, lang)
     pdf: bytes = engine.HTML(string=document).write_pdf()
     return pdf
+
+
+def merge_pdfs(parts: Sequence[bytes]) -> bytes:
+    """PDFs one after the other as one PDF (pypdf): the server renders each exercise's sheet on its own (one
+    exercise's pages are one short job, and cached) and hands out an assignment's sheets as one file. Each part
+    keeps its own page numbers ("Seite 1 von 2": the pages of its exercise) and footer (its exercise)."""
+    if not parts:
+        raise ValueError("no PDFs")
+    if len(parts) == 1:
+        return parts[0]
+    try:
+        from pypdf import PdfReader, PdfWriter
+    except ImportError:
+        raise SheetUnavailable("pypdf ist nicht installiert (pip install pypdf).",
+                               "pypdf is not installed (pip install pypdf).") from None
+    writer = PdfWriter()
+    for part in parts:
+        writer.append(PdfReader(io.BytesIO(part)))
+    out = io.BytesIO()
+    writer.write(out)
+    return out.getvalue()

@@ -31,6 +31,7 @@ from server import access
 from server.db import Database
 from server.lti.keys import signing_key
 from server.lti.launch import resource_link_for
+from server.lti.registration import service_url_ok
 from server.models import (
     Assignment,
     Exercise,
@@ -217,7 +218,34 @@ def scores_url(lineitem_url: str) -> str:
 
 
 class PassbackError(Exception):
-    """The platform did not take the score (yet); the message goes into the row's last_error."""
+    """The platform did not take the score (yet). The message goes into the row's last_error, which instructors
+    read: always one of ours (German / English, at most with the HTTP status), never text from the platform's
+    answer."""
+
+
+def unreachable(service: tuple[str, str]) -> PassbackError:
+    return PassbackError(f"Die Lernplattform war nicht erreichbar ({service[0]}). / "
+                         f"The learning platform was unreachable ({service[1]}).")
+
+
+def refused(service: tuple[str, str], status: int) -> PassbackError:
+    return PassbackError(f"Die Lernplattform hat die Anfrage abgelehnt ({service[0]}, HTTP {status}). / "
+                         f"The learning platform refused the request ({service[1]}, HTTP {status}).")
+
+
+def not_understood(service: tuple[str, str]) -> PassbackError:
+    return PassbackError(f"Die Antwort der Lernplattform war unverständlich ({service[0]}). / "
+                         f"The learning platform's answer was not understood ({service[1]}).")
+
+
+def foreign_url(service: tuple[str, str]) -> PassbackError:
+    return PassbackError(f"Die Adresse ({service[0]}) gehört nicht zur registrierten Lernplattform; nichts "
+                         f"gesendet. / The address ({service[1]}) is not on the registered platform; nothing sent.")
+
+
+TOKEN = ("Zugriffstoken", "access token")
+LINEITEMS = ("Bewertungsspalte", "line items")
+SCORE = ("Notenübertragung", "score service")
 
 
 @dataclass
@@ -255,18 +283,19 @@ async def access_token(client: httpx.AsyncClient, db: Session, platform: LtiPlat
         return cached.value
     form = {"grant_type": "client_credentials", "client_assertion_type": ASSERTION_TYPE,
             "client_assertion": client_assertion(db, platform), "scope": scope}
+    db.commit()  # no pooled connection is held while the platform answers
     try:
         resp = await client.post(platform.token_url, data=form, headers={"Accept": "application/json"})
     except httpx.HTTPError as err:
-        raise PassbackError(f"token endpoint unreachable: {type(err).__name__}") from err
+        raise unreachable(TOKEN) from err
     if resp.status_code != 200:
-        raise PassbackError(f"token endpoint answered {resp.status_code}: {resp.text[:200]}")
+        raise refused(TOKEN, resp.status_code)
     try:
         body = resp.json()
         value = str(body["access_token"])
         lifetime = float(body.get("expires_in", 3600))
-    except (ValueError, KeyError, TypeError) as err:
-        raise PassbackError("token endpoint gave no access_token") from err
+    except (ValueError, KeyError, TypeError, AttributeError) as err:
+        raise not_understood(TOKEN) from err
     with _tokens_lock:
         _tokens[cache_key] = _Token(value, time.monotonic() + max(lifetime - 60, 0))
     return value
@@ -277,10 +306,14 @@ async def ensure_lineitem(client: httpx.AsyncClient, db: Session, platform: LtiP
     link (found by resource_link_id, or made with a maximum of 100) — kept on the link for all its rows."""
     link = db.get(LtiResourceLink, row.resource_link_pk) if row.resource_link_pk is not None else None
     if link is None or not link.lineitems_url:
-        raise PassbackError("the link has no line item and none can be made")
+        raise PassbackError("Der Link hat keine Bewertungsspalte, und keine lässt sich anlegen. / "
+                            "The link has no line item and none can be made.")
     if not link.lineitem_url:
+        if not service_url_ok(platform, link.lineitems_url):
+            raise foreign_url(LINEITEMS)
         token = await access_token(client, db, platform, [LINEITEM_SCOPE])
         auth = {"Authorization": f"Bearer {token}"}
+        db.commit()
         try:
             found = await client.get(link.lineitems_url, params={"resource_link_id": link.resource_link_id},
                                      headers={**auth, "Accept": LINEITEMS_MEDIA_TYPE})
@@ -288,19 +321,26 @@ async def ensure_lineitem(client: httpx.AsyncClient, db: Session, platform: LtiP
             mine = [i for i in items if isinstance(i, dict) and i.get("resourceLinkId") == link.resource_link_id
                     and isinstance(i.get("id"), str)] if isinstance(items, list) else []
             if mine:
-                link.lineitem_url = mine[0]["id"][:1000]
+                made_id = mine[0]["id"]
             else:
                 made = await client.post(link.lineitems_url, json={
                     "scoreMaximum": SCORE_MAXIMUM, "label": (link.title or row.exercise_slug)[:200],
                     "resourceLinkId": link.resource_link_id, "resourceId": row.exercise_slug},
                     headers={**auth, "Content-Type": LINEITEM_MEDIA_TYPE, "Accept": LINEITEM_MEDIA_TYPE})
-                if made.status_code not in (200, 201) or not isinstance(made.json().get("id"), str):
-                    raise PassbackError(f"line item service answered {made.status_code}: {made.text[:200]}")
-                link.lineitem_url = made.json()["id"][:1000]
+                if made.status_code not in (200, 201):
+                    raise refused(LINEITEMS, made.status_code)
+                body = made.json()
+                made_id = body.get("id") if isinstance(body, dict) else None
+                if not isinstance(made_id, str):
+                    raise not_understood(LINEITEMS)
         except httpx.HTTPError as err:
-            raise PassbackError(f"line item service unreachable: {type(err).__name__}") from err
+            raise unreachable(LINEITEMS) from err
         except ValueError as err:
-            raise PassbackError("line item service answered no JSON") from err
+            raise not_understood(LINEITEMS) from err
+        # the line item's id is where its scores go: the platform's answer names it, so it is checked as well
+        if len(made_id) > 1000 or not service_url_ok(platform, made_id):
+            raise foreign_url(LINEITEMS)
+        link.lineitem_url = made_id
     row.lineitem_url = link.lineitem_url
     db.commit()
     return row.lineitem_url
@@ -309,16 +349,20 @@ async def ensure_lineitem(client: httpx.AsyncClient, db: Session, platform: LtiP
 async def post_score(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, row: LtiScore) -> None:
     if not row.lineitem_url:
         await ensure_lineitem(client, db, platform, row)
+    url = scores_url(row.lineitem_url)
+    if not service_url_ok(platform, url):  # checked again before each request: stored rows may predate a change
+        raise foreign_url(SCORE)
     token = await access_token(client, db, platform, [SCORE_SCOPE])
+    db.commit()
     try:
-        resp = await client.post(scores_url(row.lineitem_url), json=score_json(row),
+        resp = await client.post(url, json=score_json(row),
                                  headers={"Authorization": f"Bearer {token}", "Content-Type": SCORE_MEDIA_TYPE})
     except httpx.HTTPError as err:
-        raise PassbackError(f"score service unreachable: {type(err).__name__}") from err
+        raise unreachable(SCORE) from err
     if resp.status_code == 401:
         forget_tokens()  # revoked or expired early: the next attempt asks for a new one
     if not 200 <= resp.status_code < 300:
-        raise PassbackError(f"score service answered {resp.status_code}: {resp.text[:200]}")
+        raise refused(SCORE, resp.status_code)
 
 
 def _claim(db: Session, row_id: int, at: datetime) -> bool:
@@ -328,6 +372,17 @@ def _claim(db: Session, row_id: int, at: datetime) -> bool:
                         .values(next_attempt_at=at + LEASE))
     db.commit()
     return bool(getattr(result, "rowcount", 0) == 1)
+
+
+def _claimed(db: Session, row_id: int, at: datetime) -> LtiScore | None:
+    """The row, fresh from the database, if this sender could claim it (`_claim`)."""
+    if not _claim(db, row_id, at):
+        return None
+    row = db.get(LtiScore, row_id)
+    if row is not None:
+        db.refresh(row)
+        db.commit()
+    return row
 
 
 def _due(db: Session, at: datetime) -> list[tuple[int, int]]:
@@ -358,14 +413,17 @@ async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: dateti
     platform = db.get(LtiPlatform, row.platform_id)
     try:
         if platform is None:
-            raise PassbackError("platform no longer registered")
+            raise PassbackError("Die Lernplattform ist in PAL Trainer nicht mehr registriert. / "
+                                "The platform is no longer registered.")
         await post_score(client, db, platform, row)
     except PassbackError as err:
+        log.info("LTI score not taken", extra={"job": f"score {row.id}: {err} {err.__cause__!r}"[:500]})
         _failed(db, row, at, str(err))
         return False
     except Exception as err:  # our key unreadable, a database hiccup …: retried the same way
         log.exception("sending an LTI score failed", extra={"job": f"score {row.id}"})
-        _failed(db, row, at, f"{type(err).__name__}: {err}")
+        _failed(db, row, at, f"Interner Fehler beim Senden ({type(err).__name__}); Näheres im Server-Protokoll. / "
+                             f"Internal error while sending ({type(err).__name__}); see the server log.")
         return False
     row.attempts += 1
     row.state = "sent"
@@ -384,13 +442,12 @@ async def drain(database: Database, at: datetime | None = None, client: httpx.As
     failing: set[int] = set()  # platforms that refused or did not answer in this round: their rows wait
     try:
         with database.session() as db:
-            for row_id, platform_id in _due(db, at):
-                if platform_id in failing or not _claim(db, row_id, at):
+            for row_id, platform_id in await asyncio.to_thread(_due, db, at):
+                if platform_id in failing:
                     continue
-                row = db.get(LtiScore, row_id)
+                row = await asyncio.to_thread(_claimed, db, row_id, at)
                 if row is None:
                     continue
-                db.refresh(row)
                 if await send(http, db, row, at):
                     sent += 1
                 else:

@@ -48,11 +48,11 @@ def _platforms(args: argparse.Namespace) -> int:
 
 def _registration_url(args: argparse.Namespace) -> int:
     from server.config import Settings
-    from server.routes.lti import registration_url
+    from server.lti.registration import registration_url
 
     print(registration_url(args.base_url.rstrip("/"), Settings()))
-    print("Gültig 7 Tage; in Moodle unter »Tool-URL« der dynamischen Registrierung eintragen / valid for 7 days",
-          file=sys.stderr)
+    print("Gültig 7 Tage für eine Registrierung; in Moodle unter »Tool-URL« der dynamischen Registrierung "
+          "eintragen / valid for 7 days and one registration", file=sys.stderr)
     return 0
 
 

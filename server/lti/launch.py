@@ -61,6 +61,8 @@ STATE_SECONDS = 600  # from /lti/login to /lti/launch: the platform's login page
 TICKET_SECONDS = 120
 LEEWAY_SECONDS = 60  # clock skew between the platform and us
 NONCE_KEEP_SECONDS = 24 * 3600  # a used nonce is remembered at least this long (beyond any token's exp)
+MAX_LOGIN_STATES = 20_000  # logins under way at once, all platforms (a 2,000-trainee evening uses a few hundred)
+NO_PASSWORD = "!lti"  # the password hash of accounts a launch makes: no password ever matches it
 
 # roles (LTI 1.3 core, appendix A.2): context roles and the institution/system administrator roles
 _LIS = "http://purl.imsglobal.org/vocab/lis/v2/"
@@ -126,8 +128,9 @@ class JwksCache:
 # --- OIDC login initiation ---------------------------------------------------------------------------
 
 
-def begin_login(db: Session, params: dict[str, str]) -> str:
-    """The URL of the platform's authorization endpoint (the REGISTERED one) with a new state and nonce."""
+def begin_login(db: Session, params: dict[str, str], own_origin: str) -> str:
+    """The URL of the platform's authorization endpoint (the REGISTERED one) with a new state and nonce.
+    `own_origin`: this tool's origin (scheme://host[:port]); the launch must come back to it."""
     issuer, login_hint, target = params.get("iss"), params.get("login_hint"), params.get("target_link_uri")
     if not issuer or not login_hint or not target:
         raise LtiRefusal("LTI_LOGIN_INCOMPLETE", "Der Anmeldeanfrage der Plattform fehlen Angaben "
@@ -137,8 +140,9 @@ def begin_login(db: Session, params: dict[str, str]) -> str:
         target_path = urlsplit(target).path
     except ValueError:
         target_path = ""
-    if target_path != "/lti/launch" or not registration.url_ok(target):
-        # the id_token goes to redirect_uri: only ever our launch endpoint (the platform checks the host too)
+    own = registration.origin_of(own_origin)
+    if target_path != "/lti/launch" or own is None or registration.origin_of(target) != own:
+        # the id_token goes to redirect_uri: only ever our own launch endpoint, never one on another host
         raise LtiRefusal("LTI_BAD_TARGET", "Die Zieladresse des Starts (target_link_uri) ist nicht /lti/launch "
                          "von PAL Trainer.", "The launch's target_link_uri is not PAL Trainer's /lti/launch.")
     candidates = registration.platforms_of_issuer(db, issuer)
@@ -153,9 +157,9 @@ def begin_login(db: Session, params: dict[str, str]) -> str:
                          "Several client ids are registered for this platform; the login request must name one.")
     platform = candidates[0]
     state, nonce = secrets.token_urlsafe(32), secrets.token_urlsafe(32)
-    db.execute(delete(LtiLoginState).where(LtiLoginState.expires_at < _now()))
     db.add(LtiLoginState(state=state, nonce=nonce, platform_id=platform.id,
                          expires_at=_now() + timedelta(seconds=STATE_SECONDS)))
+    _prune_login_states(db)
     db.commit()
     query = {"scope": "openid", "response_type": "id_token", "response_mode": "form_post", "prompt": "none",
              "client_id": platform.client_id, "redirect_uri": target, "login_hint": login_hint, "state": state,
@@ -164,6 +168,17 @@ def begin_login(db: Session, params: dict[str, str]) -> str:
         query["lti_message_hint"] = params["lti_message_hint"]
     sep = "&" if "?" in platform.auth_login_url else "?"
     return platform.auth_login_url + sep + urlencode(query)
+
+
+def _prune_login_states(db: Session) -> None:
+    """Expired login states go; beyond MAX_LOGIN_STATES the oldest go too. Anyone may start a login (the
+    route limits each address), so the table is bounded: under a flood of logins from many addresses a state
+    lives shorter, but a real login, which comes back within seconds, still finds its own."""
+    db.execute(delete(LtiLoginState).where(LtiLoginState.expires_at < _now()))
+    oldest_kept = db.scalars(select(LtiLoginState.id).order_by(LtiLoginState.id.desc())
+                             .offset(MAX_LOGIN_STATES - 1).limit(1)).first()
+    if oldest_kept is not None:
+        db.execute(delete(LtiLoginState).where(LtiLoginState.id < oldest_kept))
 
 
 def _unregistered(issuer: str) -> LtiRefusal:
@@ -275,27 +290,66 @@ def role_of(claims: dict[str, Any]) -> str:
     return "instructor" if roles & _INSTRUCTOR_ROLES else "learner"
 
 
-def _user(db: Session, platform: LtiPlatform, claims: dict[str, Any], teaches: bool) -> tuple[User, LtiUser]:
+def _identity(db: Session, platform: LtiPlatform, sub: str) -> LtiUser | None:
+    return db.scalars(select(LtiUser).where(LtiUser.platform_id == platform.id, LtiUser.sub == sub)).first()
+
+
+def _new_identity(db: Session, platform: LtiPlatform, sub: str, role: str) -> LtiUser:
+    """A new account for the platform's user `sub`, linked to them in one transaction. The link (platform, sub) is
+    the only way from a platform user to an account: an existing account that merely has the generated name
+    (someone made it before the first launch: the name is predictable) is never adopted; the new account gets a
+    fresh name then."""
+    base = f"lti{platform.id}-{hashlib.sha256(sub.encode('utf-8')).hexdigest()[:16]}"
+    for attempt in range(5):
+        username = base if attempt == 0 else f"{base}-{secrets.token_hex(4)}"
+        if repo.user_by_name(db, username) is not None:
+            continue
+        try:
+            user = User(username=username, password_hash=NO_PASSWORD, role=role)
+            db.add(user)
+            db.flush()
+            link = LtiUser(platform_id=platform.id, sub=sub, user_id=user.id)
+            db.add(link)
+            db.commit()
+            return link
+        except IntegrityError:
+            db.rollback()
+            made = _identity(db, platform, sub)  # the same person's other launch at the same moment made it
+            if made is not None:
+                return made
+    raise LtiRefusal("LTI_USER_FAILED", "Das Konto für den Start ließ sich nicht anlegen; bitte erneut öffnen.",
+                     "The account for this launch could not be made; please open it again.", 503)
+
+
+def platform_user(db: Session, platform: LtiPlatform, claims: dict[str, Any], teaches: bool) -> tuple[User, LtiUser]:
+    """The account of the platform's user (claims "sub", name, email), made on their first launch or roster pull;
+    a user the platform says teaches becomes an instructor here."""
     sub = str(claims["sub"])[:255]
-    link = db.scalars(select(LtiUser).where(LtiUser.platform_id == platform.id, LtiUser.sub == sub)).first()
     name = str(claims.get("name") or " ".join(str(claims.get(k, "")) for k in ("given_name", "family_name"))).strip()
     email = claims.get("email") if isinstance(claims.get("email"), str) else ""
+    link = _identity(db, platform, sub)
     if link is None:
-        # the user name is ours, not the platform's: names may repeat or change there, (iss, sub) does not
-        username = f"lti{platform.id}-{hashlib.sha256(sub.encode('utf-8')).hexdigest()[:16]}"
-        user = repo.user_by_name(db, username) or repo.create_user(
-            db, username, "!lti", "instructor" if teaches else "student")  # "!lti": no password ever matches
-        link = LtiUser(platform_id=platform.id, sub=sub, user_id=user.id)
-        db.add(link)
-    else:
-        found = repo.user_by_id(db, link.user_id)
-        assert found is not None
-        user = found
-        if teaches and user.role == "student":  # the platform says they teach (signed): they may manage courses
-            user.role = "instructor"
+        # the user name is ours, not the platform's: names may repeat or change there, (platform, sub) does not
+        link = _new_identity(db, platform, sub, "instructor" if teaches else "student")
+    found = repo.user_by_id(db, link.user_id)
+    assert found is not None
+    user = found
+    if teaches and user.role == "student":  # the platform says they teach (signed): they may manage courses
+        user.role = "instructor"
     link.name, link.email = name[:200], str(email)[:320]
     db.commit()
     return user, link
+
+
+def _service_url(platform: LtiPlatform, value: Any, what: str) -> str | None:
+    """A service URL from the id_token, kept only if it is on the platform's registered origins (and fits)."""
+    if not isinstance(value, str):
+        return None
+    if len(value) <= 1000 and registration.service_url_ok(platform, value):
+        return value
+    log.warning("lti: service URL not on the platform's origins, ignored",
+                extra={"job": f"platform {platform.id} {what}: {value[:200]}"})
+    return None
 
 
 def _context(db: Session, platform: LtiPlatform, claims: dict[str, Any], user: User, teaches: bool) -> LtiContext | None:
@@ -309,8 +363,8 @@ def _context(db: Session, platform: LtiPlatform, claims: dict[str, Any], user: U
         row = LtiContext(platform_id=platform.id, context_id=ctx["id"][:255], title=title)
         db.add(row)
     nrps = claims.get(CLAIM_NRPS)
-    if isinstance(nrps, dict) and isinstance(nrps.get("context_memberships_url"), str):
-        row.memberships_url = nrps["context_memberships_url"][:1000]
+    if isinstance(nrps, dict) and "context_memberships_url" in nrps:
+        row.memberships_url = _service_url(platform, nrps["context_memberships_url"], "context_memberships_url")
     row.title = title
     if row.course_id is None or repo.course_by_id(db, row.course_id) is None:
         row.course_id = None
@@ -346,8 +400,8 @@ def _resource_link(db: Session, platform: LtiPlatform, claims: dict[str, Any],
     row.assignment_id = assignment.id if ok and assignment is not None else None
     ags = claims.get(CLAIM_AGS)
     if isinstance(ags, dict):
-        row.lineitem_url = ags["lineitem"][:1000] if isinstance(ags.get("lineitem"), str) else None
-        row.lineitems_url = ags["lineitems"][:1000] if isinstance(ags.get("lineitems"), str) else None
+        row.lineitem_url = _service_url(platform, ags.get("lineitem"), "lineitem")
+        row.lineitems_url = _service_url(platform, ags.get("lineitems"), "lineitems")
         row.ags_scopes = [s for s in ags.get("scope", []) if isinstance(s, str)]
     db.commit()
     return row
@@ -371,7 +425,7 @@ def accept(db: Session, verified: Verified) -> tuple[LtiLaunch, str]:
     platform, claims = verified.platform, verified.claims
     role = role_of(claims)
     teaches = role in ("instructor", "administrator")
-    user, lti_user = _user(db, platform, claims, teaches)
+    user, lti_user = platform_user(db, platform, claims, teaches)
     context = _context(db, platform, claims, user, teaches)
     message_type = str(claims[CLAIM_MESSAGE_TYPE])
     link = _resource_link(db, platform, claims, context) if message_type == RESOURCE_LINK_REQUEST else None

@@ -19,7 +19,7 @@ from sqlalchemy.orm import Session
 
 from server import repository as repo
 from server.errors import ApiError
-from server.lti import ags, launch
+from server.lti import ags, launch, registration
 from server.models import LtiContext, LtiPlatform, LtiUser
 
 log = logging.getLogger("paltrainer.lti")
@@ -27,6 +27,11 @@ log = logging.getLogger("paltrainer.lti")
 NRPS_SCOPE = "https://purl.imsglobal.org/spec/lti-nrps/scope/contextmembership.readonly"
 NRPS_MEDIA_TYPE = "application/vnd.ims.lti-nrps.v2.membershipcontainer+json"
 MAX_PAGES = 100  # 100 pages of a platform's page size: far beyond a school class
+ROSTER = ("Teilnehmerliste", "roster")
+# what the instructor reads when a pull fails, whatever went wrong: an unreachable platform and one that answered
+# look the same (the server log tells them apart), so the roster pull is no probe of our network
+FAILED_DE = "Die Teilnehmerliste ließ sich nicht abrufen (Näheres im Server-Protokoll)."
+FAILED_EN = "The roster could not be fetched (see the server log)."
 
 
 class RosterUser(BaseModel):
@@ -49,24 +54,27 @@ class RosterOut(BaseModel):
 
 
 async def _members(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, url: str) -> list[dict[str, Any]]:
-    token = await ags.access_token(client, db, platform, [NRPS_SCOPE])
     out: list[dict[str, Any]] = []
     next_url: str | None = url
+    token: str | None = None
     for _ in range(MAX_PAGES):
         if next_url is None:
             break
+        if not registration.service_url_ok(platform, next_url):  # the first page's URL and each "next" one
+            raise ags.foreign_url(ROSTER)
+        token = token or await ags.access_token(client, db, platform, [NRPS_SCOPE])
         try:
             resp = await client.get(next_url, headers={"Authorization": f"Bearer {token}", "Accept": NRPS_MEDIA_TYPE})
         except httpx.HTTPError as err:
-            raise ags.PassbackError(f"roster unreachable: {type(err).__name__}") from err
+            raise ags.unreachable(ROSTER) from err
         if resp.status_code != 200:
             if resp.status_code == 401:
                 ags.forget_tokens()
-            raise ags.PassbackError(f"roster answered {resp.status_code}")
+            raise ags.refused(ROSTER, resp.status_code)
         try:
             members = resp.json().get("members", [])
         except (ValueError, AttributeError) as err:
-            raise ags.PassbackError("roster is no JSON membership container") from err
+            raise ags.not_understood(ROSTER) from err
         out.extend(m for m in members if isinstance(m, dict))
         next_url = resp.links.get("next", {}).get("url")
     return out
@@ -82,7 +90,7 @@ def _add(db: Session, platform: LtiPlatform, course_id: int, member: dict[str, A
     teaches = role in ("instructor", "administrator")
     claims = {"sub": str(sub), "name": member.get("name") or "", "given_name": member.get("given_name") or "",
               "family_name": member.get("family_name") or "", "email": member.get("email") or ""}
-    user, lti_user = launch._user(db, platform, claims, teaches)  # one rule for users from a platform
+    user, lti_user = launch.platform_user(db, platform, claims, teaches)  # one rule for platform users
     course_role = "instructor" if teaches else "student"
     repo.add_member(db, course_id, user.id, course_role)
     return RosterUser(username=user.username, name=lti_user.name, role=course_role, created=not known)
@@ -103,11 +111,12 @@ async def pull_roster(db: Session, course_id: int, client: httpx.AsyncClient | N
             platform = db.get(LtiPlatform, context.platform_id)
             if platform is None or context.memberships_url is None:
                 continue
+            db.commit()  # no pooled connection is held while the platform answers
             try:
                 members = await _members(http, db, platform, context.memberships_url)
             except ags.PassbackError as err:
-                log.warning("LTI roster failed", extra={"job": f"context {context.id}: {err}"})
-                raise ApiError("LTI_PLATFORM_ERROR", detail=str(err)) from None
+                log.warning("LTI roster failed", extra={"job": f"context {context.id}: {err} {err.__cause__!r}"})
+                raise ApiError("LTI_PLATFORM_ERROR", detail=FAILED_DE, detail_en=FAILED_EN) from None
             for member in members:
                 seen += 1
                 if str(member.get("status", "Active")) != "Active":

@@ -1,18 +1,24 @@
 """Registered platforms: by the admin (CLI `paltrainer admin lti-register`, POST /api/v1/admin/lti/platforms)
-or by LTI Dynamic Registration (/lti/register: the platform's OpenID configuration and a registration token;
-we send our tool configuration to the platform and store what it answers)."""
+or by LTI Dynamic Registration (/lti/register with a single-use code from our admin: the platform's OpenID
+configuration and a registration token; we send our tool configuration to the platform and store what it
+answers). A platform's registered origins are also the only places its service URLs may point to."""
 
 from __future__ import annotations
 
 import logging
+import secrets
+from dataclasses import dataclass
+from datetime import UTC, datetime, timedelta
 from typing import Any
 from urllib.parse import urlsplit
 
 import httpx
-from sqlalchemy import select
+import jwt
+from sqlalchemy import delete, select
+from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
-from server.models import LtiDeployment, LtiPlatform
+from server.models import LtiDeployment, LtiPlatform, LtiRegistrationCode
 
 log = logging.getLogger("paltrainer.lti")
 
@@ -49,6 +55,40 @@ def origin(url: str) -> str:
     return f"{parts.scheme}://{parts.netloc}"
 
 
+_DEFAULT_PORTS = {"http": 80, "https": 443}
+_LOOPBACK = ("127.0.0.1", "localhost", "::1")
+Origin = tuple[str, str, int]  # scheme, host, port
+
+
+def origin_of(url: str) -> Origin | None:
+    """The origin an http(s) URL is requested at, parsed as httpx parses it (the client that requests it); None
+    for anything else, and for URLs with user info or a backslash (read differently by different parsers)."""
+    if any(c.isspace() or c == "\\" for c in url):
+        return None
+    try:
+        parsed = httpx.URL(url)
+    except (httpx.InvalidURL, TypeError, ValueError):
+        return None
+    if parsed.scheme not in _DEFAULT_PORTS or not parsed.host or parsed.userinfo:
+        return None
+    return parsed.scheme, parsed.host, parsed.port or _DEFAULT_PORTS[parsed.scheme]
+
+
+def platform_origins(platform: LtiPlatform) -> set[Origin]:
+    """The origins of the platform's issuer and its registered login, token and key set URLs: https ones, and
+    http ones on this machine (a platform registered on loopback, as in local trials and the tests)."""
+    found = {origin_of(u) for u in (platform.issuer, platform.auth_login_url, platform.token_url, platform.jwks_url)}
+    return {o for o in found if o is not None and (o[0] == "https" or o[1] in _LOOPBACK)}
+
+
+def service_url_ok(platform: LtiPlatform, url: str) -> bool:
+    """Whether we may request `url` as one of the platform's services (AGS line items and scores, NRPS roster):
+    only on the platform's registered origins. The URLs come from its id_token or its answers; anything else
+    would let whoever controls them make us request our own network (SSRF)."""
+    found = origin_of(url)
+    return found is not None and found in platform_origins(platform)
+
+
 def register(db: Session, *, issuer: str, client_id: str, auth_login_url: str, token_url: str, jwks_url: str,
              deployment_ids: list[str], name: str = "") -> LtiPlatform:
     """Store a platform (or update the one with this issuer and client id) and add its deployment ids."""
@@ -71,6 +111,56 @@ def register(db: Session, *, issuer: str, client_id: str, auth_login_url: str, t
     db.commit()
     log.info("lti platform registered", extra={"job": f"{issuer} client {client_id}"})
     return platform
+
+
+# --- single-use registration codes ---------------------------------------------------------------------
+
+REGISTRATION_DAYS = 7
+
+
+@dataclass(frozen=True)
+class RegistrationCode:
+    jti: str
+    expires_at: datetime
+
+
+def registration_code(settings: Any, minutes: int = REGISTRATION_DAYS * 24 * 60) -> str:
+    """A signed code that allows one dynamic registration (within `minutes`); its id makes it single use."""
+    now = datetime.now(UTC)
+    return jwt.encode({"purpose": "lti-register", "jti": secrets.token_urlsafe(16), "iat": now,
+                       "exp": now + timedelta(minutes=minutes)}, settings.jwt_secret(), algorithm="HS256")
+
+
+def registration_url(base: str, settings: Any) -> str:
+    return f"{base}/lti/register?code={registration_code(settings)}"
+
+
+def read_code(db: Session, settings: Any, code: str | None) -> RegistrationCode | None:
+    """The code if we signed it, it has not expired and was not used yet; else None."""
+    if not code:
+        return None
+    try:
+        claims = jwt.decode(code, settings.jwt_secret(), algorithms=["HS256"], options={"require": ["exp", "jti"]})
+    except jwt.PyJWTError:
+        return None
+    jti = claims.get("jti")
+    if claims.get("purpose") != "lti-register" or not isinstance(jti, str) or not 0 < len(jti) <= 64:
+        return None
+    if db.scalars(select(LtiRegistrationCode.id).where(LtiRegistrationCode.jti == jti)).first() is not None:
+        return None
+    return RegistrationCode(jti, datetime.fromtimestamp(int(claims["exp"]), UTC))
+
+
+def use_code(db: Session, code: RegistrationCode) -> bool:
+    """Use the code up (before the platform is contacted); False if another request used it first."""
+    db.execute(delete(LtiRegistrationCode).where(LtiRegistrationCode.expires_at < datetime.now(UTC)))
+    db.add(LtiRegistrationCode(jti=code.jti, expires_at=code.expires_at))
+    try:
+        db.commit()
+    except IntegrityError:
+        db.rollback()
+        return False
+    return True
 
 
 def deployments(db: Session, platform_id: int) -> list[str]:

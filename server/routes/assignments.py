@@ -8,7 +8,7 @@ from fastapi import APIRouter, Depends, Path, Response
 
 from server import courses, insights
 from server.courses import AssignmentCreate, AssignmentOut, AssignmentResults, AssignmentUpdate, MyAssignment
-from server.deps import AppWorkers, CurrentPrincipal, DbSession, rate_limit
+from server.deps import HEAVY, AppWorkers, CurrentPrincipal, DbSession, rate_limit
 from server.errors import responses
 from server.schemas import DB_INT_MAX
 
@@ -99,10 +99,12 @@ def class_insights(assignment_id: Id, db: DbSession, principal: CurrentPrincipal
 @router.get("/assignments/{assignment_id}/sheets.pdf", response_class=Response, responses={
     200: {"content": {"application/pdf": {}}, "description": "The assignment's task sheets (A4)"},
     **responses(401, 403, 404, 409, 429, 503)},
-    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute")), HEAVY])
 async def sheets(assignment_id: Id, db: DbSession, workers: AppWorkers, principal: CurrentPrincipal,
                  lang: Literal["de", "en"] = "de") -> Response:
-    """The printed task sheets of the assignment's exercises, one after the other (core/sheet)."""
+    """The printed task sheets of the assignment's exercises, one after the other (core/sheet): each exercise's
+    pages on their own (its footer and page numbers), rendered once per content and language. One of the caller's
+    heavy requests (429 TOO_MANY_JOBS beyond PALTRAINER_HEAVY_JOBS_PER_USER)."""
     pdf = await courses.assignment_sheets(db, workers, principal, assignment_id, lang)
     return Response(pdf, media_type="application/pdf",
                     headers={"Content-Disposition": f'inline; filename="auftrag-{assignment_id}.pdf"'})

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated
 
-from fastapi import APIRouter, Path, Request, Response
+from fastapi import APIRouter, Depends, Path, Request, Response
 from starlette.concurrency import run_in_threadpool
 
 from server import courses
@@ -17,8 +17,9 @@ from server.courses import (
     MemberIn,
     MemberOut,
 )
-from server.deps import CurrentPrincipal, DbSession
-from server.errors import responses
+from server.deps import AppSettings, CurrentPrincipal, DbSession, client_address, rate_limit
+from server.errors import ApiError, responses
+from server.ratelimit import RateLimiter
 from server.schemas import DB_INT_MAX, Username
 
 router = APIRouter(prefix="/courses", tags=["courses"])
@@ -37,9 +38,16 @@ def create_course(body: CourseCreate, db: DbSession, principal: CurrentPrincipal
     return courses.create_course(db, principal, body)
 
 
-@router.post("/join", response_model=CourseOut, responses=responses(401, 403, 404, 422))
-def join_course(body: JoinRequest, db: DbSession, principal: CurrentPrincipal) -> CourseOut:
-    """A student joins the course with this join code."""
+@router.post("/join", response_model=CourseOut, responses=responses(401, 403, 404, 422, 429),
+             dependencies=[Depends(rate_limit("join", "rate_join_per_minute"))])
+def join_course(body: JoinRequest, request: Request, db: DbSession, settings: AppSettings,
+                principal: CurrentPrincipal) -> CourseOut:
+    """A student joins the course with this join code (404 JOIN_CODE_INVALID for every failure); tries are
+    limited per user and per address."""
+    limiter: RateLimiter = request.app.state.limiter
+    wait = limiter.hit("join-address", f"ip:{client_address(request)}", settings.rate_join_address_per_minute)
+    if wait:
+        raise ApiError("RATE_LIMITED", headers={"Retry-After": str(wait)}, retry_after=wait)
     return courses.join(db, principal, body.code)
 
 
@@ -67,9 +75,12 @@ def list_members(course_id: CourseId, db: DbSession, principal: CurrentPrincipal
 
 
 @router.post("/{course_id}/members", response_model=MemberOut, status_code=201,
-             responses=responses(401, 403, 404, 422))
+             responses=responses(401, 403, 404, 422, 429),
+             dependencies=[Depends(rate_limit("enrol", "rate_enrol_per_minute"))])
 def add_member(course_id: CourseId, body: MemberIn, db: DbSession, principal: CurrentPrincipal) -> MemberOut:
-    """An existing user as student (or, an instructor, as a further instructor); adding twice is fine."""
+    """A student the caller manages (admins: any student account), or an instructor account as a further
+    instructor; adding twice is fine. Anybody else is 404 USER_NOT_FOUND, as if there were no such user:
+    they join with the course's code."""
     return courses.add_member(db, principal, course_id, body)
 
 

@@ -13,9 +13,10 @@ import re
 from typing import Any, Literal
 
 from fastapi import APIRouter, Depends, Response
+from starlette.concurrency import run_in_threadpool
 
 from server import access, services
-from server.deps import AppWorkers, DbSession, rate_limit
+from server.deps import HEAVY, AppWorkers, DbSession, rate_limit
 from server.errors import ApiError, responses
 from server.models import Exercise
 from server.schemas import Slug
@@ -60,12 +61,12 @@ def list_examples(db: DbSession) -> list[dict[str, Any]]:
 
 @router.get("/{slug}/drawing.svg", response_class=Response, responses={
     200: {"content": {"image/svg+xml": {}}, "description": "Dimensioned drawing of the example's part (A4, mm)"},
-    **responses(404, 429)},
-    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+    **responses(404, 429, 503)},
+    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute")), HEAVY])
 async def example_drawing(slug: Slug, db: DbSession, workers: AppWorkers, lang: Literal["de", "en"] = "de",
                           download: bool = False) -> Response:
     """The drawing of a built-in example, as on its exercise page (GET /exercises/{slug}/drawing.svg)."""
-    _builtin(db, slug)
+    await run_in_threadpool(_builtin, db, slug)  # no query on the event loop
     headers = {"Cache-Control": "public, max-age=300"}
     if download:
         headers["Content-Disposition"] = f'attachment; filename="{re.sub(r"[^a-z0-9-]", "", slug) or "part"}.svg"'

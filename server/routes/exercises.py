@@ -6,9 +6,11 @@ import re
 from typing import Annotated, Literal
 
 from fastapi import APIRouter, Depends, Path, Request, Response
+from starlette.concurrency import run_in_threadpool
 
 from server import access, services
 from server.deps import (
+    HEAVY,
     AppSettings,
     AppWorkers,
     CurrentPrincipal,
@@ -22,6 +24,9 @@ from server.schemas import ExerciseCreate, ExerciseOut, ExerciseUpdate, Hint, Sl
 
 router = APIRouter(prefix="/exercises", tags=["exercises"])
 Reader = Annotated[Principal, Depends(require_scope("exercises:read"))]
+# the picture, drawing and sheet: rate-limited, and counted among the caller's heavy requests (429 TOO_MANY_JOBS);
+# their database work runs in the threadpool and gives the connection back before the wait for a worker
+PICTURE = [Depends(rate_limit("picture", "rate_picture_per_minute")), HEAVY]
 SHEET_NAME = {"de": "aufgabenblatt", "en": "task-sheet"}
 
 
@@ -52,8 +57,8 @@ def exercise_solution(slug: Slug, db: DbSession, principal: Reader) -> Solution:
 
 
 @router.get("/{slug}/picture.png", response_class=Response, responses={
-    200: {"content": {"image/png": {}}, "description": "Top view of the finished part"}, **responses(401, 403, 404, 429)},
-    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+    200: {"content": {"image/png": {}}, "description": "Top view of the finished part"},
+    **responses(401, 403, 404, 429, 503)}, dependencies=PICTURE)
 async def exercise_picture(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader) -> Response:
     """The finished part seen from above (the reference machined on the stock), darker where deeper."""
     return Response(await services.exercise_picture(db, workers, slug), media_type="image/png",
@@ -62,8 +67,7 @@ async def exercise_picture(slug: Slug, db: DbSession, workers: AppWorkers, princ
 
 @router.get("/{slug}/drawing.svg", response_class=Response, responses={
     200: {"content": {"image/svg+xml": {}}, "description": "Dimensioned drawing of the finished part (A4, mm)"},
-    **responses(401, 403, 404, 429)},
-    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+    **responses(401, 403, 404, 429, 503)}, dependencies=PICTURE)
 async def exercise_drawing(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader,
                            lang: Literal["de", "en"] = "de", download: bool = False) -> Response:
     """The part as a PAL exam draws it: top view and section, coordinate dimensions from the workpiece zero,
@@ -77,8 +81,7 @@ async def exercise_drawing(slug: Slug, db: DbSession, workers: AppWorkers, princ
 
 @router.get("/{slug}/sheet.pdf", response_class=Response, responses={
     200: {"content": {"application/pdf": {}}, "description": "Printed task sheet with the programming form (A4)"},
-    **responses(401, 403, 404, 429, 503)},
-    dependencies=[Depends(rate_limit("picture", "rate_picture_per_minute"))])
+    **responses(401, 403, 404, 429, 503)}, dependencies=PICTURE)
 async def exercise_sheet(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader,
                          lang: Literal["de", "en"] = "de") -> Response:
     """The exercise for paper practice, as the PAL exam hands it out: title, task, the dimensioned drawing,
@@ -97,7 +100,7 @@ def create_exercise(body: ExerciseCreate, db: DbSession, settings: AppSettings,
 
 
 @router.post("/import", response_model=ExerciseOut, status_code=201,
-             responses=responses(401, 403, 409, 413, 422, 503),
+             responses=responses(401, 403, 409, 413, 422, 429, 503), dependencies=[HEAVY],
              openapi_extra={"requestBody": {"required": True, "content": {
                  "application/yaml": {"schema": {"type": "string"}},
                  "application/json": {"schema": {"type": "object"}}}}})
@@ -107,7 +110,7 @@ async def import_exercise(request: Request, db: DbSession, settings: AppSettings
     reference inline. It is validated, and its reference must score full marks; the messages say why not."""
     text = (await request.body()).decode("utf-8", errors="replace")
     exercise = await services.import_exercise(db, settings, workers, principal, text)
-    return services.exercise_out(db, exercise, principal)
+    return await run_in_threadpool(services.exercise_out, db, exercise, principal)
 
 
 @router.patch("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404, 413, 422))

@@ -13,16 +13,17 @@ from html import escape
 from pathlib import Path
 from typing import Annotated, Any
 
-import jwt
 from fastapi import APIRouter, Depends, FastAPI, Form, Request
 from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, RedirectResponse, Response
 from pydantic import BaseModel, ConfigDict, Field, field_validator
+from starlette.concurrency import run_in_threadpool
 
 from server import repository as repo
-from server.deps import AppSettings, DbSession, Principal, require_admin
+from server.deps import AppSettings, DbSession, Principal, client_address, require_admin
 from server.errors import ApiError
 from server.lti import deep_linking, keys, launch, registration
 from server.models import LtiPlatform
+from server.ratelimit import RateLimiter
 from server.routes import pages
 from server.security import make_token
 
@@ -31,7 +32,6 @@ router = APIRouter(include_in_schema=False)
 admin = APIRouter(prefix="/api/v1/admin/lti", tags=["lti"])
 STATIC = Path(__file__).resolve().parents[1] / "lti" / "static"
 DEEP_LINK_TICKET_MINUTES = 30  # the teacher picks exercises meanwhile
-REGISTRATION_DAYS = 7
 AdminPrincipal = Annotated[Principal, Depends(require_admin)]
 
 
@@ -69,10 +69,11 @@ def _html(title: str, body: str, status: int = 200, script: str | None = None) -
         f'<header><h1>PAL Trainer</h1></header>\n<main>\n{body}\n</main>\n</body>\n</html>\n', status_code=status)
 
 
-def refused(request: Request, err: launch.LtiRefusal) -> HTMLResponse:
-    """The page of a refused launch (German first); logged with its code."""
-    log.warning("lti launch refused", extra={"job": f"{err.code}: {err.message_en}",
-                                             "client": request.client.host if request.client else "-"})
+def refused(request: Request, err: launch.LtiRefusal, logged: bool = True) -> HTMLResponse:
+    """The page of a refused launch (German first); logged with its code unless `logged` is off."""
+    if logged:
+        log.warning("lti launch refused", extra={"job": f"{err.code}: {err.message_en}",
+                                                 "client": client_address(request)})
     _frame(request, None)
     body = (f'<h2>Start aus der Lernplattform abgelehnt</h2>\n<p class="error" data-code="{escape(err.code)}">'
             f'{escape(err.message)}</p>\n<p lang="en"><small>Launch refused: {escape(err.message_en)}</small></p>\n'
@@ -97,27 +98,6 @@ def static(name: str) -> Response:
     return FileResponse(STATIC / name, media_type="text/javascript")
 
 
-def registration_code(settings: Any, minutes: int = REGISTRATION_DAYS * 24 * 60) -> str:
-    """A signed code that allows one dynamic registration URL to be used (until it expires)."""
-    now = datetime.now(UTC)
-    return jwt.encode({"purpose": "lti-register", "iat": now, "exp": now + timedelta(minutes=minutes)},
-                      settings.jwt_secret(), algorithm="HS256")
-
-
-def _code_ok(settings: Any, code: str | None) -> bool:
-    if not code:
-        return False
-    try:
-        claims = jwt.decode(code, settings.jwt_secret(), algorithms=["HS256"], options={"require": ["exp"]})
-    except jwt.PyJWTError:
-        return False
-    return bool(claims.get("purpose") == "lti-register")
-
-
-def registration_url(base: str, settings: Any) -> str:
-    return f"{base}/lti/register?code={registration_code(settings)}"
-
-
 @router.get("/lti/config")
 def config(request: Request) -> HTMLResponse:
     """The URLs a platform's admin enters (German, English below each)."""
@@ -138,13 +118,14 @@ def config(request: Request) -> HTMLResponse:
         "<p>Die Registrierungs-URL mit Code erzeugt die Administration von PAL Trainer: "
         "<code>paltrainer admin lti-registration-url</code> oder "
         "<code>POST /api/v1/admin/lti/registration-url</code>. Ohne gültigen Code wird keine Plattform "
-        f"registriert. Adresse: <code>{escape(urls['registration_url'])}?code=…</code></p>\n"
+        "registriert; jede URL gilt 7 Tage für eine Registrierung. "
+        f"Adresse: <code>{escape(urls['registration_url'])}?code=…</code></p>\n"
         "<h3>Benutzerdefinierte Parameter</h3>\n<p><code>exercise=&lt;Kennung der Aufgabe&gt;</code> oder "
         "<code>assignment=&lt;Nummer der Aufgabenstellung&gt;</code>; mit Deep Linking setzt PAL Trainer sie "
         "selbst.</p>\n"
         '<p lang="en"><small>English: the URLs above go into the platform\'s external tool form (LTI 1.3, '
         "public keyset URL). Dynamic registration needs a registration URL with a code from "
-        "<code>paltrainer admin lti-registration-url</code>.</small></p>")
+        "<code>paltrainer admin lti-registration-url</code>; each URL is good for one registration.</small></p>")
     _frame(request, None)
     return _html("LTI-Konfiguration", body)
 
@@ -152,20 +133,27 @@ def config(request: Request) -> HTMLResponse:
 # --- dynamic registration ----------------------------------------------------------------------------
 
 
+_CODE_REFUSED = launch.LtiRefusal(
+    "LTI_REGISTRATION_CODE", "Die Registrierungs-URL ist ungültig, abgelaufen oder schon verwendet (jede gilt für "
+    "eine Registrierung); bitte bei der Administration von PAL Trainer eine neue erzeugen lassen.",
+    "The registration URL is invalid, expired or used already (each is good for one registration); ask PAL "
+    "Trainer's admin for a new one.", 403)
+
+
 @router.get("/lti/register")
 async def register(request: Request, db: DbSession, settings: AppSettings) -> HTMLResponse:
     params = request.query_params
     _frame(request, None)
-    if not _code_ok(settings, params.get("code")):
-        return refused(request, launch.LtiRefusal(
-            "LTI_REGISTRATION_CODE", "Die Registrierungs-URL ist ungültig oder abgelaufen; bitte bei der "
-            "Administration von PAL Trainer eine neue erzeugen lassen.",
-            "The registration URL is invalid or expired; ask PAL Trainer's admin for a new one.", 403))
+    code = registration.read_code(db, settings, params.get("code"))
+    if code is None:
+        return refused(request, _CODE_REFUSED)
     openid = params.get("openid_configuration")
-    if not openid:
+    if not openid:  # e.g. the URL opened in a browser to try it: that does not use the code up
         return refused(request, launch.LtiRefusal(
             "LTI_REGISTRATION_INCOMPLETE", "Der Aufruf enthält keine openid_configuration der Plattform.",
             "The request carries no openid_configuration.", 400))
+    if not registration.use_code(db, code):  # one platform per code; used before the platform is contacted
+        return refused(request, _CODE_REFUSED)
     try:
         platform = await registration.dynamic_register(db, openid, params.get("registration_token"),
                                                        _base(request), request.app.state.lti_transport)
@@ -182,14 +170,25 @@ async def register(request: Request, db: DbSession, settings: AppSettings) -> HT
 
 
 @router.api_route("/lti/login", methods=["GET", "POST"])
-async def login(request: Request, db: DbSession) -> Response:
+async def login(request: Request, db: DbSession, settings: AppSettings) -> Response:
     """OIDC third-party login initiation: on to the platform's registered authorization endpoint."""
+    # anyone may start a login, and each stores a state: counted per address (not per user: a browser's stale
+    # session cookie must not stand in the way of a launch), within the per-address login budget
+    limiter: RateLimiter = request.app.state.limiter
+    wait = limiter.hit("lti-login", f"ip:{client_address(request)}", settings.rate_lti_login_per_minute)
+    if wait:
+        page = refused(request, launch.LtiRefusal(
+            "RATE_LIMITED", f"Zu viele Starts von dieser Adresse; bitte in {wait} s erneut aus der Lernplattform "
+            "öffnen.", f"Too many launches from this address; open it again from the platform in {wait} s.", 429),
+            logged=False)  # a flood is not written to the log line by line
+        page.headers["Retry-After"] = str(wait)
+        return page
     params: dict[str, str] = {k: v for k, v in request.query_params.items()}
     if request.method == "POST":
         form = await request.form()
         params.update({k: v for k, v in form.items() if isinstance(v, str)})
     try:
-        target = launch.begin_login(db, params)
+        target = await run_in_threadpool(launch.begin_login, db, params, _base(request))
     except launch.LtiRefusal as err:
         return refused(request, err)
     return RedirectResponse(target, status_code=302)
@@ -358,8 +357,9 @@ def list_platforms(db: DbSession, _: AdminPrincipal) -> list[dict[str, Any]]:
 
 @admin.post("/registration-url")
 def new_registration_url(request: Request, settings: AppSettings, _: AdminPrincipal) -> dict[str, str]:
-    """A dynamic registration URL (valid 7 days) for a platform's admin (Moodle: "Tool URL")."""
-    return {"url": registration_url(_base(request), settings)}
+    """A dynamic registration URL (valid 7 days, for one registration) for a platform's admin (Moodle: "Tool
+    URL")."""
+    return {"url": registration.registration_url(_base(request), settings)}
 
 
 @admin.get("/keys")

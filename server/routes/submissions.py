@@ -9,7 +9,7 @@ from fastapi import APIRouter, Depends, Header, Path, Query, Response
 from fastapi.responses import PlainTextResponse
 
 from server import services
-from server.deps import AppSettings, AppWorkers, CurrentPrincipal, DbSession, rate_limit
+from server.deps import HEAVY, AppSettings, AppWorkers, CurrentPrincipal, DbSession, rate_limit
 from server.errors import responses
 from server.schemas import DB_INT_MAX, Slug, SubmissionCreate, SubmissionOut
 
@@ -19,7 +19,7 @@ router = APIRouter(prefix="/submissions", tags=["submissions"])
 @router.post("", response_model=SubmissionOut, status_code=201,
              responses={200: {"model": SubmissionOut, "description": "A repeated request (same Idempotency-Key)"},
                         **responses(401, 403, 404, 409, 413, 422, 429, 503)},
-             dependencies=[Depends(rate_limit("submit", "rate_submit_per_minute"))])
+             dependencies=[Depends(rate_limit("submit", "rate_submit_per_minute")), HEAVY])
 async def create_submission(body: SubmissionCreate, db: DbSession, settings: AppSettings, workers: AppWorkers,
                             principal: CurrentPrincipal, response: Response,
                             idempotency_key: str | None = Header(

@@ -17,6 +17,7 @@ from typing import Any, Literal
 
 from fastapi import APIRouter, Depends, Request, Response, WebSocket, WebSocketDisconnect
 from pydantic import BaseModel, Field
+from sqlalchemy.orm import Session
 from starlette.concurrency import run_in_threadpool
 
 from server import access, services, viz
@@ -24,6 +25,7 @@ from server.config import Settings
 from server.db import Database
 from server.deps import (
     ANONYMOUS,
+    HEAVY,
     SESSION_COOKIE,
     AppSettings,
     AppWorkers,
@@ -44,9 +46,10 @@ router = APIRouter(prefix="/viz", tags=["3d view"])
 pages = APIRouter(include_in_schema=False)
 
 NEW_LIMIT = [Depends(rate_limit("viz", "rate_viz_per_minute"))]
-SCENE_LIMIT = [Depends(rate_limit("viz-scene", "rate_viz_scene_per_minute"))]
+# scenes, deviations and pictures are heavy requests too: at most PALTRAINER_HEAVY_JOBS_PER_USER at a time
+SCENE_LIMIT = [Depends(rate_limit("viz-scene", "rate_viz_scene_per_minute")), HEAVY]
 STEP_LIMIT = [Depends(rate_limit("viz-step", "rate_viz_playhead_per_minute"))]
-PICTURE_LIMIT = [Depends(rate_limit("picture", "rate_picture_per_minute"))]
+PICTURE_LIMIT = [Depends(rate_limit("picture", "rate_picture_per_minute")), HEAVY]
 _COOKIE_VALUE = re.compile(r"^[A-Za-z0-9_-]{16,64}$")
 
 
@@ -136,6 +139,14 @@ async def _gate(request: Request, principal: Principal, action: access.Action, e
     await run_in_threadpool(_allowed, request.app.state.db, principal, action, exercise)
 
 
+def _spec(make: Any, db: Session, settings: Settings, body: Any) -> dict[str, Any]:
+    """The worker's set-up (services.run_spec or simulate_spec), in the threadpool; then the pooled connection
+    goes back while the worker runs (as for submissions)."""
+    spec: dict[str, Any] = make(db, settings, body)
+    db.commit()
+    return spec
+
+
 async def _driven(request: Request, token: str, principal: Principal) -> viz.Scene:
     """The scene of a token for the calls that move what it shows (playhead, section, view, layers)."""
     scene = await run_in_threadpool(_scene, request, token, principal)
@@ -173,11 +184,10 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     chunks along Z (`lathe` and `blank` in the answer)."""
     await _gate(request, principal, "viz", body.exercise)  # an exam that runs for the trainee may switch 3D off
     scene = await run_in_threadpool(_scene, request, token, principal)
-    spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
+    spec = await run_in_threadpool(_spec, services.simulate_spec, db, settings, body)
     if body.blank is not None:
         spec["blank"] = body.blank.model_dump()
     spec["half"] = scene.half
-    db.commit()  # the pooled connection is free while the worker runs (services.create_submission says why)
     data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program, scene.exercise = (body.program, body.dialect, spec), body.exercise
@@ -252,8 +262,7 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
     if body.exercise is None:
         raise ApiError("EXERCISE_REQUIRED")
     await _gate(request, principal, "deviation", body.exercise)  # it compares with the reference
-    spec = await run_in_threadpool(services.run_spec, db, settings, body)
-    db.commit()  # the pooled connection is free while the worker runs
+    spec = await run_in_threadpool(_spec, services.run_spec, db, settings, body)
     data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, {**spec, "half": scene.half})
     if "bands" in data:  # a turned part: coloured bands around it; the counts are Z samples
         await run_in_threadpool(viz.show_deviation_bands, scene, data["bands"])
@@ -276,7 +285,7 @@ async def picture(body: SimulateRequest, request: Request, db: DbSession, settin
     part after it as a half section in the lathe's drawing view, Z right, X up (header `X-Picture-View: lathe`)."""
     await _gate(request, principal, "viz", body.exercise)  # the 3D view's stand-in follows its rules
     body.resolution = max(body.resolution, 0.25)  # a picture of at most 480 pixels needs no finer cells
-    spec = await run_in_threadpool(services.simulate_spec, db, settings, body)
+    spec = await run_in_threadpool(_spec, services.simulate_spec, db, settings, body)
     png: bytes = await workers.call(viz.job_picture_now, body.program, body.dialect, spec)
     # a turning program's picture is its turned part in half section (the page words its caption so)
     view = {"X-Picture-View": "lathe"} if viz.is_lathe(body.dialect) else {}

@@ -239,13 +239,13 @@ def test_instructor_pulls_the_roster_and_follows_the_grade_passback(browser: Any
     cells = [row.locator("td").nth(i).inner_text() for i in range(6)]
     assert cells[0].startswith("Anna Azubi") and cells[2] == "100" and cells[4] == "1", cells
     assert cells[3].startswith("wartet · nächster Versuch"), cells
-    assert cells[5] == "Die Lernplattform war nicht erreichbar.", cells
+    assert cells[5] == "Die Lernplattform war nicht erreichbar (Notenübertragung).", cells
     assert row.locator("button").count() == 0  # still being tried: nothing to send again yet
     wait_for(lambda: shows("failed"), BACKOFF * 4)
     row = frame.locator("#lti-problems tbody tr")
     assert row.locator("td").nth(3).inner_text() == "fehlgeschlagen (aufgegeben)"
     assert row.locator("td").nth(4).inner_text() == "2"
-    assert row.locator("td").nth(5).inner_text() == "Die Lernplattform war nicht erreichbar."
+    assert row.locator("td").nth(5).inner_text() == "Die Lernplattform war nicht erreichbar (Notenübertragung)."
     assert "unreachable" in (row.locator("td").nth(5).get_attribute("title") or "")  # the technical text
     retry = row.get_by_role("button", name="Note von Anna Azubi erneut senden")
     assert retry.inner_text() == "erneut senden"

@@ -44,6 +44,8 @@ def make_settings(tmp: Path, backend: str, **overrides: Any) -> Settings:
     values: dict[str, Any] = {"data_dir": tmp / "data", "exercises_dir": exercises, "secret_key": "test-secret-of-at-least-thirty-two-bytes",
                               "workers": 2, "rate_login_per_minute": 1000, "rate_check_per_minute": 1000,
                               "rate_simulate_per_minute": 1000, "rate_submit_per_minute": 1000,
+                              # races of one user's concurrent requests are tested as such, not capped
+                              "heavy_jobs_per_user": 1000, "heavy_jobs_per_address": 1000,
                               "finalize_seconds": 3600}  # the tests run the finaliser's rounds themselves
     if backend == "postgresql":
         assert POSTGRES_URL

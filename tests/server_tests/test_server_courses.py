@@ -56,26 +56,33 @@ def test_course_join_members_and_role_matrix(api: Api) -> None:
     listed = {c["id"] for c in api.client.get("/api/v1/courses", headers=auth(admin)).json()}
     assert {ca["id"], cb["id"]} <= listed
 
-    # submissions: A sees s1's (course A), not s2's (course B)
+    # submissions: A sees s1's work in course A's assignment, not s1's free practice, not s2's (course B)
     slug = builtin_exercise(api)
+    r = api.client.post(f"/api/v1/courses/{ca['id']}/assignments", headers=auth(a), json={
+        "title": "Übung", "exercises": [slug], "opens_at": "2026-01-01T00:00:00Z", "deadline": "2099-01-01T00:00:00Z"})
+    assert r.status_code == 201, r.text
+    practice_only = builtin_exercise(api)
     ids = {}
-    for who in (s1, s2):
-        r = api.client.post("/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=auth(who))
+    for who, exercise in ((s1, slug), (s2, slug), (s1, practice_only)):
+        r = api.client.post("/api/v1/submissions", json={"exercise": exercise, "program": GOOD}, headers=auth(who))
         assert r.status_code == 201, r.text
-        ids[who["name"]] = r.json()["id"]
-    assert api.client.get(f"/api/v1/submissions/{ids[s1['name']]}", headers=auth(a)).status_code == 200
-    assert api.client.get(f"/api/v1/submissions/{ids[s2['name']]}", headers=auth(a)).status_code == 404
+        ids[who["name"], exercise] = r.json()["id"]
+    in_course, elsewhere, free = ids[s1["name"], slug], ids[s2["name"], slug], ids[s1["name"], practice_only]
+    assert api.client.get(f"/api/v1/submissions/{in_course}", headers=auth(a)).status_code == 200
+    for other in (elsewhere, free):
+        assert api.client.get(f"/api/v1/submissions/{other}", headers=auth(a)).status_code == 404
     listed = {s["id"] for s in api.client.get("/api/v1/submissions", headers=auth(a)).json()}
-    assert ids[s1["name"]] in listed and ids[s2["name"]] not in listed
+    assert in_course in listed and not {elsewhere, free} & listed
     rows = {t["username"] for t in api.client.get("/api/v1/results", headers=auth(a)).json()["trainees"]}
     assert s1["name"] in rows and s2["name"] not in rows
 
-    # removing s1 from the course ends A's view of their work
+    # what s1 did in course A stays A's after s1 leaves
     assert api.client.delete(f"/api/v1/courses/{ca['id']}/members/{s1['name']}", headers=auth(a)).status_code == 204
-    assert api.client.get(f"/api/v1/submissions/{ids[s1['name']]}", headers=auth(a)).status_code == 404
-    # adding by name; a second instructor; the course's changes
+    assert api.client.get(f"/api/v1/submissions/{in_course}", headers=auth(a)).status_code == 200
+    # adding by name: only students A manages (s1 joins with the code again); a second instructor
     r = api.client.post(f"/api/v1/courses/{ca['id']}/members", json={"username": s1["name"]}, headers=auth(a))
-    assert r.status_code == 201 and r.json() == {"username": s1["name"], "role": "student"}
+    assert r.status_code == 404 and error_code(r) == "USER_NOT_FOUND"
+    _join(api, s1, ca["join_code"])
     r = api.client.post(f"/api/v1/courses/{ca['id']}/members", json={"username": s2["name"], "role": "instructor"},
                         headers=auth(a))
     assert r.status_code == 422 and error_code(r) == "NOT_AN_INSTRUCTOR"

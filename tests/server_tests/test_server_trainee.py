@@ -130,9 +130,18 @@ def test_solution_as_the_exercise_allows(api: Api) -> None:
     assert r.json()["error"]["message"] == "Die Musterlösung gibt es nach der ersten Abgabe."
     assert solution(never, student) == (403, "SOLUTION_NEVER")
     assert solution(full_marks, student) == (403, "SOLUTION_AFTER_FULL_MARKS")
-    for who in (instructor, admin):
-        for slug in (after_submission, never, full_marks):
-            assert solution(slug, who) == (200, reference_of())
+    for slug in (after_submission, never, full_marks):
+        assert solution(slug, admin) == (200, reference_of())
+    # an instructor gets it like a student until a course of theirs sets the exercise, then always
+    assert solution(never, instructor) == (403, "SOLUTION_NEVER")
+    assert solution(after_submission, instructor) == (403, "SOLUTION_AFTER_SUBMISSION")
+    course = api.client.post("/api/v1/courses", json={"name": "K"}, headers=auth(instructor)).json()["id"]
+    r = api.client.post(f"/api/v1/courses/{course}/assignments", headers=auth(instructor), json={
+        "title": "Übung", "exercises": [after_submission, never, full_marks], "opens_at": "2026-01-01T00:00:00Z",
+        "deadline": "2099-01-01T00:00:00Z"})
+    assert r.status_code == 201, r.text
+    for slug in (after_submission, never, full_marks):
+        assert solution(slug, instructor) == (200, reference_of())
 
     for slug in (after_submission, never, full_marks):
         api.client.post("/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=auth(student))

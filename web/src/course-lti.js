@@ -42,12 +42,6 @@ addTexts({
   "lti.retry_label": ["Note von {name} erneut senden", "Send {name}'s grade again"],
   "lti.retried": ["wird erneut gesendet", "being sent again"],
   "lti.refresh": ["Aktualisieren", "Refresh"],
-  "lti.err.unreachable": ["Die Lernplattform war nicht erreichbar.", "The learning platform could not be reached."],
-  "lti.err.token": ["Die Lernplattform hat PAL Trainer nicht angemeldet (Zugriffstoken, Antwort {status}).",
-    "The learning platform did not let PAL Trainer in (access token, answer {status})."],
-  "lti.err.refused": ["Die Lernplattform hat die Note abgelehnt (Antwort {status}).", "The learning platform refused the grade (answer {status})."],
-  "lti.err.unregistered": ["Die Lernplattform ist in PAL Trainer nicht mehr eingetragen.", "The learning platform is no longer registered in PAL Trainer."],
-  "lti.err.other": ["Unerwarteter Fehler bei der Übertragung.", "Unexpected error while sending."],
 });
 
 const STATES = ["sent", "pending", "failed", "superseded"];
@@ -57,13 +51,10 @@ const formatTime = (iso) => new Date(iso).toLocaleString(lang === "en" ? "en-GB"
 
 // The passback's error (server/lti/ags.py: technical, English) in plain words; the original stays as a tooltip.
 export function plainError(text) {
+  // the server stores its own fixed text, "German / English", with at most the platform's HTTP status
   if (!text) return "";
-  const status = text.match(/answered (\d{3})/)?.[1];
-  if (/unreachable/.test(text)) return t("lti.err.unreachable");
-  if (/^token endpoint/.test(text)) return t("lti.err.token", { status: status || "?" });
-  if (/^score service answered/.test(text)) return t("lti.err.refused", { status });
-  if (/no longer registered/.test(text)) return t("lti.err.unregistered");
-  return t("lti.err.other");
+  const [de, en] = text.split(" / ");
+  return lang === "en" && en ? en : de;
 }
 
 // The section, or null when no platform course is linked (or the caller may not see it).

@@ -36,7 +36,9 @@ addTexts({
   "members.remove_confirm": ["{name} aus der Klasse entfernen? Die Abgaben bleiben erhalten.",
     "Remove {name} from the course? Their submissions stay."],
   "members.add": ["Hinzufügen", "Add"],
-  "members.add_label": ["Benutzername eines vorhandenen Kontos", "User name of an existing account"],
+  "members.add_label": ["Benutzername eines Ihrer Schüler", "User name of one of your students"],
+  "members.add_help": ["Hinzufügen lassen sich die Schülerkonten, die Sie angelegt haben (auch über eine Klassenliste). Alle anderen treten mit dem Beitrittscode bei.",
+    "You can add the student accounts you made (a class list included). Everybody else joins with the join code."],
   "members.added": ["{name} ist jetzt in der Klasse.", "{name} is now in the course."],
   "members.import": ["Klassenliste (CSV) importieren", "Import a class list (CSV)"],
   "members.import_help": ["Eine Zeile je Schüler: Name;Passwort oder nur Name (dann wird ein Passwort erzeugt). Die Konten werden neu angelegt und kommen in diese Klasse.",
@@ -234,7 +236,8 @@ function membersPart(c, members) {
   const name = el("input", { type: "text", id: "member-name", required: true, maxLength: 64, autocomplete: "off" });
   const note = el("p", { role: "status", id: "member-note" });
   const add = el("form", { className: "inline-form", id: "member-add" },
-    el("label", {}, `${t("members.add_label")} `, name), " ", el("button", { type: "submit" }, t("members.add")));
+    el("label", {}, `${t("members.add_label")} `, name), " ", el("button", { type: "submit" }, t("members.add")),
+    el("p", { className: "meta" }, t("members.add_help")));
   add.onsubmit = async (event) => {
     event.preventDefault();
     const r = await api(`/courses/${c.id}/members`, post({ username: name.value.trim() }));
