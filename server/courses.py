@@ -21,7 +21,7 @@ from server.errors import ApiError
 from server.export import csv_text
 from server.lti import ags as lti_ags
 from server.models import Assignment, Course, Exercise, User, now
-from server.schemas import ImportedUser, Slug, Time, Title, Username, text, utc
+from server.schemas import ImportedUser, OverrideOut, Slug, Time, Title, Username, text, utc
 from server.workers import Workers, job_submission
 
 log = logging.getLogger("paltrainer.server")
@@ -142,6 +142,7 @@ class MyExercise(BaseModel):
     score: int | None = Field(default=None, description="Exams: only once the results are released")
     max_score: int | None = None
     criteria: list[dict[str, Any]] | None = None
+    override: OverrideOut | None = None
     program: str | None = None
 
 
@@ -157,18 +158,21 @@ class MyAssignment(AssignmentOut):
 
 class AssignmentResultCell(BaseModel):
     submission: int
-    score: int | None
+    score: int | None = Field(description="The score that counts: the teacher's, where one is set")
     max_score: int | None
     late: bool
     auto: bool
+    overridden: bool = Field(default=False, description="The score was set by an instructor")
     created_at: Time
 
 
 class AssignmentResultRow(BaseModel):
     username: str
     results: dict[str, AssignmentResultCell]
-    total: int | None
-    max_total: int | None
+    total: int | None = Field(description="The sum over every gradable exercise of the assignment (one not "
+                                          "handed in counts 0)")
+    max_total: int | None = Field(description="The sum of their maximum scores")
+    percent: float | None = Field(default=None, description="total / max_total in %, one decimal")
 
 
 class AssignmentResults(BaseModel):
@@ -177,6 +181,12 @@ class AssignmentResults(BaseModel):
     exercises: list[str]
     released: bool
     trainees: list[AssignmentResultRow]
+
+
+def max_score_of(exercise: Exercise) -> int | None:
+    """An exercise's maximum score (its rubric's points); None: not gradable."""
+    rubric = (exercise.document or {}).get("rubric") if exercise.document else None
+    return sum(int(c.get("points", 0)) for c in rubric) if isinstance(rubric, list) and rubric else None
 
 
 # --- courses -----------------------------------------------------------------------------------------
@@ -574,6 +584,7 @@ def my_assignments(db: Session, principal: Principal) -> list[MyAssignment]:
             items.append(MyExercise(exercise=slug, submitted=True, draft=drafted, late=best.late, auto=best.auto,
                                     submission=best.id, score=score, max_score=max_score,
                                     criteria=grading["criteria"] if grading else None,
+                                    override=services.override_out(db, best) if visible else None,
                                     program=best.program if visible or a.mode != "exam" else None))
         end = access.end_of(a)
         all_done = all(i.submitted for i in items)
@@ -600,7 +611,9 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
     """Students × the assignment's exercises with the best score (instructors of the course and admins); the
     submissions are read in their light columns (repo.assignment_scores: no program, diagnostics or criteria)."""
     a = assignment_for(db, principal, assignment_id, manage=True)
-    exercises = {e.id: e.slug for e in (repo.exercise_by_slug(db, s) for s in a.exercises) if e is not None}
+    found = [e for e in (repo.exercise_by_slug(db, s) for s in a.exercises) if e is not None]
+    exercises = {e.id: e.slug for e in found}
+    max_total = sum(max_score_of(e) or 0 for e in found)  # every gradable exercise counts, tried or not
     by_user: dict[int, list[repo.Scored]] = {}
     for s in repo.assignment_scores(db, a.id):
         if s.user_id is not None:
@@ -616,17 +629,18 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
                 best = services.best_of(mine)  # type: ignore[arg-type]  # Scored has the score as its grading
                 score, max_score = services._score(best)
                 cells[slug] = AssignmentResultCell(submission=best.id, score=score, max_score=max_score,
-                                                   late=best.late, auto=best.auto, created_at=best.created_at)
-        scored = [c for c in cells.values() if c.score is not None]
+                                                   late=best.late, auto=best.auto, overridden=best.overridden,
+                                                   created_at=best.created_at)
+        total = sum(c.score or 0 for c in cells.values())
         rows.append(AssignmentResultRow(username=user.username, results=cells,
-                                        total=sum(c.score or 0 for c in scored) if scored else None,
-                                        max_total=sum(c.max_score or 0 for c in scored) if scored else None))
+                                        total=total if max_total else None, max_total=max_total or None,
+                                        percent=round(100 * total / max_total, 1) if max_total else None))
     return AssignmentResults(assignment=a.id, title=a.title, exercises=list(a.exercises),
                              released=a.released_at is not None, trainees=rows)
 
 
 RESULT_COLUMNS = ("Benutzer", "Aufgabe", "Punktzahl", "Höchstpunktzahl", "Prozent", "Verspätet",
-                  "Automatisch abgegeben", "Abgabe", "Zeitpunkt")
+                  "Automatisch abgegeben", "Abgabe", "Zeitpunkt", "Von der Lehrkraft geändert")
 
 
 def assignment_results_csv(db: Session, principal: Principal, assignment_id: int) -> str:
@@ -637,12 +651,16 @@ def assignment_results_csv(db: Session, principal: Principal, assignment_id: int
         for slug in table.exercises:
             cell = trainee.results.get(slug)
             if cell is None:
-                rows.append([trainee.username, slug, "", "", "", "", "", "", ""])
+                rows.append([trainee.username, slug, "", "", "", "", "", "", "", ""])
                 continue
             percent = (services.decimal_comma(100 * cell.score / cell.max_score)
                        if cell.score is not None and cell.max_score else "")
             rows.append([trainee.username, slug, "" if cell.score is None else cell.score,
                          "" if cell.max_score is None else cell.max_score, percent, "ja" if cell.late else "nein",
-                         "ja" if cell.auto else "nein", cell.submission, services.berlin_time(cell.created_at)])
+                         "ja" if cell.auto else "nein", cell.submission, services.berlin_time(cell.created_at),
+                         "ja" if cell.overridden else "nein"])
+        if trainee.max_total:  # the sum over the whole assignment, as the matrix shows it
+            rows.append([trainee.username, "Summe", trainee.total, trainee.max_total,
+                         services.decimal_comma(trainee.percent or 0.0), "", "", "", "", ""])
     return "\ufeff" + csv_text(RESULT_COLUMNS, rows, delimiter=";")
 

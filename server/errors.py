@@ -114,6 +114,10 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
                                    "bis zu deren Ende ({until} Uhr) gesperrt."),
                              ("This exercise is being worked on in an exam; without logging in it is locked until "
                               "the exam's end ({until}).")),
+    "NOT_GRADED": (409, "Abgabe {submission} ist nicht bewertet; ihre Punktzahl lässt sich nicht ändern.",
+                   "Submission {submission} is not graded; its score cannot be changed."),
+    "OVERRIDE_OUT_OF_RANGE": (422, "Die Punktzahl {score} liegt über der Höchstpunktzahl {max_score}.",
+                              "The score {score} is above the maximum of {max_score}."),
     "EXAM_NOT_OVER": (409, "Die Ergebnisse lassen sich erst nach dem Ende der Prüfung freigeben.",
                       "The results can be released only after the exam has ended."),
     # LTI grades and roster (issue 20)

@@ -107,6 +107,11 @@ class Submission(Base):
     auto: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     # 1 … the assignment's max_submissions where it has a limit (server/access.py), else null
     attempt: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    # the teacher's last word (GradeOverride keeps every change): the score that counts instead of the grader's
+    override_score: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    override_comment: Mapped[str | None] = mapped_column(Text, nullable=True)
+    override_by: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
+    override_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
 
 
 class Draft(Base):
@@ -128,6 +133,19 @@ class Draft(Base):
                                                       nullable=True)
     program: Mapped[str] = mapped_column(Text)
     updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+class GradeOverride(Base):
+    """One change of a submission's score by an instructor (or its removal: score null), with who and when."""
+
+    __tablename__ = "grade_overrides"
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    submission_id: Mapped[int] = mapped_column(ForeignKey("submissions.id", ondelete="CASCADE"), index=True)
+    score: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    comment: Mapped[str] = mapped_column(Text, default="")
+    by_user_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
 
 
 class Course(Base):

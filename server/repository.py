@@ -20,6 +20,7 @@ from server.models import (
     CourseMember,
     Draft,
     Exercise,
+    GradeOverride,
     Submission,
     User,
     now,
@@ -256,6 +257,7 @@ class Scored:
     held: bool
     score: int | None
     max_score: int | None
+    overridden: bool = False
 
     @property
     def grading(self) -> dict[str, int] | None:
@@ -264,16 +266,19 @@ class Scored:
         return {"score": self.score, "max_score": self.max_score}
 
 
-_SCORE = Submission.grading["score"].as_float()  # read from the grade in the database, not the whole grade
+# the score that counts: the teacher's override, else the grader's (read from the grade in the database)
+_SCORE = func.coalesce(Submission.override_score, Submission.grading["score"].as_float())
 _MAX_SCORE = Submission.grading["max_score"].as_float()
 _SCORED = (Submission.id, Submission.user_id, Submission.exercise_id, Submission.assignment_id, Submission.created_at,
-           Submission.late, Submission.auto, Submission.held, _SCORE, _MAX_SCORE)
+           Submission.late, Submission.auto, Submission.held, _SCORE, _MAX_SCORE,
+           Submission.override_score.is_not(None))
 _NEWEST = (Submission.created_at.desc(), Submission.id.desc())
 
 
 def _scored(rows: Iterable[Any]) -> list[Scored]:
     return [Scored(r[0], r[1], r[2], r[3], r[4], bool(r[5]), bool(r[6]), bool(r[7]),
-                   None if r[8] is None else int(r[8]), None if r[9] is None else int(r[9])) for r in rows]
+                   None if r[8] is None or r[9] is None else int(r[8]), None if r[9] is None else int(r[9]),
+                   bool(r[10])) for r in rows]
 
 
 def visible_to(*, user_id: int | None = None, owner_id: int | None = None, api_key_id: int | None = None,
@@ -324,6 +329,21 @@ def submission_details(db: Session, ids: Sequence[int]) -> Sequence[Any]:
 def exercises_by_ids(db: Session, ids: Iterable[int]) -> Sequence[Exercise]:
     wanted = list(set(ids))
     return db.scalars(select(Exercise).where(Exercise.id.in_(wanted))).all() if wanted else []
+
+
+def set_override(db: Session, submission: Submission, score: int | None, comment: str, by: int) -> None:
+    """The teacher's score (None: back to the grader's) and comment on a submission; the change is kept."""
+    at = now()
+    submission.override_score = score
+    submission.override_comment = comment if score is not None else None
+    submission.override_by, submission.override_at = (by, at) if score is not None else (None, None)
+    db.add(GradeOverride(submission_id=submission.id, score=score, comment=comment, by_user_id=by, created_at=at))
+    db.commit()
+
+
+def overrides_of(db: Session, submission_id: int) -> Sequence[GradeOverride]:
+    return db.scalars(select(GradeOverride).where(GradeOverride.submission_id == submission_id)
+                      .order_by(GradeOverride.created_at, GradeOverride.id)).all()
 
 
 def summarise_submissions(db: Session, submission: Submission, keep: int) -> int:

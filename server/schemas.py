@@ -477,6 +477,29 @@ class LmsResult(BaseModel):
     comment_en: str
 
 
+OverrideComment = text(2000)
+
+
+class OverrideOut(BaseModel):
+    """The teacher's last word on a submission: the score that counts instead of the grader's, and why."""
+
+    score: int
+    automatic_score: int | None = Field(description="The grader's score it replaces")
+    comment: str
+    by: str | None = Field(description="The instructor who set it")
+    at: Time
+    message: str = Field(description="As the trainee reads it: \"Punktzahl von der Lehrkraft geändert: 80 statt "
+                                     "50 – …\"")
+    message_en: str
+
+
+class OverrideIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    score: int = Field(ge=0, le=100_000, description="Points, 0 … the grade's max_score")
+    comment: OverrideComment = Field(default="", description="Why (shown to the trainee)")
+
+
 class SubmissionOut(BaseModel):
     id: int
     exercise: str
@@ -494,6 +517,8 @@ class SubmissionOut(BaseModel):
     held: bool = Field(default=False, description="An exam's submission as its author sees it before the results "
                                                   "are released: stored and handed in, nothing else until then")
     summary: RunSummary | None = Field(description="null for its author while held")
+    override: OverrideOut | None = Field(default=None, description="The teacher's score and comment, if set; "
+                                                                   "`score` is then this one")
     diagnostics: list[DiagnosticOut] | None = Field(description="The check diagnostics (detail views only)")
     program: str | None = Field(description="The program (detail views only)")
     lms: LmsResult | None = Field(default=None, description="The grade for a learning platform; null if not graded")
@@ -527,6 +552,7 @@ class MySubmission(BaseModel):
     error_count: int | None = Field(description="null while held (an exam's, not yet released)")
     warning_count: int | None
     held: bool = False
+    override: OverrideOut | None = None
     criteria: list[dict[str, Any]] = Field(description="The grade's criteria as the trainee sees them (no hidden "
                                                        "ones; none while held or withheld by an exam)")
     program: str
@@ -584,6 +610,7 @@ class ResultCell(BaseModel):
     best_score: int | None = Field(description="null: submitted, not graded")
     max_score: int | None
     best_submission: int = Field(description="Id of the best submission: GET /submissions/{id}")
+    overridden: bool = Field(default=False, description="Its score was set by an instructor")
     submissions: list[int] = Field(description="Every submission's id, newest first")
     created_at: Time = Field(description="When the best submission was made")
 

@@ -38,6 +38,8 @@ from server.schemas import (
     ImportedUsers,
     LmsResult,
     MySubmission,
+    OverrideIn,
+    OverrideOut,
     ProgramRequest,
     Progress,
     ResultCell,
@@ -407,18 +409,22 @@ def submission_out(db: Session, submission: Submission, exercise: Exercise, auth
     else:
         visible, full = True, can_manage(principal, exercise) or principal.is_instructor()
     grading = grading_view(submission.grading, full) if visible else None
+    score = _score(submission)[0] if grading else None
     return SubmissionOut(
         id=submission.id, exercise=exercise.slug, user=author.username if author else None,
         external_user=submission.external_user, dialect=submission.dialect, created_at=submission.created_at,
         error_count=None if held else submission.error_count, warning_count=None if held else submission.warning_count,
-        grading=grading, score=grading["score"] if grading else None, held=held,
+        grading=grading, score=score, held=held, override=override_out(db, submission) if grading else None,
         summary=None if held else result["summary"], diagnostics=result["diagnostics"] if detail and not held else None,
-        program=submission.program if detail else None, lms=lms_result(grading),
+        program=submission.program if detail else None,
+        lms=lms_result(grading, score, submission.override_comment if submission.override_score is not None else None),
     )
 
 
-def lms_result(grading: dict[str, Any] | None) -> LmsResult | None:
-    """The grade as a learning platform takes it; the comment names what lost points (as the reader may see it)."""
+def lms_result(grading: dict[str, Any] | None, score: int | None = None,
+               teacher: str | None = None) -> LmsResult | None:
+    """The grade as a learning platform takes it — the score that counts (`score`: the teacher's, if set) — and a
+    comment naming what lost points (as the reader may see it), the teacher's comment first."""
     if grading is None:
         return None
     lost = [c for c in grading.get("criteria", []) if c.get("status") != "passed"]
@@ -427,8 +433,10 @@ def lms_result(grading: dict[str, Any] | None) -> LmsResult | None:
         comment_en = " ".join(f"{c['message_en']} (−{c['max_points'] - c['points']})" for c in lost)
     else:
         comment, comment_en = "Alle Kriterien erfüllt.", "All criteria met."
-    return LmsResult(score=int(grading["score"]), maximum=int(grading["max_score"]), comment=comment,
-                     comment_en=comment_en)
+    if teacher:
+        comment, comment_en = f"{teacher} {comment}", f"{teacher} {comment_en}"
+    return LmsResult(score=int(grading["score"]) if score is None else score, maximum=int(grading["max_score"]),
+                     comment=comment, comment_en=comment_en)
 
 
 @dataclass(frozen=True)
@@ -599,7 +607,7 @@ def submissions_csv(db: Session, principal: Principal, exercise: str | None) -> 
     return csv_text(CSV_COLUMNS, (
         [s.id, e.slug, u.username if u else "", s.external_user or "", utc(s.created_at).isoformat(),
          s.error_count, s.warning_count, s.result["summary"]["moves"],
-         s.grading["score"] if s.grading else "", s.grading["max_score"] if s.grading else ""]
+         "" if _score(s)[0] is None else _score(s)[0], s.grading["max_score"] if s.grading else ""]
         for s, e, u in visible_submissions(db, principal, exercise)))
 
 
@@ -683,8 +691,51 @@ HISTORY_LIMIT = 200  # newest submissions shown per exercise
 
 
 def _score(submission: Submission) -> tuple[int | None, int | None]:
+    """The score that counts (the teacher's override, else the grader's) and the maximum; None, None: ungraded."""
     grading = submission.grading
-    return (int(grading["score"]), int(grading["max_score"])) if grading else (None, None)
+    if not grading:
+        return None, None
+    override = getattr(submission, "override_score", None)  # repo.Scored has it in its score already
+    return int(grading["score"] if override is None else override), int(grading["max_score"])
+
+
+def override_out(db: Session, submission: Submission) -> OverrideOut | None:
+    """The teacher's last word on a submission, as its readers see it; None where there is none."""
+    if submission.override_score is None or submission.override_at is None:
+        return None
+    by = repo.user_by_id(db, submission.override_by) if submission.override_by is not None else None
+    auto = int(submission.grading["score"]) if submission.grading else None
+    comment = submission.override_comment or ""
+    tail_de, tail_en = (f" – {comment}", f" – {comment}") if comment else ("", "")
+    return OverrideOut(score=submission.override_score, automatic_score=auto, comment=comment,
+                       by=by.username if by else None, at=submission.override_at,
+                       message=f"Punktzahl von der Lehrkraft geändert: {submission.override_score} statt {auto}"
+                               f"{tail_de}",
+                       message_en=f"Score changed by the instructor: {submission.override_score} instead of {auto}"
+                                  f"{tail_en}")
+
+
+def set_override(db: Session, principal: Principal, submission_id: int, body: OverrideIn | None) -> SubmissionOut:
+    """The teacher's last word: admins, and instructors whose course the submission belongs to or who manage its
+    author (repo.instructed), set its score and a comment (None: back to the grader's score). The results tables,
+    their CSV and the learning platform's gradebook use it from then on."""
+    if principal.api_key is not None or principal.user is None or not principal.is_instructor():
+        raise ApiError("FORBIDDEN")
+    submission = repo.submission_by_id(db, submission_id)
+    exercise = repo.exercise_by_id(db, submission.exercise_id) if submission else None
+    if submission is None or exercise is None or not (
+            principal.user.role == "admin" or repo.instructs(db, principal.user.id, submission.id)):
+        raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
+    if body is not None:
+        if not submission.grading:
+            raise ApiError("NOT_GRADED", submission=submission_id)
+        limit = int(submission.grading["max_score"])
+        if body.score > limit:
+            raise ApiError("OVERRIDE_OUT_OF_RANGE", score=body.score, max_score=limit)
+    repo.set_override(db, submission, body.score if body else None, body.comment if body else "", principal.user.id)
+    lti_ags.regraded(db, submission)  # the platform's gradebook follows
+    author = repo.user_by_id(db, submission.user_id) if submission.user_id is not None else None
+    return submission_out(db, submission, exercise, author, True, principal)
 
 
 def best_of(submissions: list[Submission]) -> Submission:
@@ -712,6 +763,7 @@ def my_submissions(db: Session, principal: Principal, slug: str) -> list[MySubmi
         score, max_score = _score(s) if visible else (None, None)
         grading = grading_view(s.grading, full) if visible else None
         out.append(MySubmission(id=s.id, exercise=slug, created_at=s.created_at, score=score, max_score=max_score,
+                                override=override_out(db, s) if visible else None,
                                 error_count=None if s.held else s.error_count,
                                 warning_count=None if s.held else s.warning_count, held=s.held,
                                 criteria=grading["criteria"] if grading else [], program=s.program))
@@ -968,6 +1020,7 @@ def results(db: Session, principal: Principal) -> Results:
                 best = best_of(subs)  # type: ignore[arg-type]  # Scored has the score as its grading
                 score, max_score = _score(best)
                 row[e.slug] = ResultCell(best_score=score, max_score=max_score, best_submission=best.id,
+                                         overridden=bool(getattr(best, "overridden", False)),
                                          submissions=[s.id for s in subs], created_at=best.created_at)
         manager = users.get(users[uid].instructor_id) if users[uid].instructor_id else None  # type: ignore[arg-type]
         rows.append(ResultRow(username=users[uid].username, instructor=manager.username if manager else None,

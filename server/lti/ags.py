@@ -78,10 +78,12 @@ def backoff(attempts: int) -> timedelta:
 
 
 def _percent(submission: Submission) -> float | None:
+    """The score that counts (the teacher's override, else the grader's) of 100."""
     grading = submission.grading
     if not grading or not grading.get("max_score"):
         return None
-    return round(100.0 * float(grading["score"]) / float(grading["max_score"]), 2)
+    score = grading["score"] if submission.override_score is None else submission.override_score
+    return round(100.0 * float(score) / float(grading["max_score"]), 2)
 
 
 def _best_percent(db: Session, submission: Submission) -> float | None:
@@ -185,6 +187,16 @@ def after_graded(db: Session, submission: Submission) -> None:
     except Exception:  # the grade is stored either way; the instructor sees a missing passback in the status
         db.rollback()
         log.exception("queueing the LTI score failed", extra={"job": f"submission {submission.id}"})
+
+
+def regraded(db: Session, submission: Submission) -> None:
+    """Hook: a submission's score changed (the teacher's override): its row is made anew with the score that
+    counts now, and sent again."""
+    existing = db.scalars(select(LtiScore).where(LtiScore.submission_id == submission.id)).first()
+    if existing is not None:
+        db.delete(existing)
+        db.commit()
+    after_graded(db, submission)
 
 
 def retry(db: Session, row: LtiScore) -> LtiScore:

@@ -11,7 +11,7 @@ from fastapi.responses import PlainTextResponse
 from server import services
 from server.deps import HEAVY, AppSettings, AppWorkers, CurrentPrincipal, DbSession, rate_limit
 from server.errors import responses
-from server.schemas import DB_INT_MAX, Slug, SubmissionCreate, SubmissionOut
+from server.schemas import DB_INT_MAX, OverrideIn, Slug, SubmissionCreate, SubmissionOut
 
 router = APIRouter(prefix="/submissions", tags=["submissions"])
 
@@ -58,3 +58,20 @@ def export_csv(db: DbSession, principal: CurrentPrincipal,
 @router.get("/{submission_id}", response_model=SubmissionOut, responses=responses(401, 403, 404))
 def get_submission(submission_id: Annotated[int, Path(ge=1, le=DB_INT_MAX)], db: DbSession, principal: CurrentPrincipal) -> SubmissionOut:
     return services.get_submission(db, principal, submission_id)
+
+
+@router.put("/{submission_id}/override", response_model=SubmissionOut, responses=responses(401, 403, 404, 409, 422))
+def set_override(submission_id: Annotated[int, Path(ge=1, le=DB_INT_MAX)], body: OverrideIn, db: DbSession,
+                 principal: CurrentPrincipal) -> SubmissionOut:
+    """The teacher's last word: the score that counts instead of the grader's (0 … max_score) and a comment the
+    trainee reads ("Punktzahl von der Lehrkraft geändert: 80 statt 50 – …"). Admins, and instructors of the
+    course the submission was made in or who manage its author; who and when is kept. Results tables, CSV and
+    the learning platform's gradebook use it."""
+    return services.set_override(db, principal, submission_id, body)
+
+
+@router.delete("/{submission_id}/override", response_model=SubmissionOut, responses=responses(401, 403, 404))
+def remove_override(submission_id: Annotated[int, Path(ge=1, le=DB_INT_MAX)], db: DbSession,
+                    principal: CurrentPrincipal) -> SubmissionOut:
+    """Back to the grader's score (the change is kept)."""
+    return services.set_override(db, principal, submission_id, None)
