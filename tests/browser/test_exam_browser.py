@@ -12,7 +12,8 @@ its page starts from the start program, saves without refusal into the retake (c
 student of the course sits the exam like a trainee (banner, no free practice, no hints). Trainee 2 keeps the page
 open and sees, when the countdown ends, a read-only editor without "Abgeben", "wird abgegeben" and then that the
 last draft was submitted. The server submits the drafts; the results stay hidden until the instructor releases
-them, then trainee 1 sees score, criteria and the 3D view of the program; the practice draft is still there. The
+them, then trainee 1 sees score, criteria and the 3D view of the program, and after the instructor changed the
+score the new one with the instructor's note (exam page and start page); the practice draft is still there. The
 live socket is not opened during the exam, free practice is closed; with free practice allowed but no live
 messages, its socket is refused (4403) and not tried again. Screenshots of home and exam page at 1366×768 and
 768×1024 (PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/), axe-core on both."""
@@ -72,6 +73,22 @@ def teacher(server: str) -> httpx.Client:  # noqa: F811
         r = c.post("/users", json={"username": name, "password": PASSWORD, "role": "student"})
         assert r.status_code == 201, r.text
     return c
+
+
+def enrol_as_platform_would(course_id: int, username: str) -> None:
+    """A course membership as a student, written into the server's database as an LTI launch would make it."""
+    from server import repository as repo
+    from server.config import Settings
+    from server.db import Database
+
+    database = Database(Settings(data_dir=Path(SERVER_DATA[0])))
+    try:
+        with database.session() as db:
+            user = repo.user_by_name(db, username)
+            assert user is not None
+            repo.add_member(db, course_id, user.id, "student")
+    finally:
+        database.engine.dispose()
 
 
 def login(browser: Any, server: str, user: str, size: tuple[int, int] = (1366, 768)) -> Any:  # noqa: F811
@@ -184,8 +201,9 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     third.click("form#join button[type=submit]")
     third.wait_for_selector("#join-message.ok")
     fifth = login(browser, server, RETAKER)
-    # an instructor's account that is a student of the class sits its exam (its role in the course decides)
-    assert teacher.post(f"/courses/{course['id']}/members", json={"username": COLLEAGUE}).status_code == 201
+    # an instructor's account that is a student of the class sits its exam (its role in the course decides); a
+    # learning platform's launch as a Learner makes such a membership (nobody may enrol an instructor by hand)
+    enrol_as_platform_would(course["id"], COLLEAGUE)
     colleague = login(browser, server, COLLEAGUE)
     start = teacher.get(f"/exercises/{SLUG}").json().get("start_program") or ""
     deadline = time.monotonic() + 90
@@ -363,6 +381,19 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     first.wait_for_selector("details.assignments-done")
     first.click("details.assignments-done summary")
     assert f"Ergebnis: {max_score} von {max_score} Punkten" in first.inner_text("#home")
+    # the teacher's last word on the released result: the score and the note on the exam page and the start page
+    lower, comment = max_score - 10, "Der Programmkopf fehlt."
+    r = teacher.put(f"/submissions/{rows[FIRST]['submission']}/override", json={"score": lower, "comment": comment})
+    assert r.status_code == 200, r.text
+    note = f"Punktzahl von der Lehrkraft geändert: {lower} statt {max_score} – {comment}"
+    first.goto(f"{server}/exercises/{SLUG}?assignment={exam['id']}")
+    first.wait_for_selector("#result .override-note", timeout=20000)
+    assert first.inner_text("#result .score") == f"{lower} von {max_score} Punkten"
+    assert first.inner_text("#result .override-note") == note
+    first.goto(f"{server}/")
+    first.wait_for_selector("details.assignments-done")
+    first.click("details.assignments-done summary")
+    assert f"Ergebnis: {lower} von {max_score} Punkten" in first.inner_text("#home") and note in first.inner_text("#home")
     first.context.close()
     second.context.close()
 

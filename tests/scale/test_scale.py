@@ -53,6 +53,7 @@ RUN_ERRORS = {"TIME_LIMIT", "WORKER_FAILED", "BUSY", "RUN_FAILED"}  # server/liv
 def cluster() -> Iterator[Cluster]:
     assert POSTGRES_URL
     env = {"PALTRAINER_RATE_CHECK_PER_MINUTE": str(CHECK_LIMIT), "PALTRAINER_RATE_SUBMIT_PER_MINUTE": "1000",
+           "PALTRAINER_HEAVY_JOBS_PER_USER": "1000",  # a few test users stand for a class: no per-user cap
            "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000"}
     users = "".join(f"scale{i};{PASSWORD}\n" for i in range(USERS + 1))
     with Cluster(own_schema(POSTGRES_URL, "scale"), replicas=3, workers=1, env=env, users=users) as c:
