@@ -66,8 +66,8 @@ def test_an_override_is_what_counts_and_what_the_trainee_reads(api: Api) -> None
     text = api.client.get(f"/api/v1/assignments/{practice}/results.csv", headers=auth(teacher)).text
     rows = list(csv.reader(io.StringIO(text.lstrip("\ufeff")), delimiter=";"))
     assert rows[0][-1] == "Von der Lehrkraft geändert"
-    assert [r for r in rows if r[1] == slug][0][2:5] == ["80", "100", "80,0"]
-    assert [r for r in rows if r[1] == "Summe"][0][2:5] == ["80", "300", "26,7"]
+    assert next(r for r in rows if r[1] == slug)[2:5] == ["80", "100", "80,0"]
+    assert next(r for r in rows if r[1] == "Summe")[2:5] == ["80", "300", "26,7"]
     overall = api.client.get("/api/v1/results", headers=auth(teacher)).json()
     assert next(t for t in overall["trainees"] if t["username"] == student["name"])["results"][slug]["best_score"] == 80
 

@@ -1,11 +1,14 @@
 // The instructor's course page (/courses/{id}): the class (join code, members, adding by name, the class list),
 // its assignments (list, a new one: exercises, times, practice or exam with its conditions, late policy), and
-// for the chosen assignment the results matrix (students × exercises, best score, late marks; a cell opens the
-// submission above it), CSV and PDF task sheets, releasing an exam's results, and what the class got wrong
+// for the chosen assignment the results matrix (students × exercises, best score, late marks, "*" where the
+// teacher changed the score, the sum with its percentage; a cell opens the submission above it, where the
+// teacher may change its score), CSV and PDF task sheets, releasing an exam's results, and what the class got wrong
 // (GET /assignments/{id}/insights). The instructor page's list of courses and "Neue Klasse" are here too.
 
 import { api, el } from "./dom.js";
+import { overriddenMark } from "./grades.js";
 import { addTexts, lang, message, t } from "./i18n.js";
+import { formatDecimal } from "./numbers.js";
 import { loginUrl, safeNext } from "./redirect.js";
 import { submissionSection } from "./results.js";
 import { ltiPart } from "./course-lti.js";
@@ -167,7 +170,11 @@ export async function mountCourse(parent, id) {
   const list = assignments.body || [];
   const chosen = list.find((a) => String(a.id) === query().get("assignment")) || list.at(-1);
   const opened = query().get("submission");
-  const view = opened ? await submissionSection(opened) : null;
+  // a changed score: the matrix is read again (the cell marked "*", the sum follows)
+  const onOverride = async () => {
+    if (chosen) document.getElementById("assignment-results")?.replaceWith(await resultsPart(chosen, byslug));
+  };
+  const view = opened ? await submissionSection(opened, { onOverride }) : null;
   if (view) {
     const close = new URLSearchParams(location.search);
     close.delete("submission");
@@ -425,16 +432,26 @@ async function resultsPart(a, byslug) {
         return el("td", { className: `num${cell.late ? " late" : ""}` },
           el("a", { href: href(cell.submission), title: t("matrix.cell_title", { user: row.username,
             time: formatTime(cell.created_at) }) }, label),
+          cell.overridden ? overriddenMark() : null,
           cell.late ? el("span", { className: "tag tag-late" }, t("matrix.late")) : null,
           cell.auto ? el("span", { className: "tag", title: t("matrix.auto_title") }, t("matrix.auto")) : null);
       }),
-      el("td", { className: "num" }, row.total === null ? "–" : `${row.total}/${row.max_total}`)));
-    section.append(el("div", { className: "results-wrap" },
+      el("td", { className: "num total" }, sum(row))));
+    const changed = trainees.some((row) => Object.values(row.results).some((cell) => cell.overridden));
+    section.append(...[el("div", { className: "results-wrap" },
       el("table", { className: "results-table", id: "matrix" }, el("thead", {}, head), el("tbody", {}, ...rows))),
-    el("p", { className: "meta" }, t("matrix.note")));
+    el("p", { className: "meta" }, `${t("matrix.note")} ${t("matrix.total_note")}`),
+    changed ? el("p", { className: "meta" }, t("override.note")) : null].filter(Boolean));
   }
   section.append(insightsPart(insights, byslug));
   return section;
+}
+
+// The row's sum over every gradable exercise of the assignment (one not handed in counts 0): "150/200 (75 %)"
+function sum(row) {
+  if (row.total === null || row.total === undefined || !row.max_total) return "–";
+  const percent = row.percent ?? Math.round((1000 * row.total) / row.max_total) / 10;
+  return `${row.total}/${row.max_total} (${formatDecimal(percent)}\u00a0%)`;
 }
 
 function insightsPart(r, byslug) {

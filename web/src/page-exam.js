@@ -10,7 +10,7 @@
 import { api, el } from "./dom.js";
 import { draftSaver, loadDraft } from "./drafts.js";
 import { mountHints } from "./hints.js";
-import { criteriaList } from "./history.js";
+import { editorLine, resultBlock } from "./grades.js";
 import { lang, message, t } from "./i18n.js";
 import { editorToolbar } from "./layout.js";
 import { mountEditor, setReadOnly } from "./main.js";
@@ -324,18 +324,14 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
   }
 }
 
+// The released result: the score that counts (the teacher's, with their note, where one is set) and the criteria
+// with line links into the read-only program.
 function showResult(item, view, drawer, result) {
-  const goLine = (n) => {
-    const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
-    view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
-    view.focus();
-  };
   drawer.open();
   if (item.score === null) {
     result.replaceChildren(el("p", {}, t("submit.ungraded")));
     return;
   }
   drawer.score(`${item.score}/${item.max_score}`);  // the bar already says "Ergebnis"
-  result.replaceChildren(el("p", { className: "score" }, t("score", { score: item.score, max: item.max_score })),
-    criteriaList(item.criteria || [], goLine));
+  result.replaceChildren(...resultBlock(item, editorLine(view)));
 }

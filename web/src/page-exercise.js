@@ -1,16 +1,51 @@
 // The exercise page: the side panel (Aufgabe with the drawing, Zeichnung large, Werkzeuge, Tipps), the editor
-// with its toolbar, the 3D view, and the drawer with the messages and, after "Abgeben", the score.
+// with its toolbar, the 3D view, and the drawer with the messages and the result: after "Abgeben", and on load
+// the newest submission's (its score in the drawer's bar).
 
-import { api, el, table } from "./dom.js";
+import { api, el } from "./dom.js";
 import { draftSaver, loadDraft } from "./drafts.js";
+import { editorLine, resultBlock } from "./grades.js";
 import { mountHints } from "./hints.js";
-import { mountHistory } from "./history.js";
+import { mountHistory, mySubmissions } from "./history.js";
 import { lang, message as message_, t } from "./i18n.js";
 import { drawingFigure, drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor } from "./main.js";
+import { formatDecimal } from "./numbers.js";
 import { loginUrl } from "./redirect.js";
+import { LATHE_DIALECTS } from "./tool-kinds.js";
 import { mountViz } from "./viz.js";
 import { examContext, examNotice, mountExam, prepareExam } from "./page-exam.js";
+
+// The Werkzeuge tab: one small table per tool — diameter and the cutting data the task prescribes (S or V, F, the
+// spindle's direction M3/M4 where given; several allowed values side by side) — so that it fits the side panel.
+function toolTables(ex) {
+  const lathe = LATHE_DIALECTS.has(ex.dialect);
+  const data = ex.cutting_data || [];
+  const tools = [...(ex.tools || [])];
+  for (const c of data) {  // cutting data of a tool from the default table
+    if (!tools.some((tool) => tool.number === c.tool)) tools.push({ number: c.tool });
+  }
+  const joined = (values) => [...new Set(values.filter((v) => v !== null && v !== undefined))].join(" / ");
+  const number = (v) => (v === null || v === undefined ? null : formatDecimal(v));
+  const kind = (tool) => {
+    const text = tool.kind ? t(`kind.${tool.kind}`) : "";
+    return tool.name || (text.startsWith("kind.") ? "" : text);
+  };
+  return el("div", { className: "tool-cards" }, ...tools.map((tool) => {
+    const cuts = data.filter((c) => c.tool === tool.number);
+    const rows = [
+      [t("tools.diameter"), tool.diameter ? `Ø${formatDecimal(tool.diameter)} mm` : ""],
+      [t("tools.speed"), joined(cuts.map((c) => number(c.speed)))],
+      [t("tools.cutting_speed"), joined(cuts.map((c) => number(c.cutting_speed)))],
+      [t(lathe ? "tools.feed_rev" : "tools.feed"), joined(cuts.map((c) => number(c.feed)))],
+      [t("tools.spindle"), joined(cuts.map((c) => (c.spindle ? t(`spindle.${c.spindle}`) : null)))],
+    ].filter(([, value]) => value);
+    const name = kind(tool);
+    return el("table", { className: "tool-card" },
+      el("thead", {}, el("tr", {}, el("th", { colSpan: 2, scope: "colgroup" }, `T${tool.number}${name ? ` · ${name}` : ""}`))),
+      el("tbody", {}, ...rows.map(([key, value]) => el("tr", {}, el("th", { scope: "row" }, key), el("td", {}, value)))));
+  }));
+}
 
 export async function mountExercise(root, slug) {
   // a trainee in an exam gets the exam's page (page-exam.js): what it forbids goes before the tabs are mounted;
@@ -36,20 +71,13 @@ export async function mountExercise(root, slug) {
   document.title = `PAL Trainer – ${title}`;
   const s = ex.stock;
   const size = s ? s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000) : null;
-  const tools = (ex.tools || []).map((tool) => {
-    const cut = (ex.cutting_data || []).find((c) => c.tool === tool.number);
-    return [`T${tool.number}`, tool.name || t(`kind.${tool.kind}`), `Ø${tool.diameter} mm`, cut ? cut.speed : "–",
-      cut ? cut.feed : "–"];
-  });
   root.querySelector("#title").textContent = title;
   // markdown paragraphs: blank lines separate them, single line breaks are spaces
   root.querySelector("#task").replaceChildren(
     ...task.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
-  const toolTable = table([t("tools.tool"), t("tools.kind"), t("tools.diameter"), t("tools.speed"), t("tools.feed")],
-    tools, [2, 3, 4]);
-  root.querySelector("#data").replaceChildren(size ? el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] })) : null);
-  root.querySelector("#tools").replaceChildren(el("h2", {}, t("tab.tools")),
-    size ? el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] })) : null, toolTable);
+  const stock = () => (size ? [el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] }))] : []);
+  root.querySelector("#data").replaceChildren(...stock());
+  root.querySelector("#tools").replaceChildren(el("h2", {}, t("tab.tools")), ...stock(), toolTables(ex));
   if (ex.gradable && size) {
     // the dimensioned drawing (server-side SVG from the reference): in the task first, as on a PAL task sheet
     const drawing = `/api/v1/exercises/${slug}/drawing.svg?lang=${lang}`;
@@ -72,6 +100,7 @@ export async function mountExercise(root, slug) {
   // the draft (server or browser, the newer) or the start program; every change is kept (drafts.js). The
   // practice draft; should the server answer with a running exam's draft, the saver keeps to that exam.
   const start = ex.start_program || "";
+  const earlier = mySubmissions(slug);  // the newest one's result goes into the drawer; "Meine Abgaben" lists them
   const draft = await loadDraft(slug);
   const saver = draftSaver(slug, draft.user, start, draft.program, draft.pending, null, draft.assignment);
   const view = await mountEditor(root.querySelector("#editor"), {
@@ -82,20 +111,27 @@ export async function mountExercise(root, slug) {
   const toolbar = editorToolbar(root.querySelector("#editor-toolbar"), view, {
     filename: () => `${slug}.nc`, heading: () => title, reset: () => { saver.forget(); return start; },
   });
-  const goLine = (n) => {
-    const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
-    view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
-    view.focus();
-  };
+  const goLine = editorLine(view);
   // "Meine Abgaben" (history.js): an earlier submission back into the editor
   // (while an exam runs elsewhere its settings may have taken away the Tipps tab and the 3D view: prepareExam)
   const history = root.querySelector("#my-submissions")
-    ? mountHistory(root.querySelector("#my-submissions"), slug, { load: (program) => toolbar.replace(program), onLine: goLine })
+    ? mountHistory(root.querySelector("#my-submissions"), slug,
+      { load: (program) => toolbar.replace(program), onLine: goLine, first: earlier })
     : null;
   if (root.querySelector("#hints")) mountHints(root.querySelector("#hints"), { ...ex, slug }, { program: () => view.state.doc.toString() });
   if (!root.querySelector(".viz-pane").hidden) scene = await mountViz(root.querySelector("#viz"), view, { dialect: ex.dialect, exercise: slug });
   const result = root.querySelector("#result");
+  // the result of the newest submission, as after "Abgeben" (the drawer is not opened for it; its bar shows the
+  // score); not one held by an exam, nor once the trainee has submitted again
+  let submitted = false;
+  earlier.then((r) => {
+    const last = r.ok ? r.body[0] : null;
+    if (submitted || !last || last.held || last.score === null || last.score === undefined) return;
+    drawer.score(t("score.short", { score: last.score, max: last.max_score }));
+    result.replaceChildren(...resultBlock(last, goLine, { when: last.created_at }));
+  });
   root.querySelector("#submit").onclick = async () => {
+    submitted = true;
     drawer.open();
     drawer.score("");
     result.replaceChildren(el("p", {}, t("submit.busy")));
@@ -114,18 +150,9 @@ export async function mountExercise(root, slug) {
       return;
     }
     scene?.graded(view.state.doc.toString());
-    drawer.score(t("score.short", { score: g.score, max: g.max_score }));
-    result.replaceChildren(
-      el("p", { className: "score" }, t("score", { score: g.score, max: g.max_score })),
-      el("ul", { className: "criteria" }, ...g.criteria.map((c) => el("li", { className: c.status },
-        `${c.status === "passed" ? "✓" : "✗"} ${c.points}/${c.max_points} – ${message_(c)}`,
-        ...c.lines.map((n) => el("button", {
-          className: "line-link", type: "button", textContent: t("diagnostics.line", { n }),
-          onclick: () => {
-            const line = view.state.doc.line(Math.min(n, view.state.doc.lines));
-            view.dispatch({ selection: { anchor: line.from }, scrollIntoView: true });
-            view.focus();
-          },
-        }))))));
+    const score = sub.body.score ?? g.score;
+    drawer.score(t("score.short", { score, max: g.max_score }));
+    result.replaceChildren(...resultBlock({ score, max_score: g.max_score, criteria: g.criteria, override: sub.body.override },
+      goLine));
   };
 }

@@ -3,6 +3,7 @@
 // (an exam's from its start).
 
 import { api, el } from "./dom.js";
+import { overrideNote } from "./grades.js";
 import { lang, message, t } from "./i18n.js";
 import { clock, formatTime, modeLabel, myAssignments, watchPracticeLink } from "./page-exam.js";
 import "./texts-exam.js";
@@ -60,12 +61,14 @@ function card(a, titles, drafts) {
     a.items.length ? el("ul", { className: "assignment-items" }, ...a.items.map((item) => el("li", {},
       started ? el("a", { href: exerciseHref(a, item.exercise) }, titles.get(item.exercise) || item.exercise)
         : el("span", {}, titles.get(item.exercise) || item.exercise),
-      " ", el("span", { className: "meta item-status" }, `· ${itemStatus(a, item, drafts)}`))))
+      " ", el("span", { className: "meta item-status" }, `· ${itemStatus(a, item, drafts)}`),
+      a.results_visible && item.submitted ? overrideNote(item.override) : null)))
       : el("p", { className: "meta" }, t("assignment.exercises_later")));  // an exam before its start
 }
 
-// not started / draft / submitted (late, automatically) / held until released / the released score. An exam
-// keeps drafts of its own: the practice drafts (/me/progress) say nothing about it.
+// not started / draft / submitted (late, automatically) / held until released / the released score (the teacher's
+// where one is set: their note follows the item). An exam keeps drafts of its own: the practice drafts
+// (/me/progress) say nothing about it.
 function itemStatus(a, item, drafts) {
   if (!item.submitted && a.mode === "exam") {
     return t(a.status === "submitting" ? "item.submitting" : item.draft ? "item.draft" : "item.open");

@@ -7,7 +7,7 @@ import { lang, t } from "./i18n.js";
 import { drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor, setTools } from "./main.js";
 import { mountPracticeSetup, saveSetup } from "./pages.js";
-import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
+import { LATHE_DIALECTS, MILLING_TOOL_KINDS } from "./tool-kinds.js";
 import { mountViz } from "./viz.js";
 
 const SAMPLE = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X-25 Y-15 Z2\nN40 G42 G0 X-14 Y10\nN50 G0 Z-2\n" +
@@ -19,8 +19,8 @@ const SAMPLES = {
     "N50 G1 Z0 F0.2\nN60 X-1.6\nN70 G0 X36 Z2\nN80 G1 Z-20 R2\nN90 X44 D1\nN100 Z-35\nN110 G0 X100 Z100 M9\nN120 M30\n",
 };
 
-// Turning: the blank (a bar or tube) instead of the milling block; empty fields: a bar that fits the program.
-const LATHE_DIALECTS = new Set(["traub-tx8d"]);
+// Turning: the blank (a bar or tube) instead of the milling block; empty fields: a bar that fits the program
+// (LATHE_DIALECTS: tool-kinds.js).
 const BLANK_KEY = "paltrainer-practice-blank";
 const decimal = (text) => {  // "40,5" as well as "40.5"; "" is not given
   const value = String(text).trim().replace(",", ".");

@@ -103,8 +103,10 @@ export async function mountInstructor(parent) {
   };
   // results.js: one submission opened (?submission=ID), the results table, the class list
   const opened = new URLSearchParams(location.search).get("submission");
-  const [view, courses, results] = await Promise.all([opened ? submissionSection(opened) : null, coursesSection(),
-    resultsSection()]);
+  // a changed score: the results table is read again (its cell marked "*")
+  const onOverride = async () => document.getElementById("results")?.replaceWith(await resultsSection());
+  const [view, courses, results] = await Promise.all([opened ? submissionSection(opened, { onOverride }) : null,
+    coursesSection(), resultsSection()]);
   parent.replaceChildren(view ?? "", courses, results,
     el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
     list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message,

@@ -1,12 +1,15 @@
 // The instructor page's own parts: the results table (GET /results: trainees × exercises, the best score
-// linking to that submission, the CSV for Excel), one submission opened read-only (GET /submissions/{id}:
-// the program with line numbers, its diagnostics and criteria with line links), and the class-list import
+// linking to that submission, "*" where the teacher set it, the CSV for Excel), one submission opened read-only
+// (GET /submissions/{id}: the program with line numbers, its diagnostics and criteria with line links, and the
+// teacher's last word on its score: PUT / DELETE /submissions/{id}/override), and the class-list import
 // (POST /users/import, the generated passwords shown this once).
 
 import { Text } from "@codemirror/state";
 import { api, el } from "./dom.js";
+import { criteriaList, formatMinute, overriddenMark } from "./grades.js";
 import { lang, message, t } from "./i18n.js";
-import { criteriaList, formatTime, scoreText } from "./history.js";
+import { formatTime, scoreText } from "./history.js";
+import { decimalInput, parseDecimal } from "./numbers.js";
 import { mountViz } from "./viz.js";
 
 const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
@@ -38,16 +41,21 @@ export async function resultsSection() {
       return el("td", { className: "num" },
         el("a", { href: submissionHref(cell.best_submission), title: t("results.cell_title", { n: cell.submissions.length,
           time: formatTime(cell.created_at) }) }, label),
+        cell.overridden ? overriddenMark() : null,
         cell.submissions.length > 1 ? el("span", { className: "meta" }, ` (${cell.submissions.length})`) : null);
     })));
   section.append(el("div", { className: "results-wrap" },
     el("table", { className: "results-table", id: "results-table" }, el("thead", {}, head), el("tbody", {}, ...rows))));
+  if (trainees.some((row) => Object.values(row.results).some((cell) => cell.overridden))) {
+    section.append(el("p", { className: "meta" }, t("override.note")));
+  }
   return section;
 }
 
-// One submission, read-only: everything the trainee saw. The 3D view (viz.js) is mounted once the section is in
-// the page: call section.mountViz().
-export async function submissionSection(id) {
+// One submission, read-only: everything the trainee saw, and the form that changes its score. The 3D view
+// (viz.js) is mounted once the section is in the page: call section.mountViz(). `onOverride(submission)`: the
+// score was changed or restored (the page's results table follows).
+export async function submissionSection(id, { onOverride = null } = {}) {
   const section = el("section", { id: "submission-view", className: "submission-view" });
   const r = await api(`/submissions/${encodeURIComponent(id)}`);
   if (!r.ok) {
@@ -68,10 +76,15 @@ export async function submissionSection(id) {
   };
   const diagnostics = s.diagnostics || [];
   const g = s.grading;
+  const heading = el("p", { className: "meta", id: "submission-score" });
+  const showScore = (now) => {
+    heading.textContent = `${s.exercise} · ${formatTime(s.created_at)} · ${
+      g ? scoreText(now.score ?? g.score, g.max_score) : t("history.ungraded")}${now.override ? ` (${t("override.changed")})` : ""}`;
+  };
+  showScore(s);
   section.append(...[
     el("h3", {}, t("submission.title", { id: s.id, user: s.user || s.external_user || "–" })),
-    el("p", { className: "meta" }, `${s.exercise} · ${formatTime(s.created_at)} · ${
-      g ? scoreText(g.score, g.max_score) : t("history.ungraded")}`),
+    heading,
     program,
     el("h4", {}, t("diagnostics.title")),
     diagnostics.length
@@ -81,7 +94,8 @@ export async function submissionSection(id) {
         ` ${d.code}: ${message(d)}`)))
       : el("p", { className: "meta" }, t("diagnostics.none")),
     g ? el("h4", {}, t("history.criteria")) : null,
-    g ? criteriaList(g.criteria, goLine) : null].filter(Boolean));
+    g ? criteriaList(g.criteria, goLine) : null,
+    g ? overrideForm(s, (now) => { showScore(now); onOverride?.(now); }) : null].filter(Boolean));
   const viz = el("div", { id: "submission-viz", className: "viz submission-viz" });
   section.append(el("h4", {}, t("viz.title")), viz);
   // the 3D view reads the program as an editor's document and marks the line it plays
@@ -92,6 +106,66 @@ export async function submissionSection(id) {
     if (g) await scene?.graded(s.program || "");  // the deviation colours, as the trainee saw them
   };
   return section;
+}
+
+// "Punktzahl ändern": the teacher's score (a whole number 0 … max) and a comment the trainee reads; "Automatische
+// Bewertung wiederherstellen" while one is set. Shows the grader's score and who changed it when. The server
+// decides who may (403/404 otherwise: its message is shown). `changed(submission)` after each change.
+function overrideForm(s, changed) {
+  const max = s.grading.max_score;
+  const automatic = s.grading.score;
+  const form = el("form", { className: "override-form", id: "override-form", noValidate: true });
+  const render = (sub, status = null) => {
+    const o = sub.override;
+    const score = decimalInput(o ? o.score : automatic, t("override.score", { max }), { integer: true, size: 5 });
+    score.id = "override-score";
+    const comment = el("textarea", { id: "override-comment", rows: 2, maxLength: 2000, value: o?.comment || "" });
+    const note = el("span", { id: "override-status", role: "status" });
+    if (status) { note.className = status.ok ? "ok" : "error"; note.textContent = status.text; }
+    const restore = o ? el("button", { type: "button", id: "override-restore" }, t("override.restore")) : null;
+    const send = async (options, okText) => {
+      for (const b of form.querySelectorAll("button")) b.disabled = true;
+      note.className = "";
+      note.textContent = "";
+      const r = await api(`/submissions/${s.id}/override`, options);
+      if (!r.ok) {
+        for (const b of form.querySelectorAll("button")) b.disabled = false;
+        note.className = "error";
+        note.textContent = (r.body?.error && message(r.body.error)) || t("override.failed");
+        return;
+      }
+      render(r.body, { ok: true, text: okText(r.body) });
+      changed(r.body);
+    };
+    if (restore) restore.onclick = () => send({ method: "DELETE" }, () => t("override.restored"));
+    score.oninput = () => { if (note.className === "error") note.textContent = ""; };  // a complaint goes as it is fixed
+    form.onsubmit = (event) => {
+      event.preventDefault();
+      const value = parseDecimal(score.value);
+      if (!Number.isInteger(value) || value < 0 || value > max) {
+        note.className = "error";
+        note.textContent = t("override.invalid", { max });
+        score.focus();
+        return;
+      }
+      send({ method: "PUT", headers: { "Content-Type": "application/json" },
+        body: JSON.stringify({ score: value, comment: comment.value.trim() }) },
+      (now) => t("override.saved", { score: now.score, max }));
+    };
+    form.replaceChildren(...[
+      el("h4", {}, t("override.title")),
+      el("p", { className: "meta" }, t("override.automatic", { score: automatic, max }),
+        o ? el("span", { className: "override-set" }, ` · ${t(o.by ? "override.by" : "override.by_nobody",
+          { by: o.by, time: formatMinute(o.at) })}`) : null),
+      el("div", { className: "override-fields" },
+        el("label", { className: "field" }, t("override.score", { max }), score),
+        el("label", { className: "field" }, t("override.comment"), comment)),
+      el("div", { className: "override-actions" },
+        el("button", { type: "submit", className: "primary", id: "override-save" }, t("override.save")), restore, note),
+      el("p", { className: "meta" }, t("override.help"))].filter(Boolean));
+  };
+  render(s);
+  return form;
 }
 
 // The class list: a CSV file → students managed by the caller; the passwords are shown once.
