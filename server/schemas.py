@@ -439,6 +439,17 @@ class ExerciseOut(BaseModel):
     hint_count: int = Field(default=0, description="Hints one at a time: GET /exercises/{slug}/hints/{n}, n = 1 …")
     solution: Literal["never", "after_submission", "after_full_marks"] = Field(
         default="after_submission", description="When GET /exercises/{slug}/solution shows the reference to students")
+    task_html_de: str = Field(default="", description="task_de as HTML to insert into the page as it is: paragraphs, "
+                              "bold, italic, lists, inline code, https links; raw HTML in the Markdown is text")
+    task_html_en: str = Field(default="", description="task_en (else task_de) as HTML, as task_html_de")
+    blank_de: str = Field(default="", description="The blank, e.g. 'Rohteil: Stange Ø100 × 160 mm, 30 mm im Futter' "
+                          "or 'Rohteil: 80 × 70 × 30 mm'; empty without a stock")
+    blank_en: str = Field(default="", description="The blank in English, e.g. 'Blank: bar Ø100 × 160 mm'")
+    zero_de: str = Field(default="", description="'Werkstücknullpunkt: …', where the workpiece zero lies")
+    zero_en: str = Field(default="", description="'Workpiece zero: …'")
+    blank_in_task_de: bool = Field(default=False, description="task_de states the blank itself: the page does not "
+                                   "print blank_de above it a second time")
+    blank_in_task_en: bool = Field(default=False, description="task_en (else task_de) states the blank itself")
 
 
 # --- submissions -----------------------------------------------------------------------------

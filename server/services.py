@@ -21,7 +21,7 @@ from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
 from server.errors import ApiError
-from server.export import csv_text
+from server.export import csv_text, excel_csv
 from server.lti import ags as lti_ags
 from server.models import ApiKey, Exercise, Submission, User
 from server.schemas import (
@@ -57,6 +57,7 @@ from server.schemas import (
 )
 from server.security import hash_password, new_api_key, verify_password
 from server.seed import document_from_fields, exercise_fields
+from server.tasktext import task_view
 from server.workers import (
     Workers,
     content_key,
@@ -206,7 +207,7 @@ def exercise_out(db: Session, exercise: Exercise, principal: Principal,
         owner=owner.username if owner else None, builtin=exercise.builtin, created_at=exercise.created_at,
         updated_at=exercise.updated_at, reference_program=exercise.reference_program if full else None,
         hidden_criteria=exercise.hidden_criteria if full else None,
-        **_document_view(exercise.document), **_list_view(exercise),
+        **_document_view(exercise.document), **_list_view(exercise), **task_view(exercise),
     )
 
 
@@ -597,17 +598,19 @@ def get_submission(db: Session, principal: Principal, submission_id: int) -> Sub
     return submission_out(db, submission, exercise, author, True, principal)
 
 
-CSV_COLUMNS = ("id", "exercise", "user", "external_user", "created_at", "error_count", "warning_count",
-               "moves", "score", "max_score")
+CSV_COLUMNS = ("Abgabe", "Aufgabe", "Benutzer", "Lernplattform-Kennung", "Zeitpunkt", "Fehler", "Warnungen",
+               "Bewegungen", "Punktzahl", "Höchstpunktzahl")
 
 
 def submissions_csv(db: Session, principal: Principal, exercise: str | None) -> str:
+    """The submissions the caller may read, one row each, for German Excel (server/export.py: `;`, UTF-8 with BOM,
+    German local time); the score is the teacher's where they changed it."""
     if not principal.is_instructor():
         raise ApiError("FORBIDDEN")
-    return csv_text(CSV_COLUMNS, (
-        [s.id, e.slug, u.username if u else "", s.external_user or "", utc(s.created_at).isoformat(),
+    return excel_csv(CSV_COLUMNS, (
+        [s.id, e.slug, u.username if u else "", s.external_user or "", utc(s.created_at),
          s.error_count, s.warning_count, s.result["summary"]["moves"],
-         "" if _score(s)[0] is None else _score(s)[0], s.grading["max_score"] if s.grading else ""]
+         _score(s)[0], s.grading["max_score"] if s.grading else None]
         for s, e, u in visible_submissions(db, principal, exercise)))
 
 

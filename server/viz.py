@@ -13,6 +13,7 @@ import asyncio
 import contextlib
 import itertools
 import logging
+import re
 import threading
 import time
 import uuid
@@ -68,9 +69,107 @@ INSERT_COLOUR = (120, 130, 142)
 
 def viser_page() -> bytes:
     """viser's single-file client (everything inlined: no CDN) with our stylesheet, which hides viser's own
-    panel, connection status, WebSocket address and notices: the page around it has the controls."""
-    page = (resources.files("viser") / "client" / "build" / "index.html").read_bytes()
-    return page.replace(b"</head>", b'<link rel="stylesheet" href="/static/viz-frame.css"></head>', 1)
+    panel, connection status, WebSocket address and notices: the page around it has the controls. Its
+    application evaluates no string as code (`viser_client`), so the page runs under a policy without
+    'unsafe-eval'. Made once per process."""
+    with _PAGE_LOCK:
+        global _PAGE
+        if _PAGE is None:
+            page = (resources.files("viser") / "client" / "build" / "index.html").read_bytes()
+            page = page.replace(b"</head>", b'<link rel="stylesheet" href="/static/viz-frame.css"></head>', 1)
+            _PAGE = _repacked(page)
+        return _PAGE
+
+
+_PAGE: bytes | None = None
+_PAGE_LOCK = threading.Lock()
+# viser's client page: an inline loader unpacks the application (stylesheet and module script, zstd, in the
+# base-88 attribute data-p; data-ss and data-cs their sizes in bytes) and inserts it as an inline script
+_PACKED = re.compile(rb'data-p="([^"]*)"|data-ss="(\d+)"|data-cs="(\d+)"')
+BASE88 = b"!#$%()*+,-./0123456789:;=?@ABCDEFGHIJKLMNOPQRSTUVWXYZ[\\]^_abcdefghijklmnopqrstuvwxyz{|}~"
+# The two places where viser's application evaluates text as code (Function(…)), both for what this view never
+# shows: (1) at load it sets up the sorter of Gaussian splats, WebAssembly bound with embind, which builds its
+# call wrappers from strings — under a policy without 'unsafe-eval' that is an uncaught EvalError on every page
+# load; it is set up on first use instead (a splat, which our scenes never contain). (2) A server message may
+# carry JavaScript to run (RunJavascriptMessage, never sent by us): such a message runs nothing.
+CLIENT_PATCHES = (
+    (re.compile(rb"([\w$]+)=fetch\(([\w$]+)\)\.then\(e=>e\.arrayBuffer\(\)\)\.then\(e=>([\w$]+)\(\{wasmBinary:e\}\)\)"),
+     (rb"\1={then:(ok$,no$)=>(\1.p??=fetch(\2).then(e=>e.arrayBuffer()).then(e=>\3({wasmBinary:e})))"
+      rb".then(ok$,no$)}")),
+    (re.compile(rb"case`RunJavascriptMessage`:Function\([\w$]+\.source\)\(\);return;"),
+     rb"case`RunJavascriptMessage`:return;"),
+)
+
+
+def _warm_page() -> None:
+    with contextlib.suppress(Exception):  # the first request for the page says what went wrong
+        viser_page()
+
+
+def base88_decode(text: bytes) -> bytes:
+    """viser's base-88 (five digits for four bytes, big-endian; a rest of k + 1 digits for k bytes)."""
+    digits = np.zeros(256, dtype=np.uint64)
+    digits[np.frombuffer(BASE88, dtype=np.uint8)] = np.arange(len(BASE88), dtype=np.uint64)
+    whole = len(text) - len(text) % 5
+    groups = digits[np.frombuffer(text[:whole], dtype=np.uint8)].reshape(-1, 5)
+    values = np.zeros(len(groups), dtype=np.uint64)
+    for column in range(5):
+        values = values * np.uint64(88) + groups[:, column]
+    out = values.astype(">u4").tobytes()
+    if len(text) > whole:
+        rest = 0
+        for c in text[whole:]:
+            rest = rest * 88 + BASE88.index(c)
+        out += rest.to_bytes(len(text) - whole - 1, "big")
+    return out
+
+
+def base88_encode(data: bytes) -> bytes:
+    whole = len(data) - len(data) % 4
+    values = np.frombuffer(data[:whole], dtype=">u4").astype(np.uint64)
+    table = np.frombuffer(BASE88, dtype=np.uint8)
+    columns = [table[(values // np.uint64(88 ** k)) % np.uint64(88)] for k in range(4, -1, -1)]
+    out = np.stack(columns, axis=1).tobytes() if len(values) else b""
+    if len(data) > whole:
+        rest, tail = int.from_bytes(data[whole:], "big"), b""
+        for _ in range(len(data) - whole + 1):
+            rest, digit = divmod(rest, 88)
+            tail = BASE88[digit:digit + 1] + tail
+        out += tail
+    return out
+
+
+def viser_client(page: bytes) -> tuple[bytes, bytes] | None:
+    """The stylesheet and the application script packed in viser's page; None if it is packed otherwise."""
+    import zstandard
+
+    found = {m.lastindex: m.group(m.lastindex) for m in _PACKED.finditer(page) if m.lastindex}
+    if set(found) != {1, 2, 3}:
+        return None
+    style, code = int(found[2]), int(found[3])
+    raw = zstandard.ZstdDecompressor().decompress(base88_decode(found[1]), max_output_size=style + code)
+    return raw[:style], raw[style:style + code]
+
+
+def _repacked(page: bytes) -> bytes:
+    """The page with its application patched (CLIENT_PATCHES) and packed again as viser packs it; the page
+    as it is (and a log line) where viser packs it otherwise or a patch finds nothing to change."""
+    import zstandard
+
+    unpacked = viser_client(page)
+    if unpacked is None:
+        log.warning("3D view: viser's page is not packed as expected; served as it is")
+        return page
+    style, code = unpacked
+    for pattern, replacement in CLIENT_PATCHES:
+        code, count = pattern.subn(replacement, code)
+        if count == 0:
+            log.warning("3D view: a change to viser's client did not apply; served as it is",
+                        extra={"job": pattern.pattern[:60].decode("ascii", "replace")})
+            return page
+    packed = base88_encode(zstandard.ZstdCompressor(level=19).compress(style + code))
+    sizes = {1: b'data-p="' + packed + b'"', 2: b'data-ss="%d"' % len(style), 3: b'data-cs="%d"' % len(code)}
+    return _PACKED.sub(lambda m: sizes[m.lastindex or 1], page)
 
 
 @dataclass(frozen=True)
@@ -135,6 +234,8 @@ class Scenes:
         self.replica = str(getattr(settings, "replica_id", "") or "")  # the tokens' prefix (deploy/haproxy.cfg)
         self._scenes: dict[str, Scene] = {}
         self._lock = threading.Lock()
+        if _PAGE is None:  # viser's page is unpacked, changed and packed again once (about 1.5 s): not on a request
+            threading.Thread(target=_warm_page, name="viser-page", daemon=True).start()
 
     # -- tokens ---------------------------------------------------------------------------------
     def new_token(self, owner: str = "anon:-", quota: str = "ip:-") -> str:

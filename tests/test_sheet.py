@@ -129,7 +129,7 @@ def test_form_has_25_rows_of_13_columns_and_the_task_is_escaped() -> None:
     task = {"de": "Erst <b>das</b>\nund & dies.\n\nZweiter Absatz."}
     odd = type(ex).model_validate({**ex.model_dump(), "task": task})
     page = task_sheet_html([odd], "de")
-    assert "<p>Erst &lt;b&gt;das&lt;/b&gt; und &amp; dies.</p>" in page and "<p>Zweiter Absatz.</p>" in page
+    assert "<p>Erst &lt;b&gt;das&lt;/b&gt;\nund &amp; dies.</p>" in page and "<p>Zweiter Absatz.</p>" in page
     form = page.split('class="pal"', 1)[1]
     body = form.split("<tbody>", 1)[1].split("</tbody>", 1)[0]
     assert body.count("<tr>") == FORM_ROWS

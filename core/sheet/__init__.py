@@ -26,7 +26,10 @@ from typing import Any
 
 from core.drawing import KIND_NAMES_EN, MARGIN, SHEET, part_drawing, value
 from core.exercises import CuttingData, Exercise
-from core.tools import KIND_NAMES_DE
+from core.interpreter.state import RunSetup
+from core.pipeline import parse, run
+from core.sheet.tasktext import blank_text, states_blank, task_html, zero_text
+from core.tools import KIND_NAMES_DE, LATHE_KIND_NAMES_DE, Tool
 
 FORM_ROWS = 25  # rows of one programming-form page
 MAX_FORM_PAGES = 4
@@ -40,30 +43,28 @@ FORM_COLUMNS = (("N", 10), ("G", 10), ("X", 14), ("Y", 14), ("Z", 13), ("I", 12)
 
 LABELS = {
     "de": {"sheet": "Aufgabenblatt", "form": "Programmierblatt", "name": "Name:", "date": "Datum:",
-           "exercise": "Aufgabe", "data": "Rohteil, Werkzeuge und Schnittdaten",
-           "blank": "Rohteil {x} × {y} × {z} mm, Werkstücknullpunkt: {zero}.",
-           "bar": "Rohteil Stange Ø{d} × {l} mm, Werkstücknullpunkt: {zero}.",
-           "tube": "Rohteil Rohr Ø{d} / Ø{i} × {l} mm, Werkstücknullpunkt: {zero}.",
-           "feed_rev": "F (mm/U)", "nose": "Ø / R (mm)",
-           "tool": "Werkzeug", "kind": "Art", "diameter": "Ø (mm)", "speed": "S (1/min)",
-           "feed": "F (mm/min)",
+           "exercise": "Aufgabe", "data": "Rohteil, Werkzeuge und Schnittdaten", "tools_only": "Werkzeuge und Schnittdaten",
+           "tool": "Werkzeug", "kind": "Art", "diameter": "Ø (mm)", "speed": "S (1/min)", "feed": "F (mm/min)",
+           "insert": "Schneidplatte", "size": "Ø / R (mm)", "cut": "V / S", "feed_rev": "F (mm/U)",
+           "reduced": "E (mm/U)", "spindle": "Drehrichtung", "position": "Lage", "groove": "Einstechplatte",
+           "thread": "Gewindeplatte", "v": "V {v} m/min (G96)", "s": "S {s} 1/min (G97)",
            "remark": "Bemerkung", "start": "Ausgangsprogramm", "drawing": "Bemaßte Zeichnung des Fertigteils",
            "caption": "Zeichnung verkleinert gedruckt (etwa {p} %); es gelten die eingetragenen Maße in mm.",
            "form_page": "Programmierblatt {k} von {n}", "page": "Seite", "of": "von",
            "write": "Programm schreiben", "complete": "Programm ergänzen", "fix": "Fehler finden"},
     "en": {"sheet": "Task sheet", "form": "Programming form", "name": "Name:", "date": "Date:",
-           "exercise": "Exercise", "data": "Blank, tools and cutting data",
-           "blank": "Blank {x} × {y} × {z} mm, workpiece zero: {zero}.",
-           "bar": "Blank: bar Ø{d} × {l} mm, workpiece zero: {zero}.",
-           "tube": "Blank: tube Ø{d} / Ø{i} × {l} mm, workpiece zero: {zero}.",
-           "feed_rev": "F (mm/rev)", "nose": "Ø / R (mm)",
+           "exercise": "Exercise", "data": "Blank, tools and cutting data", "tools_only": "Tools and cutting data",
            "tool": "Tool", "kind": "Kind", "diameter": "Ø (mm)", "speed": "S (rpm)", "feed": "F (mm/min)",
+           "insert": "Insert", "size": "Ø / R (mm)", "cut": "V / S", "feed_rev": "F (mm/rev)",
+           "reduced": "E (mm/rev)", "spindle": "Spindle", "position": "quadrant", "groove": "grooving insert",
+           "thread": "threading insert", "v": "V {v} m/min (G96)", "s": "S {s} rpm (G97)",
            "remark": "Remark", "start": "Start program",
            "drawing": "Dimensioned drawing of the finished part",
            "caption": "Drawing printed reduced (about {p} %); the dimensions given in mm apply.",
            "form_page": "programming form {k} of {n}", "page": "Page", "of": "of",
            "write": "Write the program", "complete": "Complete the program", "fix": "Find the mistake"},
 }
+INSERT_ANGLES = {"C": 80, "D": 55, "V": 35}  # the rhombic inserts' corner angle (docs/tools.md)
 
 
 class SheetUnavailable(RuntimeError):
@@ -104,12 +105,6 @@ def _e(text: str) -> str:
     return html.escape(text, quote=True)
 
 
-def _paragraphs(markdown: str) -> str:
-    """Markdown paragraphs as the exercise page shows them: blank lines separate, single breaks are spaces."""
-    paragraphs = [re.sub(r"\s*\n\s*", " ", p).strip() for p in re.split(r"\n\s*\n", markdown)]
-    return "\n".join(f"    <p>{_e(p)}</p>" for p in paragraphs if p)
-
-
 def _cropped(svg: str) -> str:
     """The drawing without the white margin around its frame (the page has its own)."""
     x, y, w, h = DRAWING_CROP
@@ -121,58 +116,124 @@ def _svg_uri(svg: str) -> str:
     return "data:image/svg+xml;base64," + base64.b64encode(svg.encode("utf-8")).decode("ascii")
 
 
-def _speed(cut: CuttingData | None, lang: str) -> str:
-    """S in 1/min; where the task gives a cutting speed instead (turning under G96), V in m/min."""
-    if cut is None:
+def _joined(values: list[str]) -> str:
+    """Several allowed values side by side ("0,35 / 0,12"), each once; "–" where there is none."""
+    seen = list(dict.fromkeys(v for v in values if v))
+    return " / ".join(seen) if seen else "–"
+
+
+def _programmed_feeds(exercise: Exercise) -> tuple[dict[int, set[float]], dict[int, set[float]], dict[int, str]]:
+    """Per tool, the feeds the reference writes as F and as E (the reduced feed of a transition or a falling
+    contour), and the spindle direction it turns the tool in (M3/M4): what tells an E from an F in the cutting
+    data and fills in a direction the data leave open."""
+    setup = RunSetup(tools=exercise.tool_table(), zero_offsets=tuple(exercise.zero_offsets.items()),
+                     subprograms=tuple(exercise.subprograms.items()))
+    toolpath = run(exercise.reference, exercise.dialect, setup)
+    program, _ = parse(exercise.reference, exercise.dialect, setup)
+    f_words: dict[int, set[float]] = {}
+    e_words: dict[int, set[float]] = {}
+    for block in program.blocks:
+        if not block.ok or not block.words:
+            continue
+        tool = toolpath.state_at(block.line)[0].tool
+        if tool is None:
+            continue
+        for word in block.words:
+            if word.value is not None and word.address in ("F", "E"):
+                (f_words if word.address == "F" else e_words).setdefault(tool, set()).add(round(word.value, 6))
+    spindle: dict[int, str] = {}
+    for m in toolpath.moves:
+        if m.tool is not None and m.spindle_direction is not None and m.tool not in spindle:
+            spindle[m.tool] = "M3" if m.spindle_direction == "cw" else "M4"
+    return f_words, e_words, spindle
+
+
+def _insert(tool: Tool, lang: str) -> str:
+    labels = LABELS[lang]
+    if tool.kind != "turning":
         return "–"
-    if cut.speed:
-        return value(cut.speed, lang)
-    v = getattr(cut, "cutting_speed", None)
-    return f"V {value(float(v), lang)} m/min" if v else "–"
+    if tool.insert == "groove":
+        return f"{labels['groove']} B{value(tool.width, lang)}" if tool.width else labels["groove"]
+    if tool.insert == "thread":
+        return f"{labels['thread']} (60°)"
+    letter = tool.insert or "C"
+    angle = tool.insert_angle or INSERT_ANGLES.get(letter)
+    return f"{letter} ({value(angle, lang)}°)" if angle else letter
+
+
+def _tool_rows(exercise: Exercise, lang: str) -> tuple[list[str], list[list[str]]]:
+    """The columns and rows of the tool table: every tool of the exercise with every cutting-data entry the task
+    gives for it (several allowed values side by side). Turning: the insert, its nose radius and quadrant,
+    V (G96) or S (G97), F and the reduced feed E in mm/U, the spindle direction."""
+    labels = LABELS[lang]
+    kinds = KIND_NAMES_DE | LATHE_KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN | {"turning": "turning tool"}
+    table = exercise.tool_table()
+    entries: dict[int, list[CuttingData]] = {}
+    for c in exercise.cutting_data:
+        entries.setdefault(c.tool, []).append(c)
+    numbers = sorted(set(table.tools) | set(entries))
+    f_words, e_words, turning = _programmed_feeds(exercise)
+    rows = []
+    for number in numbers:
+        tool = table.get(number)
+        cuts = entries.get(number, [])
+        # the kind (a milling tool's name repeats its Ø, which has its own column); a lathe tool's own name in
+        # German ("Schruppmeißel D R0,8": the names are German)
+        kind = kinds.get(tool.kind, tool.name or tool.kind) if tool is not None else "–"
+        if tool is not None and exercise.lathe and lang == "de" and tool.name:
+            kind = tool.name
+        if exercise.lathe:
+            fs, es = f_words.get(number, set()), e_words.get(number, set())
+            feeds = [value(c.feed, lang) for c in cuts if not (round(c.feed, 6) in es and round(c.feed, 6) not in fs)]
+            reduced = [value(c.feed, lang) for c in cuts if round(c.feed, 6) in es]
+            if tool is not None and tool.kind == "turning":
+                size = f"R{value(tool.nose_radius, lang)}"
+                if tool.quadrant:
+                    size += f", {labels['position']} P{tool.quadrant}"
+            else:
+                size = f"Ø{value(tool.diameter, lang)}" if tool is not None and tool.diameter else "–"
+            speeds = [labels["v"].format(v=value(c.cutting_speed, lang)) if c.cutting_speed
+                      else labels["s"].format(s=value(c.speed, lang)) if c.speed else "" for c in cuts]
+            spindle = [c.spindle or turning.get(number, "") for c in cuts] or [turning.get(number, "")]
+            rows.append([f"T{number}", kind[:1].upper() + kind[1:], _insert(tool, lang) if tool is not None else "–", size, _joined(speeds),
+                         _joined(feeds), _joined(reduced), _joined(spindle)])
+        else:
+            size = value(tool.diameter, lang) if tool is not None and tool.diameter else "–"
+            spindle = [c.spindle or turning.get(number, "") for c in cuts] or [turning.get(number, "")]
+            rows.append([f"T{number}", kind[:1].upper() + kind[1:], size,
+                         _joined([value(c.speed, lang) for c in cuts if c.speed]),
+                         _joined([value(c.feed, lang) for c in cuts]), _joined(spindle)])
+    columns = (["tool", "kind", "insert", "size", "cut", "feed_rev", "reduced", "spindle"] if exercise.lathe
+               else ["tool", "kind", "diameter", "speed", "feed", "spindle"])
+    return [labels[c] for c in columns], rows
 
 
 def _task_page(exercise: Exercise, lang: str) -> str:
     labels = LABELS[lang]
-    kinds = KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN
-    st = exercise.stock.stock()
-    cutting = {c.tool: c for c in exercise.cutting_data}
-    rows = []
-    for tool in sorted(exercise.tool_table().tools.values(), key=lambda t: t.number):
-        cut = cutting.get(tool.number)
-        # the kind only (the tool's name repeats its Ø, which has its own column)
-        kind = kinds.get(tool.kind, tool.name or tool.kind)
-        size = value(tool.diameter, lang) if tool.diameter else "–"
-        if tool.kind == "turning":  # a lathe tool: its nose radius
-            size = f"R{value(tool.nose_radius, lang)}"
-        cells = [f"T{tool.number}", kind[:1].upper() + kind[1:], size, _speed(cut, lang),
-                 value(cut.feed, lang) if cut else "–"]
-        rows.append("      <tr>" + "".join(f'<td class="num">{_e(c)}</td>' if k >= 2 else f"<td>{_e(c)}</td>"
-                                            for k, c in enumerate(cells)) + "</tr>")
-    columns = ("tool", "kind", "nose", "speed", "feed_rev") if exercise.lathe else ("tool", "kind", "diameter", "speed",
-                                                                                     "feed")
-    headings = "".join(f'<th class="num">{_e(labels[k])}</th>' if n >= 2 else f"<th>{_e(labels[k])}</th>"
-                       for n, k in enumerate(columns))
+    headings, rows = _tool_rows(exercise, lang)
+    left = 2  # the tool and its kind are text; the other columns are values
+    head = "".join(f'<th class="num">{_e(h)}</th>' if n >= left else f"<th>{_e(h)}</th>" for n, h in enumerate(headings))
+    body = ["      <tr>" + "".join(f'<td class="num">{_e(c)}</td>' if k >= left else f"<td>{_e(c)}</td>"
+                                    for k, c in enumerate(row)) + "</tr>" for row in rows]
     start = ""
     if exercise.kind != "write" and exercise.start_program:
         start = (f'  <div class="start">\n    <h2>{_e(labels["start"])}</h2>\n'
                  f"    <pre>{_e(exercise.start_program.rstrip())}</pre>\n  </div>")
     percent = round(190.0 * (0.78 if start else 1.0) / DRAWING_CROP[2] * 100)
-    blank = labels["blank"].format(x=value(st.x1 - st.x0, lang), y=value(st.y1 - st.y0, lang),
-                                   z=value(st.z1 - st.z0, lang), zero=exercise.stock.zero.get(lang))
-    if exercise.blank is not None:  # a lathe's bar or tube
-        b = exercise.blank
-        blank = labels["tube" if b.inner_diameter else "bar"].format(
-            d=value(b.diameter, lang), i=value(b.inner_diameter, lang), l=value(b.length, lang),
-            zero=exercise.stock.zero.get(lang))
+    stock = exercise.stock.model_dump(mode="json")
+    blank = exercise.blank.model_dump(mode="json") if exercise.blank is not None else None
+    task = exercise.task.get(lang)
+    stated = states_blank(task, stock, blank)  # the text says it already: the data line gives only the zero
+    data_line = zero_text(stock, blank, lang) if stated else f"{blank_text(stock, blank, lang)} · {zero_text(stock, blank, lang)}"
     return _template("task.html").substitute(
         sheet_label=_e(labels["sheet"]), name_label=_e(labels["name"]), date_label=_e(labels["date"]),
         title=_e(exercise.title.get(lang)),
         meta=_e(f"{labels['exercise']} {exercise.id} · {labels[exercise.kind]}"),
-        task=_paragraphs(exercise.task.get(lang)),
+        task=task_html(task),  # safe HTML (core/sheet/tasktext.py): what the exercise page shows
         drawing=_svg_uri(_cropped(part_drawing(exercise, lang))), drawing_alt=_e(labels["drawing"]),
-        caption=_e(labels["caption"].format(p=percent)), data_label=_e(labels["data"]), blank=_e(blank),
-        tool_headings=headings, tool_rows="\n".join(rows), start=start,
-        variant=" with-start" if start else "")
+        caption=_e(labels["caption"].format(p=percent)), data_label=_e(labels["tools_only" if stated else "data"]),
+        blank=_e(data_line), tool_headings=head, tool_rows="\n".join(body), start=start,
+        variant=" with-start" if start else "", lathe=" lathe" if exercise.lathe else "")
 
 
 def form_pages(exercise: Exercise) -> int:

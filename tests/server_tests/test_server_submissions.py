@@ -62,9 +62,10 @@ def test_csv_export(api: Api) -> None:
     api.client.post("/api/v1/submissions", json={"exercise": ex["slug"], "program": BAD}, headers=auth(student))
     r = api.client.get("/api/v1/submissions/export.csv", params={"exercise": ex["slug"]}, headers=auth(owner))
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv")
-    rows = list(csv.DictReader(io.StringIO(r.text)))
-    assert len(rows) == 1 and rows[0]["user"] == student["name"] and rows[0]["score"] == ""
-    assert int(rows[0]["error_count"]) >= 1
+    assert r.content.startswith("\ufeff".encode())  # UTF-8 with BOM, `;`: German Excel
+    rows = list(csv.DictReader(io.StringIO(r.content.decode("utf-8-sig")), delimiter=";"))
+    assert len(rows) == 1 and rows[0]["Benutzer"] == student["name"] and rows[0]["Punktzahl"] == ""
+    assert int(rows[0]["Fehler"]) >= 1
     r = api.client.get("/api/v1/submissions/export.csv", headers=auth(student))
     assert r.status_code == 403 and error_code(r) == "FORBIDDEN"
 
@@ -120,7 +121,8 @@ def test_gradable_exercise_is_graded_and_hidden_criteria_stay_hidden(api: Api) -
     seen_by_owner = api.client.get(f"/api/v1/submissions/{good['id']}", headers=auth(owner)).json()
     assert "program_end" in [c["id"] for c in seen_by_owner["grading"]["criteria"]]
     r = api.client.get("/api/v1/submissions/export.csv", params={"exercise": ex["slug"]}, headers=auth(owner))
-    scores = sorted(int(row["score"]) for row in csv.DictReader(io.StringIO(r.text)))
+    rows = csv.DictReader(io.StringIO(r.content.decode("utf-8-sig")), delimiter=";")
+    scores = sorted(int(row["Punktzahl"]) for row in rows)
     assert scores == sorted([bad["score"], 100])
     r = api.client.patch(f"/api/v1/exercises/{ex['slug']}", json={"stock": None}, headers=auth(owner))
     assert r.status_code == 200 and not r.json()["gradable"]
