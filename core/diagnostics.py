@@ -507,8 +507,71 @@ CATALOGUE: dict[str, Entry] = {
                         "Werkzeugen geht es nicht.",
                      "G82 tapping needs the main spindle turning (G97 S…, M3/M4); it does not work with driven "
                      "tools."),
+    # --- DIN/ISO dialects: SINUMERIK 808D ISO and Beckhoff TwinCAT (DIN-, ISO-, BK-) -------------------------
+    "DIN-E203": Entry(E, "Kreisbogen ist unterbestimmt: {command} braucht einen Mittelpunkt ({centre}) oder einen "
+                         "Radius R.",
+                      "Arc is underdetermined: {command} needs a centre ({centre}) or a radius R."),
+    "BK-W202": Entry(W, "Mittelpunktskorrektur (G165): der Kreismittelpunkt wird um {shift} mm verschoben, damit Start- "
+                        "und Endpunkt auf dem Kreis liegen (programmiert: Radius {r_start} mm am Start, {r_end} mm am "
+                        "Ende).",
+                     "Centre point correction (G165): the circle centre is moved by {shift} mm so that the start and "
+                     "end point lie on the circle (as programmed: radius {r_start} mm at the start, {r_end} mm at the "
+                     "end)."),
+    "BK-E203": Entry(E, "Kreisendpunktfehler: der Kreismittelpunkt müsste um {shift} mm verschoben werden, erlaubt sind "
+                        "{limit} mm (Mittelpunktskorrektur G165; programmiert: Radius {r_start} mm am Start, {r_end} mm "
+                        "am Ende).",
+                     "Circle end point error: the circle centre would have to move by {shift} mm, {limit} mm are "
+                     "allowed (centre point correction G165; as programmed: radius {r_start} mm at the start, {r_end} "
+                     "mm at the end)."),
+    "BK-E502": Entry(E, "{element} in Zeile {line} steht vor dem ersten Verfahrsatz: eine Fase oder Rundung wird "
+                        "zwischen zwei Verfahrsätzen eingefügt und braucht einen davor und einen danach.",
+                     "{element} in line {line} comes before the first motion block: a chamfer or rounding is inserted "
+                     "between two motion blocks and needs one before it and one after it."),
+    "BK-E503": Entry(E, "Nach {element} in Zeile {line} folgt kein Verfahrsatz (G00, G01, G02, G03) in der Ebene mit "
+                        "derselben Werkzeugradiuskorrektur; die Fase bzw. Rundung kann nicht eingefügt werden.",
+                     "{element} in line {line} is not followed by a motion block (G00, G01, G02, G03) in the plane "
+                     "with the same tool radius compensation; the chamfer or rounding cannot be inserted."),
+    "BK-E504": Entry(E, "Zwei Fasen oder Rundungen ohne Verfahrsatz dazwischen: {element} in Zeile {line} folgt auf "
+                        "{first} in Zeile {first_line}.",
+                     "Two chamfers or roundings without a motion block between them: {element} in line {line} follows "
+                     "{first} in line {first_line}."),
+    "ISO-E301": Entry(E, "Programm O{number} gibt es weder in dieser Datei noch in der Bibliothek.",
+                      "Program O{number} is neither in this file nor in the library."),
+    "ISO-E302": Entry(E, "Unterprogramme sind höchstens {limit} Ebenen tief schachtelbar.",
+                      "Subprograms can be nested at most {limit} levels deep."),
+    "ISO-E303": Entry(E, "Programm O{number} ruft sich selbst auf (Rekursion).",
+                      "Program O{number} calls itself (recursion)."),
+    "ISO-E304": Entry(E, "M30 (Programmende) im Unterprogramm O{number}; ein Unterprogramm endet mit M99.",
+                      "M30 (end of program) in subprogram O{number}; a subprogram ends with M99."),
+    "ISO-E305": Entry(E, "Unterprogramm O{number} endet ohne M99.", "Subprogram O{number} ends without M99."),
+    "ISO-W306": Entry(W, "M99 im Hauptprogramm: die Steuerung springt an den Programmanfang zurück und wiederholt das "
+                         "Programm ohne Ende; die Simulation endet hier (Hauptprogramme enden mit M30).",
+                      "M99 in the main program: the control jumps back to the program start and repeats the program "
+                      "endlessly; the simulation ends here (main programs end with M30)."),
+    "ISO-E307": Entry(E, "Die Programmnummer O{number} steht allein in ihrem Satz; {words} wird nicht ausgeführt.",
+                      "The program number O{number} stands alone in its block; {words} is not executed."),
+    "ISO-E401": Entry(E, "{code}: {what} {address} fehlt; sie muss im ersten Bohrsatz nach der Anwahl des Zyklus "
+                         "stehen.",
+                      "{code}: {what_en} {address} is missing; it must be in the first drilling block after the cycle "
+                      "is selected."),
+    "ISO-E402": Entry(E, "{code}: der Bohrungsgrund Z{bottom} liegt {relation} der R-Ebene Z{r}.",
+                      "{code}: the bottom of the hole Z{bottom} lies {relation_en} the R plane Z{r}."),
+    "ISO-E404": Entry(E, "{code} ergäbe {count} Bohrschritte, mehr als die erlaubten {limit}; der Zyklus wird nicht "
+                         "ausgeführt.",
+                      "{code} would make {count} drilling steps, more than the allowed {limit}; the cycle is not "
+                      "executed."),
+    "ISO-W405": Entry(W, "{code} bei eingeschalteter Fräserradiuskorrektur ({compensation}): die Bohrung wird ohne "
+                         "Korrektur gefahren; vor Bohrzyklen G40 programmieren.",
+                      "{code} with cutter radius compensation on ({compensation}): the hole is drilled without "
+                      "compensation; program G40 before drilling cycles."),
+    "ISO-I406": Entry(I, "G88: an der Steuerung fährt der Bediener das Werkzeug im Bohrungsgrund von Hand zurück; "
+                         "gezeigt wird ein Eilgang bei stehender Spindel zur Rückzugsebene.",
+                      "G88: on the control the operator retracts the tool from the bottom of the hole by hand; shown "
+                      "is a rapid with the spindle stopped to the return level."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
+                      "{feature_en} is not supported yet; {effect_en}"),
+    "PAL-W901": Entry(W, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),
 }
 

@@ -24,7 +24,7 @@ from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
 from core.interpreter.traub_turn import run_program as traub_run
 from core.syntax.blocks import Block, Program
-from core.syntax.parser import parser_for
+from core.syntax.parser import BlockParser, parser_for
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 
@@ -43,13 +43,17 @@ class Dialect:
     skip_blocks: bool = False  # the default of the skip switch: True = "/" blocks are not executed
     library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
     lathe: bool = False  # turning: X is shown as a diameter (the moves' x is the radius, DECISIONS §15)
+    program_numbers: bool = False  # a leading O word starts a program (ISO: `O1000` … `M99`)
+
+    def parser(self) -> BlockParser:
+        return parser_for(self.grammar, self.valued_codes, self.program_numbers)
 
 
 DIALECTS: dict[str, Dialect] = {
     "pal-mill": Dialect("pal-mill", "PAL Fräsen", "PAL milling", "pal_mill", PAL_MILL_TABLE, pal_mill_block),
-    # ISO words are PAL's words without the PAL-only addresses: the same grammar, another table
     "sinumerik-iso": Dialect("sinumerik-iso", "SINUMERIK 808D ISO Fräsen", "SINUMERIK 808D ISO milling",
-                             "pal_mill", ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE)),
+                             "iso", ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE), library_prefix="O",
+                             program_numbers=True),
     "beckhoff": Dialect("beckhoff", "Beckhoff TwinCAT CNC", "Beckhoff TwinCAT CNC", "beckhoff", BECKHOFF_TABLE,
                         partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED),
     "traub-tx8d": Dialect("traub-tx8d", "TRAUB TX 8 D Drehen", "TRAUB TX 8 D turning", "traub", TRAUB_TABLE,
@@ -61,8 +65,7 @@ DEFAULT_DIALECT = "pal-mill"
 
 def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> tuple[Program, list[Diagnostic]]:
     setup = setup or RunSetup()
-    d = DIALECTS[dialect]
-    return parser_for(d.grammar, d.valued_codes).parse_program(text, setup.limits)
+    return DIALECTS[dialect].parser().parse_program(text, setup.limits)
 
 
 @dataclass
@@ -81,7 +84,7 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
     """Parse and interpret `text`; the diagnostics of both stages are in the result, sorted by position."""
     setup = setup or RunSetup()
     d = DIALECTS[dialect]
-    parser = parser_for(d.grammar, d.valued_codes)
+    parser = d.parser()
     program, diagnostics = parser.parse_program(text, setup.limits, memo.lines if memo is not None else None)
     library = {}
     for number, sub_text in setup.subprograms:

@@ -44,9 +44,16 @@ def test_g17_arc_with_r_plus_and_r_minus() -> None:
     assert long.angle > 180 and long.radius == pytest.approx(10.5)
 
 
-def test_arc_outside_the_selected_plane_takes_the_plane_of_its_end_point_axes() -> None:
-    (arc,) = iso("G17 G02 Z10 X10 R10")
-    assert arc.plane == "G18" and arc.end == pytest.approx((10, 0, 10))
+def test_arc_outside_the_selected_plane_takes_the_plane_of_its_centre_words() -> None:
+    (arc,) = iso("G17 G02 Z10 X10 K10")  # K cannot belong to G17: the arc lies in Z-X (I omitted = 0)
+    assert arc.plane == "G18" and arc.end == pytest.approx((10, 0, 10)) and arc.center == pytest.approx((0, 0, 10))
+
+
+def test_r_arc_leaves_the_selected_plane_only_where_r_is_impossible_in_it() -> None:
+    (helix,) = iso("G17 G02 Z10 X10 R10")  # possible in X-Y: a helix in G17, Y omitted = current position
+    assert helix.plane == "G17" and helix.end == pytest.approx((10, 0, 10)) and helix.angle == pytest.approx(60)
+    (arc,) = iso("G17 G02 Z10 X0 R5")  # in X-Y the end equals the start: the arc lies in Z-X
+    assert arc.plane == "G18" and arc.end == pytest.approx((0, 0, 10)) and arc.center == pytest.approx((0, 0, 5))
 
 
 def test_full_circle_and_helix_in_g19() -> None:

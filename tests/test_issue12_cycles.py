@@ -65,8 +65,11 @@ def test_unknown_g_code_gives_no_follow_ups_on_its_words() -> None:
     assert codes(run(READY + "N40 G99 X10 ZA-3 V2\nN50 M30\n")) == [("PAL-E105", 4)]
 
 
-@pytest.mark.parametrize("dialect", ["sinumerik-iso", "beckhoff"])
-def test_iso_dialects_drilling_cycle_one_diagnostic_per_block(dialect: str) -> None:
-    # the shared executor: the cycle is unknown there, and its R is not blamed on the modal G0
+@pytest.mark.parametrize("dialect,expected", [
+    ("sinumerik-iso", []),  # the ISO drilling cycle runs (tests/test_iso_beckhoff_programs.py)
+    ("beckhoff", [("PAL-W901", 4), ("PAL-W901", 5)]),  # Beckhoff's G80–G89: implicit subprogram calls, not yet
+])
+def test_iso_dialects_drilling_cycle_one_diagnostic_per_block(dialect: str, expected: list[tuple[str, int]]) -> None:
+    # the shared executor: a code not modelled gives one diagnostic, and its R is not blamed on the modal G0
     tp = run("T1 M6\nS1000 F100 M3\nG0 X0 Y0 Z10\nG81 X10 Y10 Z-5 R2 F100\nG80\nM30\n", dialect)
-    assert codes(tp) == [("PAL-E105", 4), ("PAL-E105", 5)]
+    assert codes(tp) == expected

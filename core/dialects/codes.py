@@ -86,6 +86,17 @@ class CodeTable:
     tool_words: frozenset[str] = frozenset({"T"})  # the words of a tool change
     max_g_words: int | None = None  # G words allowed in one block (PAL: 2)
     strict_technology: bool = False  # a cut with no tool or a stopped spindle is an error (else a warning)
+    # DIN 66025 / ISO rules (SINUMERIK ISO, Beckhoff) instead of PAL's: an arc's omitted end-point axis is the
+    # current position (G90) or 0 (G91) and an omitted centre offset 0; the plane of an arc is left only when its
+    # centre words (or R) cannot belong to it; D selects the tool offset; a code the control knows but the product
+    # does not model is a warning, and the rest of its block runs
+    din: bool = False
+    # the arc end-point check: start and end radius may differ by max(RunSetup.arc_tolerance, factor × radius)
+    arc_tolerance_factor: float = 0.0
+    centre_correction: bool = False  # Beckhoff G165: the centre is moved onto the arc within limits
+    modal_radius: bool = False  # Beckhoff: R is kept for the next arcs (R alone in a G02/G03 block: no motion)
+    program_prefix: str = "L"  # subprograms: L<n> (PAL, `%L<n>` headers) or O<n> (ISO, `O<n>` lines)
+    unsupported_prefixes: tuple[str, ...] = ()  # words of the control the product does not model (#HSC, V.P.X)
     group_of: dict[str, str] = field(init=False)
     technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
     pairs: dict[str, tuple[tuple[str, str], ...]] = field(init=False)  # code → (group, member) it switches

@@ -131,19 +131,26 @@ class Unit:
         return self.source, self.number
 
 
-_SUB_HEADER = re.compile(r"L\s*(\d+)")
+_SUB_HEADER = {"L": re.compile(r"L\s*(\d+)"), "O": re.compile(r"O(\d+)")}
 
 
-def split_units(program: Program) -> tuple[Unit, dict[int, Unit]]:
-    """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header."""
-    headers = [i for i, b in enumerate(program.blocks) if b.header is not None]
+def split_units(program: Program, prefix: str = "L") -> tuple[Unit, dict[int, Unit]]:
+    """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header (PAL) or
+    an `O<n>` line (ISO: the O line before the main program's first block is its own number)."""
+    pattern = _SUB_HEADER[prefix]
+    headers = [i for i, b in enumerate(program.blocks) if b.header is not None and pattern.fullmatch(b.header)]
     subs: dict[int, Unit] = {}
-    if not any(_SUB_HEADER.fullmatch(program.blocks[i].header or "") for i in headers):
+    if headers and prefix == "O":
+        first = next((i for i, b in enumerate(program.blocks) if b.ok and not b.is_empty and b.header is None),
+                     len(program.blocks))
+        headers = [i for i in headers if i > first]
+    if not headers:
         return Unit(None, None, program.blocks), subs
+    starts = set(headers)
     main: list[Block] = []
     current = main
-    for b in program.blocks:
-        m = _SUB_HEADER.fullmatch(b.header or "")
+    for i, b in enumerate(program.blocks):
+        m = pattern.fullmatch(b.header or "") if i in starts else None
         if m is not None:
             current = []
             subs.setdefault(int(m.group(1)), Unit(int(m.group(1)), None, current, first=b.line + 1))
@@ -199,9 +206,11 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     state = result.initial = switch_on_state(table)
     position = setup.start
     params = result.params
-    main, subs = split_units(program)
+    prefix = table.program_prefix
+    flow = _FLOW_CODES[prefix]
+    main, subs = split_units(program, prefix)
     for number, prog in (library or {}).items():
-        subs.setdefault(number, Unit(number, f"L{number}", prog.blocks))
+        subs.setdefault(number, Unit(number, f"{prefix}{number}", prog.blocks))
     units = {main.key: main, **{u.key: u for u in subs.values()}}
     n_lines = len(program.blocks)
     states: list[ModalState | None] = [None] * n_lines
@@ -294,7 +303,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             if not calls:
                 break
             tail = unit.blocks[-1].line if unit.blocks else max(1, unit.first - 1)  # empty: its header
-            report(diag("PAL-E409", Span(tail, 1, tail, 1), number=unit.number))
+            report(diag(flow["PAL-E409"], Span(tail, 1, tail, 1), number=unit.number))
             frame = calls.pop()
             unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
@@ -387,11 +396,11 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             number, count = out.flow[1], out.flow[2]
             callee = subs.get(number)
             if callee is None:
-                report(diag("PAL-E401", block.span, number=number))
+                report(diag(flow["PAL-E401"], block.span, number=number))
             elif callee is unit or any(c.callee is callee for c in calls):
-                report(diag("PAL-E404", block.span, number=number))
+                report(diag(flow["PAL-E404"], block.span, number=number))
             elif len(calls) >= setup.max_call_depth:
-                report(diag("PAL-E405", block.span, limit=setup.max_call_depth))
+                report(diag(flow["PAL-E405"], block.span, limit=setup.max_call_depth))
             elif count >= 1:
                 calls.append(_Call(unit, index, callee, count - 1, block.line, unit.source))
                 unit, index = callee, 0
@@ -420,6 +429,10 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 continue
         index = section_end(unit, here, index)
         if out.sub_end:
+            if not calls and prefix == "O":  # M99 in the main program: the control starts it again, without end
+                report(diag("ISO-W306", block.span))
+                ended = True
+                break
             if not calls:
                 report(diag("PAL-E402", block.span))
             else:
@@ -431,9 +444,12 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                     calls.pop()
                     unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
             continue
+        if getattr(out, "stopped", False):  # an error that stops decoding: nothing after it runs, no M30 needed
+            ended = True
+            break
         if out.ended:
             if calls:
-                report(diag("PAL-E403", block.span, number=unit.number))
+                report(diag(flow["PAL-E403"], block.span, number=unit.number))
             ended = True
             rest = next((b for b in unit.blocks[index:] if b.ok and not b.is_empty and b.header is None), None)
             if unit is main and rest is not None:
@@ -484,6 +500,12 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
 
 
 main_key: UnitKey = (None, None)
+# the program flow's diagnostics in the words of each kind of program: PAL's L<n> … M17, ISO's O<n> … M99
+_FLOW_CODES = {
+    "L": {c: c for c in ("PAL-E401", "PAL-E403", "PAL-E404", "PAL-E405", "PAL-E409")},
+    "O": {"PAL-E401": "ISO-E301", "PAL-E403": "ISO-E304", "PAL-E404": "ISO-E303", "PAL-E405": "ISO-E302",
+          "PAL-E409": "ISO-E305"},
+}
 
 
 class Meeting:

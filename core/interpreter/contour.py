@@ -166,12 +166,16 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
         if isinstance(item, Blend):
             prev = next((k for k in range(len(out) - 1, -1, -1) if isinstance(out[k], Planned)), None)
             if prev is None:
-                d.append(diag("PAL-E209", item.span, line=item.span.line))
-            else:
-                before = out[prev]
-                assert isinstance(before, Planned)
-                out[prev] = dataclasses.replace(before, rn=item.size, rn_raw=item.raw, rn_feed=item.feed,
-                                                rapid_ok=True, blend_span=item.span)
+                d.append(diag("BK-E502", item.span, element=item.raw, line=item.span.line))
+                continue
+            before = out[prev]
+            assert isinstance(before, Planned)
+            if before.blend_span is not None:  # Beckhoff's error 20701: no motion block since the last one
+                d.append(diag("BK-E504", item.span, element=item.raw, line=item.span.line, first=before.rn_raw,
+                              first_line=before.blend_span.line))
+                continue
+            out[prev] = dataclasses.replace(before, rn=item.size, rn_raw=item.raw, rn_feed=item.feed,
+                                            rapid_ok=True, blend_span=item.span)
             continue
         out.append(item)
     i = 0
@@ -187,7 +191,10 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
         where = p.blend_span or p.move.span
         if (not isinstance(nxt, Planned) or not nxt.in_plane or nxt.side != p.side
                 or not (nxt.is_contour or p.rapid_ok)):
-            d.append(diag("PAL-E209", where, line=where.line))
+            if p.rn_raw.startswith("RN"):
+                d.append(diag("PAL-E209", where, line=where.line))
+            else:  # Beckhoff's G301/G302, #CHR, #CHF, #RND
+                d.append(diag("BK-E503", where, element=p.rn_raw, line=where.line))
             i += 1
             continue
         plane = nxt.move.plane

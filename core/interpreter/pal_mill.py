@@ -19,10 +19,11 @@ from core.dialects.pal_mill import TABLE
 from core.geometry.arcs import arc_solutions, choose_arc, sweep
 from core.geometry.elements import angle_of
 from core.geometry.planes import AXES, from_plane, to_plane
+from core.interpreter import din_arcs, iso_cycles
 from core.interpreter.contour import Approach, Blend, Departure, Item, Planned, departure_ends, end_tangent_of
 from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
-from core.interpreter.state import ModalState, RunSetup
+from core.interpreter.state import DrillData, ModalState, RunSetup
 from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 
@@ -48,6 +49,7 @@ class Outcome:
     flow: tuple[str, int, int] | None = None  # ("call", L, H) for G22, ("jump", N, 0) for a G29 taken
     repeat: tuple[int, int, int] | None = None  # G23: start N, end N, count H
     executed: bool = True  # False: an error stopped the block before it did anything
+    stopped: bool = False  # an error that stops decoding (Beckhoff's first G301/G302 without I): the run ends here
 
 
 def execute_block(
@@ -75,20 +77,24 @@ def execute_block(
     # -- read the words: everything that depends on the block alone (cached for loops) ---------
     codes = state.codes
     if cache is None:
-        reading = _read(block, table, setup, new_params, codes.get("motion"), codes.get("plane"))
+        reading = _read(block, table, setup, new_params, codes.get("motion"), codes.get("plane"), codes.get("cycle"))
     else:
         # the entry holds its block: while it is kept, no other block can have the block's id
-        key = (id(block), codes.get("motion"), codes.get("plane"))
+        key = (id(block), codes.get("motion"), codes.get("plane"), codes.get("cycle"))
         hit: tuple[Block, Reading] | None = cache.get(key)
         cached = hit[1] if hit is not None and hit[0] is block else None
         reading = cached if cached is not None else _read(block, table, setup, new_params, codes.get("motion"),
-                                                          codes.get("plane"))
+                                                          codes.get("plane"), codes.get("cycle"))
         if cached is None and reading.cacheable:
             cache[key] = (block, reading)
     d.extend(reading.diagnostics)
     gs, ms, words, values = reading.gs, reading.ms, reading.words, reading.values
     owner, owner_word, motion = reading.owner, reading.owner_word, reading.motion
     new_tool, arc_plane = reading.new_tool, reading.arc_plane
+    if table.din and values:
+        units = dict(reading.activations).get("units") or codes.get("units")
+        if units in _INCH:  # inch input (G20, Beckhoff G70): every length in mm from here on
+            values = _in_mm(values, reading.cycle is not None)
 
     if ms and any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
         d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
@@ -107,7 +113,7 @@ def execute_block(
 
     # -- what is not implemented yet -------------------------------------------------------
     for w, code in reading.planned:
-        if code.support is Support.PLANNED:
+        if code.support is Support.PLANNED and not table.din:  # (DIN: a warning of the reading, the block runs)
             skips = code.owns_block
             d.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
             if skips:
@@ -132,12 +138,16 @@ def execute_block(
         tr = values["TR"]
     if "TL" in values:
         tl = values["TL"]
+    if table.din and "D" in values:
+        tc = int(values["D"])  # the tool offset D: its radius (D0: none)
     if changes:
         codes = {**codes, **changes}
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
         state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame, state.blend,
-                           state.tangent)
+                           state.tangent, state.arc_radius, state.drill)
+    if table.din:
+        state = _din_modes(state)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
         frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
         if frame is not state.frame:
@@ -149,7 +159,12 @@ def execute_block(
 
     # -- the motion or the dwell -----------------------------------------------------------------
     if owner is not None and owner.name == "G4":
-        seconds = values["U"]
+        if "U" in values:
+            seconds = values["U"]
+        elif "X" in values:
+            seconds = values["X"]  # DIN/ISO: X in seconds
+        else:
+            seconds = values["P"] / 1000  # ISO: P in milliseconds
         if int(values.get("O", 1)) == 2:
             if state.speed == 0:
                 d.append(diag("PAL-E305", owner_word.span if owner_word else span))
@@ -157,6 +172,12 @@ def execute_block(
             else:
                 seconds = values["U"] * 60.0 / state.speed
         out.commands.append(Dwell(position, seconds, span))
+    elif "#TIME" in values:  # Beckhoff's dwell in plain text
+        out.commands.append(Dwell(position, values["#TIME"], span))
+    elif "G28" in in_block or "G53" in in_block:
+        position = _home(setup, state, position, values, words, "G28" in in_block, span, out.commands, d)
+    elif reading.cycle is not None:
+        position, state = _drill(setup, state, position, reading.cycle, values, words, span, out.commands, d)
     elif owner is not None and owner.name in ("G45", "G47"):
         planned = _approach(setup, state, state.frame.to_program(position), owner.name, words, values, span, d)
         planned.move = state.frame.map_move(planned.move)
@@ -170,11 +191,18 @@ def execute_block(
         out.commands.append(planned)
         position = planned.move.end  # the tool centre: compensation is off from here on
     elif motion is not None and reading.moves:
-        exact = "G9" in in_block
+        exact = "G9" in in_block or state.codes.get("path_mode") == "G61"
         frame = state.frame
         here = position if frame.identity else frame.to_program(position)
-        move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, arc_plane,
-                             table.strict_technology, d)
+        if table.din and motion.name in ("G2", "G3"):
+            move, radius = _din_motion(setup, state, here, motion.name, words, values, span, exact, arc_plane,
+                                       reading.alt_plane, table, d)
+            pole = None
+            if radius is not None and table.modal_radius and radius != state.arc_radius:
+                state = dataclasses.replace(state, arc_radius=radius)
+        else:
+            move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, arc_plane,
+                                 table.strict_technology, d, table.din)
         if pole is not None and pole != state.pole:
             state = dataclasses.replace(state, pole=pole)
         if move is not None:
@@ -191,7 +219,7 @@ def execute_block(
         size = values.get("I", state.blend)
         if size <= 0:
             d.append(diag("PAL-E501", owner_word.span if owner_word else span, command=owner.name))
-            out.ended = True  # an error that stops decoding
+            out.stopped = True  # an error that stops decoding
         else:
             state = dataclasses.replace(state, blend=size)
             element = f"{owner.name} I{size:g}"
@@ -210,12 +238,14 @@ def execute_block(
     ends = reading.ends
     if ends:
         state = ModalState({**state.codes, **ends}, state.feed, state.speed, state.tool, state.tc, state.tr, state.tl,
-                           state.pole, state.frame, state.blend, state.tangent)
+                           state.pole, state.frame, state.blend, state.tangent, state.arc_radius, state.drill)
     for w, code in ms:
         if code.name in ("M30", "M2"):
             out.ended = True
-        elif code.name == "M17":
+        elif code.name in ("M17", "M99"):
             out.sub_end = True
+        elif code.name == "M98":
+            out.flow = _subprogram_call(values, words, w, d)
     if new_params is not params:
         params.clear()
         params.update(new_params)
@@ -274,11 +304,14 @@ class Reading:
     activations: list[tuple[str, str]]  # (modal group, code) switched at the block start
     ends: dict[str, str]  # modal group → code switched at the block end (M5, M9)
     moves: bool  # it has words of geometry  # no parameter expression: the same block always reads the same
+    cycle: Code | None = None  # ISO: the drilling cycle that makes a hole in this block
+    alt_plane: str | None = None  # DIN: the plane of the end-point axes, for an R arc impossible in `arc_plane`
+    dropped: tuple[str, ...] = ()  # DIN: the data words of a code not supported yet, which stay without effect
 
 
 def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int, float], modal_motion: str | None,
-          modal_plane: str | None) -> Reading:
-    """Sort and check the words of `block` (`modal_motion`/`modal_plane`: what is active before it)."""
+          modal_plane: str | None, modal_cycle: str | None = None) -> Reading:
+    """Sort and check the words of `block` (`modal_motion`/`modal_plane`/`modal_cycle`: what is active before it)."""
     d: list[Diagnostic] = []
     # -- sort the words ----------------------------------------------------------------------
     gs: list[tuple[Word, Code]] = []
@@ -289,8 +322,19 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     has_expr = False
     limit = setup.limits.max_abs_value
     code_diags: list[Diagnostic] = []  # about the G and M words themselves
+    unknown: list[Word] = []  # words of addresses the dialect does not have
+    bare_dwell = any(w.address == "" for w in block.words) and any(
+        w.address == "G" and w.value == 4 for w in block.words)
     for w in block.words:
         a = w.address
+        if a == "" and bare_dwell:  # Beckhoff: G04 3.0 is G04 X3.0
+            w = w._replace(address="X")
+            a = "X"
+        elif a == "":
+            d.append(Diagnostic("PAL-E007", Severity.ERROR, w.span,
+                                diag("PAL-E007", w.span, token=w.raw, expected="eine Adresse").message,
+                                diag("PAL-E007", w.span, token=w.raw, expected="an address").message_en))
+            continue
         if a == "G" or a == "M":
             code = _code_word(w, table, code_diags)
             if code is not None:
@@ -298,7 +342,11 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             continue
         spec = table.addresses.get(a)
         if spec is None:
-            d.append(diag("PAL-E003", w.address_span, address=a))
+            if a.startswith(table.unsupported_prefixes) and table.unsupported_prefixes:
+                text = w.raw if len(w.raw) <= 40 else w.raw[:39] + "…"
+                code_diags.append(_not_supported_din(w.span, f"»{text}«", f"'{text}'", ()))
+            else:
+                unknown.append(w)
             continue
         words.setdefault(a, []).append(w)
         if w.expr is not None:
@@ -320,13 +368,26 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
 
     # a cycle not supported yet, or a G code the dialect does not know, owns the block: which words it takes
     # is not known here, so the block gets the one diagnostic about its code and no follow-ups on its words
-    cycle = next(((w, c) for w, c in gs if c.support is Support.PLANNED and c.owns_block), None)
-    if cycle is not None or any(x.code == "PAL-E105" for x in code_diags):
-        only = ([_not_supported(cycle[0].span, cycle[1].feature_de, cycle[1].feature_en, True)] if cycle is not None
-                else code_diags)
+    unmodelled = next(((w, c) for w, c in gs if c.support is Support.PLANNED and c.owns_block), None)
+    dropped: tuple[str, ...] = ()
+    if unmodelled is not None and table.din and not any(x.code == "PAL-E105" for x in code_diags):
+        # DIN/ISO: the code's data (every address but the technology) stay without effect, the rest of the block runs
+        dropped = tuple(sorted({a for a in words if a not in table.technology_words}
+                               | {w.address for w in unknown}))
+        words = {a: ws for a, ws in words.items() if a not in dropped}
+        values = {a: v for a, v in values.items() if a not in dropped}
+        flags = [w for w in flags if w.address not in dropped]
+        gs = [(w, c) for w, c in gs if c is not unmodelled[1]]
+        unknown = []
+        d = [x for x in d if x.span.column not in {w.column for w in block.words if w.address in dropped}]
+        code_diags.append(_not_supported_din(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en,
+                                             dropped))
+    elif unmodelled is not None or any(x.code == "PAL-E105" for x in code_diags):
+        only = ([_not_supported(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, True)]
+                if unmodelled is not None else code_diags)
         return Reading(gs, [], {}, {}, None, None, None, None, "G17", only, not has_expr,
                        frozenset(c.name for _, c in gs), [], [], {}, False)
-    d[:0] = code_diags
+    d[:0] = code_diags + [diag("PAL-E003", w.address_span, address=w.address) for w in unknown]
 
     # -- G codes: count, groups, the code that owns the block -------------------------------
     if table.max_g_words is not None and len(gs) > table.max_g_words:
@@ -352,13 +413,22 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
 
     # -- which addresses the block may hold -----------------------------------------------
     motion = owner if owner is not None and owner.group == "motion" else None
-    if owner is None and not words.keys() <= table.technology_words:
+    # the words that codes which do not own the block take (ISO: M98 P L, G28/G53 X Y Z; none in PAL)
+    extra = frozenset().union(*(c.words for _, c in gs + ms if not c.owns_block))
+    names = frozenset(c.name for _, c in gs)
+    cycle: Code | None = owner if owner is not None and owner.group == "cycle" else None
+    if (cycle is None and owner is None and modal_cycle not in (None, "G80") and "G80" not in names
+            and names.isdisjoint(_HOMING) and not words.keys() <= table.technology_words | extra):
+        cycle = table.codes[modal_cycle]  # a block in cycle mode: the next hole
+    if cycle is not None:
+        allowed = cycle.words | extra
+    elif owner is None and not words.keys() <= table.technology_words | extra:
         motion = table.codes[modal_motion or "G1"]
-        allowed = motion.words
+        allowed = motion.words | extra
     elif owner is not None:
-        allowed = owner.words
+        allowed = owner.words | extra
     else:
-        allowed = table.tool_words
+        allowed = table.tool_words | extra
     alone = owner is not None and owner.alone
     refused = words.keys() if alone else words.keys() - allowed - table.always_allowed
     if refused:
@@ -381,7 +451,7 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             present = [s for s in spellings if s in words]
             if len(present) > 1:
                 d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
-    for w, code in gs:
+    for w, code in gs + ms if table.din else gs:
         for one_of in code.required:
             if not any(a in words for a in one_of):
                 d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
@@ -396,22 +466,28 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
         if new_tool != 0 and setup.tools.get(new_tool) is None:
             d.append(diag("PAL-E304", words["T"][0].span, tool=new_tool))
     arc_plane = "G17"
+    alt_plane: str | None = None
     if motion is not None and motion.name in ("G2", "G3"):
         plane = next((c.name for _, c in gs if c.group == "plane"), None) or modal_plane
-        arc_plane = _arc_plane(plane or "G17", words, table)
+        if table.din:
+            arc_plane, alt_plane = _din_arc_plane(plane or "G17", words)
+        else:
+            arc_plane = _arc_plane(plane or "G17", words, table)
         pw = PLANE_WORDS[arc_plane]
         for a in _CENTRE_WORDS - pw.centre_words:
             if a in words:
                 d.append(diag("PAL-E204", words[a][0].span, address=a, plane=arc_plane,
                               centre="/".join(w for w in pw.centre_words if w in table.addresses)))
-    if "D" in values or "AO" in values:
-        for a in ("D", "AO"):
-            if a in values and values[a] <= 0:
-                d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
-    if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
-        d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
-    names = frozenset(c.name for _, c in gs)
-    if "G70" in names:
+    if table.din:
+        _check_din(table, gs, ms, words, values, cycle, d)
+    else:
+        if "D" in values or "AO" in values:
+            for a in ("D", "AO"):
+                if a in values and values[a] <= 0:
+                    d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
+        if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
+            d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
+    if "G70" in names and not table.din:
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
     activations: list[tuple[str, str]] = []
     ends: dict[str, str] = {}
@@ -424,8 +500,13 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
                 activations.append((g, m))
         if c.support is Support.PLANNED:
             planned.append((w, c))
+            if table.din:
+                d.append(_not_supported_din(w.span, c.feature_de, c.feature_en, ()))
+    if motion is not None and owner is motion and "cycle" in table.group_of.values() and \
+            all(g != "cycle" for g, _ in activations):
+        activations.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
     return Reading(gs, ms, words, values, owner, owner_word, motion, new_tool, arc_plane, d, not has_expr, names,
-                   planned, activations, ends, not words.keys().isdisjoint(_GEOMETRY_WORDS))
+                   planned, activations, ends, not words.keys().isdisjoint(_GEOMETRY_WORDS), cycle, alt_plane, dropped)
 
 
 def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
@@ -474,6 +555,9 @@ def _code_word(w: Word, table: CodeTable, d: list[Diagnostic]) -> Code | None:
                  else diag("PAL-E115", w.span, address=w.address))
         return None
     if not 0 <= w.value <= 9999 or w.value != int(w.value):
+        decimal = f"{w.address}{w.value:g}"  # ISO: G50.1, G54.1
+        if decimal in table.codes and 0 <= w.value <= 9999:
+            return table.codes[decimal]
         d.append(diag("PAL-E108", w.span, address=w.address, raw=w.raw))
         return None
     name = f"{w.address}{int(w.value)}"
@@ -520,7 +604,7 @@ def _target(state: ModalState, position: Vec3, values: dict[str, float],
 
 def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
             values: dict[str, float], span: Span, exact: bool, arc_plane: str, strict: bool,
-            d: list[Diagnostic]) -> tuple[Move | None, tuple[float, float] | None]:
+            d: list[Diagnostic], din: bool = False) -> tuple[Move | None, tuple[float, float] | None]:
     """The programmed move of a motion block, and the pole it programs (G10–G13)."""
     end = _target(state, position, values, words, d)
     spindle_code = state.active("spindle")
@@ -538,7 +622,7 @@ def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words
             values.pop("I", None)
             values.pop("J", None)
             words = {**words, "X": words.get("AP") or words["AI"], "Y": words.get("AP") or words["AI"]}
-    elif name == "G1" and ("D" in values or "AS" in values):
+    elif name == "G1" and not din and ("D" in values or "AS" in values):  # (DIN: D is the tool offset)
         found = _line_end(position, end, values, words, span, d)
         if found is None:
             return None, None
@@ -649,7 +733,7 @@ def _move(state: ModalState, kind: MoveKind, start: Vec3, end: Vec3, span: Span,
     return Move(kind, start, end, state.feed, "mm/rev" if state.active("feed_mode") == "G95" else "mm/min",
                 state.speed if spindle_on else 0.0,
                 ("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
-                state.active("coolant") == "M8", state.tool, span, center, direction, radius, angle, exact_stop,
+                state.active("coolant") in ("M7", "M8"), state.tool, span, center, direction, radius, angle, exact_stop,
                 plane or state.codes.get("plane") or "G17")
 
 
@@ -796,7 +880,7 @@ def _transition(values: dict[str, float], words: dict[str, list[Word]]) -> tuple
 def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
     """Side (+1 left, -1 right, 0 off) and effective tool radius (offset memory TC + TR) of `state`."""
     code = state.codes["compensation"]
-    if code == "G40":
+    if code == "G40" or state.tc == 0:  # (DIN: D0 is no tool offset)
         return 0, 0.0
     side = 1 if code == "G41" else -1 if code == "G42" else 0
     tool = setup.tools.get(state.tool) if state.tool is not None else None
@@ -842,3 +926,210 @@ def _departure(setup: RunSetup, before: ModalState, state: ModalState, position:
     move = _move(state, "feed", position, (tool_end[0], tool_end[1], height), span, state.active("spindle"),
                  exact_stop=False)
     return Planned(move, departure=Departure(name, size, w, z, tangent, (programmed[0], programmed[1], position[2])))
+
+
+# -- DIN 66025 / ISO (SINUMERIK ISO, Beckhoff): what PAL does not have ------------------------------------------
+
+_INCH = frozenset({"G20", "G70"})
+_HOMING = frozenset({"G28", "G53"})
+_LENGTHS = ("X", "Y", "Z", "I", "J", "K", "R", "Q", "F", "#CHR", "#CHF", "#RND", "#FRC", "G301", "G302")
+_DIN_NON_NEGATIVE = ("D", "H", "P", "K", "L")
+
+
+def _in_mm(values: dict[str, float], cycle: bool) -> dict[str, float]:
+    """The values of an inch block in mm (and F in mm/min or mm/rev); K of a drilling cycle is a count."""
+    return {a: v * 25.4 if a in _LENGTHS and not (cycle and a == "K") else v for a, v in values.items()}
+
+
+def _not_supported_din(span: Span, de: str, en: str, dropped: tuple[str, ...]) -> Diagnostic:
+    """A code the control knows and the product does not model: a warning, the rest of the block runs."""
+    if dropped:
+        listed = ", ".join(dropped)
+        effect_de = f"seine Angaben ({listed}) bleiben ohne Wirkung, der Rest des Satzes wird ausgeführt."
+        effect_en = f"its data ({listed}) have no effect, the rest of the block is executed."
+    else:
+        effect_de, effect_en = "der Satz wird ohne diese Funktion ausgeführt.", "the block is executed without it."
+    return diag("PAL-W901", span, feature=de, feature_en=en, effect=effect_de, effect_en=effect_en)
+
+
+def _check_din(table: CodeTable, gs: list[tuple[Word, Code]], ms: list[tuple[Word, Code]],
+               words: dict[str, list[Word]], values: dict[str, float], cycle: Code | None,
+               d: list[Diagnostic]) -> None:
+    """The rules of the DIN/ISO words that a table of allowed words cannot say."""
+    for a in _DIN_NON_NEGATIVE:
+        if a in values and values[a] < 0:
+            d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
+    if cycle is not None:
+        for a in ("K", "L"):
+            if a in values and values[a] != int(values[a]):
+                d.append(diag("PAL-E108", words[a][0].span, address=a, raw=words[a][0].raw))
+    if any(c.name == "M98" for _, c in ms) and "P" in values and (values["P"] != int(values["P"]) or values["P"] < 1):
+        d.append(diag("PAL-E108", words["P"][0].span, address="P (Programmnummer)", raw=words["P"][0].raw))
+
+
+def _din_arc_plane(plane: str, words: dict[str, list[Word]]) -> tuple[str, str | None]:
+    """The plane of a DIN arc, and the plane of its end-point axes where an R arc may have to go there.
+
+    The arc stays in the selected plane unless its centre words cannot belong to it: then it lies in the plane of
+    its end-point axes if they hold the centre words, else in the plane that does (G17 X.. Z.. I.. J.. is a helix
+    in G17, G17 Z.. X.. K.. I.. an arc in G18). An arc with R (its centre words then have no effect) leaves the
+    plane only where R is impossible in it (decided with the geometry, core.interpreter.pal_mill._din_motion)."""
+    axes = frozenset(i for i, spellings in enumerate(_AXES) if any(a in words for a in spellings))
+    named = next((name for name, (i, j, _) in AXES.items() if axes == {i, j}), None) if len(axes) == 2 else None
+    centre = frozenset(a for a in ("I", "J", "K") if a in words and "R" not in words)  # (with R: no centre)
+    if not centre:
+        return plane, named if named != plane else None
+    if centre <= PLANE_WORDS[plane].centre_words:
+        return plane, None
+    if named is not None and centre <= PLANE_WORDS[named].centre_words:
+        return named, None
+    for name in ("G17", "G18", "G19"):
+        if centre <= PLANE_WORDS[name].centre_words:
+            return name, None
+    return plane, None
+
+
+def _din_motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
+                values: dict[str, float], span: Span, exact: bool, arc_plane: str, alt_plane: str | None,
+                table: CodeTable, d: list[Diagnostic]) -> tuple[Move | None, float | None]:
+    """A G02/G03 block of a DIN dialect: the arc, and the radius it programs (Beckhoff keeps it for the next arcs)."""
+    end = _target(state, position, values, words, d)
+    clockwise = name == "G2"
+    has_centre = not values.keys().isdisjoint(("I", "J", "K"))
+    r_word = words["R"][0] if "R" in words else None
+    radius = values.get("R")
+    if radius is None and not has_centre and table.modal_radius:
+        radius = state.arc_radius
+    if radius is not None and has_centre:
+        for a in ("I", "J", "K"):
+            if a in words:
+                d.append(diag("PAL-W105", words[a][0].span, address=a, command=f"{name} mit R"))
+        has_centre = False
+    if not has_centre and radius is None:
+        pw = PLANE_WORDS[arc_plane]
+        d.append(diag("DIN-E203", span, command=name, centre="/".join(pw.cu[:1] + pw.cv[:1])))
+        return None, None
+    if (table.modal_radius and r_word is not None and not has_centre
+            and not any(a in words for spellings in _AXES for a in spellings)):
+        return None, radius  # Beckhoff: R alone programs the radius of the next arcs, no motion yet
+    if has_centre:
+        rules = (din_arcs.beckhoff_rules(state.codes.get("centre_correction") != "G164", setup.arc_tolerance)
+                 if table.centre_correction else din_arcs.ArcRules(setup.arc_tolerance, table.arc_tolerance_factor))
+    else:
+        rules = din_arcs.ArcRules(setup.arc_tolerance, table.arc_tolerance_factor)
+    absolute = state.codes.get("centre_mode") == "G161"
+    planes = [arc_plane] + ([alt_plane] if alt_plane is not None and not has_centre else [])
+    attempts: list[tuple[str, Any, list[Diagnostic], Vec3, Vec3]] = []
+    for plane in planes:
+        s_uvw, e_uvw = to_plane(position, plane), to_plane(end, plane)
+        centre: tuple[float, float] | None = None
+        if has_centre:
+            pw = PLANE_WORDS[plane]
+            cu, cv = values.get(pw.cu[0], 0.0), values.get(pw.cv[0], 0.0)
+            if absolute:  # G161: I, J, K are the centre itself (an omitted one: the start point's coordinate)
+                cu = cu if pw.cu[0] in values else s_uvw[0]
+                cv = cv if pw.cv[0] in values else s_uvw[1]
+                centre = (cu, cv)
+            else:
+                centre = (s_uvw[0] + cu, s_uvw[1] + cv)
+        tried: list[Diagnostic] = []
+        solved = din_arcs.din_arc((s_uvw[0], s_uvw[1]), (e_uvw[0], e_uvw[1]), centre, r_word, radius, clockwise,
+                                  rules, span, tried)
+        attempts.append((plane, solved, tried, s_uvw, e_uvw))
+        if solved is not None:
+            break
+    # the plane where the arc exists; where it exists in none, the findings of the selected plane
+    arc_plane, found, tried, s_uvw, e_uvw = attempts[-1] if attempts[-1][1] is not None else attempts[0]
+    d.extend(tried)
+    if found is None:
+        return None, radius
+    centre_uv, arc_end, r = found
+    end = from_plane((arc_end[0], arc_end[1], e_uvw[2]), arc_plane)
+    angle = sweep((s_uvw[0], s_uvw[1]), arc_end, centre_uv, clockwise)
+    spindle_code = state.active("spindle")
+    _check_cutting(state, spindle_code in ("M3", "M4"), span, d, table.strict_technology)
+    move = _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
+                 center=from_plane((centre_uv[0], centre_uv[1], s_uvw[2]), arc_plane),
+                 direction="cw" if clockwise else "ccw", radius=r, angle=angle, plane=arc_plane)
+    return move, radius if radius is not None and not has_centre else state.arc_radius
+
+
+def _din_modes(state: ModalState) -> ModalState:
+    """What a DIN block changes besides the modal groups: G80 (or G00–G03) ends the drilling cycle's data."""
+    if state.drill is not None and state.codes.get("cycle") in (None, "G80"):
+        return dataclasses.replace(state, drill=None)
+    return state
+
+
+def _drill(setup: RunSetup, state: ModalState, position: Vec3, cycle: Code, values: dict[str, float],
+           words: dict[str, list[Word]], span: Span, commands: list[Command], d: list[Diagnostic],
+           ) -> tuple[Vec3, ModalState]:
+    """A block in cycle mode: the cycle's data, and the holes when it programs X, Y, Z or R."""
+    frame = state.frame
+    here = position if frame.identity else frame.to_program(position)
+    data = state.drill if state.drill is not None else DrillData(initial=here[2])
+    data = iso_cycles.update(data, values)
+    if data != state.drill:
+        state = dataclasses.replace(state, drill=data)
+    if not iso_cycles.drills(values):
+        return position, state
+    if state.codes.get("plane", "G17") != "G17":
+        d.append(_not_supported_din(span, f"Bohrzyklus {cycle.name} in der Ebene {state.codes.get('plane')}",
+                                    f"Drilling cycle {cycle.name} in the plane {state.codes.get('plane')}", ()))
+        return position, state
+    spindle_code = state.active("spindle")
+    template = _move(state, "feed", here, here, span, spindle_code, exact_stop=False)
+    _check_cutting(state, spindle_code in ("M3", "M4"), span, d, False)
+    compensation = state.codes.get("compensation")
+    if compensation in ("G41", "G42"):
+        d.append(diag("ISO-W405", span, code=cycle.name, compensation=compensation))
+    made = iso_cycles.holes(cycle.name, data, here, values, words, state.active("dimensions") == "G91",
+                            state.codes.get("cycle_return") != "G99", template, setup, span, d)
+    if made is None:
+        return position, state
+    items, end = made
+    for item in items:
+        if isinstance(item, Move):
+            commands.append(Planned(frame.map_move(item)))
+        else:
+            commands.append(Dwell(frame.to_workpiece(item.position), item.seconds, item.span))
+    return frame.to_workpiece(end), state
+
+
+def _home(setup: RunSetup, state: ModalState, position: Vec3, values: dict[str, float], words: dict[str, list[Word]],
+          g28: bool, span: Span, commands: list[Command], d: list[Diagnostic]) -> Vec3:
+    """ISO G28 (rapid to the intermediate point, then to the reference point) or G53 (rapid to machine
+    coordinates, counted from the reference point), the programmed axes only."""
+    frame = state.frame
+    ref = setup.reference
+    spindle_code = state.active("spindle")
+    points: list[Vec3] = []
+    if g28:
+        here = frame.to_program(position)
+        points.append(frame.to_workpiece(_target(state, here, values, words, d)))
+        last = points[-1]
+        points.append(_axes_from(last, {i: ref[i] for i in range(3) if _AXES[i][0] in values}))
+    else:
+        points.append(_axes_from(position, {i: ref[i] + values[_AXES[i][0]] for i in range(3) if _AXES[i][0] in values}))
+    for p in points:
+        if p != position:
+            commands.append(Planned(_move(state, "rapid", position, p, span, spindle_code, exact_stop=True)))
+            position = p
+    return position
+
+
+def _axes_from(p: Vec3, new: dict[int, float]) -> Vec3:
+    """`p` with the coordinates `new` (axis index → value) replaced."""
+    return (new.get(0, p[0]), new.get(1, p[1]), new.get(2, p[2]))
+
+
+def _subprogram_call(values: dict[str, float], words: dict[str, list[Word]], w: Word,
+                     d: list[Diagnostic]) -> tuple[str, int, int] | None:
+    """M98 P…: the program (the last four digits of P) and the number of runs (the digits before them, or L)."""
+    if "P" not in values:
+        return None
+    p = int(values["P"])
+    number, runs = (p % 10000, p // 10000) if p > 9999 else (p, 1)
+    if "L" in values:
+        runs = int(values["L"])
+    return ("call", number, runs)

@@ -17,6 +17,19 @@ from core.tools import DEFAULT_TOOLS, ToolTable
 
 
 @dataclass(frozen=True, slots=True)
+class DrillData:
+    """What a drilling cycle (ISO G73–G89) keeps from block to block until G80: the initial level and the last
+    programmed R, Z, Q and P, as written (in mm; under G91 R is the distance from the initial level and Z the
+    distance from the R plane)."""
+
+    initial: float  # the height of the drilling axis when the cycle was selected (program coordinates)
+    z: float | None = None
+    r: float | None = None
+    q: float | None = None
+    p: float | None = None  # dwell in ms
+
+
+@dataclass(frozen=True, slots=True)
 class ModalState:
     """What is active: the code of each modal group (None: group not set) and the technology values."""
 
@@ -33,6 +46,8 @@ class ModalState:
     # under G41/G42: the unit end tangent (workpiece frame) of the last move in the plane, which a
     # departure G46/G48 continues; None: no such move since the compensation started
     tangent: tuple[float, float] | None = None
+    arc_radius: float | None = None  # Beckhoff: the R of the last arc, kept for the next ones (modal radius)
+    drill: DrillData | None = None  # ISO: the data of the active drilling cycle (None under G80)
 
     def active(self, group: str) -> str | None:
         """The active code of `group`, e.g. active("motion") == "G1"."""
@@ -73,6 +88,14 @@ class RunSetup:
     # turning (TRAUB): the tool-change point of G24–G27 and the reference point of G28, machine coordinates
     # (X diameter, Z), SET UP-Bild 4 #1 (DECISIONS §21)
     tool_change_point: tuple[float, float] = (460.0, 585.0)
+    # milling (ISO G28, G53): the reference point in the workpiece frame of G54, which is also the machine zero
+    # of G53; None: the start position
+    reference_point: Vec3 | None = None
+    peck_retract: float = 1.0  # mm: the back-off of G73 and the clearance of G83 (machine data d)
+
+    @property
+    def reference(self) -> Vec3:
+        return self.start if self.reference_point is None else self.reference_point
 
     def zero_offset(self, code: str) -> Vec3:
         return dict(self.zero_offsets).get(code, (0.0, 0.0, 0.0))

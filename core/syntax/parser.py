@@ -44,8 +44,10 @@ _TERMINAL_NAMES: dict[str, tuple[str, str]] = {
 class BlockParser:
     """Parses the lines of one dialect's grammar into blocks."""
 
-    def __init__(self, grammar_file: Path, valued_codes: frozenset[str] = frozenset()) -> None:
+    def __init__(self, grammar_file: Path, valued_codes: frozenset[str] = frozenset(),
+                 program_numbers: bool = False) -> None:
         self._valued = valued_codes  # codes written with a value, as Beckhoff's G301=20
+        self._programs = program_numbers  # a leading O word is a program number (ISO: `O1000`)
         self._lark = Lark(
             grammar_file.read_text(encoding="utf-8"),
             start="line",
@@ -174,6 +176,7 @@ class BlockParser:
             None if comment_start < 0 else _comment_text(raw[comment_start:]),
             None,
             diagnostics,
+            self._programs,
         )
 
     def _tree_block(self, raw: str, line: int, tree: Tree[Token], diagnostics: list[Diagnostic]) -> Block:
@@ -191,9 +194,22 @@ class BlockParser:
                 elif child.type == "HEADER":
                     header = raw[child.column : child.end_column - 1].strip()  # type: ignore[operator]
                 continue
+            if child.data == "unsupported":  # #HSC ON [...], $IF …, V.P.X = 5, V.L.TIME: one word, no value
+                tok: Token = child.children[0]  # type: ignore[assignment]
+                text = raw[tok.column - 1 : tok.end_column - 1].rstrip()  # type: ignore[operator]
+                name = re.split(r"[\s=\[]", str(tok), maxsplit=1)[0]
+                column: int = tok.column  # type: ignore[assignment]
+                words.append(Word(name, None, text, line, column, column + len(text)))
+                continue
             addr: Token = child.children[0]  # type: ignore[assignment]
             start: int = addr.column  # type: ignore[assignment]
-            if child.data == "word":
+            if child.data == "bare":  # a value without an address (Beckhoff's G04 3.0): the interpreter decides
+                words.append(Word("", float(addr), str(addr), line, start, addr.end_column))  # type: ignore[arg-type]
+            elif child.data == "unsupported_value":  # X=V.P.X: the variable is what is not supported
+                ref: Token = child.children[1]  # type: ignore[assignment]
+                text = raw[start - 1 : ref.end_column - 1]  # type: ignore[operator]
+                words.append(Word(str(ref), None, text, line, start, ref.end_column))  # type: ignore[arg-type]
+            elif child.data == "word":
                 num: Token = child.children[1]  # type: ignore[assignment]
                 value = _loose_number(num) if self._loose else float(num)
                 words.append(Word(str(addr), value, str(num), line, start, num.end_column))  # type: ignore[arg-type]
@@ -216,7 +232,8 @@ class BlockParser:
                     )
                     continue
                 assignments.append(Assignment(int(num), expr, line, start, expr[-1]))
-        return _finish_block(raw, line, words, tuple(assignments), skip, comment, header, diagnostics)
+        return _finish_block(raw, line, words, tuple(assignments), skip, comment, header, diagnostics,
+                             self._programs)
 
     def _syntax_diagnostic(self, err: UnexpectedInput, text: str, line: int) -> Diagnostic:
         """Turn lark's exception into the most helpful diagnostic for the trainee."""
@@ -257,8 +274,10 @@ def _finish_block(
     comment: str | None,
     header: str | None,
     diagnostics: list[Diagnostic],
+    programs: bool = False,
 ) -> Block:
-    """Take a leading N word as the block number."""
+    """Take a leading N word as the block number; with `programs`, a leading O word is a program number (the block
+    becomes a header `O<n>` that starts a program, as the `%L<n>` lines of PAL do)."""
     number: int | None = None
     if words and words[0].address == "N" and words[0].value is not None:
         first = words[0]
@@ -267,6 +286,16 @@ def _finish_block(
         else:
             diagnostics.append(diag("PAL-E011", first.span, raw=first.raw))
         words = words[1:]
+    if programs and words and words[0].address == "O" and words[0].value is not None and not assignments:
+        first = words[0]
+        if not first.raw.isdigit():
+            diagnostics.append(diag("PAL-E108", first.span, address="O", raw=first.raw))
+            return Block(line, raw, number, (), assignments, skip, comment, None, ok=False)
+        if len(words) > 1:
+            rest = words[1]
+            diagnostics.append(diag("ISO-E307", Span(line, rest.column, line, words[-1].end_column),
+                                    number=int(first.raw), words=" ".join(str(w) for w in words[1:])))
+        return Block(line, raw, number, (), assignments, skip, comment, f"O{int(first.raw)}")
     return Block(line, raw, number, tuple(words), assignments, skip, comment, header)
 
 
@@ -318,9 +347,9 @@ def _expr(node: Tree[Token] | Token, depth: int = 0) -> Expr:
 
 
 @cache
-def parser_for(grammar: str, valued_codes: frozenset[str] = frozenset()) -> BlockParser:
+def parser_for(grammar: str, valued_codes: frozenset[str] = frozenset(), program_numbers: bool = False) -> BlockParser:
     """The (cached) parser of grammar file `<grammar>.lark` in this package."""
-    return BlockParser(Path(__file__).with_name(f"{grammar}.lark"), valued_codes)
+    return BlockParser(Path(__file__).with_name(f"{grammar}.lark"), valued_codes, program_numbers)
 
 
 def _relined(block: Block, line: int) -> Block:

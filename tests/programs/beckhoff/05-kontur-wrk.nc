@@ -1,0 +1,17 @@
+%kontur
+(Aussenkontur mit Werkzeugradiuskorrektur: T und D im selben Satz)
+N10 G17 G90 G71
+N20 T8 D8 (Schaftfraeser D16, Korrektur D8)
+N30 S2000 M03
+N40 G00 X-20 Y-20 Z5
+N50 G01 Z-3 F250
+N60 G41 G01 X0 Y-10 F400
+N70 Y40 G301=5 (Fase am Ende des Satzes)
+N80 X30 #RND=12
+N90 G02 X70 Y40 R20
+N100 G01 X80
+N110 Y0 #CHR=6 #FRC=200
+N120 X0
+N130 G40 G01 X-20 Y-20
+N140 G00 Z20
+N150 M30

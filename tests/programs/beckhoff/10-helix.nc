@@ -1,0 +1,15 @@
+%helix
+(Helix: Kreis in G17 mit Zustellung in Z; die Ebenenachse Y ist weggelassen)
+N10 G17 G90
+N20 T2 D2
+N30 S6000 M03
+N40 G00 X50 Y40 Z1
+N50 G01 X60 F600
+N60 G03 X40 Z0 I-10 J0
+N70 G03 X60 Z-1 I10
+N80 G03 X40 Z-2 I-10
+N90 G03 X60 Z-3 I10
+N100 G03 I-10 (Vollkreis am Grund)
+N110 G01 X50
+N120 G00 Z20
+N130 M30

@@ -1,0 +1,13 @@
+%cam
+(CAM-Ausgabe mit gerundeten Mittelpunkten: Mittelpunktskorrektur G165 im Grundzustand)
+N10 G17 G90 G71
+N20 T4 D4
+N30 S2400 M03
+N40 G00 X-15 Y0 Z2
+N50 G01 Z-3 F300
+N60 G01 X0 Y0 F600
+N70 G02 X29.999 Y17.321 I20. J-0.
+N80 G03 X60.001 Y17.32 I15.001 J-8.661
+N90 G01 X75
+N100 G00 Z20
+N110 M30
