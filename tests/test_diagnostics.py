@@ -112,3 +112,11 @@ def test_docs_list_every_diagnostic() -> None:
 
     doc = Path(__file__).parents[1] / "docs" / "diagnostics.md"
     assert doc.read_text(encoding="utf-8") == catalogue_markdown(), "run: python -m core.diagnostics > docs/diagnostics.md"
+
+
+@pytest.mark.parametrize("dialect", ["pal-mill", "sinumerik-iso", "beckhoff", "traub-tx8d"])
+def test_an_empty_program_has_no_missing_end_warning(dialect: str) -> None:
+    # an empty editor has nothing to report; one written block without M30 still gets the end-of-program warning
+    assert [d.code for d in run("", dialect).diagnostics] == []
+    assert [d.code for d in run("\n\n  \n", dialect).diagnostics] == []
+    assert "PAL-W102" in [d.code for d in run("G0 X10\n", dialect).diagnostics]

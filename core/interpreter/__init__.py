@@ -465,7 +465,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     if keep is not None:
         keep.trace, keep.kind, keep.shifted = trace, kind, shifted
     truncated = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
-    if not ended and not truncated and (program.blocks or not diags):  # a rejected program needs no second word
+    if not ended and not truncated and program.has_content:  # a rejected program needs no second word
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     result.commands = finish(planned, diags)

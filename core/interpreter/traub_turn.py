@@ -961,7 +961,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
         trace.spent = any(x.code in ("PAL-E013", "PAL-E016", "PAL-E017") for x in trace.loop_diags)
     if keep is not None:
         keep.trace, keep.kind, keep.shifted = trace, kind, {}
-    if not ended and (program.blocks or not diags):
+    if not ended and program.has_content:
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     for n, (late_span, late_program) in run.late.items():

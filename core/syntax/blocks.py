@@ -134,3 +134,9 @@ class Program:
 
     blocks: list[Block]
     line_count: int
+
+    @property
+    def has_content(self) -> bool:
+        """Whether any line is more than blank or a comment (a bad line counts): an empty program is not missing
+        its end (PAL-W102), it has not been written yet."""
+        return any(not (b.ok and b.is_empty) for b in self.blocks)
