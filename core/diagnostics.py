@@ -568,6 +568,46 @@ CATALOGUE: dict[str, Entry] = {
                          "gezeigt wird ein Eilgang bei stehender Spindel zur Rückzugsebene.",
                       "G88: on the control the operator retracts the tool from the bottom of the hole by hand; shown "
                       "is a rapid with the spindle stopped to the return level."),
+    # --- PAL milling cycles G72–G87 and their calls G76–G79 (PAL-x6xx; reconstructed, docs/pal-milling.md) ------
+    "PAL-E601": Entry(E, "{command}: es ist kein Bearbeitungszyklus definiert; zuerst einen Zyklus (G72–G75, "
+                         "G81–G87) programmieren, dann aufrufen.",
+                      "{command}: no machining cycle is defined; program a cycle (G72–G75, G81–G87) before the call."),
+    "PAL-E602": Entry(E, "{command}: das Werkzeug T{tool} (Ø {tool_d} mm) ist zu groß für {what} ({size} mm).",
+                      "{command}: tool T{tool} (Ø {tool_d_en} mm) is too large for {what_en} ({size_en} mm)."),
+    "PAL-E603": Entry(E, "{command}: der Grund (Z {bottom} mm) liegt nicht unter der Oberfläche (Z {surface} mm); "
+                         "ZI muss negativ sein, ZA unter der Oberfläche liegen.",
+                      "{command}: the bottom (Z {bottom_en} mm) is not below the surface (Z {surface_en} mm); ZI must "
+                      "be negative, ZA below the surface."),
+    "PAL-E604": Entry(E, "Aufmaß {address} darf nicht negativ sein ({raw}).",
+                      "Allowance {address} must not be negative ({raw})."),
+    "PAL-E605": Entry(E, "{command}: das Aufmaß {address} ({value} mm) ist größer, als {what} zulässt "
+                         "(höchstens {limit} mm).",
+                      "{command}: the allowance {address} ({value_en} mm) is larger than {what_en} allows "
+                      "(at most {limit_en} mm)."),
+    "PAL-W606": Entry(W, "G84 ohne laufende Spindel: vor dem Gewindebohren die Spindel mit M3 oder M4 und einer "
+                         "Drehzahl S einschalten.",
+                      "G84 without a running spindle: switch the spindle on with M3 or M4 and a speed S before "
+                      "tapping."),
+    "PAL-W607": Entry(W, "G84: die Steigung F{pitch} mm ist keine Regel- oder Feingewindesteigung eines metrischen "
+                         "ISO-Gewindes (z. B. M6 × 1, M8 × 1,25, M10 × 1,5).",
+                      "G84: the pitch F{pitch} mm is no standard coarse or fine pitch of an ISO metric thread "
+                      "(e.g. M6 × 1, M8 × 1.25, M10 × 1.5)."),
+    "PAL-E608": Entry(E, "{command} bei eingeschalteter Fräserradiuskorrektur ({compensation}): Zyklen werden mit "
+                         "G40 definiert und aufgerufen.",
+                      "{command} with cutter radius compensation on ({compensation}): cycles are defined and called "
+                      "under G40."),
+    "PAL-W609": Entry(W, "Eckenradius RN{raw} ist kleiner als der Werkzeugradius ({radius} mm); die Tasche erhält "
+                         "den Werkzeugradius als Eckenradius.",
+                      "Corner radius RN{raw} is smaller than the tool radius ({radius_en} mm); the pocket gets the "
+                      "tool radius as its corner radius."),
+    "PAL-E610": Entry(E, "{command} ergäbe {count} Bahnen, mehr als die erlaubten {limit}; der Zyklus wird nicht "
+                         "ausgeführt.",
+                      "{command} would make {count} passes, more than the allowed {limit}; the cycle is not "
+                      "executed."),
+    "PAL-E611": Entry(E, "{address}{raw} ist bei {command} nicht zulässig; erlaubt: {allowed}.",
+                      "{address}{raw} is not allowed with {command}; allowed: {allowed_en}."),
+    "PAL-E612": Entry(E, "{command} lässt sich so nicht ausführen: {reason}.",
+                      "{command} cannot be executed like this: {reason_en}."),
     # --- not supported yet ----------------------------------------------------------------
     "PAL-E901": Entry(E, "{feature} wird noch nicht unterstützt; {effect}",
                       "{feature_en} is not supported yet; {effect_en}"),

@@ -55,6 +55,7 @@ class Move:
     source: str | None = None  # the library subprogram of the block ("L200"); None: the program file
     call_stack: tuple[tuple[str | None, int], ...] = ()  # calling blocks (source, line), outermost first
     cycle: tuple[str, int, int] | None = None  # made by a cycle: (code "G71", pass n, of m passes)
+    cycle_definition: int | None = None  # PAL cycles: the line of the block that defined the cycle (span: the call)
     thread: bool = False  # a thread-cutting feed: the feed per revolution is the pitch
     pitch: float | None = None  # mm per revolution of a thread move
 
@@ -111,7 +112,9 @@ class Move:
             "source": self.source,
             "call_stack": [{"source": src, "line": line} for src, line in self.call_stack],
             **({} if self.cycle is None else {"cycle": {"code": self.cycle[0], "pass": self.cycle[1],
-                                                        "of": self.cycle[2]}}),
+                                                        "of": self.cycle[2],
+                                                        **({} if self.cycle_definition is None else
+                                                           {"defined_in_line": self.cycle_definition})}}),
             **({"thread": True, "pitch": self.pitch} if self.thread else {}),
         }
 

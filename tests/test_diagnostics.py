@@ -12,7 +12,7 @@ READY = "N1 T1 M6\nN2 S1000 F100 M3\n"  # tool in, spindle on, feed set
 
 CASES = [
     # (what, program, expected (code, line))
-    ("unknown address", "N10 Q5\nM30", ("PAL-E003", 1)),
+    ("unknown address", "N10 B5\nM30", ("PAL-E003", 1)),
     ("word not allowed with the command", "G0 X1 R5\nM30", ("PAL-E101", 1)),
     ("word not allowed with the modal command", "G0 X1\nX2 I4\nM30", ("PAL-E101", 2)),
     ("mandatory address missing", "N10 G4\nM30", ("PAL-E102", 1)),
@@ -47,7 +47,7 @@ CASES = [
     ("missing M30", "G0 X5\nG0 Y5", ("PAL-W102", 2)),
     ("unknown M function", "M99\nM30", ("PAL-W103", 1)),
     ("scaling not supported yet", "G67\nM30", ("PAL-E901", 1)),
-    ("cycles not supported yet", "G81\nM30", ("PAL-E901", 1)),
+    ("cycles not supported yet", "G88\nM30", ("PAL-E901", 1)),
     ("missing subprogram", "G22 L5\nM30", ("PAL-E401", 1)),
     ("M17 outside a subprogram", "M17\nM30", ("PAL-E402", 1)),
     ("M30 inside a subprogram", "G22 L1\nM30\n%L1\nM30", ("PAL-E403", 4)),
@@ -89,15 +89,15 @@ def test_diagnostic_carries_span_and_both_languages() -> None:
 
 
 def test_a_block_with_an_error_changes_nothing() -> None:
-    tp = run(READY + "G91\nG0 X5 Q1\nG0 X1\nM30")
-    # line 4 is rejected (unknown Q): no move, G91 still active, next move incremental from the old point
+    tp = run(READY + "G91\nG0 X5 B1\nG0 X1\nM30")
+    # line 4 is rejected (unknown B): no move, G91 still active, next move incremental from the old point
     assert ("PAL-E003", 4) in codes(tp)
     assert [m.line for m in tp.moves] == [5]
     assert tp.moves[0].end[0] == pytest.approx(251)
 
 
 def test_one_bad_block_does_not_hide_the_others() -> None:
-    tp = run("G1 X1.2.3\nG5\nN30 Q1\nM30")
+    tp = run("G1 X1.2.3\nG5\nN30 B1\nM30")
     assert [c for c in codes(tp)] == [("PAL-E002", 1), ("PAL-E105", 2), ("PAL-E003", 3)]
 
 

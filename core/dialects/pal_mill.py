@@ -150,8 +150,36 @@ CYCLES = {
     "G88": ("Innengewindefräszyklus", "internal thread milling cycle"),
     "G89": ("Außengewindefräszyklus", "external thread milling cycle"),
 }
+# The cycles the product runs (../shared/spec/pal-cycles.md, reconstructed: core/interpreter/pal_cycles.py): the
+# definitions G72–G75, G81–G87 and the calls G76–G79, with their words; the others say "not supported yet".
+DEPTH = ("ZA", "ZI")
+_CYCLE_WORDS: dict[str, tuple[frozenset[str], tuple[tuple[str, ...], ...]]] = {
+    "G72": (frozenset({"ZA", "ZI", "LP", "BP", "D", "V", "W", "RN", "AK", "AL", "EP", "DB", "E", "H", "O", "Q"}),
+            (DEPTH, ("LP",), ("BP",), ("D",), ("V",))),
+    "G73": (frozenset({"ZA", "ZI", "R", "D", "V", "W", "AK", "AL", "DB", "E", "H", "O", "Q", "RZ"}),
+            (DEPTH, ("R",), ("D",), ("V",))),
+    "G74": (frozenset({"ZA", "ZI", "LP", "BP", "D", "V", "W", "AK", "AL", "EP", "DB", "E", "H", "O", "Q"}),
+            (DEPTH, ("LP",), ("BP",), ("D",), ("V",))),
+    "G75": (frozenset({"ZA", "ZI", "BP", "RP", "AN", "AO", "AP", "D", "V", "W", "AK", "AL", "EP", "DB", "E", "H",
+                       "O", "Q"}),
+            (DEPTH, ("BP",), ("RP",), ("AN",), ("AO", "AP"), ("D",), ("V",))),
+    "G76": (frozenset({"X", "XI", "XA", "Y", "YI", "YA", "Z", "ZI", "ZA", "AS", "D", "O", "AR"}), (("D",), ("O",))),
+    "G77": (frozenset({"IA", "JA", "I", "J", "R", "AN", "AI", "AP", "O", "Z", "ZI", "ZA", "AR"}), (("R",), ("O",))),
+    "G78": (frozenset({"IA", "JA", "I", "J", "RP", "AP", "Z", "ZI", "ZA", "AR"}), (("RP",), ("AP",))),
+    "G79": (frozenset({"X", "XI", "XA", "Y", "YI", "YA", "Z", "ZI", "ZA", "AR"}), ()),
+    "G81": (frozenset({"ZA", "ZI", "V", "W"}), (DEPTH, ("V",))),
+    "G82": (frozenset({"ZA", "ZI", "D", "V", "W", "DA", "DR", "DM", "VB", "U"}), (DEPTH, ("D",), ("V",))),
+    "G83": (frozenset({"ZA", "ZI", "D", "V", "W", "DA", "DR", "DM", "VB", "U"}), (DEPTH, ("D",), ("V",))),
+    "G84": (frozenset({"ZA", "ZI", "V", "W"}), (DEPTH, ("V",))),
+    "G85": (frozenset({"ZA", "ZI", "V", "W", "E"}), (DEPTH, ("V",))),
+    "G86": (frozenset({"ZA", "ZI", "V", "W", "DR"}), (DEPTH, ("V",))),
+    "G87": (frozenset({"ZA", "ZI", "R", "D", "V", "W"}), (DEPTH, ("R",), ("D",), ("V",))),
+}
 _CODES += [
-    Code(name, None, de, en, owns_block=True, support=P, feature_de=f"{de} {name}", feature_en=f"{en[0].upper()}{en[1:]} {name}")
+    Code(name, None, de, en, words=_CYCLE_WORDS[name][0], required=_CYCLE_WORDS[name][1], owns_block=True)
+    if name in _CYCLE_WORDS else
+    Code(name, None, de, en, owns_block=True, support=P, feature_de=f"{de} {name}",
+         feature_en=f"{en[0].upper()}{en[1:]} {name}")
     for name, (de, en) in CYCLES.items()
 ]
 
@@ -183,11 +211,16 @@ _ADDRESSES = [
     Address("R", "Radius (R+ kürzerer, R- längerer Bogen)", "radius (R+ shorter, R- longer arc)"),
     Address("AO", "Öffnungswinkel des Kreisbogens", "opening angle of the arc"),
     Address("AS", "Anstiegswinkel der Geraden", "rise angle of the line"),
-    Address("D", "Länge der Geraden bzw. der An-/Abfahrbewegung", "length of the line or of the approach"),
-    Address("H", "Lösungsauswahl bzw. Anzahl der Durchläufe", "solution choice or number of runs",
-            integer=True),
-    Address("O", "Auswahl (Bogenlänge, Vergleich, Einheit)", "selection (arc length, comparison, unit)",
-            integer=True),
+    Address("D", "Länge der Geraden bzw. der An-/Abfahrbewegung; in Zyklen: Zustelltiefe je Ebene bzw. Schritt "
+                 "(G87: Steigung, G76: Punktabstand)",
+            "length of the line or of the approach; in cycles: infeed per level or step (G87: pitch, G76: spacing)"),
+    Address("H", "Lösungsauswahl bzw. Anzahl der Durchläufe; in Taschenzyklen: H1 Schruppen, H4 Schlichten, "
+                 "H14 beides", "solution choice or number of runs; in pocket cycles: H1 roughing, H4 finishing, "
+                 "H14 both", integer=True),
+    Address("O", "Auswahl (Bogenlänge, Vergleich, Einheit); G76/G77: Anzahl der Punkte; Taschen: O1 senkrecht, "
+                 "O2 schraubenförmig eintauchen",
+            "selection (arc length, comparison, unit); G76/G77: number of points; pockets: O1 vertical, "
+            "O2 helical plunge", integer=True),
     Address("RN", "Übergangselement: RN+ Verrundung, RN- Fase", "transition: RN+ rounding, RN- chamfer"),
     Address("E", "Vorschub für Übergangselemente bzw. Eintauchvorschub", "feed on transitions or plunge feed"),
     Address("U", "Verweilzeit (Sekunden oder Umdrehungen)", "dwell (seconds or revolutions)"),
@@ -198,11 +231,34 @@ _ADDRESSES = [
     Address("AI", "Polarwinkel inkremental", "polar angle increment"),
     Address("AR", "Drehwinkel des Koordinatensystems", "rotation angle of the coordinate system"),
     Address("W", "Rückzugsebene in der Zustellachse (absolut)", "infeed-axis clearance plane (absolute)"),
+    # the words of the cycles (reconstructed, ../shared/spec/pal-cycles.md)
+    Address("V", "Zyklen: Sicherheitsabstand über der Oberfläche", "cycles: safety distance above the surface"),
+    Address("LP", "Zyklen: Länge der Tasche bzw. Nut (in X)", "cycles: length of the pocket or slot (along X)"),
+    Address("BP", "Zyklen: Breite der Tasche bzw. Nut (in Y)", "cycles: width of the pocket or slot (along Y)"),
+    Address("AK", "Zyklen: Aufmaß auf den Wänden", "cycles: allowance on the walls"),
+    Address("AL", "Zyklen: Aufmaß auf dem Boden", "cycles: allowance on the bottom"),
+    Address("EP", "Zyklen: Bezugspunkt (EP0 Mitte, EP1 Ecke bzw. Anfangsbogen)",
+            "cycles: reference point (EP0 centre, EP1 corner or start arc)", integer=True),
+    Address("DB", "Zyklen: Bahnüberdeckung in % des Fräserdurchmessers", "cycles: path overlap in % of the tool "
+            "diameter"),
+    Address("Q", "Zyklen: Fräsrichtung (Q1 Gleichlauf, Q2 Gegenlauf)", "cycles: milling direction (Q1 climb, "
+            "Q2 conventional)", integer=True),
+    Address("DA", "G82/G83: erste Bohrtiefe", "G82/G83: first drilling depth"),
+    Address("DR", "G82/G83: Verringerung je Bohrschritt; G86: Abhebebetrag", "G82/G83: reduction per step; "
+            "G86: retraction from the wall"),
+    Address("DM", "G82/G83: kleinster Bohrschritt", "G82/G83: smallest step"),
+    Address("VB", "G82/G83: Rückzugsbetrag nach jedem Bohrschritt", "G82/G83: retraction after each step"),
+    Address("AN", "G75/G77: Winkel des ersten Punkts bzw. Anfangswinkel", "G75/G77: angle of the first point or "
+            "start angle"),
+    Address("RZ", "G73: Zapfenradius (Zapfenform noch nicht unterstützt)", "G73: boss radius (boss form not "
+            "supported yet)"),
 ]
 
 # -- help for the editor and the docs: an example block per code, the rules to remember, the units ----------
 TARGET = ("X", "XI", "XA", "Y", "YI", "YA", "Z", "ZI", "ZA")
 _POLAR_PLANE = ("AP", "AI")
+RECONSTRUCTED_DE = "nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage), siehe docs/pal-milling.md"
+RECONSTRUCTED_EN = "reconstructed from the PAL syntax (not from the source), see docs/pal-milling.md"
 LEFT_DE, LEFT_EN = "Werkzeug links der Kontur, in Vorschubrichtung gesehen", "tool left of the contour, seen in the feed direction"
 RIGHT_DE, RIGHT_EN = ("Werkzeug rechts der Kontur, in Vorschubrichtung gesehen",
                       "tool right of the contour, seen in the feed direction")
@@ -269,11 +325,43 @@ _HELP: dict[str, dict[str, object]] = {
     "M17": {"example": "N150 M17", "rule_de": "letzter Satz eines Unterprogramms", "rule_en": "last block of a subprogram"},
     "M30": {"example": "N200 G0 X250 Y150 Z250 M30"},
     "M60": {"example": "N10 M60"},
+    **{name: {"example": example, "rule_de": f"{rule_de}; {RECONSTRUCTED_DE}", "rule_en": f"{rule_en}; {RECONSTRUCTED_EN}"}
+       for name, (example, rule_de, rule_en) in {
+        "G72": ("N50 G72 ZI-5 LP40 BP30 RN5 D2.5 V2 W5", "definiert die Rechtecktasche, fährt nicht; Aufruf mit G79",
+                "defines the rectangular pocket, moves nothing; call with G79"),
+        "G73": ("N50 G73 ZI-6 R15 D3 V2", "definiert die Kreistasche, fährt nicht; Aufruf mit G79",
+                "defines the circular pocket, moves nothing; call with G79"),
+        "G74": ("N50 G74 ZI-4 LP50 BP10 D2 V2", "definiert die Nut (LP einschließlich der Rundungen)",
+                "defines the slot (LP including the round ends)"),
+        "G75": ("N50 G75 ZI-3 BP8 RP30 AN0 AO90 D1.5 V2", "definiert die Kreisbogennut um den Aufrufpunkt",
+                "defines the arc slot about the call point"),
+        "G76": ("N60 G76 X10 Y10 Z0 AS0 D20 O4", "O Aufrufpunkte auf einer Geraden im Abstand D",
+                "O call points on a line, D apart"),
+        "G77": ("N60 G77 IA50 JA40 R25 AN0 AI90 O4 Z0", "O Aufrufpunkte auf dem Teilkreis R um IA/JA",
+                "O call points on the pitch circle R about IA/JA"),
+        "G78": ("N60 G78 IA50 JA40 RP25 AP45 Z0", "ein Aufrufpunkt in Polarkoordinaten",
+                "one call point in polar coordinates"),
+        "G79": ("N60 G79 X50 Y40 Z0", "ein Aufrufpunkt; Z: Werkstückoberfläche (ohne Z: 0)",
+                "one call point; Z: the surface (without Z: 0)"),
+        "G81": ("N50 G81 ZI-12 V2", "Bohren: Vorschub bis zum Grund, Eilgang zurück",
+                "drilling: feed to the bottom, rapid out"),
+        "G82": ("N50 G82 ZI-30 D8 V2 DA10 DR1 DM4", "Tiefbohren mit Spanbruch: nach jedem Schritt VB zurück",
+                "deep drilling with chip breaking: back VB after each step"),
+        "G83": ("N50 G83 ZI-30 D8 V2", "Tiefbohren mit Entspänen: nach jedem Schritt heraus auf V",
+                "deep drilling with swarf removal: out to V after each step"),
+        "G84": ("N50 G84 ZI-15 F1.5 M3 V3", "Gewindebohren: F Steigung in mm, M3 Rechts-, M4 Linksgewinde",
+                "tapping: F pitch in mm, M3 right-hand, M4 left-hand"),
+        "G85": ("N50 G85 ZI-15 V2 E50", "Reiben: hinein mit F, heraus mit E", "reaming: in at F, out at E"),
+        "G86": ("N50 G86 ZI-20 V2 DR0.2", "Ausdrehen: Spindel steht beim Herausfahren",
+                "boring: the spindle stands on the way out"),
+        "G87": ("N50 G87 ZI-10 R12 D2 V2", "Bohrfräsen auf einer Schraubenlinie der Steigung D",
+                "bore milling on a helix of pitch D"),
+    }.items()},
 }
 _MM = ("X", "Y", "Z", "XI", "YI", "ZI", "XA", "YA", "ZA", "I", "J", "K", "IA", "JA", "KA", "R", "D", "RN", "TR", "TL",
-       "RP", "W")
-_UNITS = {**dict.fromkeys(_MM, "mm"), **dict.fromkeys(("AO", "AS", "AP", "AI", "AR"), "°"),
-          "F": "mm/min", "E": "mm/min", "S": "1/min", "U": "s"}
+       "RP", "W", "V", "LP", "BP", "AK", "AL", "DA", "DR", "DM", "VB", "RZ")
+_UNITS = {**dict.fromkeys(_MM, "mm"), **dict.fromkeys(("AO", "AS", "AP", "AI", "AR", "AN"), "°"),
+          "F": "mm/min", "E": "mm/min", "S": "1/min", "U": "s", "DB": "%"}
 _RULES = {
     "RN": ("+ Rundung, − Fase", "+ rounding, − chamfer"),
     "R": ("+ kürzerer Bogen (bis 180°), − längerer Bogen", "+ shorter arc (up to 180°), − longer arc"),

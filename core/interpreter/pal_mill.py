@@ -19,7 +19,7 @@ from core.dialects.pal_mill import TABLE
 from core.geometry.arcs import arc_solutions, choose_arc, sweep
 from core.geometry.elements import angle_of
 from core.geometry.planes import AXES, from_plane, to_plane
-from core.interpreter import din_arcs, iso_cycles
+from core.interpreter import din_arcs, iso_cycles, pal_cycles
 from core.interpreter.contour import Approach, Blend, Departure, Item, Planned, departure_ends, end_tangent_of
 from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
@@ -106,6 +106,14 @@ def execute_block(
                 d.append(diag("PAL-E216", words[a][0].span, address=a))
     if owner is not None and owner.name in _CHECKED_OWNERS:
         _check_owner(owner, owner_word or gs[0][0], in_block, words, values, state, d)
+    pal_cycle = owner is not None and not table.din and (owner.name in pal_cycles.DEFINITIONS
+                                                         or owner.name in pal_cycles.CALLS)
+    if pal_cycle and owner is not None:
+        if owner.name == "G73" and "RZ" in values:  # the boss form (Zapfen)
+            d.append(_not_supported(words["RZ"][0].span, "Zapfenfräsen mit G73 (RZ)", "Boss milling with G73 (RZ)",
+                                    True))
+        pal_cycles.check_block(owner.name, owner_word.span if owner_word else span, words, values, state,
+                               [c.name for _, c in ms], d)
 
     if d and any(x.severity is Severity.ERROR for x in d):
         out.executed = False
@@ -124,7 +132,7 @@ def execute_block(
     codes = state.codes
     changes = {g: m for g, m in reading.activations if codes.get(g) != m}
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
-    if "F" in values:
+    if "F" in values and not (pal_cycle and owner is not None and owner.name == "G84"):  # (G84: F is the pitch)
         feed = values["F"]
     if "S" in values:
         speed = values["S"]
@@ -145,7 +153,7 @@ def execute_block(
     if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
             or tc != state.tc or tr != state.tr or tl != state.tl):
         state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame, state.blend,
-                           state.tangent, state.arc_radius, state.drill)
+                           state.tangent, state.arc_radius, state.drill, state.pal_cycle)
     if table.din:
         state = _din_modes(state)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
@@ -178,6 +186,11 @@ def execute_block(
         position = _home(setup, state, position, values, words, "G28" in in_block, span, out.commands, d)
     elif reading.cycle is not None:
         position, state = _drill(setup, state, position, reading.cycle, values, words, span, out.commands, d)
+    elif pal_cycle and owner is not None and owner.name in pal_cycles.DEFINITIONS:
+        state = dataclasses.replace(state, pal_cycle=pal_cycles.define(owner.name, values, block.line, state,
+                                                                       [c.name for _, c in ms]))
+    elif pal_cycle and owner is not None:
+        position = _cycle_call(setup, state, position, owner.name, values, span, out.commands, d)
     elif owner is not None and owner.name in ("G45", "G47"):
         planned = _approach(setup, state, state.frame.to_program(position), owner.name, words, values, span, d)
         planned.move = state.frame.map_move(planned.move)
@@ -238,7 +251,8 @@ def execute_block(
     ends = reading.ends
     if ends:
         state = ModalState({**state.codes, **ends}, state.feed, state.speed, state.tool, state.tc, state.tr, state.tl,
-                           state.pole, state.frame, state.blend, state.tangent, state.arc_radius, state.drill)
+                           state.pole, state.frame, state.blend, state.tangent, state.arc_radius, state.drill,
+                           state.pal_cycle)
     for w, code in ms:
         if code.name in ("M30", "M2"):
             out.ended = True
@@ -1094,6 +1108,37 @@ def _drill(setup: RunSetup, state: ModalState, position: Vec3, cycle: Code, valu
         else:
             commands.append(Dwell(frame.to_workpiece(item.position), item.seconds, item.span))
     return frame.to_workpiece(end), state
+
+
+def _cycle_call(setup: RunSetup, state: ModalState, position: Vec3, name: str, values: dict[str, float], span: Span,
+                commands: list[Command], d: list[Diagnostic]) -> Vec3:
+    """A PAL cycle call G76–G79: the active definition at the call's points (core.interpreter.pal_cycles)."""
+    frame = state.frame
+    here = position if frame.identity else frame.to_program(position)
+    spindle_code = state.active("spindle")
+    template = _move(state, "feed", here, here, span, spindle_code, exact_stop=False)
+    definition = state.pal_cycle
+    before = len(d)
+    if definition is not None and definition.code == "G84":
+        if spindle_code not in ("M3", "M4"):
+            d.append(diag("PAL-W606", span))
+        if state.tool is None:
+            d.append(diag("PAL-E303", span))
+    elif definition is not None:
+        feed = definition.feed if definition.feed is not None else state.feed
+        _check_cutting(dataclasses.replace(state, feed=feed), spindle_code in ("M3", "M4"), span, d)
+    if any(x.severity is Severity.ERROR for x in d[before:]):
+        return position
+    made = pal_cycles.call(setup, state, here, name, values, template, span, d)
+    if made is None:
+        return position
+    items, end = made
+    for item in items:
+        if isinstance(item, Move):
+            commands.append(Planned(frame.map_move(item)))
+        else:
+            commands.append(Dwell(frame.to_workpiece(item.position), item.seconds, item.span))
+    return frame.to_workpiece(end)
 
 
 def _home(setup: RunSetup, state: ModalState, position: Vec3, values: dict[str, float], words: dict[str, list[Word]],

@@ -7,13 +7,16 @@ object, so keeping the state of every line costs one reference per line.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
 from core.dialects.codes import CodeTable
 from core.interpreter.frames import IDENTITY, Frame
 from core.limits import DEFAULT_LIMITS, Limits
 from core.toolpath import Vec3
 from core.tools import DEFAULT_TOOLS, ToolTable
+
+if TYPE_CHECKING:
+    from core.interpreter.pal_cycles import Definition
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,6 +51,7 @@ class ModalState:
     tangent: tuple[float, float] | None = None
     arc_radius: float | None = None  # Beckhoff: the R of the last arc, kept for the next ones (modal radius)
     drill: DrillData | None = None  # ISO: the data of the active drilling cycle (None under G80)
+    pal_cycle: Definition | None = None  # PAL milling: the cycle defined last (G72–G75, G81–G87), which G76–G79 call
 
     def active(self, group: str) -> str | None:
         """The active code of `group`, e.g. active("motion") == "G1"."""
