@@ -26,10 +26,10 @@ def test_check_clean_program_exits_0(capsys: pytest.CaptureFixture[str]) -> None
 
 
 def test_check_errors_exit_1_with_line_and_column(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
-    path = write(tmp_path, "N10 G1 X5\nN20 G1 Q7\nM30\n")
+    path = write(tmp_path, "N10 G1 X5\nN20 G1 B7\nM30\n")
     assert main(["check", path]) == 1
     out = capsys.readouterr().out
-    assert f"{path}:2:8: Fehler PAL-E003: Unbekannte Adresse »Q«." in out
+    assert f"{path}:2:8: Fehler PAL-E003: Unbekannte Adresse »B«." in out
 
 
 def test_check_json_shape(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

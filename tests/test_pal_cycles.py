@@ -232,3 +232,35 @@ def test_bad_words_never_crash() -> None:
         tp = go(f"N40 {block}\nN50 G79 X0 Y0 Z0")
         assert tp.diagnostics, block
         assert math.isfinite(sum(m.end[2] for m in tp.moves))
+
+
+# -- help and docs ----------------------------------------------------------------------------------------------------
+
+def test_hover_help_of_every_cycle_says_reconstructed_and_its_example_runs() -> None:
+    from core.dialects.pal_mill import TABLE
+    from core.interpreter.pal_cycles import CALLS, DEFINITIONS
+
+    for name in sorted(DEFINITIONS | CALLS):
+        code = TABLE.codes[name]
+        assert "nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in code.rule_de, name
+        assert "reconstructed" in code.rule_en, name
+        for group in code.help_mandatory():
+            for a in group:
+                assert TABLE.addresses[a].help_de and TABLE.addresses[a].help_en
+        assert all(TABLE.addresses[a].unit == "mm" for a in ("V", "LP", "BP", "AK", "AL", "DA", "DM", "VB"))
+        definition = code.example if name in DEFINITIONS else "N40 G81 ZI-5 V2"
+        call = code.example if name in CALLS else "N60 G79 X50 Y40 Z0"
+        tp = run("N10 T1 TC1 M6\nN20 S500 F100 M3\nN30 G0 X0 Y0 Z50\n" + definition + "\n" + call + "\nN99 M30",
+                 setup=RunSetup(tools=ToolTable({1: Tool(1, "end_mill", 6.0, cutting_length=40.0)})))
+        assert codes(tp) == [], name
+        assert cycle_moves(tp), name
+
+
+def test_docs_list_every_reconstructed_choice() -> None:
+    from pathlib import Path
+
+    from core.interpreter.pal_cycles import reconstructed_markdown
+
+    doc = (Path(__file__).parents[1] / "docs" / "pal-milling.md").read_text(encoding="utf-8")
+    assert "## Zyklen" in doc and "Nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in doc
+    assert reconstructed_markdown() in doc, "docs/pal-milling.md: paste core.interpreter.pal_cycles.reconstructed_markdown()"

@@ -367,6 +367,7 @@ _RULES = {
     "R": ("+ kürzerer Bogen (bis 180°), − längerer Bogen", "+ shorter arc (up to 180°), − longer arc"),
     "F": ("mm/min unter G94, mm pro Umdrehung unter G95", "mm/min under G94, mm per revolution under G95"),
 }
+_HELP["G84"]["mandatory"] = (("ZA", "ZI"), ("F",), ("V",))  # and M3 or M4 (a code, not a word)
 _CODES = [replace(c, **_HELP.get(c.name, {})) for c in _CODES]  # type: ignore[arg-type]
 _ADDRESSES = [replace(a, unit=_UNITS.get(a.name, ""), rule_de=_RULES.get(a.name, ("", ""))[0],
                       rule_en=_RULES.get(a.name, ("", ""))[1]) for a in _ADDRESSES]

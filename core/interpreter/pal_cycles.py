@@ -53,6 +53,8 @@ class Choice:
 # the hover help and the docs follow.
 RECONSTRUCTED: dict[str, Choice] = {
     "surface": Choice(0.0, "Aufruf ohne Z: Werkstückoberfläche Z 0", "a call without Z: surface Z 0", "M"),
+    "W": Choice(0.0, "W unter der Sicherheitshöhe: Rückzug auf Oberfläche + V", "W below the safety height: "
+                "retraction to surface + V"),
     "VB": Choice(1.0, "G82/G83: Rückzug VB nach jedem Bohrschritt 1 mm", "G82/G83: retraction VB after each step 1 mm",
                  "M"),
     "DR": Choice(0.0, "G82/G83: Verringerung DR je Bohrschritt 0 mm (Schritt k ≥ 2: D − (k − 1) · DR)",
@@ -403,7 +405,7 @@ def call(setup: RunSetup, state: ModalState, here: Vec3, name: str, values: dict
     path = _Path(code, template, span, definition.line, here)
     for x, y, surface in points:
         safety = surface + v
-        retract = max(w, safety) if w is not None else safety
+        retract = max(w, safety) if w is not None else safety  # (RECONSTRUCTED["W"])
         if path.pos[2] < retract - EPS:
             path.go("rapid", (path.pos[0], path.pos[1], retract))
         entry = plan.entry(x, y, rotation)
