@@ -690,6 +690,7 @@ FOLLOW_UPS: dict[str, tuple[str, str, str]] = {
     "PAL-E220": ("tool", "der Werkzeugwechsel (T, M6)", "the tool change (T, M6)"),
     "PAL-E308": ("tool", "der Werkzeugwechsel (T, M6)", "the tool change (T, M6)"),
     "PAL-E406": ("number", "die Satznummer N des verworfenen Satzes", "the block number N of the dropped block"),
+    "PAL-E601": ("cycle", "die Zyklusdefinition (G72–G75, G81–G87)", "the cycle definition (G72–G75, G81–G87)"),
 }
 # the same finding on many feed moves (no feed, spindle stopped, no tool): the first stays, the later ones
 # become one PAL-I301 note that follows from it

@@ -264,3 +264,12 @@ def test_docs_list_every_reconstructed_choice() -> None:
     doc = (Path(__file__).parents[1] / "docs" / "pal-milling.md").read_text(encoding="utf-8")
     assert "## Zyklen" in doc and "Nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in doc
     assert reconstructed_markdown() in doc, "docs/pal-milling.md: paste core.interpreter.pal_cycles.reconstructed_markdown()"
+
+
+def test_a_call_after_a_rejected_definition_is_its_follow_up() -> None:
+    tp = go("N40 G81 ZI-10 ZA-3 V2\nN50 G79 X10 Y0 Z0")
+    assert codes(tp) == [("PAL-E107", 4), ("PAL-E601", 5)]
+    assert tp.diagnostics[1].follows_from == 4
+    assert tp.diagnostics[1].message.endswith("(Folgefehler von Zeile 4).")
+    # a call with no definition at all is an error of its own
+    assert go("N50 G79 X10 Y0 Z0").diagnostics[0].follows_from is None

@@ -22,7 +22,9 @@ _AXES = {"X": "X", "XI": "X", "XA": "X", "Y": "Y", "YI": "Y", "YA": "Y", "Z": "Z
 _ABSOLUTE = frozenset({"XA", "YA", "ZA"})
 _PLANE_WORDS = frozenset({"RP", "AP", "AI", "AS", "D"})  # end points in the plane without X/Y (polar, D/AS)
 _SPINDLE_ON = frozenset({3, 4, 13, 14})
-_DEPENDS = {"position": ("X", "Y"), "feed": ("F",), "speed": ("S",), "spindle": ("M3",), "tool": ("T",)}
+_DEPENDS = {"position": ("X", "Y"), "feed": ("F",), "speed": ("S",), "spindle": ("M3",), "tool": ("T",),
+            "cycle": ("cycle",)}
+_CYCLE_DEFINITIONS = frozenset({72, 73, 74, 75, 81, 82, 83, 84, 85, 86, 87})  # PAL: G72–G75, G81–G87 define a cycle
 _RAW_WORD = re.compile(r"([A-Z]+)\s*=?\s*([-+]?\d*)")
 # what the note says the later blocks also are, for each repeated finding
 _REPEATED_WHAT = {
@@ -33,7 +35,8 @@ _REPEATED_WHAT = {
 
 
 def _keys(words: Iterable[tuple[str, float | None]]) -> set[str]:
-    """What a block with these (address, value) words sets: axes X/Y/Z, F, S, M3 (spindle on), T, N<n>."""
+    """What a block with these (address, value) words sets: axes X/Y/Z, F, S, M3 (spindle on), T, N<n>, the
+    PAL cycle definition."""
     keys: set[str] = set()
     for a, v in words:
         if a in _AXES:
@@ -48,6 +51,8 @@ def _keys(words: Iterable[tuple[str, float | None]]) -> set[str]:
             keys.add("T")
         elif a == "N" and v is not None:
             keys.add(f"N{int(v)}")
+        elif a == "G" and v is not None and v in _CYCLE_DEFINITIONS:
+            keys.add("cycle")
     return keys
 
 
@@ -87,7 +92,7 @@ class FollowUps:
                 self.unknown = {**self.unknown, **dict.fromkeys(lost, origin)}
             if not executed:
                 return
-        known = {k for k in keys if k in ("F", "S", "M3", "T")}
+        known = {k for k in keys if k in ("F", "S", "M3", "T", "cycle")}
         if not errors or moved:  # axes written absolutely are known again
             known |= {_AXES[a] for a, _ in words if a in _ABSOLUTE or (absolute and a in ("X", "Y", "Z"))}
         if known & self.unknown.keys():
