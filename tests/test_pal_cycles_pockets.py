@@ -182,3 +182,24 @@ def test_g72_stays_in_its_outline_and_removes_the_nominal_volume(case: tuple[flo
     nominal = (lp * bp - (4 - math.pi) * rn**2) * depth
     # within the grid's accuracy: a band of one cell along the outline, over the depth
     assert abs(removed(tp, diameter) - nominal) <= 2 * (lp + bp) * RESOLUTION * depth + 0.001 * nominal
+
+
+# -- the drilled part ---------------------------------------------------------------------------------------------
+
+def test_holes_on_a_pitch_circle_remove_their_nominal_volume() -> None:
+    drill = ToolTable({1: Tool(1, "twist_drill", 8.0, point_angle=118.0, cutting_length=40.0)})
+    text = ("N10 T1 TC1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z50\nN40 G83 ZI-12 D5 V2\n"
+            "N50 G77 IA50 JA40 R25 AN45 O4 Z0\nN60 G0 Z100 M30\n")
+    tp = run(text, setup=RunSetup(tools=drill))
+    assert codes(tp) == []
+    cone = 4 / math.tan(math.radians(59))
+    hole = math.pi * 16 * (12 - cone) + math.pi * 16 * cone / 3
+    result = simulate(tp, STOCK, drill, 0.1)
+    assert result.events == []
+    assert result.removed_volume == pytest.approx(4 * hole, rel=0.01)
+
+
+def test_g87_bore_milled_hole_is_a_full_cylinder() -> None:
+    tp = go("N40 G87 ZI-6 R9 D2 V1\nN50 G79 X50 Y40 Z0")
+    assert codes(tp) == []
+    assert removed(tp) == pytest.approx(math.pi * 81 * 6, rel=0.005)
