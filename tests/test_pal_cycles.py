@@ -273,3 +273,18 @@ def test_a_call_after_a_rejected_definition_is_its_follow_up() -> None:
     assert tp.diagnostics[1].message.endswith("(Folgefehler von Zeile 4).")
     # a call with no definition at all is an error of its own
     assert go("N50 G79 X10 Y0 Z0").diagnostics[0].follows_from is None
+
+
+@pytest.mark.parametrize("program,expected", [
+    ("N40 G72 ZI-90000 LP40 BP30 D0.001 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # levels, refused before they are made
+    ("N40 G72 ZI-2 LP90000 BP90000 DB1 D2 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # rings
+    ("N40 G83 ZI-90000 D0.001 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # steps
+    ("N40 G82 ZI-40 D0.2 V2\nN50 G77 IA0 JA0 R50 O400", "PAL-E017"),  # 400 holes of 200 steps: too many moves
+])
+def test_huge_cycles_are_refused_quickly(program: str, expected: str) -> None:
+    import time
+
+    start = time.perf_counter()
+    tp = go(program)
+    assert expected in [c for c, _ in codes(tp)]
+    assert time.perf_counter() - start < 2

@@ -367,6 +367,11 @@ def _offsets(reach: float, step: float) -> list[float]:
     return [reach - k * step for k in reversed(range(n))]
 
 
+def _count(length: float, step: float, least: float = 1e-9) -> int:
+    """How many pieces of at most `step` make `length` (0 for nothing), without making them."""
+    return 0 if length <= least else max(1, math.ceil(length / step - 1e-9))
+
+
 def _levels(top: float, bottom: float, infeed: float) -> list[float]:
     """Heights of the levels from `top` down to `bottom`, at most `infeed` apart, spread evenly."""
     depth = top - bottom
@@ -402,6 +407,9 @@ def call(setup: RunSetup, state: ModalState, here: Vec3, name: str, values: dict
     plan = _Planner(definition, template, span, rt, limit, state, d)
     if not plan.check(points[0][2]):
         return None
+    if len(points) * plan.passes > setup.limits.max_moves:  # (each pass makes a move at least)
+        d.append(diag("PAL-E017", span, limit=setup.limits.max_moves))
+        return None
     path = _Path(code, template, span, definition.line, here)
     for x, y, surface in points:
         safety = surface + v
@@ -431,6 +439,8 @@ class _Planner:
         self.df, self.template, self.span, self.rt, self.limit, self.state, self.d = (
             definition, template, span, rt, limit, state, d)
         self.shape: Shape | None = None
+        self.passes = 1  # at one point: the levels × rings of a pocket, the steps of a deep hole, the turns of G87
+        self.depths: list[float] = []  # G82/G83: the depths the steps reach, from the surface
         self.nominal: Shape | None = None  # the shape to size (AK 0): finishing
         self.swap = False  # the shape's long axis is X: a pocket taller than wide is turned by 90°
         self.step_over = 1.0
@@ -456,10 +466,18 @@ class _Planner:
             if 2 * self.rt >= 2 * self.value("R") - EPS:
                 return self._too_large("die Bohrung Ø", "the hole Ø", 2 * self.value("R"))
             turns = (depth + self.value("V")) / self.value("D")
+            self.passes = math.ceil(turns) + 1
             if turns + 2 > self.limit:
-                d.append(diag("PAL-E610", span, command=code, count=math.ceil(turns) + 1, limit=self.limit))
+                d.append(diag("PAL-E610", span, command=code, count=self.passes, limit=self.limit))
                 return False
             return True
+        if code in ("G82", "G83"):
+            reduce = self.value("DR", RECONSTRUCTED["DR"].value)
+            depths = steps(depth, self.value("D"), df.get("DA"), reduce, df.get("DM"), self.limit)
+            if depths is None:
+                d.append(diag("PAL-E610", span, command=code, count=f"> {self.limit}", limit=self.limit))
+                return False
+            self.depths, self.passes = depths, len(depths)
         if code in DRILLING:
             return True
         ak, al = self.value("AK"), self.value("AL")
@@ -533,8 +551,10 @@ class _Planner:
             self.shape = Shape("arc", max(reach, 0.0), radius=rp, t0=t0, t1=t1)
             self.nominal = Shape("arc", bp / 2 - rt, radius=rp, t0=t0, t1=t1)
         step = max(self.value("DB", RECONSTRUCTED["DB"].value) / 100 * 2 * rt, 1e-3)
-        rings = len(_offsets(self.shape.reach, step)) + 1
-        levels = len(self._plan_levels(surface, bottom))
+        rings = _count(self.shape.reach, step, 1e-6) + 1
+        h, infeed = int(self.value("H", RECONSTRUCTED["H"].value)), self.value("D")
+        levels = (_count(depth - al, infeed) if h in (1, 14) else 0) + (_count(depth, infeed) if h in (4, 14) else 0)
+        self.passes = rings * max(levels, 1)
         if rings * max(levels, 1) > self.limit:
             d.append(diag("PAL-E610", span, command=code, count=rings * levels, limit=self.limit))
             return False
@@ -629,11 +649,7 @@ class _Planner:
             path.go("feed", (x, y, bottom))
             path.go("rapid", (x, y, safety))
             return True
-        reduce = self.value("DR", RECONSTRUCTED["DR"].value)
-        depths = steps(surface - bottom, self.value("D"), self.df.get("DA"), reduce, self.df.get("DM"), self.limit)
-        if depths is None:
-            self.d.append(diag("PAL-E610", self.span, command=code, count=f"> {self.limit}", limit=self.limit))
-            return False
+        depths = self.depths
         vb = self.value("VB", RECONSTRUCTED["VB"].value)
         path.steps = len(depths)
         reached = None
