@@ -6,6 +6,8 @@ from __future__ import annotations
 import math
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
@@ -288,3 +290,42 @@ def test_huge_cycles_are_refused_quickly(program: str, expected: str) -> None:
     tp = go(program)
     assert expected in [c for c, _ in codes(tp)]
     assert time.perf_counter() - start < 2
+
+
+def _words() -> dict[str, tuple[list[str], list[tuple[str, ...]]]]:
+    from core.dialects.pal_mill import TABLE
+    from core.interpreter.pal_cycles import CALLS, DEFINITIONS
+
+    return {name: (sorted(TABLE.codes[name].words), list(TABLE.codes[name].help_mandatory()))
+            for name in sorted(DEFINITIONS | CALLS)}
+
+
+WORDS = _words()
+
+
+ran: list[bool] = []
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.data())
+def test_any_cycle_and_call_with_any_values_never_crashes(data: st.DataObject) -> None:
+    defs = [n for n in WORDS if n not in ("G76", "G77", "G78", "G79")]
+    code = data.draw(st.sampled_from(defs))
+    call = data.draw(st.sampled_from(["G76", "G77", "G78", "G79"]))
+    value = st.one_of(st.integers(1, 60), st.integers(-60, 60), st.sampled_from([0, 0.001, 1, 2, 4, 14, 90, 100, 360]))
+    def_words, call_words = ([data.draw(st.sampled_from(group)) for group in WORDS[name][1]]
+                             + data.draw(st.lists(st.sampled_from(WORDS[name][0]), max_size=5, unique=True))
+                             for name in (code, call))
+    def_words, call_words = list(dict.fromkeys(def_words)), list(dict.fromkeys(call_words))
+    depth = st.integers(-30, 0)
+    block = " ".join(f"{w}{data.draw(depth if w in ('ZI', 'ZA') else value)}" for w in def_words)
+    calling = " ".join(f"{w}{data.draw(value)}" for w in call_words)
+    extra = " M3" if code == "G84" else ""
+    tp = go(f"N40 {code} {block}{extra}\nN50 {call} {calling}")
+    ran.append(any(m.cycle for m in tp.moves))
+    for m in tp.moves:
+        assert all(math.isfinite(v) for v in (*m.start, *m.end))
+
+
+def test_the_random_cycles_above_did_run_some_moves() -> None:
+    assert not ran or sum(ran) >= 5, sum(ran)  # (about 20 of the 300 make moves; the rest are refused)
