@@ -580,10 +580,8 @@ CATALOGUE: dict[str, Entry] = {
                       "be negative, ZA below the surface."),
     "PAL-E604": Entry(E, "Aufmaß {address} darf nicht negativ sein ({raw}).",
                       "Allowance {address} must not be negative ({raw})."),
-    "PAL-E605": Entry(E, "{command}: das Aufmaß {address} ({value} mm) ist größer, als {what} zulässt "
-                         "(höchstens {limit} mm).",
-                      "{command}: the allowance {address} ({value_en} mm) is larger than {what_en} allows "
-                      "(at most {limit_en} mm)."),
+    "PAL-E605": Entry(E, "{command}: das Aufmaß {address} ({value} mm) ist zu groß für {what} ({limit} mm).",
+                      "{command}: the allowance {address} ({value_en} mm) is too large for {what_en} ({limit_en} mm)."),
     "PAL-W606": Entry(W, "G84 ohne laufende Spindel: vor dem Gewindebohren die Spindel mit M3 oder M4 und einer "
                          "Drehzahl S einschalten.",
                       "G84 without a running spindle: switch the spindle on with M3 or M4 and a speed S before "

@@ -569,7 +569,8 @@ class _Planner:
 
     def _allowance(self, ak: float, most: float) -> bool:
         self.d.append(diag("PAL-E605", self.span, command=self.df.code, address="AK", value=_de(ak), value_en=_en(ak),
-                           what="die Breite abzüglich des Fräserradius", what_en="the width less the tool radius",
+                           what="die halbe Breite abzüglich des Fräserradius",
+                           what_en="half the width less the tool radius",
                            limit=_de(max(most, 0.0)), limit_en=_en(max(most, 0.0))))
         return False
 
