@@ -329,3 +329,13 @@ def test_any_cycle_and_call_with_any_values_never_crashes(data: st.DataObject) -
 
 def test_the_random_cycles_above_did_run_some_moves() -> None:
     assert not ran or sum(ran) >= 5, sum(ran)  # (about 20 of the 300 make moves; the rest are refused)
+
+
+def test_hover_help_of_the_cycle_words_says_reconstructed() -> None:
+    from core.dialects.pal_mill import TABLE
+
+    for a in ("V", "LP", "BP", "AK", "AL", "EP", "DB", "Q", "DA", "DR", "DM", "VB", "AN"):
+        address = TABLE.addresses[a]
+        assert "nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in address.rule_de, a
+        assert address.help_en and "reconstructed" in address.rule_en, a
+    assert (TABLE.addresses["DB"].unit, TABLE.addresses["AN"].unit, TABLE.addresses["LP"].unit) == ("%", "°", "mm")

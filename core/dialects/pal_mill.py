@@ -366,6 +366,9 @@ _RULES = {
     "RN": ("+ Rundung, − Fase", "+ rounding, − chamfer"),
     "R": ("+ kürzerer Bogen (bis 180°), − längerer Bogen", "+ shorter arc (up to 180°), − longer arc"),
     "F": ("mm/min unter G94, mm pro Umdrehung unter G95", "mm/min under G94, mm per revolution under G95"),
+    # the words only the cycles take: reconstructed, their defaults in core.interpreter.pal_cycles.RECONSTRUCTED
+    **dict.fromkeys(("V", "LP", "BP", "AK", "AL", "EP", "DB", "Q", "DA", "DR", "DM", "VB", "AN", "RZ"), (
+        f"Zyklenwort, {RECONSTRUCTED_DE}", f"cycle word, {RECONSTRUCTED_EN}")),
 }
 _HELP["G84"]["mandatory"] = (("ZA", "ZI"), ("F",), ("V",))  # and M3 or M4 (a code, not a word)
 _CODES = [replace(c, **_HELP.get(c.name, {})) for c in _CODES]  # type: ignore[arg-type]
