@@ -37,18 +37,17 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Literal
 
 from core.diagnostics import Diagnostic, diag
+from core.interpreter.cycle_path import EPS, CyclePath
 from core.interpreter.state import DrillData, RunSetup
 from core.syntax.blocks import Span, Word
-from core.toolpath import Dwell, Move, MoveKind, Vec3
+from core.toolpath import Dwell, Move, Vec3
 
 PECKING = frozenset({"G73", "G83"})
 SHIFTING = frozenset({"G76", "G87"})
 OUT_AT_FEED = frozenset({"G74", "G84", "G85", "G89"})
 DWELLING = frozenset({"G74", "G76", "G82", "G84", "G88", "G89"})
-EPS = 1e-9
 
 
 def update(data: DrillData, values: dict[str, float]) -> DrillData:
@@ -114,35 +113,11 @@ def holes(code: str, data: DrillData, here: Vec3, values: dict[str, float], word
     return out.items, pos
 
 
-Spindle = Literal["on", "off", "reverse"]
-
-
-class _Holes:
+class _Holes(CyclePath):
     """Collects the moves of one cycle block (program coordinates)."""
 
     def __init__(self, code: str, template: Move, span: Span, steps: int) -> None:
-        self.code, self.template, self.span, self.steps = code, template, span, steps
-        self.items: list[Move | Dwell] = []
-        self.pos: Vec3 = template.start
-        self.step = 1
-
-    def go(self, kind: MoveKind, to: Vec3, spindle: Spindle = "on") -> None:
-        if math.dist(to, self.pos) < EPS:
-            return
-        t = self.template
-        speed, direction = t.spindle, t.spindle_direction
-        if spindle == "off":
-            speed, direction = 0.0, None
-        elif spindle == "reverse" and direction is not None:
-            direction = "ccw" if direction == "cw" else "cw"
-        self.items.append(dataclasses.replace(t, kind=kind, start=self.pos, end=to, spindle=speed,
-                                              spindle_direction=direction, exact_stop=kind == "rapid",
-                                              cycle=(self.code, self.step, self.steps)))
-        self.pos = to
-
-    def dwell(self, seconds: float) -> None:
-        if seconds > 0:
-            self.items.append(Dwell(self.pos, seconds, self.span))
+        super().__init__(code, template, span, template.start, steps)
 
     def hole(self, pos: Vec3, x: float, y: float, r: float, bottom: float, ret: float, initial: float, q: float,
              dwell: float, d: float) -> Vec3:

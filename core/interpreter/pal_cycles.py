@@ -31,12 +31,12 @@ from dataclasses import dataclass
 from typing import Literal
 
 from core.diagnostics import Diagnostic, diag
+from core.interpreter.cycle_path import EPS, CyclePath
 from core.interpreter.state import ModalState, RunSetup
 from core.syntax.blocks import Span, Word
-from core.toolpath import Dwell, Move, MoveKind, Vec3
+from core.toolpath import Dwell, Move, Vec3
 
 Pt = tuple[float, float]
-EPS = 1e-9
 
 
 @dataclass(frozen=True, slots=True)
@@ -229,32 +229,11 @@ def _points(name: str, here: Vec3, values: dict[str, float], incremental: bool, 
              surface) for k in range(count)]
 
 
-Spindle = Literal["on", "off", "reverse"]
-
-
-class _Path:
-    """Collects the moves of one call (program coordinates)."""
+class _Path(CyclePath):
+    """Collects the moves of one call (program coordinates), with arcs and helices."""
 
     def __init__(self, code: str, template: Move, span: Span, line: int, start: Vec3) -> None:
-        self.code, self.template, self.span, self.line = code, template, span, line
-        self.items: list[Move | Dwell] = []
-        self.pos: Vec3 = start
-        self.step, self.steps = 1, 1
-
-    def go(self, kind: MoveKind, to: Vec3, spindle: Spindle = "on", feed: float | None = None, **arc: object) -> None:
-        if math.dist(to, self.pos) < EPS and not arc:
-            return
-        t = self.template
-        speed, direction = t.spindle, t.spindle_direction
-        if spindle == "off":
-            speed, direction = 0.0, None
-        elif spindle == "reverse" and direction is not None:
-            direction = "ccw" if direction == "cw" else "cw"
-        self.items.append(dataclasses.replace(
-            t, kind=kind, start=self.pos, end=to, spindle=speed, spindle_direction=direction,
-            exact_stop=kind == "rapid", feed=t.feed if feed is None else feed,
-            cycle=(self.code, self.step, self.steps), cycle_definition=self.line, **arc))  # type: ignore[arg-type]
-        self.pos = to
+        super().__init__(code, template, span, start, definition=line)
 
     def arc(self, to: Vec3, centre: Pt, ccw: bool, feed: float | None = None, full: bool = False) -> None:
         """An arc (a helix when Z changes) about `centre` to `to`; `full`: a whole turn back to the same point."""
@@ -273,10 +252,6 @@ class _Path:
             return
         self.go("arc", to, feed=feed, center=(centre[0], centre[1], s[2]), direction="ccw" if ccw else "cw",
                 radius=r, angle=sweep)
-
-    def dwell(self, seconds: float) -> None:
-        if seconds > 0:
-            self.items.append(Dwell(self.pos, seconds, self.span))
 
 
 @dataclass(frozen=True, slots=True)
