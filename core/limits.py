@@ -25,7 +25,7 @@ class Limits:
     # its expressions, and DIAGNOSTIC_STEPS for each diagnostic it reports (loops count every pass)
     max_evaluation_steps: int = 600_000
     max_moves: int = 5_000  # programmed moves in one run (each motion block once per pass)
-    max_cycle_passes: int = 500  # passes (levels, pecks, thread passes) of one TRAUB cycle block; then TX-E406
+    max_cycle_passes: int = 500  # passes (levels, pecks, thread passes) of one cycle block or call (TRAUB: TX-E406, ISO: ISO-E404, PAL: PAL-E610)
     max_abs_value: float = 100_000.0  # any address value or parameter, in its unit
     max_diagnostics: int = 1_000  # further diagnostics are dropped with one PAL-E012
     max_answer_commands: int = 5_000  # moves, dwells and tool changes in one answer (JSON); then PAL-I018
