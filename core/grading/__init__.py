@@ -533,7 +533,9 @@ def _technology(c: Criterion, ex: Exercise, program: str, reference: Toolpath, c
         if data is None:
             return _result(c, False, f"Zeile {line}: Werkzeug T{m.tool} ist in der Aufgabe nicht vorgesehen.",
                            f"Line {line}: tool T{m.tool} is not the one the task prescribes.", [line], "tool")
-        fault = direction_fault(m, direction.get(m.tool), program, line)
+        # a tapping cycle (G84) feeds out of the thread with the spindle reversed: that is the task's direction
+        tapping_out = m.cycle is not None and m.cycle[0] == "G84" and m.end[2] > m.start[2]
+        fault = None if tapping_out else direction_fault(m, direction.get(m.tool), program, line)
         if fault is not None:
             where = spindle_set_where(program, line)
             return _result(c, False, f"Zeile {line}: {fault[0]}", f"Line {line}: {fault[1][0].upper()}{fault[1][1:]}",
