@@ -1,4 +1,4 @@
-; Rechtecktasche, Kreistasche und zwei Bohrungen - fehlerfreies Programm
+; Taschen und Bohrungen - fehlerfrei
 N10 T2 TC1 M6
 N20 S2000 F250 M3
 N30 G0 X30 Y40 Z20
