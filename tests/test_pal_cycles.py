@@ -277,6 +277,14 @@ def test_a_call_after_a_rejected_definition_is_its_follow_up() -> None:
     assert go("N50 G79 X10 Y0 Z0").diagnostics[0].follows_from is None
 
 
+
+def test_a_rejected_definition_replaces_the_earlier_one() -> None:
+    # the pocket of line 4 is not milled again at line 7: the drilling cycle of line 6 (V missing) replaced it
+    tp = go("N40 G73 ZI-6 R12 D3 V2 W5\nN50 G79 X75 Y40 Z0\nN60 G81 ZI-3 W5\nN70 G79 X30 Y70 Z0")
+    assert codes(tp) == [("PAL-E102", 6), ("PAL-E601", 7)] and tp.diagnostics[1].follows_from == 6
+    assert [m for m in tp.moves if m.line == 7] == [] and any(m.line == 5 for m in tp.moves)
+
+
 @pytest.mark.parametrize("program,expected", [
     ("N40 G72 ZI-90000 LP40 BP30 D0.001 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # levels, refused before they are made
     ("N40 G72 ZI-2 LP90000 BP90000 DB1 D2 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # rings

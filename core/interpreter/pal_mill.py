@@ -117,6 +117,9 @@ def execute_block(
 
     if d and any(x.severity is Severity.ERROR for x in d):
         out.executed = False
+        if pal_cycle and owner is not None and owner.name in pal_cycles.DEFINITIONS:
+            # a rejected definition replaces the earlier one all the same: its calls must not run the old cycle
+            out.state = dataclasses.replace(state, pal_cycle=None)
         return out  # the block is not executed; the state stays as it was
 
     # -- what is not implemented yet -------------------------------------------------------
