@@ -133,8 +133,8 @@ MISTAKES = [
      {"geometry": "end_point"}),
     ("pal-33-g76-g77-bohrungen", "N130 G77 IA60 JA50 R20", "N130 G77 IA60 JA50 R40",  # diameter for radius
      {"geometry": "end_point"}),
-    ("pal-33-g76-g77-bohrungen", "G84 ZI-12 F1.25 M3", "G84 ZI-12 F1.25",  # no spindle for the tap
-     {"geometry": "depth", "technology": "feed", "syntax": "PAL-E102"}),
+    ("pal-33-g76-g77-bohrungen", "G84 ZI-12 F1.25 M3", "G84 ZI-12 F1.25",  # no spindle for the tap: the
+     {"geometry": "element_missing", "syntax": "PAL-E102"}),  # definition is refused, its calls tap nothing
     ("pal-33-g76-g77-bohrungen", "N160 S400 M3", "N160 M3",  # the drill's speed left on for the tap
      {"technology": "speed"}),
     ("pal-33-g76-g77-bohrungen", "G84 ZI-12 F1.25 M3", "G84 ZI-12 F1.25 M4",  # a left-hand thread
@@ -145,8 +145,8 @@ MISTAKES = [
     ("pal-34-kontur-tasche-bohrungen", "N240 G76 X20 Y60", "N240 G76 X20 Y50", {"geometry": "end_point"}),
     ("pal-35-zyklen-fehler", "N10 T2", "N10 T1",  # one of the four mistakes left: the cutter too large
      {"geometry": "tool", "technology": "tool", "syntax": "PAL-E602"}),
-    ("pal-35-zyklen-fehler", "G82 ZI-12", "G82 ZI12",  # another one left: the depth's sign
-     {"geometry": "depth", "syntax": "PAL-E603"}),
+    ("pal-35-zyklen-fehler", "G82 ZI-12", "G82 ZI12",  # another one left: the depth's sign, the holes not drilled
+     {"geometry": "element_missing", "syntax": "PAL-E603"}),
 ]
 
 
@@ -161,11 +161,17 @@ def test_a_typical_mistake_loses_the_right_criterion(eid: str, old: str, new: st
     assert lost(result) == expected
 
 
-def test_a_pocket_too_small_costs_more_than_a_corner_radius_too_small() -> None:
+def test_the_pocket_is_one_feature_of_the_part() -> None:
+    # its rings and levels are the cycle's path, not features of their own: a pocket too small or with too small
+    # corners loses the pocket, a pocket 2 mm too deep its pocket and its floor
     ex = _exercise("pal-30-g72-rechtecktasche")
-    small = grade(ex, ex.reference.replace("LP60 BP40", "LP50 BP30"))
-    corner = grade(ex, ex.reference.replace("RN8", "RN5"))
-    assert small.score < corner.score < 100
+    for mistake in (ex.reference.replace("LP60 BP40", "LP50 BP30"), ex.reference.replace("RN8", "RN5")):
+        geometry = next(c for c in grade(ex, mistake).criteria if c.id == "geometry")
+        assert geometry.status == "partial" and "Rechtecktasche (Zeile" in geometry.message
+        assert "Fase" not in geometry.message and "Bahn" not in geometry.message
+    deeper = grade(_exercise("pal-31-g73-kreistasche"), _exercise("pal-31-g73-kreistasche").reference.replace(
+        "ZI-8", "ZI-10"))
+    assert deeper.score <= 90
 
 
 def test_a_hole_pattern_on_the_wrong_pitch_circle_loses_those_holes() -> None:
@@ -195,8 +201,12 @@ def test_the_start_program_shows_the_four_planted_cycle_errors_at_their_lines() 
         ("PAL-E601", 5),  # the pocket called before it is defined
         ("PAL-E602", 8),  # the Ø25 cutter in the Ø24 circular pocket
         ("PAL-E102", 13),  # V forgotten in the centring cycle
+        ("PAL-E601", 14),  # … so its call finds no cycle (a follow-up of line 13)
         ("PAL-E603", 19),  # ZI12 for ZI-12
+        ("PAL-E601", 20),  # … a follow-up of line 19
     }
+    assert {d.span.line: d.follows_from for d in result.diagnostics if d.code == "PAL-E601"} == {5: None, 14: 13,
+                                                                                                 20: 19}
     assert result.score < 70
     assert lost(result).keys() == {"geometry", "syntax"}
     assert len(ex.start_program.splitlines()) == len(ex.reference.splitlines())

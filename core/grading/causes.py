@@ -435,8 +435,9 @@ def _gaps(cmp: Comparison, lathe: bool, program: str = "") -> list[Cause]:
         if joints and len(rs) > len(ss):
             r = ref[joints[0]]
             line = sub[ss[0]].line if ss else sub[s0].line if s0 >= 0 else 0
-            out.append(Cause("element_missing", line, f"Zeile {line}: Es fehlt das Übergangselement {describe(r, lathe)}.",
-                             f"Line {line}: the transition element {describe(r, lathe, 'en')} is missing.", joints[0]))
+            at, at_en = (f"Zeile {line}: ", f"Line {line}: ") if line else ("", "")  # 0: no block of the submission
+            out.append(Cause("element_missing", line, f"{at}Es fehlt das Übergangselement {describe(r, lathe)}.",
+                             f"{at_en}The transition element {describe(r, lathe, 'en')} is missing.", joints[0]))
             continue
         if rs and ss:
             cylinder = _diameter(ref, sub, rs, ss) if lathe else None

@@ -42,7 +42,7 @@ SAMPLED_CELLS = 20_000  # deviating cells put down one by one; beyond, a regular
 class Feature:
     """One feature of the reference part and how the submission made it."""
 
-    kind: str  # milling: contour, path, rounding, chamfer, hole, floor; turning: diameter, taper, radius, face
+    kind: str  # milling: contour, path, rounding, chamfer, hole, pocket, floor; turning: diameter, taper, radius, face
     name: str
     name_en: str
     ok: bool = True
@@ -82,8 +82,25 @@ def milled_features(tp: Toolpath, cutting: list[int], radius: dict[int | None, f
     depths. A shape's `element` is its index in the reference's elements (core.grading.causes.elements)."""
     elems = elements(tp, cutting, lathe=False)
     shapes: list[Shape] = []
+    # a milling cycle's pocket or slot is one feature: its rings and levels are the cycle's path, not the part's
+    # elements (a pocket 2 mm too deep would else cost one ring of many)
+    pockets: dict[tuple[int, str], list[int]] = {}
+    for n, e in enumerate(elems):
+        code = _pocket_cycle(tp, e) if e.kind != "plunge" else None
+        if code is not None:
+            pockets.setdefault((e.line, code), []).append(n)
     for n, e in enumerate(elems):
         if e.kind == "plunge":
+            continue
+        code = _pocket_cycle(tp, e)
+        if code is not None:
+            members = pockets[(e.line, code)]
+            if members[0] == n:
+                de, en = POCKETS[code]
+                moves = tuple(k for m in members for k in elems[m].moves)
+                shapes.append(Shape(Feature("pocket", f"{de} (Zeile {e.line})", f"{en} (line {e.line})"),
+                                    _path(tp, moves), radius.get(e.tool, 0.0), min(elems[m].depth for m in members),
+                                    n))
             continue
         r = radius.get(e.tool, 0.0)
         before = [x for x in elems[:n] if x.kind != "plunge"]
@@ -106,6 +123,18 @@ def milled_features(tp: Toolpath, cutting: list[int], radius: dict[int | None, f
                             _point_path(e.end[0], e.end[1]), radius.get(e.tool, 0.0), e.depth, n))
     levels = sorted({round(s.depth / LEVEL) * LEVEL for s in shapes})
     return shapes, levels
+
+
+POCKETS = {"G72": ("Rechtecktasche", "rectangular pocket"), "G73": ("Kreistasche", "circular pocket"),
+           "G74": ("Nut", "slot"), "G75": ("Kreisbogennut", "arc slot")}
+
+
+def _pocket_cycle(tp: Toolpath, e: Element) -> str | None:
+    """The PAL milling cycle (G72–G75) whose call made every move of `e`, if one did."""
+    cycles = [tp.moves[k].cycle for k in e.moves]
+    codes = {c[0] if c is not None else None for c in cycles}
+    code = codes.pop() if len(codes) == 1 else None
+    return code if code in POCKETS else None
 
 
 def _names(kind: str, e: Element) -> tuple[str, str]:
