@@ -572,8 +572,8 @@ CATALOGUE: dict[str, Entry] = {
     "PAL-E601": Entry(E, "{command}: es ist kein Bearbeitungszyklus definiert; zuerst einen Zyklus (G72–G75, "
                          "G81–G87) programmieren, dann aufrufen.",
                       "{command}: no machining cycle is defined; program a cycle (G72–G75, G81–G87) before the call."),
-    "PAL-E602": Entry(E, "{command}: das Werkzeug T{tool} (Ø {tool_d} mm) ist zu groß für {what} ({size} mm).",
-                      "{command}: tool T{tool} (Ø {tool_d_en} mm) is too large for {what_en} ({size_en} mm)."),
+    "PAL-E602": Entry(E, "{command}: das Werkzeug T{tool} (Ø{tool_d} mm) ist zu groß für {what}{size} mm.",
+                      "{command}: tool T{tool} (Ø{tool_d_en} mm) is too large for {what_en}{size_en} mm."),
     "PAL-E603": Entry(E, "{command}: der Grund (Z {bottom} mm) liegt nicht unter der Oberfläche (Z {surface} mm); "
                          "ZI muss negativ sein, ZA unter der Oberfläche liegen.",
                       "{command}: the bottom (Z {bottom_en} mm) is not below the surface (Z {surface_en} mm); ZI must "

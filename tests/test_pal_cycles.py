@@ -184,7 +184,7 @@ def test_g87_helix_end_points(v: float, arcs: list[tuple[float, float, float]], 
 def test_g87_tool_not_smaller_than_the_hole_is_an_error() -> None:
     tp = go("N40 G87 ZI-10 R5 D2 V2\nN50 G79 X0 Y0 Z0")
     assert codes(tp) == [("PAL-E602", 5)]
-    assert "Ø 10 mm" in tp.diagnostics[0].message and cycle_moves(tp) == []
+    assert tp.diagnostics[0].message == "G87: das Werkzeug T1 (Ø10 mm) ist zu groß für die Bohrung Ø10 mm." and cycle_moves(tp) == []
 
 
 # -- diagnostics of definitions and calls ---------------------------------------------------------------------------

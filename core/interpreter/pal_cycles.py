@@ -470,7 +470,7 @@ class _Planner:
                 rn = rt
             small = min(lp, bp)
             if 2 * rt > small + EPS:
-                return self._too_large("die Tasche", "the pocket", small)
+                return self._too_large("die Tasche mit der kleineren Seite ", "the pocket with the shorter side ", small)
             if rn > small / 2 + EPS:
                 d.append(diag("PAL-E612", span, command=code,
                               reason=f"der Eckenradius RN {_de(rn)} mm ist größer als die halbe Taschenbreite",
@@ -500,7 +500,7 @@ class _Planner:
                               reason_en=f"the length LP {_en(lp)} mm is less than the width BP {_en(bp)} mm"))
                 return False
             if 2 * rt > bp + EPS:
-                return self._too_large("die Nut der Breite", "the slot of width", bp)
+                return self._too_large("die Nut der Breite ", "the slot of width ", bp)
             reach = bp / 2 - rt - ak
             if reach < -EPS:
                 return self._allowance(ak, bp / 2 - rt)
@@ -518,7 +518,7 @@ class _Planner:
                 d.append(diag("PAL-E612", span, command=code, reason=reason[0], reason_en=reason[1]))
                 return False
             if 2 * rt > bp + EPS:
-                return self._too_large("die Nut der Breite", "the slot of width", bp)
+                return self._too_large("die Nut der Breite ", "the slot of width ", bp)
             reach = bp / 2 - rt - ak
             if reach < -EPS:
                 return self._allowance(ak, bp / 2 - rt)
