@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import xml.etree.ElementTree as ET
 from functools import cache
 from pathlib import Path
@@ -34,7 +35,7 @@ def _dims(exercise_id: str, lang: str = "de") -> dict[str, list[str]]:
 
 def _values(exercise_id: str, kind: str) -> set[float]:
     root = ET.fromstring(part_drawing(_exercises()[exercise_id]))
-    return {float(t.get("data-value", "nan")) for t in root.iter(f"{SVG}text")
+    return {round(float(t.get("data-value", "nan")), 3) for t in root.iter(f"{SVG}text")
             if t.get("class") == "dim" and t.get("data-kind") == kind}
 
 
@@ -85,7 +86,9 @@ def test_every_number_is_the_programs_own(exercise_id: str) -> None:
     reference or the workpiece zero — never a number read off pixels."""
     exercise = _exercises()[exercise_id]
     moves = execute(exercise, exercise.reference).toolpath.moves
-    programmed: dict[int, set[float]] = {0: {0.0}, 1: {0.0}}
+    # the numbers written in the program (the corner X50 Y10 of G1 X50 RN10 is no move's end) and the moves'
+    written = {round(float(v), 3) for v in re.findall(r"(?<=[XY])-?\d+(?:\.\d+)?", exercise.reference)}
+    programmed: dict[int, set[float]] = {0: {0.0} | written, 1: {0.0} | written}
     for m in moves:
         for p in (m.programmed_end or m.end, m.start, m.center or m.end):
             programmed[0].add(round(p[0], 3))

@@ -86,9 +86,10 @@ def printed(eid: str, kind: str, lang: str = "de") -> list[str]:
 
 
 def test_overview_contour_tx17_diameters_lengths_and_radii() -> None:
-    """TX-17: Ø20 to Z-15, G2 R10 to Ø40 at Z-25, Ø40 to Z-40, G3 R10 to Ø60 at Z-50, Ø60 to Z-75."""
+    """TX-17: Ø20 to Z-15, G2 R10 to Ø40 at Z-25, Ø40 to Z-40, G3 R10 to Ø60 at Z-50, Ø60 to Z-75; the bar's Ø62
+    beyond (the part's outer size, dimensioned in the view)."""
     eid = "traub-02-uebersichtskontur"
-    assert sorted(printed(eid, "d")) == ["Ø20", "Ø40", "Ø60"]
+    assert sorted(printed(eid, "d")) == ["Ø20", "Ø40", "Ø60", "Ø62"]
     assert printed(eid, "z") == ["0", "15", "25", "40", "50", "75"]  # running from the face (Z0)
     assert [v for _, v in dims(eid)["z"]] == ["0", "-15", "-25", "-40", "-50", "-75"]  # the programmed Z
     assert printed(eid, "r") == ["R10", "R10"]
@@ -99,25 +100,28 @@ def test_face_roughing_tx32_radius_and_chamfer_to_their_corners() -> None:
     """G1 X60 R2 and G1 Z-6 D1: the radius and chamfer are called out, the lengths go to the sharp corners
     (Z-15, Z-6), not to the tangent points (Z-13, Z-7)."""
     eid = "traub-05-planschruppen-g72"
-    assert sorted(printed(eid, "d")) == ["Ø30", "Ø60"]
+    assert sorted(printed(eid, "d")) == ["Ø30", "Ø60", "Ø80"]
     assert printed(eid, "z") == ["0", "6", "15"]
     assert printed(eid, "r") == ["R2"] and printed(eid, "chamfer") == ["1×45°"]
 
 
 def test_srk_shoulder_chamfer_and_english_numbers() -> None:
     eid = "traub-01-srk-fase"
-    assert printed(eid, "d") == ["Ø40"] and printed(eid, "chamfer") == ["2×45°"]
+    assert sorted(printed(eid, "d")) == ["Ø40", "Ø44"] and printed(eid, "chamfer") == ["2×45°"]
     assert printed(eid, "z") == ["0", "30"]
     assert "Half section" in drawing(eid, "en") and "Halbschnitt" in drawing(eid)
 
 
 def test_contour_train_taper_and_decimal_comma() -> None:
-    """TX-25: the taper A135 from Ø40 to Ø50 as its angle against the axis; TX-30's taper end Z-73,951 (the
-    interpreter's end point of X38 A205) with a decimal comma, a point in English."""
+    """TX-25: the taper A135 from Ø40 to Ø50 as its angle against the axis; TX-30's falling cone X38 A205: its
+    angle 25°, and its end Z-73,951 (computed by the interpreter from the angle) only as an auxiliary dimension
+    in brackets at the drawing's precision (DIN 406-10), with a decimal comma, a point in English."""
     assert printed("traub-04-geometriezug", "angle") == ["45°"]
-    assert sorted(printed("traub-04-geometriezug", "d")) == ["Ø20", "Ø40", "Ø50"]
-    assert "73,951" in printed("traub-10-schruppen-g71-g88", "z")
-    assert "73.951" in printed("traub-10-schruppen-g71-g88", "z", "en")
+    assert sorted(printed("traub-04-geometriezug", "d")) == ["Ø20", "Ø40", "Ø50", "Ø52"]
+    assert printed("traub-10-schruppen-g71-g88", "angle") == ["25°"]
+    lengths = printed("traub-10-schruppen-g71-g88", "z")
+    assert "(73,95)" in lengths and "73,951" not in lengths and {"0", "15", "45", "120"} <= set(lengths)
+    assert "(73.95)" in printed("traub-10-schruppen-g71-g88", "z", "en")
 
 
 def test_threads_outside_and_tapped() -> None:
@@ -127,7 +131,7 @@ def test_threads_outside_and_tapped() -> None:
     assert printed("traub-07-gewinde-g76", "thread", "en") == ["M35×1.5"]
     assert printed("traub-07-gewinde-g76", "z") == ["0", "29"]
     assert printed("traub-08-bohren-unterprogramm", "thread") == ["M12×1"]
-    assert printed("traub-08-bohren-unterprogramm", "d") == ["Ø11"]
+    assert sorted(printed("traub-08-bohren-unterprogramm", "d")) == ["Ø11", "Ø40"]  # the bar's Ø40 untouched
     assert printed("traub-08-bohren-unterprogramm", "z") == ["0", "15", "25"]
 
 
@@ -136,7 +140,7 @@ def test_groove_and_chamfer_callouts() -> None:
     programmed wall Z-20 (not the insert's other side, Z-17, which the program does not give)."""
     eid = "drehen-einstich"
     assert printed(eid, "groove") == ["Einstich 3 breit"] and printed(eid, "groove", "en") == ["groove 3 wide"]
-    assert sorted(printed(eid, "d")) == ["Ø30", "Ø36"]
+    assert sorted(printed(eid, "d")) == ["Ø30", "Ø36", "Ø40"]
     assert printed(eid, "z") == ["0", "20", "40"]
     assert printed(eid, "chamfer") == ["1×45°"]
 
@@ -164,8 +168,15 @@ def test_every_turning_drawing_is_real_and_prints_only_the_programs_numbers(eid:
     diameters, zs = _programmed(exercise(eid))
     for text, raw in found.get("d", []) + found.get("thread", []):
         assert round(float(raw), 3) in diameters, (text, sorted(diameters))
+    # a length or Ø the program states as it is written, one it computes (from an angle) in brackets at two
+    # decimals: an auxiliary dimension
+    words = {abs(float(v)) for v in re.findall(r"(?<=Z)-?\d+(?:\.\d+)?", exercise(eid).reference)}
     for text, raw in found["z"]:
-        assert round(float(raw), 3) in zs and text == f"{abs(float(raw)):g}".replace(".", ","), (text, raw)
+        assert round(float(raw), 3) in zs, (text, raw)
+        if text.startswith("("):
+            assert abs(float(raw)) not in words and text == f"({abs(float(raw)):.2f})".replace(".", ","), (text, raw)
+        else:
+            assert text == f"{abs(float(raw)):g}".replace(".", ","), (text, raw)
     for text, raw in found.get("d", []):
         assert text == "Ø" + f"{float(raw):g}".replace(".", ",")
 

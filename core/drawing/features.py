@@ -159,16 +159,6 @@ def machined_corners(f: Feature) -> list[tuple[tuple[float, float], tuple[float,
 
 
 def _tangent(a: Element, b: Element) -> bool:
-    def heading(e: Element, at_end: bool) -> tuple[float, float]:
-        if e.center is None:
-            d = (e.end[0] - e.start[0], e.end[1] - e.start[1])
-        else:
-            p = e.end if at_end else e.start
-            r = (p[0] - e.center[0], p[1] - e.center[1])
-            d = (r[1], -r[0]) if e.direction == "cw" else (-r[1], r[0])
-        n = math.hypot(*d) or 1.0
-        return (d[0] / n, d[1] / n)
-
     u, v = heading(a, True), heading(b, False)
     return u[0] * v[0] + u[1] * v[1] > 1 - 1e-6
 
@@ -215,13 +205,104 @@ def visible(e: Element, stock: Stock) -> bool:
                for k in range(n + 1))
 
 
+def _cross(p: tuple[float, float], u: tuple[float, float], q: tuple[float, float],
+           v: tuple[float, float]) -> tuple[float, float] | None:
+    """Where the lines p + s·u and q + t·v meet (None: parallel)."""
+    den = u[0] * v[1] - u[1] * v[0]
+    if abs(den) < 1e-9:
+        return None
+    s = ((q[0] - p[0]) * v[1] - (q[1] - p[1]) * v[0]) / den
+    return (p[0] + s * u[0], p[1] + s * u[1])
+
+
+def heading(e: Element, at_end: bool) -> tuple[float, float]:
+    """The unit direction of travel at an element's start or end."""
+    if e.center is None:
+        d = (e.end[0] - e.start[0], e.end[1] - e.start[1])
+    else:
+        p = e.end if at_end else e.start
+        r = (p[0] - e.center[0], p[1] - e.center[1])
+        d = (r[1], -r[0]) if e.direction == "cw" else (-r[1], r[0])
+    n = math.hypot(*d) or 1.0
+    return (d[0] / n, d[1] / n)
+
+
+def transitions(f: Feature) -> dict[int, tuple[float, float]]:
+    """The rounded and chamfered corners a block makes with its transition word (PAL RN, Beckhoff #RND, #CHR,
+    #CHF, Sinumerik RND, CHR): an arc tangent to the lines before and after it, or a 45° chamfer between two
+    perpendicular lines, that comes from the same block as the line before it. They are dimensioned as drawings
+    do (and as the block programs them): the sharp corner the two lines make, and the radius or chamfer.
+    Index of the element → the corner."""
+    out: dict[int, tuple[float, float]] = {}
+    els = f.elements
+    for k in range(1, len(els) - 1):
+        prev, e, nxt = els[k - 1], els[k], els[k + 1]
+        if prev.is_arc or nxt.is_arc or prev.line != e.line:
+            continue
+        if math.dist(prev.end, e.start) > EPS or math.dist(e.end, nxt.start) > EPS:
+            continue
+        u, v = heading(prev, True), heading(nxt, False)
+        if e.is_arc:
+            a, b = heading(e, False), heading(e, True)
+            if u[0] * a[0] + u[1] * a[1] < 1 - 1e-6 or v[0] * b[0] + v[1] * b[1] < 1 - 1e-6:
+                continue
+        elif chamfer_leg(prev, e, nxt) is None:
+            continue
+        corner = _cross(prev.end, u, nxt.start, v)
+        if corner is not None:
+            out[k] = corner
+    return out
+
+
 def points(f: Feature, stock: Stock) -> list[tuple[float, float]]:
-    """The corner points, arc end points and arc centres of a feature that lie on the blank."""
+    """The corner points, arc end points and arc centres of a feature that lie on the blank; for a rounded or
+    chamfered corner (`transitions`) the sharp corner instead of the ends and the centre of its radius or
+    chamfer."""
+    corners = transitions(f)
     pts: list[tuple[float, float]] = []
-    for e in f.elements:
-        candidates = [e.start, e.end] + ([e.center] if e.center is not None and visible(e, stock) else [])
+    for k, e in enumerate(f.elements):
+        if k in corners:
+            candidates = [corners[k]]
+        else:
+            candidates = [] if k - 1 in corners else [e.start]
+            candidates += [] if k + 1 in corners else [e.end]
+            candidates += [e.center] if e.center is not None and visible(e, stock) else []
         pts += [p for p in candidates if on_stock(p, stock)]
     return pts
+
+
+@dataclass(frozen=True)
+class Hole:
+    """A plunge that is not the start of a cut in the plane: a hole or recess the tool's size (drilled, or sunk
+    with a slot drill), at its centre (x, y) down to z."""
+
+    x: float
+    y: float
+    z: float
+    diameter: float
+    tool: int | None
+    line: int
+
+
+def holes(moves: list[Move], stock: Stock, tools: ToolTable) -> list[Hole]:
+    """The plunges below the stock top after which the tool goes up again (not on in the plane: that plunge
+    starts a pocket or contour), the deepest per position and tool, in program order."""
+    found: dict[tuple[float, float, int | None], Hole] = {}
+    for i, m in enumerate(moves):
+        if m.kind != "feed" or math.dist(_xy(m.start), _xy(m.end)) > EPS or m.end[2] >= min(m.start[2], stock.z1) - EPS:
+            continue
+        after = next((n for n in moves[i + 1:] if math.dist(n.start, n.end) > EPS), None)
+        if after is not None and _in_plane_cut(after, stock.z1):
+            continue
+        if after is not None and after.end[2] < m.end[2] - EPS:
+            continue  # deeper still: the last plunge of the peck counts
+        tool = tools.get(m.tool) if m.tool is not None else None
+        if tool is None or tool.diameter <= 0 or not on_stock(_xy(m.end), stock):
+            continue
+        key = (round(m.end[0], 6), round(m.end[1], 6), m.tool)
+        if key not in found or m.end[2] < found[key].z:
+            found[key] = Hole(m.end[0], m.end[1], m.end[2], tool.diameter, m.tool, m.span.line)
+    return list(found.values())
 
 
 def chamfer_leg(prev: Element, e: Element, nxt: Element) -> float | None:

@@ -16,8 +16,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from core.drawing.frame import LABELS, MARGIN, SCALES, SHEET, SPACING, TITLE_BLOCK, frame, title_block, value
-from core.drawing.svg import THICK, THIN, Svg, num
+from core.drawing.frame import (
+    LABELS,
+    MARGIN,
+    SCALES,
+    SHEET,
+    SPACING,
+    TITLE_BLOCK,
+    Numbers,
+    frame,
+    mark_views,
+    title_block,
+)
+from core.drawing.svg import CHAR, THICK, THIN, Svg, num
 from core.drawing.turned_features import SAME, P, TurnedPart, loops, points, turned_part
 from core.exercises import Exercise
 
@@ -25,7 +36,6 @@ CLEAR = 4.0  # mm on paper: a diameter's line this far from edges and other line
 ROW_HEIGHT = 5.5  # mm between the rows of callouts under the part
 MAX_ROWS = 6
 ROW_GAP = 9.0  # mm from the part's top to the running dimensions' line
-CHAR = 0.62  # a character's width in text heights (DejaVu Sans, digits)
 TEXT = 3.5
 EDGE_WINDOW, EDGE_STEP, EDGE_MERGE = 0.6, 0.05, 1.0  # mm: how an edge of the outline is found (_edges)
 EDGE_ANGLE = math.radians(35)
@@ -36,6 +46,11 @@ HATCH = ('<pattern id="hatch" width="2.5" height="2.5" patternUnits="userSpaceOn
 
 def _width(text: str, size: float = TEXT) -> float:
     return len(text) * CHAR * size
+
+
+def _diameter(d: float, numbers: Numbers) -> str:
+    """Ø and the diameter; in brackets (an auxiliary dimension) where the program computes it."""
+    return f"Ø{numbers.text(d)}" if numbers.stated(d) else f"(Ø{numbers.text(d)})"
 
 
 @dataclass(frozen=True)
@@ -65,14 +80,14 @@ def _drawn_length(part: TurnedPart) -> float:
     return length if length < part.blank.length - 5.0 else part.blank.length
 
 
-def _layout(part: TurnedPart, rows: int, length: float, lang: str) -> Layout:
+def _layout(part: TurnedPart, rows: int, length: float, numbers: Numbers) -> Layout:
     """The largest standard scale at which the part, its dimensions above and callouts below fit the sheet
     beside (or above) the title block; the whole in the middle of the room it has."""
     radius = part.blank.diameter / 2
     title_top = SHEET[1] - MARGIN - TITLE_BLOCK[1]
     title_left = SHEET[0] - MARGIN - TITLE_BLOCK[0]
     # above: the running dimensions' row ROW_GAP over the part, their texts over it; below: the callouts
-    longest = max((_width(value(abs(z), lang)) for z in part.z_values), default=0.0)
+    longest = max((_width(numbers.dimension(abs(z))) for z in part.z_values), default=0.0)
     above, below = ROW_GAP + 4.0 + longest, 10.0 + rows * ROW_HEIGHT
     left_room, right_room = MARGIN + 10.0, 14.0
     for s in SCALES:
@@ -239,15 +254,15 @@ def _same_radius(part: TurnedPart, z: float, r: float, inside: bool, length: flo
     return z, z
 
 
-def _diameters(part: TurnedPart, L: Layout, lang: str) -> list[_Diameter]:
+def _diameters(part: TurnedPart, L: Layout, numbers: Numbers) -> list[_Diameter]:
     """A dimension line per cylinder of the part (outside and bore) and per thread; a programmed point's
     diameter no cylinder gives (the end of a taper or arc, a groove's bottom) gets one where the part has it."""
     out: list[_Diameter] = []
     shown: dict[bool, list[float]] = {True: [], False: []}
     for t in part.threads:
         x0, x1 = L.at(t.z_lo, 0)[0], L.at(t.z_hi, 0)[0]
-        text = f"M{value(t.nominal, lang)}×{value(t.pitch, lang)}"
-        out.append(_Diameter(x0, x1, t.nominal / 2, text, "thread", value(t.nominal, "en"), t.inside))
+        text = f"M{numbers.text(t.nominal)}×{numbers.text(t.pitch)}"
+        out.append(_Diameter(x0, x1, t.nominal / 2, text, "thread", numbers.nominal(t.nominal), t.inside))
         shown[t.inside].append(t.nominal / 2)
     for e, inside in zip(part.surface, part.inside, strict=True):
         if not e.cylinder or e.a[1] < SAME:
@@ -257,21 +272,32 @@ def _diameters(part: TurnedPart, L: Layout, lang: str) -> list[_Diameter]:
         if any(abs(d.r - e.a[1]) < SAME and d.inside == inside and d.lo <= L.at(zb, 0)[0] and
                L.at(za, 0)[0] <= d.hi for d in out):
             continue  # one line per cylinder (a thread on it has its own)
-        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], e.a[1], f"Ø{value(2 * e.a[1], lang)}", "d",
-                             value(2 * e.a[1], "en"), inside))
+        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], e.a[1], _diameter(2 * e.a[1], numbers), "d",
+                             numbers.raw(2 * e.a[1]), inside))
         shown[inside].append(e.a[1])
     for (z, r), inside in points(part):
         if r < SAME or any(abs(r - v) < SAME for v in shown[inside]):
             continue
         shown[inside].append(r)
         za, zb = _same_radius(part, z, r, inside, L.length)
-        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], r, f"Ø{value(2 * r, lang)}", "d", value(2 * r, "en"),
+        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], r, _diameter(2 * r, numbers), "d", numbers.raw(2 * r),
                              inside))
     for z_lo, z_hi, r in part.grooves:
         if not any(abs(r - v) < SAME for v in shown[False]):
             shown[False].append(r)
-            out.append(_Diameter(L.at(z_lo, 0)[0], L.at(z_hi, 0)[0], r, f"Ø{value(2 * r, lang)}", "d",
-                                 value(2 * r, "en"), False))
+            out.append(_Diameter(L.at(z_lo, 0)[0], L.at(z_hi, 0)[0], r, _diameter(2 * r, numbers), "d",
+                                 numbers.raw(2 * r), False))
+    # the part's outer size (and a tube's bore) where the program leaves the blank's: its diameter from the blank
+    for inside, r in ((False, part.blank.diameter / 2), (True, part.blank.bore / 2)):
+        if r < SAME or any(abs(r - v) < SAME for v in shown[inside]):
+            continue
+        same = (np.abs((part.inner if inside else part.outer) - r) < 0.02) & (part.zs > -L.length)
+        if not same.any():
+            continue
+        k = int(np.flatnonzero(same)[-1])  # the blank's surface nearest the face: its whole run from there
+        za, zb = _same_radius(part, float(part.zs[k]), r, inside, L.length)
+        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], r, f"Ø{numbers.text(2 * r)}", "d", numbers.raw(2 * r),
+                             inside))
     return out
 
 
@@ -360,7 +386,7 @@ def _diameter_lines(svg: Svg, L: Layout, part: TurnedPart, dims: list[_Diameter]
     return texts + under
 
 
-def _running(svg: Svg, L: Layout, part: TurnedPart, lang: str) -> None:
+def _running(svg: Svg, L: Layout, part: TurnedPart, numbers: Numbers) -> None:
     """Running dimensions from the front face (Z0): one line above the part, an arrow at each edge, the
     length written at its extension line."""
     zs = part.z_values
@@ -379,30 +405,30 @@ def _running(svg: Svg, L: Layout, part: TurnedPart, lang: str) -> None:
             svg.arrow((x, L.row), (x + 5.0, L.row))
         tx = min(x, previous - SPACING)
         previous = tx
-        text = value(abs(z), lang)
+        text = numbers.dimension(abs(z))
         if tx < x - 0.01:
             svg.line((x, L.row - 1.0), (tx, L.row - 3.0), width=0.18)
-        svg.text((tx - 0.8, L.row - 3.0), text, rotate=-90, kind="z", value=value(z, "en"))
+        svg.text((tx - 0.8, L.row - 3.0), text, rotate=-90, kind="z", value=numbers.raw(z))
 
 
-def _callouts(part: TurnedPart, lang: str) -> list[tuple[P, bool, str, str, str]]:
+def _callouts(part: TurnedPart, numbers: Numbers) -> list[tuple[P, bool, str, str, str]]:
     """(point on the element, on the bore, text, kind, value) of the radii, chamfers, tapers and grooves."""
     out: list[tuple[P, bool, str, str, str]] = []
     chamfers = dict(part.chamfers)
-    labels = LABELS[lang]
+    labels = LABELS[numbers.lang]
     for i, (e, whole, inside) in enumerate(zip(part.surface, part.whole, part.inside, strict=True)):
         mid = e.point(0.5)
         if e.centre is not None and whole:
-            out.append((mid, inside, f"R{value(e.radius, lang)}", "r", value(e.radius, "en")))
+            out.append((mid, inside, f"R{numbers.text(e.radius)}", "r", numbers.nominal(e.radius)))
         elif i in chamfers:
-            out.append((mid, inside, f"{value(chamfers[i], lang)}×45°", "chamfer", value(chamfers[i], "en")))
+            out.append((mid, inside, f"{numbers.text(chamfers[i])}×45°", "chamfer", numbers.nominal(chamfers[i])))
         elif whole and not e.cylinder and not e.face and not e.drilled and e.centre is None:
             angle = math.degrees(math.atan2(abs(e.b[1] - e.a[1]), abs(e.b[0] - e.a[0])))
-            out.append((mid, inside, f"{value(angle, lang)}°", "angle", value(angle, "en")))
+            out.append((mid, inside, f"{numbers.text(angle)}°", "angle", numbers.nominal(angle)))
     for z_lo, z_hi, r in part.grooves:
         w = z_hi - z_lo
-        out.append((((z_lo + z_hi) / 2, r), False, labels["groove"].format(w=value(w, lang)), "groove",
-                    value(w, "en")))
+        out.append((((z_lo + z_hi) / 2, r), False, labels["groove"].format(w=numbers.text(w)), "groove",
+                    numbers.nominal(w)))
     return out
 
 
@@ -426,10 +452,10 @@ def _beside(svg: Svg, L: Layout, at: tuple[float, float], text: str, kind: str, 
     return False
 
 
-def _draw_callouts(svg: Svg, L: Layout, part: TurnedPart, lang: str, taken: list[Box]) -> None:
+def _draw_callouts(svg: Svg, L: Layout, part: TurnedPart, numbers: Numbers, taken: list[Box]) -> None:
     """Under the part in rows: a leader from the element (in the view half; a bore's in the section) to its
     text, right or left of it; no text overlaps another text or a diameter's."""
-    items = sorted(_callouts(part, lang), key=lambda c: L.at(*c[0])[0])
+    items = sorted(_callouts(part, numbers), key=lambda c: L.at(*c[0])[0])
     first_row = L.bottom + 8.0
     tx, ty = SHEET[0] - MARGIN - TITLE_BLOCK[0], SHEET[1] - MARGIN - TITLE_BLOCK[1]
     taken = taken + [(tx - 2.0, ty - 2.0, SHEET[0], SHEET[1]), (0.0, SHEET[1] - MARGIN - 1.0, SHEET[0], SHEET[1]),
@@ -461,25 +487,28 @@ def _draw_callouts(svg: Svg, L: Layout, part: TurnedPart, lang: str, taken: list
         svg.text((x, y), text, kind=kind, value=raw)
 
 
-def _rows(part: TurnedPart, lang: str) -> int:
-    n = len(_callouts(part, lang))
+def _rows(part: TurnedPart, numbers: Numbers) -> int:
+    n = len(_callouts(part, numbers))
     return 0 if n == 0 else 1 if n <= 3 else 2  # the room kept for them; more go where there is room
 
 
 def turned_part_drawing(exercise: Exercise, lang: str = "de") -> str:
     """The dimensioned drawing of a turning exercise's part (SVG, A4 landscape, mm)."""
     part = turned_part(exercise)
-    L = _layout(part, _rows(part, lang), _drawn_length(part), lang)
+    numbers = Numbers.of(lang, exercise.reference, *exercise.subprograms.values())
+    L = _layout(part, _rows(part, numbers), _drawn_length(part), numbers)
     svg = Svg(*SHEET)
     svg.defs.append(HATCH)
     frame(svg)
-    svg.text((MARGIN + 4.0, SHEET[1] - MARGIN - 4.0), LABELS[lang]["half"], size=3.5)
     _blank(svg, L, part)
-    dims = _diameters(part, L, lang)
+    dims = _diameters(part, L, numbers)
     view_lines = _part(svg, L, part)
     _threads(svg, L, part)
     boxes = _diameter_lines(svg, L, part, dims, view_lines)
-    _running(svg, L, part, lang)
-    _draw_callouts(svg, L, part, lang, boxes)
+    _running(svg, L, part, numbers)
+    _draw_callouts(svg, L, part, numbers, boxes)
+    top, bottom = L.at(-L.length, part.blank.diameter / 2), L.at(0.0, -part.blank.diameter / 2)
+    mark_views(svg, (top[0] - 6.0, top[1], bottom[0] + 9.0, bottom[1]))
+    svg.text((MARGIN + 4.0, SHEET[1] - MARGIN - 4.0), LABELS[lang]["half"], size=3.5)
     title_block(svg, exercise, L.s, lang)
     return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")

@@ -320,9 +320,11 @@ def _on_surface(part: TurnedPart, elements: list[Seg], tools: ToolTable, dz: flo
         reach = tol + _nose(e, tools)  # the nose leaves its radius in an inside corner
         along = (ts - t0) * e.length()
         middle = (along > reach) & (along < (t1 - t0) * e.length() - reach)  # off the ends' corners
-        whole = bool(near[middle].all()) and t0 < EPS and t1 > 1 - EPS
         a, b = e.point(t0), e.point(t1)
         a, b = (float(a[0]), float(a[1])), (float(b[0]), float(b[1]))
+        # on the part all along, or all along from the front face on (a chamfer programmed from in front of the
+        # face, G0 X26 Z0.5 / G1 X30 D1.5: on the part it is the chamfer from the face)
+        whole = bool(near[middle].all()) and (t0 < EPS or abs(a[0]) < SAME) and t1 > 1 - EPS
         u, v = e.direction(False), e.direction(True)
         dims = (e.dims[0] and t0 < EPS and bool(dist[0] <= reach) and _corner(part, a, (-u[0], -u[1]), tol),
                 e.dims[1] and t1 > 1 - EPS and bool(dist[-1] <= reach) and _corner(part, b, v, tol))

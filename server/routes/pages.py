@@ -88,6 +88,19 @@ def exercise(slug: str, who: Viewer) -> HTMLResponse:
     return _page("exercise", "Aufgabe", who=who)
 
 
+@router.get("/exercises/{slug}/drawing")
+def exercise_drawing(slug: str, who: Viewer) -> HTMLResponse:
+    """The exercise's dimensioned drawing over the whole window: zoom, move and "Drucken" (A4 landscape); the
+    page asks the API for the drawing (GET /api/v1/exercises/{slug}/drawing.svg), which decides who may see it."""
+    return _page("drawing", "Zeichnung", who=who)
+
+
+@router.get("/examples/{slug}/drawing")
+def example_drawing(slug: str, who: Viewer) -> HTMLResponse:
+    """The same for a built-in example of free practice (GET /api/v1/examples/{slug}/drawing.svg), without login."""
+    return _page("drawing", "Zeichnung", who=who)
+
+
 @router.get("/login")
 def login(next_: Annotated[str | None, Query(alias="next")] = None) -> Response:
     """The login form; `next` (where to go afterwards) must be a path on this site, else it is dropped

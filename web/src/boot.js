@@ -2,6 +2,7 @@
 // inline script, so that the Content-Security-Policy can forbid inline script (script-src 'self').
 
 import { mountAbout } from "./about.js";
+import { mountDrawingPage } from "./drawing-viewer.js";
 import { mountCourse } from "./page-course.js";
 import { mountHeader } from "./header.js";
 import { mountHome } from "./page-home.js";
@@ -19,6 +20,7 @@ const PAGES = {
   instructor: () => mountInstructor(document.getElementById("submissions")),
   login: () => mountLogin(document.getElementById("login"), document.getElementById("message")),
   about: () => mountAbout(document.getElementById("about")),
+  drawing: () => mountDrawingPage(document.getElementById("drawing-page")),
   course: () => mountCourse(document.getElementById("course"), Number(location.pathname.split("/")[2])),
 };
 
