@@ -46,6 +46,7 @@ TOO_LITTLE_COLOUR = (30, 136, 229)  # material left that must go (blue)
 CONTOUR_COLOUR = (46, 125, 50)  # the programmed contour (green), beside the tool-centre path under G41/G42
 TOOL_COLOUR = (150, 160, 172)  # the cutting part; the shank darker, the cutting edges dark
 SHANK_COLOUR = (95, 102, 112)
+OUTLINE_COLOUR = (88, 96, 108)  # the stock's box, thin
 EDGE_COLOUR = (40, 44, 52)
 TOOL_OPACITY = 0.45
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
@@ -53,6 +54,7 @@ DASH, GAP = 2.0, 1.5  # mm: rapid moves are drawn dashed
 MAX_DASHES = 30_000
 LAYERS = ("rapid", "feed", "contour", "stock")
 VIEWS = ("iso", "top", "front", "reset")
+VIEW_MARGIN = 0.08  # every preset view leaves this much of the picture free around the part, on every side
 # the direction from the part to the camera of each view (Z up; "front" looks along +Y as PAL drawings do)
 FOV = float(np.radians(35))  # a narrow lens: the part looks as drawn, not bulging (viser's default is 75°)
 _VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front": (0.0, -1.0, 0.12)}
@@ -404,6 +406,11 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         _chuck(scene)
         bounds = _bounds(data)
         _axis(scene, bounds)
+        if scene.has_stock and not lathe and bounds is not None:  # the blank's edges, with the stock layer
+            s.add_line_segments("/stock/outline", stock_outline(*bounds) * M, OUTLINE_COLOUR, thickness=1.2,
+                                thickness_units="screen")
+        else:
+            s.remove_by_name("/stock/outline")
         if bounds is not None and (not scene.framed or scene.bounds is None
                                    or not all(np.allclose(a, b) for a, b in zip(bounds, scene.bounds, strict=True))):
             scene.bounds = bounds
@@ -678,6 +685,9 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], ce
     meshes are given in scene coordinates, Z up: nothing needs turning.) On a lathe: the turning tool, its
     theoretical tip at `tip` (or, `centre`, under SRK, its nose centre)."""
     if scene.lathe:
+        if scene.nodes.pop("tool_footprint", None) is not None:  # the milling tool's, before a turning program
+            scene.server.scene.remove_by_name("/tool/footprint")
+        scene.nodes.pop("tool_body", None)
         if shape is not None and shape.get("kind") == "insert":
             _insert_shape(scene, shape, tip, centre)
         else:
@@ -692,15 +702,46 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], ce
     if key != scene.tool_key:
         cut_v, cut_t, shank_v, shank_t, edges = tool_mesh(shape)
         scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
+        body = scene.view != "top"
         # see-through: a Ø25 end mill is taller than the part and would hide what it cuts
-        s.add_mesh_simple("/tool/cutter", cut_v * M, cut_t, color=TOOL_COLOUR, opacity=TOOL_OPACITY,
-                          cast_shadow=False, receive_shadow=False)
-        s.add_mesh_simple("/tool/shank", shank_v * M, shank_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
-                          cast_shadow=False, receive_shadow=False)
-        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
+        scene.nodes["tool_body"] = [
+            s.add_mesh_simple("/tool/cutter", cut_v * M, cut_t, color=TOOL_COLOUR, opacity=TOOL_OPACITY,
+                              cast_shadow=False, receive_shadow=False, visible=body),
+            s.add_mesh_simple("/tool/shank", shank_v * M, shank_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
+                              cast_shadow=False, receive_shadow=False, visible=body),
+            s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen",
+                                visible=body)]
+        # from above the tool would cover the part it cuts: there only the circle it cuts is drawn
+        scene.nodes["tool_footprint"] = s.add_line_segments(
+            "/tool/footprint", footprint(shape["diameter"] / 2) * M, EDGE_COLOUR, thickness=2.0,
+            thickness_units="screen", visible=not body)
         scene.tool_key = key
     else:
         scene.nodes["tool"].position = position
+
+
+def footprint(radius: float, count: int = 64) -> np.ndarray:
+    """The circle a milling tool of `radius` cuts, at its tip (segments, mm, around the tool's axis)."""
+    a = np.linspace(0.0, 2 * np.pi, count + 1)
+    ring = np.stack([radius * np.cos(a), radius * np.sin(a), np.full_like(a, 0.05)], -1)
+    return np.stack([ring[:-1], ring[1:]], 1).astype(np.float32)
+
+
+def _tool_for_view(scene: Scene) -> None:
+    """The milling tool whole in every view but the top one; from above only the circle it cuts."""
+    body = scene.view != "top" or scene.lathe
+    for handle in scene.nodes.get("tool_body", []):
+        handle.visible = body
+    if "tool_footprint" in scene.nodes:
+        scene.nodes["tool_footprint"].visible = not body
+
+
+def stock_outline(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
+    """The twelve edges of the stock's box (segments, mm): the blank stays readable where the material is gone
+    and where its lit faces are close to the background."""
+    corners = np.array([[x, y, z] for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])])
+    edges = [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)]
+    return np.array([[corners[a], corners[b]] for a, b in edges], dtype=np.float32)
 
 
 # -- the camera and the layers ------------------------------------------------------------------------------
@@ -725,11 +766,12 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
 
 
 def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
-               fov: float = np.radians(50), lathe: bool = False) -> tuple[np.ndarray, np.ndarray]:
-    """Eye and target (mm) so that the box is centred in the picture and fills it: the distance at which the
-    box's farthest-out corner just fits, in width and in height (with a small margin), the target moved until
-    the box's picture has as much room left as right and above as below (perspective makes the near corners
-    larger)."""
+               fov: float = np.radians(50), lathe: bool = False,
+               margin: float = VIEW_MARGIN) -> tuple[np.ndarray, np.ndarray]:
+    """Eye and target (mm) so that the box is centred in the picture and fills it but for `margin` (a fraction
+    of the picture's width and height) on every side: the distance at which the box's farthest-out corner just
+    fits, in width and in height, the target moved until the box's picture has as much room left as right and
+    above as below (perspective makes the near corners larger)."""
     lo, hi = bounds
     directions = _LATHE_DIRECTIONS if lathe else _VIEW_DIRECTIONS
     back = np.asarray(directions.get(view, directions["iso"]), dtype=np.float64)
@@ -737,15 +779,15 @@ def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
     right = np.cross(np.array([0.0, 0.0, 1.0]), back)
     right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0.0, 0.0])
     up = np.cross(back, right)
-    tan_v = np.tan(fov / 2)
-    tan_h = tan_v * max(aspect, 0.2)
+    tan_v = np.tan(fov / 2) * (1 - 2 * margin)  # the box within the middle of the picture
+    tan_h = np.tan(fov / 2) * max(aspect, 0.2) * (1 - 2 * margin)
     corners = np.array(np.meshgrid(*zip(lo, hi, strict=True))).T.reshape(-1, 3)
     target = (lo + hi) / 2
     distance = 1.0
-    for _ in range(6):
+    for _ in range(8):
         p = corners - target
         x, y, z = p @ right, p @ up, p @ back
-        distance = max(float(np.max(np.maximum(np.abs(x) / tan_h, np.abs(y) / tan_v) + z)) * 1.06, 1.0)
+        distance = max(float(np.max(np.maximum(np.abs(x) / tan_h, np.abs(y) / tan_v) + z)), 1.0)
         depth = distance - z
         u, v = x / (depth * tan_h), y / (depth * tan_v)  # where each corner lands, -1…1 across the picture
         shift_u, shift_v = (u.max() + u.min()) / 2, (v.max() + v.min()) / 2
@@ -771,6 +813,7 @@ def _look(scene: Scene, view: str) -> None:
             client.camera.position, client.camera.look_at = eye_m, target_m
     scene.framed = True
     scene.view = view
+    _tool_for_view(scene)
 
 
 def set_view(scene: Scene, view: str, aspect: float | None = None) -> None:
@@ -876,6 +919,45 @@ def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     lo, hi = spec["stock"]["min"], spec["stock"]["max"]
     result = simulate(run(text, dialect, setup), Stock(*lo, *hi), setup.tools, spec["resolution"])
     return depth_png(result.heightmap, max_pixels=480)
+
+
+PICTURE_RASTER = 400  # cells along the stock's longer side at most: the 2D picture's height map (core/picture2d.py)
+PICTURE_CELL = 0.25  # mm: no finer cells for it
+
+
+def picture_resolution(spec: dict[str, Any]) -> float:
+    """The cell of the 2D picture's height map: the request's, at least PICTURE_CELL and coarse enough that the
+    stock's longer side has at most PICTURE_RASTER cells (the simulation's cost is bounded with it)."""
+    lo, hi = spec["stock"]["min"], spec["stock"]["max"]
+    side = max(float(hi[0]) - float(lo[0]), float(hi[1]) - float(lo[1]))
+    return max(float(spec.get("resolution") or 0.0), PICTURE_CELL, side / PICTURE_RASTER)
+
+
+def job_picture_svg(text: str, dialect: str, spec: dict[str, Any], lang: str = "de") -> dict[str, Any]:
+    """The 2D picture of a program's result (core/picture2d.py), what the page shows while the 3D view is off:
+    milling the plan view with the depths, the path, the contour, the zero and the blocks an error skipped;
+    turning the drawing view with the part in half section (the blank the 3D view turns). {"svg", "info"}.
+    Runs in a worker process."""
+    from core.picture2d import lathe_picture, mill_picture
+    from core.pipeline import run
+    from core.sim import DEFAULT_LATHE_TOOLS, DEFAULT_SIM_TOOLS, Stock, simulate, simulate_turning
+    from server.workers import make_setup
+
+    language = "en" if lang == "en" else "de"
+    if is_lathe(dialect):
+        setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
+        toolpath = run(text, dialect, setup)
+        blank = view_blank(spec, toolpath)
+        resolution = max(TURNED_RESOLUTION, blank.length / 4000)
+        profile = simulate_turning(toolpath, blank, setup.tools, resolution).profile
+        picture = lathe_picture(toolpath, profile, blank, language)
+    else:
+        setup = make_setup(spec, DEFAULT_SIM_TOOLS)
+        toolpath = run(text, dialect, setup)
+        stock = Stock(*spec["stock"]["min"], *spec["stock"]["max"])
+        result = simulate(toolpath, stock, setup.tools, picture_resolution(spec))
+        picture = mill_picture(toolpath, result.heightmap, stock, language)
+    return {"svg": picture.svg, "info": picture.info}
 
 
 PICTURE_SIZE = (480, 320)  # pixels: the lathe's picture while the 3D view is off

@@ -292,6 +292,32 @@ async def picture(body: SimulateRequest, request: Request, db: DbSession, settin
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store", **view})
 
 
+@router.post("/picture.svg", response_class=Response, dependencies=PICTURE_LIMIT, responses={
+    200: {"content": {"image/svg+xml": {}}, "description": "The 2D picture of the program's result"},
+    **responses(401, 413, 422, 429, 503)})
+async def picture_svg(body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
+                      workers: AppWorkers, principal: PracticePrincipal, lang: Literal["de", "en"] = "de") -> Response:
+    """The 2D view of the program's result, rendered on the server as SVG: what the page shows while the 3D view
+    is off (no graphics acceleration). Milling: the plan view — the stock's outline, the depths as a colour
+    ramp with its legend in mm, the tool-centre path (rapid dashed, feed solid), the programmed contour, axes
+    with coordinates, the workpiece zero and the blocks an error kept from running. Turning (TRAUB): the
+    drawing view, Z right, X up, the part in half section with the same path and marks. The height map has at
+    most 400 cells along the stock's longer side (0.25 mm at the finest) and the path at most 8000 points;
+    the headers say what was drawn (`X-Picture-View` mill or lathe, `X-Picture-Raster`, `X-Picture-Cell`,
+    `X-Picture-Path-Cut`)."""
+    await _gate(request, principal, "viz", body.exercise)  # the 3D view's stand-in follows its rules
+    spec = await run_in_threadpool(_spec, services.simulate_spec, db, settings, body)
+    if body.blank is not None:
+        spec["blank"] = body.blank.model_dump()
+    data: dict[str, Any] = await workers.call(viz.job_picture_svg, body.program, body.dialect, spec, lang)
+    info = data["info"]
+    headers = {"Cache-Control": "no-store", "X-Picture-View": str(info.get("view", "mill")),
+               "X-Picture-Path-Cut": str(info.get("path_cut", "false"))}
+    if "raster" in info:
+        headers.update({"X-Picture-Raster": str(info["raster"]), "X-Picture-Cell": str(info["cell"])})
+    return Response(data["svg"].encode("utf-8"), media_type="image/svg+xml", headers=headers)
+
+
 @pages.get("/viz/{token}/")
 def viewer(token: str, request: Request, principal: OptionalPrincipal) -> Response:
     scenes = _scenes(request)

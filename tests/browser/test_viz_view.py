@@ -1,7 +1,9 @@
 """The 3D view as a trainee sees it, in Chromium at the laptop (1366×768) and tablet (768×1024) sizes: no viser
 developer panel, connection status, WebSocket address or English notice; our own views, layers and legend;
-the part framed; after "Abgeben" the deviation in colour and in mm³ and mm; while the view is off (no graphics
-acceleration, as in this headless browser) the server's picture of the current state instead of an empty box.
+every preset view (Oben, Vorne, Iso) frames the stock with a margin; after "Abgeben" the deviation in colour
+and in mm³ and mm; while the view is off (no graphics acceleration, as in this headless browser) the server's
+2D view of the current state instead (core/picture2d.py: the plan view of a milling program, the drawing view
+of a turning program), asked for again when the program changes.
 Screenshots: PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/."""
 
 from __future__ import annotations
@@ -52,6 +54,31 @@ def visible_frame_text(page: object) -> str:
     return str(frame.evaluate("document.body.innerText"))
 
 
+def frame_fit(page: object) -> dict[str, float]:
+    """Where the part is in the 3D frame (the path layers hidden): its margins left, right, top and bottom and
+    its size, as fractions of the frame's width and height (whatever differs from the backdrop's colour)."""
+    import io
+
+    import numpy as np
+    from PIL import Image
+
+    for layer in ("rapid", "feed", "contour"):
+        page.uncheck(f"#layer-{layer}")  # type: ignore[attr-defined]
+    page.wait_for_timeout(1500)  # type: ignore[attr-defined]
+    shot = page.locator("#viz-frame").screenshot()  # type: ignore[attr-defined]
+    for layer in ("rapid", "feed", "contour"):
+        page.check(f"#layer-{layer}")  # type: ignore[attr-defined]
+    image = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"), dtype=np.int32)[3:-3, 3:-3]  # inside the border
+    backdrop = np.median(np.concatenate([image[0], image[-1], image[:, 0], image[:, -1]]), axis=0)
+    part = np.abs(image - backdrop).sum(axis=2) > 24
+    rows, cols = np.flatnonzero(part.any(axis=1)), np.flatnonzero(part.any(axis=0))
+    height, width = part.shape
+    assert len(rows) and len(cols), "nothing drawn in the 3D frame"
+    return {"left": cols[0] / width, "right": 1 - (cols[-1] + 1) / width, "top": rows[0] / height,
+            "bottom": 1 - (rows[-1] + 1) / height, "width": (cols[-1] + 1 - cols[0]) / width,
+            "height": (rows[-1] + 1 - rows[0]) / height}
+
+
 @pytest.mark.parametrize("size", list(SIZES))
 def test_the_3d_view_without_developer_clutter(server: str, browser: object, size: str) -> None:  # noqa: F811
     width, height = SIZES[size]
@@ -62,14 +89,29 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     page.click(".cm-content")
     page.keyboard.press("Control+a")
     page.keyboard.insert_text(reference)
-    # off by itself here (software WebGL): the same place shows the part after the program, from the server
+    # off by itself here (software WebGL): the same place shows the 2D view of the part after the program,
+    # drawn by the server (core/picture2d.py): depths with their legend, the path, the contour, axes, the zero
     page.wait_for_selector("#viz-on")
     wait_until(page, "document.getElementById('viz-picture')?.dataset.text?.includes('N60 G1 X70')")
-    wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100")
+    wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 300")
+    assert page.get_attribute("#viz-picture", "data-view") == "mill"
+    assert (page.get_attribute("#viz-picture", "alt") or "").startswith("2D-Ansicht")
     picture = page.locator("#viz-picture").bounding_box()
-    assert picture and picture["width"] > 150 and picture["height"] > 100
+    assert picture and picture["width"] > 300 and picture["height"] > 250
     page.locator("#viz").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / f"viz-off-picture-{size}.png"))
+    page.locator("#viz-picture").screenshot(path=str(SHOTS / f"viz-2d-{size}.png"))
+    # a block with an error: the picture asks again and marks where the block was skipped
+    page.click(".cm-content")
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(reference.replace("N70 G1 Y84", "N70 G1 Y84 Q7"))
+    wait_until(page, "document.getElementById('viz-picture')?.dataset.text?.includes('Y84 Q7')")
+    page.wait_for_timeout(300)
+    page.locator("#viz-picture").screenshot(path=str(SHOTS / f"viz-2d-error-{size}.png"))
+    page.click(".cm-content")
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(reference)
+    wait_until(page, "!document.getElementById('viz-picture')?.dataset.text?.includes('Q7')")
 
     page.click("#viz-on")
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5")
@@ -91,6 +133,21 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     page.locator("#viz").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / f"viz-iso-{size}.png"))
 
+    # every preset view frames the stock with a margin: nothing of it cut off, and it fills the view
+    # (the zero's Z axis and the tool stand above the part in the views from the side: their tops not counted)
+    for view, sides in (("top", ("left", "right", "top", "bottom")), ("front", ("left", "right", "bottom")),
+                        ("iso", ("left", "right", "bottom"))):
+        page.click(f"#view-{view}")
+        page.wait_for_timeout(2500)
+        page.locator("#viz").scroll_into_view_if_needed()
+        page.screenshot(path=str(SHOTS / f"viz-view-{view}-{size}.png"))
+        fit = frame_fit(page)
+        for side in sides:
+            assert fit[side] > 0.02, (view, side, fit)
+        assert max(fit["width"], fit["height"]) > 0.6, (view, fit)
+        assert fit["left"] < 0.3 and fit["right"] < 0.3 or fit["top"] < 0.3 and fit["bottom"] < 0.3, (view, fit)
+        assert abs(fit["left"] - fit["right"]) < 0.08, (view, fit)  # centred
+
     page.click("#view-top")
     page.uncheck("#layer-rapid")
     page.wait_for_timeout(2500)
@@ -111,6 +168,28 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     page.wait_for_timeout(3000)
     page.locator("#viz").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / f"viz-graded-{size}.png"))
+    page.close()
+
+
+@pytest.mark.parametrize("size", list(SIZES))
+def test_the_2d_view_of_a_turning_program(server: str, browser: object, size: str) -> None:  # noqa: F811
+    """Free practice with a TRAUB example, 3D off: the 2D drawing view of the turned part (half section, path,
+    axes with diameters, zero), consistent with the milling plan view."""
+    width, height = SIZES[size]
+    page = browser.new_page(viewport={"width": width, "height": height})  # type: ignore[attr-defined]
+    page.goto(f"{server}/practice?dialect=traub-tx8d")
+    page.wait_for_selector(".cm-content")
+    program = (ROOT / "exercises" / "traub-tx8d" / "traub-10-schruppen-g71-g88.nc").read_text(encoding="utf-8")
+    page.click(".cm-content")
+    page.keyboard.press("Control+a")
+    page.keyboard.insert_text(program)
+    wait_until(page, "document.getElementById('viz-picture')?.dataset.view === 'lathe'", 30)
+    wait_until(page, "document.getElementById('viz-picture')?.dataset.text?.includes('G71')", 30)
+    wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 300")
+    assert "Halbschnitt" in (page.get_attribute("#viz-picture", "alt") or "")
+    page.locator("#viz").scroll_into_view_if_needed()
+    page.screenshot(path=str(SHOTS / f"viz-2d-lathe-page-{size}.png"))
+    page.locator("#viz-picture").screenshot(path=str(SHOTS / f"viz-2d-lathe-{size}.png"))
     page.close()
 
 

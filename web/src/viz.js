@@ -1,7 +1,8 @@
 // The 3D view beside the editor: viser's scene in an iframe (/viz/{token}/, its own panel hidden by
 // /static/viz-frame.css), with our own toolbar — views (oben, vorne, iso, zurücksetzen), layers with their
 // colours as the legend, the deviation colours — and playback. Without graphics acceleration the view starts
-// switched off and the same place shows the server's picture of the current state (from above).
+// switched off and the same place shows the server's 2D view of the current state (core/picture2d.py: the plan
+// view of a milling program, the drawing view of a turning program).
 
 import { lang, message as message_, t } from "./i18n.js";
 import { stockOf } from "./pages.js";
@@ -52,6 +53,8 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   const modal = el("p", { id: "modal-state", className: "meta" }, "");
   const frame = el("iframe", { id: "viz-frame", title: t("viz.title") });
   const picture = el("img", { id: "viz-picture", alt: t("viz.picture_alt") });
+  picture.style.background = "#fff";  // the 2D view is drawn on white paper: no grey bands beside it
+  picture.style.imageRendering = "auto";
   const pictureNote = el("p", { className: "meta viz-picture-note" }, t("viz.picture_note"));
   const stage = el("div", { className: "viz-stage" });
   const slider = el("input", { type: "range", id: "playhead", min: 0, max: 0, value: 0 });
@@ -247,15 +250,23 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     updatePicture(view.state.doc.toString());
   }
 
+  // The 2D view (an SVG the server draws: depths with their legend, the path, the contour, axes, the zero, the
+  // blocks an error skipped), asked for again whenever the program changes; the newest request wins.
+  let pictureAsked = 0;
   async function updatePicture(text) {
-    const r = await fetch("/api/v1/viz/picture.png", { credentials: "same-origin", ...post(body(text)) });
-    if (!r.ok || token) return;
+    const asked = ++pictureAsked;
+    const r = await fetch(`/api/v1/viz/picture.svg?lang=${lang === "en" ? "en" : "de"}`,
+      { credentials: "same-origin", ...post(body(text)) });
+    if (!r.ok || token || asked !== pictureAsked) return;
+    const blob = await r.blob();
+    if (asked !== pictureAsked) return;
     if (pictureUrl) URL.revokeObjectURL(pictureUrl);
-    const turning = r.headers.get("X-Picture-View") === "lathe";  // the toolpath in the drawing view
+    const turning = r.headers.get("X-Picture-View") === "lathe";  // the drawing view of a lathe
     pictureNote.textContent = t(turning ? "viz.picture_lathe_note" : "viz.picture_note");
     picture.alt = t(turning ? "viz.picture_lathe_alt" : "viz.picture_alt");
-    pictureUrl = URL.createObjectURL(await r.blob());
+    pictureUrl = URL.createObjectURL(blob);
     picture.src = pictureUrl;
+    picture.dataset.view = turning ? "lathe" : "mill";
     picture.dataset.text = text;  // which program it shows (the browser test waits for it)
   }
 
