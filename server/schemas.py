@@ -450,6 +450,10 @@ class ExerciseOut(BaseModel):
     blank_in_task_de: bool = Field(default=False, description="task_de states the blank itself: the page does not "
                                    "print blank_de above it a second time")
     blank_in_task_en: bool = Field(default=False, description="task_en (else task_de) states the blank itself")
+    tool_feeds: dict[str, dict[str, Any]] = Field(
+        default={}, description="Turning: per tool number its feeds (mm/U) as F ('feed') and as the reduced feed E "
+                                "('reduced': what the reference writes as E) and its spindle direction ('spindle': "
+                                "M3, M4 or null), as the task sheet prints them; {} for milling")
 
 
 # --- submissions -----------------------------------------------------------------------------
@@ -514,6 +518,8 @@ class OverrideIn(BaseModel):
 class SubmissionOut(BaseModel):
     id: int
     exercise: str
+    exercise_title: str = Field(default="", description="The exercise's German title (lists show it, not the slug)")
+    exercise_title_en: str = Field(default="", description="The exercise's English title, if it has one")
     user: str | None
     external_user: str | None
     dialect: str

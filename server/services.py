@@ -413,6 +413,7 @@ def submission_out(db: Session, submission: Submission, exercise: Exercise, auth
     score = _score(submission)[0] if grading else None
     return SubmissionOut(
         id=submission.id, exercise=exercise.slug, user=author.username if author else None,
+        exercise_title=exercise.title_de, exercise_title_en=exercise.title_en or "",
         external_user=submission.external_user, dialect=submission.dialect, created_at=submission.created_at,
         error_count=None if held else submission.error_count, warning_count=None if held else submission.warning_count,
         grading=grading, score=score, held=held, override=override_out(db, submission) if grading else None,

@@ -148,6 +148,25 @@ def _programmed_feeds(exercise: Exercise) -> tuple[dict[int, set[float]], dict[i
     return f_words, e_words, spindle
 
 
+def tool_feeds(exercise: Exercise) -> dict[int, dict[str, Any]]:
+    """Per tool of the cutting data, what its entries prescribe as the sheet prints it: "feed" (F), "reduced"
+    (the feeds the reference writes as E: a turning tool's reduced feed; an entry written both ways is both), each
+    in the entries' order and once, and "spindle" (M3/M4: the data's, else the direction the reference turns the
+    tool in; None where neither says). The exercise page shows the same (server/tasktext.py)."""
+    f_words, e_words, turning = _programmed_feeds(exercise)
+    out: dict[int, dict[str, Any]] = {}
+    for c in exercise.cutting_data:
+        entry = out.setdefault(c.tool, {"feed": [], "reduced": [], "spindle": None})
+        fs, es = f_words.get(c.tool, set()), e_words.get(c.tool, set())
+        key = round(c.feed, 6)
+        roles = (["reduced"] if key in es else []) + (["feed"] if key not in es or key in fs else [])
+        for role in roles:
+            if c.feed not in entry[role]:
+                entry[role].append(c.feed)
+        entry["spindle"] = entry["spindle"] or c.spindle or turning.get(c.tool)
+    return out
+
+
 def _insert(tool: Tool, lang: str) -> str:
     labels = LABELS[lang]
     if tool.kind != "turning":
@@ -172,7 +191,8 @@ def _tool_rows(exercise: Exercise, lang: str) -> tuple[list[str], list[list[str]
     for c in exercise.cutting_data:
         entries.setdefault(c.tool, []).append(c)
     numbers = sorted(set(table.tools) | set(entries))
-    f_words, e_words, turning = _programmed_feeds(exercise)
+    _, _, turning = _programmed_feeds(exercise)
+    feeds_of = tool_feeds(exercise) if exercise.lathe else {}
     rows = []
     for number in numbers:
         tool = table.get(number)
@@ -183,9 +203,9 @@ def _tool_rows(exercise: Exercise, lang: str) -> tuple[list[str], list[list[str]
         if tool is not None and exercise.lathe and lang == "de" and tool.name:
             kind = tool.name
         if exercise.lathe:
-            fs, es = f_words.get(number, set()), e_words.get(number, set())
-            feeds = [value(c.feed, lang) for c in cuts if not (round(c.feed, 6) in es and round(c.feed, 6) not in fs)]
-            reduced = [value(c.feed, lang) for c in cuts if round(c.feed, 6) in es]
+            roles = feeds_of.get(number, {"feed": [], "reduced": []})
+            feeds = [value(f, lang) for f in roles["feed"]]
+            reduced = [value(f, lang) for f in roles["reduced"]]
             if tool is not None and tool.kind == "turning":
                 size = f"R{value(tool.nose_radius, lang)}"
                 if tool.quadrant:

@@ -44,7 +44,8 @@ def _builtin(db: DbSession, slug: str) -> Exercise:
 @router.get("")
 def list_examples(db: DbSession) -> list[dict[str, Any]]:
     """The built-in exercises' programs for free practice: slug, titles, dialect, kind, the program and whether
-    it is the exercise's reference or its start program, the stock and the tools (in the exercises' order)."""
+    it is the exercise's reference or its start program, the stock, the tools and (turning) the blank (in the
+    exercises' order)."""
     examples = []
     sit = access.unknown_situation(db)
     for exercise in services.sorted_exercises(db):
@@ -55,6 +56,7 @@ def list_examples(db: DbSession) -> list[dict[str, Any]]:
             "slug": exercise.slug, "title_de": exercise.title_de, "title_en": exercise.title_en,
             "dialect": exercise.dialect, "kind": (exercise.document or {}).get("kind", "write"),
             "program": program[0], "program_is": program[1], "stock": exercise.stock, "tools": exercise.tools,
+            "blank": (exercise.document or {}).get("blank"),  # turning: the bar or tube (free practice's blank)
         })
     return examples
 

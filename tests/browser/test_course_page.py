@@ -70,7 +70,7 @@ def login(browser: Any, server: str, size: str = "laptop", **context: Any) -> An
     page.fill("input[name=username]", TEACHER)
     page.fill("input[name=password]", PASSWORD)
     page.click("button[type=submit]")
-    page.wait_for_url(f"{server}/")
+    page.wait_for_url(f"{server}/instructor")  # an instructor lands on their page
     return page
 
 

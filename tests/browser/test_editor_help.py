@@ -49,7 +49,7 @@ def _hover(page: Any, line: int, word: str) -> str:
 def test_hover_on_g41_names_the_rule_and_an_example(editor: Any) -> None:
     text = _hover(editor, 2, "G41")
     assert "G41: Fräserradiuskorrektur links der Kontur" in text
-    assert "Merke: Werkzeug links der Kontur, in Vorschubrichtung gesehen" in text
+    assert "Regel: Werkzeug links der Kontur, in Vorschubrichtung gesehen" in text
     assert "Beispiel: N40 G41 G0 X70 Y84" in text
 
 
@@ -63,7 +63,7 @@ def test_hover_on_g2_lists_addresses_with_units(editor: Any) -> None:
 
 def test_hover_on_rn_shows_its_sign_rule(editor: Any) -> None:
     text = _hover(editor, 3, "RN5")
-    assert "Merke: + Rundung, − Fase" in text and "Einheit: mm" in text
+    assert "Regel: + Rundung, − Fase" in text and "Einheit: mm" in text
 
 
 def _labels(page: Any) -> list[str]:

@@ -10,7 +10,7 @@ import { EditorView, keymap } from "@codemirror/view";
 import { lang, message } from "./i18n.js";
 
 const TEXTS = {
-  de: { mandatory: "Pflicht", optional: "Optional", example: "Beispiel", rule: "Merke", unit: "Einheit",
+  de: { mandatory: "Pflicht", optional: "Optional", example: "Beispiel", rule: "Regel", unit: "Einheit",
     one_of: "eins von", planned: "noch nicht unterstützt" },
   en: { mandatory: "Required", optional: "Optional", example: "Example", rule: "Remember", unit: "Unit",
     one_of: "one of", planned: "not supported yet" },

@@ -3,6 +3,7 @@
 // reset) and the drawing with its zoom. The page modules (page-exercise.js, page-practice.js) call these.
 
 import { el } from "./dom.js";
+import { drawingPageUrl, drawingViewer } from "./drawing-viewer.js";
 import { t } from "./i18n.js";
 
 const SIDE_KEY = "paltrainer-side-collapsed";
@@ -34,37 +35,78 @@ export function mountTabs(root, onSelect = null) {
   return (id) => select(document.getElementById(id));
 }
 
-// The side panel folds to a strip (remembered in the browser), so that editor and 3D view get the width.
+// The side panel folds to a strip (remembered in the browser), so that editor and 3D view get the width. On a
+// narrow screen (tablet, phone: the panes stacked) the exercise's task starts folded, so that the editor gets the
+// height: the strip keeps the tabs and the exercise's title, and choosing a tab unfolds it. Each width remembers
+// its own choice. Free practice keeps its set-up open (the dialect and the example are chosen there first).
+const NARROW = "(max-width: 1023.98px)";
+
 export function mountSideToggle(root) {
   const side = root.querySelector(".side");
   const button = root.querySelector("#side-toggle");
-  const set = (collapsed) => {
+  const narrow = window.matchMedia(NARROW);
+  const folds = root.querySelector("#panel-task") !== null;  // the exercise page (free practice: the set-up)
+  const key = () => (narrow.matches ? `${SIDE_KEY}-narrow` : SIDE_KEY);
+  const chosen = () => ({ 1: true, 0: false }[localStorage.getItem(key())] ?? (narrow.matches && folds));
+  // the task's heading (the exercise's title, an exam's) into the strip, shown by the stylesheet (::before), so
+  // that the page's text holds the title once
+  const task = root.querySelector("#panel-task");
+  if (task) {
+    const caption = el("span", { className: "side-title", id: "side-title" });
+    caption.setAttribute("aria-hidden", "true");
+    button.before(caption);
+    new MutationObserver(() => { caption.dataset.title = task.querySelector("h2")?.textContent || ""; })
+      .observe(task, { childList: true, characterData: true, subtree: true });
+  }
+  const set = (collapsed, remember = true) => {
     side.classList.toggle("collapsed", collapsed);
     root.classList.toggle("side-collapsed", collapsed);
     button.setAttribute("aria-expanded", String(!collapsed));
     button.textContent = collapsed ? "›" : "‹";
     button.setAttribute("aria-label", t(collapsed ? "side.expand" : "side.collapse"));
     button.title = t(collapsed ? "side.expand" : "side.collapse");
-    localStorage.setItem(SIDE_KEY, collapsed ? "1" : "");
+    if (remember) localStorage.setItem(key(), collapsed ? "1" : "0");
   };
   button.addEventListener("click", () => set(!side.classList.contains("collapsed")));
-  set(localStorage.getItem(SIDE_KEY) === "1");
+  // a tab of the folded strip unfolds the panel (with the pointer or the keys of the tab list)
+  const unfold = () => { if (side.classList.contains("collapsed")) set(false); };
+  for (const tab of root.querySelectorAll(".side [role=tab]")) {
+    tab.addEventListener("click", unfold);
+    tab.addEventListener("keydown", (event) => { if (["ArrowLeft", "ArrowRight", "Home", "End"].includes(event.key)) unfold(); });
+  }
+  narrow.addEventListener("change", () => set(chosen(), false));  // turned or resized across the border
+  set(chosen(), false);
 }
 
 // The drawer: its bar always shows the number of messages (and the score after "Abgeben"); open it shows
-// the messages and the criteria. Open or closed is remembered in the browser.
+// the messages and the criteria. Open or closed is remembered in the browser. `open()` (after "Abgeben", an
+// exam's result) opens it tall, at least half the window, so that the criteria read without scrolling a slit;
+// "Verkleinern" gives the editor its room back, "Vergrößern" the result.
 export function mountDrawer(root) {
+  const drawer = root.querySelector("#drawer");
   const toggle = root.querySelector("#drawer-toggle");
   const body = root.querySelector("#drawer-body");
   const list = root.querySelector("#diagnostics");
   const count = root.querySelector("#diag-count");
   const status = root.querySelector("#status-line");
+  const size = el("button", { type: "button", id: "drawer-size", className: "drawer-size" });
+  size.setAttribute("aria-controls", "drawer-body");
+  toggle.after(size);
+  const tall = (on) => {
+    drawer.classList.toggle("tall", on);
+    size.textContent = t(on ? "drawer.smaller" : "drawer.taller");
+    size.title = t(on ? "drawer.smaller_title" : "drawer.taller_title");
+  };
+  size.addEventListener("click", () => tall(!drawer.classList.contains("tall")));
   const set = (open) => {
     body.hidden = !open;
+    size.hidden = !open;
+    if (!open) tall(false);
     toggle.setAttribute("aria-expanded", String(open));
     localStorage.setItem(DRAWER_KEY, open ? "" : "1");
   };
   toggle.addEventListener("click", () => set(body.hidden));
+  tall(false);
   set(localStorage.getItem(DRAWER_KEY) !== "1");
   // the editor fills the list (main.js); the bar counts what is in it
   new MutationObserver(() => {
@@ -78,7 +120,7 @@ export function mountDrawer(root) {
     status.className = `status-line${errors || notice ? " error" : ""}`;
   }).observe(list, { childList: true });
   return {
-    open: () => set(true),
+    open: () => { set(true); tall(true); },
     score(text) { const s = root.querySelector("#score-summary"); if (s) s.textContent = text; },
   };
 }
@@ -152,7 +194,7 @@ export function drawingFigure(url, slug, onEnlarge = null, sheet = null) {
   return el("figure", { className: "drawing" },
     onEnlarge ? el("button", { type: "button", className: "drawing-button", onclick: onEnlarge, title: t("drawing.enlarge") }, img) : img,
     el("figcaption", {},
-      el("a", { href: url, target: "_blank", rel: "noopener" }, t("drawing.open")),
+      el("a", { href: drawingPageUrl(url), target: "_blank", rel: "noopener" }, t("drawing.open")),
       el("a", { href: `${url}&download=true`, download: `${slug}.svg` }, t("drawing.download")),
       sheetLink(sheet)));
 }
@@ -162,27 +204,9 @@ function sheetLink(sheet) {
     : null;
 }
 
-// The same drawing larger, with zoom (the frame scrolls inside, the page does not).
+// The same drawing larger: fitted to the Zeichnung tab, zoom and move (drawing-viewer.js).
 export function drawingZoom(url, slug, sheet = null) {
-  let scale = 1;
-  const img = el("img", { src: url, alt: t("drawing.alt") });
-  const frame = el("div", { className: "zoom-frame", tabIndex: 0 }, img);
-  frame.setAttribute("aria-label", t("drawing.alt"));
-  const apply = () => { img.style.width = `${scale * 100}%`; label.textContent = `${Math.round(scale * 100)} %`; };
-  const label = el("span", { className: "meta" }, "100 %");
-  const zoom = (factor) => () => { scale = factor ? Math.min(4, Math.max(1, scale * factor)) : 1; apply(); };
-  const button = (text, key, fn) => {
-    const b = el("button", { type: "button", className: "icon", title: t(key), onclick: fn }, text);
-    b.setAttribute("aria-label", t(key));
-    return b;
-  };
-  return el("div", { className: "drawing-zoom" },
-    el("div", { className: "zoom" }, button("−", "drawing.zoom_out", zoom(1 / 1.5)), button("+", "drawing.zoom_in", zoom(1.5)),
-      button("⤢", "drawing.zoom_fit", zoom(0)), label, " ",
-      el("a", { href: url, target: "_blank", rel: "noopener" }, t("drawing.open")), " ",
-      el("a", { href: `${url}&download=true`, download: `${slug}.svg` }, t("drawing.download")),
-      sheet ? " " : null, sheetLink(sheet)),
-    frame);
+  return drawingViewer(url, { slug, sheet });
 }
 
 // The column splitters (from 1024 px, three columns): drag with the pointer or move with the arrow keys; the

@@ -78,7 +78,7 @@ const germanPhrases = lang === "en" ? [] : EditorState.phrases.of({
   "Find": "Suchen", "Replace": "Ersetzen", "next": "weiter", "previous": "zurück", "all": "alle",
   "match case": "Groß/klein", "regexp": "Regulärer Ausdruck", "by word": "Ganzes Wort",
   "replace": "ersetzen", "replace all": "alle ersetzen", "close": "schließen",
-  "Go to line": "Gehe zu Zeile", "go": "los", "Diagnostics": "Meldungen", "No diagnostics": "Keine Meldungen",
+  "Go to line": "Zu Zeile springen", "go": "los", "Diagnostics": "Meldungen", "No diagnostics": "Keine Meldungen",
 });
 
 // -- help from the dialect's code table --------------------------------------------------------

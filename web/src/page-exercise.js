@@ -13,38 +13,112 @@ import { mountEditor } from "./main.js";
 import { formatDecimal } from "./numbers.js";
 import { loginUrl } from "./redirect.js";
 import { LATHE_DIALECTS } from "./tool-kinds.js";
+import "./texts-exercise.js";
 import { mountViz } from "./viz.js";
 import { examContext, examNotice, mountExam, prepareExam } from "./page-exam.js";
 
-// The Werkzeuge tab: one small table per tool — diameter and the cutting data the task prescribes (S or V, F, the
-// spindle's direction M3/M4 where given; several allowed values side by side) — so that it fits the side panel.
+// The Werkzeuge tab: one small table per tool, so that it fits the side panel. Milling: the diameter, S (1/min),
+// F (mm/min) and the spindle's direction. Turning, what a turner reads: the insert, its nose radius and cutting
+// position (quadrant), the cutting speed V (G96) or the speed S (G97), the feed F and the reduced feed E in mm/U
+// (which feeds the reference writes as E: the server's tool_feeds, as on the printed sheet) and the direction.
+// Every cutting-data entry of a tool is shown (several allowed values side by side); nothing empty is shown.
+const INSERT_ANGLES = { C: 80, D: 55, V: 35 };  // the rhombic inserts' corner angle (docs/tools.md)
+const given = (v) => v !== null && v !== undefined && v !== "" && !(typeof v === "number" && !Number.isFinite(v));
+const joined = (values) => [...new Set(values.filter(given).map(String))].join(" / ");
+const number = (v) => (typeof v === "number" && Number.isFinite(v) ? formatDecimal(v) : null);
+
+function toolName(tool) {
+  const text = tool.kind ? t(`kind.${tool.kind}`) : "";
+  const kind = text.startsWith("kind.") ? "" : text;
+  // a tool's own name is German ("Schruppmeißel D R0,8"); the English page names its kind
+  return (lang === "en" ? kind || tool.name : tool.name || kind) || "";
+}
+
+function insertText(tool) {
+  if (tool.insert === "groove") {
+    const width = number(tool.width);
+    return width ? `${t("tools.insert_groove")}, ${t("tools.insert_width")} ${width} mm` : t("tools.insert_groove");
+  }
+  if (tool.insert === "thread") return `${t("tools.insert_thread")} (60°)`;
+  const letter = tool.insert || "C";
+  const angle = number(tool.insert_angle) || number(INSERT_ANGLES[letter]);
+  return angle ? `${letter} (${angle}°)` : letter;
+}
+
+function latheRows(tool, cuts, feeds) {
+  const rows = [];
+  if (tool.kind === "turning") {
+    rows.push([t("tools.insert"), insertText(tool)]);
+    if (tool.nose_radius > 0) rows.push([t("tools.nose_radius"), `R${number(tool.nose_radius)} mm`]);
+    if (tool.quadrant) rows.push([t("tools.quadrant"), `P${tool.quadrant}`]);
+  } else if (tool.diameter > 0) {
+    rows.push([t("tools.diameter"), `Ø${number(tool.diameter)} mm`]);
+  }
+  const v = joined(cuts.map((c) => number(c.cutting_speed)));
+  const s = joined(cuts.map((c) => number(c.speed)));
+  if (v) rows.push([t("tools.v"), t("tools.v_value", { v })]);
+  if (s) rows.push([t("tools.s"), t("tools.s_value", { s })]);
+  // F and E as the reference writes them; without the server's word every entry's feed is an F
+  const f = joined((feeds ? feeds.feed || [] : cuts.map((c) => c.feed)).map(number));
+  const e = joined((feeds?.reduced || []).map(number));
+  if (f) rows.push([t("tools.f"), t("tools.f_value", { f })]);
+  if (e) rows.push([t("tools.e"), t("tools.e_value", { e })]);
+  const spindle = joined(cuts.map((c) => c.spindle)) || feeds?.spindle;
+  if (spindle) rows.push([t("tools.spindle"), spindle.split(" / ").map((m) => t(`spindle.${m}`)).join(" / ")]);
+  return rows;
+}
+
+function millRows(tool, cuts) {
+  const spindle = joined(cuts.map((c) => c.spindle));
+  return [
+    [t("tools.diameter"), tool.diameter > 0 ? `Ø${number(tool.diameter)} mm` : ""],
+    [t("tools.speed"), joined(cuts.map((c) => number(c.speed)))],
+    [t("tools.feed"), joined(cuts.map((c) => number(c.feed)))],
+    [t("tools.spindle"), spindle ? spindle.split(" / ").map((m) => t(`spindle.${m}`)).join(" / ") : ""],
+  ];
+}
+
 function toolTables(ex) {
   const lathe = LATHE_DIALECTS.has(ex.dialect);
-  const data = ex.cutting_data || [];
-  const tools = [...(ex.tools || [])];
+  const data = (ex.cutting_data || []).filter((c) => c && given(c.tool));
+  const tools = [...(ex.tools || [])].filter((tool) => tool && given(tool.number));
   for (const c of data) {  // cutting data of a tool from the default table
     if (!tools.some((tool) => tool.number === c.tool)) tools.push({ number: c.tool });
   }
-  const joined = (values) => [...new Set(values.filter((v) => v !== null && v !== undefined))].join(" / ");
-  const number = (v) => (v === null || v === undefined ? null : formatDecimal(v));
-  const kind = (tool) => {
-    const text = tool.kind ? t(`kind.${tool.kind}`) : "";
-    return tool.name || (text.startsWith("kind.") ? "" : text);
-  };
+  if (!tools.length) return el("p", { className: "meta" }, t("tools.none"));
   return el("div", { className: "tool-cards" }, ...tools.map((tool) => {
     const cuts = data.filter((c) => c.tool === tool.number);
-    const rows = [
-      [t("tools.diameter"), tool.diameter ? `Ø${formatDecimal(tool.diameter)} mm` : ""],
-      [t("tools.speed"), joined(cuts.map((c) => number(c.speed)))],
-      [t("tools.cutting_speed"), joined(cuts.map((c) => number(c.cutting_speed)))],
-      [t(lathe ? "tools.feed_rev" : "tools.feed"), joined(cuts.map((c) => number(c.feed)))],
-      [t("tools.spindle"), joined(cuts.map((c) => (c.spindle ? t(`spindle.${c.spindle}`) : null)))],
-    ].filter(([, value]) => value);
-    const name = kind(tool);
-    return el("table", { className: "tool-card" },
+    const feeds = ex.tool_feeds?.[String(tool.number)] || null;
+    const rows = (lathe ? latheRows(tool, cuts, feeds) : millRows(tool, cuts)).filter(([, value]) => value);
+    const name = toolName(tool);
+    return el("table", { className: lathe ? "tool-card lathe" : "tool-card" },
       el("thead", {}, el("tr", {}, el("th", { colSpan: 2, scope: "colgroup" }, `T${tool.number}${name ? ` · ${name}` : ""}`))),
       el("tbody", {}, ...rows.map(([key, value]) => el("tr", {}, el("th", { scope: "row" }, key), el("td", {}, value)))));
   }));
+}
+
+// The task's text: the server's safe HTML of its Markdown (core/sheet/tasktext.py: raw HTML off, https links only),
+// inserted as it is, as the printed sheet shows it.
+function taskBody(ex) {
+  const html = lang === "en" ? ex.task_html_en || ex.task_html_de : ex.task_html_de;
+  const body = el("div");
+  if (html) {
+    body.innerHTML = html;
+  } else {  // an older answer without it: the text as paragraphs
+    const task = (lang === "en" && ex.task_en) || ex.task_de || "";
+    body.append(...task.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
+  }
+  return [...body.childNodes];
+}
+
+// The blank and the workpiece zero ("Rohteil: Stange Ø100 × 160 mm, 30 mm im Futter"): above the task only where
+// its text does not state the blank already; in the Werkzeuge tab always, with the tools.
+function blankLines(ex, always) {
+  const en = lang === "en";
+  const blank = en ? ex.blank_en || ex.blank_de : ex.blank_de;
+  const zero = en ? ex.zero_en || ex.zero_de : ex.zero_de;
+  if (!always && (en ? ex.blank_in_task_en : ex.blank_in_task_de)) return [];
+  return [blank, zero].filter((text) => typeof text === "string" && text).map((text) => el("p", {}, text));
 }
 
 export async function mountExercise(root, slug) {
@@ -67,17 +141,14 @@ export async function mountExercise(root, slug) {
   }
   const ex = r.body;
   const title = lang === "en" && ex.title_en ? ex.title_en : ex.title_de;
-  const task = lang === "en" && ex.task_en ? ex.task_en : ex.task_de;
   document.title = `PAL Trainer – ${title}`;
   const s = ex.stock;
   const size = s ? s.max.map((v, i) => Math.round((v - s.min[i]) * 1000) / 1000) : null;
   root.querySelector("#title").textContent = title;
-  // markdown paragraphs: blank lines separate them, single line breaks are spaces
-  root.querySelector("#task").replaceChildren(
-    ...task.split(/\n\s*\n/).filter((p) => p.trim()).map((p) => el("p", {}, p.replace(/\s*\n\s*/g, " "))));
-  const stock = () => (size ? [el("p", {}, t("exercise.stock", { x: size[0], y: size[1], z: size[2] }))] : []);
-  root.querySelector("#data").replaceChildren(...stock());
-  root.querySelector("#tools").replaceChildren(el("h2", {}, t("tab.tools")), ...stock(), toolTables(ex));
+  root.querySelector("#task").replaceChildren(...taskBody(ex));
+  root.querySelector("#data").replaceChildren(...blankLines(ex, false));
+  root.querySelector("#tools").replaceChildren(el("h2", {}, t("tab.tools")),
+    el("div", { className: "meta" }, ...blankLines(ex, true)), toolTables(ex));
   if (ex.gradable && size) {
     // the dimensioned drawing (server-side SVG from the reference): in the task first, as on a PAL task sheet
     const drawing = `/api/v1/exercises/${slug}/drawing.svg?lang=${lang}`;

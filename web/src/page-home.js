@@ -1,6 +1,6 @@
 // The trainee's start page above the exercise list: their courses, joining a course with its code, and the
 // assignments (GET /me/assignments) with opening time, deadline, mode, status and a link into each exercise
-// (an exam's from its start).
+// (an exam's from its start). And the start page of a visitor without an account (mountStart).
 
 import { api, el } from "./dom.js";
 import { overrideNote } from "./grades.js";
@@ -41,6 +41,24 @@ export async function mountHome(section, fresh = false) {
           ? el("span", { className: "meta" }, ` · ${t("home.instructors", { names: c.instructors.join(", ") })}`) : null)))
         : el("p", { className: "meta" }, t("home.no_courses")),
       joinForm(section)] : [])].filter(Boolean));
+}
+
+// The start page for a visitor without an account (the login page: "/" sends them there): what PAL Trainer is in
+// two sentences, free practice without an account, and beside it the login form (moved into a box of its own).
+export function mountStart(form) {
+  const main = form.closest("main");
+  if (!main || main.querySelector(".start")) return;
+  const heading = main.querySelector("h2");
+  heading.id = "login-title";
+  const intro = el("section", { className: "start-intro" },
+    el("h2", { id: "start-title" }, t("start.title")),
+    el("p", { className: "start-what" }, t("start.what")),
+    el("p", {}, el("a", { className: "start-practice", id: "start-practice", href: "/practice" }, t("start.practice"))));
+  intro.setAttribute("aria-labelledby", "start-title");
+  const login = el("section", { className: "start-login" }, heading,
+    el("p", { className: "meta" }, t("start.login_note")), form);
+  login.setAttribute("aria-labelledby", "login-title");
+  main.replaceChildren(el("div", { className: "start" }, intro, login));
 }
 
 const exerciseHref = (a, slug) => `/exercises/${encodeURIComponent(slug)}?assignment=${a.id}`;

@@ -1,13 +1,16 @@
 // Free practice: the editor with live diagnostics and the 3D view, the stock and tools kept in the browser;
-// "Beispiel laden" puts a built-in example's program into the editor (GET /api/v1/examples) and shows its
-// drawing; programs open from and save to the trainee's computer and print with line numbers.
+// "Beispiel laden" puts a built-in example's program into the editor (GET /api/v1/examples; every dialect's,
+// the TRAUB turning examples with their blank) and shows its drawing; programs open from and save to the
+// trainee's computer and print with line numbers.
 
 import { api, el } from "./dom.js";
 import { lang, t } from "./i18n.js";
+import { formatDecimal } from "./numbers.js";
 import { drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor, setTools } from "./main.js";
 import { mountPracticeSetup, saveSetup } from "./pages.js";
 import { LATHE_DIALECTS, MILLING_TOOL_KINDS } from "./tool-kinds.js";
+import "./texts-exercise.js";
 import { mountViz } from "./viz.js";
 
 const SAMPLE = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X-25 Y-15 Z2\nN40 G42 G0 X-14 Y10\nN50 G0 Z-2\n" +
@@ -63,6 +66,19 @@ function mountBlank(parent, onChange) {
   return setup;
 }
 
+// The blank of a turning example as the blank form keeps it ("100", "", "160"): its bar or tube, else the box
+// around it (a bar of that diameter and length).
+function blankOf(example) {
+  const text = (v) => (Number.isFinite(v) && v > 0 ? formatDecimal(Math.round(v * 1000) / 1000) : "");
+  const b = example.blank;
+  if (b && Number.isFinite(b.diameter) && Number.isFinite(b.length)) {
+    return { diameter: text(b.diameter), bore: text(b.inner_diameter), length: text(b.length) };
+  }
+  const s = example.stock;
+  if (!s?.min || !s?.max) return null;
+  return { diameter: text(s.max[0] - s.min[0]), bore: "", length: text(s.max[2] - s.min[2]) };
+}
+
 // The practice setup of an example: its stock (zero at the front left top corner) and its tools.
 function setupOf(example) {
   const s = example.stock;
@@ -108,8 +124,13 @@ export async function mountPractice(root) {
   const r = await api("/examples");
   const examples = r.ok ? r.body : [];
   const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
-  const dialects = { "pal-mill": "PAL Fräsen", "sinumerik-iso": "SINUMERIK 808D ISO", beckhoff: "Beckhoff TwinCAT" };
-  for (const [dialect, name] of Object.entries(dialects)) {
+  // every dialect's examples, the page's own first (the others open the practice page of their dialect)
+  const dialects = { "pal-mill": "PAL Fräsen", "sinumerik-iso": "SINUMERIK 808D ISO", beckhoff: "Beckhoff TwinCAT",
+    "traub-tx8d": t("example.group_traub") };
+  const order = [select.value, ...Object.keys(dialects).filter((d) => d !== select.value)];
+  for (const dialect of order) {
+    const name = dialects[dialect];
+    if (!name) continue;
     const mine = examples.filter((e) => e.dialect === dialect);
     if (mine.length) {
       picker.append(el("optgroup", { label: name }, ...mine.map((e) => el("option", { value: e.slug },
@@ -135,6 +156,15 @@ export async function mountPractice(root) {
       show(null);
     },
   });
+  // an example's set-up: a turning example's blank, else a milling example's stock and tools
+  const keepSetup = (example) => {
+    if (!LATHE_DIALECTS.has(example.dialect)) {
+      saveSetup(setupOf(example));
+      return;
+    }
+    const blank = blankOf(example);
+    if (blank) localStorage.setItem(BLANK_KEY, JSON.stringify(blank));
+  };
   picker.onchange = () => {
     const example = examples.find((e) => e.slug === picker.value);
     if (!example) return;
@@ -142,21 +172,27 @@ export async function mountPractice(root) {
       localStorage.setItem(`paltrainer-practice-${example.dialect}`, example.program);
       localStorage.setItem(`paltrainer-practice-example-${example.dialect}`, example.slug);
       localStorage.setItem(`paltrainer-practice-${example.dialect}-file`, `${example.slug}.nc`);
-      saveSetup(setupOf(example));
+      keepSetup(example);
       location.search = `?dialect=${example.dialect}`;
       return;
     }
     filename = `${example.slug}.nc`;
     localStorage.setItem(`${saved}-file`, filename);
     localStorage.setItem(savedExample, example.slug);
-    saveSetup(setupOf(example));
-    const next = mountPracticeSetup(root.querySelector("#setup"), (changed) => {
-      setTools(window.editor, changed.tools.length ? changed.tools : null);
-      scene?.setup(changed);
-    });
-    setTools(window.editor, next.tools.length ? next.tools : null);
-    toolbar.replace(example.program);
-    scene?.setup(next);
+    keepSetup(example);
+    if (lathe) {
+      const next = mountBlank(root.querySelector("#setup"), (changed) => scene?.setup(changed));
+      toolbar.replace(example.program);
+      scene?.setup({ blank: next.blank });
+    } else {
+      const next = mountPracticeSetup(root.querySelector("#setup"), (changed) => {
+        setTools(window.editor, changed.tools.length ? changed.tools : null);
+        scene?.setup(changed);
+      });
+      setTools(window.editor, next.tools.length ? next.tools : null);
+      toolbar.replace(example.program);
+      scene?.setup(next);
+    }
     show(example);
     showTab("tab-drawing");
   };

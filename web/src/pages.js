@@ -11,10 +11,20 @@ import { classImportSection, resultsSection, submissionHref, submissionSection }
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
 import { coursesSection } from "./page-course.js";
+import { mountStart } from "./page-home.js";
 
 export { mountExercise } from "./page-exercise.js";
 
+// Where the login leads: to `next` if it is a path on this site, else to the user's own start: instructors and
+// admins their page (courses first), trainees the exercise list with their assignments.
+export function landing(role, next) {
+  if (typeof next === "string" && next && safeNext(next) === next) return next;
+  return role === "instructor" || role === "admin" ? "/instructor" : "/";
+}
+
+// The login page is the start page of a visitor without an account (page-home.js: what PAL Trainer is, free practice).
 export async function mountLogin(form, message) {
+  mountStart(form);
   form.onsubmit = async (event) => {
     event.preventDefault();
     const data = Object.fromEntries(new FormData(form));
@@ -22,7 +32,7 @@ export async function mountLogin(form, message) {
       method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data),
     });
     if (r.ok) {
-      location.href = safeNext(new URLSearchParams(location.search).get("next"));
+      location.href = safeNext(landing(r.body?.role, new URLSearchParams(location.search).get("next")));
     } else {
       message.textContent = (r.body?.error && message_(r.body.error)) || t("login.failed");
     }
@@ -64,19 +74,27 @@ export async function mountInstructor(parent) {
     location.href = loginUrl();
     return;
   }
-  // filter by exercise, list, export
+  // filter by exercise, list (the exercises by their titles), export
+  const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
+  const titles = new Map(exercises.body.map((e) => [e.slug, title(e)]));
   const filter = el("select", { id: "filter" }, el("option", { value: "" }, t("instructor.all")),
-    ...exercises.body.map((e) => el("option", { value: e.slug }, e.title_de)));
+    ...exercises.body.map((e) => el("option", { value: e.slug }, title(e))));
   const csv = el("a", { id: "csv", href: "/api/v1/submissions/export.csv" }, t("instructor.csv"));
   const list = el("div", { id: "submission-list" });
   async function show() {
     const query = filter.value ? `?exercise=${encodeURIComponent(filter.value)}` : "";
     csv.href = `/api/v1/submissions/export.csv${query}`;
     const r = await api(`/submissions${query}`);
+    const rows = r.ok ? r.body : [];
+    if (!rows.length) {
+      list.replaceChildren(el("p", { className: "meta" }, r.ok ? t("instructor.no_submissions") : t("instructor.error")));
+      return;
+    }
     list.replaceChildren(table([t("col.number"), t("instructor.exercise"), t("col.learner"), t("col.time"),
-      t("col.errors"), t("col.points")], (r.body || []).map((s) => [
-      s.id, s.exercise, s.external_user || s.user || "–", new Date(s.created_at).toLocaleString(lang === "en" ? "en-GB" : "de-DE"),
-      s.error_count, s.score ?? "–"])));
+      t("col.errors"), t("col.points")], rows.map((s) => [
+      s.id, (lang === "en" && s.exercise_title_en) || s.exercise_title || titles.get(s.exercise) || s.exercise,
+      s.external_user || s.user || "–", new Date(s.created_at).toLocaleString(lang === "en" ? "en-GB" : "de-DE"),
+      s.error_count ?? "–", s.score ?? "–"]), [0, 4, 5]));
     // the numbers open the submission (results.js)
     for (const row of list.querySelectorAll("tbody tr")) {
       const cell = row.firstElementChild;
@@ -99,7 +117,10 @@ export async function mountInstructor(parent) {
     message.className = r.ok ? "ok" : "error";
     message.textContent = r.ok ? t("instructor.created", { title: r.body.title_de })
       : (r.body?.error && message_(r.body.error)) || t("instructor.error");
-    if (r.ok) filter.append(el("option", { value: r.body.slug }, r.body.title_de));
+    if (r.ok) {
+      titles.set(r.body.slug, title(r.body));
+      filter.append(el("option", { value: r.body.slug }, title(r.body)));
+    }
   };
   // results.js: one submission opened (?submission=ID), the results table, the class list
   const opened = new URLSearchParams(location.search).get("submission");

@@ -33,8 +33,6 @@ addTexts({
   "override.note": ["* von der Lehrkraft geändert", "* changed by the instructor"],
 
   "tools.spindle": ["Drehrichtung", "Spindle"],
-  "tools.feed_rev": ["F (mm/U)", "F (mm/rev)"],
-  "tools.cutting_speed": ["V (m/min)", "V (m/min)"],
   "spindle.M3": ["M3 (rechts)", "M3 (clockwise)"],
   "spindle.M4": ["M4 (links)", "M4 (counter-clockwise)"],
   "matrix.total_note": ["Summe: alle Aufgaben des Auftrags; was nicht abgegeben ist, zählt 0.",
