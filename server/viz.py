@@ -199,6 +199,7 @@ class Scene:
     segments: np.ndarray | None = None  # (N, 2, 3) the toolpath, one segment per move piece
     lines: list[int] = field(default_factory=list)  # the block line of each segment
     segment_tools: list[int | None] = field(default_factory=list)  # the tool number of each segment
+    cycles: dict[int, dict[str, Any]] = field(default_factory=dict)  # move index → its cycle (code, pass, of)
     tools: dict[int, dict[str, Any]] = field(default_factory=dict)  # tool number → its shape (tool table)
     tool_radius: float = 3.0
     tool_key: tuple[Any, ...] | None = None  # the shape the tool node shows now
@@ -418,6 +419,7 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         scene.segments = data["segments"]
         scene.lines = data["lines"]
         scene.moves = data.get("moves", [])
+        scene.cycles = dict(data.get("cycles") or {})
         scene.segment_tools = list(data.get("segment_tools") or [])
         scene.segment_centre = list(data.get("segment_centre") or [])
         scene.tools = {int(k): v for k, v in (data.get("tools") or {}).items()}

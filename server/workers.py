@@ -159,6 +159,7 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     rapid: list[bool] = []
     lines: list[int] = []
     moves: list[int] = []  # the move each segment belongs to (playback shows the stock after that move)
+    cycles: dict[int, dict[str, Any]] = {}  # move index → the cycle that made it (playback names its step)
     contour: list[tuple[Any, Any]] = []  # the programmed contour where it differs from the tool-centre path
     drawn, notice = drawing(toolpath, 0.05)  # the chords are counted before they are made (PAL-I019)
     for k, (m, points) in enumerate(zip(toolpath.moves, drawn, strict=False)):
@@ -167,6 +168,8 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
             rapid.append(m.kind == "rapid")
             lines.append(m.line)
             moves.append(k)
+        if m.cycle is not None:
+            cycles[k] = m.to_json()["cycle"]
         if m.programmed_end is not None and m.programmed_end != m.end:
             contour.append((contour[-1][1] if contour else m.programmed_end, m.programmed_end))
     states = {}
@@ -193,7 +196,7 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
     return {"segments": seg, "feed": seg[~is_rapid], "rapid": seg[is_rapid], "lines": lines, "cut": cut,
             "notice": notice.to_json() if notice is not None else None,
-            "contour": programmed, "states": states, "moves": moves,
+            "contour": programmed, "states": states, "moves": moves, "cycles": cycles,
             "stock": stock, "tool": list(toolpath.final_position), "tool_radius": tool.radius if tool else 3.0,
             "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
 

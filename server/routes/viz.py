@@ -208,7 +208,7 @@ def _log_failure(task: asyncio.Task[Any]) -> None:
 async def put_playhead(token: str, body: Playhead, request: Request, workers: AppWorkers,
                        principal: PracticePrincipal) -> dict[str, Any]:
     """Move the tool to the end of toolpath segment `index` and show the stock after its move; answers that
-    segment's block line."""
+    segment's block line and, for a move a cycle made, the cycle ({code, pass, of}; PAL: defined_in_line)."""
     scene = await _driven(request, token, principal)
     line = await run_in_threadpool(viz.playhead, scene, body.index)
     if scene.has_stock and scene.program is not None and scene.moves:
@@ -220,7 +220,8 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
         else:
             tiles = await workers.call(job_stock_after, text, dialect, spec, move)
             await run_in_threadpool(viz.show_stock, scene, tiles)
-    return {"index": body.index, "line": line}
+    cycle = scene.cycles.get(scene.moves[min(body.index, len(scene.moves) - 1)]) if scene.moves else None
+    return {"index": body.index, "line": line, "cycle": cycle}
 
 
 @router.post("/{token}/section", responses=responses(401, 403, 410, 422, 429, 503), dependencies=STEP_LIMIT)

@@ -10,6 +10,7 @@ from server_helpers import GOOD, Api, auth, unique
 from test_server_lms import ROOT, exercise_file
 
 from server import viz
+from server.workers import job_scene
 
 
 def test_viz_session_page_scene_and_playhead(api: Api) -> None:
@@ -33,6 +34,29 @@ def test_viz_session_page_scene_and_playhead(api: Api) -> None:
     assert r.status_code == 200 and r.json()["line"] == scene["lines"][1]
     r = api.client.post("/api/v1/viz/bad/scene", json={"program": GOOD})
     assert r.status_code == 401
+
+
+POCKET = "T2 M6\nS2000 F300 M3\nG0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP30 D2 V2 RN8\nN50 G79 X50 Y40 Z0\nG0 Z50\nM30\n"
+
+
+def test_playback_names_the_cycle_step_of_a_move() -> None:
+    # the scene job (as the route's worker runs it) keeps the cycle of each move a PAL cycle made
+    data = job_scene(POCKET, "pal-mill", {})
+    assert data["cycles"] and {c["code"] for c in data["cycles"].values()} == {"G72"}
+    assert {c["defined_in_line"] for c in data["cycles"].values()} == {4}
+    assert {c["of"] for c in data["cycles"].values()} == {3}  # ZI-5 in levels of at most 2 mm: 3 levels
+    assert 0 not in data["cycles"]  # the rapid before the cycle belongs to none
+
+
+def test_playhead_answers_the_cycle(api: Api) -> None:
+    token = api.client.post("/api/v1/viz").json()["token"]
+    scene = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": POCKET, "dialect": "pal-mill"}).json()
+    at = [i for i, line in enumerate(scene["lines"]) if line == 5]
+    first = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": at[0]}).json()
+    last = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": at[-1]}).json()
+    assert first["line"] == 5 and first["cycle"] == {"code": "G72", "pass": 1, "of": 3, "defined_in_line": 4}
+    assert last["cycle"]["pass"] == 3
+    assert api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}).json()["cycle"] is None
 
 
 def test_exercise_scene_shows_the_stock(api: Api) -> None:

@@ -118,15 +118,20 @@ const hoverHelp = hoverTooltip((view, pos) => {
   if (!entry) return null;
   // a cycle block: how many passes the cycle makes here (from the live toolpath of that line)
   const cycle = code ? lives.get(view)?.cycles.get(line.number) : null;
-  const passes = cycle && cycle.code === `${address}${parseInt(m[2], 10)}` ? cycle.of : null;
+  const hovered = `${address}${parseInt(m[2], 10)}`;
+  const passes = cycle && cycle.code === hovered ? cycle.of : null;
+  // a PAL cycle call (G76–G79): which definition it runs, from which line, in how many steps per point
+  const called = cycle && cycle.defined_in_line && cycle.code !== hovered ? cycle : null;
   return {
     pos: line.from + m.index, end: line.from + m.index + m[0].length, above: true,
     create() {
       const dom = helpDom(help, entry, Boolean(code));
-      if (passes) {
+      if (passes || called) {
         const note = document.createElement("p");
         note.className = "help-cycle";
-        note.textContent = t("cycle.passes", { code: cycle.code, n: passes });
+        note.textContent = called
+          ? t("cycle.call", { code: called.code, line: called.defined_in_line, n: called.of })
+          : t("cycle.passes", { code: cycle.code, n: passes });
         dom.append(note);
       }
       return { dom };

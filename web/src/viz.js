@@ -112,7 +112,9 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
     slider.value = index;
     const r = await api(`/viz/${token}/playhead`, post({ index }));
     const line = r.body?.line;
-    info.textContent = t("play.at", { i: index + 1, n: lines.length, line: line ?? "–" });
+    const cycle = r.body?.cycle;  // a move a cycle made: its step ("Zyklus G72, Schritt 2 von 3")
+    info.textContent = t("play.at", { i: index + 1, n: lines.length, line: line ?? "–" })
+      + (cycle ? t("play.cycle", { code: cycle.code, pass: cycle.pass, of: cycle.of }) : "");
     const st = states[line];
     // on a lathe the position's x is the radius (DECISIONS §15): the line shows X as the program writes it,
     // as a diameter
