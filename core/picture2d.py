@@ -31,6 +31,7 @@ import numpy as np
 import numpy.typing as npt
 
 from core.diagnostics import Severity
+from core.geometry.polyline import simplified
 from core.toolpath import Move
 
 Lang = Literal["de", "en"]
@@ -811,25 +812,6 @@ def _notes(path: _Path, errors: list[int], info: dict[str, Any], lang: Lang) -> 
 
 
 # -- turning ------------------------------------------------------------------------------------------------
-def _simplified(z: Array, r: Array, tol: float) -> npt.NDArray[np.int64]:
-    """The indices of a polyline r(z) kept so that the dropped points are within `tol` of it (Ramer–Douglas–
-    Peucker along r)."""
-    keep = np.zeros(len(z), dtype=bool)
-    keep[[0, -1]] = True
-    stack = [(0, len(z) - 1)]
-    while stack:
-        a, b = stack.pop()
-        if b - a < 2:
-            continue
-        f = (z[a + 1:b] - z[a]) / max(z[b] - z[a], 1e-12)
-        err = np.abs(r[a + 1:b] - (r[a] + f * (r[b] - r[a])))
-        k = int(np.argmax(err))
-        if err[k] > tol:
-            keep[a + 1 + k] = True
-            stack += [(a, a + 1 + k), (a + 1 + k, b)]
-    return np.flatnonzero(keep)
-
-
 def _runs(solid: npt.NDArray[np.bool_]) -> list[tuple[int, int]]:
     edges = np.flatnonzero(np.diff(np.concatenate([[0], solid.astype(np.int8), [0]])))
     return list(zip(edges[::2].tolist(), edges[1::2].tolist(), strict=True))
@@ -884,7 +866,7 @@ def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
     for i, j in _runs(outer - inner > 1e-6):
         z, o = _stepped(z0, dz, outer, i, j)
         _, m = _stepped(z0, dz, inner, i, j)
-        ko, ki = _simplified(z, o, tol), _simplified(z, m, tol)
+        ko, ki = simplified(z, o, tol), simplified(z, m, tol)
         upper = [(z[k], o[k]) for k in ko] + [(z[k], m[k]) for k in ki[::-1]]
         section.append("M" + "L".join(f"{_c(a)} {_c(b)}" for a, b in (frame.px(*p) for p in upper)) + "Z")
         lower = [(z[k], -o[k]) for k in ko] + [(z[ko[-1]], 0.0), (z[ko[0]], 0.0)]

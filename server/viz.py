@@ -24,6 +24,8 @@ from typing import Any
 import jwt
 import numpy as np
 
+from core.geometry.polyline import simplified
+
 log = logging.getLogger("paltrainer.server")
 
 TOKEN_MINUTES = 30
@@ -1097,25 +1099,6 @@ def blank_data(blank: Any) -> dict[str, float]:
             "clamp": float(blank.clamp), "jaw_radius": float(blank.jaw_radius)}
 
 
-def _simplified(z: np.ndarray, r: np.ndarray, tol: float = PROFILE_TOLERANCE) -> np.ndarray:
-    """The indices of a polyline r(z) kept so that the dropped points are within `tol` of it (Ramer-Douglas-
-    Peucker, measured along r: r is a function of z)."""
-    keep = np.zeros(len(z), dtype=bool)
-    keep[[0, -1]] = True
-    stack = [(0, len(z) - 1)]
-    while stack:
-        a, b = stack.pop()
-        if b - a < 2:
-            continue
-        t = (z[a + 1:b] - z[a]) / max(z[b] - z[a], 1e-12)
-        err = np.abs(r[a + 1:b] - (r[a] + t * (r[b] - r[a])))
-        k = int(np.argmax(err))
-        if err[k] > tol:
-            keep[a + 1 + k] = True
-            stack += [(a, a + 1 + k), (a + 1 + k, b)]
-    return np.flatnonzero(keep)
-
-
 def _pieces(points: np.ndarray) -> list[np.ndarray]:
     """A polyline (z, r) cut at its corners: each piece is revolved with its own normals."""
     if len(points) < 3:
@@ -1187,7 +1170,7 @@ def turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
             z = np.concatenate([[lo], zs[i:j], [hi]])
             o = np.concatenate([[outer[i]], outer[i:j], [outer[j - 1]]])
             m = np.concatenate([[inner[i]], inner[i:j], [inner[j - 1]]])
-            ko, ki = _simplified(z, o), _simplified(z, m)
+            ko, ki = simplified(z, o, PROFILE_TOLERANCE), simplified(z, m, PROFILE_TOLERANCE)
             outline = [np.stack([z[ko], o[ko]], -1)]
             if np.any(m > 1e-9):
                 outline.append(np.stack([z[ki], m[ki]], -1))
@@ -1429,6 +1412,6 @@ def deviation_band(part: Any, outside: np.ndarray, inside: np.ndarray, half: boo
         for i, j in zip(edges[::2], edges[1::2], strict=True):
             z = np.concatenate([[z0 + i * dz], zs[i:j], [z0 + j * dz]])
             r = np.clip(np.concatenate([[radius[i]], radius[i:j], [radius[j - 1]]]) + lift, 0.0, None)
-            keep = _simplified(z, r)
+            keep = simplified(z, r, PROFILE_TOLERANCE)
             parts.append(revolve(np.stack([z[keep], r[keep]], -1), half))
     return _merge(parts)
