@@ -101,22 +101,29 @@ CYCLE = ("%\nO2 (SCHRUPPEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\
          "N90 G0 X100 Z100 M9\nN100 M30\n")
 
 
-def test_hover_over_a_cycle_block_tells_its_passes(server: str, browser: object) -> None:  # noqa: F811
+def hover_note(browser: object, url: str, dialect: str, program: str, needle: str) -> str:
+    """The cycle note of the hover help over `needle` once `program` is checked without a message."""
     context = browser.new_context(viewport={"width": 1366, "height": 768})  # type: ignore[attr-defined]
     page = context.new_page()
-    page.goto(f"{server}/practice?dialect=traub-tx8d")
+    page.goto(f"{url}/practice?dialect={dialect}")
     page.wait_for_selector(".cm-content")
     page.click(".cm-content")
     page.keyboard.press("Control+a")
-    page.keyboard.insert_text(CYCLE)
-    wait_until(page, "window.editor.state.doc.toString().includes('N100 M30')")
+    page.keyboard.insert_text(program)
+    last = program.rstrip().splitlines()[-1]
+    wait_until(page, f"window.editor.state.doc.toString().includes('{last}')")
     page.wait_for_selector(".diag-none", timeout=20000)
-    at = page.evaluate(COORDS, "G71 P60")
+    at = page.evaluate(COORDS, needle)
     page.mouse.move(at["x"], at["y"])
-    note = page.wait_for_selector(".help-cycle", timeout=5000)
-    # Ø60 to Ø30 is 15 mm of stock less the 0.5 mm allowance, in passes of at most 2.5 mm: 6 passes
-    assert note.inner_text() == "Zyklus G71: 6 Schnitte in diesem Programm", note.inner_text()
+    text = str(page.wait_for_selector(".help-cycle", timeout=5000).inner_text())
     context.close()
+    return text
+
+
+def test_hover_over_a_cycle_block_tells_its_passes(server: str, browser: object) -> None:  # noqa: F811
+    # Ø60 to Ø30 is 15 mm of stock less the 0.5 mm allowance, in passes of at most 2.5 mm: 6 passes
+    note = hover_note(browser, server, "traub-tx8d", CYCLE, "G71 P60")
+    assert note == "Zyklus G71: 6 Schnitte in diesem Programm", note
 
 
 POCKET = ("N10 T2 M6\nN20 S2000 F300 M3\nN30 G0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP30 D2 V2 RN8\n"
@@ -124,18 +131,6 @@ POCKET = ("N10 T2 M6\nN20 S2000 F300 M3\nN30 G0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP3
 
 
 def test_hover_over_a_pal_cycle_call_names_its_definition(server: str, browser: object) -> None:  # noqa: F811
-    context = browser.new_context(viewport={"width": 1366, "height": 768})  # type: ignore[attr-defined]
-    page = context.new_page()
-    page.goto(f"{server}/practice?dialect=pal-mill")
-    page.wait_for_selector(".cm-content")
-    page.click(".cm-content")
-    page.keyboard.press("Control+a")
-    page.keyboard.insert_text(POCKET)
-    wait_until(page, "window.editor.state.doc.toString().includes('N70 M30')")
-    page.wait_for_selector(".diag-none", timeout=20000)
-    at = page.evaluate(COORDS, "G79 X50")
-    page.mouse.move(at["x"], at["y"])
-    note = page.wait_for_selector(".help-cycle", timeout=5000)
     # ZI-5 in levels of at most D2: 3 levels at the one point of G79
-    assert note.inner_text() == "Ruft den Zyklus G72 aus Zeile 4 auf: 3 Schritte je Punkt", note.inner_text()
-    context.close()
+    note = hover_note(browser, server, "pal-mill", POCKET, "G79 X50")
+    assert note == "Ruft den Zyklus G72 aus Zeile 4 auf: 3 Schritte je Punkt", note
