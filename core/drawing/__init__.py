@@ -23,6 +23,7 @@ from dataclasses import dataclass
 import contourpy
 import numpy as np
 
+from core.drawing.cycles import Cycles, Pocket, cycles
 from core.drawing.features import (
     POINT_TOLERANCE,
     Element,
@@ -48,6 +49,7 @@ from core.drawing.frame import (
     SPACING,
     TITLE_BLOCK,
     Numbers,
+    exercise_tool_names,
     frame,
     mark_views,
     scale_text,
@@ -464,7 +466,8 @@ def _annotations(svg: Svg, L: Layout, feats: list[Feature], numbers: Numbers) ->
                     numbers.nominal(r), length=5.0)
 
 
-def _callouts(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole], numbers: Numbers) -> None:
+def _callouts(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole], numbers: Numbers,
+              extra: list[tuple[float, str, str, tuple[float, float]]] | None = None) -> None:
     """One callout per kind of feature (depth, and width for slots; diameter and depth for holes), in a column
     right of the top view, each at the height of what it names or below, where its leader crosses no text."""
     st = L.stock
@@ -491,17 +494,20 @@ def _callouts(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole], numb
         if not on_stock(at, st):
             at = e.midpoint()
         items.append((at[1], text, numbers.nominal(depth), L.top(*at)))
-    sizes: dict[tuple[float, float], list[Hole]] = {}
+    sizes: dict[tuple[float, float, str], list[Hole]] = {}
     for bore in bores:
-        sizes.setdefault((round(bore.diameter, 6), round(st.z1 - bore.z, 6)), []).append(bore)
-    for (diameter, depth), alike in sizes.items():
+        sizes.setdefault((round(bore.diameter, 6), round(st.z1 - bore.z, 6), bore.name), []).append(bore)
+    for (diameter, depth, name), alike in sizes.items():
         text = f"Ø{numbers.text(diameter)}, {labels['depth']} {numbers.text(depth)}"
+        if name:
+            text = f"{name}, " + labels["thread_depth"].format(d=numbers.text(depth))
         if len(alike) > 1:
             text = f"{len(alike)}× {text}"
         hole = max(alike, key=lambda h: (h.x, h.y))
         px, py = L.top(hole.x, hole.y)
         items.append((hole.y, text, numbers.nominal(depth), (px + diameter / 2 * L.s * math.sqrt(0.5),
                                                        py - diameter / 2 * L.s * math.sqrt(0.5))))
+    items += extra or []
     column = L.top(st.x1, 0)[0] + COLUMN
     previous = -math.inf
     for _, text, raw, pm in sorted(items, key=lambda i: -i[0]):
@@ -530,6 +536,136 @@ def _centre_lines(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole]) 
         reach = b.diameter / 2 * L.s + 2.0
         svg.line((cx - reach, cy), (cx + reach, cy), width=0.18, dash="centre")
         svg.line((cx, cy - reach), (cx, cy + reach), width=0.18, dash="centre")
+
+
+# ---- what the PAL cycles made (core/drawing/cycles.py) ------------------------------------------------------
+
+def _on(p: Pocket, u: float, v: float) -> tuple[float, float]:
+    """A point of the pocket's own frame (u along LP, v along BP, from its centre) in the part, turned by AR."""
+    a = math.radians(p.angle)
+    return (p.x + u * math.cos(a) - v * math.sin(a), p.y + u * math.sin(a) + v * math.cos(a))
+
+
+def _polar(c: tuple[float, float], r: float, degrees: float) -> tuple[float, float]:
+    return (c[0] + r * math.cos(math.radians(degrees)), c[1] + r * math.sin(math.radians(degrees)))
+
+
+def _cross_lines(svg: Svg, L: Layout, a: tuple[float, float], b: tuple[float, float], c: tuple[float, float],
+                 d: tuple[float, float]) -> None:
+    """Two centre lines (dash-dot) a–b and c–d (part coordinates), reaching 2 mm beyond on paper."""
+    for p, q in ((a, b), (c, d)):
+        pa, pb = L.top(*p), L.top(*q)
+        n = math.dist(pa, pb) or 1.0
+        u = ((pb[0] - pa[0]) / n * 2.0, (pb[1] - pa[1]) / n * 2.0)
+        svg.line((pa[0] - u[0], pa[1] - u[1]), (pb[0] + u[0], pb[1] + u[1]), width=0.18, dash="centre")
+
+
+def _cycle_lines(svg: Svg, L: Layout, made: Cycles) -> None:
+    """The centre lines of the pockets and slots, the arc slot's centre line, the pitch circles and the
+    threads' outer diameter (a thin three-quarter circle, DIN ISO 6410)."""
+    for p in made.pockets:
+        if p.code == "G75":
+            c = (p.x, p.y)
+            s0, s1 = _polar(c, p.arc_radius, p.start), _polar(c, p.arc_radius, p.start + p.sweep)
+            r = p.arc_radius * L.s
+            e0, e1 = L.top(*s0), L.top(*s1)
+            flag = 0 if p.sweep > 0 else 1
+            large = 1 if abs(p.sweep) > 180 else 0
+            svg.path(f"M{num(e0[0])} {num(e0[1])} A{num(r)} {num(r)} 0 {large} {flag} {num(e1[0])} {num(e1[1])}",
+                     width=0.18, dash="centre")
+            for q in (s0, s1):
+                svg.line(L.top(*c), L.top(*q), width=0.18, dash="centre")
+            continue
+        half_u = p.length / 2 if p.code != "G73" else p.radius
+        half_v = p.width / 2 if p.code != "G73" else p.radius
+        _cross_lines(svg, L, _on(p, -half_u, 0), _on(p, half_u, 0), _on(p, 0, -half_v), _on(p, 0, half_v))
+    for t in made.patterns:
+        if t.code != "G77":
+            continue
+        c = L.top(*t.centre)
+        r = t.radius * L.s
+        svg.path(f"M{num(c[0] + r)} {num(c[1])} A{num(r)} {num(r)} 0 1 1 {num(c[0] - r)} {num(c[1])} "
+                 f"A{num(r)} {num(r)} 0 1 1 {num(c[0] + r)} {num(c[1])}", width=0.18, dash="centre")
+        reach = 2.5
+        svg.line((c[0] - reach, c[1]), (c[0] + reach, c[1]), width=0.18)
+        svg.line((c[0], c[1] - reach), (c[0], c[1] + reach), width=0.18)
+    for b in made.holes:
+        if b.name:
+            cx, cy = L.top(b.x, b.y)
+            r = b.diameter / 2 * L.s
+            svg.path(f"M{num(cx + r)} {num(cy)} A{num(r)} {num(r)} 0 1 0 {num(cx)} {num(cy + r)}", width=THIN)
+
+
+def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
+                 numbers: Numbers) -> list[tuple[float, str, str, tuple[float, float]]]:
+    """The radii, angles and spacings of what the cycles made; their callouts (size and depth) for the column
+    right of the view."""
+    st = L.stock
+    labels = LABELS[numbers.lang]
+    zone = (L.top(st.x0, 0)[0], L.top(0, st.y0)[1])
+    items: list[tuple[float, str, str, tuple[float, float]]] = []
+    t = numbers.text
+    for p in made.pockets:
+        depth = st.z1 - p.z
+        tail = f"{labels['depth']} {t(depth)}"
+        turned = f", {t(p.angle)}°" if abs(p.angle) > 1e-9 and p.code != "G75" else ""
+        if p.code == "G72":
+            text, at = f"{t(p.length)} × {t(p.width)}{turned}, {tail}", _on(p, p.length / 2, 0)
+            if p.radius > 0:
+                k = p.radius * (1 - math.sqrt(0.5))
+                corner, pc = L.top(*_on(p, p.length / 2 - k, p.width / 2 - k)), L.top(p.x, p.y)
+                _leader(svg, corner, (corner[0] - pc[0], corner[1] - pc[1]), f"R{t(p.radius)}", "r",
+                        numbers.nominal(p.radius), zone=zone)
+        elif p.code == "G73":
+            text, at = f"Ø{t(p.length)}, {tail}", _on(p, p.radius * math.sqrt(0.5), p.radius * math.sqrt(0.5))
+        elif p.code == "G74":
+            text, at = f"{t(p.length)} × {t(p.width)}{turned}, {tail}", _on(p, 0, p.width / 2)
+            end = L.top(*_on(p, p.length / 2, 0))
+            _leader(svg, end, (end[0] - L.top(p.x, p.y)[0], end[1] - L.top(p.x, p.y)[1]), f"R{t(p.radius)}",
+                    "r", numbers.nominal(p.radius), zone=zone)
+        else:
+            c = (p.x, p.y)
+            mid = p.start + p.sweep / 2
+            text = labels["slot"].format(w=t(p.width)) + f", {tail}"
+            at = _polar(c, p.arc_radius + p.width / 2, mid)
+            on_line = L.top(*_polar(c, p.arc_radius, p.start + p.sweep / 3))
+            pc = L.top(*c)
+            _leader(svg, on_line, (on_line[0] - pc[0], on_line[1] - pc[1]), f"R{t(p.arc_radius)}", "r",
+                    numbers.nominal(p.arc_radius), zone=zone)
+            _angle_label(svg, L, c, p.arc_radius * 0.45, p.start / 2, f"{t(p.start)}°", numbers.nominal(p.start))
+            _angle_label(svg, L, c, p.arc_radius * 0.45, mid, f"{t(p.sweep)}°", numbers.nominal(p.sweep))
+            if abs(p.start) > 1e-9:  # the angle's other leg: the X direction through the centre
+                svg.line(L.top(*c), L.top(*_polar(c, p.arc_radius, 0.0)), width=0.18, dash="centre")
+        if on_stock(at, st):
+            items.append((at[1], text, numbers.nominal(depth), L.top(*at)))
+    for pattern in made.patterns:
+        if pattern.code == "G77":
+            c = pattern.centre
+            pc = L.top(*c)
+            mid = pattern.start + pattern.step / 2
+            on_circle = L.top(*_polar(c, pattern.radius, mid + pattern.step))
+            _leader(svg, on_circle, (on_circle[0] - pc[0], on_circle[1] - pc[1]), f"TK Ø{t(2 * pattern.radius)}",
+                    "diameter", numbers.nominal(2 * pattern.radius), zone=zone)
+            first, second = pattern.points[0], pattern.points[1] if len(pattern.points) > 1 else pattern.points[0]
+            for q in (first, second):
+                svg.line(pc, L.top(*q), width=0.18, dash="centre")
+            svg.line(pc, L.top(*_polar(c, pattern.radius, 0.0)), width=0.18, dash="centre")
+            _angle_label(svg, L, c, pattern.radius * 0.55, pattern.start / 2, f"{t(pattern.start)}°",
+                         numbers.nominal(pattern.start))
+            _angle_label(svg, L, c, pattern.radius * 0.55, mid, f"{t(pattern.step)}°",
+                         numbers.nominal(pattern.step))
+        elif pattern.code == "G76" and len(pattern.points) > 2:  # two holes: their ordinates say it
+            a, b = L.top(*pattern.points[0]), L.top(*pattern.points[1])
+            _aligned(svg, L, a, b, t(pattern.step), "spacing", numbers.nominal(pattern.step))
+    return items
+
+
+def _angle_label(svg: Svg, L: Layout, c: tuple[float, float], r: float, degrees: float, text: str,
+                 raw: str) -> None:
+    """An angle's text inside its legs at the centre c, a little further out where it would cover a text."""
+    spots = [(px, py + 1.2) for px, py in (L.top(*_polar(c, r * k, degrees)) for k in (1.0, 1.3, 0.75, 1.6, 0.5))]
+    at = next((q for q in spots if svg.free(text_box(q, text, anchor="middle"))), spots[0])
+    svg.text(at, text, anchor="middle", kind="angle", value=raw)
 
 
 def _coordinate_table(svg: Svg, pts: list[tuple[float, float]], L: Layout, numbers: Numbers,
@@ -622,14 +758,22 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     result = execute(exercise, exercise.reference)
     hm = result.sim.heightmap
     tools = exercise.tool_table()
-    feats = features(result.toolpath.moves, stock, tools)
-    bores = holes(result.toolpath.moves, stock, tools)
+    made = cycles(exercise.reference, exercise.dialect, result.toolpath.moves, tools,
+                  exercise_tool_names(exercise), lang)
+    moves = [m for m in result.toolpath.moves if id(m) not in made.handled]
+    feats = features(moves, stock, tools)
+    bores = holes(moves, stock, tools) + [b for b in made.holes if on_stock((b.x, b.y), stock)]
     floors = sorted({round(f.z, 6) for f in feats if f.z > stock.z0 - 1e-6}
-                    | {round(b.z, 6) for b in bores if b.z > stock.z0 - 1e-6})
-    pts = [p for f in feats for p in points(f, stock)] + [(b.x, b.y) for b in bores]
+                    | {round(b.z, 6) for b in bores if b.z > stock.z0 - 1e-6}
+                    | {round(p.z, 6) for p in made.pockets if p.z > stock.z0 - 1e-6})
+    on_circle = {(round(x, 6), round(y, 6)) for t in made.patterns if t.code == "G77" for x, y in t.points}
+    pts = [p for f in feats for p in points(f, stock)] + \
+        [(b.x, b.y) for b in bores if (round(b.x, 6), round(b.y, 6)) not in on_circle] + \
+        [(p.x, p.y) for p in made.pockets if on_stock((p.x, p.y), stock)] + \
+        [t.centre for t in made.patterns if t.code == "G77" and on_stock(t.centre, stock)]
     if on_stock((0.0, 0.0), stock):
         pts.append((0.0, 0.0))
-    free = _free_form(hm, floors, bores)
+    free = _free_form(hm, floors, bores + made.drilled)
     too_many = len(distinct([p[0] for p in pts])) > MAX_ORDINATES or len(distinct([p[1] for p in pts])) > MAX_ORDINATES
     table = free or too_many
     L = _layout(stock, *((0.0, 0.0) if table else _ordinate_texts(pts, numbers)))
@@ -650,6 +794,7 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
         svg.polyline([L.top(float(x), float(y)) for x, y in _simplify(edge, hm.grid.dx * 0.3)], width=THICK)
     svg.path(f"M{num(bx0)} {num(by0)} H{num(bx1)} V{num(by1)} H{num(bx0)} Z", width=THIN, dash="phantom")
     _centre_lines(svg, L, feats, bores)
+    _cycle_lines(svg, L, made)
     _corner_lines(svg, L, feats)
     zero = L.top(0.0, 0.0)
     _zero_symbol(svg, zero)
@@ -662,7 +807,8 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
         _ordinates(svg, L, pts, numbers)
     _size(svg, L, numbers)
     _annotations(svg, L, feats, numbers)
-    _callouts(svg, L, feats, bores, numbers)
+    marked = _cycle_marks(svg, L, made, numbers)
+    _callouts(svg, L, feats, bores, numbers, marked)
     _section(svg, L, hm, j, [] if free else floors, numbers)
     mark_views(svg, (bx0, by0, bx1, by1), (*L.side(stock.x0, stock.z1), *L.side(stock.x1, stock.z0)))
     return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")

@@ -282,6 +282,7 @@ class Hole:
     diameter: float
     tool: int | None
     line: int
+    name: str = ""  # a tapped hole's thread ("M8"): printed instead of the diameter
 
 
 def holes(moves: list[Move], stock: Stock, tools: ToolTable) -> list[Hole]:

@@ -170,6 +170,17 @@ def frame(svg: Svg) -> None:
              width=THICK)
 
 
+def exercise_tool_names(exercise: Exercise) -> dict[int, str]:
+    """The tools the exercise itself names (its `tools:` entries with a `name`), by number: what the title block
+    and a tap's thread size read (the table makes up a name for every other tool)."""
+    out: dict[int, str] = {}
+    for entry in exercise.tools:
+        name, number = entry.get("name"), entry.get("number")
+        if isinstance(name, str) and name.strip() and isinstance(number, int):
+            out[number] = name.strip()
+    return out
+
+
 def title_block(svg: Svg, exercise: Exercise, scale: float, lang: str) -> None:
     """The title block at the bottom right: title, blank (and scale), tools, workpiece zero; the exercise's id
     under it."""
@@ -182,10 +193,13 @@ def title_block(svg: Svg, exercise: Exercise, scale: float, lang: str) -> None:
     svg.line((x + 28, y), (x + 28, y + h), width=THIN)
     st = exercise.stock.stock()
     tools = []
+    named = exercise_tool_names(exercise)
     for t in sorted(exercise.tool_table().tools.values(), key=lambda t: t.number):
         names = KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN
         if t.kind == "turning":  # a lathe tool: its insert's nose radius, not a diameter
             tools.append(f"T{t.number} R{value(t.nose_radius, lang)}")
+        elif t.number in named:  # the exercise names the tool ("Gewindebohrer M8 × 1,25"): as it says
+            tools.append(f"T{t.number} {named[t.number]}")
         else:
             tools.append(f"T{t.number} {names.get(t.kind, t.kind)} Ø{value(t.diameter, lang)}")
     if exercise.blank is not None:  # a bar or tube: diameters and length
