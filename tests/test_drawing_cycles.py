@@ -90,6 +90,7 @@ def test_english_drawing() -> None:
     texts = _texts("pal-33-g76-g77-bohrungen", "en")
     assert "6× M8, thread depth 12" in texts
     assert "4× Ø6.8, depth 15" in texts
+    assert "PCD Ø40" in texts
 
 
 def test_combined_part_pocket_and_holes() -> None:

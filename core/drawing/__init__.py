@@ -11,7 +11,8 @@ has more points than ordinates can show, or floors that are not flat, the drawin
 coordinate table instead: it never prints a number the program does not give, and a coordinate it computes
 (the end of a line given by its angle) only in brackets (core/drawing/frame.py: Numbers). No text is placed on
 another (Svg.free). A turning exercise's part is drawn by core/drawing/turned.py (a half section with Ø
-dimensions).
+dimensions). What PAL cycles made (pockets, slots, hole patterns, threads) is dimensioned from the cycles' own
+words (core/drawing/cycles.py), not from the tool centre's rings.
 """
 
 from __future__ import annotations
@@ -644,8 +645,9 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
             pc = L.top(*c)
             mid = pattern.start + pattern.step / 2
             on_circle = L.top(*_polar(c, pattern.radius, mid + pattern.step))
-            _leader(svg, on_circle, (on_circle[0] - pc[0], on_circle[1] - pc[1]), f"TK Ø{t(2 * pattern.radius)}",
-                    "diameter", numbers.nominal(2 * pattern.radius), zone=zone)
+            _leader(svg, on_circle, (on_circle[0] - pc[0], on_circle[1] - pc[1]),
+                    labels["pitch_circle"].format(d=t(2 * pattern.radius)), "diameter",
+                    numbers.nominal(2 * pattern.radius), zone=zone)
             first, second = pattern.points[0], pattern.points[1] if len(pattern.points) > 1 else pattern.points[0]
             for q in (first, second):
                 svg.line(pc, L.top(*q), width=0.18, dash="centre")

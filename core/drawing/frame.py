@@ -33,11 +33,13 @@ LABELS = {
     "de": {"blank": "Rohteil", "scale": "Maßstab", "tools": "Werkzeuge", "zero": "Nullpunkt", "section": "Schnitt",
            "depth": "Tiefe", "slot": "Nut {w} breit", "table": "Koordinaten", "point": "Punkt", "units": "Maße in mm",
            "top": "Draufsicht", "exercise": "Aufgabe", "title": "Benennung", "centre": "M",
-           "half": "Halbschnitt", "groove": "Einstich {w} breit", "thread_depth": "Gewindetiefe {d}"},
+           "half": "Halbschnitt", "groove": "Einstich {w} breit", "thread_depth": "Gewindetiefe {d}",
+           "pitch_circle": "TK Ø{d}"},
     "en": {"blank": "Blank", "scale": "Scale", "tools": "Tools", "zero": "Zero", "section": "Section",
            "depth": "depth", "slot": "slot {w} wide", "table": "Coordinates", "point": "Point", "units": "Dimensions in mm",
            "top": "Top view", "exercise": "Exercise", "title": "Title", "centre": "C",
-           "half": "Half section", "groove": "groove {w} wide", "thread_depth": "thread depth {d}"},
+           "half": "Half section", "groove": "groove {w} wide", "thread_depth": "thread depth {d}",
+           "pitch_circle": "PCD Ø{d}"},
 }
 
 
