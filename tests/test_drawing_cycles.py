@@ -123,3 +123,11 @@ def test_thread_size() -> None:
     assert thread_name("", 8.0, 1.25) == "M8"
     assert thread_name("", 8.0, 1.0) == "M8 × 1"  # a fine thread
     assert thread_name("Gewindebohrer M6", 5.0, 1.0, "en") == "M6"
+
+
+def test_section_shows_the_pockets_and_holes_depths() -> None:
+    """The section runs where it meets the most depths: through the pockets, not only beside them through the
+    holes; a drilled hole it cuts has its depth (the drill's tip) as a Z ordinate."""
+    assert {"-5", "-6"} <= set(_kind("pal-35-zyklen-fehler", "z"))  # G72 ZI-5 and G73 ZI-6
+    assert {"-5", "-8"} <= set(_kind("pal-34-kontur-tasche-bohrungen", "z"))  # the contour and the pocket
+    assert "-15" in _kind("pal-33-g76-g77-bohrungen", "z")  # G83 ZI-15

@@ -695,14 +695,18 @@ def _coordinate_table(svg: Svg, pts: list[tuple[float, float]], L: Layout, numbe
         svg.text((x + 42, ry), numbers.dimension(p[1]), size=3.0, anchor="end", kind="y", value=numbers.raw(p[1]))
 
 
-def _section_row(hm: HeightMap) -> int:
-    """The row of the height map the section runs along: the one that crosses the most edges (then the deepest,
-    then the one nearest the middle)."""
+def _section_row(hm: HeightMap, floors: list[float]) -> int:
+    """The row of the height map the section runs along: the one that meets the most programmed floors (a
+    pocket's depth is shown, not only the holes beside it), then crosses the most edges (then the deepest, then
+    the one nearest the middle)."""
     h, g = hm.heights, hm.grid
+    met = np.zeros(g.ny, dtype=int)
+    for z in floors:
+        met += np.any(np.abs(h - z) < 0.01, axis=1)
     changes = (np.abs(np.diff(h, axis=1)) > 1e-6).sum(axis=1)
     deepest = h.min(axis=1)
     middle = np.abs(np.arange(g.ny) - g.ny / 2)
-    return int(np.lexsort((middle, deepest, -changes))[0])
+    return int(np.lexsort((middle, deepest, -changes, -met))[0])
 
 
 def _cut_line(svg: Svg, L: Layout, y: float) -> None:
@@ -718,8 +722,10 @@ def _cut_line(svg: Svg, L: Layout, y: float) -> None:
         svg.text((end - sign * 1.5, a[1] - 1.5), "A", anchor="middle", size=3.5)
 
 
-def _section(svg: Svg, L: Layout, hm: HeightMap, j: int, floors: list[float], numbers: Numbers) -> None:
-    """Section A–A along X through row j of the height map, its Z ordinates right of it."""
+def _section(svg: Svg, L: Layout, hm: HeightMap, j: int, floors: list[float], numbers: Numbers,
+             bores: list[Hole] | None = None) -> None:
+    """Section A–A along X through row j of the height map, its Z ordinates right of it (with the depth of the
+    holes the section cuts through: a drill's tip lies between the cells)."""
     st, g = L.stock, hm.grid
     row = hm.heights[j]
     profile = [L.side(st.x0, st.z0), L.side(st.x0, float(row[0]))]
@@ -735,6 +741,8 @@ def _section(svg: Svg, L: Layout, hm: HeightMap, j: int, floors: list[float], nu
     svg.text(((x0 + x1) / 2, y0 - 4.0), f"{LABELS[numbers.lang]['section']} A–A", anchor="middle", size=3.5)
     # Z ordinates on the right: the top, every programmed floor the section meets, the base
     levels = [st.z1] + [z for z in floors if np.any(np.abs(row - z) < 0.01)] + [st.z0]
+    y = g.y0 + (j + 0.5) * g.dy
+    levels += [b.z for b in bores or [] if abs(b.y - y) <= b.diameter / 4 and b.z > st.z0]
     base_x = x1 + 8.0
     previous = -math.inf
     for z in sorted({round(v, 6) for v in levels}, reverse=True):
@@ -801,7 +809,7 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     zero = L.top(0.0, 0.0)
     _zero_symbol(svg, zero)
     _axes(svg, zero)
-    j = _section_row(hm)
+    j = _section_row(hm, [] if free else floors)
     _cut_line(svg, L, hm.grid.y0 + (j + 0.5) * hm.grid.dy)
     if table:
         _coordinate_table(svg, pts, L, numbers, (SHEET[0] - MARGIN - TITLE_BLOCK[0], MARGIN + 8.0))
@@ -811,7 +819,7 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     _annotations(svg, L, feats, numbers)
     marked = _cycle_marks(svg, L, made, numbers)
     _callouts(svg, L, feats, bores, numbers, marked)
-    _section(svg, L, hm, j, [] if free else floors, numbers)
+    _section(svg, L, hm, j, [] if free else floors, numbers, bores)
     mark_views(svg, (bx0, by0, bx1, by1), (*L.side(stock.x0, stock.z1), *L.side(stock.x1, stock.z0)))
     return svg.document(f"{exercise.title.get(lang)} — {exercise.id}")
 
