@@ -37,12 +37,12 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 from typing import Any, Literal
-from zoneinfo import ZoneInfo
 
 from sqlalchemy.orm import Session
 
 from server import repository as repo
 from server.errors import ApiError
+from server.export import BERLIN
 from server.models import Assignment, User, now
 from server.schemas import utc
 
@@ -59,7 +59,6 @@ PRACTICE_DEFAULTS: dict[str, Any] = {"live_diagnostics": True, "viz": True, "hin
 _FEATURE: dict[str, str] = {"live": "live_diagnostics", "viz": "viz", "deviation": "viz", "hints": "hints",
                             "solution": "solution"}
 _WITHHELD = ("hints", "solution", "reference", "deviation", "grade")  # rule 3
-BERLIN = ZoneInfo("Europe/Berlin")
 
 
 def settings_of(assignment: Assignment) -> dict[str, Any]:

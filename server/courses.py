@@ -18,7 +18,7 @@ from server import repository as repo
 from server.db import Database
 from server.deps import Principal
 from server.errors import ApiError
-from server.export import csv_text
+from server.export import excel_csv
 from server.lti import ags as lti_ags
 from server.models import Assignment, Course, Exercise, User, now
 from server.schemas import ImportedUser, OverrideOut, Slug, Time, Title, Username, text, utc
@@ -662,5 +662,5 @@ def assignment_results_csv(db: Session, principal: Principal, assignment_id: int
         if trainee.max_total:  # the sum over the whole assignment, as the matrix shows it
             rows.append([trainee.username, "Summe", trainee.total, trainee.max_total,
                          services.decimal_comma(trainee.percent or 0.0), "", "", "", "", ""])
-    return "\ufeff" + csv_text(RESULT_COLUMNS, rows, delimiter=";")
+    return excel_csv(RESULT_COLUMNS, rows)
 

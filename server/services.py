@@ -8,7 +8,6 @@ import re
 import secrets
 from dataclasses import dataclass
 from typing import Any
-from zoneinfo import ZoneInfo
 
 from sqlalchemy.orm import Session
 from starlette.concurrency import run_in_threadpool
@@ -21,7 +20,7 @@ from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
 from server.errors import ApiError
-from server.export import csv_text, excel_csv
+from server.export import excel_cell, excel_csv
 from server.lti import ags as lti_ags
 from server.models import ApiKey, Exercise, Submission, User
 from server.schemas import (
@@ -985,7 +984,6 @@ def import_class_list_by(db: Session, principal: Principal, data: bytes, instruc
 
 # --- the results table (issue 15) -------------------------------------------------------------------
 
-BERLIN = ZoneInfo("Europe/Berlin")
 
 
 def results(db: Session, principal: Principal) -> Results:
@@ -1039,7 +1037,7 @@ RESULTS_COLUMNS = ("Benutzer", "Lehrkraft", "Aufgabe", "Titel", "Beste Punktzahl
 
 def berlin_time(value: Any) -> str:
     """A stored time as German Excel reads it: local time in Germany, to the second."""
-    return str(utc(value).astimezone(BERLIN).strftime("%d.%m.%Y %H:%M:%S"))
+    return str(excel_cell(utc(value)))
 
 
 def decimal_comma(value: float) -> str:
@@ -1063,4 +1061,4 @@ def results_csv(db: Session, principal: Principal) -> str:
                          "" if cell.best_score is None else cell.best_score,
                          "" if cell.max_score is None else cell.max_score, percent, len(cell.submissions),
                          cell.best_submission, berlin_time(cell.created_at)])
-    return "\ufeff" + csv_text(RESULTS_COLUMNS, rows, delimiter=";")
+    return excel_csv(RESULTS_COLUMNS, rows)
