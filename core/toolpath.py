@@ -56,6 +56,7 @@ class Move:
     call_stack: tuple[tuple[str | None, int], ...] = ()  # calling blocks (source, line), outermost first
     cycle: tuple[str, int, int] | None = None  # made by a cycle: (code "G71", pass n, of m passes)
     cycle_definition: int | None = None  # PAL cycles: the line of the block that defined the cycle (span: the call)
+    cycle_point: tuple[int, int] | None = None  # PAL cycle calls: (point k, of n points) the move belongs to
     thread: bool = False  # a thread-cutting feed: the feed per revolution is the pitch
     pitch: float | None = None  # mm per revolution of a thread move
 
@@ -114,7 +115,10 @@ class Move:
             **({} if self.cycle is None else {"cycle": {"code": self.cycle[0], "pass": self.cycle[1],
                                                         "of": self.cycle[2],
                                                         **({} if self.cycle_definition is None else
-                                                           {"defined_in_line": self.cycle_definition})}}),
+                                                           {"defined_in_line": self.cycle_definition}),
+                                                        **({} if self.cycle_point is None else
+                                                           {"point": self.cycle_point[0],
+                                                            "points": self.cycle_point[1]})}}),
             **({"thread": True, "pitch": self.pitch} if self.thread else {}),
         }
 

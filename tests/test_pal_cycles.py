@@ -54,7 +54,8 @@ def test_a_definition_moves_nothing_and_the_call_drills_there() -> None:
     assert {m.line for m in moves} == {5}  # the calling block
     assert {m.cycle_definition for m in moves} == {4}  # the defining block
     assert {m.cycle for m in moves} == {("G81", 1, 1)}
-    assert moves[2].to_json()["cycle"] == {"code": "G81", "pass": 1, "of": 1, "defined_in_line": 4}
+    assert moves[2].to_json()["cycle"] == {"code": "G81", "pass": 1, "of": 1, "defined_in_line": 4,
+                                         "point": 1, "points": 1}
 
 
 def test_a_call_without_a_definition_is_an_error_and_moves_nothing() -> None:

@@ -27,6 +27,7 @@ class CyclePath:
         self.items: list[Move | Dwell] = []
         self.pos: Vec3 = start
         self.step, self.steps = 1, steps
+        self.point: tuple[int, int] | None = None  # PAL calls: (point k, of n) the moves now belong to
 
     def go(self, kind: MoveKind, to: Vec3, spindle: Spindle = "on", feed: float | None = None, **arc: object) -> None:
         """A move to `to` (nothing when it is already there, unless an arc's data make it a full circle)."""
@@ -41,7 +42,7 @@ class CyclePath:
         self.items.append(dataclasses.replace(
             t, kind=kind, start=self.pos, end=to, spindle=speed, spindle_direction=direction,
             exact_stop=kind == "rapid", feed=t.feed if feed is None else feed,
-            cycle=(self.code, self.step, self.steps), cycle_definition=self.definition,
+            cycle=(self.code, self.step, self.steps), cycle_definition=self.definition, cycle_point=self.point,
             **arc))  # type: ignore[arg-type]
         self.pos = to
 

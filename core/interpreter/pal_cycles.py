@@ -386,7 +386,8 @@ def call(setup: RunSetup, state: ModalState, here: Vec3, name: str, values: dict
         d.append(diag("PAL-E017", span, limit=setup.limits.max_moves))
         return None
     path = _Path(code, template, span, definition.line, here)
-    for x, y, surface in points:
+    for k, (x, y, surface) in enumerate(points, 1):
+        path.point = (k, len(points))
         safety = surface + v
         retract = max(w, safety) if w is not None else safety  # (RECONSTRUCTED["W"])
         if path.pos[2] < retract - EPS:

@@ -130,7 +130,14 @@ POCKET = ("N10 T2 M6\nN20 S2000 F300 M3\nN30 G0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP3
           "N50 G79 X50 Y40 Z0\nN60 G0 Z50\nN70 M30\n")
 
 
+HOLES = ("N10 T3 M6\nN20 S1800 F180 M3\nN30 G0 X0 Y0 Z10\nN40 G81 ZI-10 V2\n"
+         "N50 G77 IA50 JA50 R20 AN0 AI90 O4 Z0\nN60 G0 Z50\nN70 M30\n")
+
+
 def test_hover_over_a_pal_cycle_call_names_its_definition(server: str, browser: object) -> None:  # noqa: F811
     # ZI-5 in levels of at most D2: 3 levels at the one point of G79
     note = hover_note(browser, server, "pal-mill", POCKET, "G79 X50")
-    assert note == "Ruft den Zyklus G72 aus Zeile 4 auf: 3 Schritte je Punkt", note
+    assert note == "Ruft den Zyklus G72 aus Zeile 4 auf: 1 Punkt, je 3 Schritte", note
+    # G81 on a pitch circle of four holes, one step each
+    note = hover_note(browser, server, "pal-mill", HOLES, "G77 IA50")
+    assert note == "Ruft den Zyklus G81 aus Zeile 4 auf: 4 Punkte, je 1 Schritt", note

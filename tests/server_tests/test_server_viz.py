@@ -54,7 +54,8 @@ def test_playhead_answers_the_cycle(api: Api) -> None:
     at = [i for i, line in enumerate(scene["lines"]) if line == 5]
     first = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": at[0]}).json()
     last = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": at[-1]}).json()
-    assert first["line"] == 5 and first["cycle"] == {"code": "G72", "pass": 1, "of": 3, "defined_in_line": 4}
+    assert first["line"] == 5 and first["cycle"] == {"code": "G72", "pass": 1, "of": 3, "defined_in_line": 4,
+                                                             "point": 1, "points": 1}
     assert last["cycle"]["pass"] == 3
     assert api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}).json()["cycle"] is None
 

@@ -130,7 +130,9 @@ const hoverHelp = hoverTooltip((view, pos) => {
         const note = document.createElement("p");
         note.className = "help-cycle";
         note.textContent = called
-          ? t("cycle.call", { code: called.code, line: called.defined_in_line, n: called.of })
+          ? t("cycle.call", { code: called.code, line: called.defined_in_line,
+            points: t(`cycle.points.${called.points === 1 ? "one" : "other"}`, { n: called.points ?? 1 }),
+            steps: t(`cycle.steps.${called.of === 1 ? "one" : "other"}`, { n: called.of }) })
           : t("cycle.passes", { code: cycle.code, n: passes });
         dom.append(note);
       }
