@@ -131,3 +131,19 @@ def test_section_shows_the_pockets_and_holes_depths() -> None:
     assert {"-5", "-6"} <= set(_kind("pal-35-zyklen-fehler", "z"))  # G72 ZI-5 and G73 ZI-6
     assert {"-5", "-8"} <= set(_kind("pal-34-kontur-tasche-bohrungen", "z"))  # the contour and the pocket
     assert "-15" in _kind("pal-33-g76-g77-bohrungen", "z")  # G83 ZI-15
+
+
+def test_pocket_from_its_corner_and_a_call_without_position() -> None:
+    """EP1: the call's point is the pocket's corner, the drawing dimensions its centre; a call without X and Y
+    runs where the tool stood."""
+    base = _exercise("pal-30-g72-rechtecktasche")
+    corner = base.model_copy(update={"reference": base.reference.replace("LP60", "EP1 LP60")
+                                     .replace("G79 X50 Y40 Z0", "G79 X10 Y10 Z0")})
+    texts = _svg_texts(corner)
+    assert "60 × 40, Tiefe 6" in texts
+    root = ET.fromstring(part_drawing(corner))
+    xs = [t.text for t in root.iter(f"{SVG}text") if t.get("data-kind") == "x"]
+    ys = [t.text for t in root.iter(f"{SVG}text") if t.get("data-kind") == "y"]
+    assert "40" in xs and "30" in ys  # the centre: X10 + 60 / 2, Y10 + 40 / 2
+    here = base.model_copy(update={"reference": base.reference.replace("G79 X50 Y40 Z0", "G79 Z0")})
+    assert "60 × 40, Tiefe 6" in _svg_texts(here)

@@ -611,16 +611,20 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
         tail = f"{labels['depth']} {t(depth)}"
         turned = f", {t(p.angle)}°" if abs(p.angle) > 1e-9 and p.code != "G75" else ""
         if p.code == "G72":
-            text, at = f"{t(p.length)} × {t(p.width)}{turned}, {tail}", _on(p, p.length / 2, 0)
+            text = f"{t(p.length)} × {t(p.width)}{turned}, {tail}"
+            spots = [_on(p, p.length / 2, 0), _on(p, 0, p.width / 2), _on(p, -p.length / 2, 0), _on(p, 0, -p.width / 2)]
             if p.radius > 0:
                 k = p.radius * (1 - math.sqrt(0.5))
                 corner, pc = L.top(*_on(p, p.length / 2 - k, p.width / 2 - k)), L.top(p.x, p.y)
                 _leader(svg, corner, (corner[0] - pc[0], corner[1] - pc[1]), f"R{t(p.radius)}", "r",
                         numbers.nominal(p.radius), zone=zone)
         elif p.code == "G73":
-            text, at = f"Ø{t(p.length)}, {tail}", _on(p, p.radius * math.sqrt(0.5), p.radius * math.sqrt(0.5))
+            text = f"Ø{t(p.length)}, {tail}"
+            spots = [_on(p, p.radius * math.sqrt(0.5), p.radius * math.sqrt(0.5)), _on(p, -p.radius, 0),
+                     _on(p, 0, -p.radius)]
         elif p.code == "G74":
-            text, at = f"{t(p.length)} × {t(p.width)}{turned}, {tail}", _on(p, 0, p.width / 2)
+            text = f"{t(p.length)} × {t(p.width)}{turned}, {tail}"
+            spots = [_on(p, 0, p.width / 2), _on(p, 0, -p.width / 2)]
             end = L.top(*_on(p, p.length / 2, 0))
             _leader(svg, end, (end[0] - L.top(p.x, p.y)[0], end[1] - L.top(p.x, p.y)[1]), f"R{t(p.radius)}",
                     "r", numbers.nominal(p.radius), zone=zone)
@@ -628,7 +632,7 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
             c = (p.x, p.y)
             mid = p.start + p.sweep / 2
             text = labels["slot"].format(w=t(p.width)) + f", {tail}"
-            at = _polar(c, p.arc_radius + p.width / 2, mid)
+            spots = [_polar(c, p.arc_radius + p.width / 2, mid), _polar(c, p.arc_radius - p.width / 2, mid)]
             on_line = L.top(*_polar(c, p.arc_radius, p.start + p.sweep / 3))
             pc = L.top(*c)
             _leader(svg, on_line, (on_line[0] - pc[0], on_line[1] - pc[1]), f"R{t(p.arc_radius)}", "r",
@@ -637,7 +641,8 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
             _angle_label(svg, L, c, p.arc_radius * 0.45, mid, f"{t(p.sweep)}°", numbers.nominal(p.sweep))
             if abs(p.start) > 1e-9:  # the angle's other leg: the X direction through the centre
                 svg.line(L.top(*c), L.top(*_polar(c, p.arc_radius, 0.0)), width=0.18, dash="centre")
-        if on_stock(at, st):
+        at = next((q for q in spots if on_stock(q, st)), None)  # a point of its edge that lies on the blank
+        if at is not None:
             items.append((at[1], text, numbers.nominal(depth), L.top(*at)))
     for pattern in made.patterns:
         if pattern.code == "G77":

@@ -110,26 +110,20 @@ def _pocket(code: str, df: dict[str, float], call: dict[str, float], moves: list
     if not cut:
         return None
     z = min(m.end[2] for m in cut)
-    xs = [p for m in cut for p in (m.start[0], m.end[0])]
-    ys = [p for m in cut for p in (m.start[1], m.end[1])]
     ar = call.get("AR", df.get("AR", 0.0))
-    if "X" in call and "Y" in call:
-        x, y = call["X"], call["Y"]
-        dx = dy = 0.0
-        if int(df.get("EP", 0)) == 1:
-            if code == "G72":
-                dx, dy = df.get("LP", 0.0) / 2, df.get("BP", 0.0) / 2
-            elif code == "G74":
-                dx = df.get("LP", 0.0) / 2 - df.get("BP", 0.0) / 2
-            elif code == "G75":
-                an = math.radians(df.get("AN", 0.0))
-                dx, dy = -df.get("RP", 0.0) * math.cos(an), -df.get("RP", 0.0) * math.sin(an)
-        u, v = _rot((dx, dy), ar)
-        x, y = x + u, y + v
-    elif code == "G75":
-        return None
-    else:
-        x, y = (min(xs) + max(xs)) / 2, (min(ys) + max(ys)) / 2
+    # the call's point; where the call leaves out X or Y, where the tool stood (the cycle's first move starts there)
+    x, y = call.get("X", moves[0].start[0]), call.get("Y", moves[0].start[1])
+    dx = dy = 0.0
+    if int(df.get("EP", 0)) == 1:
+        if code == "G72":
+            dx, dy = df.get("LP", 0.0) / 2, df.get("BP", 0.0) / 2
+        elif code == "G74":
+            dx = df.get("LP", 0.0) / 2 - df.get("BP", 0.0) / 2
+        elif code == "G75":
+            an = math.radians(df.get("AN", 0.0))
+            dx, dy = -df.get("RP", 0.0) * math.cos(an), -df.get("RP", 0.0) * math.sin(an)
+    u, v = _rot((dx, dy), ar)
+    x, y = x + u, y + v
     if code == "G72" and "LP" in df and "BP" in df:
         return Pocket(code, x, y, z, df["LP"], df["BP"], df.get("RN", 0.0), ar, line=line)
     if code == "G73" and "R" in df:
@@ -184,8 +178,11 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
     patterns: dict[tuple[tuple[float, float], ...], Pattern] = {}
     for (definition, line, code), group in calls.items():
         df, call = _words(blocks.get(definition)), _words(blocks.get(line))
+        call_code = next((f"G{int(w.value)}" for w in (blocks[line].words if line in blocks else ())
+                          if w.address.upper() == "G" and w.value is not None and 76 <= w.value <= 79), "")
         if code in POCKETS:
-            pocket = _pocket(code, df, call, group, definition)
+            # a pocket called at one point (G79); one called on a line or circle of points stays drawn from its moves
+            pocket = _pocket(code, df, call, group, definition) if call_code == "G79" else None
             if pocket is None:
                 continue
             out.pockets.append(pocket)
@@ -198,8 +195,6 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
                 if tool is not None:
                     out.drilled.append(Hole(x, y, z, tool.diameter, tool.number, line))
                 drilled.setdefault((round(x, 6), round(y, 6)), []).append((code, group[0], z, df.get("F")))
-            call_code = next((f"G{int(w.value)}" for w in (blocks[line].words if line in blocks else ())
-                              if w.address.upper() == "G" and w.value is not None and 76 <= w.value <= 79), "")
             pattern = _pattern(call_code, call, points)
             if pattern is not None:
                 patterns.setdefault(tuple(sorted((round(p[0], 6), round(p[1], 6)) for p in pattern.points)), pattern)
