@@ -147,3 +147,12 @@ def test_pocket_from_its_corner_and_a_call_without_position() -> None:
     assert "40" in xs and "30" in ys  # the centre: X10 + 60 / 2, Y10 + 40 / 2
     here = base.model_copy(update={"reference": base.reference.replace("G79 X50 Y40 Z0", "G79 Z0")})
     assert "60 × 40, Tiefe 6" in _svg_texts(here)
+
+
+def test_bore_milled_on_a_helix_has_the_bore_diameter() -> None:
+    """G87 mills a bore with a smaller cutter: the drawing gives the bore's Ø (2 × R), not the cutter's."""
+    base = _exercise("pal-31-g73-kreistasche")
+    bore = base.model_copy(update={"reference": base.reference.replace("G73 ZI-8 R20 D4 V2 W5", "G87 ZI-8 R15 D2 V2 W5")})
+    texts = _svg_texts(bore)
+    assert "Ø30, Tiefe 8" in texts
+    assert not [t for t in texts if "Ø12," in t or "Nut" in t], texts

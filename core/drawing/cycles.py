@@ -137,12 +137,16 @@ def _pocket(code: str, df: dict[str, float], call: dict[str, float], moves: list
 
 
 def _plunge_points(moves: list[Move]) -> list[tuple[float, float, float]]:
-    """The points a drilling call went down at (in call order), each with the deepest z it reached there."""
+    """The points a drilling call went down at (in call order), each with the deepest z it reached there; a
+    bore milled on a helix (G87): the helix's centre."""
     out: dict[tuple[float, float], float] = {}
     for m in moves:
         if m.kind == "feed" and math.dist(_xy(m), (m.start[0], m.start[1])) < EPS and m.end[2] < m.start[2] - EPS:
             key = (round(m.end[0], 6), round(m.end[1], 6))
             out[key] = min(out.get(key, math.inf), m.end[2])
+        elif m.kind == "arc" and m.center is not None and m.cycle is not None and m.cycle[0] == "G87":
+            key = (round(m.center[0], 6), round(m.center[1], 6))
+            out[key] = min(out.get(key, math.inf), m.end[2], m.start[2])
     return [(x, y, z) for (x, y), z in out.items()]
 
 
@@ -174,7 +178,7 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
             continue
         if m.cycle[0] in POCKETS + DRILLING:
             calls.setdefault((m.cycle_definition, m.span.line, m.cycle[0]), []).append(m)
-    drilled: dict[tuple[float, float], list[tuple[str, Move, float, float | None]]] = {}
+    drilled: dict[tuple[float, float], list[tuple[str, Move, float, float | None, float | None]]] = {}
     patterns: dict[tuple[tuple[float, float], ...], Pattern] = {}
     for (definition, line, code), group in calls.items():
         df, call = _words(blocks.get(definition)), _words(blocks.get(line))
@@ -191,10 +195,11 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
             if not points:
                 continue
             tool = tools.get(group[0].tool) if group[0].tool is not None else None
+            size = 2 * df["R"] if code == "G87" and "R" in df else None
             for x, y, z in points:
                 if tool is not None:
-                    out.drilled.append(Hole(x, y, z, tool.diameter, tool.number, line))
-                drilled.setdefault((round(x, 6), round(y, 6)), []).append((code, group[0], z, df.get("F")))
+                    out.drilled.append(Hole(x, y, z, size or tool.diameter, tool.number, line))
+                drilled.setdefault((round(x, 6), round(y, 6)), []).append((code, group[0], z, df.get("F"), size))
             pattern = _pattern(call_code, call, points)
             if pattern is not None:
                 patterns.setdefault(tuple(sorted((round(p[0], 6), round(p[1], 6)) for p in pattern.points)), pattern)
@@ -205,18 +210,20 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
     return out
 
 
-def _finished(x: float, y: float, ops: list[tuple[str, Move, float, float | None]], tools: ToolTable, names: dict[int, str],
+def _finished(x: float, y: float, ops: list[tuple[str, Move, float, float | None, float | None]], tools: ToolTable, names: dict[int, str],
               lang: str) -> Hole:
     """The hole the operations at one point leave: the thread where one is tapped, else the deepest drilling
     that is no centring (a spot drill's only where nothing else drills there)."""
-    for code, m, z, pitch in ops:
+    for code, m, z, pitch, _ in ops:
         tool = tools.get(m.tool) if m.tool is not None else None
         if code == "G84" and tool is not None:
             return Hole(x, y, z, tool.diameter, m.tool, m.span.line, thread_name(names.get(tool.number, ""), tool.diameter, pitch, lang))
     drills = [o for o in ops if _kind(tools, o[1].tool) not in ("spot_drill", None)]
-    _, m, z, _ = min(drills or ops, key=lambda o: o[2])
+    _, m, z, _, size = min(drills or ops, key=lambda o: o[2])
     tool = tools.get(m.tool) if m.tool is not None else None
-    return Hole(x, y, z, tool.diameter if tool is not None else 0.0, m.tool, m.span.line)
+    if size is None:  # drilled: the drill's diameter; milled on a helix (G87): the bore's, 2 × R
+        size = tool.diameter if tool is not None else 0.0
+    return Hole(x, y, z, size, m.tool, m.span.line)
 
 
 def _kind(tools: ToolTable, number: int | None) -> str | None:
