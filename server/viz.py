@@ -25,6 +25,7 @@ import jwt
 import numpy as np
 
 from core.geometry.polyline import simplified
+from core.picture2d import png_rgb
 
 log = logging.getLogger("paltrainer.server")
 
@@ -980,22 +981,7 @@ def turned_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     toolpath = run(text, dialect, setup)
     blank = view_blank(spec, toolpath)
     profile = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION).profile
-    return _png(half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE))
-
-
-def _png(image: np.ndarray) -> bytes:
-    """An RGB image (rows top down) as PNG."""
-    import struct
-    import zlib
-
-    def chunk(kind: bytes, data: bytes) -> bytes:
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
-
-    height, width, _ = image.shape
-    rows = np.hstack([np.zeros((height, 1), dtype=np.uint8), image.reshape(height, -1)])
-    header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
-            + chunk(b"IEND", b""))
+    return png_rgb(half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE))
 
 
 def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:

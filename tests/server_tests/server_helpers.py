@@ -105,18 +105,26 @@ def error_code(response: Any) -> str:
     return str(body["error"]["code"])
 
 
-def builtin_exercise(api: Api, **changes: Any) -> str:
-    """A new built-in exercise (as if loaded from exercises/): PAL example G1 no. 1 under a new id, with
-    `changes` to its document (hints, solution, order …); returns its slug."""
+def builtin_exercise(api: Api, path: str = "pal-mill/pal-01-g1-gerade.yaml", **changes: Any) -> str:
+    """A new built-in exercise (as if loaded from exercises/): the file `path` of exercises/ (PAL example G1 no. 1)
+    under a new id, with `changes` to its document (hints, solution, order …); returns its slug."""
     from core.exercises import EXERCISES_DIR, load_exercise
     from server.seed import exercise_fields
 
-    doc = load_exercise(EXERCISES_DIR / "pal-mill" / "pal-01-g1-gerade.yaml")
+    doc = load_exercise(EXERCISES_DIR / path)
     # without the file's place in its set unless `changes` give one
     doc = type(doc).model_validate({**doc.model_dump(), "id": unique("builtin-"), "order": None, **changes})
     with api.app.state.db.session() as db:
         repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
     return doc.id
+
+
+def builtin_as_read(api: Api, path: str) -> dict[str, Any]:
+    """The built-in exercise file `path` of exercises/ under a new id, as a student reads it."""
+    slug = builtin_exercise(api, path)
+    r = api.client.get(f"/api/v1/exercises/{slug}", headers=auth(api.user()))
+    assert r.status_code == 200, r.text
+    return dict(r.json())
 
 
 def reference_of(slug: str = "pal-01-g1-gerade") -> str:

@@ -5,14 +5,11 @@ author's raw HTML or javascript: link stays text; the blank named as the worksho
 from __future__ import annotations
 
 import re
-from typing import Any
 
-from server_helpers import Api, auth, unique
+from server_helpers import Api, auth, builtin_as_read
 
 from core.exercises import EXERCISES_DIR, load_exercise
 from core.sheet import task_sheet_html
-from server import repository as repo
-from server.seed import exercise_fields
 
 HOSTILE = ("Fräsen Sie **die Nut**.\n\n<img src=x onerror=\"alert(1)\">\n\n"
            "[Handbuch](javascript:alert(document.cookie)) [Daten](data:text/html,<script>alert(1)</script>) "
@@ -20,19 +17,8 @@ HOSTILE = ("Fräsen Sie **die Nut**.\n\n<img src=x onerror=\"alert(1)\">\n\n"
            "- erster Punkt\n- zweiter Punkt\n")
 
 
-def _builtin(api: Api, path: str) -> dict[str, Any]:
-    """A built-in exercise of exercises/ under a new id, as the student reads it."""
-    doc = load_exercise(EXERCISES_DIR / path)
-    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("builtin-")})
-    with api.app.state.db.session() as db:
-        repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
-    r = api.client.get(f"/api/v1/exercises/{doc.id}", headers=auth(api.user()))
-    assert r.status_code == 200, r.text
-    return dict(r.json())
-
-
 def test_a_turning_task_reads_as_formatted_text_and_names_its_bar(api: Api) -> None:
-    ex = _builtin(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")
+    ex = builtin_as_read(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")
     html = ex["task_html_de"]
     assert "**" not in html and "<strong>G88</strong>" in html
     assert html.count("<li>") >= 6 and "<ul>" in html  # the list items, not one paragraph
@@ -45,9 +31,9 @@ def test_a_turning_task_reads_as_formatted_text_and_names_its_bar(api: Api) -> N
 
 
 def test_a_tube_and_a_milling_blank(api: Api) -> None:
-    tube = _builtin(api, "traub-tx8d/traub-11-innen-g71-g89.yaml")
+    tube = builtin_as_read(api, "traub-tx8d/traub-11-innen-g71-g89.yaml")
     assert tube["blank_de"] == "Rohteil: Rohr Ø140 × Ø30 × 100 mm, 20 mm im Futter"
-    milled = _builtin(api, "pal-mill/pal-13-g41-aussenkontur.yaml")
+    milled = builtin_as_read(api, "pal-mill/pal-13-g41-aussenkontur.yaml")
     assert milled["blank_de"] == "Rohteil: 70 × 100 × 20 mm" and milled["blank_en"] == "Blank: 70 × 100 × 20 mm"
     assert milled["zero_de"] == "Werkstücknullpunkt: linke untere Ecke der Oberseite"
 
@@ -70,7 +56,7 @@ def test_raw_html_and_foreign_links_in_a_task_stay_text(api: Api) -> None:
 
 
 def test_the_page_and_the_sheet_show_the_same_task(api: Api) -> None:
-    ex = _builtin(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")
+    ex = builtin_as_read(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")
     sheet = task_sheet_html([load_exercise(EXERCISES_DIR / "traub-tx8d/traub-10-schruppen-g71-g88.yaml")], "de")
     assert ex["task_html_de"].strip() in sheet
     assert "**" not in sheet and not re.search(r"\b(null|None|undefined|NaN)\b", sheet)

@@ -5,25 +5,10 @@ tube) from GET /examples."""
 
 from __future__ import annotations
 
-from typing import Any
-
-from server_helpers import Api, auth, unique
+from server_helpers import Api, builtin_as_read
 
 from core.exercises import EXERCISES_DIR, load_exercise
 from core.sheet import _tool_rows, tool_feeds
-from server import repository as repo
-from server.seed import exercise_fields
-
-
-def _builtin(api: Api, path: str) -> dict[str, Any]:
-    """A built-in exercise of exercises/ under a new id, as the student reads it."""
-    doc = load_exercise(EXERCISES_DIR / path)
-    doc = type(doc).model_validate({**doc.model_dump(), "id": unique("builtin-")})
-    with api.app.state.db.session() as db:
-        repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
-    r = api.client.get(f"/api/v1/exercises/{doc.id}", headers=auth(api.user()))
-    assert r.status_code == 200, r.text
-    return dict(r.json())
 
 
 def test_a_turning_tool_s_reduced_feed_is_told_apart() -> None:
@@ -36,19 +21,19 @@ def test_a_turning_tool_s_reduced_feed_is_told_apart() -> None:
 
 
 def test_the_exercise_page_gets_the_feeds_of_a_turning_exercise(api: Api) -> None:
-    turning = _builtin(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")
+    turning = builtin_as_read(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")
     assert turning["tool_feeds"] == {"4": {"feed": [0.35], "reduced": [0.12], "spindle": "M4"},
                                      "5": {"feed": [0.15, 0.1], "reduced": [0.1], "spindle": "M4"}}
-    first = _builtin(api, "traub-tx8d/traub-01-srk-fase.yaml")
+    first = builtin_as_read(api, "traub-tx8d/traub-01-srk-fase.yaml")
     assert first["tool_feeds"]["1"]["reduced"] == [0.1] and first["tool_feeds"]["1"]["feed"] == [0.2]
-    milling = _builtin(api, "pal-mill/pal-13-g41-aussenkontur.yaml")
+    milling = builtin_as_read(api, "pal-mill/pal-13-g41-aussenkontur.yaml")
     assert milling["tool_feeds"] == {}
 
 
 def test_free_practice_gets_a_turning_example_s_blank(api: Api) -> None:
-    bar = _builtin(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")["slug"]
-    tube = _builtin(api, "traub-tx8d/traub-11-innen-g71-g89.yaml")["slug"]
-    milled = _builtin(api, "pal-mill/pal-13-g41-aussenkontur.yaml")["slug"]
+    bar = builtin_as_read(api, "traub-tx8d/traub-10-schruppen-g71-g88.yaml")["slug"]
+    tube = builtin_as_read(api, "traub-tx8d/traub-11-innen-g71-g89.yaml")["slug"]
+    milled = builtin_as_read(api, "pal-mill/pal-13-g41-aussenkontur.yaml")["slug"]
     examples = {e["slug"]: e for e in api.client.get("/api/v1/examples").json()}
     assert {k: examples[bar]["blank"][k] for k in ("diameter", "inner_diameter", "length", "chuck_length")} == {
         "diameter": 100, "inner_diameter": 0, "length": 160, "chuck_length": 30}
