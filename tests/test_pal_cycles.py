@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
-from core.pipeline import run
+from core.pipeline import DIALECTS, run
 from core.toolpath import Move
 from core.tools import Tool, ToolTable
 from tests.conftest import codes
@@ -348,3 +348,11 @@ def test_hover_help_of_the_cycle_words_says_reconstructed() -> None:
         assert "nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in address.rule_de, a
         assert address.help_en and "reconstructed" in address.rule_en, a
     assert (TABLE.addresses["DB"].unit, TABLE.addresses["AN"].unit, TABLE.addresses["LP"].unit) == ("%", "°", "mm")
+
+
+def test_the_help_of_a_cycle_word_says_how_certain_its_meaning_is() -> None:
+    addresses = DIALECTS["pal-mill"].table.addresses
+    assert addresses["LP"].rule_de.startswith("Zyklenwort, Bedeutung sicher (H); nach der PAL-Syntax rekonstruiert")
+    assert addresses["DR"].rule_de.startswith("Zyklenwort, Bedeutung unsicher (L)")
+    assert addresses["VB"].rule_en.startswith("cycle word, meaning likely (M); reconstructed from the PAL syntax")
+    assert addresses["LP"].unit == "mm" and addresses["DB"].unit == "%"

@@ -362,13 +362,17 @@ _MM = ("X", "Y", "Z", "XI", "YI", "ZI", "XA", "YA", "ZA", "I", "J", "K", "IA", "
        "RP", "W", "V", "LP", "BP", "AK", "AL", "DA", "DR", "DM", "VB", "RZ")
 _UNITS = {**dict.fromkeys(_MM, "mm"), **dict.fromkeys(("AO", "AS", "AP", "AI", "AR", "AN"), "°"),
           "F": "mm/min", "E": "mm/min", "S": "1/min", "U": "s", "DB": "%"}
+_CERTAINTY = {"H": ("sicher", "certain"), "M": ("wahrscheinlich", "likely"), "L": ("unsicher", "uncertain")}
 _RULES = {
     "RN": ("+ Rundung, − Fase", "+ rounding, − chamfer"),
     "R": ("+ kürzerer Bogen (bis 180°), − längerer Bogen", "+ shorter arc (up to 180°), − longer arc"),
     "F": ("mm/min unter G94, mm pro Umdrehung unter G95", "mm/min under G94, mm per revolution under G95"),
-    # the words only the cycles take: reconstructed, their defaults in core.interpreter.pal_cycles.RECONSTRUCTED
-    **dict.fromkeys(("V", "LP", "BP", "AK", "AL", "EP", "DB", "Q", "DA", "DR", "DM", "VB", "AN", "RZ"), (
-        f"Zyklenwort, {RECONSTRUCTED_DE}", f"cycle word, {RECONSTRUCTED_EN}")),
+    # the words only the cycles take: reconstructed, their defaults in core.interpreter.pal_cycles.RECONSTRUCTED,
+    # with the certainty of their meaning (../shared/spec/pal-cycles.md: H high, M medium, L low)
+    **{word: (f"Zyklenwort, Bedeutung {_CERTAINTY[c][0]} ({c}); {RECONSTRUCTED_DE}",
+              f"cycle word, meaning {_CERTAINTY[c][1]} ({c}); {RECONSTRUCTED_EN}")
+       for word, c in {"V": "H", "LP": "H", "BP": "H", "AK": "H", "AL": "H", "EP": "L", "DB": "L", "Q": "L",
+                       "DA": "M", "DR": "L", "DM": "L", "VB": "M", "AN": "L", "RZ": "M"}.items()},
 }
 _HELP["G84"]["mandatory"] = (("ZA", "ZI"), ("F",), ("V",))  # and M3 or M4 (a code, not a word)
 _CODES = [replace(c, **_HELP.get(c.name, {})) for c in _CODES]  # type: ignore[arg-type]
