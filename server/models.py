@@ -6,7 +6,7 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Any
 
-from sqlalchemy import JSON, DateTime, Float, ForeignKey, Index, Integer, String, Text, UniqueConstraint
+from sqlalchemy import JSON, DateTime, Float, ForeignKey, Index, Integer, LargeBinary, String, Text, UniqueConstraint
 from sqlalchemy import false as sa_false
 from sqlalchemy import text as sa_text
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
@@ -36,6 +36,12 @@ class User(Base):
     # the instructor who manages this student: sees their submissions and results (issue 15)
     instructor_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True,
                                                       index=True)
+    # a password set by someone else (an instructor's or admin's reset): changed by its owner at the next login
+    must_change_password: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
+    deactivated_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
+    # the course whose join code created this account (PALTRAINER_SELF_SIGNUP=course-code); None: made otherwise
+    signup_course_id: Mapped[int | None] = mapped_column(
+        ForeignKey("courses.id", ondelete="SET NULL", name="fk_users_signup_course_id_courses"), nullable=True)
 
 
 class ApiKey(Base):
@@ -73,8 +79,44 @@ class Exercise(Base):
     document: Mapped[dict[str, Any] | None] = mapped_column(JSON, nullable=True)
     owner_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
     builtin: Mapped[bool] = mapped_column(default=False)
+    # who sees it: "draft" (its author and admins), "courses" (also the students of the author's courses),
+    # "public" (everyone on this server); an exercise set in an assignment follows that assignment's rules
+    visibility: Mapped[str] = mapped_column(String(20), default="public", server_default="public")
+    version: Mapped[int] = mapped_column(Integer, default=1, server_default="1")  # raised by an edit once published
+    archived_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)  # "deleted"
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
     updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now, onupdate=now)
+
+
+class ExerciseVersion(Base):
+    """An earlier version of an exercise, kept when an edit made a new one: submissions graded against it name
+    it (Submission.exercise_version)."""
+
+    __tablename__ = "exercise_versions"
+    __table_args__ = (UniqueConstraint("exercise_id", "version", name="uq_exercise_versions_exercise_version"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"), index=True)
+    version: Mapped[int] = mapped_column(Integer)
+    title_de: Mapped[str] = mapped_column(String(200))
+    document: Mapped[dict[str, Any] | None] = mapped_column(JSON, nullable=True)
+    created_by: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
+
+
+class ExerciseDrawing(Base):
+    """An instructor's own drawing of an exercise (PDF, PNG or SVG, sanitised and size-limited): shown to trainees
+    and printed on the sheet in place of the generated one."""
+
+    __tablename__ = "exercise_drawings"
+    __table_args__ = (UniqueConstraint("exercise_id", name="uq_exercise_drawings_exercise"),)
+
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"))
+    media_type: Mapped[str] = mapped_column(String(40))
+    filename: Mapped[str] = mapped_column(String(200))
+    data: Mapped[bytes] = mapped_column(LargeBinary)
+    created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
 
 
 class Submission(Base):
@@ -107,6 +149,8 @@ class Submission(Base):
     auto: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     # 1 … the assignment's max_submissions where it has a limit (server/access.py), else null
     attempt: Mapped[int | None] = mapped_column(Integer, nullable=True)
+    # the exercise's version it was graded against (Exercise.version at the time); None: before versions existed
+    exercise_version: Mapped[int | None] = mapped_column(Integer, nullable=True)
     # the teacher's last word (GradeOverride keeps every change): the score that counts instead of the grader's
     override_score: Mapped[int | None] = mapped_column(Integer, nullable=True)
     override_comment: Mapped[str | None] = mapped_column(Text, nullable=True)
