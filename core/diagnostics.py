@@ -3,6 +3,11 @@
 A code is stable and never reused (tests assert codes, not wording). Each entry has a default
 severity and a German and an English text with `{named}` parameters. The letter after the
 dialect prefix tells the default severity: E error, W warning, I info.
+
+The PAL- checks are shared: ISO, Beckhoff and TRAUB programs run through the same syntax, block and limit
+checks (and ISO and Beckhoff through the whole PAL milling interpreter). A program of another dialect reports
+a shared check with its own dialect's prefix and the number + 1000 (`in_dialect`): PAL-E301 is TX-E1301,
+ISO-E1301 and BK-E1301 — the dialects' own codes (TX-E301, ISO-E301) keep their meaning.
 """
 
 from __future__ import annotations
@@ -646,6 +651,9 @@ class Diagnostic:
             data["source"] = self.source
         if self.follows_from is not None:
             data["follows_from"] = self.follows_from
+        shared = catalogue_code(self.code)
+        if shared != self.code:
+            data["same_as"] = shared  # the shared check's code in the catalogue (docs/diagnostics.md)
         return data
 
 
@@ -661,6 +669,27 @@ def diag(code: str, span: Span, severity: Severity | None = None, /, **params: A
         message_en=entry.en.format(**texts),
         params=params,
     )
+
+
+SHARED_PREFIX = "PAL"  # the catalogue's prefix of the checks every dialect shares
+SHARED_OFFSET = 1000  # another dialect reports a shared check with its number + 1000 (TX-E1301 = PAL-E301)
+
+
+def in_dialect(d: Diagnostic, prefix: str) -> Diagnostic:
+    """`d` as a program of the dialect with code prefix `prefix` (TX, ISO, BK) reports it: a shared PAL- check
+    under the dialect's own prefix; every other code (the dialect's own, SIM-, DIN-) as it is."""
+    if prefix == SHARED_PREFIX or not d.code.startswith(SHARED_PREFIX + "-"):
+        return d
+    letter, number = d.code[len(SHARED_PREFIX) + 1], int(d.code[len(SHARED_PREFIX) + 2:])
+    return dataclasses.replace(d, code=f"{prefix}-{letter}{number + SHARED_OFFSET}")
+
+
+def catalogue_code(code: str) -> str:
+    """The catalogue's code of a reported one: TX-E1301 → PAL-E301; every catalogue code stays itself."""
+    prefix, _, rest = code.partition("-")
+    if prefix == SHARED_PREFIX or len(rest) < 5 or not rest[1:].isdigit() or int(rest[1:]) < SHARED_OFFSET:
+        return code
+    return f"{SHARED_PREFIX}-{rest[0]}{int(rest[1:]) - SHARED_OFFSET:03d}"
 
 
 def _fmt(value: Any) -> str:
@@ -729,7 +758,11 @@ def catalogue_markdown() -> str:
     """docs/diagnostics.md, generated from the catalogue (tests keep the two in step)."""
     rows = ["# Diagnostics", "",
             ("Every message PAL Trainer can give, generated from `core/diagnostics.py` "
-             "(`python -m core.diagnostics > docs/diagnostics.md`). Codes are stable and never reused."),
+             "(`python -m core.diagnostics > docs/diagnostics.md`). Codes are stable and never reused. The PAL- "
+             "checks are shared by every dialect: a program of another dialect reports one with its own prefix and "
+             "the number + 1000 — PAL-E301 is TX-E1301 (TRAUB), ISO-E1301 (SINUMERIK ISO) and BK-E1301 (Beckhoff), "
+             "and its JSON says `\"same_as\": \"PAL-E301\"`. The dialects' own codes (TX-E301, ISO-E301 …) are "
+             "listed as they are."),
             "", "| Code | Severity | Deutsch | English |", "|---|---|---|---|"]
     for code, e in CATALOGUE.items():
         rows.append(f"| {code} | {e.severity.value} | {e.de} | {e.en} |")

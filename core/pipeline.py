@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from functools import partial
 from typing import Any
 
-from core.diagnostics import Diagnostic, diag
+from core.diagnostics import Diagnostic, diag, in_dialect
 from core.dialects.beckhoff import TABLE as BECKHOFF_TABLE
 from core.dialects.beckhoff import VALUED_CODES as BECKHOFF_VALUED
 from core.dialects.codes import CodeTable
@@ -44,6 +44,7 @@ class Dialect:
     library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
     lathe: bool = False  # turning: X is shown as a diameter (the moves' x is the radius, DECISIONS §15)
     program_numbers: bool = False  # a leading O word starts a program (ISO: `O1000` … `M99`)
+    code_prefix: str = "PAL"  # the prefix of its diagnostics; shared checks become e.g. TX-E1301 (in_dialect)
 
     def parser(self) -> BlockParser:
         return parser_for(self.grammar, self.valued_codes, self.program_numbers)
@@ -53,19 +54,21 @@ DIALECTS: dict[str, Dialect] = {
     "pal-mill": Dialect("pal-mill", "PAL Fräsen", "PAL milling", "pal_mill", PAL_MILL_TABLE, pal_mill_block),
     "sinumerik-iso": Dialect("sinumerik-iso", "SINUMERIK 808D ISO Fräsen", "SINUMERIK 808D ISO milling",
                              "iso", ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE), library_prefix="O",
-                             program_numbers=True),
+                             program_numbers=True, code_prefix="ISO"),
     "beckhoff": Dialect("beckhoff", "Beckhoff TwinCAT CNC", "Beckhoff TwinCAT CNC", "beckhoff", BECKHOFF_TABLE,
-                        partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED),
+                        partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED, code_prefix="BK"),
     "traub-tx8d": Dialect("traub-tx8d", "TRAUB TX 8 D Drehen", "TRAUB TX 8 D turning", "traub", TRAUB_TABLE,
                           pal_mill_block, runner=traub_run, skip_blocks=True, library_prefix="O",
-                          lathe=True),
+                          lathe=True, code_prefix="TX"),
 }
 DEFAULT_DIALECT = "pal-mill"
 
 
 def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> tuple[Program, list[Diagnostic]]:
     setup = setup or RunSetup()
-    return DIALECTS[dialect].parser().parse_program(text, setup.limits)
+    d = DIALECTS[dialect]
+    program, diagnostics = d.parser().parse_program(text, setup.limits)
+    return program, [in_dialect(x, d.code_prefix) for x in diagnostics]
 
 
 @dataclass
@@ -98,8 +101,10 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
     else:
         toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
                              memo.readings if memo is not None else None, memo.runs if memo is not None else None)
-    toolpath.diagnostics.sort(key=lambda x: (x.span.line, x.span.column))
+    toolpath.diagnostics = sorted((in_dialect(x, d.code_prefix) for x in toolpath.diagnostics),
+                                  key=lambda x: (x.span.line, x.span.column))
     toolpath.limits = setup.limits
+    toolpath.code_prefix = d.code_prefix
     return toolpath
 
 
@@ -119,7 +124,8 @@ def summarised(toolpath: Toolpath) -> Toolpath:
     if len(commands) <= limit:
         return toolpath
     kept = commands[:limit]
-    notice = diag("PAL-I018", commands[limit].span, shown=limit, total=len(commands))
+    notice = in_dialect(diag("PAL-I018", commands[limit].span, shown=limit, total=len(commands)),
+                        toolpath.code_prefix)
     return dataclasses.replace(
         toolpath, commands=kept, moves=[c for c in kept if type(c) is Move],
         dwells=[c for c in kept if type(c) is Dwell], tool_changes=[c for c in kept if type(c) is ToolChange],
@@ -135,7 +141,8 @@ def drawing(toolpath: Toolpath, tolerance: float) -> tuple[list[list[Vec3]], Dia
     for m in toolpath.moves:
         n = m.chords(tolerance)
         if n > budget:
-            return lines, diag("PAL-I019", m.span, limit=toolpath.limits.max_drawn_segments)
+            return lines, in_dialect(diag("PAL-I019", m.span, limit=toolpath.limits.max_drawn_segments),
+                                     toolpath.code_prefix)
         budget -= n
         lines.append(m.points(tolerance))
     return lines, None

@@ -71,17 +71,17 @@ def test_compensation_in_the_plane_g18() -> None:
 
 
 @pytest.mark.parametrize("block,code", [
-    ("G02 X10 Y0 I3 J0", "PAL-E202"),  # centre and end point disagree
-    ("G02 X10 Y0 R2", "PAL-E201"),  # radius too small
-    ("G18 G02 Z10 X10 J5 R5", "PAL-E204"),  # J is not a centre address of Z-X
-    ("G01 U10", "PAL-E003"),  # no fifth axis on the trainer's machine
+    ("G02 X10 Y0 I3 J0", "ISO-E1202"),  # centre and end point disagree
+    ("G02 X10 Y0 R2", "ISO-E1201"),  # radius too small
+    ("G18 G02 Z10 X10 J5 R5", "ISO-E1204"),  # J is not a centre address of Z-X
+    ("G01 U10", "ISO-E1003"),  # no fifth axis on the trainer's machine
 ])
 def test_iso_errors(block: str, code: str) -> None:
     assert (code, 4) in codes(run(READY + block + "\nM30", "sinumerik-iso"))
 
 
 def test_iso_rejects_pal_only_addresses() -> None:
-    assert ("PAL-E003", 4) in codes(run(READY + "G01 XI10\nM30", "sinumerik-iso"))
+    assert ("ISO-E1003", 4) in codes(run(READY + "G01 XI10\nM30", "sinumerik-iso"))
 
 
 # -- Beckhoff ----------------------------------------------------------------------------------------------
@@ -148,13 +148,13 @@ def test_bk05_chamfer_by_width_and_by_length() -> None:
 
 def test_first_g301_needs_a_size() -> None:
     tp = run("G0 X0 Y0\nG1 X10 F100\nG301\nG1 Y10\nM30", "beckhoff")
-    assert ("PAL-E501", 3) in codes(tp)
+    assert ("BK-E1501", 3) in codes(tp)
     assert len(tp.moves) == 2  # decoding stops at the bad block
 
 
 def test_beckhoff_blend_that_does_not_fit() -> None:
     tp = run("G0 X0 Y0\nG1 X10 F100\nG302 I50\nG1 Y10\nM30", "beckhoff")
-    assert ("PAL-E208", 3) in codes(tp)
+    assert ("BK-E1208", 3) in codes(tp)
 
 
 def test_cli_dialect_option(tmp_path: Path) -> None:

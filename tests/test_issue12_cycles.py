@@ -71,7 +71,7 @@ def test_unknown_g_code_gives_no_follow_ups_on_its_words() -> None:
 
 @pytest.mark.parametrize("dialect,expected", [
     ("sinumerik-iso", []),  # the ISO drilling cycle runs (tests/test_iso_beckhoff_programs.py)
-    ("beckhoff", [("PAL-W901", 4), ("PAL-W901", 5)]),  # Beckhoff's G80–G89: implicit subprogram calls, not yet
+    ("beckhoff", [("BK-W1901", 4), ("BK-W1901", 5)]),  # Beckhoff's G80–G89: implicit subprogram calls, not yet
 ])
 def test_iso_dialects_drilling_cycle_one_diagnostic_per_block(dialect: str, expected: list[tuple[str, int]]) -> None:
     # the shared executor: a code not modelled gives one diagnostic, and its R is not blamed on the modal G0

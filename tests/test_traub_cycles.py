@@ -69,7 +69,7 @@ EXPECTED: dict[str, list[tuple[str, int]]] = {
     "tx-31-g71-g89.nc": [],
     "tx-32-g72-g88.nc": [],
     "tx-33-g72-unterprogramm.nc": [("TX-W103", 26)],  # O520 as printed: below the usual 8000
-    "tx-34-g73.nc": [("PAL-E901", 3)],  # G73: its format line and example page are lost
+    "tx-34-g73.nc": [("TX-E1901", 3)],  # G73: its format line and example page are lost
     "tx-35-g74.nc": [],
     "tx-36-g75.nc": [],
     "tx-37-g83.nc": [],

@@ -29,7 +29,7 @@ def ends(tp: Toolpath) -> list[tuple[float, float]]:
     return [(round(m.end[0] * 2, 3), round(m.end[2], 3)) for m in tp.moves]
 
 
-NO_TOOL, NO_END = "TX-W106", "PAL-W102"
+NO_TOOL, NO_END = "TX-W106", "TX-W1102"
 
 # every example with the diagnostics it must give (code, line) — nothing else
 EXPECTED: dict[str, list[tuple[str, int]]] = {
@@ -122,7 +122,7 @@ def test_tx07_with_the_skip_key_on_the_measuring_cut_runs_first() -> None:
     assert (28.02, -30.0) in ends(tp)
     assert [c.tool for c in tp.tool_changes] == [6, 6]  # the T0606 after G26 calls the tool again
     # M00 includes M05: the fit is cut with the spindle at rest unless the operator restarts it
-    assert ("PAL-E302", 13) in codes(tp)
+    assert ("TX-E1302", 13) in codes(tp)
 
 
 def test_tx08_g59_added_to_g54_gives_the_same_workpiece_zero() -> None:

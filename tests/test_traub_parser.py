@@ -59,4 +59,4 @@ def test_pal_still_refuses_the_decimal_comma_and_l_assignments() -> None:
 def test_a_syntax_error_names_its_column() -> None:
     tp = run("G1 X1,2.3\nM30", "traub-tx8d")
     (d,) = tp.diagnostics
-    assert (d.code, d.span.line, d.span.column) == ("PAL-E002", 1, 5)
+    assert (d.code, d.span.line, d.span.column) == ("TX-E1002", 1, 5)

@@ -44,14 +44,14 @@ def test_a_section_that_calls_itself_stops_at_the_nesting_limit() -> None:
 def test_endless_repeats_end_at_the_executed_block_limit() -> None:
     subs = "%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\nG0 X40 Z2\nG0 X50\nM99\n%\n"
     tp = run("G22 A8000 H9999\nM30\n" + subs, "traub-tx8d", RunSetup(limits=Limits(max_executed_blocks=5000)))
-    assert any(c == "PAL-E013" for c, _ in codes(tp))
+    assert any(c == "TX-E1013" for c, _ in codes(tp))
 
 
 def test_huge_values_are_reported_not_computed() -> None:
     tp = run("G96 V200 T0101 M4\nG0 X" + "9" * 400 + " Z2\nM30", "traub-tx8d")
-    assert codes(tp) == [("PAL-E015", 2)]
+    assert codes(tp) == [("TX-E1015", 2)]
     tp = run("L1 = 99999999999999999999\nG0 X L1 Z2\nM30", "traub-tx8d")
-    assert any(c == "PAL-E015" for c, _ in codes(tp))
+    assert any(c == "TX-E1015" for c, _ in codes(tp))
 
 
 @pytest.mark.parametrize("program", [
@@ -65,4 +65,4 @@ def test_small_programs_finish_within_the_work_budget(program: str) -> None:
     t = time.thread_time()
     tp = run(program, "traub-tx8d")
     assert time.thread_time() - t < 1.0
-    assert any(c in ("PAL-E013", "PAL-E016", "PAL-E017") for c, _ in codes(tp))
+    assert any(c in ("TX-E1013", "TX-E1016", "TX-E1017") for c, _ in codes(tp))

@@ -20,7 +20,7 @@ from typing import Any, Literal
 import numpy as np
 import numpy.typing as npt
 
-from core.diagnostics import Diagnostic, Severity
+from core.diagnostics import Diagnostic, Severity, catalogue_code
 from core.exercises import Criterion, Exercise
 from core.grading.causes import Cause, Comparison, compare, file_line, nearest_line
 from core.grading.features import Feature, cutters, deviation_text, judge_milled, milled_features, share
@@ -220,7 +220,7 @@ def _judge(c: Criterion, ex: Exercise, program: str, ref: Machined | Turned, sub
                        f"The tool ends at Z{word(z)}, less than {en_num(SAFE_CLEARANCE)} mm above the part.",
                        [], "end_position")
     if c.id == "program_end":
-        missing = [d for d in tp.diagnostics if d.code == "PAL-W102"]
+        missing = [d for d in tp.diagnostics if catalogue_code(d.code) == "PAL-W102"]
         end = missing[0].span.line if missing else 0
         return _result(c, not missing, "Das Programm endet mit M30." if not missing else
                        f"M30 (Programmende) fehlt: das Programm endet in Zeile {end}.",

@@ -18,6 +18,7 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from core.diagnostics import catalogue_code
 from core.grading.numbers import de, en, mm, word
 from core.interpreter import Toolpath
 from core.toolpath import Move, ToolChange
@@ -264,7 +265,7 @@ def compare(ref_tp: Toolpath, ref_cut: list[int], sub_tp: Toolpath, sub_cut: lis
 
     comp_name, comp_en = ("die Schneidenradiuskompensation (SRK)", "nose-radius compensation (SRC)") if lathe else \
         ("die Fräserradiuskorrektur", "cutter radius compensation")
-    warned = [d for d in sub_tp.diagnostics if d.code == APPROACH_WARNING and d.source is None]
+    warned = [d for d in sub_tp.diagnostics if catalogue_code(d.code) == APPROACH_WARNING and d.source is None]
     if warned:
         d = warned[0]
         add(Cause("approach", d.span.line, f"Zeile {d.span.line}: {d.message.split(':')[0]}.",

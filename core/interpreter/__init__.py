@@ -78,6 +78,7 @@ class Toolpath:
     line_positions: list[Vec3] = field(default_factory=list)
     params: dict[int, float] = field(default_factory=dict)
     limits: Limits = DEFAULT_LIMITS  # the limits of the run (an answer shows at most max_answer_commands)
+    code_prefix: str = "PAL"  # the dialect's prefix of diagnostics (core.diagnostics.in_dialect)
 
     def state_at(self, line: int) -> tuple[ModalState, Vec3]:
         """What is active, and where the tool is, after line `line` (1-based) has run."""
