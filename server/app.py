@@ -24,6 +24,7 @@ from server.lti import ags as lti_ags
 from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
 from server.routes import (
+    accounts,
     assignments,
     auth,
     courses,
@@ -125,8 +126,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     pages.install_not_found(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, me, users, exercises, examples, drafts, submissions, results, dialects, viz_routes,
-                   courses, assignments):
+    for module in (pipeline, auth, accounts, me, users, exercises, examples, drafts, submissions, results, dialects,
+                   viz_routes, courses, assignments):
         api.include_router(module.router)
     api.include_router(live.router)
     api.include_router(lti_grade_routes.router)  # grade passback status and roster (issue 20)

@@ -65,14 +65,16 @@ def _lti_names(names: list[str]) -> bool:
 def _create_user(args: argparse.Namespace) -> int:
     from server import services
     from server.errors import ApiError
+    from server.security import password_problem
 
     if _lti_names([args.name]):
         return 2
     password = args.password
     if password is None:
         password = getpass.getpass("Passwort / password: ")
-    if len(password) < 8:
-        print("Das Passwort braucht mindestens 8 Zeichen / password needs at least 8 characters", file=sys.stderr)
+    problem = password_problem(password)
+    if problem is not None:
+        print(f"{problem[0][0].upper()}{problem[0][1:]} / {problem[1]}", file=sys.stderr)
         return 2
     database = _database()
     with database.session() as db:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import secrets
 from functools import cached_property
 from pathlib import Path
+from typing import Literal
 
 from pydantic import AliasChoices, Field
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -50,6 +51,9 @@ class Settings(BaseSettings):
     rate_lti_login_per_minute: int = 300  # LTI launches started per address (a school's classes behind one NAT)
     rate_join_per_minute: int = 10  # join-code tries of one user (POST /courses/join)
     rate_join_address_per_minute: int = 60  # join-code tries from one address, whoever asks
+    # self-registration: "off", or "course-code" (a visitor makes a student account with a course's join code)
+    self_signup: Literal["off", "course-code"] = "off"
+    rate_signup_per_minute: int = 30  # sign-up tries from one address (a class behind one NAT registers at once)
     rate_enrol_per_minute: int = 60  # members added by name (POST /courses/{id}/members), per user
     rate_draft_per_minute: int = 120  # draft saves (the editor saves at most every 2 s, per tab)
     # the 3D view: each live session is a viser server (a thread, a port, a few descriptors)

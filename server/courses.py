@@ -71,6 +71,8 @@ class MemberIn(BaseModel):
 class MemberOut(BaseModel):
     username: str
     role: Literal["student", "instructor"]
+    signed_up: bool = Field(default=False, description="The student made their own account with this course's "
+                                                       "join code (self-registration)")
 
 
 class ImportedMembers(BaseModel):
@@ -272,7 +274,8 @@ def delete_course(db: Session, principal: Principal, course_id: int) -> None:
 
 def list_members(db: Session, principal: Principal, course_id: int) -> list[MemberOut]:
     course_for(db, principal, course_id, manage=True)
-    return [MemberOut(username=u.username, role=m.role) for m, u in repo.members(db, course_id)]  # type: ignore[arg-type]
+    return [MemberOut(username=u.username, role=m.role,  # type: ignore[arg-type]
+                      signed_up=u.signup_course_id == course_id) for m, u in repo.members(db, course_id)]
 
 
 def add_member(db: Session, principal: Principal, course_id: int, body: MemberIn) -> MemberOut:

@@ -89,6 +89,8 @@ def resolve(db: Session, settings: Settings, token: str | None, api_key: str | N
             raise ApiError("BAD_API_KEY", headers={"WWW-Authenticate": "Bearer"})
         repo.touch_api_key(db, record)
         owner = repo.user_by_id(db, record.owner_id) if record.owner_id is not None else None
+        if owner is not None and owner.deactivated_at is not None:  # a deactivated user's keys act no more
+            raise ApiError("BAD_API_KEY", headers={"WWW-Authenticate": "Bearer"})
         return Principal(user=owner, api_key=record)
     jwt_text = token or cookie
     if jwt_text:
@@ -100,12 +102,13 @@ def resolve(db: Session, settings: Settings, token: str | None, api_key: str | N
 
 
 def token_user(db: Session, settings: Settings, jwt_text: str) -> User | None:
-    """The user a token is valid for: signed by us, not expired, naming a user, and issued since the user
-    last logged out (its version is the user's current token version); else None."""
+    """The user a token is valid for: signed by us, not expired, naming an active (not deactivated) user, and
+    issued since the user last logged out (its version is the user's current token version); else None."""
     claims = read_token(settings.jwt_secret(), jwt_text)
     user_id = token_user_id(claims) if claims else None
     user = repo.user_by_id(db, user_id) if user_id is not None else None
-    if user is None or claims is None or token_version(claims) != user.token_version:
+    if user is None or claims is None or token_version(claims) != user.token_version \
+            or user.deactivated_at is not None:
         return None
     return user
 
@@ -123,7 +126,14 @@ def get_principal(
     # worker), and one that reads more takes one again (the user stays loaded: expire_on_commit is off)
     db.commit()
     request.state.principal = principal.identity
+    if principal.api_key is None and principal.user is not None and principal.user.must_change_password \
+            and request.url.path not in PASSWORD_CHANGE_PATHS:
+        raise ApiError("PASSWORD_CHANGE_REQUIRED")
     return principal
+
+
+# what a user whose password was reset may still do until they chose their own (server/routes/accounts.py)
+PASSWORD_CHANGE_PATHS = frozenset({"/api/v1/me", "/api/v1/me/password", "/api/v1/auth/logout"})
 
 
 OptionalPrincipal = Annotated[Principal, Depends(get_principal)]

@@ -32,6 +32,19 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "BAD_TOKEN": (401, "Das Token ist ungültig oder abgelaufen.", "The token is invalid or has expired."),
     "BAD_API_KEY": (401, "Der API-Schlüssel ist ungültig oder widerrufen.", "The API key is invalid or revoked."),
     "FORBIDDEN": (403, "Dafür fehlt die Berechtigung.", "You are not allowed to do this."),
+    # accounts: passwords, resets, deactivation, self-registration (issue 31)
+    "WRONG_PASSWORD": (403, "Das bisherige Passwort ist falsch.", "The current password is wrong."),
+    "PASSWORD_RULE": (422, "Das neue Passwort ist nicht zulässig: {detail}.",
+                      "The new password is not allowed: {detail_en}."),
+    "PASSWORD_CHANGE_REQUIRED": (403, ("Ihr Passwort wurde zurückgesetzt. Bitte legen Sie zuerst ein eigenes "
+                                       "Passwort fest (Seite »Passwort ändern«)."),
+                                 ("Your password was reset. Please choose your own password first (page "
+                                  "'Change password').")),
+    "ACCOUNT_DEACTIVATED": (403, ("Dieses Konto ist deaktiviert. Bitte wenden Sie sich an Ihre Ausbildungsstätte "
+                                  "oder die Administration."),
+                            "This account is deactivated. Please contact your training centre or the administrator."),
+    "OWN_ACCOUNT": (409, "Das eigene Konto können Sie nicht deaktivieren und seine Rolle nicht ändern.",
+                    "You cannot deactivate your own account or change its role."),
     "VIZ_FOREIGN": (403, "Diese 3D-Ansicht gehört zu einer anderen Sitzung; bitte die Seite neu laden.",
                     "This 3D view belongs to another session; please reload the page."),
     "VIZ_ELSEWHERE": (410, "Diese 3D-Ansicht lief auf einem anderen Server, der nicht mehr antwortet; bitte neu öffnen.",

@@ -21,6 +21,7 @@ from pydantic import (
 from core.exercises import CriterionId
 from core.pipeline import DEFAULT_DIALECT
 from core.tools import ToolKind
+from server.security import PASSWORD_MAX, PASSWORD_MIN, password_problem
 
 
 def utc(value: datetime) -> datetime:
@@ -83,7 +84,18 @@ def _not_lti_name(name: str) -> str:
 
 NewUsername = Annotated[text(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$"), AfterValidator(_not_lti_name)]
 Password = text(1000, min_length=1)
-NewPassword = text(1000, min_length=8)
+
+
+def _password_rule(password: str) -> str:
+    problem = password_problem(password)
+    if problem is not None:
+        raise ValueError(f"{problem[0]} / {problem[1]}")
+    return password
+
+
+# a password someone chooses: the one rule of server/security.py (password_problem)
+NewPassword = Annotated[str, AfterValidator(_password_rule), AfterValidator(clean_text),
+                        Field(json_schema_extra={"minLength": PASSWORD_MIN, "maxLength": PASSWORD_MAX})]
 NewSlug = text(80, min_length=1, pattern=r"^[a-z0-9][a-z0-9-]*$")
 Title = text(200, min_length=1)
 Subtitle = text(200)
@@ -299,6 +311,12 @@ class UserOut(BaseModel):
     role: Role
     created_at: Time
     instructor: str | None = Field(default=None, description="The instructor who manages the user (students)")
+    active: bool = Field(default=True, description="False: deactivated by an admin (no login, no tokens)")
+    must_change_password: bool = Field(default=False, description="A one-time password was set: the user must "
+                                       "change it before anything else")
+    signed_up_to: int | None = Field(default=None, description="The course whose join code created the account "
+                                     "(self-registration); null: made otherwise")
+
 
 
 class Me(BaseModel):
@@ -308,6 +326,31 @@ class Me(BaseModel):
     username: str | None
     role: Role | None
     scopes: list[Scope] | None = Field(description="An API key's scopes; null for users")
+
+
+ChosenPassword = text(10_000, min_length=1)  # checked by password_problem in the route: a 422 naming the rule
+JoinCodeText = text(32, min_length=1)
+
+
+class PasswordChange(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    current_password: Password
+    new_password: ChosenPassword = Field(description="8 to 1000 characters, not the current one")
+
+
+class PasswordReset(BaseModel):
+    username: str
+    password: str = Field(description="The one-time password (shown only this once); the user must change it at "
+                                      "the next login")
+
+
+class SignupRequest(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    join_code: JoinCodeText
+    username: NewUsername
+    password: ChosenPassword = Field(description="8 to 1000 characters")
 
 
 class UserCreate(BaseModel):
@@ -608,7 +651,9 @@ class Solution(BaseModel):
 class UserUpdate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    instructor: Username | None = Field(description="The instructor who manages the user; null: nobody")
+    instructor: Username | None = Field(default=None, description="The instructor who manages the user; null: "
+                                       "nobody (left as it is when absent)")
+    role: Role | None = Field(default=None, description="The user's new role (absent or null: unchanged)")
 
 
 class ImportedUser(BaseModel):

@@ -24,6 +24,23 @@ def hash_password(password: str) -> str:
     return _passwords.hash(password)
 
 
+PASSWORD_MIN, PASSWORD_MAX = 8, 1000
+
+
+def password_problem(password: str) -> tuple[str, str] | None:
+    """The one rule for a new password (class lists, new users, changes, resets, sign-up): 8 to 1000 characters,
+    no NUL; None if it holds, else what is wrong (German, English)."""
+    if len(password) < PASSWORD_MIN:
+        return (f"das Passwort braucht mindestens {PASSWORD_MIN} Zeichen",
+                f"the password needs at least {PASSWORD_MIN} characters")
+    if len(password) > PASSWORD_MAX:
+        return (f"das Passwort darf höchstens {PASSWORD_MAX} Zeichen lang sein",
+                f"the password may be at most {PASSWORD_MAX} characters long")
+    if "\x00" in password:
+        return "das Passwort enthält das Zeichen NUL", "the password contains the NUL character"
+    return None
+
+
 def verify_password(password: str, hashed: str | None) -> bool:
     """True if `password` matches; with no hash it still spends the time of one check."""
     if hashed is None:

@@ -54,7 +54,7 @@ from server.schemas import (
     lti_reserved,
     utc,
 )
-from server.security import hash_password, new_api_key, verify_password
+from server.security import hash_password, new_api_key, password_problem, verify_password
 from server.seed import document_from_fields, exercise_fields
 from server.tasktext import task_view
 from server.workers import (
@@ -143,7 +143,8 @@ def create_user(db: Session, username: str, password: str, role: str, instructor
 
 def user_out(user: User, instructor: str | None = None) -> UserOut:
     return UserOut(id=user.id, username=user.username, role=user.role,  # type: ignore[arg-type]
-                   created_at=user.created_at, instructor=instructor)
+                   created_at=user.created_at, instructor=instructor, active=user.deactivated_at is None,
+                   must_change_password=user.must_change_password, signed_up_to=user.signup_course_id)
 
 
 def create_api_key(db: Session, name: str, scopes: list[str], owner: User | None) -> tuple[ApiKey, str]:
@@ -947,10 +948,9 @@ def parse_class_list(data: bytes) -> list[tuple[str, str | None]]:
         elif name.casefold() in seen:
             bad(i, f"Name »{name}« steht doppelt in der Liste", f"name '{name}' appears twice in the list")
         seen.add(name.casefold())
-        if password is not None and not 8 <= len(password) <= 1000:
-            bad(i, "das Passwort braucht mindestens 8 Zeichen", "the password needs at least 8 characters")
-        elif password is not None and "\x00" in password:
-            bad(i, "das Passwort enthält das Zeichen NUL", "the password contains the NUL character")
+        problem = password_problem(password) if password is not None else None
+        if problem is not None:
+            bad(i, *problem)
         out.append((name, password))
     if errors:
         raise ApiError("CLASS_LIST_INVALID", errors=errors,

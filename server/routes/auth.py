@@ -47,18 +47,21 @@ def checked_login(request: Request, db: Session, settings: Settings, username: s
     if wait:
         raise ApiError("RATE_LIMITED", headers={"Retry-After": str(wait)}, retry_after=wait)
     try:
-        return services.login(db, username, password)
+        user = services.login(db, username, password)
     except ApiError:
         for who, limit in budgets:
             limiter.record(LOGIN_FAILURES, who, limit)
         raise
+    if user.deactivated_at is not None:  # told only to whom knows the password
+        raise ApiError("ACCOUNT_DEACTIVATED")
+    return user
 
 
 def _new_token(settings: Settings, user: User) -> str:
     return make_token(settings.jwt_secret(), user.id, user.role, settings.token_minutes, user.token_version)
 
 
-@router.post("/auth/token", response_model=Token, responses=responses(401, 422, 429))
+@router.post("/auth/token", response_model=Token, responses=responses(401, 403, 422, 429))
 def token(form: Annotated[OAuth2PasswordRequestForm, Depends()], request: Request, db: DbSession,
           settings: AppSettings) -> Token:
     """OAuth2 password flow (form fields username, password): a bearer token for scripts."""
@@ -66,13 +69,18 @@ def token(form: Annotated[OAuth2PasswordRequestForm, Depends()], request: Reques
     return Token(access_token=_new_token(settings, user))
 
 
-@router.post("/auth/login", response_model=UserOut, responses=responses(401, 422, 429))
+@router.post("/auth/login", response_model=UserOut, responses=responses(401, 403, 422, 429))
 def login(body: LoginRequest, request: Request, response: Response, db: DbSession, settings: AppSettings) -> UserOut:
     """Browser login: sets the session cookie (HttpOnly, SameSite=Lax)."""
     user = checked_login(request, db, settings, body.username, body.password)
+    set_session(response, settings, user)
+    return services.user_out(user)
+
+
+def set_session(response: Response, settings: Settings, user: User) -> None:
+    """The browser's session cookie for `user` (login, sign-up, after changing the password)."""
     response.set_cookie(SESSION_COOKIE, _new_token(settings, user), max_age=settings.token_minutes * 60,
                         httponly=True, samesite="lax", secure=settings.cookie_secure, path="/")
-    return services.user_out(user)
 
 
 @router.post("/auth/logout", status_code=204)

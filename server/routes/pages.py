@@ -42,6 +42,9 @@ Viewer = Annotated[User | None, Depends(viewer)]
 
 
 def _page(name: str, title: str, status_code: int = 200, who: User | None = None) -> HTMLResponse:
+    if who is not None and who.must_change_password and name != "password":
+        # a one-time password (server/accounts.py): the change form first, nothing else
+        return HTMLResponse("", status_code=303, headers={"Location": "/password"})
     html = _html(name, f"title.{name}", title)
     if who is not None:  # for the header (web/src/header.js): who is logged in, and whether to show instructor links
         html = html.replace("<body ", f'<body data-user="{escape(who.username)}" data-role="{escape(who.role)}" ', 1)
@@ -102,12 +105,34 @@ def example_drawing(slug: str, who: Viewer) -> HTMLResponse:
 
 
 @router.get("/login")
-def login(next_: Annotated[str | None, Query(alias="next")] = None) -> Response:
+def login(settings: AppSettings, next_: Annotated[str | None, Query(alias="next")] = None) -> Response:
     """The login form; `next` (where to go afterwards) must be a path on this site, else it is dropped
     (the page checks it again before it goes there)."""
     if next_ is not None and safe_redirect(next_) != next_:
         return RedirectResponse("/login", status_code=303)
-    return _page("login", "Anmelden")
+    page = _page("login", "Anmelden")
+    if settings.self_signup == "course-code":  # "Neu hier? Mit dem Beitrittscode registrieren"
+        page = HTMLResponse(bytes(page.body).decode("utf-8").replace('<p id="signup-link" hidden>',
+                                                                      '<p id="signup-link">', 1))
+    return page
+
+
+@router.get("/password", response_model=None)
+def password(who: Viewer) -> HTMLResponse | RedirectResponse:
+    """Change one's password (reached from the user menu of the header; after a one-time password, every page
+    leads here until it is changed)."""
+    if who is None:
+        return RedirectResponse("/login?next=/password", status_code=303)
+    return _page("password", "Passwort ändern", who=who)
+
+
+@router.get("/signup")
+def signup(settings: AppSettings) -> HTMLResponse:
+    """Self-registration with a course's join code; only with PALTRAINER_SELF_SIGNUP=course-code."""
+    if settings.self_signup != "course-code":
+        return not_found()
+    return _page("signup", "Registrieren")
+
 
 
 @router.get("/docs")

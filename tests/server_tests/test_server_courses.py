@@ -44,7 +44,8 @@ def test_course_join_members_and_role_matrix(api: Api) -> None:
 
     # instructor A: their course and members; B's course, members and changes are 404
     r = api.client.get(f"/api/v1/courses/{ca['id']}/members", headers=auth(a))
-    assert r.json() == [{"username": a["name"], "role": "instructor"}, {"username": s1["name"], "role": "student"}]
+    assert r.json() == [{"username": a["name"], "role": "instructor", "signed_up": False},
+                        {"username": s1["name"], "role": "student", "signed_up": False}]
     for method, path in (("GET", ""), ("GET", "/members"), ("PATCH", ""), ("DELETE", ""),
                          ("GET", "/assignments")):
         r = api.client.request(method, f"/api/v1/courses/{cb['id']}{path}", headers=auth(a),
@@ -124,7 +125,7 @@ def test_students_an_instructor_creates_are_in_meine_klasse(api: Api) -> None:
     courses = api.client.get("/api/v1/courses", headers=auth(a)).json()
     assert [c["name"] for c in courses] == ["Meine Klasse"]
     members = api.client.get(f"/api/v1/courses/{courses[0]['id']}/members", headers=auth(a)).json()
-    assert {"username": name, "role": "student"} in members
+    assert {"username": name, "role": "student", "signed_up": False} in members
 
 
 def test_migration_0006_makes_meine_klasse_from_managed_students(tmp_path: Path) -> None:
