@@ -123,7 +123,11 @@ def password(who: Viewer) -> HTMLResponse | RedirectResponse:
     leads here until it is changed)."""
     if who is None:
         return RedirectResponse("/login?next=/password", status_code=303)
-    return _page("password", "Passwort ändern", who=who)
+    page = _page("password", "Passwort ändern", who=who)
+    if who.must_change_password:  # why the page is shown: "Ihr Passwort wurde zurückgesetzt …"
+        hidden = '<p id="password-required" class="notice" role="alert" hidden'
+        page = HTMLResponse(bytes(page.body).decode("utf-8").replace(hidden, hidden.removesuffix(" hidden"), 1))
+    return page
 
 
 @router.get("/signup")

@@ -4,6 +4,7 @@
 import { mountAbout } from "./about.js";
 import { mountDrawingPage } from "./drawing-viewer.js";
 import { mountCourse } from "./page-course.js";
+import { mountPassword, mountSignup } from "./page-account.js";
 import { mountHeader } from "./header.js";
 import { mountHome } from "./page-home.js";
 import { practiceBlocked } from "./page-exam.js";
@@ -20,6 +21,8 @@ const PAGES = {
   instructor: () => mountInstructor(document.getElementById("submissions")),
   login: () => mountLogin(document.getElementById("login"), document.getElementById("message")),
   about: () => mountAbout(document.getElementById("about")),
+  password: () => mountPassword(document.getElementById("password-form")),
+  signup: () => mountSignup(document.getElementById("signup-form")),
   drawing: () => mountDrawingPage(document.getElementById("drawing-page")),
   course: () => mountCourse(document.getElementById("course"), Number(location.pathname.split("/")[2])),
 };

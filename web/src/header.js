@@ -3,16 +3,16 @@
 // for the user (on every page, page-exam.js), the "Über / Lizenzen" link, and the language switch keeping the
 // page's state across its reload (state.js).
 
-import { api } from "./dom.js";
+import { api, el } from "./dom.js";
 import { lang } from "./i18n.js";
 import { watchPracticeLink } from "./page-exam.js";
 import { safeNext } from "./redirect.js";
 import { keepState } from "./state.js";
 
 const TEXTS = {
-  de: { logout: "Abmelden", about: "Über / Lizenzen", user: "Angemeldet als {name}", roles: { student: "Auszubildende/r",
+  de: { logout: "Abmelden", password: "Passwort ändern", about: "Über / Lizenzen", user: "Angemeldet als {name}", roles: { student: "Auszubildende/r",
     instructor: "Ausbilder/in", admin: "Administrator/in" } },
-  en: { logout: "Log out", about: "About / licences", user: "Logged in as {name}", roles: { student: "trainee",
+  en: { logout: "Log out", password: "Change password", about: "About / licences", user: "Logged in as {name}", roles: { student: "trainee",
     instructor: "instructor", admin: "administrator" } },
 };
 const tx = TEXTS[lang === "en" ? "en" : "de"];
@@ -35,6 +35,9 @@ export function mountHeader() {
     name.title = `${tx.user.replace("{name}", user)} (${tx.roles[role] || role})`;
     const logout = document.getElementById("logout");
     logout.textContent = tx.logout;
+    if (!document.getElementById("nav-password")) {  // the user menu: name, "Passwort ändern", "Abmelden"
+      logout.before("· ", el("a", { href: "/password", id: "nav-password" }, tx.password), " · ");
+    }
     logout.onclick = async () => {
       await api("/auth/logout", { method: "POST" });
       location.href = safeNext("/login");

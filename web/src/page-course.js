@@ -14,6 +14,7 @@ import { submissionSection } from "./results.js";
 import { ltiPart } from "./course-lti.js";
 import { framedHref } from "./lti-frame.js";
 import { modeLabel } from "./page-exam.js";
+import { resetButton } from "./page-account.js";
 import "./texts-exam.js";  // the modes: "Übung", "Prüfung", "Prüfung · 90 min"
 
 addTexts({
@@ -35,6 +36,9 @@ addTexts({
   "members.role.student": ["Schüler", "student"],
   "members.role.instructor": ["Lehrkraft", "instructor"],
   "members.remove": ["entfernen", "remove"],
+  "members.actions": ["Aktionen", "Actions"],
+  "members.signed_up": ["selbst registriert", "signed up"],
+  "members.signed_up_title": ["Hat sich selbst mit dem Beitrittscode registriert", "Signed up with the join code"],
   "members.remove_label": ["{name} aus der Klasse entfernen", "Remove {name} from the course"],
   "members.remove_confirm": ["{name} aus der Klasse entfernen? Die Abgaben bleiben erhalten.",
     "Remove {name} from the course? Their submissions stay."],
@@ -224,9 +228,12 @@ function membersPart(c, members) {
       if (r.ok) await refresh(members.filter((x) => x.username !== m.username));
       else { note.className = "error"; note.textContent = error(r, "instructor.error"); }
     };
-    return el("tr", {}, el("td", {}, m.username), el("td", {}, t(`members.role.${m.role}`)),
-      el("td", {}, m.role === "student" ? remove : ""));
+    const mark = m.signed_up ? el("span", { className: "badge signed-up", title: t("members.signed_up_title") },
+      t("members.signed_up")) : null;
+    return el("tr", {}, el("td", {}, m.username, mark ? " " : null, mark), el("td", {}, t(`members.role.${m.role}`)),
+      el("td", { className: "member-actions" }, ...(m.role === "student" ? [resetButton(m.username, once), " · ", remove] : [])));
   };
+  const once = el("div", { id: "reset-result", role: "status" });  // a one-time password, shown once
   const render = (list) => {
     members = list;
     const students = list.filter((m) => m.role === "student").length;
@@ -286,8 +293,8 @@ function membersPart(c, members) {
     heading, joinCode(c), none,
     el("table", { id: "member-table", className: "members" }, el("thead", {}, el("tr", {},
       el("th", {}, t("login.user")), el("th", {}, t("members.role")),
-      el("th", {}, el("span", { className: "visually-hidden" }, t("members.remove"))))), rows),
-    add, note,
+      el("th", {}, el("span", { className: "visually-hidden" }, t("members.actions"))))), rows),
+    once, add, note,
     el("h4", {}, t("members.import")), el("p", { className: "meta" }, t("members.import_help")), el("p", {}, file), out);
 }
 

@@ -31,7 +31,9 @@ export async function mountLogin(form, message) {
     const r = await api("/auth/login", {
       method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data),
     });
-    if (r.ok) {
+    if (r.ok && r.body?.must_change_password) {  // a one-time password: the user chooses their own first
+      location.href = "/password";
+    } else if (r.ok) {
       location.href = safeNext(landing(r.body?.role, new URLSearchParams(location.search).get("next")));
     } else {
       message.textContent = (r.body?.error && message_(r.body.error)) || t("login.failed");
