@@ -25,6 +25,7 @@ from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
 from server.routes import (
     accounts,
+    admin,
     assignments,
     auth,
     courses,
@@ -135,7 +136,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(health.router)
     app.include_router(pages.router)
     app.include_router(viz_routes.pages)
-    lti_routes.install(app)  # /lti/… and /api/v1/admin/lti/… (issue 20)
+    lti_routes.install(app)  # /lti/… (issue 20)
+    app.include_router(admin.router)  # /api/v1/admin/…: the admin page's platforms and keys
     app.mount("/static", StaticFiles(directory=STATIC, check_dir=False), name="static")
 
     install_openapi(app)

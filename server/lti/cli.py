@@ -17,20 +17,23 @@ def _database() -> Any:
     return database()
 
 
+_OPTIONS = {"issuer": "--issuer", "client_id": "--client-id", "auth_login_url": "--auth-url", "token_url": "--token-url",
+            "jwks_url": "--jwks-url", "deployment_ids": "--deployment", "name": "--name"}
+
+
 def _register(args: argparse.Namespace) -> int:
     from server.lti import registration
 
-    urls = {"--issuer": args.issuer, "--auth-url": args.auth_url, "--token-url": args.token_url,
-            "--jwks-url": args.jwks_url}
-    bad = [name for name, url in urls.items() if not registration.url_ok(url)]
-    if bad:
-        print(f"Keine gültige https-Adresse / not a valid https URL: {', '.join(bad)}", file=sys.stderr)
+    fields = {"issuer": args.issuer, "client_id": args.client_id, "auth_login_url": args.auth_url,
+              "token_url": args.token_url, "jwks_url": args.jwks_url, "deployment_ids": args.deployment or [],
+              "name": args.name or ""}
+    problems = registration.platform_problems(**fields)
+    for field, (de, en) in problems.items():
+        print(f"{_OPTIONS[field]}: {de} / {en}", file=sys.stderr)
+    if problems:
         return 2
     with _database().session() as db:
-        platform = registration.register(db, issuer=args.issuer, client_id=args.client_id,
-                                         auth_login_url=args.auth_url, token_url=args.token_url,
-                                         jwks_url=args.jwks_url, deployment_ids=args.deployment or [],
-                                         name=args.name or "")
+        platform = registration.register(db, **fields)
         deps = registration.deployments(db, platform.id)
     print(f"Plattform {platform.id} registriert / platform registered: {platform.issuer} "
           f"(Client-ID {platform.client_id}, Deployments: {', '.join(deps) or '-'})")
@@ -69,8 +72,7 @@ def _keys(args: argparse.Namespace) -> int:
         keys.jwks(db)  # there is always one key
         db.commit()
         for k in keys.listing(db):
-            state = "current" if k["current"] else ("retired" if k["retired_at"] else "published")
-            print(f"{k['kid']}\t{k['created_at']}\t{state}")
+            print(f"{k['kid']}\t{k['created_at']}\t{k['state']}")
     return 0
 
 

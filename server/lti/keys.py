@@ -107,8 +107,17 @@ def retire(db: Session, kid: str) -> bool:
     return True
 
 
+def _state(row: LtiToolKey, current: LtiToolKey | None) -> str:
+    if row.retired_at is not None:
+        return "retired"
+    return "current" if current is not None and row.id == current.id else "published"
+
+
 def listing(db: Session) -> list[dict[str, Any]]:
+    """Every key, oldest first, with its state: "current" (signs), "published" (in /lti/jwks, no longer signs),
+    "retired" (neither)."""
     current = _current(db)
     return [{"kid": r.kid, "created_at": r.created_at.isoformat(), "retired_at": r.retired_at.isoformat()
-             if r.retired_at else None, "current": current is not None and r.id == current.id}
+             if r.retired_at else None, "current": current is not None and r.id == current.id,
+             "state": _state(r, current)}
             for r in db.scalars(select(LtiToolKey).order_by(LtiToolKey.id))]

@@ -89,6 +89,41 @@ def service_url_ok(platform: LtiPlatform, url: str) -> bool:
     return found is not None and found in platform_origins(platform)
 
 
+# what a platform registered by hand may hold (the columns of LtiPlatform and LtiDeployment)
+PLATFORM_LIMITS = {"issuer": 500, "client_id": 255, "auth_login_url": 1000, "token_url": 1000, "jwks_url": 1000,
+                   "name": 200}
+DEPLOYMENT_MAX, DEPLOYMENTS_MAX = 255, 50
+PLATFORM_URLS = ("issuer", "auth_login_url", "token_url", "jwks_url")
+Problem = tuple[str, str]  # German, English
+
+
+def platform_problems(*, issuer: str, client_id: str, auth_login_url: str, token_url: str, jwks_url: str,
+                      deployment_ids: list[str], name: str = "") -> dict[str, Problem]:
+    """What keeps a platform from being registered by hand, per field (German, English); empty when nothing does.
+    The one check of `paltrainer admin lti-register` and POST /api/v1/admin/lti/platforms: the URLs https (http
+    only on this machine), every text within its column and without NUL, at most 50 deployment ids."""
+    values = {"issuer": issuer, "client_id": client_id, "auth_login_url": auth_login_url, "token_url": token_url,
+              "jwks_url": jwks_url, "name": name}
+    found: dict[str, Problem] = {}
+    for field, value in values.items():
+        limit = PLATFORM_LIMITS[field]
+        if "\x00" in value:
+            found[field] = ("enthält das Zeichen NUL", "contains the NUL character")
+        elif len(value) > limit:
+            found[field] = (f"höchstens {limit} Zeichen", f"at most {limit} characters")
+        elif field in PLATFORM_URLS and not url_ok(value):
+            found[field] = ("keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
+                            "not a valid https URL (e.g. https://moodle.school.org/…)")
+        elif field == "client_id" and not value.strip():
+            found[field] = ("darf nicht leer sein", "must not be empty")
+    if len(deployment_ids) > DEPLOYMENTS_MAX:
+        found["deployment_ids"] = (f"höchstens {DEPLOYMENTS_MAX} Deployment-IDs", f"at most {DEPLOYMENTS_MAX} deployment ids")
+    elif any(not d.strip() or len(d) > DEPLOYMENT_MAX or "\x00" in d for d in deployment_ids):
+        found["deployment_ids"] = (f"jede Deployment-ID 1 bis {DEPLOYMENT_MAX} Zeichen",
+                                   f"each deployment id 1 to {DEPLOYMENT_MAX} characters")
+    return found
+
+
 def register(db: Session, *, issuer: str, client_id: str, auth_login_url: str, token_url: str, jwks_url: str,
              deployment_ids: list[str], name: str = "") -> LtiPlatform:
     """Store a platform (or update the one with this issuer and client id) and add its deployment ids."""

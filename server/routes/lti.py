@@ -1,5 +1,5 @@
 """LTI 1.3 endpoints: /lti/login, /lti/launch, /lti/jwks, /lti/config, /lti/register, /lti/open, /lti/session,
-/lti/exercise/{slug}, /lti/deep-link, and the admin's /api/v1/admin/lti/… (docs/lti.md).
+/lti/exercise/{slug}, /lti/deep-link (docs/lti.md); the admin's /api/v1/admin/lti/… are in admin.py.
 
 The pages a platform frames get a Content-Security-Policy whose frame-ancestors name that platform only
 (request.state.csp_extra, read by server/middleware.py); refused launches answer a German page and are logged.
@@ -13,13 +13,13 @@ from html import escape
 from pathlib import Path
 from typing import Annotated, Any
 
-from fastapi import APIRouter, Depends, FastAPI, Form, Request
+from fastapi import APIRouter, FastAPI, Form, Request
 from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, RedirectResponse, Response
-from pydantic import BaseModel, ConfigDict, Field, field_validator
+from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 
 from server import repository as repo
-from server.deps import AppSettings, DbSession, Principal, client_address, require_admin
+from server.deps import AppSettings, DbSession, client_address
 from server.errors import ApiError
 from server.lti import deep_linking, keys, launch, registration
 from server.models import LtiPlatform
@@ -29,10 +29,8 @@ from server.security import make_token
 
 log = logging.getLogger("paltrainer.lti")
 router = APIRouter(include_in_schema=False)
-admin = APIRouter(prefix="/api/v1/admin/lti", tags=["lti"])
 STATIC = Path(__file__).resolve().parents[1] / "lti" / "static"
 DEEP_LINK_TICKET_MINUTES = 30  # the teacher picks exercises meanwhile
-AdminPrincipal = Annotated[Principal, Depends(require_admin)]
 
 
 def install(app: FastAPI) -> None:
@@ -41,7 +39,6 @@ def install(app: FastAPI) -> None:
     app.state.lti_jwks = launch.JwksCache()
     app.state.lti_transport = None
     app.include_router(router)
-    app.include_router(admin)
 
 
 def _base(request: Request) -> str:
@@ -313,73 +310,3 @@ def deep_link(request: Request, db: DbSession, ticket: Annotated[str, Form(max_l
             f"<p>{len(chosen)} Aufgabe(n) ausgewählt.</p>\n"
             '<button type="submit">Zurück zur Lernplattform</button>\n</form>')
     return _html("Auswahl senden", body, script="autosubmit.js")
-
-
-# --- admin API ---------------------------------------------------------------------------------------
-
-
-class PlatformIn(BaseModel):
-    model_config = ConfigDict(extra="forbid")
-
-    issuer: str = Field(min_length=1, max_length=500, description="The platform's issuer (iss), e.g. Moodle's URL")
-    client_id: str = Field(min_length=1, max_length=255)
-    auth_login_url: str = Field(max_length=1000, description="OIDC authorization endpoint of the platform")
-    token_url: str = Field(max_length=1000, description="OAuth 2 access token URL of the platform")
-    jwks_url: str = Field(max_length=1000, description="Public keyset URL of the platform")
-    deployment_ids: list[str] = Field(default=[], max_length=50)
-    name: str = Field(default="", max_length=200)
-
-    @field_validator("issuer", "auth_login_url", "token_url", "jwks_url")
-    @classmethod
-    def _url(cls, v: str) -> str:
-        if not registration.url_ok(v):
-            raise ValueError("https URL required")
-        return v
-
-    @field_validator("deployment_ids")
-    @classmethod
-    def _deployments(cls, v: list[str]) -> list[str]:
-        if any(not d or len(d) > 255 for d in v):
-            raise ValueError("deployment ids: 1 to 255 characters")
-        return v
-
-
-@admin.post("/platforms", status_code=201)
-def add_platform(body: PlatformIn, db: DbSession, _: AdminPrincipal) -> dict[str, Any]:
-    """Register a platform (or update the one with this issuer and client id; deployment ids are added)."""
-    return registration.platform_out(db, registration.register(db, **body.model_dump()))
-
-
-@admin.get("/platforms")
-def list_platforms(db: DbSession, _: AdminPrincipal) -> list[dict[str, Any]]:
-    return [registration.platform_out(db, p) for p in registration.platforms(db)]
-
-
-@admin.post("/registration-url")
-def new_registration_url(request: Request, settings: AppSettings, _: AdminPrincipal) -> dict[str, str]:
-    """A dynamic registration URL (valid 7 days, for one registration) for a platform's admin (Moodle: "Tool
-    URL")."""
-    return {"url": registration.registration_url(_base(request), settings)}
-
-
-@admin.get("/keys")
-def list_keys(db: DbSession, _: AdminPrincipal) -> list[dict[str, Any]]:
-    return keys.listing(db)
-
-
-@admin.post("/keys/rotate", status_code=201)
-def rotate_key(db: DbSession, _: AdminPrincipal) -> dict[str, Any]:
-    """A new signing key; the old ones stay published until retired."""
-    row = keys.rotate(db)
-    db.commit()
-    return {"kid": row.kid}
-
-
-@admin.post("/keys/{kid}/retire")
-def retire_key(kid: str, db: DbSession, _: AdminPrincipal) -> dict[str, str]:
-    """Take a key out of /lti/jwks (after platforms have fetched the newer one)."""
-    if not keys.retire(db, kid):
-        raise ApiError("NOT_FOUND")
-    db.commit()
-    return {"kid": kid}
-

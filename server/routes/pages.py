@@ -167,6 +167,15 @@ def course_frame() -> HTMLResponse:
     return _page("course", "Klasse")
 
 
+@router.get("/admin", response_model=None)
+def admin(who: Viewer) -> HTMLResponse | RedirectResponse:
+    """The admin page: users, API keys, learning platforms (web/src/page-admin.js asks /api/v1/users,
+    /api/v1/api-keys and /api/v1/admin/…). Anyone else logged in reads "Nur für Administratoren" (403)."""
+    if who is None:
+        return RedirectResponse("/login?next=/admin", status_code=303)
+    return _page("admin", "Verwaltung", status_code=200 if who.role == "admin" else 403, who=who)
+
+
 @router.get("/about")
 def about(who: Viewer) -> HTMLResponse:
     """Über / Lizenzen: PAL Trainer's licence and those of the browser packages bundled with it."""

@@ -7,9 +7,10 @@ from typing import Annotated
 from fastapi import APIRouter, Depends, Query, Request
 from starlette.concurrency import run_in_threadpool
 
+from server import repository as repo
 from server import services
 from server.deps import CurrentPrincipal, DbSession, Principal, require_admin
-from server.errors import responses
+from server.errors import ApiError, responses
 from server.schemas import ImportedUsers, UserCreate, Username, UserOut, UserUpdate
 
 router = APIRouter(prefix="/users", tags=["accounts"])
@@ -28,11 +29,25 @@ def create_user(body: UserCreate, db: DbSession, principal: CurrentPrincipal) ->
     return services.create_user_by(db, principal, body)
 
 
-@router.patch("/{username}", response_model=UserOut, responses=responses(401, 403, 404, 422))
+@router.patch("/{username}", response_model=UserOut, responses=responses(401, 403, 404, 409, 422))
 def update_user(username: Username, body: UserUpdate, db: DbSession,
-                _: Annotated[Principal, Depends(require_admin)]) -> UserOut:
-    """Admins: put a user under an instructor (`{"instructor": NAME}`) or under nobody (`null`)."""
-    return services.set_instructor(db, username, body.instructor)
+                principal: Annotated[Principal, Depends(require_admin)]) -> UserOut:
+    """Admins: change a user's role (`{"role": "instructor"}`; not their own), put a user under an instructor
+    (`{"instructor": NAME}`) or under nobody (`null`); a field left out stays as it is."""
+    user = repo.user_by_name(db, username)
+    if user is None:
+        raise ApiError("USER_NOT_FOUND", user=username)
+    if body.instructor is not None:  # checked before anything changes
+        services.instructor_named(db, body.instructor)
+    if body.role is not None and body.role != user.role:
+        if user.id == principal.user_id:  # the last admin would lock everyone out; another admin does it
+            raise ApiError("OWN_ACCOUNT")
+        user.role = body.role
+        db.commit()
+    if "instructor" in body.model_fields_set:
+        return services.set_instructor(db, username, body.instructor)
+    instructor = repo.user_by_id(db, user.instructor_id) if user.instructor_id is not None else None
+    return services.user_out(user, instructor.username if instructor else None)
 
 
 @router.post("/import", response_model=ImportedUsers, status_code=201,

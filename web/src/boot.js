@@ -2,6 +2,7 @@
 // inline script, so that the Content-Security-Policy can forbid inline script (script-src 'self').
 
 import { mountAbout } from "./about.js";
+import { mountAdmin } from "./page-admin.js";
 import { mountDrawingPage } from "./drawing-viewer.js";
 import { mountCourse } from "./page-course.js";
 import { mountPassword, mountSignup } from "./page-account.js";
@@ -24,6 +25,7 @@ const PAGES = {
   password: () => mountPassword(document.getElementById("password-form")),
   signup: () => mountSignup(document.getElementById("signup-form")),
   drawing: () => mountDrawingPage(document.getElementById("drawing-page")),
+  admin: () => mountAdmin(document.getElementById("admin")),
   course: () => mountCourse(document.getElementById("course"), Number(location.pathname.split("/")[2])),
 };
 

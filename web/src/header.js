@@ -1,7 +1,7 @@
 // The page header: who is logged in (the server puts the session's user into <body data-user data-role>) with
-// "Abmelden", instructor links only for instructors and admins, "Freies Üben" not while an exam without it runs
-// for the user (on every page, page-exam.js), the "Über / Lizenzen" link, and the language switch keeping the
-// page's state across its reload (state.js).
+// "Abmelden", instructor links only for instructors and admins, "Verwaltung" (/admin) only for admins, "Freies
+// Üben" not while an exam without it runs for the user (on every page, page-exam.js), the "Über / Lizenzen" link,
+// and the language switch keeping the page's state across its reload (state.js).
 
 import { api, el } from "./dom.js";
 import { lang } from "./i18n.js";
@@ -24,6 +24,7 @@ export function mountHeader() {
   for (const node of document.querySelectorAll("[data-role=instructor]")) {
     node.hidden = !(role === "instructor" || role === "admin");
   }
+  for (const node of document.querySelectorAll("header [data-role=admin]")) node.hidden = role !== "admin";
   watchPracticeLink();
   const login = document.getElementById("nav-login");
   const box = document.getElementById("nav-user");
