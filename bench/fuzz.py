@@ -137,6 +137,9 @@ class Outcome:
     seconds: float  # CPU time of this thread: parse, interpret, answer and drawing
     answer_bytes: int
     codes: frozenset[str]
+    work: tuple[int, int, int]  # blocks executed, evaluation steps, programmed moves (core/limits.py Budget)
+    moves: int  # moves in the toolpath (every generated one: cycles, compensation, contour trains)
+    segments: int  # line segments of the 3D view's drawing
 
 
 def check(text: str, dialect: str) -> Outcome:
@@ -144,9 +147,10 @@ def check(text: str, dialect: str) -> Outcome:
     t = time.thread_time()
     toolpath = run(text, dialect)
     answer = json.dumps(toolpath_json(toolpath), ensure_ascii=False).encode()
-    drawing(toolpath, 0.05)
+    lines, _ = drawing(toolpath, 0.05)
     seconds = time.thread_time() - t
-    return Outcome(seconds, len(answer), frozenset(d.code for d in toolpath.diagnostics))
+    return Outcome(seconds, len(answer), frozenset(d.code for d in toolpath.diagnostics), toolpath.work,
+                   len(toolpath.moves), sum(max(0, len(points) - 1) for points in lines))
 
 
 @cache

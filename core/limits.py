@@ -20,10 +20,11 @@ class Limits:
     max_program_chars: int = 5_000_000  # whole program text
     max_line_length: int = 1_000  # characters in one block
     max_blocks: int = 20_000  # lines in one program (as many as the live editor takes); then PAL-E006
-    max_executed_blocks: int = 100_000  # blocks executed in one run (loops count every pass)
+    # blocks executed in one run (loops count every pass); an endless loop stops here in about a quarter second
+    max_executed_blocks: int = 50_000
     # evaluation steps of one run: each word of an executed block, each number, parameter and operator of
     # its expressions, and DIAGNOSTIC_STEPS for each diagnostic it reports (loops count every pass)
-    max_evaluation_steps: int = 600_000
+    max_evaluation_steps: int = 300_000
     max_moves: int = 5_000  # programmed moves in one run (each motion block once per pass)
     max_cycle_passes: int = 500  # passes (levels, pecks, thread passes) of one cycle block or call (TRAUB: TX-E406, ISO: ISO-E404, PAL: PAL-E610)
     max_abs_value: float = 100_000.0  # any address value or parameter, in its unit

@@ -1,10 +1,10 @@
-"""Fuzzing in CI: mutated example programs (exercises/, tests/seeds/) never raise, each finishes in under a
-second with the default limits and answers under 5 MB.
+"""Fuzzing in CI: mutated example programs (exercises/, tests/seeds/) never raise, the work each does stays
+within the default limits (blocks executed, evaluation steps, moves — deterministic counters, never seconds: a
+test must pass on a loaded machine) and each answers under 5 MB. The seconds are bench/fuzz.py's.
 
 The mutations are bench/fuzz.py's (which runs 10^6 of them); here hypothesis makes the choices, so a
 failure shrinks to a small program. Most mutated programs take a millisecond; those with an added loop
-often run into a budget of core/limits.py (a few hundred ms), so they get fewer cases of their own: both
-tests together take about 30 s of CPU.
+often run into a budget of core/limits.py, so they get fewer cases of their own.
 """
 
 from __future__ import annotations
@@ -12,9 +12,14 @@ from __future__ import annotations
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from bench.fuzz import MAX_ANSWER_BYTES, MAX_SECONDS, check, mutate, seeds
+from bench.fuzz import MAX_ANSWER_BYTES, check, mutate, seeds
+from core.limits import DEFAULT_LIMITS, DIAGNOSTIC_STEPS
 
 SEEDS = seeds()
+LIMITS = DEFAULT_LIMITS
+# the block that trips a budget is counted before it stops the run: its words and its diagnostics on top
+LAST_BLOCK_STEPS = LIMITS.max_line_length + DIAGNOSTIC_STEPS * LIMITS.max_diagnostics
+
 
 def _run_case(data: st.DataObject, loops: bool) -> None:
     name, dialect, text = data.draw(st.sampled_from(SEEDS), label="seed")
@@ -22,7 +27,11 @@ def _run_case(data: st.DataObject, loops: bool) -> None:
     program = mutate(text, lambda n: data.draw(st.integers(0, max(0, n - 1))), others, loops)
     data.draw(st.just(program), label="program")  # shown with a failing example
     out = check(program, dialect)  # an exception fails the test with the program above
-    assert out.seconds < MAX_SECONDS, f"{out.seconds:.2f} s for a mutation of {name}"
+    executed, steps, moves = out.work
+    assert executed <= LIMITS.max_executed_blocks + 1, f"{executed} blocks executed by a mutation of {name}"
+    assert steps <= LIMITS.max_evaluation_steps + LAST_BLOCK_STEPS, f"{steps} evaluation steps ({name})"
+    assert moves <= LIMITS.max_moves and out.moves <= LIMITS.max_moves, f"{out.moves} moves ({name})"
+    assert out.segments <= LIMITS.max_drawn_segments
     assert out.answer_bytes < MAX_ANSWER_BYTES
 
 

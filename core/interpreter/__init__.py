@@ -79,6 +79,9 @@ class Toolpath:
     params: dict[int, float] = field(default_factory=dict)
     limits: Limits = DEFAULT_LIMITS  # the limits of the run (an answer shows at most max_answer_commands)
     code_prefix: str = "PAL"  # the dialect's prefix of diagnostics (core.diagnostics.in_dialect)
+    # the work the run did: blocks executed, evaluation steps, programmed moves (core/limits.py Budget); tests
+    # bound a program's cost by these counters, never by seconds
+    work: tuple[int, int, int] = (0, 0, 0)
 
     def state_at(self, line: int) -> tuple[ModalState, Vec3]:
         """What is active, and where the tool is, after line `line` (1-based) has run."""
@@ -470,6 +473,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     result.commands = finish(planned, diags)
+    result.work = budget.counters
     for command in result.commands:
         if type(command) is Move:
             result.moves.append(command)

@@ -970,6 +970,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     commands = resolve(items, diags)
     early = run.early
     result.commands = [_to_workpiece(c, dx, dz) if early and id(c) in early else c for c in commands]
+    result.work = budget.counters
     for command in result.commands:
         if type(command) is Move:
             result.moves.append(command)
