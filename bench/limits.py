@@ -17,11 +17,13 @@ from typing import TypeVar
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
+from core.exercises import builtin_exercises
+from core.grading import grade
 from core.limits import DEFAULT_LIMITS
 from core.pipeline import drawing, run, toolpath_json
 
 CONTOUR = "N10 T1 TC1 M6\nN20 F250 S2000 M3\nN30 G0 X-10 Y-50 Z2\nN40 G41 G1 X15 Y-15\n"
-PROGRAMS = {
+PROGRAMS: dict[str, str | tuple[str, str]] = {  # name: program (PAL) or (dialect, program)
     "self-calling subprogram": "N10 G22 L1\nN20 M30\n%L1\nN10 G22 L1\nN20 M17\n",
     "endless G29 loop (1 block)": "N10 G29 N10\nN20 M30\n",
     "endless G29 loop with a counter": "N10 P1=0\nN20 P1=P1+1\nN30 G29 N20\nN40 M30\n",
@@ -37,7 +39,16 @@ PROGRAMS = {
                                        + "\nN20 G29 N10\nN30 M30\n",
     "subprogram called 9999 times": "N10 T1 M6\nN20 S100 F100 M3\nN30 G22 L1 H9999\nN40 M30\n"
                                     "%L1\nN10 G1 XI1\nN20 G1 YI1\nN30 M17\n",
+    "7-line loop of moves (21 MB before)": "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G1 X10\nN50 G1 X0\n"
+                                           "N60 G29 N40\nN70 M30\n",
+    "200,000 characters of bad lines": "T1 M6\nS100 F100 M3\n" + "X1,5\n" * 39_990,
+    "TRAUB: endless section repeat": ("traub-tx8d", ("G97 S500 T0101 M3\nN10 G0 X40 Z2\nN20 G1 Z-5 F0.1\n"
+                                                    "G22 P10 Q20 H9999\nM30")),
+    "TRAUB: nested macros": ("traub-tx8d", ("G22 A8000 H9999\nM30\n%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\n"
+                                           "G201 \nM99\n%\n%\nO9801\nG0 X40 Z2\nG0 X50\nM99\n%")),
 }
+# grading a loop of 50 m circles: the grader looks at a bounded number of chords per arc
+GRADED = ("pal-01-g1-gerade", PROGRAMS["loop of 50 m full circles"])
 TARGET_SECONDS = 1.0
 TARGET_BYTES = 5_000_000
 T = TypeVar("T")
@@ -57,13 +68,19 @@ def main() -> None:
     print(f"limits: {DEFAULT_LIMITS}\n")
     print(f"{'program':40s} {'run ms':>8s} {'answer MB':>10s} {'draw ms':>8s}  diagnostics")
     worst, largest = 0.0, 0
-    for name, program in PROGRAMS.items():
-        seconds, tp = best_cpu(lambda p=program: run(p))
+    for name, entry in PROGRAMS.items():
+        dialect, program = entry if isinstance(entry, tuple) else ("pal-mill", entry)
+        seconds, tp = best_cpu(lambda p=program, d=dialect: run(p, d))
         size = len(json.dumps(toolpath_json(tp)).encode())
         draw, _ = best_cpu(lambda t=tp: drawing(t, 0.05))
         codes = sorted({d.code for d in tp.diagnostics})
         worst, largest = max(worst, seconds, draw), max(largest, size)
         print(f"{name:40s} {seconds * 1000:8.1f} {size / 1e6:10.2f} {draw * 1000:8.1f}  {', '.join(codes)}")
+    slug, program = GRADED
+    exercise = builtin_exercises()[slug]
+    seconds, _ = best_cpu(lambda: grade(exercise, program), repeats=1)
+    worst = max(worst, seconds)
+    print(f"{'grading the loop of 50 m circles':40s} {seconds * 1000:8.1f}")
     ok = worst < TARGET_SECONDS and largest < TARGET_BYTES
     print(f"\nslowest: {worst * 1000:.1f} ms (target < {TARGET_SECONDS * 1000:.0f} ms), largest answer "
           f"{largest / 1e6:.2f} MB (target < {TARGET_BYTES / 1e6:.0f} MB) {'PASS' if ok else 'FAIL'}")

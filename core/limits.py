@@ -38,6 +38,15 @@ DIAGNOSTIC_STEPS = 20  # making a diagnostic costs about as much as evaluating t
 DEFAULT_LIMITS = Limits()
 
 
+def work_ceiling(limits: Limits) -> tuple[int, int, int]:
+    """The most work (blocks executed, evaluation steps, moves; Budget.counters) a run does under `limits`: the
+    block that trips a budget is counted, with its words and its diagnostics, before it stops the run. Tests bound
+    a program's cost by this, never by seconds (bench/ measures those)."""
+    return (limits.max_executed_blocks + 1,
+            limits.max_evaluation_steps + limits.max_line_length + DIAGNOSTIC_STEPS * limits.max_diagnostics,
+            limits.max_moves)
+
+
 @dataclass(slots=True)
 class Budget:
     """The work one run has done so far against its limits; both run loops (the shared one in

@@ -13,12 +13,10 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from bench.fuzz import MAX_ANSWER_BYTES, check, mutate, seeds
-from core.limits import DEFAULT_LIMITS, DIAGNOSTIC_STEPS
+from core.limits import DEFAULT_LIMITS, work_ceiling
 
 SEEDS = seeds()
 LIMITS = DEFAULT_LIMITS
-# the block that trips a budget is counted before it stops the run: its words and its diagnostics on top
-LAST_BLOCK_STEPS = LIMITS.max_line_length + DIAGNOSTIC_STEPS * LIMITS.max_diagnostics
 
 
 def _run_case(data: st.DataObject, loops: bool) -> None:
@@ -27,10 +25,9 @@ def _run_case(data: st.DataObject, loops: bool) -> None:
     program = mutate(text, lambda n: data.draw(st.integers(0, max(0, n - 1))), others, loops)
     data.draw(st.just(program), label="program")  # shown with a failing example
     out = check(program, dialect)  # an exception fails the test with the program above
-    executed, steps, moves = out.work
-    assert executed <= LIMITS.max_executed_blocks + 1, f"{executed} blocks executed by a mutation of {name}"
-    assert steps <= LIMITS.max_evaluation_steps + LAST_BLOCK_STEPS, f"{steps} evaluation steps ({name})"
-    assert moves <= LIMITS.max_moves and out.moves <= LIMITS.max_moves, f"{out.moves} moves ({name})"
+    ceiling = work_ceiling(LIMITS)
+    assert all(w <= c for w, c in zip(out.work, ceiling, strict=True)), f"work {out.work} > {ceiling} ({name})"
+    assert out.moves <= LIMITS.max_moves, f"{out.moves} moves in the toolpath of a mutation of {name}"
     assert out.segments <= LIMITS.max_drawn_segments
     assert out.answer_bytes < MAX_ANSWER_BYTES
 
