@@ -196,6 +196,36 @@ def test_admin_resets_and_deactivates(browser: Any, server: str) -> None:
     page.context.close()
 
 
+def test_admin_creates_users_and_imports_a_class_list(browser: Any, server: str) -> None:
+    page = logged_in(browser, server, ADMIN)
+    open_admin(page, server)
+    page.fill("#new-user-name", "azubi-emil")
+    page.fill("#new-user-password", "kurz")
+    page.select_option("#new-user-instructor", TEACHER)
+    page.click("#new-user button[type=submit]")
+    wait_until(page, "document.getElementById('new-user-status').textContent !== ''")
+    assert "Die Anfrage ist ungültig" in page.inner_text("#new-user-status")  # the password rule, in German
+    assert not page.locator("#users-table tbody tr[data-user='azubi-emil']").count()
+    page.fill("#new-user-password", "Emils langes Passwort")
+    page.click("#new-user button[type=submit]")
+    wait_until(page, "document.getElementById('new-user-status').textContent.includes('angelegt')")
+    emil = row(page, "users-table", "azubi-emil")
+    assert emil.locator("select.user-instructor").input_value() == TEACHER
+    assert login_status(server, "azubi-emil", "Emils langes Passwort") == 200
+    # a class list for the instructor: the generated passwords shown this once
+    page.select_option("#import-instructor", TEACHER)
+    page.set_input_files("#import-file", files=[{"name": "klasse.csv", "mimeType": "text/csv",
+                                                 "buffer": "Name;Passwort\nazubi-fritz\nazubi-greta;Gretas Passwort\n".encode()}])
+    wait_until(page, "document.querySelector('#import-result table') !== null")
+    assert page.inner_text("#import-result p") == "2 Konten angelegt."
+    passwords = dict(page.eval_on_selector_all("#import-result tbody tr",
+                                               "(rows) => rows.map((r) => [...r.cells].map((c) => c.textContent))"))
+    assert passwords["azubi-greta"] == "(aus der Liste)" and len(passwords["azubi-fritz"]) >= 8
+    assert login_status(server, "azubi-fritz", passwords["azubi-fritz"]) == 200
+    assert row(page, "users-table", "azubi-greta").locator("select.user-instructor").input_value() == TEACHER
+    page.context.close()
+
+
 def test_admin_page_on_a_tablet(browser: Any, server: str) -> None:
     page = logged_in(browser, server, ADMIN, "tablet")
     open_admin(page, server)
