@@ -214,8 +214,8 @@ def test_admin_creates_users_and_imports_a_class_list(browser: Any, server: str)
     assert login_status(server, "azubi-emil", "Emils langes Passwort") == 200
     # a class list for the instructor: the generated passwords shown this once
     page.select_option("#import-instructor", TEACHER)
-    page.set_input_files("#import-file", files=[{"name": "klasse.csv", "mimeType": "text/csv",
-                                                 "buffer": "Name;Passwort\nazubi-fritz\nazubi-greta;Gretas Passwort\n".encode()}])
+    csv = b"Name;Passwort\nazubi-fritz\nazubi-greta;Gretas Passwort\n"
+    page.set_input_files("#import-file", files=[{"name": "klasse.csv", "mimeType": "text/csv", "buffer": csv}])
     wait_until(page, "document.querySelector('#import-result table') !== null")
     assert page.inner_text("#import-result p") == "2 Konten angelegt."
     passwords = dict(page.eval_on_selector_all("#import-result tbody tr",
