@@ -89,7 +89,7 @@ def test_reset_on_the_course_page_and_the_student_must_change_it(browser: Any, s
     teacher.wait_for_url(f"{server}/instructor")
     teacher.goto(f"{server}/courses/{course['id']}")
     row = teacher.locator("#member-table tr", has_text=STUDENT)
-    row.get_by_role("button", name=f"Passwort von {STUDENT} zurücksetzen").click()
+    row.get_by_role("button", name=f"Passwort zurücksetzen für {STUDENT}").click()
     once = teacher.locator("#one-time-password")
     once.wait_for()
     one_time = once.inner_text().strip()

@@ -35,7 +35,7 @@ addTexts({
   "signup.have_account": ["Sie haben schon ein Konto? Anmelden", "Already have an account? Log in"],
   "login.signup": ["Neu hier? Mit dem Beitrittscode Ihrer Klasse registrieren", "New here? Sign up with your course's join code"],
   "reset.button": ["Passwort zurücksetzen", "Reset password"],
-  "reset.label": ["Passwort von {name} zurücksetzen", "Reset {name}'s password"],
+  "reset.label": ["Passwort zurücksetzen für {name}", "Reset password for {name}"],  // starts with the visible text
   "reset.confirm": ["Für {name} ein neues Einmal-Passwort festlegen? Das bisherige Passwort gilt dann nicht mehr.",
     "Set a new one-time password for {name}? The old password stops working."],
   "reset.done": ["Einmal-Passwort für {name}:", "One-time password for {name}:"],
