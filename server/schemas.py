@@ -17,6 +17,7 @@ from pydantic import (
     model_serializer,
     model_validator,
 )
+from pydantic_core import PydanticCustomError
 
 from core.exercises import CriterionId
 from core.pipeline import DEFAULT_DIALECT
@@ -654,6 +655,15 @@ class UserUpdate(BaseModel):
     instructor: Username | None = Field(default=None, description="The instructor who manages the user; null: "
                                        "nobody (left as it is when absent)")
     role: Role | None = Field(default=None, description="The user's new role (absent or null: unchanged)")
+
+    @model_validator(mode="before")
+    @classmethod
+    def _known_role(cls, data: Any) -> Any:
+        role = data.get("role") if isinstance(data, dict) else None
+        if role is not None and role not in Role.__args__:  # type: ignore[attr-defined]
+            raise PydanticCustomError("role", "Rolle »{role}« gibt es nicht (student, instructor oder admin) / no such "
+                                      "role (student, instructor or admin)", {"role": str(role)[:40]})
+        return data
 
 
 class ImportedUser(BaseModel):

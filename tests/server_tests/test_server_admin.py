@@ -103,7 +103,8 @@ def test_bad_role_changes(api: Api) -> None:
     assert "eigene" in r.json()["error"]["message"]  # German: one cannot demote oneself (and lock everyone out)
     r = api.client.patch(f"/api/v1/users/{trainee['name']}", json={"role": "king"}, headers=auth(admin))
     assert r.status_code == 422 and error_code(r) == "VALIDATION"
-    assert r.json()["error"]["message"].startswith("Die Anfrage ist ungültig: role")
+    assert r.json()["error"]["message"] == ("Die Anfrage ist ungültig: Rolle »king« gibt es nicht (student, "
+                                            "instructor oder admin) / no such role (student, instructor or admin)")
     r = api.client.patch("/api/v1/users/niemand-hier", json={"role": "admin"}, headers=auth(admin))
     assert r.status_code == 404 and r.json()["error"]["message"] == "Benutzer »niemand-hier« nicht gefunden."
     # an unknown instructor changes nothing, the role neither
