@@ -11,7 +11,15 @@ from pathlib import Path
 from typing import Annotated, Any, Literal
 
 import yaml  # type: ignore[import-untyped, unused-ignore]
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    field_validator,
+    model_validator,
+)
 from pydantic_core import ErrorDetails, PydanticCustomError
 
 from core.pipeline import DIALECTS
@@ -145,13 +153,14 @@ class Exercise(_Model):
     kind: Literal["write", "complete", "fix"] = "write"
     # milling: the box; turning: `blank`, and `stock` is made from it (the box around the bar)
     stock: StockSpec
-    blank: BlankSpec | None = None
+    blank: Annotated[BlankSpec | None, Field(validate_default=True)] = None
     tools: list[dict[str, Any]]  # entries in the tool-table format of docs/tools.md
     cutting_data: list[CuttingData] = []
     zero_offsets: dict[Literal["G54", "G55", "G56", "G57"], Vec3] = {}
     subprograms: dict[int, str] = {}  # the exercise's program library: L number → text
     reference: str  # the reference program
-    start_program: str = ""  # what the trainee starts from (kinds complete and fix)
+    # what the trainee starts from (kinds complete and fix)
+    start_program: Annotated[str, Field(validate_default=True)] = ""
     locked_lines: list[int] = []  # lines of start_program that must stay as they are (kind complete)
     rubric: tuple[Criterion, ...] = DEFAULT_RUBRIC
     resolution: float = Field(default=0.1, gt=0, le=2)  # mm, the grid the grader compares on
@@ -173,49 +182,91 @@ class Exercise(_Model):
     @model_validator(mode="before")
     @classmethod
     def _stock_of_blank(cls, data: Any) -> Any:
-        """A lathe exercise names its blank; its `stock` is the box around it (always made anew, never written)."""
+        """A lathe exercise names its blank; its `stock` is the box around it (always made anew, never written).
+        A missing or broken blank is reported by the blank's own validation (with every other error at once)."""
         if isinstance(data, dict) and data.get("dialect") in LATHE_DIALECTS:
             raw = data.get("blank")
-            if not isinstance(raw, dict):
-                raise _rule("blank", "fehlt (eine Drehaufgabe braucht das Rohteil: Stange oder Rohr)",
-                            "is missing (a turning exercise needs its blank: a bar or tube)")
             try:
-                spec = BlankSpec.model_validate(raw)
-            except ValidationError:  # the blank's own errors are reported by the validation that follows
-                return {**data, "stock": {"min": (-1, -1, -1), "max": (1, 1, 0)}}
-            data = {**data, "stock": spec.box()}
-        elif isinstance(data, dict) and data.get("blank") is not None:
-            raise _rule("blank", "nur für Drehaufgaben (dialect: traub-tx8d); Fräsaufgaben haben »stock«",
-                        "only for turning exercises (dialect: traub-tx8d); milling exercises have 'stock'")
+                stock = BlankSpec.model_validate(raw).box() if isinstance(raw, dict) else None
+            except ValidationError:
+                stock = None
+            data = {**data, "stock": stock or {"min": (-1, -1, -1), "max": (1, 1, 0)}}
         return data
 
-    @model_validator(mode="after")
-    def _consistent(self) -> Exercise:
-        total = sum(c.points for c in self.rubric)
-        if total != 100:
-            raise _rule("rubric", f"die Punkte müssen 100 ergeben (sind {total})",
-                        f"the points must add up to 100 (they are {total})")
-        ids = [c.id for c in self.rubric]
-        if len(set(ids)) != len(ids):
-            raise _rule("rubric", "ein Kriterium steht doppelt", "a criterion appears twice")
-        if self.kind != "write" and not self.start_program:
-            raise _rule("start_program", f"fehlt (Art »{self.kind}« braucht ein Startprogramm)",
-                        f"is missing (kind '{self.kind}' needs a start program)")
-        lines = self.start_program.splitlines()
-        if any(not 1 <= n <= len(lines) for n in self.locked_lines):
-            raise _rule("locked_lines", f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
-                        f"a line number is not in start_program (1 to {len(lines)})")
+    # the rules between fields are checked field by field (each with the fields before it), so that an author
+    # reads every broken rule at once, not one per try
+    @field_validator("blank", mode="after")
+    @classmethod
+    def _blank_of_dialect(cls, value: BlankSpec | None, info: ValidationInfo) -> BlankSpec | None:
+        dialect = info.data.get("dialect")
+        if dialect in LATHE_DIALECTS and value is None:
+            raise _rule("blank", "fehlt (eine Drehaufgabe braucht das Rohteil: Stange oder Rohr)",
+                        "is missing (a turning exercise needs its blank: a bar or tube)")
+        if dialect is not None and dialect not in LATHE_DIALECTS and value is not None:
+            raise _rule("blank", "nur für Drehaufgaben (dialect: traub-tx8d); Fräsaufgaben haben »stock«",
+                        "only for turning exercises (dialect: traub-tx8d); milling exercises have 'stock'")
+        return value
+
+    @field_validator("title", mode="after")
+    @classmethod
+    def _titled(cls, value: Text) -> Text:
+        if not value.de.strip():
+            raise _rule("title.de", "fehlt (der deutsche Titel der Aufgabe)", "is missing (the German title)")
+        return value
+
+    @field_validator("reference", mode="after")
+    @classmethod
+    def _referenced(cls, value: str) -> str:
+        if not value.strip():
+            raise _rule("reference", "fehlt (das Referenzprogramm, gegen das bewertet wird)",
+                        "is missing (the reference program submissions are graded against)")
+        return value
+
+    @field_validator("cutting_data", mode="after")
+    @classmethod
+    def _cutting_data(cls, value: list[CuttingData], info: ValidationInfo) -> list[CuttingData]:
         directions: dict[int, set[str]] = {}
-        for c in self.cutting_data:
+        for c in value:
             if c.spindle is not None:
                 directions.setdefault(c.tool, set()).add(c.spindle)
         if any(len(d) > 1 for d in directions.values()):
             raise _rule("cutting_data", "ein Werkzeug hat nur eine Drehrichtung (spindle: M3 oder M4)",
                         "a tool has one spindle direction (spindle: M3 or M4)")
-        if self.dialect not in LATHE_DIALECTS and any(c.cutting_speed is not None for c in self.cutting_data):
+        dialect = info.data.get("dialect")
+        if dialect is not None and dialect not in LATHE_DIALECTS and any(c.cutting_speed is not None for c in value):
             raise _rule("cutting_data", "cutting_speed (V) nur für Drehaufgaben; beim Fräsen speed (S)",
                         "cutting_speed (V) only for turning exercises; milling gives speed (S)")
-        return self
+        return value
+
+    @field_validator("start_program", mode="after")
+    @classmethod
+    def _start_of_kind(cls, value: str, info: ValidationInfo) -> str:
+        kind = info.data.get("kind")
+        if kind is not None and kind != "write" and not value:
+            raise _rule("start_program", f"fehlt (Art »{kind}« braucht ein Startprogramm)",
+                        f"is missing (kind '{kind}' needs a start program)")
+        return value
+
+    @field_validator("locked_lines", mode="after")
+    @classmethod
+    def _locked_in_start(cls, value: list[int], info: ValidationInfo) -> list[int]:
+        lines = str(info.data.get("start_program") or "").splitlines()
+        if any(not 1 <= n <= len(lines) for n in value):
+            raise _rule("locked_lines", f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
+                        f"a line number is not in start_program (1 to {len(lines)})")
+        return value
+
+    @field_validator("rubric", mode="after")
+    @classmethod
+    def _rubric(cls, value: tuple[Criterion, ...]) -> tuple[Criterion, ...]:
+        total = sum(c.points for c in value)
+        if total != 100:
+            raise _rule("rubric", f"die Punkte müssen 100 ergeben (sind {total})",
+                        f"the points must add up to 100 (they are {total})")
+        ids = [c.id for c in value]
+        if len(set(ids)) != len(ids):
+            raise _rule("rubric", "ein Kriterium steht doppelt", "a criterion appears twice")
+        return value
 
     @property
     def lathe(self) -> bool:

@@ -29,6 +29,15 @@ The rules (docs/server.md, "Exams"):
    elsewhere sits its course's exams as a student). An API key acts for its owner. Where the trainee is not
    known — nobody logged in, a key of the operator, a platform's learner named by `external_user` — an exercise of
    any running exam is refused and rule 3 holds for every unreleased exam.
+
+Who sees an exercise at all (its page, the lists, the live check, 3D, pictures, sheets, drafts, submissions) — `sees`;
+an exercise one does not see is "not found" for every action, alike for drafts and unknown names:
+6. Admins see every exercise; authors their own (also archived ones).
+7. An archived exercise ("deleted" with submissions) is seen by nobody else; its submissions stay.
+8. Visibility "public" (and every built-in exercise): everyone. "courses": the members of every course the author
+   teaches. "draft": only the author.
+9. An exercise set in an assignment of a course is seen by that course's students from the assignment's opening
+   on, whatever its visibility (an exam's exercise follows the exam's rules 1–4 from then on).
 """
 
 from __future__ import annotations
@@ -115,6 +124,10 @@ class Situation:
 
     user_id: int | None
     assignments: tuple[Work, ...]
+    hidden: frozenset[str] = frozenset()  # the slugs of the exercises this trainee does not see (rules 6–9)
+
+    def sees(self, slug: str) -> bool:
+        return slug not in self.hidden
 
     def assignment(self, assignment_id: int) -> Work | None:
         return next((w for w in self.assignments if w.id == assignment_id), None)
@@ -155,15 +168,53 @@ def acting_user(principal: Any, external_user: str | None = None) -> User | None
 def situation(db: Session, user: User | None, slug: str | None = None) -> Situation:
     """The situation of `user` (None: not known) for work on `slug` (None: no particular exercise)."""
     if user is not None:
-        return Situation(user.id, tuple(Work.of(a) for a in repo.student_assignments(db, user.id)))
+        works = tuple(Work.of(a) for a in repo.student_assignments(db, user.id))
+        return Situation(user.id, works, hidden_exercises(db, user, works))
+    hidden = hidden_exercises(db, None, ())
     if slug is None:
-        return Situation(None, ())  # free practice without an exercise: no exam concerns it
-    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db) if slug in a.exercises))
+        return Situation(None, (), hidden)  # free practice without an exercise: no exam concerns it
+    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db) if slug in a.exercises), hidden)
 
 
 def unknown_situation(db: Session) -> Situation:
     """The situation of a trainee who is not known, for work on any exercise: every unreleased exam."""
-    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db)))
+    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db)), hidden_exercises(db, None, ()))
+
+
+def sees(user_id: int | None, role: str | None, course_instructors: set[int], opened: set[str], slug: str,
+         owner_id: int | None, visibility: str, archived: bool) -> bool:
+    """Rules 6–9: whether a user (None: not known) sees an exercise. `course_instructors`: the instructors of the
+    user's courses; `opened`: the slugs set in opened assignments of the courses they are a student of."""
+    if role == "admin" or (user_id is not None and owner_id == user_id):
+        return True
+    if archived:
+        return False
+    if visibility == "public" or slug in opened:
+        return True
+    return visibility == "courses" and owner_id is not None and owner_id in course_instructors
+
+
+def hidden_exercises(db: Session, user: User | None, works: tuple[Work, ...], at: datetime | None = None,
+                     ) -> frozenset[str]:
+    """The slugs of the exercises `user` does not see (read once per situation: only exercises that are not
+    simply public are looked at)."""
+    if user is not None and user.role == "admin":
+        return frozenset()
+    rows = repo.restricted_exercises(db)
+    if not rows:
+        return frozenset()
+    t = at or now()
+    instructors = repo.course_instructors_of(db, user.id) if user is not None else set()
+    opened = {s for w in works if w.phase(t) != "upcoming" for s in w.exercises}
+    uid, role = (user.id, user.role) if user is not None else (None, None)
+    return frozenset(slug for slug, owner, visibility, archived in rows
+                     if not sees(uid, role, instructors, opened, slug, owner, visibility, archived))
+
+
+def require_seen(sit: Situation, slug: str) -> None:
+    """EXERCISE_NOT_FOUND for an exercise the situation's trainee does not see (alike for unknown names)."""
+    if not sit.sees(slug):
+        raise ApiError("EXERCISE_NOT_FOUND", exercise=slug)
 
 
 def german_time(t: datetime) -> str:
@@ -179,6 +230,8 @@ def decide(sit: Situation, action: Action, slug: str | None = None, named: int |
     """Whether the action is allowed on the exercise `slug` (None: no exercise, as in free practice) for the
     assignment `named` by the request (drafts and submissions), at `at` (now); ApiError with the reason if not."""
     t = at or now()
+    if slug is not None and action != "grade":  # the grade of a submission stays readable when archived
+        require_seen(sit, slug)
     if sit.user_id is None:
         return _unknown(sit, action, slug, t)
     running = sit.running(t)

@@ -92,6 +92,11 @@ CATALOGUE: dict[str, tuple[int, str, str]] = {
     "REFERENCE_NOT_CLEAN": (422, ("Die Musterlösung erreicht nicht die volle Punktzahl ({score} von {max_score}): "
                                   "{detail}"),
                             "The reference does not score full marks ({score} of {max_score}): {detail_en}"),
+    "DRAWING_INVALID": (422, "Die Zeichnung wird nicht angenommen: {detail}", "The drawing is refused: {detail_en}"),
+    "DRAWING_TOO_LARGE": (413, "Die Zeichnung ist zu groß ({size} Bytes, höchstens {limit}).",
+                          "The drawing is too large ({size} bytes, at most {limit})."),
+    "EXERCISE_NOT_COPYABLE": (403, "Kopieren lassen sich eingebaute und eigene Aufgaben.",
+                              "Built-in exercises and one's own can be duplicated."),
     "EXERCISE_HAS_SUBMISSIONS": (409, "Die Aufgabe hat Abgaben und kann nicht gelöscht werden.",
                                  "The exercise has submissions and cannot be deleted."),
     # courses, assignments and exams (issue 19)

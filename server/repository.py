@@ -20,6 +20,8 @@ from server.models import (
     CourseMember,
     Draft,
     Exercise,
+    ExerciseDrawing,
+    ExerciseVersion,
     GradeOverride,
     Submission,
     User,
@@ -190,6 +192,65 @@ def delete_exercise(db: Session, exercise: Exercise) -> None:
     db.commit()
 
 
+def restricted_exercises(db: Session) -> Sequence[tuple[str, int | None, str, bool]]:
+    """(slug, owner_id, visibility, archived) of every exercise not simply public: drafts, course-only, archived."""
+    rows = db.execute(select(Exercise.slug, Exercise.owner_id, Exercise.visibility, Exercise.archived_at)
+                      .where(or_(Exercise.visibility != "public", Exercise.archived_at.is_not(None)))).all()
+    return [(r[0], r[1], r[2], r[3] is not None) for r in rows]
+
+
+def course_instructors_of(db: Session, user_id: int) -> set[int]:
+    """The instructors of every course the user is a member of (in any role)."""
+    courses = select(CourseMember.course_id).where(CourseMember.user_id == user_id)
+    return set(db.scalars(select(CourseMember.user_id).where(CourseMember.course_id.in_(courses),
+                                                             CourseMember.role == "instructor")).all())
+
+
+def add_exercise_version(db: Session, exercise: Exercise, created_by: int | None) -> None:
+    """Keep the exercise's current document as its version `exercise.version` (before an edit makes a new one)."""
+    db.add(ExerciseVersion(exercise_id=exercise.id, version=exercise.version, title_de=exercise.title_de,
+                           document=exercise.document, created_by=created_by))
+
+
+def exercise_versions(db: Session, exercise_id: int) -> Sequence[ExerciseVersion]:
+    return db.scalars(select(ExerciseVersion).where(ExerciseVersion.exercise_id == exercise_id)
+                      .order_by(ExerciseVersion.version)).all()
+
+
+def exercise_drawing(db: Session, exercise_id: int) -> ExerciseDrawing | None:
+    return db.scalars(select(ExerciseDrawing).where(ExerciseDrawing.exercise_id == exercise_id)).first()
+
+
+def own_drawings(db: Session, exercise_ids: Iterable[int]) -> dict[int, tuple[str, str]]:
+    """exercise id → (media type, file name) of the exercises with an own drawing."""
+    ids = list(exercise_ids)
+    if not ids:
+        return {}
+    rows = db.execute(select(ExerciseDrawing.exercise_id, ExerciseDrawing.media_type, ExerciseDrawing.filename)
+                      .where(ExerciseDrawing.exercise_id.in_(ids))).all()
+    return {r[0]: (r[1], r[2]) for r in rows}
+
+
+def set_exercise_drawing(db: Session, exercise: Exercise, media_type: str, filename: str, data: bytes) -> None:
+    row = exercise_drawing(db, exercise.id)
+    if row is None:
+        db.add(ExerciseDrawing(exercise_id=exercise.id, media_type=media_type, filename=filename, data=data))
+    else:
+        row.media_type, row.filename, row.data, row.created_at = media_type, filename, data, now()
+    exercise.updated_at = now()  # what is cached by content (pictures, sheets) is made anew
+    db.commit()
+
+
+def delete_exercise_drawing(db: Session, exercise: Exercise) -> bool:
+    row = exercise_drawing(db, exercise.id)
+    if row is None:
+        return False
+    db.delete(row)
+    exercise.updated_at = now()
+    db.commit()
+    return True
+
+
 # --- submissions -------------------------------------------------------------------------
 
 
@@ -258,6 +319,7 @@ class Scored:
     score: int | None
     max_score: int | None
     overridden: bool = False
+    exercise_version: int | None = None  # the exercise's version it was graded against
 
     @property
     def grading(self) -> dict[str, int] | None:
@@ -271,14 +333,14 @@ _SCORE = func.coalesce(Submission.override_score, Submission.grading["score"].as
 _MAX_SCORE = Submission.grading["max_score"].as_float()
 _SCORED = (Submission.id, Submission.user_id, Submission.exercise_id, Submission.assignment_id, Submission.created_at,
            Submission.late, Submission.auto, Submission.held, _SCORE, _MAX_SCORE,
-           Submission.override_score.is_not(None))
+           Submission.override_score.is_not(None), Submission.exercise_version)
 _NEWEST = (Submission.created_at.desc(), Submission.id.desc())
 
 
 def _scored(rows: Iterable[Any]) -> list[Scored]:
     return [Scored(r[0], r[1], r[2], r[3], r[4], bool(r[5]), bool(r[6]), bool(r[7]),
                    None if r[8] is None or r[9] is None else int(r[8]), None if r[9] is None else int(r[9]),
-                   bool(r[10])) for r in rows]
+                   bool(r[10]), r[11]) for r in rows]
 
 
 def visible_to(*, user_id: int | None = None, owner_id: int | None = None, api_key_id: int | None = None,

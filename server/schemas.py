@@ -437,8 +437,31 @@ class ExerciseFields(BaseModel):
     hidden_criteria: RubricSpec | None = None
 
 
+Visibility = Literal["draft", "courses", "public"]
+_VISIBILITY = ("draft: only its author (and admins); courses: also the members of the author's courses; public: "
+               "everyone on this server. An exercise set in an assignment is seen by the course's students from its "
+               "opening on (docs/server.md)")
+ExerciseDocumentIn = Annotated[dict[str, Any], Field(
+    description="The whole exercise in the exercise format (docs/exercises.md), as the editor and the YAML import "
+                "use it; validated with every error at once (422 EXERCISE_INVALID, details.errors per field)")]
+
+
 class ExerciseCreate(ExerciseFields):
     slug: NewSlug
+    visibility: Visibility = Field(default="public", description=_VISIBILITY)
+    document: ExerciseDocumentIn | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_document(cls, data: Any) -> Any:
+        """With `document` the other fields come from it (the document is validated on its own)."""
+        if isinstance(data, dict) and isinstance(data.get("document"), dict):
+            doc = data["document"]
+            title = doc.get("title") if isinstance(doc.get("title"), dict) else {}
+            slug = doc.get("id") if isinstance(doc.get("id"), str) and doc.get("id") else "neu"
+            return {"document": doc, "visibility": data.get("visibility", "draft"), "slug": slug[:80],
+                    "title_de": str(title.get("de") or "-")[:200]}
+        return data
 
 
 class ExerciseUpdate(BaseModel):
@@ -454,6 +477,26 @@ class ExerciseUpdate(BaseModel):
     reference_program: StoredText | None = None
     rubric: RubricSpec | None = None
     hidden_criteria: RubricSpec | None = None
+    visibility: Visibility | None = Field(default=None, description=_VISIBILITY)
+    archived: bool | None = Field(default=None, description="false: back from the archive (true: DELETE)")
+    document: ExerciseDocumentIn | None = None
+
+
+class DrawingPreviewIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    document: ExerciseDocumentIn
+    lang: Literal["de", "en"] = "de"
+
+
+class TaskPreviewIn(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+    markdown: TaskText
+
+
+class TaskPreview(BaseModel):
+    html: str = Field(description="The Markdown as the exercise page shows it (safe HTML)")
 
 
 class ExerciseOut(BaseModel):
@@ -494,6 +537,13 @@ class ExerciseOut(BaseModel):
     blank_in_task_de: bool = Field(default=False, description="task_de states the blank itself: the page does not "
                                    "print blank_de above it a second time")
     blank_in_task_en: bool = Field(default=False, description="task_en (else task_de) states the blank itself")
+    visibility: str = Field(default="public", description=_VISIBILITY)
+    version: int = Field(default=1, description="Raised by every edit of the content once published")
+    archived: bool = Field(default=False, description="Deleted with submissions: hidden, its submissions kept")
+    own_drawing: str | None = Field(default=None, description="The media type of the author's own drawing "
+                                    "(GET …/own-drawing), shown and printed instead of the generated one; null: none")
+    document: dict[str, Any] | None = Field(default=None, description="The whole exercise document (the editor's "
+                                            "model, docs/exercises.md): only for its owner and admins")
     tool_feeds: dict[str, dict[str, Any]] = Field(
         default={}, description="Turning: per tool number its feeds (mm/U) as F ('feed') and as the reduced feed E "
                                 "('reduced': what the reference writes as E) and its spindle direction ('spindle': "
@@ -583,6 +633,8 @@ class SubmissionOut(BaseModel):
     diagnostics: list[DiagnosticOut] | None = Field(description="The check diagnostics (detail views only)")
     program: str | None = Field(description="The program (detail views only)")
     lms: LmsResult | None = Field(default=None, description="The grade for a learning platform; null if not graded")
+    exercise_version: int | None = Field(default=None, description="The exercise's version it was graded against")
+    version_note: str = Field(default="", description="\"Version 1\" when that is not the exercise's current one")
 
 
 # --- the trainee's day: drafts, history, progress, hints, solution (issue 15) ---------------------
@@ -685,6 +737,9 @@ class ResultCell(BaseModel):
     overridden: bool = Field(default=False, description="Its score was set by an instructor")
     submissions: list[int] = Field(description="Every submission's id, newest first")
     created_at: Time = Field(description="When the best submission was made")
+    exercise_version: int | None = Field(default=None, description="The version the best submission was graded "
+                                                                   "against")
+    version_note: str = Field(default="", description="\"Version 1\" when that is not the exercise's current one")
 
 
 class ResultRow(BaseModel):

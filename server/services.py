@@ -4,25 +4,30 @@ from __future__ import annotations
 
 import asyncio
 import csv
+import hashlib
+import json
 import re
 import secrets
 from dataclasses import dataclass
 from typing import Any
 
+import yaml  # type: ignore[import-untyped, unused-ignore]
+from pydantic import ValidationError
 from sqlalchemy.orm import Session
 from starlette.concurrency import run_in_threadpool
 
 from core.exercises import Exercise as ExerciseDocument
+from core.exercises import field_problem
 from core.pipeline import DIALECTS
 from core.sheet import SheetUnavailable, pdf_engine
-from server import access
+from server import access, drawings
 from server import repository as repo
 from server.config import Settings
 from server.deps import Principal
 from server.errors import ApiError
 from server.export import excel_cell, excel_csv
 from server.lti import ags as lti_ags
-from server.models import ApiKey, Exercise, Submission, User
+from server.models import ApiKey, Exercise, Submission, User, now
 from server.schemas import (
     LTI_NAME_DE,
     LTI_NAME_EN,
@@ -67,6 +72,8 @@ from server.workers import (
     job_submission,
     job_validate_exercise,
 )
+
+VERSION_NOTE = ("Version {v}", "version {v}")
 
 # --- pipeline requests ----------------------------------------------------------------------
 
@@ -190,8 +197,9 @@ def can_manage(principal: Principal, exercise: Exercise) -> bool:
 
 
 def exercise_out(db: Session, exercise: Exercise, principal: Principal,
-                 sit: access.Situation | None = None) -> ExerciseOut:
-    """The exercise as `principal` may see it (`sit`: their situation, when the caller has it already)."""
+                 sit: access.Situation | None = None, own_drawing: str | None | bool = True) -> ExerciseOut:
+    """The exercise as `principal` may see it (`sit`: their situation, when the caller has it already;
+    `own_drawing`: the media type of its own drawing when the caller read it, True: read it here)."""
     owner = repo.user_by_id(db, exercise.owner_id) if exercise.owner_id is not None else None
     full = can_manage(principal, exercise)
     if full:  # not while an exam of a course they sit as a student withholds it
@@ -207,8 +215,37 @@ def exercise_out(db: Session, exercise: Exercise, principal: Principal,
         owner=owner.username if owner else None, builtin=exercise.builtin, created_at=exercise.created_at,
         updated_at=exercise.updated_at, reference_program=exercise.reference_program if full else None,
         hidden_criteria=exercise.hidden_criteria if full else None,
+        visibility=exercise.visibility, version=exercise.version, archived=exercise.archived_at is not None,
+        own_drawing=own_drawing if not isinstance(own_drawing, bool) else _own_drawing_type(db, exercise),
+        document=exercise.document if full else None,
         **_document_view(exercise.document), **_list_view(exercise), **task_view(exercise),
     )
+
+
+def _own_drawing_type(db: Session, exercise: Exercise) -> str | None:
+    found = repo.own_drawings(db, [exercise.id]).get(exercise.id)
+    return found[0] if found else None
+
+
+def exercise_seen(db: Session, principal: Principal, slug: str, sit: access.Situation | None = None) -> Exercise:
+    """The exercise `slug` if the caller sees it (server/access.py, rules 6–9); EXERCISE_NOT_FOUND alike for names
+    that do not exist."""
+    exercise = get_exercise(db, slug)
+    access.require_seen(sit or access.situation(db, access.acting_user(principal), slug), slug)
+    return exercise
+
+
+def visible_exercises(db: Session, principal: Principal, mine: bool = False,
+                      archived: bool = False) -> list[ExerciseOut]:
+    """The list: what the caller sees (not archived ones unless `archived`); `mine`: only those they manage
+    (instructors: their own; admins: every exercise not built in)."""
+    user = access.acting_user(principal)
+    sit = access.situation(db, user)  # one for every exercise: the user's courses
+    shown = [e for e in sorted_exercises(db) if sit.sees(e.slug) and (archived or e.archived_at is None)]
+    if mine:
+        shown = [e for e in shown if can_manage(principal, e) and not e.builtin]
+    drawn = repo.own_drawings(db, [e.id for e in shown])
+    return [exercise_out(db, e, principal, sit, drawn[e.id][0] if e.id in drawn else None) for e in shown]
 
 
 def _document_view(document: dict[str, Any] | None) -> dict[str, Any]:
@@ -219,12 +256,12 @@ def _document_view(document: dict[str, Any] | None) -> dict[str, Any]:
             "locked_lines": document.get("locked_lines", []), "cutting_data": document.get("cutting_data", [])}
 
 
-async def exercise_picture(db: Session, workers: Workers, slug: str) -> bytes:
+async def exercise_picture(db: Session, workers: Workers, principal: Principal, slug: str) -> bytes:
     """A top view of the finished part (the reference machined on the stock), darker where deeper; made once per
     content of the exercise (Workers.cached)."""
 
     def read() -> tuple[dict[str, Any], str]:  # in the threadpool: no query on the event loop
-        exercise = get_exercise(db, slug)
+        exercise = exercise_seen(db, principal, slug)
         if exercise.document is None:
             raise ApiError("NOT_FOUND")
         db.commit()  # the pooled connection goes back before the wait for a worker
@@ -235,22 +272,72 @@ async def exercise_picture(db: Session, workers: Workers, slug: str) -> bytes:
     return picture
 
 
-async def exercise_drawing(db: Session, workers: Workers, slug: str, lang: str) -> str:
-    """The dimensioned drawing of the exercise's part (SVG, core/drawing); made once per content and language."""
+async def exercise_drawing(db: Session, workers: Workers, principal: Principal, slug: str, lang: str) -> str:
+    """The dimensioned drawing of the exercise's part (SVG, core/drawing); made once per content and language.
+    An author's own drawing instead, where there is one (server/drawings.py)."""
 
-    def read() -> tuple[dict[str, Any], str]:  # in the threadpool: no query on the event loop
-        exercise = get_exercise(db, slug)
+    def read() -> tuple[dict[str, Any], str, str | None]:  # in the threadpool: no query on the event loop
+        exercise = exercise_seen(db, principal, slug)
+        own = repo.exercise_drawing(db, exercise.id)
+        if own is not None:
+            svg = drawings.as_svg(own.media_type, own.data, lang)
+            db.commit()
+            return {}, "", svg
         if exercise.document is None:
             raise ApiError("NOT_FOUND")
         db.commit()  # the pooled connection goes back before the wait for a worker
-        return exercise.document, content_key("drawing", exercise.document, lang)
+        return exercise.document, content_key("drawing", exercise.document, lang), None
 
-    document, key = await run_in_threadpool(read)
+    document, key, own_svg = await run_in_threadpool(read)
+    if own_svg is not None:
+        return own_svg
     svg: str = await workers.cached(key, job_drawing, document, lang)
     return svg
 
 
-async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: str) -> bytes:
+def own_drawing(db: Session, principal: Principal, slug: str) -> drawings.Drawing:
+    """The author's own drawing of an exercise as uploaded (for a PDF: what the page links to)."""
+    exercise = exercise_seen(db, principal, slug)
+    row = repo.exercise_drawing(db, exercise.id)
+    if row is None:
+        raise ApiError("NOT_FOUND")
+    return drawings.Drawing(row.media_type, row.filename, row.data)
+
+
+def set_own_drawing(db: Session, principal: Principal, slug: str, data: bytes, filename: str) -> ExerciseOut:
+    """Upload (or replace) the exercise's own drawing: checked by its bytes (server/drawings.py)."""
+    exercise = _managed(db, principal, slug)
+    drawing = drawings.checked(data, filename)
+    repo.set_exercise_drawing(db, exercise, drawing.media_type, drawing.filename, drawing.data)
+    return exercise_out(db, exercise, principal, own_drawing=drawing.media_type)
+
+
+def remove_own_drawing(db: Session, principal: Principal, slug: str) -> None:
+    """Back to the drawing generated from the reference."""
+    exercise = _managed(db, principal, slug)
+    if not repo.delete_exercise_drawing(db, exercise):
+        raise ApiError("NOT_FOUND")
+
+
+async def drawing_preview(workers: Workers, document: dict[str, Any], lang: str) -> str:
+    """The drawing of an exercise as the editor holds it, not saved (reference, dialect, blank, tools …): what is
+    missing is filled in (id, title, task); EXERCISE_INVALID with every error at once where it cannot be drawn."""
+    data = {"id": "vorschau", "title": {"de": "Vorschau"}, "task": {"de": ""}, **document}
+    if not isinstance(data.get("title"), dict) or not str(data["title"].get("de") or "").strip():
+        data["title"] = {"de": "Vorschau"}
+    try:
+        checked = await run_in_threadpool(lambda: ExerciseDocument.model_validate(data).model_dump(mode="json"))
+    except ValidationError as err:
+        problems = [field_problem(e) for e in err.errors()]
+        raise ApiError("EXERCISE_INVALID", detail="; ".join(f"{p['field']}: {p['message']}" for p in problems),
+                       detail_en="; ".join(f"{p['field']}: {p['message_en']}" for p in problems),
+                       errors=problems) from None
+    svg: str = await workers.cached(content_key("drawing", checked, lang), job_drawing, checked, lang)
+    return svg
+
+
+async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: str,
+                     own: list[tuple[str, bytes] | None] | None = None) -> bytes:
     """Exercises as a printed task sheet (PDF, core/sheet): each exercise's pages are a worker job of their own,
     kept by content (the exercise's document and the language: an edited exercise is rendered again), and several
     are put together in one more job (kept as well) — no job grows with the number of exercises, and a class
@@ -259,10 +346,13 @@ async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: st
     and the rest of the server is unaffected. The caller holds no pooled database connection."""
     try:
         await asyncio.to_thread(pdf_engine)
-        keys = await run_in_threadpool(lambda: [content_key("sheet", d, lang) for d in documents])
+        drawn = own or [None] * len(documents)  # the authors' own drawings (media type, bytes), if any
+        keys = await run_in_threadpool(lambda: [content_key("sheet", d, lang, o[0], hashlib.sha256(o[1]).hexdigest())
+                                                if o else content_key("sheet", d, lang)
+                                                for d, o in zip(documents, drawn, strict=True)])
         parts: list[bytes] = []
-        for document, key in zip(documents, keys, strict=True):  # one after the other: one job at a time per request
-            parts.append(await workers.cached(key, job_sheet, document, lang))
+        for document, key, drawing in zip(documents, keys, drawn, strict=True):  # one job at a time per request
+            parts.append(await workers.cached(key, job_sheet, document, lang, drawing))
         if len(parts) == 1:
             return parts[0]
         pdf: bytes = await workers.cached(content_key("sheets", keys), job_merge_pdfs, parts)
@@ -271,17 +361,19 @@ async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: st
     return pdf
 
 
-async def exercise_sheet(db: Session, workers: Workers, slug: str, lang: str) -> bytes:
+async def exercise_sheet(db: Session, workers: Workers, principal: Principal, slug: str, lang: str) -> bytes:
     """The exercise's printed task sheet with its empty programming form (PDF)."""
 
-    def read() -> dict[str, Any]:  # in the threadpool: no query on the event loop
-        exercise = get_exercise(db, slug)
+    def read() -> tuple[dict[str, Any], tuple[str, bytes] | None]:  # in the threadpool: no query on the event loop
+        exercise = exercise_seen(db, principal, slug)
         if exercise.document is None:
             raise ApiError("NOT_FOUND")
+        row = repo.exercise_drawing(db, exercise.id)
         db.commit()  # the pooled connection goes back before the wait for a worker
-        return exercise.document
+        return exercise.document, (row.media_type, row.data) if row is not None else None
 
-    return await task_sheet(workers, [await run_in_threadpool(read)], lang)
+    document, drawing = await run_in_threadpool(read)
+    return await task_sheet(workers, [document], lang, [drawing])
 
 
 def get_exercise(db: Session, slug: str) -> Exercise:
@@ -299,73 +391,204 @@ def require_instructor(principal: Principal) -> None:
 
 
 def create_exercise(db: Session, settings: Settings, principal: Principal, body: ExerciseCreate) -> Exercise:
+    """An exercise from fields (the document path is `save_document`)."""
     require_instructor(principal)
     check_program(settings, body.reference_program, body.dialect)
     if repo.exercise_by_slug(db, body.slug) is not None:
         raise ApiError("EXERCISE_EXISTS", exercise=body.slug)
-    fields = body.model_dump(mode="json")
+    fields = body.model_dump(mode="json", exclude={"document"})
     try:
         return repo.create_exercise(db, {**fields, "document": document_from_fields(fields)}, principal.user_id)
     except repo.Duplicate:
         raise ApiError("EXERCISE_EXISTS", exercise=body.slug) from None
 
 
+def _invalid(problems: list[dict[str, str]]) -> ApiError:
+    return ApiError("EXERCISE_INVALID", detail="; ".join(f"Feld `{p['field']}`: {p['message']}" for p in problems),
+                    detail_en="; ".join(f"field `{p['field']}`: {p['message_en']}" for p in problems),
+                    errors=problems)
+
+
+async def checked_document(settings: Settings, workers: Workers, text: str, graded: bool) -> ExerciseDocument:
+    """An exercise file or the editor's document (YAML or JSON, docs/exercises.md) validated with every error at
+    once (EXERCISE_INVALID, details.errors: {field, message, message_en}); `graded`: its reference must also score
+    full marks (REFERENCE_NOT_CLEAN, also as an error of the field `reference`)."""
+    if len(text) > settings.max_program_chars * 2:
+        raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=settings.max_program_chars * 2)
+    checked = await workers.call(job_validate_exercise, text, graded)
+    if "invalid" in checked:
+        problems = checked.get("problems") or [{"field": "(Aufgabe)", "message": checked["invalid"],
+                                                "message_en": checked.get("invalid_en", "")}]
+        raise ApiError("EXERCISE_INVALID", detail=checked["invalid"], detail_en=checked.get("invalid_en", ""),
+                       errors=problems)
+    if "reference" in checked:
+        ref = checked["reference"]
+        error = ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
+                         detail_en=ref["detail_en"])
+        raise ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
+                       detail_en=ref["detail_en"], errors=[{"field": "reference", "message": error.message,
+                                                            "message_en": error.message_en}])
+    return ExerciseDocument.model_validate(checked["document"])
+
+
 async def import_exercise(db: Session, settings: Settings, workers: Workers, principal: Principal,
-                          text: str) -> Exercise:
+                          text: str, visibility: str = "public") -> Exercise:
     """An instructor's exercise file (YAML or JSON, docs/exercises.md), validated: the file itself, and its
     reference must score full marks."""
     require_instructor(principal)
-    if len(text) > settings.max_program_chars * 2:
-        raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=settings.max_program_chars * 2)
-    checked = await workers.call(job_validate_exercise, text)
-    if "invalid" in checked:
-        raise ApiError("EXERCISE_INVALID", detail=checked["invalid"], detail_en=checked.get("invalid_en", ""),
-                       errors=checked.get("problems", []))
-    if "reference" in checked:
-        ref = checked["reference"]
-        raise ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
-                       detail_en=ref["detail_en"])
-    document = ExerciseDocument.model_validate(checked["document"])
-    return await run_in_threadpool(_store_exercise, db, document, principal.user_id)
+    document = await checked_document(settings, workers, text, True)
+    return await run_in_threadpool(_store_exercise, db, document, principal.user_id, visibility)
 
 
-def _store_exercise(db: Session, document: ExerciseDocument, owner_id: int | None) -> Exercise:
+async def create_from_document(db: Session, settings: Settings, workers: Workers, principal: Principal,
+                               body: ExerciseCreate) -> Exercise:
+    """The editor's "Speichern" of a new exercise: its document validated (every error at once); a published one
+    (visibility courses or public) also with a reference that scores full marks."""
+    require_instructor(principal)
+    text = json.dumps(body.document, ensure_ascii=False)
+    document = await checked_document(settings, workers, text, body.visibility != "draft")
+    return await run_in_threadpool(_store_exercise, db, document, principal.user_id, body.visibility)
+
+
+def _store_exercise(db: Session, document: ExerciseDocument, owner_id: int | None,
+                    visibility: str = "public") -> Exercise:
     if repo.exercise_by_slug(db, document.id) is not None:
-        raise ApiError("EXERCISE_EXISTS", exercise=document.id)
+        raise ApiError("EXERCISE_EXISTS", exercise=document.id,
+                       errors=[{"field": "id", "message": f"die Kennung »{document.id}« gibt es schon",
+                                "message_en": f"the slug '{document.id}' exists already"}])
     try:
-        return repo.create_exercise(db, exercise_fields(document), owner_id)
+        return repo.create_exercise(db, {**exercise_fields(document), "visibility": visibility}, owner_id)
     except repo.Duplicate:
         raise ApiError("EXERCISE_EXISTS", exercise=document.id) from None
 
 
 EXERCISE_FIELDS = ("slug", "title_de", "title_en", "task_de", "task_en", "dialect", "stock", "tools",
                    "reference_program", "rubric", "hidden_criteria")
+CONTENT_FIELDS = (*EXERCISE_FIELDS, "document")  # what an edit changes: a published exercise gets a new version
 
 
 NULLABLE_EXERCISE_FIELDS = ("stock", "tools", "rubric", "hidden_criteria")
 
 
+def _managed(db: Session, principal: Principal, slug: str) -> Exercise:
+    """An exercise the caller manages (its author, admins); FORBIDDEN for one they only see."""
+    require_instructor(principal)
+    exercise = exercise_seen(db, principal, slug)
+    if not can_manage(principal, exercise):
+        raise ApiError("FORBIDDEN")
+    return exercise
+
+
+def _apply(db: Session, principal: Principal, exercise: Exercise, fields: dict[str, Any]) -> Exercise:
+    """Store an edit. One that changes the content of a published exercise (not a draft) keeps the document as it
+    was (ExerciseVersion) and raises the version: submissions name the version they were graded against."""
+    changed = any(k in fields and fields[k] != getattr(exercise, k) for k in CONTENT_FIELDS)
+    if changed and exercise.visibility != "draft":
+        repo.add_exercise_version(db, exercise, principal.user_id)
+        fields = {**fields, "version": exercise.version + 1}
+    return repo.update_exercise(db, exercise, fields)
+
+
+def _state_fields(body: ExerciseUpdate) -> dict[str, Any]:
+    fields: dict[str, Any] = {}
+    if body.visibility is not None:
+        fields["visibility"] = body.visibility
+    if body.archived is not None:
+        fields["archived_at"] = now() if body.archived else None
+    return fields
+
+
 def update_exercise(db: Session, settings: Settings, principal: Principal, slug: str,
                     body: ExerciseUpdate) -> Exercise:
-    require_instructor(principal)
-    exercise = get_exercise(db, slug)
-    if not can_manage(principal, exercise):
-        raise ApiError("FORBIDDEN")
-    fields = {k: v for k, v in body.model_dump(mode="json", exclude_unset=True).items()
+    exercise = _managed(db, principal, slug)
+    fields = {k: v for k, v in body.model_dump(mode="json", exclude_unset=True,
+                                               exclude={"document", "visibility", "archived"}).items()
               if v is not None or k in NULLABLE_EXERCISE_FIELDS}
-    check_program(settings, fields.get("reference_program", ""), fields.get("dialect") or exercise.dialect)
-    merged = {**{name: getattr(exercise, name) for name in EXERCISE_FIELDS}, **fields}
-    return repo.update_exercise(db, exercise, {**fields, "document": document_from_fields(merged, exercise.document)})
+    if fields:
+        check_program(settings, fields.get("reference_program", ""), fields.get("dialect") or exercise.dialect)
+        merged = {**{name: getattr(exercise, name) for name in EXERCISE_FIELDS}, **fields}
+        fields["document"] = document_from_fields(merged, exercise.document)
+    return _apply(db, principal, exercise, {**fields, **_state_fields(body)})
 
 
-def delete_exercise(db: Session, principal: Principal, slug: str) -> None:
-    require_instructor(principal)
-    exercise = get_exercise(db, slug)
-    if not can_manage(principal, exercise):
+async def update_from_document(db: Session, settings: Settings, workers: Workers, principal: Principal, slug: str,
+                               body: ExerciseUpdate) -> Exercise:
+    """The editor's "Speichern" of an exercise: the whole document (its id stays the slug); validated with every
+    error at once; published (or to be published) with a reference that scores full marks."""
+    exercise = await run_in_threadpool(_managed, db, principal, slug)
+    visibility = body.visibility or exercise.visibility
+    db.commit()  # no pooled connection held while the worker checks
+    text = json.dumps({**(body.document or {}), "id": slug}, ensure_ascii=False)
+    document = await checked_document(settings, workers, text, visibility != "draft")
+    fields = {k: v for k, v in exercise_fields(document).items() if k != "slug"}
+    return await run_in_threadpool(lambda: _apply(db, principal, _managed(db, principal, slug),
+                                                  {**fields, **_state_fields(body)}))
+
+
+async def publish_check(settings: Settings, workers: Workers, exercise: Exercise, body: ExerciseUpdate) -> None:
+    """Publishing (a draft made visible) needs a gradable exercise whose reference scores full marks."""
+    if body.visibility in ("courses", "public") and exercise.visibility == "draft" and body.document is None:
+        if exercise.document is None:
+            raise _invalid([{"field": "reference", "message": "die Aufgabe ist nicht vollständig (bewertbar)",
+                             "message_en": "the exercise is not complete (gradable)"}])
+        await checked_document(settings, workers, json.dumps(exercise.document, ensure_ascii=False), True)
+
+
+def delete_exercise(db: Session, principal: Principal, slug: str) -> bool:
+    """Delete an exercise; one with submissions is archived instead (hidden, its submissions kept). True: archived."""
+    exercise = _managed(db, principal, slug)
+    if exercise.builtin:
         raise ApiError("FORBIDDEN")
     if repo.exercise_has_submissions(db, exercise):
-        raise ApiError("EXERCISE_HAS_SUBMISSIONS", exercise=slug)
+        repo.update_exercise(db, exercise, {"archived_at": exercise.archived_at or now()})
+        return True
     repo.delete_exercise(db, exercise)
+    return False
+
+
+def _copy_slug(db: Session, slug: str) -> str:
+    base = re.sub(r"-kopie(-\d+)?$", "", slug)[:68] + "-kopie"
+    for n in range(1, 1000):
+        candidate = base if n == 1 else f"{base}-{n}"
+        if repo.exercise_by_slug(db, candidate) is None:
+            return candidate
+    return f"{base}-{secrets.token_hex(4)}"
+
+
+def duplicate_exercise(db: Session, principal: Principal, slug: str) -> Exercise:
+    """A copy of a built-in exercise or one's own (admins: any) as a new draft of the caller, with a new slug."""
+    require_instructor(principal)
+    source = exercise_seen(db, principal, slug)
+    if not (source.builtin or can_manage(principal, source)):
+        raise ApiError("EXERCISE_NOT_COPYABLE")
+    if source.document is None:
+        raise _invalid([{"field": "(Aufgabe)", "message": "die Aufgabe ist nicht vollständig (bewertbar)",
+                         "message_en": "the exercise is not complete (gradable)"}])
+    new_slug = _copy_slug(db, slug)
+    doc = dict(source.document)
+    title = dict(doc.get("title") or {})
+    title["de"] = f"{title.get('de', source.title_de)} (Kopie)"[:200]
+    if title.get("en"):
+        title["en"] = f"{title['en']} (copy)"[:200]
+    doc.update(id=new_slug, title=title, order=None, source=f"Kopie von {slug}")
+    document = ExerciseDocument.model_validate(doc)
+    fields = {**exercise_fields(document), "visibility": "draft"}
+    try:
+        copy = repo.create_exercise(db, fields, principal.user_id)
+    except repo.Duplicate:
+        raise ApiError("CONFLICT") from None
+    row = repo.exercise_drawing(db, source.id)
+    if row is not None:
+        repo.set_exercise_drawing(db, copy, row.media_type, row.filename, row.data)
+    return copy
+
+
+def export_exercise(db: Session, principal: Principal, slug: str) -> str:
+    """The exercise as a file in the exercise format (YAML, docs/exercises.md): what `import` reads back."""
+    exercise = _managed(db, principal, slug)
+    if exercise.document is None:
+        raise ApiError("NOT_FOUND")
+    return str(yaml.safe_dump(exercise.document, allow_unicode=True, sort_keys=False, width=120))
 
 
 # --- submissions ----------------------------------------------------------------------------
@@ -420,7 +643,14 @@ def submission_out(db: Session, submission: Submission, exercise: Exercise, auth
         summary=None if held else result["summary"], diagnostics=result["diagnostics"] if detail and not held else None,
         program=submission.program if detail else None,
         lms=lms_result(grading, score, submission.override_comment if submission.override_score is not None else None),
+        exercise_version=submission.exercise_version,
+        version_note=version_note(submission.exercise_version, exercise.version),
     )
+
+
+def version_note(graded: int | None, current: int) -> str:
+    """"Version 1" where a submission was graded against an earlier version of its exercise, else ""."""
+    return VERSION_NOTE[0].format(v=graded) if graded is not None and graded != current else ""
 
 
 def lms_result(grading: dict[str, Any] | None, score: int | None = None,
@@ -480,7 +710,7 @@ def _prepare_submission(db: Session, settings: Settings, principal: Principal, b
         earlier = _earlier_submission(db, principal, stored_key, body)
         if earlier is not None:
             return earlier
-    exercise = get_exercise(db, body.exercise)
+    exercise = get_exercise(db, body.exercise)  # access.check refuses one the caller does not see
     check_program(settings, body.program, exercise.dialect)
     external = body.external_user if principal.api_key is not None else None
     verdict = access.check(db, principal, "submit", exercise.slug, body.assignment, external)
@@ -501,7 +731,8 @@ def _store_submission(db: Session, settings: Settings, principal: Principal, bod
               "error_count": result["errors"], "warning_count": result["warnings"],
               "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
               "grading": result["grading"], "idempotency_key": pending.stored_key,
-              "assignment_id": target.id if target else None, "late": verdict.late, "held": verdict.held}
+              "assignment_id": target.id if target else None, "late": verdict.late, "held": verdict.held,
+              "exercise_version": exercise.version}
     try:
         submission = store_attempt(db, fields, verdict.limit if target is not None else 0, exercise.slug)
     except repo.Duplicate:
@@ -1023,7 +1254,10 @@ def results(db: Session, principal: Principal) -> Results:
                 score, max_score = _score(best)
                 row[e.slug] = ResultCell(best_score=score, max_score=max_score, best_submission=best.id,
                                          overridden=bool(getattr(best, "overridden", False)),
-                                         submissions=[s.id for s in subs], created_at=best.created_at)
+                                         submissions=[s.id for s in subs], created_at=best.created_at,
+                                         exercise_version=getattr(best, "exercise_version", None),
+                                         version_note=version_note(getattr(best, "exercise_version", None),
+                                                                   e.version))
         manager = users.get(users[uid].instructor_id) if users[uid].instructor_id else None  # type: ignore[arg-type]
         rows.append(ResultRow(username=users[uid].username, instructor=manager.username if manager else None,
                               results=row))

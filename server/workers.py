@@ -246,13 +246,21 @@ def job_drawing(document: dict[str, Any], lang: str) -> str:
     return part_drawing(ExerciseDocument.model_validate(document), lang)
 
 
-def job_sheet(document: dict[str, Any], lang: str) -> bytes:
+def job_sheet(document: dict[str, Any], lang: str, drawing: tuple[str, bytes] | None = None) -> bytes:
     """The printed task sheet of one exercise (PDF, core/sheet): its task page and its programming-form pages;
     SheetUnavailable without WeasyPrint. One exercise per job: an assignment's sheets are these, put together
-    (job_merge_pdfs), so that no job grows with the number of exercises."""
-    from core.sheet import task_sheet_pdf
+    (job_merge_pdfs), so that no job grows with the number of exercises. `drawing`: the author's own drawing
+    (media type, bytes), printed instead of the generated one — an image on the task page, a PDF after the form."""
+    import base64
 
-    return task_sheet_pdf([ExerciseDocument.model_validate(document)], lang)
+    from core.sheet import merge_pdfs, task_sheet_pdf
+
+    exercise = ExerciseDocument.model_validate(document)
+    if drawing is not None and drawing[0] != "application/pdf":
+        uri = f"data:{drawing[0]};base64," + base64.b64encode(drawing[1]).decode("ascii")
+        return task_sheet_pdf([exercise], lang, {exercise.id: uri})
+    sheet = task_sheet_pdf([exercise], lang)
+    return merge_pdfs([sheet, drawing[1]]) if drawing is not None else sheet
 
 
 def job_merge_pdfs(parts: list[bytes]) -> bytes:
@@ -262,13 +270,16 @@ def job_merge_pdfs(parts: list[bytes]) -> bytes:
     return merge_pdfs(parts)
 
 
-def job_validate_exercise(text: str) -> dict[str, Any]:
+def job_validate_exercise(text: str, graded: bool = True) -> dict[str, Any]:
     """An uploaded exercise (YAML or JSON, the format of docs/exercises.md) checked as an author's upload must be:
-    valid, and its reference scoring full marks. Answers {"document"} or {"invalid"} or {"reference"}."""
+    valid (every error at once), and (`graded`: published) its reference scoring full marks. Answers {"document"}
+    or {"invalid"} or {"reference"}."""
     try:
         exercise = parse_exercise(text)
     except ExerciseError as err:
         return {"invalid": err.message, "invalid_en": err.message_en, "problems": err.problems}
+    if not graded:
+        return {"document": exercise.model_dump(mode="json")}
     result = grade(exercise, exercise.reference)
     if result.score < result.max_score:
         lost = [c for c in result.criteria if not c.passed]

@@ -18,7 +18,7 @@ import importlib
 import io
 import math
 import re
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from functools import cache
 from importlib import resources
 from string import Template
@@ -228,7 +228,8 @@ def _tool_rows(exercise: Exercise, lang: str) -> tuple[list[str], list[list[str]
     return [labels[c] for c in columns], rows
 
 
-def _task_page(exercise: Exercise, lang: str) -> str:
+def _task_page(exercise: Exercise, lang: str, drawing: str | None = None) -> str:
+    """The task page; `drawing`: an image (data URI) the author gave instead of the generated drawing."""
     labels = LABELS[lang]
     headings, rows = _tool_rows(exercise, lang)
     left = 2  # the tool and its kind are text; the other columns are values
@@ -250,7 +251,7 @@ def _task_page(exercise: Exercise, lang: str) -> str:
         title=_e(exercise.title.get(lang)),
         meta=_e(f"{labels['exercise']} {exercise.id} · {labels[exercise.kind]}"),
         task=task_html(task),  # safe HTML (core/sheet/tasktext.py): what the exercise page shows
-        drawing=_svg_uri(_cropped(part_drawing(exercise, lang))), drawing_alt=_e(labels["drawing"]),
+        drawing=drawing or _svg_uri(_cropped(part_drawing(exercise, lang))), drawing_alt=_e(labels["drawing"]),
         caption=_e(labels["caption"].format(p=percent)), data_label=_e(labels["tools_only" if stated else "data"]),
         blank=_e(data_line), tool_headings=head, tool_rows="\n".join(body), start=start,
         variant=" with-start" if start else "", lathe=" lathe" if exercise.lathe else "")
@@ -274,15 +275,16 @@ def _form_page(exercise: Exercise, lang: str, k: int, n: int) -> str:
         rows="\n".join([row] * FORM_ROWS))
 
 
-def task_sheet_html(exercises: Sequence[Exercise], lang: str = "de") -> str:
-    """The task sheets of the exercises as one HTML document with its print stylesheet (the PDF's source)."""
+def task_sheet_html(exercises: Sequence[Exercise], lang: str = "de", drawings: Mapping[str, str] | None = None) -> str:
+    """The task sheets of the exercises as one HTML document with its print stylesheet (the PDF's source);
+    `drawings`: per exercise id an author's own drawing (an image as data URI) printed instead of the generated one."""
     lang = "en" if lang == "en" else "de"
     if not exercises:
         raise ValueError("no exercises")
     labels = LABELS[lang]
     sheets: list[str] = []
     for exercise in exercises:
-        sheets.append(_task_page(exercise, lang))
+        sheets.append(_task_page(exercise, lang, (drawings or {}).get(exercise.id)))
         n = form_pages(exercise)
         sheets += [_form_page(exercise, lang, k, n) for k in range(1, n + 1)]
     first = exercises[0]
@@ -293,10 +295,10 @@ def task_sheet_html(exercises: Sequence[Exercise], lang: str = "de") -> str:
     return _template("sheet.html").substitute(lang=lang, title=_e(title), css=css, sheets="\n".join(sheets))
 
 
-def task_sheet_pdf(exercises: Sequence[Exercise], lang: str = "de") -> bytes:
+def task_sheet_pdf(exercises: Sequence[Exercise], lang: str = "de", drawings: Mapping[str, str] | None = None) -> bytes:
     """The task sheets of the exercises as one PDF (A4): per exercise its task page, then its form pages."""
     engine = pdf_engine()
-    document = task_sheet_html(exercises, lang)
+    document = task_sheet_html(exercises, lang, drawings)
     pdf: bytes = engine.HTML(string=document).write_pdf()
     return pdf
 

@@ -16,7 +16,7 @@ from fastapi import APIRouter, Depends, Response
 from starlette.concurrency import run_in_threadpool
 
 from server import access, services
-from server.deps import HEAVY, AppWorkers, DbSession, rate_limit
+from server.deps import ANONYMOUS, HEAVY, AppWorkers, DbSession, rate_limit
 from server.errors import ApiError, responses
 from server.models import Exercise
 from server.schemas import Slug
@@ -72,5 +72,5 @@ async def example_drawing(slug: Slug, db: DbSession, workers: AppWorkers, lang: 
     headers = {"Cache-Control": "public, max-age=300"}
     if download:
         headers["Content-Disposition"] = f'attachment; filename="{re.sub(r"[^a-z0-9-]", "", slug) or "part"}.svg"'
-    return Response(await services.exercise_drawing(db, workers, slug, lang), media_type="image/svg+xml",
+    return Response(await services.exercise_drawing(db, workers, ANONYMOUS, slug, lang), media_type="image/svg+xml",
                     headers=headers)
