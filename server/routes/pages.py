@@ -85,6 +85,22 @@ def practice(who: Viewer) -> HTMLResponse:
     return _page("practice", "Freies Üben", who=who)
 
 
+@router.get("/exercises/new", response_model=None)
+def exercise_new(who: Viewer) -> HTMLResponse | RedirectResponse:
+    """The exercise editor for a new exercise (instructors; the API decides what they may save)."""
+    if who is None:
+        return RedirectResponse("/login?next=/exercises/new", status_code=303)
+    return _page("exercise-edit", "Neue Aufgabe", who=who)
+
+
+@router.get("/exercises/{slug}/edit", response_model=None)
+def exercise_edit(slug: str, who: Viewer) -> HTMLResponse | RedirectResponse:
+    """The exercise editor for one of the instructor's exercises (the page asks the API for its document)."""
+    if who is None:
+        return RedirectResponse("/login?next=/instructor", status_code=303)
+    return _page("exercise-edit", "Aufgabe bearbeiten", who=who)
+
+
 @router.get("/exercises/{slug}")
 def exercise(slug: str, who: Viewer) -> HTMLResponse:
     """One exercise: task, stock, tools, the finished part, the editor and submitting."""

@@ -180,14 +180,21 @@ def test_instructor_uploads_an_exercise_and_filters_submissions(server: str, bro
     reference = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
     upload = text.replace("id: pal-05-g2-kreisbogen", "id: lehrer-kreisbogen").replace(
         "reference_file: pal-05-g2-kreisbogen.nc\n", "reference: |\n" + "".join(f"  {x}\n" for x in reference.splitlines()))
-    page.fill("#exercise-text", upload.replace("feed: 150", "feed: -1"))
-    page.click("#upload")
-    page.wait_for_selector("#upload-message.error")
-    assert "ungültig" in page.inner_text("#upload-message")
-    page.fill("#exercise-text", upload)
-    page.click("#upload")
-    page.wait_for_selector("#upload-message.ok")
+    # the exercise file is the secondary way beside the editor: "Import und Export" on the instructor's page
+    page.click("#my-exercises details.yaml-import summary")
+    broken = upload.replace("feed: 150", "feed: -1").encode()
+    page.set_input_files("#import-exercise", files=[{"name": "kreisbogen.yaml", "mimeType": "application/yaml",
+                                                     "buffer": broken}])
+    page.wait_for_selector("#my-exercises-message .error")
+    assert "ungültig" in page.inner_text("#my-exercises-message")
+    with page.expect_navigation():  # a new draft opens in the editor
+        page.set_input_files("#import-exercise", files=[{"name": "kreisbogen.yaml", "mimeType": "application/yaml",
+                                                         "buffer": upload.encode()}])
+    assert page.url.endswith("/exercises/lehrer-kreisbogen/edit")
+    page.wait_for_selector("#reference-editor .cm-content")
     shot(page, "instructor-upload", tmp_path)
+    page.goto(f"{server}/instructor")
+    page.wait_for_selector("#filter")
     page.select_option("#filter", "lehrer-kreisbogen")
     page.wait_for_function("() => document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')")
     page.close()

@@ -5,6 +5,7 @@ import { mountAbout } from "./about.js";
 import { mountAdmin } from "./page-admin.js";
 import { mountDrawingPage } from "./drawing-viewer.js";
 import { mountCourse } from "./page-course.js";
+import { mountExerciseEdit } from "./page-exercise-edit.js";
 import { mountPassword, mountSignup } from "./page-account.js";
 import { mountHeader } from "./header.js";
 import { mountHome } from "./page-home.js";
@@ -18,6 +19,8 @@ const PAGES = {
     || mountPractice(document.getElementById("practice")),
   exercise: () => mountExercise(document.getElementById("exercise"),
     decodeURIComponent(location.pathname.split("/").pop())),
+  "exercise-edit": () => mountExerciseEdit(document.getElementById("exercise-edit"),
+    location.pathname.endsWith("/edit") ? decodeURIComponent(location.pathname.split("/")[2]) : null),
   exercises: () => Promise.all([mountHome(document.getElementById("home")), mountExerciseList(document.getElementById("list"))]),
   instructor: () => mountInstructor(document.getElementById("submissions")),
   login: () => mountLogin(document.getElementById("login"), document.getElementById("message")),

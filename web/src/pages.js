@@ -12,6 +12,7 @@ import { decimalInput, parseDecimal } from "./numbers.js";
 import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
 import { coursesSection } from "./page-course.js";
 import { mountStart } from "./page-home.js";
+import { myExercisesSection } from "./page-exercise-edit.js";
 
 export { mountExercise } from "./page-exercise.js";
 
@@ -104,36 +105,15 @@ export async function mountInstructor(parent) {
     }
   }
   filter.onchange = show;
-  // authoring: an exercise file (docs/exercises.md), checked by the server
-  const file = el("input", { type: "file", id: "exercise-file", accept: ".yaml,.yml,.json" });
-  file.setAttribute("aria-label", t("instructor.file"));
-  const text = el("textarea", { id: "exercise-text", rows: 8, cols: 80, placeholder: t("instructor.paste") });
-  text.setAttribute("aria-label", t("instructor.paste"));
-  const message = el("p", { id: "upload-message", role: "alert" });
-  const upload = el("button", { type: "button", id: "upload" }, t("instructor.create"));
-  file.onchange = async () => { text.value = await file.files[0].text(); };
-  upload.onclick = async () => {
-    const r = await api("/exercises/import", {
-      method: "POST", headers: { "Content-Type": "application/yaml" }, body: text.value,
-    });
-    message.className = r.ok ? "ok" : "error";
-    message.textContent = r.ok ? t("instructor.created", { title: r.body.title_de })
-      : (r.body?.error && message_(r.body.error)) || t("instructor.error");
-    if (r.ok) {
-      titles.set(r.body.slug, title(r.body));
-      filter.append(el("option", { value: r.body.slug }, title(r.body)));
-    }
-  };
   // results.js: one submission opened (?submission=ID), the results table, the class list
   const opened = new URLSearchParams(location.search).get("submission");
   // a changed score: the results table is read again (its cell marked "*")
   const onOverride = async () => document.getElementById("results")?.replaceWith(await resultsSection());
-  const [view, courses, results] = await Promise.all([opened ? submissionSection(opened, { onOverride }) : null,
-    coursesSection(), resultsSection()]);
-  parent.replaceChildren(view ?? "", courses, results,
+  const [view, courses, mine, results] = await Promise.all([opened ? submissionSection(opened, { onOverride }) : null,
+    coursesSection(), myExercisesSection(), resultsSection()]);
+  parent.replaceChildren(view ?? "", courses, mine, results,
     el("h3", {}, t("instructor.submissions")), el("p", {}, el("label", {}, `${t("instructor.exercise")} `, filter), " ", csv),
-    list, el("h3", {}, t("instructor.upload")), el("p", {}, file), text, el("p", {}, upload), message,
-    classImportSection());
+    list, classImportSection());
   view?.mountViz?.();
   await show();
 }

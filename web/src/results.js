@@ -7,10 +7,17 @@
 import { Text } from "@codemirror/state";
 import { api, el } from "./dom.js";
 import { criteriaList, formatMinute, overriddenMark } from "./grades.js";
-import { lang, message, t } from "./i18n.js";
+import { addTexts, lang, message, t } from "./i18n.js";
 import { formatTime, scoreText } from "./history.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { mountViz } from "./viz.js";
+
+addTexts({
+  "results.version": ["bewertet nach Version {v} der Aufgabe", "graded against version {v} of the exercise"],
+});
+
+// A submission graded against an earlier version of its exercise (edited since): which one.
+export function versionNote(version) { return t("results.version", { v: version }); }
 
 const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
 
@@ -42,7 +49,9 @@ export async function resultsSection() {
         el("a", { href: submissionHref(cell.best_submission), title: t("results.cell_title", { n: cell.submissions.length,
           time: formatTime(cell.created_at) }) }, label),
         cell.overridden ? overriddenMark() : null,
-        cell.submissions.length > 1 ? el("span", { className: "meta" }, ` (${cell.submissions.length})`) : null);
+        cell.submissions.length > 1 ? el("span", { className: "meta" }, ` (${cell.submissions.length})`) : null,
+        // graded against an earlier version of the exercise (it was edited since)
+        cell.version_note ? el("span", { className: "meta version-note" }, ` · ${versionNote(cell.exercise_version)}`) : null);
     })));
   section.append(el("div", { className: "results-wrap" },
     el("table", { className: "results-table", id: "results-table" }, el("thead", {}, head), el("tbody", {}, ...rows))));
@@ -79,7 +88,8 @@ export async function submissionSection(id, { onOverride = null } = {}) {
   const heading = el("p", { className: "meta", id: "submission-score" });
   const showScore = (now) => {
     heading.textContent = `${s.exercise} · ${formatTime(s.created_at)} · ${
-      g ? scoreText(now.score ?? g.score, g.max_score) : t("history.ungraded")}${now.override ? ` (${t("override.changed")})` : ""}`;
+      g ? scoreText(now.score ?? g.score, g.max_score) : t("history.ungraded")}${now.override ? ` (${t("override.changed")})` : ""}${
+      s.version_note ? ` · ${versionNote(s.exercise_version)}` : ""}`;
   };
   showScore(s);
   section.append(...[
