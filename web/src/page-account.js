@@ -97,7 +97,7 @@ export function mountSignup(form) {
     }
     const r = await api("/auth/signup", post({ join_code: data.join_code.trim(), username: data.username.trim(),
       password: data.password }));
-    if (r.ok) location.href = "/";
+    if (r.ok) location.href = safeNext("/");
     else say(note, "error", errorText(r, "signup.failed"));
   };
 }

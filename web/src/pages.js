@@ -33,7 +33,7 @@ export async function mountLogin(form, message) {
       method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(data),
     });
     if (r.ok && r.body?.must_change_password) {  // a one-time password: the user chooses their own first
-      location.href = "/password";
+      location.href = safeNext("/password");
     } else if (r.ok) {
       location.href = safeNext(landing(r.body?.role, new URLSearchParams(location.search).get("next")));
     } else {
