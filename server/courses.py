@@ -435,19 +435,21 @@ async def assignment_sheets(db: Session, workers: Workers, principal: Principal,
     """The assignment's exercises as one printed task sheet (instructors; students once it is open): each
     exercise's pages rendered (and kept) on their own, then put together (services.task_sheet)."""
 
-    def read() -> list[dict[str, Any]]:  # in the threadpool: no query on the event loop
+    def read() -> tuple[list[dict[str, Any]], list[tuple[str, bytes] | None]]:  # in the threadpool
         a = assignment_for(db, principal, assignment_id)
         if not _manages(db, _user(principal), a.course_id) and now() < utc(a.opens_at):
             raise ApiError("ASSIGNMENT_NOT_OPEN", opens_at=utc(a.opens_at).isoformat())
-        documents = [e.document for e in (repo.exercise_by_slug(db, s) for s in a.exercises)
+        exercises = [e for e in (repo.exercise_by_slug(db, s) for s in a.exercises)
                      if e is not None and e.document is not None]
+        own = [repo.exercise_drawing(db, e.id) for e in exercises]  # the authors' own drawings, printed instead
         db.commit()  # the pooled connection goes back before the wait for the workers
-        return documents
+        return ([e.document for e in exercises if e.document is not None],
+                [(d.media_type, d.data) if d is not None else None for d in own])
 
-    documents = await run_in_threadpool(read)
+    documents, drawings = await run_in_threadpool(read)
     if not documents:
         raise ApiError("NOT_FOUND")
-    return await services.task_sheet(workers, documents, lang)
+    return await services.task_sheet(workers, documents, lang, drawings)
 
 
 def release(db: Session, principal: Principal, assignment_id: int) -> AssignmentOut:

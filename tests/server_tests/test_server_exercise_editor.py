@@ -9,6 +9,7 @@ import struct
 import zlib
 from typing import Any
 
+import pytest
 from exam_helpers import assign, course_with, shift
 from server_helpers import BAD, GOOD, Api, auth, builtin_exercise, error_code, reference_of
 
@@ -327,3 +328,40 @@ def test_task_preview_renders_as_the_pages_do(api: Api) -> None:
     assert "<strong>Kontur</strong>" in html and "<script>" not in html
     assert api.client.post("/api/v1/exercises/task-preview", json={"markdown": "x"},
                            headers=auth(student)).status_code == 403
+
+
+def _pdf_available() -> bool:
+    from core.sheet import SheetUnavailable, pdf_engine
+
+    try:
+        pdf_engine()
+    except SheetUnavailable:
+        return False
+    return True
+
+
+@pytest.mark.skipif(not _pdf_available(), reason="WeasyPrint or Pango missing (bash .ci/run installs them)")
+def test_the_sheet_prints_the_own_drawing(api: Api) -> None:
+    import io
+
+    from pypdf import PdfReader
+
+    from core.sheet import pdf_engine
+
+    author = api.user("instructor")
+    slug = _duplicate(api, author, builtin_exercise(api))["slug"]
+    sheet = f"/api/v1/exercises/{slug}/sheet.pdf"
+    generated = api.client.get(sheet, headers=auth(author))
+    assert generated.status_code == 200
+    pages = len(PdfReader(io.BytesIO(generated.content)).pages)
+    # a PNG: on the task page in place of the generated drawing (the same pages, other content)
+    assert api.client.put(f"/api/v1/exercises/{slug}/own-drawing", content=_png(40, 30),
+                          headers=auth(author)).status_code == 200
+    with_png = api.client.get(sheet, headers=auth(author))
+    assert len(PdfReader(io.BytesIO(with_png.content)).pages) == pages and with_png.content != generated.content
+    # a PDF drawing: its page follows the sheet's pages
+    drawing = pdf_engine().HTML(string="<p>Eigene Zeichnung</p>").write_pdf()
+    assert api.client.put(f"/api/v1/exercises/{slug}/own-drawing", content=drawing,
+                          headers=auth(author)).json()["own_drawing"] == "application/pdf"
+    with_pdf = PdfReader(io.BytesIO(api.client.get(sheet, headers=auth(author)).content))
+    assert len(with_pdf.pages) == pages + 1 and "Eigene Zeichnung" in with_pdf.pages[-1].extract_text()

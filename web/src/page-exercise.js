@@ -154,6 +154,10 @@ export async function mountExercise(root, slug) {
     const drawing = `/api/v1/exercises/${slug}/drawing.svg?lang=${lang}`;
     const sheet = `/api/v1/exercises/${slug}/sheet.pdf?lang=${lang}`;  // task, drawing and programming form to print
     root.querySelector("#picture").replaceChildren(drawingFigure(drawing, slug, () => showTab("tab-drawing"), sheet));
+    if (ex.own_drawing === "application/pdf") {  // the author's own drawing is a PDF: opened as it is
+      root.querySelector("#picture figcaption")?.append(el("a", { href: `/api/v1/exercises/${slug}/own-drawing`,
+        target: "_blank", rel: "noopener", id: "own-drawing-pdf" }, t("drawing.own_pdf")));
+    }
     root.querySelector("#drawing-large").replaceChildren(drawingZoom(drawing, slug, sheet));
   } else {
     root.querySelector("#drawing-large").replaceChildren(el("p", { className: "meta" }, t("drawing.none")));

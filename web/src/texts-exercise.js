@@ -5,6 +5,7 @@
 import { addTexts } from "./i18n.js";
 
 addTexts({
+  "drawing.own_pdf": ["Zeichnung (PDF)", "Drawing (PDF)"],
   "kind.turning": ["Drehmeißel", "Turning tool"],
   "tools.insert": ["Schneidplatte", "Insert"],
   "tools.insert_groove": ["Einstechplatte", "Grooving insert"],
