@@ -110,6 +110,12 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     # the contour: the reference typed anew in the trainees' editor; the drawing follows
     first = drawn(page, lambda: page.locator("#reference-editor .cm-content").fill(CHANGED))
     assert first != original
+    # the 3D view of the reference, as trainees see theirs (Chromium without graphics: the server's picture)
+    page.click("#viz-show")
+    wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100 "
+                     "|| Boolean(document.getElementById('viz-frame')?.src)", 60)
+    page.locator("#viz").scroll_into_view_if_needed()
+    page.screenshot(path=str(SHOTS / "exercise-editor-3d-laptop.png"))
     page.locator(".program-and-drawing").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / "exercise-editor-program-laptop.png"))
     # the blank: 100 × 70 instead of 80 × 70; the drawing follows again
@@ -150,7 +156,7 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     # Anna (the instructor's course) sees it and solves it; Bert (another course) does not see it
     anna = login(browser, server, "ed-anna")
     anna.goto(f"{server}/")
-    anna.wait_for_selector("ul.exercises")
+    anna.wait_for_selector("ul.exercises", timeout=90000)  # a busy machine: the first list is slow
     assert anna.locator("ul.exercises a", has_text="Kontur FA 23").count() == 1
     anna.goto(f"{server}/exercises/{COPY}")
     anna.wait_for_selector("figure.drawing img", state="attached", timeout=30000)
@@ -159,7 +165,7 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     assert solved["score"] == 100 and solved["exercise_version"] == 1
     bert = login(browser, server, "ed-bert")
     bert.goto(f"{server}/")
-    bert.wait_for_selector("ul.exercises")
+    bert.wait_for_selector("ul.exercises", timeout=90000)
     assert bert.locator("ul.exercises a", has_text="Kontur FA 23").count() == 0
     bert.goto(f"{server}/exercises/{COPY}")
     wait_until(bert, "document.body.innerText.includes('nicht gefunden')", 30)

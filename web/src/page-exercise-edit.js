@@ -8,6 +8,7 @@
 import { api, el } from "./dom.js";
 import { addTexts, lang, message, t } from "./i18n.js";
 import { mountEditor } from "./main.js";
+import { mountViz } from "./viz.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { loginUrl } from "./redirect.js";
 import { LATHE_DIALECTS, MILLING_TOOL_KINDS } from "./tool-kinds.js";
@@ -72,6 +73,9 @@ addTexts({
   "visibility.courses": ["Meine Klassen", "My courses"],
   "visibility.public": ["Alle auf diesem Server", "Everyone on this server"],
   "edit.drawing": ["Zeichnung", "Drawing"],
+  "edit.viz": ["3D-Ansicht des Referenzprogramms", "3D view of the reference program"],
+  "edit.viz_show": ["3D-Ansicht zeigen", "Show the 3D view"],
+  "edit.viz_again": ["3D-Ansicht neu laden (Rohteil, Werkzeuge, Dialekt)", "Reload the 3D view (blank, tools, dialect)"],
   "edit.drawing_hint": ["Aus dem Referenzprogramm erzeugt; folgt dem Programm beim Tippen.",
     "Generated from the reference program; it follows the program as you type."],
   "edit.drawing_wait": ["Zeichnung wird erstellt …", "Drawing is being made …"],
@@ -244,6 +248,7 @@ export async function mountExerciseEdit(root, slug) {
   const referenceBox = el("div", { className: "editor-box", id: "reference-editor" });
   const diagnostics = el("ul", { className: "diagnostics", id: "reference-diagnostics" });
   let reference = null;
+  let scene = null;  // the 3D view, once asked for
   let referenceText = doc.reference || "";
   const liveTools = () => tools().filter((x) => Number.isInteger(x.number) && x.diameter > 0).map((x) => ({
     number: x.number, diameter: x.diameter, kind: x.kind, nose_radius: x.nose_radius || 0, quadrant: x.quadrant || 0 }));
@@ -251,7 +256,7 @@ export async function mountExerciseEdit(root, slug) {
     reference?.destroy();
     referenceBox.replaceChildren();
     reference = await mountEditor(referenceBox, { text: referenceText, dialect: dialect.value, list: diagnostics,
-      tools: liveTools(), onChange: (v) => { referenceText = v; drawingSoon(); } });
+      tools: liveTools(), onChange: (v) => { referenceText = v; drawingSoon(); scene?.changed(v); } });
   }
   const startBox = el("div", { className: "editor-box", id: "start-editor" });
   let startText = doc.start_program || "";
@@ -346,6 +351,19 @@ export async function mountExerciseEdit(root, slug) {
     }
     ownBox.replaceChildren(...parts);
   }
+
+  // -- the 3D view of the reference (free practice's scene with the form's blank and tools), on request --
+  const vizBox = el("div", { id: "viz", className: "edit-viz" });
+  const vizButton = el("button", { type: "button", id: "viz-show" }, t("edit.viz_show"));
+  vizButton.onclick = async () => {
+    const d = document_();
+    const setup = lathe() ? { blank: d.blank, tools: liveTools() }
+      : { size: [0, 1, 2].map((i) => d.stock.max[i] - d.stock.min[i]), stock: { min: d.stock.min, max: d.stock.max },
+        tools: liveTools() };
+    vizBox.replaceChildren();
+    scene = await mountViz(vizBox, reference, { dialect: dialect.value, setup });
+    vizButton.textContent = t("edit.viz_again");
+  };
 
   // -- the document from the form, on top of the one loaded (fields the form does not show stay) --
   function document_() {
@@ -470,7 +488,15 @@ export async function mountExerciseEdit(root, slug) {
     latheBlank.hidden = !lathe();
   }
   kind.onchange = async () => { showKind(); if (kind.value !== "write" && !start) await mountStart(); };
-  dialect.onchange = async () => { showDialect(); await mountReference(); if (start) await mountStart(); changed(); };
+  dialect.onchange = async () => {
+    showDialect();
+    scene = null;  // the 3D view belonged to the editor of the other dialect
+    vizBox.replaceChildren();
+    vizButton.textContent = t("edit.viz_show");
+    await mountReference();
+    if (start) await mountStart();
+    changed();
+  };
 
   const section = (title, ...children) => el("section", { className: "edit-section" }, el("h3", {}, title), ...children);
   form.replaceChildren(
@@ -497,6 +523,7 @@ export async function mountExerciseEdit(root, slug) {
         el("p", { className: "field-error", role: "alert" })), "reference", t("edit.reference")),
       el("p", { className: "meta" }, t("edit.reference_hint")), diagnostics),
       el("div", {}, el("h3", {}, t("edit.drawing")), el("figure", { className: "drawing-preview" }, drawingImg), drawingNote, ownBox)),
+    section(t("edit.viz"), el("p", {}, vizButton), vizBox),
     startSection,
     section(t("edit.hints"), withName(field("hints", t("edit.hints"), hints), "hints"),
       withName(field("solution", t("edit.solution"), solution), "solution")),

@@ -67,7 +67,7 @@ export async function mountViz(container, view, { dialect = "pal-mill", exercise
   // takes a bar around the program)
   const body = (text) => ({
     program: text, dialect, exercise,
-    ...(setup?.size ? { stock: stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
+    ...(setup?.size ? { stock: setup.stock || stockOf(setup), tools: setup.tools.length ? setup.tools : null } : {}),
     ...(setup?.blank ? { blank: setup.blank } : {}),
   });
 
