@@ -190,3 +190,30 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     tablet.wait_for_selector("#results .version-note")
     fits(tablet)
     tablet.screenshot(path=str(SHOTS / "exercise-editor-instructor-tablet.png"), full_page=True)
+
+
+def test_editor_has_no_serious_accessibility_problems(server: str, browser: Any) -> None:
+    """axe-core on the editor of a new exercise and on an existing one (its errors shown)."""
+    axe = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
+    page = browser.new_context(viewport={"width": 1366, "height": 768}, bypass_csp=True).new_page()
+    page.goto(f"{server}/login")
+    page.fill("input[name=username]", "ed-kollege")
+    page.fill("input[name=password]", PASSWORD)
+    page.click("button[type=submit]")
+    page.wait_for_load_state("networkidle")
+    page.goto(f"{server}/exercises/new")
+    page.wait_for_selector("#reference-editor .cm-content", timeout=60000)
+    for errors in (False, True):
+        if errors:
+            page.click("#save")  # an empty exercise: every error at its field
+            page.wait_for_selector("#edit-errors li", timeout=60000)
+            assert page.locator(".has-error").count() >= 2
+        page.add_script_tag(path=str(axe))
+        result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
+        serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
+                   if v["impact"] in ("serious", "critical")]
+        assert not serious, serious
+    page.screenshot(path=str(SHOTS / "exercise-editor-new-errors-laptop.png"))
+    page.fill("[data-field='title.de'] input", "Kontur für Übung 3")  # the slug follows the title
+    assert page.input_value("[data-field='id'] input") == "kontur-fuer-uebung-3"
+    page.context.close()

@@ -49,6 +49,7 @@ addTexts({
   "edit.cut_speed": ["S (1/min)", "S (rpm)"],
   "edit.cut_vc": ["V (m/min)", "V (m/min)"],
   "edit.cut_feed": ["F", "F"],
+  "edit.cut_which": ["Drehzahl S oder Schnittgeschwindigkeit V", "Spindle speed S or cutting speed V"],
   "edit.cut_spindle": ["Drehrichtung", "Spindle"],
   "edit.add_cut": ["Schnittdaten hinzufügen", "Add cutting data"],
   "edit.reference": ["Referenzprogramm", "Reference program"],
@@ -162,11 +163,22 @@ export async function mountExerciseEdit(root, slug) {
   };
   const text = (v, props = {}) => el("input", { type: "text", value: v ?? "", ...props });
   const area = (v, rows) => el("textarea", { rows, value: v ?? "" });
-  const select = (options, current) => el("select", {}, ...options.map(([v, label]) =>
-    el("option", { value: v, selected: v === current }, label)));
+  const select = (options, current, label = null) => {
+    const node = el("select", {}, ...options.map(([v, text]) => el("option", { value: v, selected: v === current }, text)));
+    if (label) node.setAttribute("aria-label", label);
+    return node;
+  };
 
   const slugInput = text(doc.id, { readOnly: Boolean(slug), pattern: "[a-z0-9][a-z0-9-]*" });
   const titleDe = text(doc.title?.de); const titleEn = text(doc.title?.en);
+  // a new exercise's slug follows its title until the author types one ("Kontur FA 23" → kontur-fa-23)
+  let slugTyped = Boolean(slug);
+  slugInput.addEventListener("input", () => { slugTyped = true; });
+  titleDe.addEventListener("input", () => {
+    if (slugTyped) return;
+    slugInput.value = titleDe.value.toLowerCase().replace(/ä/g, "ae").replace(/ö/g, "oe").replace(/ü/g, "ue")
+      .replace(/ß/g, "ss").normalize("NFKD").replace(/[^a-z0-9]+/g, "-").replace(/^-+|-+$/g, "").slice(0, 60);
+  });
   const taskDe = area(doc.task?.de, 6); const taskEn = area(doc.task?.en, 4);
   const taskPreview = el("div", { className: "task-text task-preview", id: "task-preview" });
   const dialect = select(dialectList.map((d) => [d.name, (lang === "en" && d.title_en) || d.title || d.name]), doc.dialect);
@@ -198,7 +210,7 @@ export async function mountExerciseEdit(root, slug) {
     const kinds = [...MILLING_TOOL_KINDS, ...LATHE_KINDS];
     const tr = el("tr", {},
       el("td", {}, decimalInput(tool.number, t("edit.tool_number"), { integer: true, size: 3 })),
-      el("td", {}, select(kinds.map((k) => [k, t(`kind.${k}`)]), tool.kind || "end_mill")),
+      el("td", {}, select(kinds.map((k) => [k, t(`kind.${k}`)]), tool.kind || "end_mill", t("tools.kind"))),
       el("td", {}, decimalInput(tool.diameter ?? 10, t("tools.diameter"), { size: 5 })),
       el("td", {}, decimalInput(tool.kind === "turning" ? tool.nose_radius ?? 0 : tool.corner_radius ?? 0, t("edit.tool_radius"), { size: 4 })),
       el("td", {}, decimalInput(tool.quadrant ?? 0, t("edit.tool_quadrant"), { integer: true, size: 2 })),
@@ -229,9 +241,10 @@ export async function mountExerciseEdit(root, slug) {
     const tr = el("tr", {},
       el("td", {}, decimalInput(c.tool, t("edit.tool_number"), { integer: true, size: 3 })),
       el("td", {}, decimalInput(c.speed ?? c.cutting_speed ?? "", c.cutting_speed != null ? t("edit.cut_vc") : t("edit.cut_speed"), { size: 6 })),
-      el("td", {}, select([["speed", t("edit.cut_speed")], ["cutting_speed", t("edit.cut_vc")]], c.cutting_speed != null ? "cutting_speed" : "speed")),
+      el("td", {}, select([["speed", t("edit.cut_speed")], ["cutting_speed", t("edit.cut_vc")]],
+        c.cutting_speed != null ? "cutting_speed" : "speed", t("edit.cut_which"))),
       el("td", {}, decimalInput(c.feed ?? "", t("edit.cut_feed"), { size: 6 })),
-      el("td", {}, select([["", "–"], ["M3", "M3"], ["M4", "M4"]], c.spindle || "")),
+      el("td", {}, select([["", "–"], ["M3", "M3"], ["M4", "M4"]], c.spindle || "", t("edit.cut_spindle"))),
       el("td", {}, el("button", { type: "button", className: "remove", onclick: () => { tr.remove(); changed(); } }, t("edit.remove"))));
     return tr;
   };
