@@ -166,6 +166,8 @@ class AssignmentResultCell(BaseModel):
     auto: bool
     overridden: bool = Field(default=False, description="The score was set by an instructor")
     created_at: Time
+    exercise_version: int | None = Field(default=None, description="The exercise's version it was graded against")
+    version_note: str = Field(default="", description="\"Version 1\" when that is not the exercise's current one")
 
 
 class AssignmentResultRow(BaseModel):
@@ -618,6 +620,7 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
     a = assignment_for(db, principal, assignment_id, manage=True)
     found = [e for e in (repo.exercise_by_slug(db, s) for s in a.exercises) if e is not None]
     exercises = {e.id: e.slug for e in found}
+    versions = {e.id: e.version for e in found}
     max_total = sum(max_score_of(e) or 0 for e in found)  # every gradable exercise counts, tried or not
     by_user: dict[int, list[repo.Scored]] = {}
     for s in repo.assignment_scores(db, a.id):
@@ -635,7 +638,9 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
                 score, max_score = services._score(best)
                 cells[slug] = AssignmentResultCell(submission=best.id, score=score, max_score=max_score,
                                                    late=best.late, auto=best.auto, overridden=best.overridden,
-                                                   created_at=best.created_at)
+                                                   created_at=best.created_at, exercise_version=best.exercise_version,
+                                                   version_note=services.version_note(best.exercise_version,
+                                                                                      versions[eid]))
         total = sum(c.score or 0 for c in cells.values())
         rows.append(AssignmentResultRow(username=user.username, results=cells,
                                         total=total if max_total else None, max_total=max_total or None,

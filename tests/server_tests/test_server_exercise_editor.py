@@ -105,9 +105,10 @@ def test_a_draft_set_in_an_assignment_is_seen_from_its_opening(api: Api) -> None
 
 def test_edit_of_a_published_exercise_makes_a_version_and_submissions_keep_theirs(api: Api) -> None:
     author, student = api.user("instructor"), api.user()
-    course_with(api, author, student)
+    course = course_with(api, author, student)
     ex = _duplicate(api, author, builtin_exercise(api))
     slug, document = ex["slug"], ex["document"]
+    practice = assign(api, author, course, [slug], exam=False)
     assert document["id"] == slug and ex["version"] == 1
 
     # a draft's edits make no versions
@@ -146,6 +147,10 @@ def test_edit_of_a_published_exercise_makes_a_version_and_submissions_keep_their
     row = next(t for t in results["trainees"] if t["username"] == student["name"])
     assert row["results"][slug]["best_submission"] == first["id"]
     assert row["results"][slug]["version_note"] == "Version 1"
+    # and so does the course's matrix of the assignment
+    matrix = api.client.get(f"/api/v1/assignments/{practice}/results", headers=auth(author)).json()
+    cell = next(t for t in matrix["trainees"] if t["username"] == student["name"])["results"][slug]
+    assert cell["submission"] == first["id"] and cell["version_note"] == "Version 1" and cell["exercise_version"] == 1
 
 
 def test_archive_hides_keeps_submissions_and_delete_without_submissions_deletes(api: Api) -> None:

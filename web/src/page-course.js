@@ -10,7 +10,7 @@ import { overriddenMark } from "./grades.js";
 import { addTexts, lang, message, t } from "./i18n.js";
 import { formatDecimal } from "./numbers.js";
 import { loginUrl, safeNext } from "./redirect.js";
-import { submissionSection } from "./results.js";
+import { submissionSection, versionNote } from "./results.js";
 import { ltiPart } from "./course-lti.js";
 import { framedHref } from "./lti-frame.js";
 import { modeLabel } from "./page-exam.js";
@@ -441,7 +441,9 @@ async function resultsPart(a, byslug) {
             time: formatTime(cell.created_at) }) }, label),
           cell.overridden ? overriddenMark() : null,
           cell.late ? el("span", { className: "tag tag-late" }, t("matrix.late")) : null,
-          cell.auto ? el("span", { className: "tag", title: t("matrix.auto_title") }, t("matrix.auto")) : null);
+          cell.auto ? el("span", { className: "tag", title: t("matrix.auto_title") }, t("matrix.auto")) : null,
+          // graded against an earlier version of the exercise (edited since)
+          cell.version_note ? el("span", { className: "meta version-note" }, ` · ${versionNote(cell.exercise_version)}`) : null);
       }),
       el("td", { className: "num total" }, sum(row))));
     const changed = trainees.some((row) => Object.values(row.results).some((cell) => cell.overridden));
