@@ -506,7 +506,8 @@ def _store_finalised(db: Session, work: _Finalising, results: list[dict[str, Any
                   "error_count": result["errors"], "warning_count": result["warnings"],
                   "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
                   "grading": result["grading"], "idempotency_key": f"exam{a.id}:u{user_id}:{exercise.slug}",
-                  "assignment_id": a.id, "late": False, "held": a.released_at is None, "auto": True}
+                  "assignment_id": a.id, "late": False, "held": a.released_at is None, "auto": True,
+                  "exercise_version": exercise.version}
         try:
             submission = services.store_attempt(db, fields, work.limit, exercise.slug)
         except (repo.Duplicate, ApiError):

@@ -370,3 +370,22 @@ def test_the_sheet_prints_the_own_drawing(api: Api) -> None:
                           headers=auth(author)).json()["own_drawing"] == "application/pdf"
     with_pdf = PdfReader(io.BytesIO(api.client.get(sheet, headers=auth(author)).content))
     assert len(with_pdf.pages) == pages + 1 and "Eigene Zeichnung" in with_pdf.pages[-1].extract_text()
+
+
+def test_an_exam_submitted_at_its_end_records_the_version(api: Api) -> None:
+    from exam_helpers import finalize
+
+    author, student = api.user("instructor"), api.user()
+    course = course_with(api, author, student)
+    ex = _duplicate(api, author, builtin_exercise(api))
+    slug = ex["slug"]
+    assert _patch(api, author, slug, visibility="courses").status_code == 200
+    changed = {**ex["document"], "task": {"de": "Neu: Fräsen Sie die Kontur.", "en": ""}}
+    assert _patch(api, author, slug, document=changed).json()["version"] == 2
+    exam = assign(api, author, course, [slug], start=-1, minutes=30)
+    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": GOOD},
+                          headers=auth(student)).status_code == 200
+    shift(api, exam, 31)
+    assert finalize(api) >= 1
+    with api.app.state.db.session() as db:
+        assert [(s.auto, s.exercise_version) for s in repo.assignment_submissions(db, exam)] == [(True, 2)]
