@@ -122,6 +122,8 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     max_x = page.locator("[data-field='stock'] .triple").nth(1).locator("input").first
     second = drawn(page, lambda: max_x.fill("100"))
     assert second != first
+    task_text = page.locator("[data-field='task.de'] textarea")
+    task_text.fill(task_text.input_value().replace("80 × 70", "100 × 70"))  # the task says the new blank
 
     # every error at its field at once: an empty title and points that do not add up
     title = page.locator("[data-field='title.de'] input")
@@ -160,6 +162,8 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     assert anna.locator("ul.exercises a", has_text="Kontur FA 23").count() == 1
     anna.goto(f"{server}/exercises/{COPY}")
     anna.wait_for_selector("figure.drawing img", state="attached", timeout=30000)
+    wait_until(anna, "document.querySelector('figure.drawing img')?.naturalWidth > 100", 60)
+    assert "100 × 70" in anna.inner_text("#task")
     anna.screenshot(path=str(SHOTS / "exercise-editor-student-laptop.png"))
     solved = call(server, "POST", "/submissions", token(server, "ed-anna"), {"exercise": COPY, "program": CHANGED})
     assert solved["score"] == 100 and solved["exercise_version"] == 1
