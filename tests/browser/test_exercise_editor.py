@@ -221,3 +221,34 @@ def test_editor_has_no_serious_accessibility_problems(server: str, browser: Any)
     page.fill("[data-field='title.de'] input", "Kontur für Übung 3")  # the slug follows the title
     assert page.input_value("[data-field='id'] input") == "kontur-fuer-uebung-3"
     page.context.close()
+
+
+def test_a_turning_exercise_to_complete_round_trips_through_the_editor(server: str, browser: Any) -> None:
+    """A copy of the TRAUB exercise "ergänzen": the blank as a bar, the start program with its locked lines (a click
+    on a line number frees or locks it), saved and published unchanged otherwise."""
+    bearer = token(server, "ed-kollege")
+    copy = call(server, "POST", "/exercises/traub-02-uebersichtskontur/duplicate", bearer)
+    page = login(browser, server, "ed-kollege")
+    page.goto(f"{server}/exercises/{copy['slug']}/edit")
+    page.wait_for_selector("#start-editor .cm-content", timeout=60000)
+    assert page.locator("[data-field='blank']").is_visible() and not page.locator("[data-field='stock']").is_visible()
+    diameter = f"{copy['document']['blank']['diameter']:g}".replace(".", ",")
+    assert page.input_value("[data-field='blank.diameter'] input") == diameter
+    locked = page.locator("[data-field='locked_lines'] input")
+    before = locked.input_value()
+    assert before == ", ".join(str(n) for n in copy["document"]["locked_lines"])
+    page.locator("#start-editor .cm-lineNumbers .cm-gutterElement", has_text="1").first.click()
+    assert locked.input_value() != before
+    page.locator("#start-editor .cm-lineNumbers .cm-gutterElement", has_text="1").first.click()
+    assert locked.input_value() == before
+    page.select_option("[data-field='visibility'] select", "public")
+    page.click("#save")
+    wait_until(page, "document.getElementById('edit-status').textContent.includes('Version 1')", 90)
+    assert page.locator(".has-error").count() == 0
+    fits(page)
+    page.locator("#start-section").scroll_into_view_if_needed()
+    page.screenshot(path=str(SHOTS / "exercise-editor-turning-laptop.png"))
+    saved = call(server, "GET", f"/exercises/{copy['slug']}", bearer)
+    assert saved["visibility"] == "public" and saved["document"]["blank"] == copy["document"]["blank"]
+    assert saved["document"]["locked_lines"] == copy["document"]["locked_lines"]
+    assert saved["document"]["start_program"] == copy["document"]["start_program"]

@@ -202,7 +202,8 @@ export async function mountExerciseEdit(root, slug) {
     field("stock", t("edit.stock_min"), el("span", { className: "triple" }, ...stockMin)),
     field("stock", t("edit.stock_max"), el("span", { className: "triple" }, ...stockMax), t("edit.stock_hint"))), "stock", t("edit.blank"));
   const latheBlank = withName(el("div", { className: "row" }, ...Object.entries(blankInputs).map(([k, input]) =>
-    field(`blank.${k}`, t(`edit.blank_${k === "inner_diameter" ? "inner" : k === "chuck_length" ? "chuck" : k}`), input))), "blank", t("edit.blank"));
+    withName(field(`blank.${k}`, t(`edit.blank_${k === "inner_diameter" ? "inner" : k === "chuck_length" ? "chuck" : k}`), input),
+      `blank.${k}`))), "blank", t("edit.blank"));
 
   // -- tools and cutting data: rows; fields the form does not show are kept as they were --
   const toolRows = el("tbody");
