@@ -33,10 +33,10 @@ try:
 except ImportError:  # run as `python bench/simulate.py` without an installed package
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run
 from core.sim import Blank, SimResult, Stock, TurningResult, parse_tool_table, simulate, simulate_turning
+from core.toolpath import Toolpath
 from core.tools import Tool, ToolTable
 
 ROOT = Path(__file__).resolve().parents[1]

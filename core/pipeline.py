@@ -18,14 +18,14 @@ from core.dialects.codes import CodeTable
 from core.dialects.pal_mill import TABLE as PAL_MILL_TABLE
 from core.dialects.sinumerik_iso import TABLE as ISO_TABLE
 from core.dialects.traub_tx8d import TABLE as TRAUB_TABLE
-from core.interpreter import BlockExecutor, Toolpath, interpret
+from core.interpreter import BlockExecutor, interpret
 from core.interpreter.checkpoints import Keep
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
 from core.interpreter.traub_turn import run_program as traub_run
 from core.syntax.blocks import Block, Program
 from core.syntax.parser import BlockParser, parser_for
-from core.toolpath import Dwell, Move, ToolChange, Vec3
+from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
 
 
 @dataclass(frozen=True)

@@ -13,11 +13,17 @@ turns and 0 while it stands. Every command carries the span of the block that ma
 
 from __future__ import annotations
 
+import copy
 import math
-from dataclasses import dataclass
-from typing import Any, Literal
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, Literal
 
+from core.diagnostics import Diagnostic
+from core.limits import DEFAULT_LIMITS, Limits
 from core.syntax.blocks import Span
+
+if TYPE_CHECKING:  # the interpreter's package imports this module
+    from core.interpreter.state import ModalState
 
 Vec3 = tuple[float, float, float]
 MoveKind = Literal["rapid", "feed", "arc"]
@@ -149,3 +155,47 @@ class ToolChange:
     def to_json(self) -> dict[str, Any]:
         return {"line": self.span.line, "tool": self.tool, "tc": self.tc, "tr": self.tr, "tl": self.tl,
                 "position": _v(self.position)}
+
+
+@dataclass(slots=True)
+class Toolpath:
+    """The interpreter's result: canonical commands, diagnostics and the state after every line."""
+
+    commands: list[Move | Dwell | ToolChange] = field(default_factory=list)  # in execution order
+    moves: list[Move] = field(default_factory=list)
+    dwells: list[Dwell] = field(default_factory=list)
+    tool_changes: list[ToolChange] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    final_position: Vec3 = (0.0, 0.0, 0.0)
+    initial: ModalState | None = None
+    # index = line - 1: the state and position after that line (lines not executed repeat the previous)
+    line_states: list[ModalState] = field(default_factory=list)
+    line_positions: list[Vec3] = field(default_factory=list)
+    params: dict[int, float] = field(default_factory=dict)
+    limits: Limits = DEFAULT_LIMITS  # the limits of the run (an answer shows at most max_answer_commands)
+    code_prefix: str = "PAL"  # the dialect's prefix of diagnostics (core.diagnostics.in_dialect)
+    # the work the run did: blocks executed, evaluation steps, programmed moves (core/limits.py Budget); tests
+    # bound a program's cost by these counters, never by seconds
+    work: tuple[int, int, int] = (0, 0, 0)
+
+    def state_at(self, line: int) -> tuple[ModalState, Vec3]:
+        """What is active, and where the tool is, after line `line` (1-based) has run."""
+        if line < 1 or not self.line_states:
+            assert self.initial is not None
+            return self.initial, self.line_positions[0] if self.line_positions else (0.0, 0.0, 0.0)
+        i = min(line, len(self.line_states)) - 1
+        return self.line_states[i], self.line_positions[i]
+
+    def until_move(self, moves: int) -> Toolpath:
+        """The run as far as its first `moves` moves (for the stock after a block during playback)."""
+        commands: list[Move | Dwell | ToolChange] = []
+        count = 0
+        for c in self.commands:
+            if isinstance(c, Move):
+                if count >= moves:
+                    break
+                count += 1
+            commands.append(c)
+        partial = copy.copy(self)
+        partial.commands = commands
+        return partial

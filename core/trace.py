@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from core.interpreter import Toolpath
-from core.toolpath import Dwell, Move, Vec3
+from core.toolpath import Dwell, Move, Toolpath, Vec3
 
 
 def _n(v: float) -> str:

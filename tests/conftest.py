@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from core.interpreter import Toolpath
 from core.pipeline import run
+from core.toolpath import Toolpath
 
 SEEDS = Path(__file__).with_name("seeds")
 

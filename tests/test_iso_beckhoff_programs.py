@@ -17,10 +17,9 @@ import pytest
 
 from core.diagnostics import Diagnostic
 from core.dialects.codes import Support
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import DIALECTS, run
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 from core.tools import DEFAULT_TOOLS
 from core.trace import trace_lines
 from tests.conftest import codes

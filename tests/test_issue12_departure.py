@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import pytest
 
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run, toolpath_json
+from core.toolpath import Toolpath
 from core.tools import DEFAULT_TOOLS, Tool
 from tests.conftest import SeedReader, errors
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from core.interpreter import Toolpath
 from core.pipeline import run
+from core.toolpath import Toolpath
 from tests.conftest import codes
 
 READY = "N10 T1 TC1 M6\nN20 S1000 F200 M3\n"

@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 
 from core.diagnostics import CATALOGUE, FOLLOW_UPS, REPEATED, Severity
-from core.interpreter import Toolpath
 from core.pipeline import diagnostics_json, run
+from core.toolpath import Toolpath
 from tests.conftest import SeedReader, codes
 
 READY = "N10 T1 TC1 M6\nN20 S1200 F150 M3\n"

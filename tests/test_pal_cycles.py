@@ -9,10 +9,9 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import DIALECTS, run
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 from core.tools import Tool, ToolTable
 from tests.conftest import codes
 

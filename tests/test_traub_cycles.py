@@ -15,12 +15,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run
 from core.sim import parse_tool_table
 from core.sim.turning import Blank, simulate_turning
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 from core.tools import ToolTable, turning_tool
 from tests.conftest import codes
 

@@ -11,9 +11,9 @@ from pathlib import Path
 
 import pytest
 
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run
+from core.toolpath import Toolpath
 from tests.conftest import codes
 
 SEEDS = Path(__file__).with_name("seeds") / "traub"

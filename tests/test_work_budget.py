@@ -15,10 +15,10 @@ from typing import Any
 
 import pytest
 
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.limits import DEFAULT_LIMITS, DIAGNOSTIC_STEPS, Limits, work_ceiling
 from core.pipeline import drawing, run, summarised, toolpath_json
+from core.toolpath import Toolpath
 from tests.conftest import codes
 
 MB = 5_000_000

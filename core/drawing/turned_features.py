@@ -21,11 +21,10 @@ import numpy.typing as npt
 
 from core.drawing.features import clip_line, start_and_sweep
 from core.exercises import Exercise
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run
 from core.sim.turning import DEFAULT_LATHE_TOOLS, Blank, simulate_turning
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 from core.tools import Tool, ToolTable
 
 P = tuple[float, float]  # (z, r): along the spindle axis, radius

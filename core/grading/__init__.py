@@ -37,11 +37,10 @@ from core.grading.turning import (
     turning_technology,
     unsafe_events,
 )
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import DIALECTS, run
 from core.sim import HeightMap, SimResult, simulate
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 
 SAFETY_EVENTS = {"SIM-E001", "SIM-E002", "SIM-E003", "SIM-E004", "SIM-E005", "SIM-E006", "SIM-E007", "SIM-E008"}
 SAFE_CLEARANCE = 10.0  # mm above the stock top counts as a safe end position

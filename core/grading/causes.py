@@ -20,8 +20,7 @@ from typing import Any, Literal
 
 from core.diagnostics import catalogue_code
 from core.grading.numbers import de, en, mm, word
-from core.interpreter import Toolpath
-from core.toolpath import Move, ToolChange
+from core.toolpath import Move, ToolChange, Toolpath
 
 Point = tuple[float, float]
 SAME = 0.01  # mm: programmed points this close are the same point

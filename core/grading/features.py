@@ -30,8 +30,8 @@ import numpy.typing as npt
 
 from core.grading.causes import Element, describe, elements
 from core.grading.numbers import mm, word
-from core.interpreter import Toolpath
 from core.sim import HeightMap
+from core.toolpath import Toolpath
 
 Array = npt.NDArray[np.float64]
 LEVEL = 0.01  # mm: depths this close are one floor

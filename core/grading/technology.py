@@ -7,8 +7,7 @@ import re
 
 from core.exercises import Exercise
 from core.grading.numbers import word
-from core.interpreter import Toolpath
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 
 
 def spindle_wanted(ex: Exercise, reference: Toolpath) -> dict[int, str]:

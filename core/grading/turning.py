@@ -27,11 +27,10 @@ from core.grading.numbers import de as de_num
 from core.grading.numbers import en as en_num
 from core.grading.numbers import mm, word
 from core.grading.technology import direction_fault, in_effect, spindle_set_where, spindle_wanted
-from core.interpreter import Toolpath
 from core.interpreter.state import RunSetup
 from core.pipeline import run as run_program
 from core.sim.turning import DEFAULT_LATHE_TOOLS, RevolvedProfile, TurningResult, simulate_turning
-from core.toolpath import Move
+from core.toolpath import Move, Toolpath
 
 # the turning simulation's events that make a program unsafe (SIM-E010, the work limit, is none of them)
 LATHE_SAFETY_EVENTS = {"SIM-E001", "SIM-E006", "SIM-E008", "SIM-E011", "SIM-E012", "SIM-E013", "SIM-E014"}

@@ -26,7 +26,7 @@ from typing import Any
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.interpreter import Toolpath, _dedupe, traub_cycles, turn_contour
+from core.interpreter import _dedupe, traub_cycles, turn_contour
 from core.interpreter.checkpoints import STATS, Keep, LineMap, Unmappable, changed_lines
 from core.interpreter.params import evaluate as evaluate_expression
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
@@ -46,7 +46,7 @@ from core.interpreter.traub_trace import (
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
 from core.limits import Budget
 from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
-from core.toolpath import Dwell, Move, ToolChange, Vec3
+from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
 
 Item = turn_contour.Item
 

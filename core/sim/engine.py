@@ -17,12 +17,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from core.diagnostics import Diagnostic, diag
-from core.interpreter import Toolpath
 from core.sim.shapes import Array, Cutter, cutter_of, flat
 from core.sim.sweep import Grid, arc_envelope, line_envelope
 from core.sim.tooltable import DEFAULT_SIM_TOOLS
 from core.syntax.blocks import Span
-from core.toolpath import Dwell, Move, ToolChange, Vec3
+from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
 from core.tools import Tool, ToolTable
 
 DEFAULT_RESOLUTION = 0.1  # mm; the grading resolution

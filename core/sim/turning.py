@@ -20,11 +20,10 @@ import numpy as np
 import numpy.typing as npt
 
 from core.diagnostics import Diagnostic, diag
-from core.interpreter import Toolpath
 from core.sim.engine import NO_LINE, _Events
 from core.sim.insert import Insert, insert_of, lower_envelope, lower_hull
 from core.sim.shapes import Array
-from core.toolpath import Dwell, Move, ToolChange
+from core.toolpath import Dwell, Move, ToolChange, Toolpath
 from core.tools import ToolTable
 
 DEFAULT_TURNING_RESOLUTION = 0.05  # mm along Z; radii are not rounded
