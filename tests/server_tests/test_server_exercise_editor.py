@@ -389,3 +389,20 @@ def test_an_exam_submitted_at_its_end_records_the_version(api: Api) -> None:
     assert finalize(api) >= 1
     with api.app.state.db.session() as db:
         assert [(s.auto, s.exercise_version) for s in repo.assignment_submissions(db, exam)] == [(True, 2)]
+
+
+def test_drawing_preview_is_rate_limited_as_pictures(tmp_path_factory: pytest.TempPathFactory) -> None:
+    from fastapi.testclient import TestClient
+    from server_helpers import make_settings
+
+    from server.app import create_app
+
+    settings = make_settings(tmp_path_factory.mktemp("preview"), "sqlite", workers=1, rate_picture_per_minute=2)
+    with TestClient(create_app(settings), base_url="http://127.0.0.1") as client:
+        small = Api(client)
+        author = small.user("instructor")
+        doc = _duplicate(small, author, builtin_exercise(small))["document"]
+        part = {"document": {k: doc[k] for k in ("dialect", "stock", "tools", "reference")}}
+        codes = [small.client.post("/api/v1/exercises/drawing-preview", json=part, headers=auth(author)).status_code
+                 for _ in range(3)]
+        assert codes == [200, 200, 429]
