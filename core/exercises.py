@@ -7,6 +7,7 @@ is the only I/O here and happens in `load_exercise`/`builtin_exercises`, never i
 
 from __future__ import annotations
 
+import importlib.util
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
@@ -29,7 +30,19 @@ from core.sim.turning import Blank
 from core.tools import DEFAULT_TOOLS, ToolTable
 
 FORMAT_VERSION = 1
-EXERCISES_DIR = Path(__file__).resolve().parents[1] / "exercises"
+
+
+def _builtin_dir() -> Path:
+    """exercises/ next to core/ in a checkout; in an installed wheel the package paltrainer_exercises."""
+    checkout = Path(__file__).resolve().parents[1] / "exercises"
+    if checkout.is_dir():
+        return checkout
+    spec = importlib.util.find_spec("paltrainer_exercises")
+    locations = list(spec.submodule_search_locations or []) if spec is not None else []
+    return Path(locations[0]) if locations else checkout
+
+
+EXERCISES_DIR = _builtin_dir()
 
 Vec3 = tuple[float, float, float]
 LATHE_DIALECTS = tuple(name for name, d in DIALECTS.items() if d.lathe)  # turning: a blank, not a stock box
