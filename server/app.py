@@ -63,6 +63,13 @@ def prepare_database(settings: Settings) -> Database:
     return database
 
 
+def command_database() -> Database:
+    """The database for a command of `paltrainer admin` (users, keys, LTI platforms): migrated, without
+    loading the exercises."""
+    settings = Settings()
+    return prepare_database(settings.model_copy(update={"load_exercises": False}))
+
+
 def install_openapi(app: FastAPI) -> None:
     """FastAPI documents its validation errors as HTTPValidationError; ours have the ErrorBody shape."""
 

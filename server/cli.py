@@ -44,11 +44,9 @@ def register_serve(subparsers: Any, common: argparse.ArgumentParser) -> None:
 
 
 def _database() -> Any:
-    from server.app import prepare_database
-    from server.config import Settings
+    from server.app import command_database
 
-    settings = Settings()
-    return prepare_database(settings.model_copy(update={"load_exercises": False}))
+    return command_database()
 
 
 def _lti_names(names: list[str]) -> bool:

@@ -29,7 +29,6 @@ calls `execute` for a cycle block and passes the contour of P/Q or A through its
 
 from __future__ import annotations
 
-import dataclasses
 import itertools
 import math
 from collections.abc import Callable
@@ -193,8 +192,6 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
     """The finished contour as points (machine x radius, z) with the line of the block that made each, resolved
     by a copy of the run that executes the contour blocks (forward references and subprograms included)."""
     from core.interpreter import turn_contour
-    from core.interpreter.traub_turn import TurnRun
-    from core.tools import ToolTable
 
     blocks: list[Block]
     if "A" in values:
@@ -228,14 +225,7 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
         return run.cycles.contours[key]
     run.cycles.work += 20 * len(blocks)  # reading a contour block costs about as much as twenty pass points
     # the contour is the programmed one: no nose radius (the finishing pass compensates it)
-    scratch = TurnRun(dataclasses.replace(run.setup, tools=ToolTable({})))
-    scratch.turn = dataclasses.replace(run.turn)
-    scratch.position, scratch.last_known = run.position, run.last_known
-    scratch.reference = run.reference
-    scratch.params = dict(run.params)
-    scratch.programs = run.programs
-    scratch.program = run.program
-    scratch.cycles = CycleState(in_contour=True, setup=run.cycles.setup)
+    scratch = run.contour_reader(CycleState(in_contour=True, setup=run.cycles.setup))
     items: list[turn_contour.Item] = []
     found: list[Diagnostic] = []
     for b in blocks:

@@ -47,6 +47,7 @@ from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, T
 from core.limits import Budget
 from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
 from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
+from core.tools import ToolTable
 
 Item = turn_contour.Item
 
@@ -345,6 +346,20 @@ class TurnRun:
         self.read: list[tuple[int, int]] = []  # program-file lines lo < line ≤ hi a cycle read (checkpoints)
 
     # -- helpers ------------------------------------------------------------------------------
+
+    def contour_reader(self, cycles: traub_cycles.CycleState) -> TurnRun:
+        """A copy of this run that reads a cycle's contour blocks (traub_cycles): the same position, frame,
+        parameters and programs, no tools (the contour is the programmed one, without nose radius) and `cycles`
+        as its own cycle state."""
+        scratch = TurnRun(dataclasses.replace(self.setup, tools=ToolTable({})))
+        scratch.turn = dataclasses.replace(self.turn)
+        scratch.position, scratch.last_known = self.position, self.last_known
+        scratch.reference = self.reference
+        scratch.params = dict(self.params)
+        scratch.programs = self.programs
+        scratch.program = self.program
+        scratch.cycles = cycles
+        return scratch
 
     def modal_state(self) -> ModalState:
         """The state after the block that ran last (shared with the block before when nothing changed)."""

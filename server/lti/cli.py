@@ -9,7 +9,7 @@ from typing import Any
 
 
 def _database() -> Any:
-    from server.cli import _database as database
+    from server.app import command_database as database
     from server.config import Settings
     from server.lti import keys
 

@@ -10,6 +10,7 @@ import { loginUrl, safeNext } from "./redirect.js";
 import { classImportSection, resultsSection, submissionHref, submissionSection } from "./results.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { MILLING_TOOL_KINDS } from "./tool-kinds.js";
+import { practiceSetup, saveSetup } from "./setup.js";
 import { coursesSection } from "./page-course.js";
 import { mountStart } from "./page-home.js";
 import { myExercisesSection } from "./page-exercise-edit.js";
@@ -119,25 +120,6 @@ export async function mountInstructor(parent) {
 }
 
 // -- free practice: the stock and the tools, kept in the browser ----------------------------------
-const SETUP_KEY = "paltrainer-practice-setup";
-const DEFAULT_SETUP = { size: [80, 70, 30], tools: [] };  // the PAL examples' block; tools: the default table
-
-export function practiceSetup() {
-  try {
-    const saved = JSON.parse(localStorage.getItem(SETUP_KEY));
-    if (saved && saved.size?.length === 3 && Array.isArray(saved.tools)) return saved;
-  } catch { /* a damaged entry: start afresh */ }
-  return structuredClone(DEFAULT_SETUP);
-}
-
-export function saveSetup(setup) { localStorage.setItem(SETUP_KEY, JSON.stringify(setup)); }
-
-// The stock as the API wants it: zero at the front left corner of the top face.
-export function stockOf(setup) {
-  const [x, y, z] = setup.size;
-  return { min: [0, 0, -z], max: [x, y, 0] };
-}
-
 export function mountPracticeSetup(parent, onChange) {
   const setup = practiceSetup();
   // text fields that take "12,5" as 12.5 (numbers.js); the limits are checked in changed()

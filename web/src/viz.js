@@ -5,7 +5,7 @@
 // view of a milling program, the drawing view of a turning program).
 
 import { lang, message as message_, t } from "./i18n.js";
-import { stockOf } from "./pages.js";
+import { stockOf } from "./setup.js";
 
 async function api(path, options = {}) {
   const r = await fetch(`/api/v1${path}`, { credentials: "same-origin", ...options });
