@@ -154,7 +154,6 @@ def signup(settings: AppSettings) -> HTMLResponse:
     return _page("signup", "Registrieren")
 
 
-
 @router.get("/docs")
 def docs() -> HTMLResponse:
     """Swagger UI from our own copy (server/static/swagger, copied from swagger-ui-dist by the web build)."""
