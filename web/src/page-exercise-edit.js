@@ -10,7 +10,7 @@ import { addTexts, lang, message, t } from "./i18n.js";
 import { mountEditor } from "./main.js";
 import { mountViz } from "./viz.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
-import { loginUrl } from "./redirect.js";
+import { loginUrl, safeNext } from "./redirect.js";
 import { LATHE_DIALECTS, MILLING_TOOL_KINDS } from "./tool-kinds.js";
 
 addTexts({
@@ -473,7 +473,7 @@ export async function mountExerciseEdit(root, slug) {
     importFile.onchange = async () => {
       const r = await api("/exercises/import?visibility=draft", { method: "POST", headers: { "Content-Type": "application/yaml" },
         body: await importFile.files[0].text() });
-      if (r.ok) location.href = `/exercises/${encodeURIComponent(r.body.slug)}/edit`;
+      if (r.ok) location.href = safeNext(editPath(r.body.slug));
       else showErrors(r.body?.error?.details?.errors || [], (r.body?.error && message(r.body.error)) || t("edit.error"));
     };
     other.replaceChildren(
@@ -585,7 +585,7 @@ export async function myExercisesSection() {
   const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
   const duplicate = async (slug) => {
     const r = await api(`/exercises/${encodeURIComponent(slug)}/duplicate`, { method: "POST" });
-    if (r.ok) location.href = `/exercises/${encodeURIComponent(r.body.slug)}/edit`; else fail(r);
+    if (r.ok) location.href = safeNext(editPath(r.body.slug)); else fail(r);
   };
   async function show() {
     const [mine, all] = await Promise.all([api("/exercises?mine=true&archived=true"), api("/exercises")]);
@@ -599,7 +599,7 @@ export async function myExercisesSection() {
     importFile.onchange = async () => {
       const r = await api("/exercises/import?visibility=draft", { method: "POST", headers: { "Content-Type": "application/yaml" },
         body: await importFile.files[0].text() });
-      if (r.ok) location.href = `/exercises/${encodeURIComponent(r.body.slug)}/edit`;
+      if (r.ok) location.href = safeNext(editPath(r.body.slug));
       else {
         fail(r);
         const errors = r.body?.error?.details?.errors || [];
@@ -638,3 +638,6 @@ export async function myExercisesSection() {
   await show();
   return section;
 }
+
+// the editor of a saved exercise (the page goes there through the one redirect rule, safeNext)
+function editPath(slug) { return `/exercises/${encodeURIComponent(slug)}/edit`; }
