@@ -27,9 +27,10 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Awaitable, Callable
+from collections.abc import Callable, Coroutine
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
+from typing import Any
 
 import httpx
 
@@ -139,7 +140,7 @@ async def run(base: str, trainees: int) -> bool:
     return ok
 
 
-def main_with(doc: str, run_bench: Callable[[str, int], Awaitable[bool]], trainees: int, tag: str) -> int:
+def main_with(doc: str, run_bench: Callable[[str, int], Coroutine[Any, Any, bool]], trainees: int, tag: str) -> int:
     """The command line of a class-sized bench: --trainees and --workers, the machine in a header line, then
     `run_bench(base URL, trainees)` against a new `paltrainer serve` with an instructor made."""
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])

@@ -398,8 +398,9 @@ def main(argv: list[str] | None = None) -> int:
             "pygcode_parse": rate(blocks, t_pyp),
             "pygcode_run": rate(blocks, t_pyr),
         }
-        row["parse_ratio"] = (row["ours_parse"] / row["gcodeparser"]) if row["gcodeparser"] else None
-        row["run_ratio"] = (row["ours_run"] / row["pygcode_run"]) if row["pygcode_run"] else None
+        parsed, ran = row["ours_parse"], row["ours_run"]
+        row["parse_ratio"] = parsed / row["gcodeparser"] if parsed is not None and row["gcodeparser"] else None
+        row["run_ratio"] = ran / row["pygcode_run"] if ran is not None and row["pygcode_run"] else None
         results.append(row)
         pr = "-" if row["parse_ratio"] is None else f"{row['parse_ratio']:.2f}x"
         rr = "-" if row["run_ratio"] is None else f"{row['run_ratio']:.2f}x"

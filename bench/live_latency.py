@@ -231,10 +231,10 @@ async def main_async(args: argparse.Namespace, url: str) -> bool:
     ok &= report("1 session, 500 blocks", lat, TARGET_SINGLE_P95_MS)
     print(f"  updates checked: {checked(runs)}; load average now {os.getloadavg()[0]:.2f}")
     per = 15 if args.quick else 40
-    runs = [(args.sessions, float(x), TARGET_CONCURRENT_P95_MS) for x in args.interval.split(",")]
+    plans = [(args.sessions, float(x), TARGET_CONCURRENT_P95_MS) for x in args.interval.split(",")]
     if args.school:
-        runs.append((200, 1.0, TARGET_SCHOOL_P95_MS))
-    for sessions, interval, target in runs:
+        plans.append((200, 1.0, TARGET_SCHOOL_P95_MS))
+    for sessions, interval, target in plans:
         lat, seconds, errors, unanswered, runs = await concurrent(url, sessions, per, interval)
         ok &= report(f"{sessions} sessions, one key per {interval:g} s", lat, target)
         ok &= errors == 0 and unanswered == 0

@@ -30,12 +30,11 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-sys.path.insert(0, str(ROOT / "bench"))
 
 import viser
 import websockets
-from live_latency import server
 
+from bench.live_latency import server
 from core.exercises import builtin_exercises
 
 QUIET = 0.3  # s without a frame: the picture is complete

@@ -148,7 +148,7 @@ def turning_lines(repeats: int) -> bool:
 
 def exercise_lines(repeats: int) -> bool:
     from core.exercises import builtin_exercises
-    from core.grading.turning import DEFAULT_LATHE_TOOLS
+    from core.sim import DEFAULT_LATHE_TOOLS
     ok = True
     for eid, ex in sorted(builtin_exercises().items()):
         if ex.blank is None:

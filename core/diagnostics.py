@@ -33,7 +33,7 @@ class Entry:
     en: str
 
 
-E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO  # noqa: E741 - the letters of the codes
 
 CATALOGUE: dict[str, Entry] = {
     # --- input and limits -------------------------------------------------------------

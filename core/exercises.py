@@ -7,6 +7,7 @@ is the only I/O here and happens in `load_exercise`/`builtin_exercises`, never i
 
 from __future__ import annotations
 
+import contextlib
 import importlib.util
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -379,10 +380,8 @@ def field_problem(error: ErrorDetails) -> dict[str, str]:
         de, en = _ID_RULE
     else:
         de, en = _MESSAGES.get(kind, ("ungültiger Wert", error["msg"]))
-        try:
+        with contextlib.suppress(KeyError, IndexError):  # a message without the context's fields stays as it is
             de, en = de.format(**{k: _german(v) for k, v in ctx.items()}), en.format(**ctx)
-        except (KeyError, IndexError):
-            pass
     return {"field": field, "message": de, "message_en": en}
 
 

@@ -7,7 +7,7 @@ import asyncio
 import logging
 from dataclasses import dataclass
 from datetime import datetime, timedelta
-from typing import Any, Literal
+from typing import Annotated, Any, Literal, cast
 
 from pydantic import BaseModel, ConfigDict, Field
 from sqlalchemy.orm import Session
@@ -21,14 +21,14 @@ from server.errors import ApiError
 from server.export import excel_csv
 from server.lti import ags as lti_ags
 from server.models import Assignment, Course, Exercise, User, now
-from server.schemas import ImportedUser, OverrideOut, Slug, Time, Title, Username, text, utc
+from server.schemas import CLEAN, ImportedUser, OverrideOut, Slug, Time, Title, Username, length, utc
 from server.workers import Workers, job_submission
 
 log = logging.getLogger("paltrainer.server")
 
 # --- request and response bodies ---------------------------------------------------------------------
 
-JoinCode = text(32, min_length=1)
+JoinCode = Annotated[str, length(32, min_length=1), CLEAN]
 
 
 class CourseCreate(BaseModel):
@@ -287,6 +287,7 @@ def add_member(db: Session, principal: Principal, course_id: int, body: MemberIn
     An account the caller may not add answers as one that does not exist (no user-name oracle)."""
     course_for(db, principal, course_id, manage=True)
     caller = _user(principal)
+    other: User | None
     if body.role == "instructor":
         other = services.instructor_named(db, body.username)
     else:
@@ -635,8 +636,9 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
         for eid, slug in exercises.items():
             mine = [s for s in by_user.get(user.id, []) if s.exercise_id == eid]
             if mine:
-                best = services.best_of(mine)  # type: ignore[arg-type]  # Scored has the score as its grading
-                score, max_score = services._score(best)
+                # Scored carries what best_of reads of a Submission (its grading's score and the override)
+                best = cast(repo.Scored, services.best_of(mine))  # type: ignore[arg-type]
+                score, max_score = services._score(best)  # type: ignore[arg-type]
                 cells[slug] = AssignmentResultCell(submission=best.id, score=score, max_score=max_score,
                                                    late=best.late, auto=best.auto, overridden=best.overridden,
                                                    created_at=best.created_at, exercise_version=best.exercise_version,

@@ -20,7 +20,7 @@ from typing import Any
 
 from limits import RateLimitItemPerMinute
 from limits.errors import StorageError
-from limits.storage import MemoryStorage, Storage, storage_from_string
+from limits.storage import MemoryStorage, storage_from_string
 from limits.strategies import MovingWindowRateLimiter
 
 log = logging.getLogger("paltrainer.server")
@@ -34,7 +34,7 @@ class RateLimiter:
         self._local = MovingWindowRateLimiter(MemoryStorage())
         self._remote: MovingWindowRateLimiter | None = None
         if redis_url:
-            storage: Storage = storage_from_string(redis_url, key_prefix=KEY_PREFIX, wrap_exceptions=True,
+            storage = storage_from_string(redis_url, key_prefix=KEY_PREFIX, wrap_exceptions=True,
                                                    socket_timeout=1.0, socket_connect_timeout=1.0)
             self._remote = MovingWindowRateLimiter(storage)
         self._down_until = 0.0
@@ -65,7 +65,7 @@ class RateLimiter:
             self._remote.storage.reset()
 
     def _wait(self, item: RateLimitItemPerMinute, bucket: str, who: str) -> int:
-        reset_time = self._call("get_window_stats", item, bucket, who).reset_time
+        reset_time: float = self._call("get_window_stats", item, bucket, who).reset_time
         return max(1, math.ceil(reset_time - time.time()))
 
     def _call(self, method: str, item: RateLimitItemPerMinute, bucket: str, who: str) -> Any:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 import re
 from datetime import UTC, datetime
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Literal, get_args
 
 from pydantic import (
     AfterValidator,
@@ -47,24 +47,26 @@ def clean_text(value: str) -> str:
         raise ValueError("contains the NUL character / enthält das Zeichen NUL")
     try:
         value.encode("utf-8")
-    except UnicodeEncodeError:
-        raise ValueError("is not valid Unicode (lone surrogate) / ist kein gültiges Unicode (einzelnes Surrogat)")
+    except UnicodeEncodeError as err:
+        raise ValueError("is not valid Unicode (lone surrogate) / ist kein gültiges Unicode (einzelnes Surrogat)") from err
     return value
 
 
-def text(max_length: int, min_length: int = 0, pattern: str | None = None) -> Any:
-    """The type of a text we store: clean (see clean_text) and length-limited."""
-    return Annotated[str, StringConstraints(min_length=min_length, max_length=max_length, pattern=pattern),
-                     AfterValidator(clean_text)]
+def length(max_length: int, min_length: int = 0, pattern: str | None = None) -> StringConstraints:
+    """The limits of a text we store: Annotated[str, length(n), CLEAN] is a clean, length-limited text."""
+    return StringConstraints(min_length=min_length, max_length=max_length, pattern=pattern)
 
 
-StoredText = text(200_000)  # long texts (reference programs, task descriptions); short ones use text(n)
-Name = text(80, min_length=1)
-Slug = text(80, min_length=1)  # looked up: an exercise's slug
-Dialect = text(40, min_length=1)
+CLEAN = AfterValidator(clean_text)  # see clean_text
+
+
+StoredText = Annotated[str, length(200_000), CLEAN]  # long texts (reference programs, task descriptions)
+Name = Annotated[str, length(80, min_length=1), CLEAN]
+Slug = Annotated[str, length(80, min_length=1), CLEAN]  # looked up: an exercise's slug
+Dialect = Annotated[str, length(40, min_length=1), CLEAN]
 # a program to check or submit: the body limit bounds it; settings.max_program_chars answers 413 above its own limit
-Program = text(1_000_000)
-Username = text(80, min_length=1)  # a name looked up (login, members): also the names launches made
+Program = Annotated[str, length(1_000_000), CLEAN]
+Username = Annotated[str, length(80, min_length=1), CLEAN]  # a name looked up (login, members): also the names launches made
 
 # "lti" and a digit begins the names of accounts an LTI launch makes (lti<platform>-…, server/lti/launch.py): no
 # one else may take such a name, so that no local account looks like one a platform user is meant to get
@@ -83,8 +85,8 @@ def _not_lti_name(name: str) -> str:
     return name
 
 
-NewUsername = Annotated[text(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$"), AfterValidator(_not_lti_name)]
-Password = text(1000, min_length=1)
+NewUsername = Annotated[Annotated[str, length(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$"), CLEAN], AfterValidator(_not_lti_name)]
+Password = Annotated[str, length(1000, min_length=1), CLEAN]
 
 
 def _password_rule(password: str) -> str:
@@ -97,12 +99,12 @@ def _password_rule(password: str) -> str:
 # a password someone chooses: the one rule of server/security.py (password_problem)
 NewPassword = Annotated[str, AfterValidator(_password_rule), AfterValidator(clean_text),
                         Field(json_schema_extra={"minLength": PASSWORD_MIN, "maxLength": PASSWORD_MAX})]
-NewSlug = text(80, min_length=1, pattern=r"^[a-z0-9][a-z0-9-]*$")
-Title = text(200, min_length=1)
-Subtitle = text(200)
-TaskText = text(50_000)
-ShortText = text(80)
-ExternalUser = text(200)
+NewSlug = Annotated[str, length(80, min_length=1, pattern=r"^[a-z0-9][a-z0-9-]*$"), CLEAN]
+Title = Annotated[str, length(200, min_length=1), CLEAN]
+Subtitle = Annotated[str, length(200), CLEAN]
+TaskText = Annotated[str, length(50_000), CLEAN]
+ShortText = Annotated[str, length(80), CLEAN]
+ExternalUser = Annotated[str, length(200), CLEAN]
 
 
 def clean_json(value: Any) -> Any:
@@ -329,8 +331,8 @@ class Me(BaseModel):
     scopes: list[Scope] | None = Field(description="An API key's scopes; null for users")
 
 
-ChosenPassword = text(10_000, min_length=1)  # checked by password_problem in the route: a 422 naming the rule
-JoinCodeText = text(32, min_length=1)
+ChosenPassword = Annotated[str, length(10_000, min_length=1), CLEAN]  # checked by password_problem in the route: a 422 naming the rule
+JoinCodeText = Annotated[str, length(32, min_length=1), CLEAN]
 
 
 class PasswordChange(BaseModel):
@@ -368,7 +370,7 @@ class ApiKeyCreate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     name: Name
-    scopes: list[Scope] = Field(min_length=1, max_length=len(Scope.__args__))
+    scopes: list[Scope] = Field(min_length=1, max_length=len(get_args(Scope)))
 
 
 class ApiKeyOut(BaseModel):
@@ -586,7 +588,7 @@ class LmsResult(BaseModel):
     comment_en: str
 
 
-OverrideComment = text(2000)
+OverrideComment = Annotated[str, length(2000), CLEAN]
 
 
 class OverrideOut(BaseModel):

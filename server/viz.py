@@ -19,7 +19,7 @@ import time
 import uuid
 from dataclasses import dataclass, field
 from importlib import resources
-from typing import Any
+from typing import Any, Literal
 
 import jwt
 import numpy as np
@@ -948,7 +948,7 @@ def job_picture_svg(text: str, dialect: str, spec: dict[str, Any], lang: str = "
     from core.sim import DEFAULT_LATHE_TOOLS, DEFAULT_SIM_TOOLS, Stock, simulate, simulate_turning
     from server.workers import make_setup
 
-    language = "en" if lang == "en" else "de"
+    language: Literal["de", "en"] = "en" if lang == "en" else "de"
     if is_lathe(dialect):
         setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
         toolpath = run(text, dialect, setup)

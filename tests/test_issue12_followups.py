@@ -98,7 +98,7 @@ def test_iso_decimal_comma_then_arc_error_is_a_follow_up() -> None:
 
 
 def test_every_follow_up_rule_names_a_catalogued_code_and_is_documented() -> None:
-    assert set(FOLLOW_UPS) <= set(CATALOGUE) and REPEATED <= set(FOLLOW_UPS)
+    assert set(FOLLOW_UPS) <= set(CATALOGUE) and set(FOLLOW_UPS) >= REPEATED
     doc = (Path(__file__).parents[1] / "docs" / "diagnostics.md").read_text(encoding="utf-8")
     section = doc.split("## Follow-up errors", 1)[1]
     for code in FOLLOW_UPS:

@@ -66,7 +66,9 @@ def test_the_pieces_fit() -> None:
     for name in ("DATABASE_URL", "REDIS_URL", "PALTRAINER_SECRET_KEY"):
         ref = env[name]["valueFrom"]["secretKeyRef"]
         assert ref["name"] == "paltrainer" and ref["key"] in secret["stringData"], name
-    selects = lambda d: d["spec"]["selector"].get("matchLabels", d["spec"]["selector"])
+    def selects(d: dict[str, Any]) -> dict[str, str]:
+        return d["spec"]["selector"].get("matchLabels", d["spec"]["selector"])  # type: ignore[no-any-return]
+
     assert selects(one("Service", "paltrainer")).items() <= labels.items()
     assert selects(one("PodDisruptionBudget")).items() <= labels.items()
     hpa = one("HorizontalPodAutoscaler")

@@ -238,9 +238,9 @@ def _geometry(tp: Toolpath) -> list[tuple[str, tuple[float, ...], tuple[float, .
 
 def test_tx43_subprogram_centres_and_drills() -> None:
     tp = traub("tx-43-g22-unterprogramm.nc")
-    feeds = [(e, m.spindle) for e, m in zip(ends(tp), tp.moves) if m.kind == "feed" and not m.thread]
+    feeds = [(e, m.spindle) for e, m in zip(ends(tp), tp.moves, strict=True) if m.kind == "feed" and not m.thread]
     assert feeds == [((0.0, -6.0), 1000), ((0.0, -25.0), 1000)]
-    taps = [(e, m.pitch, m.spindle_direction) for e, m in zip(ends(tp), tp.moves) if m.thread]
+    taps = [(e, m.pitch, m.spindle_direction) for e, m in zip(ends(tp), tp.moves, strict=True) if m.thread]
     assert [t[0][1] for t in taps] == [-15.0, taps[1][0][1]] and taps[0][1] == 0.9  # G82: in, and out reversed
     assert taps[0][2] != taps[1][2]
     assert [c.tool for c in tp.tool_changes] == [3, 4, 5]

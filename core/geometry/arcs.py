@@ -77,7 +77,7 @@ def _root(v: float) -> list[float]:
     return [s] if s < 1e-9 else [s, -s]
 
 
-def arc_solutions(
+def arc_solutions(  # noqa: C901
     start: Point,
     clockwise: bool,
     ex: float | None = None,

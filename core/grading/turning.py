@@ -156,7 +156,7 @@ BEND = 0.004  # change of dr/dz from one sample to the next above this: a curve 
 FILLET = 1.0  # mm: a curved stretch this short next to a face is the nose's fillet of the face
 
 
-def profile_runs(r: Array, cut: npt.NDArray[np.int64], empty: npt.NDArray[np.bool_], dz: float,
+def profile_runs(r: Array, cut: npt.NDArray[np.int64], empty: npt.NDArray[np.bool_], dz: float,  # noqa: C901
                  blank_r: float) -> tuple[list[Run], list[Face]]:
     """The reference's profile (one side: outer or inner radius per sample) cut into runs and faces.
 

@@ -147,7 +147,7 @@ def _repeat_points(repeats: list[_Repeat]) -> tuple[RepeatPoint, ...]:
                   r.unit.first + r.return_index) for r in repeats)
 
 
-def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup: RunSetup,
+def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup: RunSetup,  # noqa: C901
               diagnostics: list[Diagnostic] | None = None, library: dict[int, Program] | None = None,
               readings: dict[Any, Any] | None = None, keep: Keep | None = None) -> Toolpath:
     """Execute the program from its first block, following calls, repeats and jumps; never raises on user input.
@@ -606,7 +606,7 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
                     shifted[id(b.move)] = a.move
         planned.extend(items)
         diags.extend(found)
-        for st, where, unk in at_log:
+        for _, where, unk in at_log:
             follow.at.setdefault(where, unk)
         trace.at_log.extend(at_log)
         follow.unknown = unknown

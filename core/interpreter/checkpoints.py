@@ -172,10 +172,7 @@ class LineMap:
         return cp._replace(line=line, calls=calls, repeats=repeats, unknown=unknown)
 
     def move(self, m: Move) -> Move:
-        if m.source is None and m.span.line >= self.first:
-            span = self.span(m.span)
-        else:
-            span = m.span
+        span = self.span(m.span) if m.source is None and m.span.line >= self.first else m.span
         stack = tuple((s, self.line(ln, s)) for s, ln in m.call_stack) if m.call_stack else m.call_stack
         if span is m.span and stack == m.call_stack:
             return m

@@ -293,7 +293,7 @@ def _map_move(m: Move, plane: str, f: Callable[[Vec3, str], Vec3]) -> Move:
 
 # -- stage 2: cutter radius compensation -----------------------------------------------------
 
-def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Command]:
+def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Command]:  # noqa: C901
     """Turn the programmed contour into the tool-centre path (G41/G42, G45–G48, G40)."""
     out: list[Command] = []
     pos: Vec3 | None = None  # where the tool centre is

@@ -52,7 +52,7 @@ class Outcome:
     stopped: bool = False  # an error that stops decoding (Beckhoff's first G301/G302 without I): the run ends here
 
 
-def execute_block(
+def execute_block(  # noqa: C901
     setup: RunSetup, state: ModalState, position: Vec3, block: Block, params: dict[int, float],
     table: CodeTable = TABLE, cache: dict[Any, Any] | None = None,
 ) -> Outcome:
@@ -326,7 +326,7 @@ class Reading:
     dropped: tuple[str, ...] = ()  # DIN: the data words of a code not supported yet, which stay without effect
 
 
-def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int, float], modal_motion: str | None,
+def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int, float], modal_motion: str | None,  # noqa: C901
           modal_plane: str | None, modal_cycle: str | None = None) -> Reading:
     """Sort and check the words of `block` (`modal_motion`/`modal_plane`/`modal_cycle`: what is active before it)."""
     d: list[Diagnostic] = []

@@ -415,7 +415,7 @@ def _climb(poly: list[tuple[float, float]], level: float, upper: float, v_end: f
     pass at `upper` (a shoulder, a step, a rising cone); it stops at a crest (the falling section behind it is
     skipped) and at an undercut. The path starts with (level, v_end)."""
     path = [(level, v_end)]
-    for k, ((u0, v0), (u1, v1)) in enumerate(itertools.pairwise(poly)):
+    for k, ((u0, v0), (u1, v1)) in enumerate(itertools.pairwise(poly)):  # noqa: B007 - k is read after the loop
         if u1 < u0 - 1e-12:
             continue
         if abs(v0 - v1) < 1e-12:
@@ -478,11 +478,8 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         d.append(diag("TX-W405", span, code=code, second=raw[-1][1]))
     au, av = allow[level_axis], allow[cut_axis]
     poly = [(u + au, v + av) for (u, v), _ in raw]
-    if v_s > poly[0][1]:
-        entry = [u for u, v in poly[:2] if abs(v - poly[0][1]) < 1e-9]
-    else:
-        entry = _u_at(poly, v_s)
-    if follow:
+    entry = [u for u, v in poly[:2] if abs(v - poly[0][1]) < 1e-9] if v_s > poly[0][1] else _u_at(poly, v_s)
+    if follow:  # noqa: SIM108 - the two cases read apart
         bottom = min([u for u, v in poly if v <= v_s] + entry)
     else:
         bottom = min(entry) if entry else u_s

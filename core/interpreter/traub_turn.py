@@ -219,7 +219,7 @@ class _Reading:
     owner_word: Word | None
 
 
-def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None,
+def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None,  # noqa: C901
           limit: float = 1e9, modal_motion: str = "G1") -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
     gs: list[tuple[Word, Code]] = []
@@ -401,7 +401,7 @@ class TurnRun:
 
     # -- the block ----------------------------------------------------------------------------
 
-    def execute(self, block: Block) -> Outcome:
+    def execute(self, block: Block) -> Outcome:  # noqa: C901
         out = Outcome()
         d = out.diagnostics
         t = self.turn
@@ -481,7 +481,7 @@ class TurnRun:
             t.feed = values["F"]
         if "E" in values:
             t.transition_feed = values["E"]
-        for w, c in gs + ms:
+        for _, c in gs + ms:
             if c.group is not None and c.group != "program_end" and t.codes.get(c.group) != c.name:
                 t.codes = {**t.codes, c.group: c.name}
         if "G92" in names:
@@ -728,7 +728,7 @@ def _to_workpiece(c: turn_contour.Command, dx: float, dz: float) -> turn_contour
 # -- the run: programs, calls, sections --------------------------------------------------------
 
 
-def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic] | None = None,
+def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic] | None = None,  # noqa: C901
                 library: dict[int, Program] | None = None, keep: Keep | None = None) -> Toolpath:
     """Execute a TRAUB program from its first block; never raises on user input.
 

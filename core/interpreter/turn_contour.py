@@ -697,7 +697,7 @@ def _session_side(seq: Seq, i: int, nose: Nose, span: Span, d: list[Diagnostic])
     return -1
 
 
-def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
+def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:  # noqa: C901
     out: list[Command] = []
     pos: Point | None = None  # where the output path is (tool tip, or nose centre under SRK)
     session: tuple[int, Nose] | None = None  # (side, nose) of the running compensation

@@ -71,7 +71,8 @@ def _utc(value: datetime) -> datetime:
 
 def backoff(attempts: int) -> timedelta:
     """How long to wait after the `attempts`-th failed attempt: 30 s, 1 min, 2 min … at most 6 h."""
-    return min(BACKOFF_BASE * (2 ** max(attempts - 1, 0)), BACKOFF_CAP)
+    wait: timedelta = BACKOFF_BASE * (2 ** max(attempts - 1, 0))
+    return min(wait, BACKOFF_CAP)
 
 
 # --- the queue ------------------------------------------------------------------------------------------------
@@ -143,6 +144,7 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
                                       LtiScore.state == "pending", LtiScore.submission_id.in_(released))
                .values(state="superseded"))
     assignment = db.get(Assignment, link.assignment_id) if link.assignment_id is not None else None
+    score: float | None
     if assignment is not None and submission.assignment_id == assignment.id:
         score, done = _assignment_score(db, submission, assignment)
         progress = "Completed" if done else "InProgress"

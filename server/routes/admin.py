@@ -13,12 +13,12 @@ from pydantic import BaseModel, ConfigDict, Field
 from server.deps import AppSettings, DbSession, Principal, require_admin
 from server.errors import ApiError, responses
 from server.lti import keys, registration
-from server.schemas import text
+from server.schemas import CLEAN, length
 
 router = APIRouter(prefix="/api/v1/admin", tags=["admin"])
 AdminPrincipal = Annotated[Principal, Depends(require_admin)]
-_Kid = text(64, min_length=1)
-_Loose = text(10_000)  # bounded here; the limits that matter are registration.platform_problems's (German)
+_Kid = Annotated[str, length(64, min_length=1), CLEAN]
+_Loose = Annotated[str, length(10_000), CLEAN]  # bounded here; the limits that matter are registration.platform_problems's (German)
 
 
 class PlatformIn(BaseModel):

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Depends, Path, Response
 
@@ -14,7 +14,7 @@ from server.schemas import DB_INT_MAX
 
 router = APIRouter(tags=["assignments"])
 Id = Annotated[int, Path(ge=1, le=DB_INT_MAX)]
-CSV_RESPONSE = {200: {"content": {"application/json": {}, "text/csv": {"schema": {"type": "string"}}},
+CSV_RESPONSE: dict[int | str, dict[str, Any]] = {200: {"content": {"application/json": {}, "text/csv": {"schema": {"type": "string"}}},
                       "description": "JSON; with ?format=csv (or /results.csv) one row per trainee and exercise: "
                                      "`;`, UTF-8 with BOM, decimal comma, German time"}}
 

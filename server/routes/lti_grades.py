@@ -5,7 +5,7 @@ again (POST /lti/scores/{id}/retry), the platform course's roster pulled into a 
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Annotated, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Path, Query
 from pydantic import BaseModel
@@ -21,7 +21,7 @@ from server.schemas import DB_INT_MAX, Slug, utc
 router = APIRouter(tags=["lti"])
 Id = Annotated[int, Path(ge=1, le=DB_INT_MAX)]
 State = Literal["pending", "sent", "failed", "superseded"]
-BAD_GATEWAY = {502: {"model": ErrorBody, "description": "The learning platform did not answer as expected"}}
+BAD_GATEWAY: dict[int | str, dict[str, Any]] = {502: {"model": ErrorBody, "description": "The learning platform did not answer as expected"}}
 MAX_ROWS = 2000
 
 
