@@ -34,5 +34,5 @@ const rule = "=".repeat(78);
 writeFileSync(join(out, "licenses.txt"), "Licences of the browser packages shipped with PAL Trainer\n"
   + "(PAL Trainer itself: Apache License 2.0, see LICENSE)\n\n"
   + packages.map((p) => `${rule}\n${p.name} ${p.version} (${p.license})\n${rule}\n\n${p.text}\n`).join("\n"));
-writeFileSync(join(out, "licenses.json"), `${JSON.stringify(packages.map(({ text, ...p }) => p), null, 1)}\n`);
+writeFileSync(join(out, "licenses.json"), `${JSON.stringify(packages.map((p) => ({ ...p, text: undefined })), null, 1)}\n`);
 console.log(`licences: ${packages.length} packages`);

@@ -21,10 +21,11 @@ export function mountHeader() {
   const { user, role } = document.body.dataset;
   const about = document.getElementById("nav-about");
   if (about) about.textContent = tx.about;
-  for (const node of document.querySelectorAll("[data-role=instructor]")) {
+  for (const node of /** @type {NodeListOf<HTMLElement>} */ (document.querySelectorAll("[data-role=instructor]"))) {
     node.hidden = !(role === "instructor" || role === "admin");
   }
-  for (const node of document.querySelectorAll("header [data-role=admin]")) node.hidden = role !== "admin";
+  const adminOnly = /** @type {NodeListOf<HTMLElement>} */ (document.querySelectorAll("header [data-role=admin]"));
+  for (const node of adminOnly) node.hidden = role !== "admin";
   watchPracticeLink();
   const login = document.getElementById("nav-login");
   const box = document.getElementById("nav-user");

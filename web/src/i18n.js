@@ -279,8 +279,9 @@ export function message(item, de = "message", en = "message_en") {
 // Static page texts: elements with data-i18n="key"; the language switch in the header.
 export function translatePage() {
   document.documentElement.lang = lang;
-  for (const node of document.querySelectorAll("[data-i18n]")) node.textContent = t(node.dataset.i18n);
-  for (const node of document.querySelectorAll("[data-i18n-label]")) {
+  const all = (/** @type {string} */ selector) => /** @type {NodeListOf<HTMLElement>} */ (document.querySelectorAll(selector));
+  for (const node of all("[data-i18n]")) node.textContent = t(node.dataset.i18n);
+  for (const node of all("[data-i18n-label]")) {
     node.setAttribute("aria-label", t(node.dataset.i18nLabel));
   }
   const toggle = document.getElementById("lang");

@@ -15,7 +15,7 @@ const TEXTS = {
 };
 const tx = TEXTS[lang === "en" ? "en" : "de"];
 
-const blocked = StateEffect.define();  // the number of the locked line a dropped change would have altered
+const blocked = /** @type {import("@codemirror/state").StateEffectType<number>} */ (StateEffect.define());  // the number of the locked line a dropped change would have altered
 
 // the texts of the locked lines, in order (to find them again when a whole program is loaded)
 const lockedTexts = Facet.define({ combine: (values) => values[0] || [] });
@@ -52,9 +52,9 @@ const starts = StateField.define({
 });
 
 const notice = StateField.define({
-  create: () => null,
+  create: () => /** @type {string | null} */ (null),
   update(value, tr) {
-    for (const e of tr.effects) if (e.is(blocked)) return tx.blocked.replace("{n}", e.value);
+    for (const e of tr.effects) if (e.is(blocked)) return tx.blocked.replace("{n}", String(e.value));
     return tr.docChanged ? null : value;
   },
   provide: (field) => showPanel.from(field, (text) => (text ? () => {

@@ -34,7 +34,8 @@ export function framedHref(href) {
 export function keepFrameOnLinks() {
   if (!framed()) return;
   document.addEventListener("click", (event) => {
-    const link = event.target instanceof Element ? event.target.closest("a[href]") : null;
+    const link = event.target instanceof Element
+      ? /** @type {HTMLAnchorElement | null} */ (event.target.closest("a[href]")) : null;
     if (!link || link.target || link.hasAttribute("download") || event.defaultPrevented) return;
     const href = framedHref(link.getAttribute("href"));
     if (href === link.getAttribute("href")) return;

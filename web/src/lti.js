@@ -36,9 +36,9 @@ export function installBearer() {
   if (nav && lang) nav.replaceChildren(lang);
   const original = window.fetch.bind(window);
   window.fetch = (input, init = {}) => {
-    const url = new URL(typeof input === "string" ? input : input.url, location.href);
+    const url = new URL(input instanceof Request ? input.url : String(input), location.href);
     if (url.origin !== location.origin || !url.pathname.startsWith("/api/")) return original(input, init);
-    const headers = new Headers(init.headers || (typeof input === "string" ? undefined : input.headers));
+    const headers = new Headers(init.headers || (input instanceof Request ? input.headers : undefined));
     if (!headers.has("Authorization")) headers.set("Authorization", `Bearer ${token}`);
     return original(input, { ...init, headers });
   };

@@ -95,7 +95,7 @@ export function mountSignup(form) {
       say(note, "error", t("signup.mismatch"));
       return;
     }
-    const r = await api("/auth/signup", post({ join_code: data.join_code.trim(), username: data.username.trim(),
+    const r = await api("/auth/signup", post({ join_code: String(data.join_code).trim(), username: String(data.username).trim(),
       password: data.password }));
     if (r.ok) location.href = safeNext("/");
     else say(note, "error", errorText(r, "signup.failed"));

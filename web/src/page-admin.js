@@ -458,11 +458,13 @@ async function ltiSection() {
     keyList.replaceChildren(el("table", { id: "lti-keys-table", className: "admin-table" },
       head(t("lti.kid"), t("lti.key_created"), t("lti.key_state"), ""),
       el("tbody", {}, ...r.body.map((k) => {
+        /** @type {HTMLElement | string} */
         let retire = "";
         if (k.state === "published") {
-          retire = el("button", { type: "button", className: "key-retire" }, t("lti.retire"));
-          retire.setAttribute("aria-label", t("lti.retire_label", { kid: k.kid }));
-          retire.onclick = async () => {
+          const button = el("button", { type: "button", className: "key-retire" }, t("lti.retire"));
+          retire = button;
+          button.setAttribute("aria-label", t("lti.retire_label", { kid: k.kid }));
+          button.onclick = async () => {
             if (!confirm(t("lti.retire_confirm", { kid: k.kid }))) return;
             const answer = await api(`/admin/lti/keys/${path(k.kid)}/retire`, json("POST"));
             if (!answer.ok) { keysSaid.say(errorText(answer), false); return; }

@@ -381,6 +381,7 @@ export async function mountExerciseEdit(root, slug) {
 
   // -- the document from the form, on top of the one loaded (fields the form does not show stay) --
   function document_() {
+    /** @type {Record<string, any>} */
     const d = { ...doc, id: slugInput.value.trim(), title: { de: titleDe.value, en: titleEn.value },
       task: { de: taskDe.value, en: taskEn.value }, dialect: dialect.value, kind: kind.value,
       tools: tools(), cutting_data: cutting(), reference: referenceText, solution: solution.value };

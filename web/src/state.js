@@ -7,7 +7,7 @@ const KEY = "paltrainer-page-state";
 const here = () => location.pathname + location.search;
 
 function editorView() {
-  const dom = document.querySelector(".cm-editor");
+  const dom = /** @type {HTMLElement | null} */ (document.querySelector(".cm-editor"));
   return dom ? EditorView.findFromDOM(dom) : null;
 }
 
