@@ -36,8 +36,9 @@ def binaries_missing() -> list[str]:
 
 
 def _which(name: str) -> str | None:
-    return shutil.which(name) or next((str(p) for p in (Path("/usr/sbin") / name, Path("/usr/bin") / name)
-                                       if p.exists()), None)
+    return shutil.which(name) or next(
+        (str(p) for p in (Path("/usr/sbin") / name, Path("/usr/bin") / name) if p.exists()), None
+    )
 
 
 def free_port() -> int:
@@ -73,8 +74,11 @@ def wait_http(url: str, seconds: float) -> None:
 def haproxy_config(replicas: int) -> str:
     """deploy/haproxy.cfg without the lines of the replicas beyond the first `replicas`."""
     dropped = REPLICAS[replicas:]
-    return "".join(line for line in HAPROXY_CFG.read_text(encoding="utf-8").splitlines(keepends=True)
-                   if not any(line.strip().startswith((f"server {r} ", f"use-server {r} ")) for r in dropped))
+    return "".join(
+        line
+        for line in HAPROXY_CFG.read_text(encoding="utf-8").splitlines(keepends=True)
+        if not any(line.strip().startswith((f"server {r} ", f"use-server {r} ")) for r in dropped)
+    )
 
 
 @dataclass
@@ -95,42 +99,75 @@ class Cluster:
         return f"http://127.0.0.1:{self.ports[name]}"
 
     def base_env(self) -> dict[str, str]:
-        env = {k: v for k, v in os.environ.items() if not k.startswith(("PALTRAINER_", "REPLICA_ID", "REDIS_URL"))
-               and k != "DATABASE_URL"}
-        return {**env, "PALTRAINER_DATABASE_URL": self.database_url, "PALTRAINER_SECRET_KEY": SECRET,
-                "REDIS_URL": self.redis_url, "PALTRAINER_WORKERS": str(self.workers),
-                "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"), "PALTRAINER_LOG_LEVEL": "WARNING",
-                "FORWARDED_ALLOW_IPS": "127.0.0.1", **self.env}
+        env = {
+            k: v
+            for k, v in os.environ.items()
+            if not k.startswith(("PALTRAINER_", "REPLICA_ID", "REDIS_URL")) and k != "DATABASE_URL"
+        }
+        return {
+            **env,
+            "PALTRAINER_DATABASE_URL": self.database_url,
+            "PALTRAINER_SECRET_KEY": SECRET,
+            "REDIS_URL": self.redis_url,
+            "PALTRAINER_WORKERS": str(self.workers),
+            "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"),
+            "PALTRAINER_LOG_LEVEL": "WARNING",
+            "FORWARDED_ALLOW_IPS": "127.0.0.1",
+            **self.env,
+        }
 
     def start(self) -> None:
         redis_port = free_port()
         self.redis_url = f"redis://127.0.0.1:{redis_port}/0"
-        self._spawn("redis", [_which("redis-server") or "redis-server", "--port", str(redis_port), "--bind",
-                              "127.0.0.1", "--save", "", "--appendonly", "no", "--dir", str(self.tmp)])
+        self._spawn(
+            "redis",
+            [
+                _which("redis-server") or "redis-server",
+                "--port",
+                str(redis_port),
+                "--bind",
+                "127.0.0.1",
+                "--save",
+                "",
+                "--appendonly",
+                "no",
+                "--dir",
+                str(self.tmp),
+            ],
+        )
         # the schema and the exercises once, before the replicas (as the Kubernetes Job does)
         self.admin("migrate")
-        for name in REPLICAS[:self.replicas]:
+        for name in REPLICAS[: self.replicas]:
             self.ports[name] = free_port()
             self.start_replica(name)
         started = time.monotonic()
         if self.users:
             self.admin("import-users", "-", stdin=self.users.encode())
-        for name in REPLICAS[:self.replicas]:
+        for name in REPLICAS[: self.replicas]:
             wait_http(f"{self.replica_url(name)}/readyz", 90)
         self.startup_seconds = time.monotonic() - started
         port = free_port()
         self.url = f"http://127.0.0.1:{port}"
         config = self.tmp / "haproxy.cfg"
         config.write_text(haproxy_config(self.replicas), encoding="utf-8")
-        env = {**os.environ, "PALTRAINER_BIND": f"127.0.0.1:{port}",
-               **{f"PALTRAINER_{r.upper()}": f"127.0.0.1:{self.ports.get(r, 9)}" for r in REPLICAS}}
+        env = {
+            **os.environ,
+            "PALTRAINER_BIND": f"127.0.0.1:{port}",
+            **{f"PALTRAINER_{r.upper()}": f"127.0.0.1:{self.ports.get(r, 9)}" for r in REPLICAS},
+        }
         self._spawn("haproxy", [_which("haproxy") or "haproxy", "-db", "-f", str(config)], env=env)
         wait_http(f"{self.url}/readyz", 20)
 
     def admin(self, *args: str, stdin: bytes = b"") -> str:
         """`paltrainer admin …` against the cluster's database."""
-        done = subprocess.run([sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=self.base_env(),
-                              input=stdin, capture_output=True, check=False)
+        done = subprocess.run(
+            [sys.executable, "-m", "core.cli", "admin", *args],
+            cwd=ROOT,
+            env=self.base_env(),
+            input=stdin,
+            capture_output=True,
+            check=False,
+        )
         if done.returncode:
             raise RuntimeError(f"paltrainer admin {args[0]}: {done.stderr.decode(errors='replace')[-2000:]}")
         return done.stdout.decode()
@@ -139,15 +176,39 @@ class Cluster:
         data = self.tmp / name
         data.mkdir(exist_ok=True)
         # the exercises were loaded by `admin migrate` (as the Kubernetes Job does): the replicas start faster
-        env = {**self.base_env(), "REPLICA_ID": name, "PALTRAINER_DATA_DIR": str(data),
-               "PALTRAINER_LOAD_EXERCISES": "false"}
-        self._spawn(name, [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port",
-                           str(self.ports[name]), "--proxy-headers"], env=env)
+        env = {
+            **self.base_env(),
+            "REPLICA_ID": name,
+            "PALTRAINER_DATA_DIR": str(data),
+            "PALTRAINER_LOAD_EXERCISES": "false",
+        }
+        self._spawn(
+            name,
+            [
+                sys.executable,
+                "-m",
+                "core.cli",
+                "serve",
+                "--host",
+                "127.0.0.1",
+                "--port",
+                str(self.ports[name]),
+                "--proxy-headers",
+            ],
+            env=env,
+        )
 
     def _spawn(self, name: str, argv: list[str], env: dict[str, str] | None = None) -> None:
         log = (self.tmp / f"{name}.log").open("ab")
-        self.processes[name] = subprocess.Popen(argv, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT,
-                                                stdin=subprocess.DEVNULL, start_new_session=True)
+        self.processes[name] = subprocess.Popen(
+            argv,
+            cwd=ROOT,
+            env=env,
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            stdin=subprocess.DEVNULL,
+            start_new_session=True,
+        )
 
     def kill(self, name: str) -> None:
         """SIGKILL to the replica and its worker processes: no shutdown, no goodbye to its sockets."""

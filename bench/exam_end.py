@@ -48,8 +48,24 @@ LEAD_SECONDS = 20  # the exam ends this long after it was made (time to log in a
 
 def make_teacher(data: str) -> None:
     env = {**os.environ, "PALTRAINER_DATA_DIR": data}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "bench-lehrer", "--role", "instructor",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            "bench-lehrer",
+            "--role",
+            "instructor",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
 
 
 async def setup(client: httpx.AsyncClient, trainees: int) -> tuple[list[dict[str, str]], int, datetime]:
@@ -59,29 +75,41 @@ async def setup(client: httpx.AsyncClient, trainees: int) -> tuple[list[dict[str
     headers = []
     for i in range(trainees):
         name = f"bench-azubi-{i}"
-        r = await client.post("/users", json={"username": name, "password": PASSWORD, "role": "student"},
-                              headers=teacher)
+        r = await client.post(
+            "/users", json={"username": name, "password": PASSWORD, "role": "student"}, headers=teacher
+        )
         assert r.status_code == 201, r.text
         r = await client.post("/auth/token", data={"username": name, "password": PASSWORD})
         headers.append({"Authorization": f"Bearer {r.json()['access_token']}"})
-        assert (await client.post("/courses/join", json={"code": course["join_code"]},
-                                  headers=headers[-1])).status_code == 200
+        assert (
+            await client.post("/courses/join", json={"code": course["join_code"]}, headers=headers[-1])
+        ).status_code == 200
     end = datetime.now(UTC) + timedelta(seconds=LEAD_SECONDS)
-    r = await client.post(f"/courses/{course['id']}/assignments", headers=teacher, json={
-        "title": "Bench-Prüfung", "exercises": [EXERCISE], "mode": "exam", "duration_minutes": 1,
-        "opens_at": (end - timedelta(minutes=1)).isoformat()})
+    r = await client.post(
+        f"/courses/{course['id']}/assignments",
+        headers=teacher,
+        json={
+            "title": "Bench-Prüfung",
+            "exercises": [EXERCISE],
+            "mode": "exam",
+            "duration_minutes": 1,
+            "opens_at": (end - timedelta(minutes=1)).isoformat(),
+        },
+    )
     assert r.status_code == 201, r.text
     for i, h in enumerate(headers):
-        r = await client.put(f"/exercises/{EXERCISE}/draft", json={"program": f"; Azubi {i}\n{REFERENCE}"},
-                             headers=h)
+        r = await client.put(
+            f"/exercises/{EXERCISE}/draft", json={"program": f"; Azubi {i}\n{REFERENCE}"}, headers=h
+        )
         assert r.status_code == 200, r.text
     if datetime.now(UTC) >= end:
         raise SystemExit(f"setting up {trainees} trainees took longer than {LEAD_SECONDS} s; fewer trainees")
     return headers, int(r.json()["assignment"]), end
 
 
-async def page(client: httpx.AsyncClient, headers: dict[str, str], exam: int, reads: list[float],
-               failed: list[str]) -> float:
+async def page(
+    client: httpx.AsyncClient, headers: dict[str, str], exam: int, reads: list[float], failed: list[str]
+) -> float:
     """One trainee's exam page after the end: reads its list every 2 s (the first time within 2 s of the end, as
     the pages' clocks differ) until the exam is no longer "submitting"; returns when (monotonic) it saw the
     submitted result."""
@@ -132,23 +160,31 @@ async def run(base: str, trainees: int) -> bool:
             stop.set()
             await prober
     done = max(seen) - ended
-    print(f"trainees {trainees}: {len(reads)} reads, p50 {statistics.median(reads):.0f} ms, "
-          f"p95 {pct(reads, 95):.0f} ms, max {max(reads):.0f} ms; failed {len(failed)} {sorted(set(failed))}")
-    print(f"/healthz slowest {max(probes):.0f} ms of {len(probes)}; every result stored {done:.1f} s after the end")
+    print(
+        f"trainees {trainees}: {len(reads)} reads, p50 {statistics.median(reads):.0f} ms, "
+        f"p95 {pct(reads, 95):.0f} ms, max {max(reads):.0f} ms; failed {len(failed)} {sorted(set(failed))}"
+    )
+    print(
+        f"/healthz slowest {max(probes):.0f} ms of {len(probes)}; every result stored {done:.1f} s after the end"
+    )
     ok = max(reads) < TARGET_READ_MS and not failed
     print(f"target: every read < {TARGET_READ_MS:.0f} ms, none failed: {'PASS' if ok else 'FAIL'}")
     return ok
 
 
-def main_with(doc: str, run_bench: Callable[[str, int], Coroutine[Any, Any, bool]], trainees: int, tag: str) -> int:
+def main_with(
+    doc: str, run_bench: Callable[[str, int], Coroutine[Any, Any, bool]], trainees: int, tag: str
+) -> int:
     """The command line of a class-sized bench: --trainees and --workers, the machine in a header line, then
     `run_bench(base URL, trainees)` against a new `paltrainer serve` with an instructor made."""
     parser = argparse.ArgumentParser(description=doc.split("\n\n")[0])
     parser.add_argument("--trainees", type=int, default=trainees)
     parser.add_argument("--workers", type=int, default=2)
     args = parser.parse_args()
-    print(f"{platform.python_implementation()} {platform.python_version()}, {os.cpu_count()} cores, "
-          f"load {os.getloadavg()[0]:.1f}, {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {args.workers} workers")
+    print(
+        f"{platform.python_implementation()} {platform.python_version()}, {os.cpu_count()} cores, "
+        f"load {os.getloadavg()[0]:.1f}, {datetime.now(UTC):%Y-%m-%d %H:%M} UTC, {args.workers} workers"
+    )
     data = tempfile.mkdtemp(prefix=f"paltrainer-bench-{tag}-")
     with server(args.workers, exercises=True, data=data) as url:
         base = url.replace("ws://", "http://").removesuffix("/api/v1/live")

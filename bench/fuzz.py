@@ -42,14 +42,105 @@ DIALECT_DIRS = {"beckhoff": "beckhoff", "sinumerik-iso": "sinumerik-iso", "traub
 MAX_SECONDS = 1.0
 MAX_ANSWER_BYTES = 5_000_000
 
-NUMBERS = ("0", "-0", "1", "-1", "2", "0.001", "-0.001", "0.5", "45", "-90", "360", "720", "9999", "50000",
-           "-50000", "99999", "100000", "1e5", "1.5.5", "99999999999", "00", "3,5")
-WORDS = ("G0", "G1", "G2", "G3", "G4", "G17", "G18", "G19", "G40", "G41", "G42", "G45", "G46", "G47", "G48",
-         "G53", "G54", "G59", "G66", "G90", "G91", "G94", "G95", "M3", "M4", "M5", "M6", "M8", "M17", "M30",
-         "T1", "T2", "T99", "TC1", "TR0.5", "F0", "F100", "S0", "S2000", "RN5", "RN-2", "AS45", "RP10", "I50000",
-         "J50000", "I0", "J0", "R5", "R-5", "R0.01", "D5", "E0", "XI5", "YI-5", "XA5", "X=P1", "Z=-P2*2",
-         "P1=P1+1", "P2=P1*2", "P3=1/0", "P1000=1", "U2", "O2", "H9999", "H0", "/", "; Kommentar", "%L1", "L1",
-         "#CHF=2", "#RND=3", "G301=2", "G302=3")
+NUMBERS = (
+    "0",
+    "-0",
+    "1",
+    "-1",
+    "2",
+    "0.001",
+    "-0.001",
+    "0.5",
+    "45",
+    "-90",
+    "360",
+    "720",
+    "9999",
+    "50000",
+    "-50000",
+    "99999",
+    "100000",
+    "1e5",
+    "1.5.5",
+    "99999999999",
+    "00",
+    "3,5",
+)
+WORDS = (
+    "G0",
+    "G1",
+    "G2",
+    "G3",
+    "G4",
+    "G17",
+    "G18",
+    "G19",
+    "G40",
+    "G41",
+    "G42",
+    "G45",
+    "G46",
+    "G47",
+    "G48",
+    "G53",
+    "G54",
+    "G59",
+    "G66",
+    "G90",
+    "G91",
+    "G94",
+    "G95",
+    "M3",
+    "M4",
+    "M5",
+    "M6",
+    "M8",
+    "M17",
+    "M30",
+    "T1",
+    "T2",
+    "T99",
+    "TC1",
+    "TR0.5",
+    "F0",
+    "F100",
+    "S0",
+    "S2000",
+    "RN5",
+    "RN-2",
+    "AS45",
+    "RP10",
+    "I50000",
+    "J50000",
+    "I0",
+    "J0",
+    "R5",
+    "R-5",
+    "R0.01",
+    "D5",
+    "E0",
+    "XI5",
+    "YI-5",
+    "XA5",
+    "X=P1",
+    "Z=-P2*2",
+    "P1=P1+1",
+    "P2=P1*2",
+    "P3=1/0",
+    "P1000=1",
+    "U2",
+    "O2",
+    "H9999",
+    "H0",
+    "/",
+    "; Kommentar",
+    "%L1",
+    "L1",
+    "#CHF=2",
+    "#RND=3",
+    "G301=2",
+    "G302=3",
+)
 CHARS = "XYZIJKRNPGFSMTLHO=+-*/().,;%# \t0123456789äÜ\u00a0\x00\x7f"
 
 
@@ -90,9 +181,9 @@ def _edit(lines: list[str], pick: Pick, others: tuple[str, ...], loops: bool) ->
     if op in (8, 9) and not loops:
         op = 3
     if op == 0:  # delete a line
-        return lines[:k] + lines[k + 1:]
+        return lines[:k] + lines[k + 1 :]
     if op == 1:  # double a line
-        return lines[:k + 1] + lines[k:]
+        return lines[: k + 1] + lines[k:]
     if op == 2:  # swap two lines
         j = pick(len(lines))
         lines = list(lines)
@@ -102,34 +193,41 @@ def _edit(lines: list[str], pick: Pick, others: tuple[str, ...], loops: bool) ->
         found = list(_NUMBER.finditer(line))
         if found:
             m = found[pick(len(found))]
-            line = line[:m.start()] + NUMBERS[pick(len(NUMBERS))] + line[m.end():]
-        return lines[:k] + [line] + lines[k + 1:]
+            line = line[: m.start()] + NUMBERS[pick(len(NUMBERS))] + line[m.end() :]
+        return lines[:k] + [line] + lines[k + 1 :]
     if op == 4:  # a word inserted between words
         cuts = [0, *(m.start() for m in re.finditer(" ", line)), len(line)]
         at = cuts[pick(len(cuts))]
-        return lines[:k] + [f"{line[:at]} {WORDS[pick(len(WORDS))]} {line[at:]}".strip()] + lines[k + 1:]
+        return lines[:k] + [f"{line[:at]} {WORDS[pick(len(WORDS))]} {line[at:]}".strip()] + lines[k + 1 :]
     if op == 5:  # a character inserted
         at = pick(len(line) + 1)
-        return lines[:k] + [line[:at] + CHARS[pick(len(CHARS))] + line[at:]] + lines[k + 1:]
+        return lines[:k] + [line[:at] + CHARS[pick(len(CHARS))] + line[at:]] + lines[k + 1 :]
     if op == 6:  # a character deleted
         if line:
             at = pick(len(line))
-            line = line[:at] + line[at + 1:]
-        return lines[:k] + [line] + lines[k + 1:]
+            line = line[:at] + line[at + 1 :]
+        return lines[:k] + [line] + lines[k + 1 :]
     if op == 7 and others:  # a line of another program
         other = others[pick(len(others))].splitlines() or [""]
         return lines[:k] + [other[pick(len(other))]] + lines[k:]
     if op == 8:  # a jump back or a repeat: loops, endless ones too
         n = max(numbers) + 1 + pick(9)
-        loop = (f"N{n} G29 N{target}", f"N{n} G23 N{target} N{numbers[pick(len(numbers))]} H{1 + pick(9999)}",
-                f"N{n} P1=P1+1 G29 P1 O4 P2 N{target}")[pick(3)]
+        loop = (
+            f"N{n} G29 N{target}",
+            f"N{n} G23 N{target} N{numbers[pick(len(numbers))]} H{1 + pick(9999)}",
+            f"N{n} P1=P1+1 G29 P1 O4 P2 N{target}",
+        )[pick(3)]
         return lines[:k] + [loop] + lines[k:]
     if op == 9:  # a call of a subprogram at the end of the file
         n = 1 + pick(3)
         body = lines[pick(len(lines))]
-        return (lines[:k] + [f"G22 L{n} H{1 + pick(9999)}"] + lines[k:]
-                + [f"%L{n}", body, "G22 L1" if pick(4) == 0 else "G1 XI1", "M17"])
-    return lines[:k] + [line * (2 + pick(3))] + lines[k + 1:]  # a line written several times over
+        return (
+            lines[:k]
+            + [f"G22 L{n} H{1 + pick(9999)}"]
+            + lines[k:]
+            + [f"%L{n}", body, "G22 L1" if pick(4) == 0 else "G1 XI1", "M17"]
+        )
+    return lines[:k] + [line * (2 + pick(3))] + lines[k + 1 :]  # a line written several times over
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,8 +247,14 @@ def check(text: str, dialect: str) -> Outcome:
     answer = json.dumps(toolpath_json(toolpath), ensure_ascii=False).encode()
     lines, _ = drawing(toolpath, 0.05)
     seconds = time.thread_time() - t
-    return Outcome(seconds, len(answer), frozenset(d.code for d in toolpath.diagnostics), toolpath.work,
-                   len(toolpath.moves), sum(max(0, len(points) - 1) for points in lines))
+    return Outcome(
+        seconds,
+        len(answer),
+        frozenset(d.code for d in toolpath.diagnostics),
+        toolpath.work,
+        len(toolpath.moves),
+        sum(max(0, len(points) - 1) for points in lines),
+    )
 
 
 @cache
@@ -207,7 +311,8 @@ def main(argv: list[str] | None = None) -> int:
     started = time.perf_counter()
     with multiprocessing.get_context("spawn").Pool(args.processes) as pool:
         for done, (k, seconds, size, error, peak_kb) in enumerate(
-                pool.imap_unordered(_one, _cases(args.seed, args.count), chunksize=16), 1):
+            pool.imap_unordered(_one, _cases(args.seed, args.count), chunksize=16), 1
+        ):
             peak = max(peak, peak_kb)
             largest = max(largest, size)
             if error is not None:
@@ -218,8 +323,10 @@ def main(argv: list[str] | None = None) -> int:
             over_size += size >= MAX_ANSWER_BYTES
             if done % max(1_000, min(10_000, args.count // 10)) == 0:
                 rate = done / (time.perf_counter() - started)
-                print(f"{done} cases, {rate:.0f}/s, {len(crashes)} crashes, slowest {slowest[0] * 1000:.0f} ms",
-                      flush=True)
+                print(
+                    f"{done} cases, {rate:.0f}/s, {len(crashes)} crashes, slowest {slowest[0] * 1000:.0f} ms",
+                    flush=True,
+                )
     print(f"\n{args.count} cases in {time.perf_counter() - started:.0f} s (seed {args.seed})")
     print(f"crashes: {len(crashes)}")
     for k, error in crashes.values():
@@ -229,8 +336,10 @@ def main(argv: list[str] | None = None) -> int:
     if k >= 0:
         name, dialect, text = case(args.seed, k)
         print(f"slowest: {seconds * 1000:.1f} ms, case {args.seed}:{k} ({name}, {dialect}):\n{text}")
-    print(f"over {MAX_SECONDS:g} s: {over_time}; answers over {MAX_ANSWER_BYTES // 1_000_000} MB: {over_size} "
-          f"(largest {largest / 1e6:.2f} MB)")
+    print(
+        f"over {MAX_SECONDS:g} s: {over_time}; answers over {MAX_ANSWER_BYTES // 1_000_000} MB: {over_size} "
+        f"(largest {largest / 1e6:.2f} MB)"
+    )
     print(f"peak memory of a process: {peak / 1024:.0f} MB")
     return 1 if crashes or over_time or over_size else 0
 

@@ -31,8 +31,11 @@ from core.grading import grade
 # (exercise, what, edits of the reference: (old text, new text) …); no edits: the reference itself
 CASES: list[tuple[str, str, tuple[tuple[str, str], ...]]] = [
     ("pal-05-g2-kreisbogen", "reference", ()),
-    ("pal-05-g2-kreisbogen", "G41 forgotten, G3 for G2", (("N40 G41 G0 X70 Y84", "N40 G0 X70 Y84"),
-                                                          ("N70 G2 X56.4", "N70 G3 X56.4"))),
+    (
+        "pal-05-g2-kreisbogen",
+        "G41 forgotten, G3 for G2",
+        (("N40 G41 G0 X70 Y84", "N40 G0 X70 Y84"), ("N70 G2 X56.4", "N70 G3 X56.4")),
+    ),
     ("pal-16-g47-g48", "reference", ()),
     ("traub-01-srk-fase", "reference", ()),
     ("traub-01-srk-fase", "Ø39 for Ø40", (("G1 X40 D2", "G1 X39 D2"),)),
@@ -46,8 +49,10 @@ def main() -> None:
     args = parser.parse_args()
     repeats = 2 if args.quick else 5
     exercises = builtin_exercises()
-    print(f"# grade, {datetime.date.today()}, CPython {platform.python_version()}, {platform.machine()}, "
-          f"{os.cpu_count()} cores, best of {repeats}")
+    print(
+        f"# grade, {datetime.date.today()}, CPython {platform.python_version()}, {platform.machine()}, "
+        f"{os.cpu_count()} cores, best of {repeats}"
+    )
     print("| Exercise | Submission | Score | Grade |")
     print("|---|---|---:|---:|")
     for eid, what, edits in CASES:

@@ -47,32 +47,53 @@ async def login(client: httpx.AsyncClient, name: str) -> dict[str, str]:
     return {"Authorization": f"Bearer {r.json()['access_token']}"}
 
 
-async def setup(client: httpx.AsyncClient, trainees: int) -> tuple[list[dict[str, str]], dict[str, str], int, int]:
+async def setup(
+    client: httpx.AsyncClient, trainees: int
+) -> tuple[list[dict[str, str]], dict[str, str], int, int]:
     """The trainees (the last one is the greedy one), a user for the light /check, the assignment and its size."""
     teacher = await login(client, "bench-lehrer")
     course = (await client.post("/courses", json={"name": "Bench-Klasse"}, headers=teacher)).json()
     headers = []
     for i in range(trainees + 2):
         name = f"bench-last-{i}"
-        r = await client.post("/users", json={"username": name, "password": PASSWORD, "role": "student"},
-                              headers=teacher)
+        r = await client.post(
+            "/users", json={"username": name, "password": PASSWORD, "role": "student"}, headers=teacher
+        )
         assert r.status_code == 201, r.text
         headers.append(await login(client, name))
         if i <= trainees:
-            assert (await client.post("/courses/join", json={"code": course["join_code"]},
-                                      headers=headers[-1])).status_code == 200
-    exercises = [e["slug"] for e in (await client.get("/exercises", headers=teacher)).json() if e.get("gradable")]
+            assert (
+                await client.post("/courses/join", json={"code": course["join_code"]}, headers=headers[-1])
+            ).status_code == 200
+    exercises = [
+        e["slug"] for e in (await client.get("/exercises", headers=teacher)).json() if e.get("gradable")
+    ]
     exercises = exercises[:32]
     now = datetime.now(UTC)
-    r = await client.post(f"/courses/{course['id']}/assignments", headers=teacher, json={
-        "title": "Bench-Aufgabenblätter", "exercises": exercises, "mode": "practice",
-        "opens_at": (now - timedelta(minutes=1)).isoformat(), "deadline": (now + timedelta(hours=2)).isoformat()})
+    r = await client.post(
+        f"/courses/{course['id']}/assignments",
+        headers=teacher,
+        json={
+            "title": "Bench-Aufgabenblätter",
+            "exercises": exercises,
+            "mode": "practice",
+            "opens_at": (now - timedelta(minutes=1)).isoformat(),
+            "deadline": (now + timedelta(hours=2)).isoformat(),
+        },
+    )
     assert r.status_code == 201, r.text
     return headers[:-1], headers[-1], int(r.json()["id"]), len(exercises)
 
 
-async def probe(client: httpx.AsyncClient, stop: asyncio.Event, method: str, path: str, answers: list[float],
-                failed: list[str], **kwargs: object) -> None:
+async def probe(
+    client: httpx.AsyncClient,
+    stop: asyncio.Event,
+    method: str,
+    path: str,
+    answers: list[float],
+    failed: list[str],
+    **kwargs: object,
+) -> None:
     while not stop.is_set():
         started = time.perf_counter()
         try:
@@ -86,8 +107,9 @@ async def probe(client: httpx.AsyncClient, stop: asyncio.Event, method: str, pat
         await asyncio.sleep(PROBE_EVERY)
 
 
-async def heavy(client: httpx.AsyncClient, kind: str, method: str, path: str,
-                **kwargs: object) -> tuple[str, str, float]:
+async def heavy(
+    client: httpx.AsyncClient, kind: str, method: str, path: str, **kwargs: object
+) -> tuple[str, str, float]:
     """One heavy request: its kind, its answer's status (or the error) and its seconds."""
     started = time.perf_counter()
     try:
@@ -99,8 +121,10 @@ async def heavy(client: httpx.AsyncClient, kind: str, method: str, path: str,
 
 
 def line(name: str, values: list[float]) -> str:
-    return (f"{name:<8} n={len(values):>4}  p50 {statistics.median(values):7.1f} ms  p95 {pct(values, 95):7.1f} ms  "
-            f"max {max(values):7.1f} ms")
+    return (
+        f"{name:<8} n={len(values):>4}  p50 {statistics.median(values):7.1f} ms  p95 {pct(values, 95):7.1f} ms  "
+        f"max {max(values):7.1f} ms"
+    )
 
 
 async def run(base: str, trainees: int) -> bool:
@@ -114,19 +138,41 @@ async def run(base: str, trainees: int) -> bool:
         failed: list[str] = []
         stop = asyncio.Event()
         async with httpx.AsyncClient(base_url=base, timeout=600) as prober:
-            probes = [asyncio.create_task(probe(prober, stop, "GET", "/healthz", health, failed)),
-                      asyncio.create_task(probe(prober, stop, "POST", "/api/v1/check", checks, failed,
-                                                json={"program": REFERENCE, "exercise": EXERCISE}, headers=light))]
+            probes = [
+                asyncio.create_task(probe(prober, stop, "GET", "/healthz", health, failed)),
+                asyncio.create_task(
+                    probe(
+                        prober,
+                        stop,
+                        "POST",
+                        "/api/v1/check",
+                        checks,
+                        failed,
+                        json={"program": REFERENCE, "exercise": EXERCISE},
+                        headers=light,
+                    )
+                ),
+            ]
             await asyncio.sleep(1)
             started = time.perf_counter()
             jobs = []
             for h in class_:
-                jobs += [heavy(client, "sheets", "GET", sheets, headers=h),
-                         heavy(client, "picture", "GET", f"/exercises/{EXERCISE}/picture.png", headers=h),
-                         heavy(client, "drawing", "GET", f"/exercises/{EXERCISE}/drawing.svg", headers=h),
-                         heavy(client, "submission", "POST", "/submissions", headers=h,
-                               json={"exercise": EXERCISE, "program": REFERENCE})]
-            jobs += [heavy(client, "sheets (one trainee 16x)", "GET", sheets, headers=greedy) for _ in range(16)]
+                jobs += [
+                    heavy(client, "sheets", "GET", sheets, headers=h),
+                    heavy(client, "picture", "GET", f"/exercises/{EXERCISE}/picture.png", headers=h),
+                    heavy(client, "drawing", "GET", f"/exercises/{EXERCISE}/drawing.svg", headers=h),
+                    heavy(
+                        client,
+                        "submission",
+                        "POST",
+                        "/submissions",
+                        headers=h,
+                        json={"exercise": EXERCISE, "program": REFERENCE},
+                    ),
+                ]
+            jobs += [
+                heavy(client, "sheets (one trainee 16x)", "GET", sheets, headers=greedy) for _ in range(16)
+            ]
             answers = await asyncio.gather(*jobs)
             storm = time.perf_counter() - started
             _, status, again = await heavy(client, "sheets", "GET", sheets, headers=class_[0])
@@ -134,17 +180,23 @@ async def run(base: str, trainees: int) -> bool:
             await asyncio.gather(*probes)
     statuses = Counter(f"{kind} {status}" for kind, status, _ in answers)
     first = min(seconds for kind, status, seconds in answers if kind == "sheets" and status == "200")
-    print(f"{len(class_)} trainees x 4 heavy requests + 16 task sheets of one trainee; assignment of {size} "
-          f"exercises; all answered after {storm:.1f} s")
+    print(
+        f"{len(class_)} trainees x 4 heavy requests + 16 task sheets of one trainee; assignment of {size} "
+        f"exercises; all answered after {storm:.1f} s"
+    )
     print(line("/healthz", health))
     print(line("/check", checks))
     print("heavy answers: " + ", ".join(f"{k}: {v}" for k, v in sorted(statuses.items())))
-    print(f"task sheets of {size} exercises: the first after {first:.1f} s (every exercise rendered while the rest "
-          f"of the storm ran), asked for again {again * 1000:.0f} ms ({status}, from the cache)")
+    print(
+        f"task sheets of {size} exercises: the first after {first:.1f} s (every exercise rendered while the rest "
+        f"of the storm ran), asked for again {again * 1000:.0f} ms ({status}, from the cache)"
+    )
     errors = [k for k in statuses if not k.split()[-1].isdigit() or k.split()[-1].startswith("5")]
     ok = max(health) < TARGET_MS and max(checks) < TARGET_MS and not failed and not errors
-    print(f"target: /healthz and /check < {TARGET_MS:.0f} ms throughout, no 5xx: {'PASS' if ok else 'FAIL'}"
-          + (f" ({sorted(set(failed))[:5]} {errors})" if not ok else ""))
+    print(
+        f"target: /healthz and /check < {TARGET_MS:.0f} ms throughout, no 5xx: {'PASS' if ok else 'FAIL'}"
+        + (f" ({sorted(set(failed))[:5]} {errors})" if not ok else "")
+    )
     return ok
 
 

@@ -48,8 +48,14 @@ except ImportError:  # pragma: no cover - depends on the environment
 
 SEED = 20261122
 # throughput, not the budgets of core/limits.py: room for every block of the largest program
-BIG_SETUP = RunSetup(limits=Limits(max_executed_blocks=1_000_000, max_blocks=1_000_000, max_moves=1_000_000,
-                                   max_evaluation_steps=100_000_000))
+BIG_SETUP = RunSetup(
+    limits=Limits(
+        max_executed_blocks=1_000_000,
+        max_blocks=1_000_000,
+        max_moves=1_000_000,
+        max_evaluation_steps=100_000_000,
+    )
+)
 
 TARGET_PARSE_VS_GCODEPARSER = 1.0  # our parse rate / gcodeparser rate
 TARGET_RUN_VS_PYGCODE = 3.0  # our parse+interpret rate / pygcode Line+Machine rate
@@ -176,23 +182,61 @@ def generate_turning() -> str:
     """A 300-block TRAUB TX 8 D program as a lathe trainee would write it: program head with G59 and G96/G92,
     facing, longitudinal roughing passes with a shoulder radius, a finishing contour with arcs (R, P/Q),
     chamfer-free, then a drill called from a subprogram with L parameters, M30 and the subprogram."""
-    out: list[str] = ["%", "O 4711", "G59 X0 Z210", "N3 G96 V200 T0303 M4", "G92 S3000", "G0 X82 Z0 M8",
-                      "G1 X-1.6 F0.2", "G0 X82 Z2"]
+    out: list[str] = [
+        "%",
+        "O 4711",
+        "G59 X0 Z210",
+        "N3 G96 V200 T0303 M4",
+        "G92 S3000",
+        "G0 X82 Z0 M8",
+        "G1 X-1.6 F0.2",
+        "G0 X82 Z2",
+    ]
     # roughing: 32 passes of 0.5 mm on the radius, 6 blocks each, from Ø80 down to Ø48
     for p in range(1, 33):
         x = 80 - 1 * p
-        out += [f"G0 X{fmt(x)} Z2", f"G1 Z-{fmt(20 + p * 0.5)} F0.3", f"G1 X{fmt(x + 1)} Z-{fmt(21 + p * 0.5)}",
-                "G0 Z2", "G1 W-0.5 F0.3", "G0 U1"]
+        out += [
+            f"G0 X{fmt(x)} Z2",
+            f"G1 Z-{fmt(20 + p * 0.5)} F0.3",
+            f"G1 X{fmt(x + 1)} Z-{fmt(21 + p * 0.5)}",
+            "G0 Z2",
+            "G1 W-0.5 F0.3",
+            "G0 U1",
+        ]
     out += ["G26", "N4 G96 V250 T0404 M4", "G0 X36 Z2"]
     # finishing: 9 times the same little contour with arcs (R and P/Q), 8 blocks each
     for k in range(9):
         z0 = -2.0 * k
-        out += [f"G1 X36 Z{fmt(z0)} F0.15", f"G1 X40 Z{fmt(z0 - 2)}", f"G1 Z{fmt(z0 - 12)}",
-                f"G2 X50 Z{fmt(z0 - 17)} R5", "G1 X56", f"G3 X60 Z{fmt(z0 - 19)} P56 Q{fmt(z0 - 19)}",
-                f"G1 Z{fmt(z0 - 30)}", "G0 X36 Z2"]
-    out += ["G26", "L1 = 11", "L2 = 12", "L4 = 25", "G22 A8007", "M30", "%", "%", "O8007",
-            "N3 G97 V30 X L2 T0505 M3", "G0 X0 Z1 M8", "G1 Z-[L2/2] F0.1", "G25", "N4 G97 V30 X L1 T0606 M3",
-            "G0 X0 Z1", "G1 Z-L4 F0.1", "G4 X0.5", "G27"]
+        out += [
+            f"G1 X36 Z{fmt(z0)} F0.15",
+            f"G1 X40 Z{fmt(z0 - 2)}",
+            f"G1 Z{fmt(z0 - 12)}",
+            f"G2 X50 Z{fmt(z0 - 17)} R5",
+            "G1 X56",
+            f"G3 X60 Z{fmt(z0 - 19)} P56 Q{fmt(z0 - 19)}",
+            f"G1 Z{fmt(z0 - 30)}",
+            "G0 X36 Z2",
+        ]
+    out += [
+        "G26",
+        "L1 = 11",
+        "L2 = 12",
+        "L4 = 25",
+        "G22 A8007",
+        "M30",
+        "%",
+        "%",
+        "O8007",
+        "N3 G97 V30 X L2 T0505 M3",
+        "G0 X0 Z1 M8",
+        "G1 Z-[L2/2] F0.1",
+        "G25",
+        "N4 G97 V30 X L1 T0606 M3",
+        "G0 X0 Z1",
+        "G1 Z-L4 F0.1",
+        "G4 X0.5",
+        "G27",
+    ]
     while len(out) < 298:
         out.insert(-4, "G0 X0 Z1")  # more approaches to the centre hole
     out += ["M99", "%"]
@@ -204,13 +248,35 @@ def generate_turning_cycles() -> str:
     """A 300-block TRAUB program whose work is done by cycles: G71 and G72 against two long contours (P/Q,
     the G71 contour after the cycle), G75 grooving, G74 with chip breaking, a G76 thread; then both contours
     run again as finishing passes."""
-    out: list[str] = ["%", "O 4712", "G59 X0 Z210", "N1 G96 V200 T0303 M4", "G92 S3000", "G0 X84 Z2 M8",
-                      "G71 P10 Q20 I0.5 K0.1 D2 F0.3", "G26", "N2 G96 V200 T0404 M4", "G0 X86 Z1",
-                      "G72 P30 Q40 I0.2 K0.3 D1.5 F0.25", "G26", "N3 G97 S600 T0505 M4", "G0 X86 Z-70",
-                      "G75 X60 Z-80 I5 K3 D0.5 F0.1", "G26", "N4 G97 S800 T0606 M4", "G0 X84 Z1",
-                      "G74 X70 Z-30 I2 K10 D0.5 F0.2", "G26", "N5 G97 S1000 T0707 M3", "G0 X44 Z4",
-                      "G76 X38.16 Z-25 K0.92 H8 F1.5", "G26", "N6 G96 V250 T0808 M4", "N10 G0 X30 Z1",
-                      "G1 Z0 F0.15"]
+    out: list[str] = [
+        "%",
+        "O 4712",
+        "G59 X0 Z210",
+        "N1 G96 V200 T0303 M4",
+        "G92 S3000",
+        "G0 X84 Z2 M8",
+        "G71 P10 Q20 I0.5 K0.1 D2 F0.3",
+        "G26",
+        "N2 G96 V200 T0404 M4",
+        "G0 X86 Z1",
+        "G72 P30 Q40 I0.2 K0.3 D1.5 F0.25",
+        "G26",
+        "N3 G97 S600 T0505 M4",
+        "G0 X86 Z-70",
+        "G75 X60 Z-80 I5 K3 D0.5 F0.1",
+        "G26",
+        "N4 G97 S800 T0606 M4",
+        "G0 X84 Z1",
+        "G74 X70 Z-30 I2 K10 D0.5 F0.2",
+        "G26",
+        "N5 G97 S1000 T0707 M3",
+        "G0 X44 Z4",
+        "G76 X38.16 Z-25 K0.92 H8 F1.5",
+        "G26",
+        "N6 G96 V250 T0808 M4",
+        "N10 G0 X30 Z1",
+        "G1 Z0 F0.15",
+    ]
     x, z = 30.0, 0.0
     for _ in range(60):  # a staircase rising towards -Z: Ø30 → Ø78
         z -= 1.5
@@ -399,7 +465,9 @@ def main(argv: list[str] | None = None) -> int:
             "pygcode_run": rate(blocks, t_pyr),
         }
         parsed, ran = row["ours_parse"], row["ours_run"]
-        row["parse_ratio"] = parsed / row["gcodeparser"] if parsed is not None and row["gcodeparser"] else None
+        row["parse_ratio"] = (
+            parsed / row["gcodeparser"] if parsed is not None and row["gcodeparser"] else None
+        )
         row["run_ratio"] = ran / row["pygcode_run"] if ran is not None and row["pygcode_run"] else None
         results.append(row)
         pr = "-" if row["parse_ratio"] is None else f"{row['parse_ratio']:.2f}x"

@@ -30,26 +30,38 @@ PROGRAMS: dict[str, str | tuple[str, str]] = {  # name: program (PAL) or (dialec
     "endless G29 loop with a counter": "N10 P1=0\nN20 P1=P1+1\nN30 G29 N20\nN40 M30\n",
     "endless G29 loop with moves": "N10 T1 M6\nN15 S100 F100 M3\nN20 G1 X10\nN30 G1 X0\nN40 G29 N20\nN50 M30\n",
     "loop of 50 m full circles": "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G2 X0 Y0 I50000 J0\n"
-                                 "N50 G29 N40\nN60 M30\n",
+    "N50 G29 N40\nN60 M30\n",
     "compensated contour with RN in a loop": CONTOUR + "N60 G1 X15 Y75 RN5\nN70 G1 X55 Y75 RN-2\n"
-                                                       "N80 G1 X55 Y-15 RN3\nN85 G1 X15 Y-15\nN90 G29 N60\nN100 M30\n",
-    "G41/G42 switched in a loop": CONTOUR + "N50 G1 X20 Y20\nN60 G42 G1 X1 Y1\nN70 G1 X5 Y9\nN80 G41 G1 X15 Y-15\n"
-                                            "N90 G29 N50\nN100 M30\n",
+    "N80 G1 X55 Y-15 RN3\nN85 G1 X15 Y-15\nN90 G29 N60\nN100 M30\n",
+    "G41/G42 switched in a loop": CONTOUR
+    + "N50 G1 X20 Y20\nN60 G42 G1 X1 Y1\nN70 G1 X5 Y9\nN80 G41 G1 X15 Y-15\n"
+    "N90 G29 N50\nN100 M30\n",
     "arithmetic block in a loop": "N10 P1=" + "+".join(["P1*2"] * 40) + "\nN20 G29 N10\nN30 M30\n",
-    "unassigned parameters in a loop": "N10 P1=" + "+".join(f"P{900 + i}" for i in range(40))
-                                       + "\nN20 G29 N10\nN30 M30\n",
+    "unassigned parameters in a loop": "N10 P1="
+    + "+".join(f"P{900 + i}" for i in range(40))
+    + "\nN20 G29 N10\nN30 M30\n",
     "subprogram called 9999 times": "N10 T1 M6\nN20 S100 F100 M3\nN30 G22 L1 H9999\nN40 M30\n"
-                                    "%L1\nN10 G1 XI1\nN20 G1 YI1\nN30 M17\n",
+    "%L1\nN10 G1 XI1\nN20 G1 YI1\nN30 M17\n",
     "7-line loop of moves (21 MB before)": "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G1 X10\nN50 G1 X0\n"
-                                           "N60 G29 N40\nN70 M30\n",
+    "N60 G29 N40\nN70 M30\n",
     "200,000 characters of bad lines": "T1 M6\nS100 F100 M3\n" + "X1,5\n" * 39_990,
-    "TRAUB: endless section repeat": ("traub-tx8d", ("G97 S500 T0101 M3\nN10 G0 X40 Z2\nN20 G1 Z-5 F0.1\n"
-                                                    "G22 P10 Q20 H9999\nM30")),
-    "TRAUB: nested macros": ("traub-tx8d", ("G22 A8000 H9999\nM30\n%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\n"
-                                           "G201 \nM99\n%\n%\nO9801\nG0 X40 Z2\nG0 X50\nM99\n%")),
+    "TRAUB: endless section repeat": (
+        "traub-tx8d",
+        ("G97 S500 T0101 M3\nN10 G0 X40 Z2\nN20 G1 Z-5 F0.1\nG22 P10 Q20 H9999\nM30"),
+    ),
+    "TRAUB: nested macros": (
+        "traub-tx8d",
+        (
+            "G22 A8000 H9999\nM30\n%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\n"
+            "G201 \nM99\n%\n%\nO9801\nG0 X40 Z2\nG0 X50\nM99\n%"
+        ),
+    ),
 }
 # grading a loop of 50 m circles: the grader looks at a bounded number of chords per arc
-GRADED = ("pal-01-g1-gerade", "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G2 X0 Y0 I50000 J0\nN50 G29 N40\nN60 M30\n")
+GRADED = (
+    "pal-01-g1-gerade",
+    "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G2 X0 Y0 I50000 J0\nN50 G29 N40\nN60 M30\n",
+)
 TARGET_SECONDS = 1.0
 TARGET_BYTES = 5_000_000
 T = TypeVar("T")
@@ -83,8 +95,10 @@ def main() -> None:
     worst = max(worst, seconds)
     print(f"{'grading the loop of 50 m circles':40s} {seconds * 1000:8.1f}")
     ok = worst < TARGET_SECONDS and largest < TARGET_BYTES
-    print(f"\nslowest: {worst * 1000:.1f} ms (target < {TARGET_SECONDS * 1000:.0f} ms), largest answer "
-          f"{largest / 1e6:.2f} MB (target < {TARGET_BYTES / 1e6:.0f} MB) {'PASS' if ok else 'FAIL'}")
+    print(
+        f"\nslowest: {worst * 1000:.1f} ms (target < {TARGET_SECONDS * 1000:.0f} ms), largest answer "
+        f"{largest / 1e6:.2f} MB (target < {TARGET_BYTES / 1e6:.0f} MB) {'PASS' if ok else 'FAIL'}"
+    )
 
 
 if __name__ == "__main__":

@@ -86,12 +86,21 @@ def server(workers: int, exercises: bool = False, data: str | None = None) -> It
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]
     data = data or tempfile.mkdtemp(prefix="paltrainer-bench-")
-    env = {**os.environ, "PALTRAINER_DATA_DIR": data, "PALTRAINER_WORKERS": str(workers),
-           "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000",  # every session comes from 127.0.0.1
-           "PALTRAINER_LOG_LEVEL": "WARNING", "PALTRAINER_LOAD_EXERCISES": "true" if exercises else "false"}
+    env = {
+        **os.environ,
+        "PALTRAINER_DATA_DIR": data,
+        "PALTRAINER_WORKERS": str(workers),
+        "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000",  # every session comes from 127.0.0.1
+        "PALTRAINER_LOG_LEVEL": "WARNING",
+        "PALTRAINER_LOAD_EXERCISES": "true" if exercises else "false",
+    }
     env.pop("DATABASE_URL", None)
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     try:
         deadline = time.monotonic() + 60
         while True:
@@ -171,8 +180,12 @@ async def single(url: str, n: int) -> tuple[list[float], Counter[str]]:
         return s.latencies, s.runs
 
 
-async def concurrent(url: str, sessions: int, per_session: int, interval: float,
-                     ) -> tuple[list[float], float, int, int, Counter[str]]:
+async def concurrent(
+    url: str,
+    sessions: int,
+    per_session: int,
+    interval: float,
+) -> tuple[list[float], float, int, int, Counter[str]]:
     """Latencies, seconds, errors received, keystrokes never answered and how the updates were checked."""
     lines = program()
 
@@ -201,8 +214,13 @@ async def concurrent(url: str, sessions: int, per_session: int, interval: float,
     t0 = time.perf_counter()
     start.set()
     results = await asyncio.gather(*tasks)
-    return ([x for r in results for x in r[0]], time.perf_counter() - t0, sum(r[1] for r in results),
-            sum(r[2] for r in results), sum((r[3] for r in results), Counter()))
+    return (
+        [x for r in results for x in r[0]],
+        time.perf_counter() - t0,
+        sum(r[1] for r in results),
+        sum(r[2] for r in results),
+        sum((r[3] for r in results), Counter()),
+    )
 
 
 def pct(values: list[float], p: float) -> float:
@@ -218,9 +236,11 @@ def checked(runs: Counter[str]) -> str:
 def report(name: str, lat: list[float], target: float) -> bool:
     p50, p95, p99 = pct(lat, 50), pct(lat, 95), pct(lat, 99)
     ok = p95 < target
-    print(f"{name:<34} n={len(lat):>5}  p50 {p50:6.1f} ms  p95 {p95:6.1f} ms  p99 {p99:6.1f} ms  "
-          f"max {max(lat):6.1f} ms  mean {statistics.fmean(lat):6.1f} ms  target p95 < {target:g} ms: "
-          f"{'PASS' if ok else 'FAIL'}")
+    print(
+        f"{name:<34} n={len(lat):>5}  p50 {p50:6.1f} ms  p95 {p95:6.1f} ms  p99 {p99:6.1f} ms  "
+        f"max {max(lat):6.1f} ms  mean {statistics.fmean(lat):6.1f} ms  target p95 < {target:g} ms: "
+        f"{'PASS' if ok else 'FAIL'}"
+    )
     return ok
 
 
@@ -238,10 +258,12 @@ async def main_async(args: argparse.Namespace, url: str) -> bool:
         lat, seconds, errors, unanswered, runs = await concurrent(url, sessions, per, interval)
         ok &= report(f"{sessions} sessions, one key per {interval:g} s", lat, target)
         ok &= errors == 0 and unanswered == 0
-        print(f"  {sessions} sessions × {per} keystrokes, one every {interval:g} s ± 50 % per session: "
-              f"{sessions / interval:.0f} keystrokes/s offered, {len(lat) / seconds:.0f} keystrokes/s answered; "
-              f"errors {errors}, keystrokes never answered {unanswered}; updates checked: {checked(runs)}; "
-              f"load average now {os.getloadavg()[0]:.2f}")
+        print(
+            f"  {sessions} sessions × {per} keystrokes, one every {interval:g} s ± 50 % per session: "
+            f"{sessions / interval:.0f} keystrokes/s offered, {len(lat) / seconds:.0f} keystrokes/s answered; "
+            f"errors {errors}, keystrokes never answered {unanswered}; updates checked: {checked(runs)}; "
+            f"load average now {os.getloadavg()[0]:.2f}"
+        )
     return ok
 
 
@@ -250,16 +272,25 @@ def main() -> int:
     parser.add_argument("--url", help="ws:// URL of a running server's /api/v1/live (default: start one)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes of the started server")
     parser.add_argument("--sessions", type=int, default=50)
-    parser.add_argument("--interval", default="0.3",
-                        help="seconds between one session's keystrokes; a comma list runs scenario 2 once for each")
-    parser.add_argument("--no-school", dest="school", action="store_false",
-                        help="leave out scenario 3 (200 sessions, one key per 1 s)")
+    parser.add_argument(
+        "--interval",
+        default="0.3",
+        help="seconds between one session's keystrokes; a comma list runs scenario 2 once for each",
+    )
+    parser.add_argument(
+        "--no-school",
+        dest="school",
+        action="store_false",
+        help="leave out scenario 3 (200 sessions, one key per 1 s)",
+    )
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
     load = ", ".join(f"{x:.2f}" for x in os.getloadavg())
-    print(f"{datetime.date.today()}  Python {platform.python_version()}  {platform.system()} {platform.machine()}, "
-          f"{os.cpu_count()} cores (os.cpu_count()), load average {load} (1, 5, 15 min) before the run; "
-          f"program: {len(program())} blocks; server: {args.workers} worker processes")
+    print(
+        f"{datetime.date.today()}  Python {platform.python_version()}  {platform.system()} {platform.machine()}, "
+        f"{os.cpu_count()} cores (os.cpu_count()), load average {load} (1, 5, 15 min) before the run; "
+        f"program: {len(program())} blocks; server: {args.workers} worker processes"
+    )
     if args.url:
         ok = asyncio.run(main_async(args, args.url))
     else:

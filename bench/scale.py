@@ -58,8 +58,11 @@ async def submissions(url: str, tokens: list[str], clients: int, seconds: float)
         nonlocal done
         headers = {"Authorization": f"Bearer {tokens[n % len(tokens)]}"}
         while time.monotonic() < deadline:
-            r = await http.post(f"{url}/api/v1/submissions", json={"exercise": EXERCISE, "program": SUBMISSION},
-                                headers={**headers, "Idempotency-Key": uuid.uuid4().hex})
+            r = await http.post(
+                f"{url}/api/v1/submissions",
+                json={"exercise": EXERCISE, "program": SUBMISSION},
+                headers={**headers, "Idempotency-Key": uuid.uuid4().hex},
+            )
             if r.status_code in (200, 201) and time.monotonic() <= deadline:
                 done += 1
 
@@ -109,7 +112,9 @@ async def login(url: str) -> list[str]:
     async with httpx.AsyncClient(timeout=30) as http:
         tokens = []
         for i in range(USERS):
-            r = await http.post(f"{url}/api/v1/auth/token", data={"username": f"bench{i}", "password": PASSWORD})
+            r = await http.post(
+                f"{url}/api/v1/auth/token", data={"username": f"bench{i}", "password": PASSWORD}
+            )
             r.raise_for_status()
             tokens.append(r.json()["access_token"])
         return tokens
@@ -122,20 +127,29 @@ def main() -> int:
     p.add_argument("--workers", type=int, default=1, help="worker processes per replica")
     p.add_argument("--clients", type=int, default=16, help="concurrent submitting clients")
     p.add_argument("--sessions", type=int, default=60, help="concurrent live sessions")
-    p.add_argument("--database-url", default=os.environ.get(
-        "PALTRAINER_TEST_POSTGRES_URL", "postgresql://paltrainer:paltrainer@127.0.0.1:5432/paltrainer_test"))
+    p.add_argument(
+        "--database-url",
+        default=os.environ.get(
+            "PALTRAINER_TEST_POSTGRES_URL",
+            "postgresql://paltrainer:paltrainer@127.0.0.1:5432/paltrainer_test",
+        ),
+    )
     args = p.parse_args()
     missing = binaries_missing()
     if missing:
         print(f"needs {', '.join(missing)} (Debian's packages; bash .ci/run installs them)", file=sys.stderr)
         return 2
     counts = [int(n) for n in args.replicas.split(",")]
-    print(f"# {platform.platform()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
-          f"{args.workers} worker process(es) per replica, {args.seconds:g} s per figure")
+    print(
+        f"# {platform.platform()}, {os.cpu_count()} cores, Python {platform.python_version()}; "
+        f"{args.workers} worker process(es) per replica, {args.seconds:g} s per figure"
+    )
     print(f"{'replicas':>8}  {'submissions/s':>13}  {'live keystrokes/s':>17}  {'load average':>12}")
-    env = {**{f"PALTRAINER_RATE_{k}_PER_MINUTE": "1000000" for k in ("SUBMIT", "CHECK", "LOGIN")},
-           "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "100000",
-           "PALTRAINER_HEAVY_JOBS_PER_USER": "100000"}  # a few bench users stand for a class: no per-user cap
+    env = {
+        **{f"PALTRAINER_RATE_{k}_PER_MINUTE": "1000000" for k in ("SUBMIT", "CHECK", "LOGIN")},
+        "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "100000",
+        "PALTRAINER_HEAVY_JOBS_PER_USER": "100000",
+    }  # a few bench users stand for a class: no per-user cap
     for n in counts:
         users = "".join(f"bench{i};{PASSWORD}\n" for i in range(USERS))
         with Cluster(own_schema(args.database_url, "bench_scale"), n, args.workers, env, users) as c:

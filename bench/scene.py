@@ -39,8 +39,14 @@ from core.exercises import builtin_exercises
 
 QUIET = 0.3  # s without a frame: the picture is complete
 TRAUB_SEEDS = ROOT / "tests" / "seeds" / "traub"
-TURNING = ("tx-17-g0-g1-g2-g3.nc", "tx-21-geometriezug.nc", "tx-30-g71-g88.nc", "tx-32-g72-g88.nc",
-           "tx-36-g75.nc", "tx-40-g76.nc")
+TURNING = (
+    "tx-17-g0-g1-g2-g3.nc",
+    "tx-21-geometriezug.nc",
+    "tx-30-g71-g88.nc",
+    "tx-32-g72-g88.nc",
+    "tx-36-g75.nc",
+    "tx-40-g76.nc",
+)
 
 
 JAR = http.cookiejar.CookieJar()  # the 3D cookie: an anonymous browser's token drives only its own scene
@@ -65,18 +71,26 @@ async def received(ws: websockets.ClientConnection, quiet: float = QUIET) -> int
         total += len(frame)
 
 
-async def measure(base: str, slug: str | None, program: str, dialect: str,
-                  lathe: bool = False) -> tuple[float, int, int, int]:
+async def measure(
+    base: str, slug: str | None, program: str, dialect: str, lathe: bool = False
+) -> tuple[float, int, int, int]:
     session = post(f"{base}/api/v1/viz")
     token = str(session["token"])
     ws_url = base.replace("http://", "ws://") + f"/viz/{token}"
     cookies = "; ".join(f"{c.name}={c.value}" for c in JAR)
-    async with websockets.connect(ws_url, subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
-                                  additional_headers={"Cookie": cookies}, max_size=None) as ws:
+    async with websockets.connect(
+        ws_url,
+        subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
+        additional_headers={"Cookie": cookies},
+        max_size=None,
+    ) as ws:
         await received(ws)  # the empty scene
         started = time.perf_counter()
-        scene = await asyncio.to_thread(post, f"{base}/api/v1/viz/{token}/scene",
-                                        {"program": program, "dialect": dialect, "exercise": slug})
+        scene = await asyncio.to_thread(
+            post,
+            f"{base}/api/v1/viz/{token}/scene",
+            {"program": program, "dialect": dialect, "exercise": slug},
+        )
         picture = await received(ws)
         first = time.perf_counter() - started - QUIET
         half = 0
@@ -105,14 +119,18 @@ def main() -> int:
             first, picture, step, _ = asyncio.run(measure(base, slug, ex.reference, ex.dialect))
             worst_first, worst_step = max(worst_first, first), max(worst_step, step)
             print(f"{slug:32s} {first * 1000:11.0f} ms {picture:10,d} {step:11,d}")
-        print(f"\n{'turning (TRAUB)':32s} {'first picture':>14s} {'bytes':>10s} {'step bytes':>11s} {'half section':>13s}")
+        print(
+            f"\n{'turning (TRAUB)':32s} {'first picture':>14s} {'bytes':>10s} {'step bytes':>11s} {'half section':>13s}"
+        )
         for name in TURNING:
             program = (TRAUB_SEEDS / name).read_text(encoding="utf-8")
             first, picture, step, half = asyncio.run(measure(base, None, program, "traub-tx8d", lathe=True))
             worst_first, worst_step = max(worst_first, first), max(worst_step, step)
             print(f"{name:32s} {first * 1000:11.0f} ms {picture:10,d} {step:11,d} {half:13,d}")
     ok_first, ok_step = worst_first < 1.0, worst_step < 150_000
-    print(f"slowest first picture {worst_first * 1000:.0f} ms (target < 1000 ms): {'PASS' if ok_first else 'FAIL'}")
+    print(
+        f"slowest first picture {worst_first * 1000:.0f} ms (target < 1000 ms): {'PASS' if ok_first else 'FAIL'}"
+    )
     print(f"largest playback step {worst_step:,d} B (target < 150 KB): {'PASS' if ok_step else 'FAIL'}")
     return 0 if ok_first and ok_step else 1
 

@@ -42,10 +42,14 @@ from core.tools import Tool, ToolTable
 ROOT = Path(__file__).resolve().parents[1]
 SEEDS = ROOT / "tests" / "seeds"
 PAL_STOCK = Stock(0, 0, -30, 80, 70, 0)  # 80 × 70 × 30, origin at the lower left corner of the top face
-SEED_STOCK = {"pal-15-g45-g46.nc": Stock(0, 0, -20, 60, 50, 0), "pal-16-g47-g48.nc": Stock(0, 0, -20, 60, 50, 0)}
+SEED_STOCK = {
+    "pal-15-g45-g46.nc": Stock(0, 0, -20, 60, 50, 0),
+    "pal-16-g47-g48.nc": Stock(0, 0, -20, 60, 50, 0),
+}
 POCKET_STOCK = Stock(0, 0, -30, 100, 100, 0)
-POCKET_TOOLS = ToolTable({1: Tool(1, "end_mill", 10.0, "Schaftfräser Ø10", cutting_length=30.0,
-                                  overall_length=80.0)})
+POCKET_TOOLS = ToolTable(
+    {1: Tool(1, "end_mill", 10.0, "Schaftfräser Ø10", cutting_length=30.0, overall_length=80.0)}
+)
 TRAUB_SEEDS = SEEDS / "traub"
 TURN_BLANK = Blank(100, 160)  # Ø100 × 160, 30 mm in the chuck: room for every TRAUB example
 TURN_TOOLS = parse_tool_table("""tools:
@@ -90,8 +94,14 @@ def pocket_program(moves: int = 2000, angle: float = 0.0) -> str:
             y += step
             body.append(f"G1 {at(hi if forward else lo, y)}")
             forward = not forward
-        body += [f"G1 {at(lo, hi)}", f"G1 {at(lo, lo)}", f"G1 {at(hi, lo)}", f"G1 {at(hi, hi)}",
-                 "G0 Z2", f"G0 {at(lo, lo)}"]
+        body += [
+            f"G1 {at(lo, hi)}",
+            f"G1 {at(lo, lo)}",
+            f"G1 {at(hi, lo)}",
+            f"G1 {at(hi, hi)}",
+            "G0 Z2",
+            f"G0 {at(lo, lo)}",
+        ]
         for b in body:
             if count >= moves - 2:
                 break
@@ -101,16 +111,20 @@ def pocket_program(moves: int = 2000, angle: float = 0.0) -> str:
     return "\n".join(lines) + "\n"
 
 
-def best_of(toolpath: Toolpath, stock: Stock, resolution: float, repeats: int,
-            tools: ToolTable | None = None) -> tuple[float, SimResult]:
+def best_of(
+    toolpath: Toolpath, stock: Stock, resolution: float, repeats: int, tools: ToolTable | None = None
+) -> tuple[float, SimResult]:
     best, result = float("inf"), None
     for _ in range(repeats):
         gc.collect()
         gc.disable()
         try:
             t0 = time.perf_counter()
-            result = simulate(toolpath, stock, tools, resolution) if tools else simulate(toolpath, stock,
-                                                                                         resolution=resolution)
+            result = (
+                simulate(toolpath, stock, tools, resolution)
+                if tools
+                else simulate(toolpath, stock, resolution=resolution)
+            )
             best = min(best, time.perf_counter() - t0)
         finally:
             gc.enable()
@@ -140,22 +154,28 @@ def turning_lines(repeats: int) -> bool:
         t, r = best_turning(tp, repeats)
         passed = t < TARGET_TURN_S
         ok &= passed
-        print(f"| {path.stem} (turning) | 0.05 | Ø100×160 | {len(tp.moves)} | {t * 1000:.1f} ms | {r.cell_updates:,} "
-              f"| {r.cell_updates / max(t, 1e-9) / 1e6:.0f} M | {r.removed_volume:,.1f} | < 300 ms "
-              f"| {'PASS' if passed else 'FAIL'} |")
+        print(
+            f"| {path.stem} (turning) | 0.05 | Ø100×160 | {len(tp.moves)} | {t * 1000:.1f} ms | {r.cell_updates:,} "
+            f"| {r.cell_updates / max(t, 1e-9) / 1e6:.0f} M | {r.removed_volume:,.1f} | < 300 ms "
+            f"| {'PASS' if passed else 'FAIL'} |"
+        )
     return ok
 
 
 def exercise_lines(repeats: int) -> bool:
     from core.exercises import builtin_exercises
     from core.sim import DEFAULT_LATHE_TOOLS
+
     ok = True
     for eid, ex in sorted(builtin_exercises().items()):
         if ex.blank is None:
             continue
         tools = ex.tool_table() if ex.tools else DEFAULT_LATHE_TOOLS
-        setup = RunSetup(tools=tools, zero_offsets=tuple(ex.zero_offsets.items()),
-                         subprograms=tuple(ex.subprograms.items()))
+        setup = RunSetup(
+            tools=tools,
+            zero_offsets=tuple(ex.zero_offsets.items()),
+            subprograms=tuple(ex.subprograms.items()),
+        )
         tp = run(ex.reference, ex.dialect, setup)
         blank = ex.blank.blank()
         best, r = float("inf"), None
@@ -166,9 +186,11 @@ def exercise_lines(repeats: int) -> bool:
         assert r is not None
         passed = best < TARGET_TURN_S
         ok &= passed
-        print(f"| {eid} (exercise) | {ex.resolution:g} | Ø{_n(blank.diameter)}×{_n(blank.length)} | {len(tp.moves)} "
-              f"| {best * 1000:.1f} ms | {r.cell_updates:,} | {r.cell_updates / max(best, 1e-9) / 1e6:.0f} M "
-              f"| {r.removed_volume:,.1f} | < 300 ms | {'PASS' if passed else 'FAIL'} |")
+        print(
+            f"| {eid} (exercise) | {ex.resolution:g} | Ø{_n(blank.diameter)}×{_n(blank.length)} | {len(tp.moves)} "
+            f"| {best * 1000:.1f} ms | {r.cell_updates:,} | {r.cell_updates / max(best, 1e-9) / 1e6:.0f} M "
+            f"| {r.removed_volume:,.1f} | < 300 ms | {'PASS' if passed else 'FAIL'} |"
+        )
     return ok
 
 
@@ -177,8 +199,10 @@ def main() -> int:
     ap.add_argument("--quick", action="store_true", help="fewer repeats")
     args = ap.parse_args()
     seed_repeats, pocket_repeats = (3, 1) if args.quick else (10, 3)
-    print(f"# core.sim.simulate — {datetime.date.today()} — Python {platform.python_version()} "
-          f"on {platform.system()} {platform.machine()}, {os.cpu_count()} cores")
+    print(
+        f"# core.sim.simulate — {datetime.date.today()} — Python {platform.python_version()} "
+        f"on {platform.system()} {platform.machine()}, {os.cpu_count()} cores"
+    )
     print()
     print("| Case | Cell | Stock | Moves | Time | Cells visited | Cells/s | Removed mm³ | Target | Result |")
     print("|---|---:|---|---:|---:|---:|---:|---:|---:|---|")
@@ -189,9 +213,11 @@ def main() -> int:
         t, r = best_of(tp, stock, 0.1, seed_repeats)
         passed = t < TARGET_SEED_S
         ok &= passed
-        print(f"| {path.stem} | 0.1 | {_n(stock.x1 - stock.x0)}×{_n(stock.y1 - stock.y0)}×{_n(stock.z1 - stock.z0)} "
-              f"| {len(tp.moves)} | {t * 1000:.1f} ms | {r.cell_updates:,} | {r.cell_updates / t / 1e6:.0f} M "
-              f"| {r.removed_volume:,.1f} | < 100 ms | {'PASS' if passed else 'FAIL'} |")
+        print(
+            f"| {path.stem} | 0.1 | {_n(stock.x1 - stock.x0)}×{_n(stock.y1 - stock.y0)}×{_n(stock.z1 - stock.z0)} "
+            f"| {len(tp.moves)} | {t * 1000:.1f} ms | {r.cell_updates:,} | {r.cell_updates / t / 1e6:.0f} M "
+            f"| {r.removed_volume:,.1f} | < 100 ms | {'PASS' if passed else 'FAIL'} |"
+        )
     for angle, res in ((0.0, 0.1), (0.0, 0.05), (30.0, 0.1)):
         tp = run(pocket_program(angle=angle), setup=RunSetup(tools=POCKET_TOOLS))
         errors = [d for d in tp.diagnostics if d.severity.value == "error"]
@@ -202,8 +228,10 @@ def main() -> int:
         verdict = ("PASS" if t < TARGET_POCKET_S else "FAIL") if timed else "—"
         ok &= verdict != "FAIL"
         name = "pocket 2,000 moves" + (f", turned {angle:g}°" if angle else "")
-        print(f"| {name} | {res} | 100×100×30 | {len(tp.moves)} | {t:.3f} s | {r.cell_updates:,} "
-              f"| {r.cell_updates / t / 1e6:.0f} M | {r.removed_volume:,.1f} | {target} | {verdict} |")
+        print(
+            f"| {name} | {res} | 100×100×30 | {len(tp.moves)} | {t:.3f} s | {r.cell_updates:,} "
+            f"| {r.cell_updates / t / 1e6:.0f} M | {r.removed_volume:,.1f} | {target} | {verdict} |"
+        )
         if r.events:
             print(f"  events: {[(e.code, e.span.line) for e in r.events]}")
     ok &= turning_lines(seed_repeats)

@@ -39,7 +39,9 @@ def _tool_arg(text: str) -> Tool:
             f"»{text}«: erwartet N=D, z. B. 1=25 (Werkzeug T1, Durchmesser 25 mm) / expected N=D"
         ) from None
     if tool.number < 1 or not 0 < tool.diameter <= 1000:
-        raise argparse.ArgumentTypeError(f"»{text}«: Werkzeugnummer ≥ 1 und Durchmesser > 0 / tool ≥ 1, diameter > 0")
+        raise argparse.ArgumentTypeError(
+            f"»{text}«: Werkzeugnummer ≥ 1 und Durchmesser > 0 / tool ≥ 1, diameter > 0"
+        )
     return tool
 
 
@@ -62,26 +64,59 @@ def _nose_arg(text: str) -> Tool:
 def _parser() -> argparse.ArgumentParser:
     common = argparse.ArgumentParser(add_help=False)
     common.add_argument("file", help="NC-Programm / NC program")
-    common.add_argument("--dialect", default=DEFAULT_DIALECT, choices=sorted(DIALECTS),
-                        help=f"Dialekt / dialect (Standard: {DEFAULT_DIALECT})")
-    common.add_argument("--tool", action="append", type=_tool_arg, default=[], metavar="N=D",
-                        help="Werkzeug N ist ein Schaftfräser mit Durchmesser D mm (mehrfach möglich)")
-    defaults = ", ".join(f"{d.name}: {'überspringen' if d.skip_blocks else 'ausführen'}" for d in DIALECTS.values())
-    common.add_argument("--skip-blocks", action=argparse.BooleanOptionalAction, default=None,
-                        help=("Ausblendsätze (/) überspringen bzw. mit --no-skip-blocks ausführen; ohne Angabe "
-                              f"gilt der Standard des Dialekts ({defaults}) / skip or run blocks marked with /; "
-                              "default per dialect: PAL runs them, TRAUB skips them"))
-    common.add_argument("--nose", action="append", type=_nose_arg, default=[], metavar="T=R:P",
-                        help=("Drehen (TRAUB): Werkzeug T hat den Schneidenradius R mm und die Schneidenlage "
-                              "(Quadrant) P 1…4, z. B. 3=0.4:3 (mehrfach möglich) / turning: nose radius and "
-                              "quadrant of tool T"))
-    common.add_argument("--lib", metavar="DIR",
-                        help=("Unterprogramm-Bibliothek: L<n>.nc (PAL) bzw. O<n>.nc (TRAUB) in DIR ist "
-                              "Unterprogramm L<n> bzw. O<n> / subprogram library"))
+    common.add_argument(
+        "--dialect",
+        default=DEFAULT_DIALECT,
+        choices=sorted(DIALECTS),
+        help=f"Dialekt / dialect (Standard: {DEFAULT_DIALECT})",
+    )
+    common.add_argument(
+        "--tool",
+        action="append",
+        type=_tool_arg,
+        default=[],
+        metavar="N=D",
+        help="Werkzeug N ist ein Schaftfräser mit Durchmesser D mm (mehrfach möglich)",
+    )
+    defaults = ", ".join(
+        f"{d.name}: {'überspringen' if d.skip_blocks else 'ausführen'}" for d in DIALECTS.values()
+    )
+    common.add_argument(
+        "--skip-blocks",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help=(
+            "Ausblendsätze (/) überspringen bzw. mit --no-skip-blocks ausführen; ohne Angabe "
+            f"gilt der Standard des Dialekts ({defaults}) / skip or run blocks marked with /; "
+            "default per dialect: PAL runs them, TRAUB skips them"
+        ),
+    )
+    common.add_argument(
+        "--nose",
+        action="append",
+        type=_nose_arg,
+        default=[],
+        metavar="T=R:P",
+        help=(
+            "Drehen (TRAUB): Werkzeug T hat den Schneidenradius R mm und die Schneidenlage "
+            "(Quadrant) P 1…4, z. B. 3=0.4:3 (mehrfach möglich) / turning: nose radius and "
+            "quadrant of tool T"
+        ),
+    )
+    common.add_argument(
+        "--lib",
+        metavar="DIR",
+        help=(
+            "Unterprogramm-Bibliothek: L<n>.nc (PAL) bzw. O<n>.nc (TRAUB) in DIR ist "
+            "Unterprogramm L<n> bzw. O<n> / subprogram library"
+        ),
+    )
     common.add_argument("--json", action="store_true", help="Ausgabe als JSON / output as JSON")
     common.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache der Meldungen / language")
 
-    parser = argparse.ArgumentParser(prog="paltrainer", description="PAL Trainer – PAL-Programme prüfen und ausführen")
+    parser = argparse.ArgumentParser(
+        prog="paltrainer", description="PAL Trainer – PAL-Programme prüfen und ausführen"
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("check", parents=[common], help="Programm prüfen: alle Fehler mit Zeile und Spalte")
     sub.add_parser("run", parents=[common], help="Programm ausführen: die Werkzeugbahn")
@@ -103,7 +138,9 @@ def read_program(path: str) -> str:
     try:
         data = Path(path).read_bytes()
     except OSError as err:
-        raise UsageError(f"Datei »{path}« kann nicht gelesen werden: {err.strerror} / cannot read file") from None
+        raise UsageError(
+            f"Datei »{path}« kann nicht gelesen werden: {err.strerror} / cannot read file"
+        ) from None
     try:
         return data.decode("utf-8")
     except UnicodeDecodeError:
@@ -122,8 +159,9 @@ def setup_from_args(args: argparse.Namespace, tools: ToolTable = DEFAULT_TOOLS) 
     for tool in [*args.tool, *getattr(args, "nose", [])]:
         tools = tools.with_tool(tool)
     dialect = DIALECTS.get(getattr(args, "dialect", DEFAULT_DIALECT)) or DIALECTS[DEFAULT_DIALECT]
-    return RunSetup(tools=tools, skip_blocks=args.skip_blocks,
-                    subprograms=read_library(args.lib, dialect.library_prefix))
+    return RunSetup(
+        tools=tools, skip_blocks=args.skip_blocks, subprograms=read_library(args.lib, dialect.library_prefix)
+    )
 
 
 def read_library(folder: str | None, prefix: str = "L") -> tuple[tuple[int, str], ...]:
@@ -168,8 +206,12 @@ def main(argv: Sequence[str] | None = None) -> int:
             for d in diagnostics:
                 print(_format(args.file, d, args.lang))
             errors = sum(d.severity is Severity.ERROR for d in diagnostics)
-            print(f"{errors} Fehler, {len(diagnostics) - errors} weitere Meldungen" if args.lang == "de"
-                  else f"{errors} errors, {len(diagnostics) - errors} other diagnostics", file=sys.stderr)
+            print(
+                f"{errors} Fehler, {len(diagnostics) - errors} weitere Meldungen"
+                if args.lang == "de"
+                else f"{errors} errors, {len(diagnostics) - errors} other diagnostics",
+                file=sys.stderr,
+            )
     else:
         if args.json:
             print(json.dumps(toolpath_json(toolpath), ensure_ascii=False))

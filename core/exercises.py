@@ -75,8 +75,11 @@ class StockSpec(_Model):
         try:
             Stock(*self.min, *self.max)  # raises ValueError with the reason
         except ValueError as err:
-            raise _rule("stock", "min und max: endliche Zahlen bis ±100000 mm, max in X, Y und Z größer als min",
-                        str(err)) from None
+            raise _rule(
+                "stock",
+                "min und max: endliche Zahlen bis ±100000 mm, max in X, Y und Z größer als min",
+                str(err),
+            ) from None
         return self
 
     def stock(self) -> Stock:
@@ -99,8 +102,12 @@ class BlankSpec(_Model):
         try:
             self.blank()  # raises ValueError with the reason
         except ValueError as err:
-            raise _rule("blank", "Innendurchmesser kleiner als der Durchmesser, Spannlänge kleiner als die Länge, "
-                        "Backen größer als der Durchmesser", str(err)) from None
+            raise _rule(
+                "blank",
+                "Innendurchmesser kleiner als der Durchmesser, Spannlänge kleiner als die Länge, "
+                "Backen größer als der Durchmesser",
+                str(err),
+            ) from None
         return self
 
     def blank(self) -> Blank:
@@ -127,13 +134,26 @@ class CuttingData(_Model):
     @model_validator(mode="after")
     def _one_speed(self) -> CuttingData:
         if (self.speed is None) == (self.cutting_speed is None):
-            raise _rule("cutting_data", "genau eines von speed (S, 1/min) und cutting_speed (V, m/min) angeben",
-                        "give exactly one of speed (S, 1/min) and cutting_speed (V, m/min)")
+            raise _rule(
+                "cutting_data",
+                "genau eines von speed (S, 1/min) und cutting_speed (V, m/min) angeben",
+                "give exactly one of speed (S, 1/min) and cutting_speed (V, m/min)",
+            )
         return self
 
 
-CriterionId = Literal["geometry", "safety", "technology", "syntax", "tool_change", "spindle_on",
-                      "compensation_off", "safe_position", "program_end", "locked_lines"]
+CriterionId = Literal[
+    "geometry",
+    "safety",
+    "technology",
+    "syntax",
+    "tool_change",
+    "spindle_on",
+    "compensation_off",
+    "safe_position",
+    "program_end",
+    "locked_lines",
+]
 
 
 class Criterion(_Model):
@@ -181,7 +201,9 @@ class Exercise(_Model):
     hints: list[Text] = []  # shown one at a time on request
     # when students may see the reference: never, after their first submission, after one with full marks
     solution: Literal["never", "after_submission", "after_full_marks"] = "after_submission"
-    order: int | None = Field(default=None, ge=0, le=100_000)  # place in its set (the list: by order, then title)
+    order: int | None = Field(
+        default=None, ge=0, le=100_000
+    )  # place in its set (the list: by order, then title)
     source: str = ""  # where the task comes from (e.g. the seed example)
 
     @field_validator("tools")
@@ -214,11 +236,17 @@ class Exercise(_Model):
     def _blank_of_dialect(cls, value: BlankSpec | None, info: ValidationInfo) -> BlankSpec | None:
         dialect = info.data.get("dialect")
         if dialect in LATHE_DIALECTS and value is None:
-            raise _rule("blank", "fehlt (eine Drehaufgabe braucht das Rohteil: Stange oder Rohr)",
-                        "is missing (a turning exercise needs its blank: a bar or tube)")
+            raise _rule(
+                "blank",
+                "fehlt (eine Drehaufgabe braucht das Rohteil: Stange oder Rohr)",
+                "is missing (a turning exercise needs its blank: a bar or tube)",
+            )
         if dialect is not None and dialect not in LATHE_DIALECTS and value is not None:
-            raise _rule("blank", "nur für Drehaufgaben (dialect: traub-tx8d); Fräsaufgaben haben »stock«",
-                        "only for turning exercises (dialect: traub-tx8d); milling exercises have 'stock'")
+            raise _rule(
+                "blank",
+                "nur für Drehaufgaben (dialect: traub-tx8d); Fräsaufgaben haben »stock«",
+                "only for turning exercises (dialect: traub-tx8d); milling exercises have 'stock'",
+            )
         return value
 
     @field_validator("title", mode="after")
@@ -232,8 +260,11 @@ class Exercise(_Model):
     @classmethod
     def _referenced(cls, value: str) -> str:
         if not value.strip():
-            raise _rule("reference", "fehlt (das Referenzprogramm, gegen das bewertet wird)",
-                        "is missing (the reference program submissions are graded against)")
+            raise _rule(
+                "reference",
+                "fehlt (das Referenzprogramm, gegen das bewertet wird)",
+                "is missing (the reference program submissions are graded against)",
+            )
         return value
 
     @field_validator("cutting_data", mode="after")
@@ -244,12 +275,22 @@ class Exercise(_Model):
             if c.spindle is not None:
                 directions.setdefault(c.tool, set()).add(c.spindle)
         if any(len(d) > 1 for d in directions.values()):
-            raise _rule("cutting_data", "ein Werkzeug hat nur eine Drehrichtung (spindle: M3 oder M4)",
-                        "a tool has one spindle direction (spindle: M3 or M4)")
+            raise _rule(
+                "cutting_data",
+                "ein Werkzeug hat nur eine Drehrichtung (spindle: M3 oder M4)",
+                "a tool has one spindle direction (spindle: M3 or M4)",
+            )
         dialect = info.data.get("dialect")
-        if dialect is not None and dialect not in LATHE_DIALECTS and any(c.cutting_speed is not None for c in value):
-            raise _rule("cutting_data", "cutting_speed (V) nur für Drehaufgaben; beim Fräsen speed (S)",
-                        "cutting_speed (V) only for turning exercises; milling gives speed (S)")
+        if (
+            dialect is not None
+            and dialect not in LATHE_DIALECTS
+            and any(c.cutting_speed is not None for c in value)
+        ):
+            raise _rule(
+                "cutting_data",
+                "cutting_speed (V) nur für Drehaufgaben; beim Fräsen speed (S)",
+                "cutting_speed (V) only for turning exercises; milling gives speed (S)",
+            )
         return value
 
     @field_validator("start_program", mode="after")
@@ -257,8 +298,11 @@ class Exercise(_Model):
     def _start_of_kind(cls, value: str, info: ValidationInfo) -> str:
         kind = info.data.get("kind")
         if kind is not None and kind != "write" and not value:
-            raise _rule("start_program", f"fehlt (Art »{kind}« braucht ein Startprogramm)",
-                        f"is missing (kind '{kind}' needs a start program)")
+            raise _rule(
+                "start_program",
+                f"fehlt (Art »{kind}« braucht ein Startprogramm)",
+                f"is missing (kind '{kind}' needs a start program)",
+            )
         return value
 
     @field_validator("locked_lines", mode="after")
@@ -266,8 +310,11 @@ class Exercise(_Model):
     def _locked_in_start(cls, value: list[int], info: ValidationInfo) -> list[int]:
         lines = str(info.data.get("start_program") or "").splitlines()
         if any(not 1 <= n <= len(lines) for n in value):
-            raise _rule("locked_lines", f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
-                        f"a line number is not in start_program (1 to {len(lines)})")
+            raise _rule(
+                "locked_lines",
+                f"eine Zeilennummer steht nicht im Startprogramm (1 bis {len(lines)})",
+                f"a line number is not in start_program (1 to {len(lines)})",
+            )
         return value
 
     @field_validator("rubric", mode="after")
@@ -275,8 +322,11 @@ class Exercise(_Model):
     def _rubric(cls, value: tuple[Criterion, ...]) -> tuple[Criterion, ...]:
         total = sum(c.points for c in value)
         if total != 100:
-            raise _rule("rubric", f"die Punkte müssen 100 ergeben (sind {total})",
-                        f"the points must add up to 100 (they are {total})")
+            raise _rule(
+                "rubric",
+                f"die Punkte müssen 100 ergeben (sind {total})",
+                f"the points must add up to 100 (they are {total})",
+            )
         ids = [c.id for c in value]
         if len(set(ids)) != len(ids):
             raise _rule("rubric", "ein Kriterium steht doppelt", "a criterion appears twice")
@@ -302,8 +352,13 @@ class ExerciseError(ValueError):
     """An exercise file that cannot be used. `str()` is German / English (the command line); `message` and
     `message_en` say what is wrong without a heading; `problems` lists the fields: {field, message, message_en}."""
 
-    def __init__(self, text: str, message: str | None = None, message_en: str | None = None,
-                 problems: list[dict[str, str]] | None = None) -> None:
+    def __init__(
+        self,
+        text: str,
+        message: str | None = None,
+        message_en: str | None = None,
+        problems: list[dict[str, str]] | None = None,
+    ) -> None:
         super().__init__(text)
         de, _, en = text.partition(" / ")
         self.message = message if message is not None else de.removeprefix("Aufgabe: ")
@@ -311,12 +366,17 @@ class ExerciseError(ValueError):
         self.problems = problems or []
 
 
-_ID_RULE = ("nur Kleinbuchstaben, Ziffern und Bindestrich (2 bis 81 Zeichen, am Anfang kein Bindestrich)",
-            "only lower-case letters, digits and hyphens (2 to 81 characters, not starting with a hyphen)")
+_ID_RULE = (
+    "nur Kleinbuchstaben, Ziffern und Bindestrich (2 bis 81 Zeichen, am Anfang kein Bindestrich)",
+    "only lower-case letters, digits and hyphens (2 to 81 characters, not starting with a hyphen)",
+)
 # pydantic's error types in German and English; {…} are filled from the error's context
 _MESSAGES: dict[str, tuple[str, str]] = {
     "missing": ("fehlt", "is missing"),
-    "extra_forbidden": ("gibt es im Aufgabenformat nicht (Tippfehler?)", "is not part of the format (a typo?)"),
+    "extra_forbidden": (
+        "gibt es im Aufgabenformat nicht (Tippfehler?)",
+        "is not part of the format (a typo?)",
+    ),
     "literal_error": ("erlaubt: {expected}", "allowed: {expected}"),
     "enum": ("erlaubt: {expected}", "allowed: {expected}"),
     "string_type": ("muss ein Text sein", "must be a text"),
@@ -340,10 +400,24 @@ _MESSAGES: dict[str, tuple[str, str]] = {
     "too_short": ("braucht mindestens {min_length} Einträge", "needs at least {min_length} entries"),
     "too_long": ("darf höchstens {max_length} Einträge haben", "may have at most {max_length} entries"),
     "string_too_short": ("braucht mindestens {min_length} Zeichen", "needs at least {min_length} characters"),
-    "string_too_long": ("darf höchstens {max_length} Zeichen haben", "may have at most {max_length} characters"),
-    "string_pattern_mismatch": ("hat nicht die erlaubte Form ({pattern})", "does not have the allowed form ({pattern})"),
+    "string_too_long": (
+        "darf höchstens {max_length} Zeichen haben",
+        "may have at most {max_length} characters",
+    ),
+    "string_pattern_mismatch": (
+        "hat nicht die erlaubte Form ({pattern})",
+        "does not have the allowed form ({pattern})",
+    ),
 }
-_LISTS = {"tools", "cutting_data", "rubric", "hints", "locked_lines", "min", "max"}  # their entries count from 1
+_LISTS = {
+    "tools",
+    "cutting_data",
+    "rubric",
+    "hints",
+    "locked_lines",
+    "min",
+    "max",
+}  # their entries count from 1
 
 
 def _german(value: Any) -> Any:
@@ -380,7 +454,9 @@ def field_problem(error: ErrorDetails) -> dict[str, str]:
         de, en = _ID_RULE
     else:
         de, en = _MESSAGES.get(kind, ("ungültiger Wert", error["msg"]))
-        with contextlib.suppress(KeyError, IndexError):  # a message without the context's fields stays as it is
+        with contextlib.suppress(
+            KeyError, IndexError
+        ):  # a message without the context's fields stays as it is
             de, en = de.format(**{k: _german(v) for k, v in ctx.items()}), en.format(**ctx)
     return {"field": field, "message": de, "message_en": en}
 
@@ -408,19 +484,25 @@ def _check_structure(text: str) -> None:
         if isinstance(event, yaml.CollectionStartEvent):
             depth += 1
             if depth > MAX_NESTING:
-                raise ExerciseError(f"Aufgabe: tiefer als {MAX_NESTING} Ebenen verschachtelt / "
-                                    f"exercise: nested deeper than {MAX_NESTING} levels")
+                raise ExerciseError(
+                    f"Aufgabe: tiefer als {MAX_NESTING} Ebenen verschachtelt / "
+                    f"exercise: nested deeper than {MAX_NESTING} levels"
+                )
         elif isinstance(event, yaml.CollectionEndEvent):
             depth -= 1
         elif isinstance(event, yaml.AliasEvent):
             aliases += 1
             if aliases > MAX_ALIASES:
-                raise ExerciseError(f"Aufgabe: mehr als {MAX_ALIASES} Verweise (*) / "
-                                    f"exercise: more than {MAX_ALIASES} aliases (*)")
+                raise ExerciseError(
+                    f"Aufgabe: mehr als {MAX_ALIASES} Verweise (*) / "
+                    f"exercise: more than {MAX_ALIASES} aliases (*)"
+                )
         elif isinstance(event, yaml.ScalarEvent) and not _storable(event.value):
-            raise ExerciseError(f"Aufgabe: Text mit dem Zeichen NUL oder einem einzelnen Surrogat in Zeile "
-                                f"{event.start_mark.line + 1} / exercise: text with the NUL character or a lone "
-                                f"surrogate on line {event.start_mark.line + 1}")
+            raise ExerciseError(
+                f"Aufgabe: Text mit dem Zeichen NUL oder einem einzelnen Surrogat in Zeile "
+                f"{event.start_mark.line + 1} / exercise: text with the NUL character or a lone "
+                f"surrogate on line {event.start_mark.line + 1}"
+            )
 
 
 def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
@@ -431,7 +513,9 @@ def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         where = f" (Zeile {mark.line + 1}, Spalte {mark.column + 1})" if mark is not None else ""
-        raise ExerciseError(f"Aufgabe: kein gültiges YAML{where} / exercise: not valid YAML ({err})") from None
+        raise ExerciseError(
+            f"Aufgabe: kein gültiges YAML{where} / exercise: not valid YAML ({err})"
+        ) from None
     if not isinstance(data, dict):
         raise ExerciseError("Aufgabe: erwartet eine Zuordnung / exercise: expected a mapping")
     for key, target in (("reference_file", "reference"), ("start_file", "start_program")):
@@ -441,7 +525,9 @@ def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
             name = str(data.pop(key))
             path = (folder / name).resolve()
             if folder.resolve() not in path.parents or not path.is_file():
-                raise ExerciseError(f"Aufgabe: {key} »{name}« nicht gefunden / exercise: {key} '{name}' not found")
+                raise ExerciseError(
+                    f"Aufgabe: {key} »{name}« nicht gefunden / exercise: {key} '{name}' not found"
+                )
             data[target] = path.read_text(encoding="utf-8")
     try:
         return Exercise.model_validate(data)

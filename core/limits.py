@@ -42,9 +42,11 @@ def work_ceiling(limits: Limits) -> tuple[int, int, int]:
     """The most work (blocks executed, evaluation steps, moves; Budget.counters) a run does under `limits`: the
     block that trips a budget is counted, with its words and its diagnostics, before it stops the run. Tests bound
     a program's cost by this, never by seconds (bench/ measures those)."""
-    return (limits.max_executed_blocks + 1,
-            limits.max_evaluation_steps + limits.max_line_length + DIAGNOSTIC_STEPS * limits.max_diagnostics,
-            limits.max_moves)
+    return (
+        limits.max_executed_blocks + 1,
+        limits.max_evaluation_steps + limits.max_line_length + DIAGNOSTIC_STEPS * limits.max_diagnostics,
+        limits.max_moves,
+    )
 
 
 @dataclass(slots=True)
@@ -90,8 +92,11 @@ class Budget:
 
 def block_steps(block: Block) -> int:
     """The evaluation steps of one execution of `block`: one per word, one per term of each expression."""
-    return len(block.words) + sum(_terms(w.expr) for w in block.words if w.expr is not None) + sum(
-        1 + _terms(a.expr) for a in block.assignments)
+    return (
+        len(block.words)
+        + sum(_terms(w.expr) for w in block.words if w.expr is not None)
+        + sum(1 + _terms(a.expr) for a in block.assignments)
+    )
 
 
 def _terms(expr: Expr) -> int:

@@ -44,8 +44,12 @@ class PictureLimits:
     """What one picture may cost."""
 
     raster: int = 400  # pixels of the depth raster along its longer side (cells pooled beyond)
-    points: int = 8000  # points of the drawn path: rapid, feed and contour together (the rest left out, said so)
-    markers: int = 20  # blocks with an error marked in the picture (all of them named in the legend, up to 40)
+    points: int = (
+        8000  # points of the drawn path: rapid, feed and contour together (the rest left out, said so)
+    )
+    markers: int = (
+        20  # blocks with an error marked in the picture (all of them named in the legend, up to 40)
+    )
     plunges: int = 400  # plunge rings
 
 
@@ -78,12 +82,23 @@ TICK_FONT, LEGEND_FONT = 12.5, 13.5
 
 TEXTS: dict[str, dict[str, str]] = {
     "de": {
-        "title_mill": "Draufsicht nach dem Programm", "title_lathe": "Drehteil nach dem Programm (Halbschnitt)",
-        "depth": "Tiefe Z in mm", "top": "Oberseite", "through": "durchgefräst",
-        "rapid": "Eilgang", "feed": "Vorschub (Werkzeugmitte)", "contour": "programmierte Kontur",
-        "plunge": "Eintauchen", "zero": "Werkstücknullpunkt", "error": "Satz mit Fehler, nicht ausgeführt",
-        "line": "Zeile", "lines": "Zeilen", "stock": "Rohteil",
-        "section": "Schnitt", "view": "Ansicht", "removed": "abgespant",
+        "title_mill": "Draufsicht nach dem Programm",
+        "title_lathe": "Drehteil nach dem Programm (Halbschnitt)",
+        "depth": "Tiefe Z in mm",
+        "top": "Oberseite",
+        "through": "durchgefräst",
+        "rapid": "Eilgang",
+        "feed": "Vorschub (Werkzeugmitte)",
+        "contour": "programmierte Kontur",
+        "plunge": "Eintauchen",
+        "zero": "Werkstücknullpunkt",
+        "error": "Satz mit Fehler, nicht ausgeführt",
+        "line": "Zeile",
+        "lines": "Zeilen",
+        "stock": "Rohteil",
+        "section": "Schnitt",
+        "view": "Ansicht",
+        "removed": "abgespant",
         "cut_path": "Weg gekürzt: {shown} von {total} Wegpunkten gezeichnet.",
         "raster": "Raster {cell} mm",
         "more_errors": "und {n} weitere",
@@ -92,12 +107,23 @@ TEXTS: dict[str, dict[str, str]] = {
         "no_moves": "Noch keine Bewegung.",
     },
     "en": {
-        "title_mill": "Plan view after the program", "title_lathe": "Turned part after the program (half section)",
-        "depth": "Depth Z in mm", "top": "top face", "through": "cut through",
-        "rapid": "Rapid", "feed": "Feed (tool centre)", "contour": "programmed contour",
-        "plunge": "plunge", "zero": "Workpiece zero", "error": "Block with an error, not executed",
-        "line": "line", "lines": "lines", "stock": "stock",
-        "section": "section", "view": "view", "removed": "removed",
+        "title_mill": "Plan view after the program",
+        "title_lathe": "Turned part after the program (half section)",
+        "depth": "Depth Z in mm",
+        "top": "top face",
+        "through": "cut through",
+        "rapid": "Rapid",
+        "feed": "Feed (tool centre)",
+        "contour": "programmed contour",
+        "plunge": "plunge",
+        "zero": "Workpiece zero",
+        "error": "Block with an error, not executed",
+        "line": "line",
+        "lines": "lines",
+        "stock": "stock",
+        "section": "section",
+        "view": "view",
+        "removed": "removed",
         "cut_path": "Path cut short: {shown} of {total} path points drawn.",
         "raster": "raster {cell} mm",
         "more_errors": "and {n} more",
@@ -132,8 +158,11 @@ def _c(v: float) -> str:
 
 
 def _attrs(**attrs: Any) -> str:
-    return "".join(f" {k.rstrip('_').replace('_', '-')}={quoteattr(_c(v) if isinstance(v, float) else str(v))}"
-                   for k, v in attrs.items() if v is not None)
+    return "".join(
+        f" {k.rstrip('_').replace('_', '-')}={quoteattr(_c(v) if isinstance(v, float) else str(v))}"
+        for k, v in attrs.items()
+        if v is not None
+    )
 
 
 def _el(tag: str, text: str | None = None, **attrs: Any) -> str:
@@ -179,8 +208,9 @@ class _Frame:
         return self.x0 - 1e-9 <= x <= self.x1 + 1e-9 and self.y0 - 1e-9 <= y <= self.y1 + 1e-9
 
 
-def _fit(box: tuple[float, float, float, float], reach: tuple[float, float, float, float],
-         points: Iterable[Point]) -> tuple[float, float, float, float]:
+def _fit(
+    box: tuple[float, float, float, float], reach: tuple[float, float, float, float], points: Iterable[Point]
+) -> tuple[float, float, float, float]:
     """The extent shown: the part's box and every path point within `reach` of it, with a margin."""
     x0, y0, x1, y1 = box
     rx0, ry0, rx1, ry1 = reach
@@ -219,20 +249,62 @@ def _axes(frame: _Frame, lang: Lang, x_name: str, y_name: str, y_label: Any = No
         x, _ = frame.px(v, 0.0)
         out.append(_el("line", x1=x, y1=fy1, x2=x, y2=fy0, stroke=GRID, stroke_width="1"))
         out.append(_el("line", x1=x, y1=fy0, x2=x, y2=fy0 + 4, stroke=MUTED, stroke_width="1"))
-        out.append(_el("text", num(v, lang), x=x, y=fy0 + 16, font_size=_c(TICK_FONT), text_anchor="middle",
-                       fill=MUTED))
+        out.append(
+            _el(
+                "text",
+                num(v, lang),
+                x=x,
+                y=fy0 + 16,
+                font_size=_c(TICK_FONT),
+                text_anchor="middle",
+                fill=MUTED,
+            )
+        )
     for v in ticks_y:
         _, y = frame.px(0.0, v)
         out.append(_el("line", x1=fx0, y1=y, x2=fx1, y2=y, stroke=GRID, stroke_width="1"))
         out.append(_el("line", x1=fx0 - 4, y1=y, x2=fx0, y2=y, stroke=MUTED, stroke_width="1"))
-        out.append(_el("text", label_y(v), x=fx0 - 6, y=y + 4, font_size=_c(TICK_FONT), text_anchor="end",
-                       fill=MUTED))
-    out.append(_el("rect", x=fx0, y=fy1, width=frame.width, height=frame.height, fill="none", stroke="#c9ced6",
-                   stroke_width="1"))
-    out.append(_el("text", x_name, x=fx1, y=fy0 + 30, font_size=_c(TICK_FONT), text_anchor="end", fill=MUTED,
-                   font_weight="600"))
-    out.append(_el("text", y_name, x=fx0 - 6, y=fy1 - 3, font_size=_c(TICK_FONT), text_anchor="end", fill=MUTED,
-                   font_weight="600"))
+        out.append(
+            _el(
+                "text", label_y(v), x=fx0 - 6, y=y + 4, font_size=_c(TICK_FONT), text_anchor="end", fill=MUTED
+            )
+        )
+    out.append(
+        _el(
+            "rect",
+            x=fx0,
+            y=fy1,
+            width=frame.width,
+            height=frame.height,
+            fill="none",
+            stroke="#c9ced6",
+            stroke_width="1",
+        )
+    )
+    out.append(
+        _el(
+            "text",
+            x_name,
+            x=fx1,
+            y=fy0 + 30,
+            font_size=_c(TICK_FONT),
+            text_anchor="end",
+            fill=MUTED,
+            font_weight="600",
+        )
+    )
+    out.append(
+        _el(
+            "text",
+            y_name,
+            x=fx0 - 6,
+            y=fy1 - 3,
+            font_size=_c(TICK_FONT),
+            text_anchor="end",
+            fill=MUTED,
+            font_weight="600",
+        )
+    )
     return out
 
 
@@ -244,10 +316,16 @@ def _ticks(lo: float, hi: float, count: float) -> list[float]:
 
 def _zero_symbol(x: float, y: float, r: float = 6.5) -> list[str]:
     """The workpiece zero as drawings show it: a circle with two filled quarters."""
-    return [_el("circle", cx=x, cy=y, r=r + 1.5, fill=PAPER, opacity="0.85"),
-            _el("circle", cx=x, cy=y, r=r, fill=PAPER, stroke=INK, stroke_width="1.3"),
-            _el("path", d=f"M{_c(x)} {_c(y)}h{_c(r)}a{_c(r)} {_c(r)} 0 0 0 {_c(-r)} {_c(-r)}z"
-                          f"M{_c(x)} {_c(y)}h{_c(-r)}a{_c(r)} {_c(r)} 0 0 0 {_c(r)} {_c(r)}z", fill=INK)]
+    return [
+        _el("circle", cx=x, cy=y, r=r + 1.5, fill=PAPER, opacity="0.85"),
+        _el("circle", cx=x, cy=y, r=r, fill=PAPER, stroke=INK, stroke_width="1.3"),
+        _el(
+            "path",
+            d=f"M{_c(x)} {_c(y)}h{_c(r)}a{_c(r)} {_c(r)} 0 0 0 {_c(-r)} {_c(-r)}z"
+            f"M{_c(x)} {_c(y)}h{_c(-r)}a{_c(r)} {_c(r)} 0 0 0 {_c(r)} {_c(r)}z",
+            fill=INK,
+        ),
+    ]
 
 
 def _zero_axes(frame: _Frame, names: tuple[str, str]) -> list[str]:
@@ -261,10 +339,25 @@ def _zero_axes(frame: _Frame, names: tuple[str, str]) -> list[str]:
         ex, ey = x + dx * length, y + dy * length
         wing = (-dy * 3.5, dx * 3.5)
         out.append(_el("line", x1=x, y1=y, x2=ex - dx * 6, y2=ey - dy * 6, stroke=INK, stroke_width="1.4"))
-        out.append(_el("path", d=f"M{_c(ex)} {_c(ey)}L{_c(ex - dx * 7 + wing[0])} {_c(ey - dy * 7 + wing[1])}"
-                                 f"L{_c(ex - dx * 7 - wing[0])} {_c(ey - dy * 7 - wing[1])}z", fill=INK))
-        out.append(_el("text", name, x=ex + dx * 4 + (4 if dy else 0), y=ey + dy * 2 + (4 if dx else 0),
-                       font_size="12", font_weight="700", fill=INK))
+        out.append(
+            _el(
+                "path",
+                d=f"M{_c(ex)} {_c(ey)}L{_c(ex - dx * 7 + wing[0])} {_c(ey - dy * 7 + wing[1])}"
+                f"L{_c(ex - dx * 7 - wing[0])} {_c(ey - dy * 7 - wing[1])}z",
+                fill=INK,
+            )
+        )
+        out.append(
+            _el(
+                "text",
+                name,
+                x=ex + dx * 4 + (4 if dy else 0),
+                y=ey + dy * 2 + (4 if dx else 0),
+                font_size="12",
+                font_weight="700",
+                fill=INK,
+            )
+        )
     return out + _zero_symbol(x, y)
 
 
@@ -291,8 +384,14 @@ def _uv(p: Sequence[float], axes: tuple[int, int]) -> Point:
     return float(p[axes[0]]), float(p[axes[1]])
 
 
-def _arc_steps(start: Sequence[float], end: Sequence[float], centre: Sequence[float], direction: str | None,
-               angle: float, axes: tuple[int, int]) -> list[Step] | None:
+def _arc_steps(
+    start: Sequence[float],
+    end: Sequence[float],
+    centre: Sequence[float],
+    direction: str | None,
+    angle: float,
+    axes: tuple[int, int],
+) -> list[Step] | None:
     """An arc in the picture's plane as SVG arc steps (a full circle as two halves); None if its radius at the
     start and at the end differ (then it is drawn as chords)."""
     (su, sv), (eu, ev), (cu, cv) = _uv(start, axes), _uv(end, axes), _uv(centre, axes)
@@ -339,9 +438,26 @@ def _contour_steps(m: Move, start: Sequence[float], axes: tuple[int, int], toler
         if r > 1e-6:
             a0, a1 = math.atan2(s[1] - c[1], s[0] - c[0]), math.atan2(e[1] - c[1], e[0] - c[0])
             turn = (a1 - a0) % (2 * math.pi) if m.direction == "ccw" else -((a0 - a1) % (2 * math.pi))
-            n = max(2, min(128, math.ceil(abs(turn) / max(2 * math.acos(max(-1.0, 1 - tolerance / r)), 1e-3))))
-            return [("L", *_uv(from_plane((c[0] + r * math.cos(a0 + turn * k / n), c[1] + r * math.sin(a0 + turn * k / n),
-                                            s[2] + (e[2] - s[2]) * k / n), m.plane), axes)) for k in range(1, n + 1)]
+            n = max(
+                2, min(128, math.ceil(abs(turn) / max(2 * math.acos(max(-1.0, 1 - tolerance / r)), 1e-3)))
+            )
+            return [
+                (
+                    "L",
+                    *_uv(
+                        from_plane(
+                            (
+                                c[0] + r * math.cos(a0 + turn * k / n),
+                                c[1] + r * math.sin(a0 + turn * k / n),
+                                s[2] + (e[2] - s[2]) * k / n,
+                            ),
+                            m.plane,
+                        ),
+                        axes,
+                    ),
+                )
+                for k in range(1, n + 1)
+            ]
     return [("L", *_uv(end, axes))]
 
 
@@ -370,8 +486,10 @@ def _path(moves: Sequence[Move], axes: tuple[int, int], tolerance: float, limits
         start = _uv(m.start, axes)
         steps = _move_steps(m, axes, tolerance)
         out.total += len(steps) + 1
-        compensated = m.programmed_end is not None and max(
-            abs(a - b) for a, b in zip(m.programmed_end, m.end, strict=True)) > 1e-6
+        compensated = (
+            m.programmed_end is not None
+            and max(abs(a - b) for a, b in zip(m.programmed_end, m.end, strict=True)) > 1e-6
+        )
         contour = None
         if compensated and kind == "feed":
             contour_start = previous_contour if previous_contour is not None else m.programmed_end
@@ -418,15 +536,38 @@ def _polyline_d(frame: _Frame, line: tuple[Point, list[Step]]) -> str:
 def _draw_path(frame: _Frame, path: _Path) -> list[str]:
     """Contour under the path, then feed, then rapid (dashed), each with a white halo: readable on any depth."""
     out: list[str] = []
-    for lines, colour, width, dash in ((path.contour, CONTOUR, 2.2, None), (path.feed, FEED, 1.8, None),
-                                       (path.rapid, RAPID, 1.5, "6 4")):
+    for lines, colour, width, dash in (
+        (path.contour, CONTOUR, 2.2, None),
+        (path.feed, FEED, 1.8, None),
+        (path.rapid, RAPID, 1.5, "6 4"),
+    ):
         if not lines:
             continue
         d = "".join(_polyline_d(frame, line) for line in lines)
-        out.append(_el("path", d=d, fill="none", stroke=PAPER, stroke_width=_c(width + 2.4), stroke_opacity="0.8",
-                       stroke_linejoin="round", stroke_linecap="round"))
-        out.append(_el("path", d=d, fill="none", stroke=colour, stroke_width=_c(width), stroke_dasharray=dash,
-                       stroke_linejoin="round", stroke_linecap="butt" if dash else "round"))
+        out.append(
+            _el(
+                "path",
+                d=d,
+                fill="none",
+                stroke=PAPER,
+                stroke_width=_c(width + 2.4),
+                stroke_opacity="0.8",
+                stroke_linejoin="round",
+                stroke_linecap="round",
+            )
+        )
+        out.append(
+            _el(
+                "path",
+                d=d,
+                fill="none",
+                stroke=colour,
+                stroke_width=_c(width),
+                stroke_dasharray=dash,
+                stroke_linejoin="round",
+                stroke_linecap="butt" if dash else "round",
+            )
+        )
     for u, v in path.plunges:
         x, y = frame.px(u, v)
         out.append(_el("circle", cx=x, cy=y, r="3.2", fill=PAPER, stroke=FEED, stroke_width="1.6"))
@@ -443,11 +584,19 @@ class _Labels:
     def block(self, x: float, y: float, r: float) -> None:
         self.taken.append((x - r, y - r, x + r, y + r))
 
-    def place(self, x: float, y: float, width: float, height: float, prefer_left: bool) -> tuple[float, float]:
+    def place(
+        self, x: float, y: float, width: float, height: float, prefer_left: bool
+    ) -> tuple[float, float]:
         """The top left corner of a label beside the point (x, y): right or left of it, above or below."""
         f = self.frame
-        sides = [(10.0, -height - 3), (10.0, 4.0), (-10 - width, -height - 3), (-10 - width, 4.0),
-                 (10.0, -height - 22), (-10 - width, 22.0)]
+        sides = [
+            (10.0, -height - 3),
+            (10.0, 4.0),
+            (-10 - width, -height - 3),
+            (-10 - width, 4.0),
+            (10.0, -height - 22),
+            (-10 - width, 22.0),
+        ]
         if prefer_left:
             sides = sides[2:4] + sides[:2] + sides[4:]
         first = None
@@ -464,8 +613,9 @@ class _Labels:
         return first[0], first[1]
 
 
-def _leaving(frame: _Frame, moves: Sequence[Move], axes: tuple[int, int], lang: Lang, labels: _Labels,
-             most: int = 3) -> list[str]:
+def _leaving(
+    frame: _Frame, moves: Sequence[Move], axes: tuple[int, int], lang: Lang, labels: _Labels, most: int = 3
+) -> list[str]:
     """Where a move leaves the picture (the retract to the tool change point, say): a dot at the edge and the
     point it goes to."""
     out: list[str] = []
@@ -495,7 +645,12 @@ def _exit(frame: _Frame, a: Point, b: Point) -> float | None:
     """The parameter t (0…1) where the segment a→b leaves the frame (Liang–Barsky)."""
     t_out = 1.0
     d = (b[0] - a[0], b[1] - a[1])
-    for p, q in ((-d[0], a[0] - frame.x0), (d[0], frame.x1 - a[0]), (-d[1], a[1] - frame.y0), (d[1], frame.y1 - a[1])):
+    for p, q in (
+        (-d[0], a[0] - frame.x0),
+        (d[0], frame.x1 - a[0]),
+        (-d[1], a[1] - frame.y0),
+        (d[1], frame.y1 - a[1]),
+    ):
         if abs(p) < 1e-12:
             if q < 0:
                 return None
@@ -511,13 +666,17 @@ def skipped_blocks(toolpath: Any) -> list[int]:
     """The lines of the program file whose block has an error and made no move: the interpreter did not run
     it (core/interpreter: a block with an error is not executed)."""
     moved = {m.line for m in toolpath.moves if m.source is None}
-    lines = {d.span.line for d in toolpath.diagnostics
-             if d.severity is Severity.ERROR and d.source is None and d.span.line >= 1}
+    lines = {
+        d.span.line
+        for d in toolpath.diagnostics
+        if d.severity is Severity.ERROR and d.source is None and d.span.line >= 1
+    }
     return sorted(line for line in lines if line not in moved)
 
 
-def _markers(frame: _Frame, toolpath: Any, axes: tuple[int, int], lang: Lang, limits: PictureLimits,
-             labels: _Labels) -> tuple[list[str], list[int]]:
+def _markers(
+    frame: _Frame, toolpath: Any, axes: tuple[int, int], lang: Lang, limits: PictureLimits, labels: _Labels
+) -> tuple[list[str], list[int]]:
     """A red marker with its line(s) at the program's position when a block was skipped for an error (where
     the block would have started)."""
     lines = skipped_blocks(toolpath)
@@ -532,28 +691,48 @@ def _markers(frame: _Frame, toolpath: Any, axes: tuple[int, int], lang: Lang, li
         where[key] = (u, v)
     out: list[str] = []
     t = TEXTS[lang]
-    shown = list(groups.items())[:limits.markers]
+    shown = list(groups.items())[: limits.markers]
     for key, _ in shown:
         labels.block(*frame.px(*where[key]), 9.0)
     for key, group in shown:
         x, y = frame.px(*where[key])
         label = f"{t['line'] if len(group) == 1 else t['lines']} {', '.join(map(str, group[:4]))}" + (
-            "…" if len(group) > 4 else "")
+            "…" if len(group) > 4 else ""
+        )
         out.append(_el("circle", cx=x, cy=y, r="7", fill=PAPER, stroke=ERROR, stroke_width="2"))
-        out.append(_el("path", d=f"M{_c(x - 3.5)} {_c(y - 3.5)}L{_c(x + 3.5)} {_c(y + 3.5)}"
-                                 f"M{_c(x + 3.5)} {_c(y - 3.5)}L{_c(x - 3.5)} {_c(y + 3.5)}", stroke=ERROR,
-                       stroke_width="2"))
+        out.append(
+            _el(
+                "path",
+                d=f"M{_c(x - 3.5)} {_c(y - 3.5)}L{_c(x + 3.5)} {_c(y + 3.5)}"
+                f"M{_c(x + 3.5)} {_c(y - 3.5)}L{_c(x - 3.5)} {_c(y + 3.5)}",
+                stroke=ERROR,
+                stroke_width="2",
+            )
+        )
         width = 7.0 * len(label) + 8
         bx, by = labels.place(x, y, width, 16.0, x > frame.left + frame.width * 0.7)
-        out.append(_el("rect", x=bx, y=by, width=width, height="16", rx="3", fill=PAPER, opacity="0.9",
-                       stroke=ERROR, stroke_width="1"))
+        out.append(
+            _el(
+                "rect",
+                x=bx,
+                y=by,
+                width=width,
+                height="16",
+                rx="3",
+                fill=PAPER,
+                opacity="0.9",
+                stroke=ERROR,
+                stroke_width="1",
+            )
+        )
         out.append(_el("text", label, x=bx + 4, y=by + 12, font_size="12", font_weight="600", fill=ERROR))
     return out, lines
 
 
 # -- the legend ---------------------------------------------------------------------------------------------
-def _legend_rows(items: list[tuple[str, str]], width: float, left: float) -> tuple[list[list[tuple[str, str, float]]],
-                                                                                   float]:
+def _legend_rows(
+    items: list[tuple[str, str]], width: float, left: float
+) -> tuple[list[list[tuple[str, str, float]]], float]:
     """Legend items (symbol, text) flowed into rows within `width`."""
     rows: list[list[tuple[str, str, float]]] = [[]]
     x = 0.0
@@ -569,7 +748,9 @@ def _legend_rows(items: list[tuple[str, str]], width: float, left: float) -> tup
 
 def _symbol(kind: str, x: float, y: float) -> list[str]:
     if kind == "rapid":
-        return [_el("line", x1=x, y1=y, x2=x + 24, y2=y, stroke=RAPID, stroke_width="2", stroke_dasharray="6 4")]
+        return [
+            _el("line", x1=x, y1=y, x2=x + 24, y2=y, stroke=RAPID, stroke_width="2", stroke_dasharray="6 4")
+        ]
     if kind == "feed":
         return [_el("line", x1=x, y1=y, x2=x + 24, y2=y, stroke=FEED, stroke_width="2.2")]
     if kind == "contour":
@@ -577,29 +758,81 @@ def _symbol(kind: str, x: float, y: float) -> list[str]:
     if kind == "plunge":
         return [_el("circle", cx=x + 12, cy=y, r="3.2", fill=PAPER, stroke=FEED, stroke_width="1.6")]
     if kind == "error":
-        return [_el("circle", cx=x + 12, cy=y, r="6", fill=PAPER, stroke=ERROR, stroke_width="2"),
-                _el("path", d=f"M{_c(x + 9)} {_c(y - 3)}L{_c(x + 15)} {_c(y + 3)}M{_c(x + 15)} {_c(y - 3)}"
-                              f"L{_c(x + 9)} {_c(y + 3)}", stroke=ERROR, stroke_width="1.8")]
+        return [
+            _el("circle", cx=x + 12, cy=y, r="6", fill=PAPER, stroke=ERROR, stroke_width="2"),
+            _el(
+                "path",
+                d=f"M{_c(x + 9)} {_c(y - 3)}L{_c(x + 15)} {_c(y + 3)}M{_c(x + 15)} {_c(y - 3)}"
+                f"L{_c(x + 9)} {_c(y + 3)}",
+                stroke=ERROR,
+                stroke_width="1.8",
+            ),
+        ]
     if kind == "zero":
         return _zero_symbol(x + 12, y, 5.5)
     if kind == "stock":
-        return [_el("rect", x=x + 2, y=y - 6, width="20", height="12", fill=_rgb(TOP), stroke=INK,
-                    stroke_width="1.4")]
+        return [
+            _el(
+                "rect",
+                x=x + 2,
+                y=y - 6,
+                width="20",
+                height="12",
+                fill=_rgb(TOP),
+                stroke=INK,
+                stroke_width="1.4",
+            )
+        ]
     if kind == "section":
-        return [_el("rect", x=x + 2, y=y - 6, width="20", height="12", fill="url(#hatch)", stroke=INK,
-                    stroke_width="1")]
+        return [
+            _el(
+                "rect",
+                x=x + 2,
+                y=y - 6,
+                width="20",
+                height="12",
+                fill="url(#hatch)",
+                stroke=INK,
+                stroke_width="1",
+            )
+        ]
     if kind == "view":
-        return [_el("rect", x=x + 2, y=y - 6, width="20", height="12", fill="url(#cylinder)", stroke=INK,
-                    stroke_width="1")]
+        return [
+            _el(
+                "rect",
+                x=x + 2,
+                y=y - 6,
+                width="20",
+                height="12",
+                fill="url(#cylinder)",
+                stroke=INK,
+                stroke_width="1",
+            )
+        ]
     if kind == "removed":
-        return [_el("rect", x=x + 2, y=y - 6, width="20", height="12", fill=REMOVED, stroke=MUTED,
-                    stroke_width="1", stroke_dasharray="3 2")]
+        return [
+            _el(
+                "rect",
+                x=x + 2,
+                y=y - 6,
+                width="20",
+                height="12",
+                fill=REMOVED,
+                stroke=MUTED,
+                stroke_width="1",
+                stroke_dasharray="3 2",
+            )
+        ]
     if kind == "through":
-        return [_el("rect", x=x + 2, y=y - 6, width="20", height="12", fill=PAPER, stroke=MUTED, stroke_width="1")]
+        return [
+            _el("rect", x=x + 2, y=y - 6, width="20", height="12", fill=PAPER, stroke=MUTED, stroke_width="1")
+        ]
     return []
 
 
-def _legend(items: list[tuple[str, str]], notes: list[str], width: float, top: float) -> tuple[list[str], float]:
+def _legend(
+    items: list[tuple[str, str]], notes: list[str], width: float, top: float
+) -> tuple[list[str], float]:
     """The legend's rows (symbols and texts) and the notes below them; the height they take."""
     rows, height = _legend_rows(items, width - 2 * 16, 16)
     out: list[str] = []
@@ -622,14 +855,19 @@ def _error_note(lines: list[int], lang: Lang) -> str:
     return f"{t['error']}: {t['line'] if len(lines) == 1 else t['lines']} {shown}{more}"
 
 
-def _document(width: float, height: float, title: str, body: list[str], defs: list[str], info: dict[str, Any]) -> str:
+def _document(
+    width: float, height: float, title: str, body: list[str], defs: list[str], info: dict[str, Any]
+) -> str:
     data = "".join(f" data-{k.replace('_', '-')}={quoteattr(str(v))}" for k, v in info.items())
-    return (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {_c(width)} {_c(height)}" width="{_c(width)}" '
-            f'height="{_c(height)}" font-family={quoteattr(FONT)} role="img"{data}>'
-            f"<title>{escape(title)}</title>"
-            + (f"<defs>{''.join(defs)}</defs>" if defs else "")
-            + _el("rect", x="0", y="0", width=_c(width), height=_c(height), fill=PAPER)
-            + "".join(body) + "</svg>")
+    return (
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {_c(width)} {_c(height)}" width="{_c(width)}" '
+        f'height="{_c(height)}" font-family={quoteattr(FONT)} role="img"{data}>'
+        f"<title>{escape(title)}</title>"
+        + (f"<defs>{''.join(defs)}</defs>" if defs else "")
+        + _el("rect", x="0", y="0", width=_c(width), height=_c(height), fill=PAPER)
+        + "".join(body)
+        + "</svg>"
+    )
 
 
 def _rgb(c: Sequence[float]) -> str:
@@ -640,13 +878,22 @@ def png_rgb(image: npt.NDArray[np.uint8]) -> bytes:
     """An RGB image (rows top down) as PNG bytes."""
 
     def chunk(kind: bytes, data: bytes) -> bytes:
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+        return (
+            struct.pack(">I", len(data))
+            + kind
+            + data
+            + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+        )
 
     height, width, _ = image.shape
     rows = np.hstack([np.zeros((height, 1), dtype=np.uint8), image.reshape(height, -1)])
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(rows.tobytes(), 9))
-            + chunk(b"IEND", b""))
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + chunk(b"IHDR", header)
+        + chunk(b"IDAT", zlib.compress(rows.tobytes(), 9))
+        + chunk(b"IEND", b"")
+    )
 
 
 # -- milling ------------------------------------------------------------------------------------------------
@@ -676,7 +923,9 @@ def _ramp(t: Array) -> npt.NDArray[np.float64]:
     return out
 
 
-def depth_raster(heights: Array, top: float, base: float, low: float, limit: int) -> tuple[npt.NDArray[np.uint8], int]:
+def depth_raster(
+    heights: Array, top: float, base: float, low: float, limit: int
+) -> tuple[npt.NDArray[np.uint8], int]:
     """The height map (rows along +Y) as an RGB image (rows top down): the top face grey, cut cells along the
     ramp from just below the top to `low`, cut-through cells white, edges between levels darker; cells pooled
     k × k (the lowest of each) to stay within `limit` pixels. Returns the image and k."""
@@ -702,8 +951,9 @@ def depth_raster(heights: Array, top: float, base: float, low: float, limit: int
     return np.clip(np.rint(rgb), 0, 255).astype(np.uint8), k
 
 
-def mill_picture(toolpath: Any, heightmap: Any, stock: Any, lang: Lang = "de",
-                 limits: PictureLimits = DEFAULT_LIMITS) -> Picture:
+def mill_picture(
+    toolpath: Any, heightmap: Any, stock: Any, lang: Lang = "de", limits: PictureLimits = DEFAULT_LIMITS
+) -> Picture:
     """The plan view of a milling program's result: `toolpath` from core.pipeline.run, `heightmap` the
     simulation's (core.sim.simulate(...).heightmap; None: the stock untouched), `stock` its box."""
     t = TEXTS[lang]
@@ -721,8 +971,13 @@ def mill_picture(toolpath: Any, heightmap: Any, stock: Any, lang: Lang = "de",
     body += _axes(frame, lang, "X", "Y")
     # the part: the depth raster inside the stock's outline
     top, base = float(stock.z1), float(stock.z0)
-    info: dict[str, Any] = {"view": "mill", "points": path.points, "points_total": path.total,
-                            "path_cut": str(path.cut).lower(), "frame": _frame_info(frame)}
+    info: dict[str, Any] = {
+        "view": "mill",
+        "points": path.points,
+        "points_total": path.total,
+        "path_cut": str(path.cut).lower(),
+        "frame": _frame_info(frame),
+    }
     levels: list[float] = []
     sx, sy = frame.px(box[0], box[3])
     sw, sh = w * frame.scale, h * frame.scale
@@ -753,7 +1008,11 @@ def mill_picture(toolpath: Any, heightmap: Any, stock: Any, lang: Lang = "de",
     legend_top = frame.top + frame.height + AXIS_PAD
     ramp_part, ramp_height = _depth_legend(levels, top, base, lang, legend_top, heightmap is not None)
     body += ramp_part
-    items = [("stock", f"{t['stock']} ({t['top']} Z{num(top, lang)})"), ("rapid", t["rapid"]), ("feed", t["feed"])]
+    items = [
+        ("stock", f"{t['stock']} ({t['top']} Z{num(top, lang)})"),
+        ("rapid", t["rapid"]),
+        ("feed", t["feed"]),
+    ]
     if path.contour:
         items.append(("contour", t["contour"]))
     if path.plunges:
@@ -765,13 +1024,18 @@ def mill_picture(toolpath: Any, heightmap: Any, stock: Any, lang: Lang = "de",
     legend, legend_height = _legend(items, notes, width, legend_top + ramp_height)
     body += legend
     height = legend_top + ramp_height + legend_height
-    defs = [(f'<clipPath id="plot"><rect x="{_c(frame.left)}" y="{_c(frame.top)}" width="{_c(frame.width)}" '
-            f'height="{_c(frame.height)}"/></clipPath>')]
+    defs = [
+        (
+            f'<clipPath id="plot"><rect x="{_c(frame.left)}" y="{_c(frame.top)}" width="{_c(frame.width)}" '
+            f'height="{_c(frame.height)}"/></clipPath>'
+        )
+    ]
     return Picture(_document(width, height, t["title_mill"], body, defs, info), info)
 
 
-def _depth_legend(levels: list[float], top: float, base: float, lang: Lang, y: float,
-                  simulated: bool) -> tuple[list[str], float]:
+def _depth_legend(
+    levels: list[float], top: float, base: float, lang: Lang, y: float, simulated: bool
+) -> tuple[list[str], float]:
     """The colour ramp as a bar from the top face to the deepest floor, the floors' Z marked on it."""
     if not simulated or not levels:
         return [], 0.0
@@ -779,17 +1043,33 @@ def _depth_legend(levels: list[float], top: float, base: float, lang: Lang, y: f
     out = [_el("text", t["depth"], x=16, y=y + 12, font_size=_c(LEGEND_FONT), fill=INK, font_weight="600")]
     x0, bar = 16.0 + 0.56 * LEGEND_FONT * len(t["depth"]) + 14, 220.0
     low = min(levels)
-    stops = "".join(f'<stop offset="{k / (len(RAMP) - 1):.3f}" stop-color="{_rgb(c)}"/>' for k, c in enumerate(RAMP))
+    stops = "".join(
+        f'<stop offset="{k / (len(RAMP) - 1):.3f}" stop-color="{_rgb(c)}"/>' for k, c in enumerate(RAMP)
+    )
     out.append(f'<defs><linearGradient id="ramp" x1="0" y1="0" x2="1" y2="0">{stops}</linearGradient></defs>')
-    out.append(_el("rect", x=x0, y=y + 2, width="14", height="12", fill=_rgb(TOP), stroke=MUTED, stroke_width="0.8"))
-    out.append(_el("rect", x=x0 + 14, y=y + 2, width=_c(bar), height="12", fill="url(#ramp)", stroke=MUTED,
-                   stroke_width="0.8"))
+    out.append(
+        _el("rect", x=x0, y=y + 2, width="14", height="12", fill=_rgb(TOP), stroke=MUTED, stroke_width="0.8")
+    )
+    out.append(
+        _el(
+            "rect",
+            x=x0 + 14,
+            y=y + 2,
+            width=_c(bar),
+            height="12",
+            fill="url(#ramp)",
+            stroke=MUTED,
+            stroke_width="0.8",
+        )
+    )
     marks = [(x0 + 7, top)] + [(x0 + 14 + bar * (top - v) / max(top - low, 1e-3), v) for v in levels]
     last = -1e9
     for x, v in marks:
         out.append(_el("line", x1=x, y1=y + 14, x2=x, y2=y + 19, stroke=INK, stroke_width="1"))
         if x - last >= 30:
-            out.append(_el("text", num(v, lang, 2), x=x, y=y + 30, font_size="11", text_anchor="middle", fill=INK))
+            out.append(
+                _el("text", num(v, lang, 2), x=x, y=y + 30, font_size="11", text_anchor="middle", fill=INK)
+            )
             last = x
     if any(v <= base + 1e-3 for v in levels):
         out += _symbol("through", x0 + bar + 30, y + 8)
@@ -825,8 +1105,9 @@ def _stepped(z0: float, dz: float, values: Array, i: int, j: int) -> tuple[Array
     return z, v
 
 
-def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
-                  limits: PictureLimits = DEFAULT_LIMITS) -> Picture:
+def lathe_picture(
+    toolpath: Any, profile: Any, blank: Any, lang: Lang = "de", limits: PictureLimits = DEFAULT_LIMITS
+) -> Picture:
     """The drawing view of a turning program's result: `toolpath` from core.pipeline.run (x the radius),
     `profile` the turning simulation's (core.sim.simulate_turning(...).profile), `blank` the bar or tube."""
     t = TEXTS[lang]
@@ -840,8 +1121,13 @@ def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
     frame, width = _frame(extent)
     tolerance = 0.4 / frame.scale
     path = _path(toolpath.moves, (2, 0), tolerance, limits)
-    info: dict[str, Any] = {"view": "lathe", "points": path.points, "points_total": path.total,
-                            "path_cut": str(path.cut).lower(), "frame": _frame_info(frame)}
+    info: dict[str, Any] = {
+        "view": "lathe",
+        "points": path.points,
+        "points_total": path.total,
+        "path_cut": str(path.cut).lower(),
+        "frame": _frame_info(frame),
+    }
 
     body: list[str] = []
     body += _axes(frame, lang, "Z", t["x_diameter"], lambda v: num(abs(2 * v), lang))
@@ -850,14 +1136,35 @@ def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
     bore = float(blank.bore) / 2
     for lo, hi in ((bore, radius), (-radius, -bore)):
         x, y = frame.px(-length, hi)
-        body.append(_el("rect", x=x, y=y, width=length * frame.scale, height=(hi - lo) * frame.scale, fill=REMOVED,
-                        stroke=MUTED, stroke_width="1", stroke_dasharray="4 3"))
+        body.append(
+            _el(
+                "rect",
+                x=x,
+                y=y,
+                width=length * frame.scale,
+                height=(hi - lo) * frame.scale,
+                fill=REMOVED,
+                stroke=MUTED,
+                stroke_width="1",
+                stroke_dasharray="4 3",
+            )
+        )
     # the chuck's jaws holding the bar's last `clamp` mm
     clamp = float(blank.clamp)
     for lo, hi in ((radius, jaw), (-jaw, -radius)):
         x, y = frame.px(-length, hi)
-        body.append(_el("rect", x=x, y=y, width=clamp * frame.scale, height=(hi - lo) * frame.scale, fill=JAW,
-                        stroke=INK, stroke_width="1"))
+        body.append(
+            _el(
+                "rect",
+                x=x,
+                y=y,
+                width=clamp * frame.scale,
+                height=(hi - lo) * frame.scale,
+                fill=JAW,
+                stroke=INK,
+                stroke_width="1",
+            )
+        )
     outer = np.clip(np.asarray(profile.outer, dtype=np.float64), 0.0, None)
     inner = np.clip(np.asarray(profile.inner, dtype=np.float64), 0.0, None)
     z0, dz = float(profile.z0), float(profile.dz)
@@ -876,18 +1183,36 @@ def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
                 x, _ = frame.px(z[a], 0.0)
                 edges.append(f"M{_c(x)} {_c(frame.px(0.0, 0.0)[1])}V{_c(frame.px(0.0, -min(o[a], o[b]))[1])}")
     if view:
-        body.append(_el("path", d="".join(view), fill="url(#cylinder)", stroke=INK, stroke_width="1.5",
-                        stroke_linejoin="round"))
+        body.append(
+            _el(
+                "path",
+                d="".join(view),
+                fill="url(#cylinder)",
+                stroke=INK,
+                stroke_width="1.5",
+                stroke_linejoin="round",
+            )
+        )
     if edges:
         body.append(_el("path", d="".join(edges), stroke=INK, stroke_width="1"))
     if section:
-        body.append(_el("path", d="".join(section), fill="url(#hatch)", stroke=INK, stroke_width="1.5",
-                        stroke_linejoin="round", fill_rule="evenodd"))
+        body.append(
+            _el(
+                "path",
+                d="".join(section),
+                fill="url(#hatch)",
+                stroke=INK,
+                stroke_width="1.5",
+                stroke_linejoin="round",
+                fill_rule="evenodd",
+            )
+        )
     # the spindle axis, dash-dotted
     ax0, ay = frame.px(frame.x0, 0.0)
     ax1, _ = frame.px(frame.x1, 0.0)
-    body.append(_el("line", x1=ax0, y1=ay, x2=ax1, y2=ay, stroke=INK, stroke_width="0.9",
-                    stroke_dasharray="14 3 2 3"))
+    body.append(
+        _el("line", x1=ax0, y1=ay, x2=ax1, y2=ay, stroke=INK, stroke_width="0.9", stroke_dasharray="14 3 2 3")
+    )
     body += _draw_path(frame, path)
     body.append("</g>")
     labels = _Labels(frame)
@@ -900,8 +1225,13 @@ def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
     info["errors"] = ",".join(map(str, errors))
 
     legend_top = frame.top + frame.height + AXIS_PAD
-    items = [("section", t["section"]), ("view", t["view"]), ("removed", f"{t['stock']}, {t['removed']}"),
-             ("rapid", t["rapid"]), ("feed", t["feed"])]
+    items = [
+        ("section", t["section"]),
+        ("view", t["view"]),
+        ("removed", f"{t['stock']}, {t['removed']}"),
+        ("rapid", t["rapid"]),
+        ("feed", t["feed"]),
+    ]
     if path.contour:
         items.append(("contour", t["contour"]))
     items.append(("zero", t["zero"]))
@@ -910,11 +1240,19 @@ def lathe_picture(toolpath: Any, profile: Any, blank: Any, lang: Lang = "de",
     legend, legend_height = _legend(items, _notes(path, errors, info, lang), width, legend_top)
     body += legend
     height = legend_top + legend_height
-    defs = [(f'<clipPath id="plot"><rect x="{_c(frame.left)}" y="{_c(frame.top)}" width="{_c(frame.width)}" '
-            f'height="{_c(frame.height)}"/></clipPath>'),
-            ('<pattern id="hatch" width="7" height="7" patternUnits="userSpaceOnUse" patternTransform="rotate(45)">'
+    defs = [
+        (
+            f'<clipPath id="plot"><rect x="{_c(frame.left)}" y="{_c(frame.top)}" width="{_c(frame.width)}" '
+            f'height="{_c(frame.height)}"/></clipPath>'
+        ),
+        (
+            '<pattern id="hatch" width="7" height="7" patternUnits="userSpaceOnUse" patternTransform="rotate(45)">'
             f'<rect width="7" height="7" fill="{SECTION}"/><line x1="0" y1="0" x2="0" y2="7" stroke="{HATCH}" '
-            'stroke-width="1.1"/></pattern>'),
-            (f'<linearGradient id="cylinder" x1="0" y1="0" x2="0" y2="1"><stop offset="0" stop-color="{VIEW_LIGHT}"/>'
-            f'<stop offset="1" stop-color="{VIEW_DARK}"/></linearGradient>')]
+            'stroke-width="1.1"/></pattern>'
+        ),
+        (
+            f'<linearGradient id="cylinder" x1="0" y1="0" x2="0" y2="1"><stop offset="0" stop-color="{VIEW_LIGHT}"/>'
+            f'<stop offset="1" stop-color="{VIEW_DARK}"/></linearGradient>'
+        ),
+    ]
     return Picture(_document(width, height, t["title_lathe"], body, defs, info), info)

@@ -39,7 +39,9 @@ class Dialect:
     valued_codes: frozenset[str] = frozenset()  # codes the grammar takes with a value (G301=20)
     # a dialect with its own run loop (TRAUB: programs in one file, sections, L parameters) instead of
     # the shared one with `execute`
-    runner: Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program], Keep | None], Toolpath] | None = None
+    runner: (
+        Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program], Keep | None], Toolpath] | None
+    ) = None
     skip_blocks: bool = False  # the default of the skip switch: True = "/" blocks are not executed
     library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
     lathe: bool = False  # turning: X is shown as a diameter (the moves' x is the radius, DECISIONS §15)
@@ -52,19 +54,47 @@ class Dialect:
 
 DIALECTS: dict[str, Dialect] = {
     "pal-mill": Dialect("pal-mill", "PAL Fräsen", "PAL milling", "pal_mill", PAL_MILL_TABLE, pal_mill_block),
-    "sinumerik-iso": Dialect("sinumerik-iso", "SINUMERIK 808D ISO Fräsen", "SINUMERIK 808D ISO milling",
-                             "iso", ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE), library_prefix="O",
-                             program_numbers=True, code_prefix="ISO"),
-    "beckhoff": Dialect("beckhoff", "Beckhoff TwinCAT CNC", "Beckhoff TwinCAT CNC", "beckhoff", BECKHOFF_TABLE,
-                        partial(pal_mill_block, table=BECKHOFF_TABLE), BECKHOFF_VALUED, code_prefix="BK"),
-    "traub-tx8d": Dialect("traub-tx8d", "TRAUB TX 8 D Drehen", "TRAUB TX 8 D turning", "traub", TRAUB_TABLE,
-                          pal_mill_block, runner=traub_run, skip_blocks=True, library_prefix="O",
-                          lathe=True, code_prefix="TX"),
+    "sinumerik-iso": Dialect(
+        "sinumerik-iso",
+        "SINUMERIK 808D ISO Fräsen",
+        "SINUMERIK 808D ISO milling",
+        "iso",
+        ISO_TABLE,
+        partial(pal_mill_block, table=ISO_TABLE),
+        library_prefix="O",
+        program_numbers=True,
+        code_prefix="ISO",
+    ),
+    "beckhoff": Dialect(
+        "beckhoff",
+        "Beckhoff TwinCAT CNC",
+        "Beckhoff TwinCAT CNC",
+        "beckhoff",
+        BECKHOFF_TABLE,
+        partial(pal_mill_block, table=BECKHOFF_TABLE),
+        BECKHOFF_VALUED,
+        code_prefix="BK",
+    ),
+    "traub-tx8d": Dialect(
+        "traub-tx8d",
+        "TRAUB TX 8 D Drehen",
+        "TRAUB TX 8 D turning",
+        "traub",
+        TRAUB_TABLE,
+        pal_mill_block,
+        runner=traub_run,
+        skip_blocks=True,
+        library_prefix="O",
+        lathe=True,
+        code_prefix="TX",
+    ),
 }
 DEFAULT_DIALECT = "pal-mill"
 
 
-def parse(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None) -> tuple[Program, list[Diagnostic]]:
+def parse(
+    text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
+) -> tuple[Program, list[Diagnostic]]:
     setup = setup or RunSetup()
     d = DIALECTS[dialect]
     program, diagnostics = d.parser().parse_program(text, setup.limits)
@@ -83,7 +113,9 @@ class Memo:
     runs: Keep = field(default_factory=Keep)  # the last run's checkpoints (core/interpreter/checkpoints.py)
 
 
-def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None, memo: Memo | None = None) -> Toolpath:
+def run(
+    text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None, memo: Memo | None = None
+) -> Toolpath:
     """Parse and interpret `text`; the diagnostics of both stages are in the result, sorted by position."""
     setup = setup or RunSetup()
     d = DIALECTS[dialect]
@@ -99,10 +131,20 @@ def run(text: str, dialect: str = DEFAULT_DIALECT, setup: RunSetup | None = None
             setup = dataclasses.replace(setup, skip_blocks=d.skip_blocks)
         toolpath = d.runner(program, setup, diagnostics, library, memo.runs if memo is not None else None)
     else:
-        toolpath = interpret(program, d.table, d.execute, setup, diagnostics, library,
-                             memo.readings if memo is not None else None, memo.runs if memo is not None else None)
-    toolpath.diagnostics = sorted((in_dialect(x, d.code_prefix) for x in toolpath.diagnostics),
-                                  key=lambda x: (x.span.line, x.span.column))
+        toolpath = interpret(
+            program,
+            d.table,
+            d.execute,
+            setup,
+            diagnostics,
+            library,
+            memo.readings if memo is not None else None,
+            memo.runs if memo is not None else None,
+        )
+    toolpath.diagnostics = sorted(
+        (in_dialect(x, d.code_prefix) for x in toolpath.diagnostics),
+        key=lambda x: (x.span.line, x.span.column),
+    )
     toolpath.limits = setup.limits
     toolpath.code_prefix = d.code_prefix
     return toolpath
@@ -124,12 +166,17 @@ def summarised(toolpath: Toolpath) -> Toolpath:
     if len(commands) <= limit:
         return toolpath
     kept = commands[:limit]
-    notice = in_dialect(diag("PAL-I018", commands[limit].span, shown=limit, total=len(commands)),
-                        toolpath.code_prefix)
+    notice = in_dialect(
+        diag("PAL-I018", commands[limit].span, shown=limit, total=len(commands)), toolpath.code_prefix
+    )
     return dataclasses.replace(
-        toolpath, commands=kept, moves=[c for c in kept if type(c) is Move],
-        dwells=[c for c in kept if type(c) is Dwell], tool_changes=[c for c in kept if type(c) is ToolChange],
-        diagnostics=sorted([*toolpath.diagnostics, notice], key=lambda x: (x.span.line, x.span.column)))
+        toolpath,
+        commands=kept,
+        moves=[c for c in kept if type(c) is Move],
+        dwells=[c for c in kept if type(c) is Dwell],
+        tool_changes=[c for c in kept if type(c) is ToolChange],
+        diagnostics=sorted([*toolpath.diagnostics, notice], key=lambda x: (x.span.line, x.span.column)),
+    )
 
 
 def drawing(toolpath: Toolpath, tolerance: float) -> tuple[list[list[Vec3]], Diagnostic | None]:
@@ -141,8 +188,9 @@ def drawing(toolpath: Toolpath, tolerance: float) -> tuple[list[list[Vec3]], Dia
     for m in toolpath.moves:
         n = m.chords(tolerance)
         if n > budget:
-            return lines, in_dialect(diag("PAL-I019", m.span, limit=toolpath.limits.max_drawn_segments),
-                                     toolpath.code_prefix)
+            return lines, in_dialect(
+                diag("PAL-I019", m.span, limit=toolpath.limits.max_drawn_segments), toolpath.code_prefix
+            )
         budget -= n
         lines.append(m.points(tolerance))
     return lines, None

@@ -61,7 +61,9 @@ class Move:
     source: str | None = None  # the library subprogram of the block ("L200"); None: the program file
     call_stack: tuple[tuple[str | None, int], ...] = ()  # calling blocks (source, line), outermost first
     cycle: tuple[str, int, int] | None = None  # made by a cycle: (code "G71", pass n, of m passes)
-    cycle_definition: int | None = None  # PAL cycles: the line of the block that defined the cycle (span: the call)
+    cycle_definition: int | None = (
+        None  # PAL cycles: the line of the block that defined the cycle (span: the call)
+    )
     cycle_point: tuple[int, int] | None = None  # PAL cycle calls: (point k, of n points) the move belongs to
     thread: bool = False  # a thread-cutting feed: the feed per revolution is the pitch
     pitch: float | None = None  # mm per revolution of a thread move
@@ -93,8 +95,17 @@ class Move:
             n = max(1, min(n, max_chords))
         a0 = math.atan2(s[1] - c[1], s[0] - c[0])
         sweep = math.radians(self.angle) * (-1 if self.direction == "cw" else 1)
-        pts = [from_plane((c[0] + r * math.cos(a0 + sweep * k / n), c[1] + r * math.sin(a0 + sweep * k / n),
-                           s[2] + (e[2] - s[2]) * k / n), self.plane) for k in range(n)]
+        pts = [
+            from_plane(
+                (
+                    c[0] + r * math.cos(a0 + sweep * k / n),
+                    c[1] + r * math.sin(a0 + sweep * k / n),
+                    s[2] + (e[2] - s[2]) * k / n,
+                ),
+                self.plane,
+            )
+            for k in range(n)
+        ]
         return pts + [self.end]
 
     def to_json(self) -> dict[str, Any]:
@@ -118,13 +129,27 @@ class Move:
             "programmed_end": _v(self.programmed_end if self.programmed_end is not None else self.end),
             "source": self.source,
             "call_stack": [{"source": src, "line": line} for src, line in self.call_stack],
-            **({} if self.cycle is None else {"cycle": {"code": self.cycle[0], "pass": self.cycle[1],
-                                                        "of": self.cycle[2],
-                                                        **({} if self.cycle_definition is None else
-                                                           {"defined_in_line": self.cycle_definition}),
-                                                        **({} if self.cycle_point is None else
-                                                           {"point": self.cycle_point[0],
-                                                            "points": self.cycle_point[1]})}}),
+            **(
+                {}
+                if self.cycle is None
+                else {
+                    "cycle": {
+                        "code": self.cycle[0],
+                        "pass": self.cycle[1],
+                        "of": self.cycle[2],
+                        **(
+                            {}
+                            if self.cycle_definition is None
+                            else {"defined_in_line": self.cycle_definition}
+                        ),
+                        **(
+                            {}
+                            if self.cycle_point is None
+                            else {"point": self.cycle_point[0], "points": self.cycle_point[1]}
+                        ),
+                    }
+                }
+            ),
             **({"thread": True, "pitch": self.pitch} if self.thread else {}),
         }
 
@@ -153,8 +178,14 @@ class ToolChange:
     span: Span
 
     def to_json(self) -> dict[str, Any]:
-        return {"line": self.span.line, "tool": self.tool, "tc": self.tc, "tr": self.tr, "tl": self.tl,
-                "position": _v(self.position)}
+        return {
+            "line": self.span.line,
+            "tool": self.tool,
+            "tc": self.tc,
+            "tr": self.tr,
+            "tl": self.tl,
+            "position": _v(self.position),
+        }
 
 
 @dataclass(slots=True)

@@ -7,8 +7,14 @@ from typing import Literal
 
 ToolKind = Literal["end_mill", "slot_drill", "ball_nose", "torus", "twist_drill", "spot_drill", "turning"]
 
-KIND_NAMES_DE = {"end_mill": "Schaftfräser", "slot_drill": "Langlochfräser", "ball_nose": "Radiusfräser",
-                 "torus": "Eckradiusfräser", "twist_drill": "Spiralbohrer", "spot_drill": "NC-Anbohrer"}
+KIND_NAMES_DE = {
+    "end_mill": "Schaftfräser",
+    "slot_drill": "Langlochfräser",
+    "ball_nose": "Radiusfräser",
+    "torus": "Eckradiusfräser",
+    "twist_drill": "Spiralbohrer",
+    "spot_drill": "NC-Anbohrer",
+}
 LATHE_KIND_NAMES_DE = {"turning": "Drehmeißel"}  # lathe tools: not in the milling simulation's default table
 INSERTS = ("C", "D", "V", "groove", "thread")  # insert shapes of a turning tool (Tool.insert)
 
@@ -83,27 +89,59 @@ class ToolTable:
         return ToolTable({**self.tools, tool.number: tool})
 
 
-def _tool(number: int, kind: ToolKind, diameter: float, name: str, cutting: float, overall: float,
-          centre: bool = True, corner: float = 0.0, angle: float = 0.0) -> Tool:
-    return Tool(number, kind, diameter, name, cutting_length=cutting, overall_length=overall,
-                shank_diameter=diameter, centre_cutting=centre, corner_radius=corner, point_angle=angle)
+def _tool(
+    number: int,
+    kind: ToolKind,
+    diameter: float,
+    name: str,
+    cutting: float,
+    overall: float,
+    centre: bool = True,
+    corner: float = 0.0,
+    angle: float = 0.0,
+) -> Tool:
+    return Tool(
+        number,
+        kind,
+        diameter,
+        name,
+        cutting_length=cutting,
+        overall_length=overall,
+        shank_diameter=diameter,
+        centre_cutting=centre,
+        corner_radius=corner,
+        point_angle=angle,
+    )
 
 
 def turning_tool(number: int, nose_radius: float, quadrant: int) -> Tool:
     """A lathe tool on turret station `number` with its nose radius (mm) and quadrant (1–4)."""
-    return Tool(number, "turning", max(2 * nose_radius, 0.001), f"Drehmeißel R{nose_radius:g} P{quadrant}",
-                nose_radius=nose_radius, quadrant=quadrant)
+    return Tool(
+        number,
+        "turning",
+        max(2 * nose_radius, 0.001),
+        f"Drehmeißel R{nose_radius:g} P{quadrant}",
+        nose_radius=nose_radius,
+        quadrant=quadrant,
+    )
 
 
 # Free practice (and every run that names no other table): the tools of the PAL examples (T1, T2,
 # T4) and one of every other kind. core/sim/default_tools.yaml is the same table as a file.
-DEFAULT_TOOLS = ToolTable({t.number: t for t in (
-    _tool(1, "end_mill", 25.0, "Schaftfräser Ø25", 40.0, 100.0),
-    _tool(2, "slot_drill", 6.0, "Langlochfräser Ø6", 13.0, 57.0),
-    _tool(3, "ball_nose", 10.0, "Radiusfräser Ø10", 22.0, 72.0),
-    _tool(4, "end_mill", 20.0, "Schaftfräser Ø20", 38.0, 104.0),
-    _tool(5, "torus", 16.0, "Eckradiusfräser Ø16 R2", 30.0, 90.0, corner=2.0),
-    _tool(6, "twist_drill", 8.5, "Spiralbohrer Ø8,5 118°", 75.0, 117.0, angle=118.0),
-    _tool(7, "spot_drill", 10.0, "NC-Anbohrer Ø10 90°", 20.0, 80.0, angle=90.0),
-    _tool(8, "end_mill", 16.0, "Schaftfräser Ø16, nicht über Mitte schneidend", 32.0, 92.0, centre=False),
-)})
+DEFAULT_TOOLS = ToolTable(
+    {
+        t.number: t
+        for t in (
+            _tool(1, "end_mill", 25.0, "Schaftfräser Ø25", 40.0, 100.0),
+            _tool(2, "slot_drill", 6.0, "Langlochfräser Ø6", 13.0, 57.0),
+            _tool(3, "ball_nose", 10.0, "Radiusfräser Ø10", 22.0, 72.0),
+            _tool(4, "end_mill", 20.0, "Schaftfräser Ø20", 38.0, 104.0),
+            _tool(5, "torus", 16.0, "Eckradiusfräser Ø16 R2", 30.0, 90.0, corner=2.0),
+            _tool(6, "twist_drill", 8.5, "Spiralbohrer Ø8,5 118°", 75.0, 117.0, angle=118.0),
+            _tool(7, "spot_drill", 10.0, "NC-Anbohrer Ø10 90°", 20.0, 80.0, angle=90.0),
+            _tool(
+                8, "end_mill", 16.0, "Schaftfräser Ø16, nicht über Mitte schneidend", 32.0, 92.0, centre=False
+            ),
+        )
+    }
+)

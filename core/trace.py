@@ -41,5 +41,7 @@ def trace_lines(toolpath: Toolpath, lathe: bool = False) -> list[str]:
         elif isinstance(c, Dwell):
             out.append(f"{c.span.line} dwell {_n(c.seconds)}s at {point(c.position)}")
         else:
-            out.append(f"{c.span.line} tool T{c.tool if c.tool is not None else 0} TC{c.tc} TR{_n(c.tr)} TL{_n(c.tl)}")
+            out.append(
+                f"{c.span.line} tool T{c.tool if c.tool is not None else 0} TC{c.tc} TR{_n(c.tr)} TL{_n(c.tl)}"
+            )
     return out

@@ -55,18 +55,36 @@ from server.export import BERLIN
 from server.models import Assignment, User, now
 from server.schemas import utc
 
-Action = Literal["live", "viz", "deviation", "hints", "solution", "reference", "draft", "read_draft", "submit",
-                 "grade"]
+Action = Literal[
+    "live", "viz", "deviation", "hints", "solution", "reference", "draft", "read_draft", "submit", "grade"
+]
 Phase = Literal["upcoming", "running", "held", "released", "open", "closed"]
 
 # what an exam allows unless its settings say otherwise; practice allows everything, submissions unlimited (0)
-EXAM_DEFAULTS: dict[str, Any] = {"live_diagnostics": False, "viz": False, "hints": False, "solution": False,
-                                 "free_practice": False, "max_submissions": 1}
-PRACTICE_DEFAULTS: dict[str, Any] = {"live_diagnostics": True, "viz": True, "hints": True, "solution": True,
-                                     "free_practice": True, "max_submissions": 0}
+EXAM_DEFAULTS: dict[str, Any] = {
+    "live_diagnostics": False,
+    "viz": False,
+    "hints": False,
+    "solution": False,
+    "free_practice": False,
+    "max_submissions": 1,
+}
+PRACTICE_DEFAULTS: dict[str, Any] = {
+    "live_diagnostics": True,
+    "viz": True,
+    "hints": True,
+    "solution": True,
+    "free_practice": True,
+    "max_submissions": 0,
+}
 # the setting of a running exam that switches an action off
-_FEATURE: dict[str, str] = {"live": "live_diagnostics", "viz": "viz", "deviation": "viz", "hints": "hints",
-                            "solution": "solution"}
+_FEATURE: dict[str, str] = {
+    "live": "live_diagnostics",
+    "viz": "viz",
+    "deviation": "viz",
+    "hints": "hints",
+    "solution": "solution",
+}
 _WITHHELD = ("hints", "solution", "reference", "deviation", "grade")  # rule 3
 
 
@@ -98,9 +116,17 @@ class Work:
 
     @classmethod
     def of(cls, a: Assignment) -> Work:
-        return cls(id=a.id, title=a.title, exam=a.mode == "exam", exercises=tuple(a.exercises),
-                   opens_at=utc(a.opens_at), end=end_of(a), released=a.released_at is not None,
-                   late_accepted=a.late == "accept", settings=settings_of(a))
+        return cls(
+            id=a.id,
+            title=a.title,
+            exam=a.mode == "exam",
+            exercises=tuple(a.exercises),
+            opens_at=utc(a.opens_at),
+            end=end_of(a),
+            released=a.released_at is not None,
+            late_accepted=a.late == "accept",
+            settings=settings_of(a),
+        )
 
     def phase(self, t: datetime) -> Phase:
         if t < self.opens_at:
@@ -173,16 +199,28 @@ def situation(db: Session, user: User | None, slug: str | None = None) -> Situat
     hidden = hidden_exercises(db, None, ())
     if slug is None:
         return Situation(None, (), hidden)  # free practice without an exercise: no exam concerns it
-    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db) if slug in a.exercises), hidden)
+    return Situation(
+        None, tuple(Work.of(a) for a in repo.unreleased_exams(db) if slug in a.exercises), hidden
+    )
 
 
 def unknown_situation(db: Session) -> Situation:
     """The situation of a trainee who is not known, for work on any exercise: every unreleased exam."""
-    return Situation(None, tuple(Work.of(a) for a in repo.unreleased_exams(db)), hidden_exercises(db, None, ()))
+    return Situation(
+        None, tuple(Work.of(a) for a in repo.unreleased_exams(db)), hidden_exercises(db, None, ())
+    )
 
 
-def sees(user_id: int | None, role: str | None, course_instructors: set[int], opened: set[str], slug: str,
-         owner_id: int | None, visibility: str, archived: bool) -> bool:
+def sees(
+    user_id: int | None,
+    role: str | None,
+    course_instructors: set[int],
+    opened: set[str],
+    slug: str,
+    owner_id: int | None,
+    visibility: str,
+    archived: bool,
+) -> bool:
     """Rules 6–9: whether a user (None: not known) sees an exercise. `course_instructors`: the instructors of the
     user's courses; `opened`: the slugs set in opened assignments of the courses they are a student of."""
     if role == "admin" or (user_id is not None and owner_id == user_id):
@@ -194,8 +232,12 @@ def sees(user_id: int | None, role: str | None, course_instructors: set[int], op
     return visibility == "courses" and owner_id is not None and owner_id in course_instructors
 
 
-def hidden_exercises(db: Session, user: User | None, works: tuple[Work, ...], at: datetime | None = None,
-                     ) -> frozenset[str]:
+def hidden_exercises(
+    db: Session,
+    user: User | None,
+    works: tuple[Work, ...],
+    at: datetime | None = None,
+) -> frozenset[str]:
     """The slugs of the exercises `user` does not see (read once per situation: only exercises that are not
     simply public are looked at)."""
     if user is not None and user.role == "admin":
@@ -207,8 +249,11 @@ def hidden_exercises(db: Session, user: User | None, works: tuple[Work, ...], at
     instructors = repo.course_instructors_of(db, user.id) if user is not None else set()
     opened = {s for w in works if w.phase(t) != "upcoming" for s in w.exercises}
     uid, role = (user.id, user.role) if user is not None else (None, None)
-    return frozenset(slug for slug, owner, visibility, archived in rows
-                     if not sees(uid, role, instructors, opened, slug, owner, visibility, archived))
+    return frozenset(
+        slug
+        for slug, owner, visibility, archived in rows
+        if not sees(uid, role, instructors, opened, slug, owner, visibility, archived)
+    )
 
 
 def require_seen(sit: Situation, slug: str) -> None:
@@ -225,8 +270,13 @@ def _running_error(exam: Work) -> ApiError:
     return ApiError("EXAM_RUNNING", end=exam.end.isoformat(), until=german_time(exam.end))
 
 
-def decide(sit: Situation, action: Action, slug: str | None = None, named: int | None = None,
-           at: datetime | None = None) -> Verdict:
+def decide(
+    sit: Situation,
+    action: Action,
+    slug: str | None = None,
+    named: int | None = None,
+    at: datetime | None = None,
+) -> Verdict:
     """Whether the action is allowed on the exercise `slug` (None: no exercise, as in free practice) for the
     assignment `named` by the request (drafts and submissions), at `at` (now); ApiError with the reason if not."""
     t = at or now()
@@ -240,7 +290,11 @@ def decide(sit: Situation, action: Action, slug: str | None = None, named: int |
     if off is not None:  # rule 1
         raise _running_error(off)
     for exam in running:
-        if action not in ("grade", "read_draft") and not exam.has(slug) and not exam.settings["free_practice"]:
+        if (
+            action not in ("grade", "read_draft")
+            and not exam.has(slug)
+            and not exam.settings["free_practice"]
+        ):
             raise _running_error(exam)
     guarding = sit.guarding(slug)
     if action in _WITHHELD and guarding:  # rule 3; a running exam may allow its hints or solution itself
@@ -261,8 +315,10 @@ def decide(sit: Situation, action: Action, slug: str | None = None, named: int |
     if own is not None:
         return _entry(own, action, t)
     if action == "submit":  # the open practice assignment with the exercise, the nearest deadline first
-        open_ = sorted((w for w in sit.assignments if not w.exam and w.has(slug) and w.phase(t) == "open"),
-                       key=lambda w: w.end)
+        open_ = sorted(
+            (w for w in sit.assignments if not w.exam and w.has(slug) and w.phase(t) == "open"),
+            key=lambda w: w.end,
+        )
         if open_:
             return _entry(open_[0], action, t)
     return Verdict()
@@ -282,7 +338,9 @@ def _unknown(sit: Situation, action: Action, slug: str | None, t: datetime) -> V
         return Verdict()
     running = [w for w in sit.running(t) if w.has(slug)]
     if running and action != "grade":
-        raise ApiError("EXAM_EXERCISE_LOCKED", end=running[0].end.isoformat(), until=german_time(running[0].end))
+        raise ApiError(
+            "EXAM_EXERCISE_LOCKED", end=running[0].end.isoformat(), until=german_time(running[0].end)
+        )
     if action in _WITHHELD and sit.guarding(slug):
         raise ApiError("EXAM_WITHHELD", title=sit.guarding(slug)[0].title)
     return Verdict()
@@ -299,8 +357,12 @@ def _entry(work: Work, action: Action, t: datetime) -> Verdict:
     late = phase == "closed"
     if late and not work.late_accepted and action == "submit":
         raise ApiError("ASSIGNMENT_CLOSED", deadline=work.end.isoformat())
-    return Verdict(assignment=work, late=late, held=work.exam and not work.released,
-                   limit=int(work.settings["max_submissions"] or 0))
+    return Verdict(
+        assignment=work,
+        late=late,
+        held=work.exam and not work.released,
+        limit=int(work.settings["max_submissions"] or 0),
+    )
 
 
 def allowed(sit: Situation, action: Action, slug: str | None = None, at: datetime | None = None) -> bool:
@@ -311,8 +373,14 @@ def allowed(sit: Situation, action: Action, slug: str | None = None, at: datetim
     return True
 
 
-def check(db: Session, principal: Any, action: Action, slug: str | None = None, named: int | None = None,
-          external_user: str | None = None) -> Verdict:
+def check(
+    db: Session,
+    principal: Any,
+    action: Action,
+    slug: str | None = None,
+    named: int | None = None,
+    external_user: str | None = None,
+) -> Verdict:
     """`decide` for a request's principal, reading its situation."""
     user = acting_user(principal, external_user)
     return decide(situation(db, user, slug), action, slug, named)

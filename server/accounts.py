@@ -34,8 +34,15 @@ def user_out(db: Session, user: User) -> UserOut:
 
 def _set_password(db: Session, user: User, password: str, one_time: bool) -> None:
     """A new password; every token and session issued before stops working (the token version goes up)."""
-    db.execute(update(User).where(User.id == user.id).values(
-        password_hash=hash_password(password), must_change_password=one_time, token_version=User.token_version + 1))
+    db.execute(
+        update(User)
+        .where(User.id == user.id)
+        .values(
+            password_hash=hash_password(password),
+            must_change_password=one_time,
+            token_version=User.token_version + 1,
+        )
+    )
     db.commit()
     db.refresh(user)
 
@@ -47,8 +54,11 @@ def change_password(db: Session, user: User, current: str, new: str) -> None:
         raise ApiError("WRONG_PASSWORD")
     check_new_password(new)
     if new == current:
-        raise ApiError("PASSWORD_RULE", detail="es muss sich vom bisherigen Passwort unterscheiden",
-                       detail_en="it must differ from the current password")
+        raise ApiError(
+            "PASSWORD_RULE",
+            detail="es muss sich vom bisherigen Passwort unterscheiden",
+            detail_en="it must differ from the current password",
+        )
     _set_password(db, user, new, one_time=False)
 
 
@@ -56,7 +66,9 @@ def _teaches(db: Session, instructor: User, student: User) -> bool:
     """The student is the instructor's (managed by them) or a member of a course the instructor teaches."""
     if student.instructor_id == instructor.id:
         return True
-    found = db.scalars(repo.taught_students(instructor.id).where(CourseMember.user_id == student.id).limit(1)).first()
+    found = db.scalars(
+        repo.taught_students(instructor.id).where(CourseMember.user_id == student.id).limit(1)
+    ).first()
     return found is not None
 
 
@@ -75,8 +87,9 @@ def reset_password(db: Session, principal: Principal, username: str) -> tuple[Us
     if caller.role not in ("instructor", "admin"):
         raise ApiError("FORBIDDEN")
     user = repo.user_by_name(db, username)
-    allowed = user is not None and (caller.role == "admin" or (
-        user.role == "student" and _teaches(db, caller, user)))
+    allowed = user is not None and (
+        caller.role == "admin" or (user.role == "student" and _teaches(db, caller, user))
+    )
     if user is None or not allowed:
         raise ApiError("USER_NOT_FOUND", user=username)
     password = services.new_password()
@@ -101,8 +114,11 @@ def set_active(db: Session, principal: Principal, username: str, active: bool) -
         user.deactivated_at = None
         db.commit()
     elif user.deactivated_at is None:
-        db.execute(update(User).where(User.id == user.id).values(deactivated_at=now(),
-                                                                 token_version=User.token_version + 1))
+        db.execute(
+            update(User)
+            .where(User.id == user.id)
+            .values(deactivated_at=now(), token_version=User.token_version + 1)
+        )
         db.commit()
         db.refresh(user)
     return user_out(db, user)

@@ -75,11 +75,15 @@ def install_openapi(app: FastAPI) -> None:
 
     def openapi() -> dict[str, Any]:
         if app.openapi_schema is None:
-            doc = get_openapi(title=app.title, version=app.version, description=app.description, routes=app.routes)
+            doc = get_openapi(
+                title=app.title, version=app.version, description=app.description, routes=app.routes
+            )
             schemas = doc.setdefault("components", {}).setdefault("schemas", {})
             schemas.pop("HTTPValidationError", None)
             schemas.pop("ValidationError", None)
-            text = json.dumps(doc).replace("#/components/schemas/HTTPValidationError", "#/components/schemas/ErrorBody")
+            text = json.dumps(doc).replace(
+                "#/components/schemas/HTTPValidationError", "#/components/schemas/ErrorBody"
+            )
             doc = json.loads(text)
             error = {"application/json": {"schema": {"$ref": "#/components/schemas/ErrorBody"}}}
             for methods in doc.get("paths", {}).values():
@@ -104,7 +108,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         app.state.db = prepare_database(settings)
         app.state.workers.start()
         # ended exams: the last drafts are submitted even when nobody asks (issue 19)
-        finalizer = asyncio.create_task(exam_finalizer(app.state.db, app.state.workers, settings.finalize_seconds))
+        finalizer = asyncio.create_task(
+            exam_finalizer(app.state.db, app.state.workers, settings.finalize_seconds)
+        )
         # LTI grade passback: the score queue is sent (and retried) even when nobody asks (issue 20)
         score_drainer = asyncio.create_task(lti_ags.drainer(app.state.db))
         gc.collect()
@@ -122,7 +128,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         title="PAL Trainer API",
         version="1",
         description="Check, run and simulate PAL programs; exercises, submissions, accounts. "
-                    "Errors: `{\"error\": {\"code\", \"message\" (German), \"message_en\", \"details\"}}`.",
+        'Errors: `{"error": {"code", "message" (German), "message_en", "details"}}`.',
         lifespan=lifespan,
         docs_url=None,  # /docs is served by server/routes/pages.py from our own Swagger UI files
         redoc_url=None,
@@ -134,8 +140,22 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     pages.install_not_found(app)
     api = APIRouter(prefix=API_PREFIX)
-    for module in (pipeline, auth, accounts, me, users, exercises, examples, drafts, submissions, results, dialects,
-                   viz_routes, courses, assignments):
+    for module in (
+        pipeline,
+        auth,
+        accounts,
+        me,
+        users,
+        exercises,
+        examples,
+        drafts,
+        submissions,
+        results,
+        dialects,
+        viz_routes,
+        courses,
+        assignments,
+    ):
         api.include_router(module.router)
     api.include_router(live.router)
     api.include_router(lti_grade_routes.router)  # grade passback status and roster (issue 20)
@@ -149,9 +169,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
 
     install_openapi(app)
     if settings.cors_origins:
-        app.add_middleware(CORSMiddleware, allow_origins=settings.cors_origins, allow_credentials=True,
-                           allow_methods=["GET", "POST", "PUT", "PATCH", "DELETE"],
-                           allow_headers=["Authorization", "Content-Type", "X-API-Key", "X-Request-ID"])
+        app.add_middleware(
+            CORSMiddleware,
+            allow_origins=settings.cors_origins,
+            allow_credentials=True,
+            allow_methods=["GET", "POST", "PUT", "PATCH", "DELETE"],
+            allow_headers=["Authorization", "Content-Type", "X-API-Key", "X-Request-ID"],
+        )
     app.add_middleware(RequestMiddleware, max_body_bytes=settings.max_body_bytes)
     app.add_middleware(SecurityHeadersMiddleware, settings=settings)  # outermost: the 413s get them too
     return app

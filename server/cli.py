@@ -26,20 +26,37 @@ def _serve(args: argparse.Namespace) -> int:
     settings = Settings()
     configure(settings.log_level)
     app = create_app(settings)
-    print(f"PAL Trainer: http://{args.host}:{args.port}/docs  (API unter /api/v1, Daten: "
-          f"{'DATABASE_URL' if settings.database_url else settings.data_dir.resolve()})", file=sys.stderr)
-    uvicorn.run(app, host=args.host, port=args.port, log_config=None, ws_max_size=settings.max_body_bytes, ws_per_message_deflate=False,
-                proxy_headers=args.proxy_headers, forwarded_allow_ips=os.environ.get("FORWARDED_ALLOW_IPS"))
+    print(
+        f"PAL Trainer: http://{args.host}:{args.port}/docs  (API unter /api/v1, Daten: "
+        f"{'DATABASE_URL' if settings.database_url else settings.data_dir.resolve()})",
+        file=sys.stderr,
+    )
+    uvicorn.run(
+        app,
+        host=args.host,
+        port=args.port,
+        log_config=None,
+        ws_max_size=settings.max_body_bytes,
+        ws_per_message_deflate=False,
+        proxy_headers=args.proxy_headers,
+        forwarded_allow_ips=os.environ.get("FORWARDED_ALLOW_IPS"),
+    )
     return 0
 
 
 def register_serve(subparsers: Any, common: argparse.ArgumentParser) -> None:
-    p = subparsers.add_parser("serve", help="Webserver starten / start the web server",
-                              description="Startet die Web-App und die REST-API (Einstellungen: docs/server.md).")
+    p = subparsers.add_parser(
+        "serve",
+        help="Webserver starten / start the web server",
+        description="Startet die Web-App und die REST-API (Einstellungen: docs/server.md).",
+    )
     p.add_argument("--host", default="127.0.0.1", help="Adresse / address (Standard 127.0.0.1)")
     p.add_argument("--port", type=int, default=8000, help="Port (Standard 8000)")
-    p.add_argument("--proxy-headers", action="store_true",
-                   help="X-Forwarded-* eines Reverse-Proxys übernehmen / trust a reverse proxy's headers")
+    p.add_argument(
+        "--proxy-headers",
+        action="store_true",
+        help="X-Forwarded-* eines Reverse-Proxys übernehmen / trust a reverse proxy's headers",
+    )
     p.set_defaults(handler=_serve)
 
 
@@ -55,8 +72,10 @@ def _lti_names(names: list[str]) -> bool:
 
     reserved = [n for n in names if lti_reserved(n)]
     for name in reserved:
-        print(f"Name »{name}« nicht erlaubt: {LTI_NAME_DE} / name '{name}' not allowed: {LTI_NAME_EN}",
-              file=sys.stderr)
+        print(
+            f"Name »{name}« nicht erlaubt: {LTI_NAME_DE} / name '{name}' not allowed: {LTI_NAME_EN}",
+            file=sys.stderr,
+        )
     return bool(reserved)
 
 
@@ -131,12 +150,18 @@ def _import_users(args: argparse.Namespace) -> int:
         except ApiError as err:
             print(f"{err.message} / {err.message_en}", file=sys.stderr)
             for row in err.params.get("errors", [])[5:]:
-                print(f"Zeile {row['row']}: {row['message']} / row {row['row']}: {row['message_en']}", file=sys.stderr)
+                print(
+                    f"Zeile {row['row']}: {row['message']} / row {row['row']}: {row['message_en']}",
+                    file=sys.stderr,
+                )
             return 1
     for u in users:
         print(f"{u.username};{u.password or ''}")
-    print(f"{len(users)} Schüler angelegt (Passwörter werden nur jetzt angezeigt; leer: aus der Liste) / "
-          f"{len(users)} students created (passwords shown only now; empty: from the list)", file=sys.stderr)
+    print(
+        f"{len(users)} Schüler angelegt (Passwörter werden nur jetzt angezeigt; leer: aus der Liste) / "
+        f"{len(users)} students created (passwords shown only now; empty: from the list)",
+        file=sys.stderr,
+    )
     return 0
 
 
@@ -155,8 +180,10 @@ def _create_api_key(args: argparse.Namespace) -> int:
         scopes = sorted({s for group in args.scope for s in group.split(",") if s})
         record, secret = services.create_api_key(db, args.name, scopes, owner)
     print(secret)
-    print(f"API-Schlüssel {record.prefix} ({', '.join(scopes)}) – wird nur jetzt angezeigt / shown only now",
-          file=sys.stderr)
+    print(
+        f"API-Schlüssel {record.prefix} ({', '.join(scopes)}) – wird nur jetzt angezeigt / shown only now",
+        file=sys.stderr,
+    )
     return 0
 
 
@@ -194,14 +221,19 @@ def _scope(text: str) -> str:
 
 
 def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
-    p = subparsers.add_parser("admin", help="Benutzer und API-Schlüssel verwalten / manage users and API keys")
+    p = subparsers.add_parser(
+        "admin", help="Benutzer und API-Schlüssel verwalten / manage users and API keys"
+    )
     sub = p.add_subparsers(dest="admin_command", required=True)
     u = sub.add_parser("create-user", help="Benutzer anlegen / create a user")
     u.add_argument("name")
     u.add_argument("--role", choices=ROLES, default="student")
     u.add_argument("--password", help="ohne: wird abgefragt / without: asked for")
-    u.add_argument("--instructor", metavar="NAME",
-                   help="Lehrkraft, die den Benutzer betreut (sieht seine Abgaben) / the instructor who manages the user")
+    u.add_argument(
+        "--instructor",
+        metavar="NAME",
+        help="Lehrkraft, die den Benutzer betreut (sieht seine Abgaben) / the instructor who manages the user",
+    )
     u.set_defaults(handler=_create_user)
     si = sub.add_parser("set-instructor", help="Lehrkraft eines Benutzers setzen / set a user's instructor")
     si.add_argument("name")
@@ -209,23 +241,36 @@ def register_admin(subparsers: Any, common: argparse.ArgumentParser) -> None:
     group.add_argument("instructor", nargs="?", help="die Lehrkraft / the instructor")
     group.add_argument("--none", action="store_true", help="keine Lehrkraft / no instructor")
     si.set_defaults(handler=_set_instructor)
-    iu = sub.add_parser("import-users", help="Klassenliste importieren / import a class list",
-                        description="CSV mit ; oder , (UTF-8, mit oder ohne BOM): Spalten name;password oder nur "
-                                    "name, Kopfzeile erlaubt. Fehlende Passwörter werden erzeugt und einmal "
-                                    "ausgegeben (name;passwort). Alles oder nichts.")
+    iu = sub.add_parser(
+        "import-users",
+        help="Klassenliste importieren / import a class list",
+        description="CSV mit ; oder , (UTF-8, mit oder ohne BOM): Spalten name;password oder nur "
+        "name, Kopfzeile erlaubt. Fehlende Passwörter werden erzeugt und einmal "
+        "ausgegeben (name;passwort). Alles oder nichts.",
+    )
     iu.add_argument("file", help="die CSV-Datei (- : Standardeingabe) / the CSV file (-: standard input)")
     iu.add_argument("--instructor", metavar="NAME", help="Lehrkraft der Klasse / the class's instructor")
     iu.set_defaults(handler=_import_users)
-    k = sub.add_parser("create-api-key", help="API-Schlüssel anlegen (wird einmal ausgegeben) / create an API key")
+    k = sub.add_parser(
+        "create-api-key", help="API-Schlüssel anlegen (wird einmal ausgegeben) / create an API key"
+    )
     k.add_argument("name")
-    k.add_argument("--scope", action="append", type=_scope, required=True,
-                   help=f"mehrfach oder mit Komma / repeatable or comma-separated: {', '.join(SCOPES)}")
+    k.add_argument(
+        "--scope",
+        action="append",
+        type=_scope,
+        required=True,
+        help=f"mehrfach oder mit Komma / repeatable or comma-separated: {', '.join(SCOPES)}",
+    )
     k.add_argument("--user", help="Der Schlüssel handelt für diesen Benutzer / the key acts for this user")
     k.set_defaults(handler=_create_api_key)
     lk = sub.add_parser("list-api-keys", help="API-Schlüssel auflisten / list API keys")
     lk.set_defaults(handler=_list_api_keys)
-    m = sub.add_parser("migrate", help="Datenbank auf den neuesten Stand bringen, Aufgaben laden / migrate the "
-                                       "database and load the built-in exercises (before the servers start)")
+    m = sub.add_parser(
+        "migrate",
+        help="Datenbank auf den neuesten Stand bringen, Aufgaben laden / migrate the "
+        "database and load the built-in exercises (before the servers start)",
+    )
     m.set_defaults(handler=_migrate)
     r = sub.add_parser("revoke-api-key", help="API-Schlüssel widerrufen / revoke an API key")
     r.add_argument("prefix", help="the key's id after pal_, e.g. 1a2b3c4d")

@@ -22,11 +22,16 @@ class Settings(BaseSettings):
         default=None, validation_alias=AliasChoices("DATABASE_URL", "PALTRAINER_DATABASE_URL")
     )
     # shared rate-limit and login-failure counts of all replicas (server/ratelimit.py); unset: kept in the process
-    redis_url: str | None = Field(default=None, validation_alias=AliasChoices("REDIS_URL", "PALTRAINER_REDIS_URL"))
+    redis_url: str | None = Field(
+        default=None, validation_alias=AliasChoices("REDIS_URL", "PALTRAINER_REDIS_URL")
+    )
     # this server's name behind a load balancer: the 3D tokens start with it, so that the balancer sends a
     # scene's requests to the replica that holds it (deploy/haproxy.cfg); letters, digits and "-" only
-    replica_id: str = Field(default="", pattern=r"^[A-Za-z0-9-]{0,63}$",
-                            validation_alias=AliasChoices("REPLICA_ID", "PALTRAINER_REPLICA_ID"))
+    replica_id: str = Field(
+        default="",
+        pattern=r"^[A-Za-z0-9-]{0,63}$",
+        validation_alias=AliasChoices("REPLICA_ID", "PALTRAINER_REPLICA_ID"),
+    )
     data_dir: Path = Path("data")
     secret_key: str | None = None  # None: generated once and kept in <data_dir>/secret_key
     free_practice: bool = True  # check/run/simulate and the live socket without an account
@@ -41,19 +46,27 @@ class Settings(BaseSettings):
     max_body_bytes: int = 1_000_000
     max_program_chars: int = 200_000
     max_live_lines: int = 20_000
-    live_connections_per_user: int = 8  # open live sockets of one user or API key (tabs); beyond: closed with 4429
-    live_connections_per_address: int = 60  # open anonymous live sockets of one address (a class behind one NAT)
+    live_connections_per_user: int = (
+        8  # open live sockets of one user or API key (tabs); beyond: closed with 4429
+    )
+    live_connections_per_address: int = (
+        60  # open anonymous live sockets of one address (a class behind one NAT)
+    )
     rate_login_per_minute: int = 5  # failed logins per user name (/auth/token and /auth/login together)
     rate_login_address_per_minute: int = 100  # failed logins per client address, whatever the user names
     rate_check_per_minute: int = 120  # check and run
     rate_simulate_per_minute: int = 30
     rate_submit_per_minute: int = 20
-    rate_lti_login_per_minute: int = 300  # LTI launches started per address (a school's classes behind one NAT)
+    rate_lti_login_per_minute: int = (
+        300  # LTI launches started per address (a school's classes behind one NAT)
+    )
     rate_join_per_minute: int = 10  # join-code tries of one user (POST /courses/join)
     rate_join_address_per_minute: int = 60  # join-code tries from one address, whoever asks
     # self-registration: "off", or "course-code" (a visitor makes a student account with a course's join code)
     self_signup: Literal["off", "course-code"] = "off"
-    rate_signup_per_minute: int = 30  # sign-up tries from one address (a class behind one NAT registers at once)
+    rate_signup_per_minute: int = (
+        30  # sign-up tries from one address (a class behind one NAT registers at once)
+    )
     rate_enrol_per_minute: int = 60  # members added by name (POST /courses/{id}/members), per user
     rate_draft_per_minute: int = 120  # draft saves (the editor saves at most every 2 s, per tab)
     # the 3D view: each live session is a viser server (a thread, a port, a few descriptors)
@@ -65,8 +78,12 @@ class Settings(BaseSettings):
     # way at once, per user or API key and per address for anonymous ones; beyond: 429 TOO_MANY_JOBS
     heavy_jobs_per_user: int = Field(default=4, ge=1)
     heavy_jobs_per_address: int = Field(default=30, ge=1)  # anonymous free practice: a class behind one NAT
-    submissions_with_details: int = Field(default=50, ge=1)  # per user and exercise the newest keep their diagnostics
-    viz_sessions_per_user: int = 3  # live 3D sessions of one user (or key); beyond, the one idle longest stops
+    submissions_with_details: int = Field(
+        default=50, ge=1
+    )  # per user and exercise the newest keep their diagnostics
+    viz_sessions_per_user: int = (
+        3  # live 3D sessions of one user (or key); beyond, the one idle longest stops
+    )
     viz_sessions_per_address: int = 40  # live anonymous 3D sessions from one address (a class behind one NAT)
     viz_sessions_max: int = 200  # live 3D sessions in all
     viz_idle_seconds: float = 900.0  # a 3D session unused this long is stopped
@@ -81,7 +98,7 @@ class Settings(BaseSettings):
             url = self.database_url
             for prefix in ("postgres://", "postgresql://"):
                 if url.startswith(prefix):
-                    return "postgresql+psycopg://" + url[len(prefix):]
+                    return "postgresql+psycopg://" + url[len(prefix) :]
             return url
         return f"sqlite:///{(self.data_dir / 'paltrainer.sqlite3').resolve()}"
 

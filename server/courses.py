@@ -35,15 +35,18 @@ class CourseCreate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     name: Title
-    instructors: list[Username] = Field(default=[], max_length=20,
-                                        description="Further instructors (the creating instructor is one anyway)")
+    instructors: list[Username] = Field(
+        default=[], max_length=20, description="Further instructors (the creating instructor is one anyway)"
+    )
 
 
 class CourseUpdate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
     name: Title | None = None
-    new_join_code: bool = Field(default=False, description="Replace the join code (the old one stops working)")
+    new_join_code: bool = Field(
+        default=False, description="Replace the join code (the old one stops working)"
+    )
 
 
 class CourseOut(BaseModel):
@@ -71,8 +74,10 @@ class MemberIn(BaseModel):
 class MemberOut(BaseModel):
     username: str
     role: Literal["student", "instructor"]
-    signed_up: bool = Field(default=False, description="The student made their own account with this course's "
-                                                       "join code (self-registration)")
+    signed_up: bool = Field(
+        default=False,
+        description="The student made their own account with this course's join code (self-registration)",
+    )
 
 
 class ImportedMembers(BaseModel):
@@ -101,7 +106,9 @@ class AssignmentCreate(BaseModel):
     mode: Literal["practice", "exam"] = "practice"
     late: Literal["accept", "refuse"] = "accept"
     opens_at: Time
-    deadline: Time | None = Field(default=None, description="Practice: required; an exam ends after its duration")
+    deadline: Time | None = Field(
+        default=None, description="Practice: required; an exam ends after its duration"
+    )
     duration_minutes: int | None = Field(default=None, ge=1, le=24 * 60, description="Exams: e.g. 90")
     settings: AssignmentSettings = AssignmentSettings()
 
@@ -150,10 +157,13 @@ class MyExercise(BaseModel):
 
 class MyAssignment(AssignmentOut):
     status: Literal["upcoming", "open", "running", "submitting", "submitted", "late", "closed"] = Field(
-        description="submitting: the exam is over and its last drafts are being submitted (a moment)")
+        description="submitting: the exam is over and its last drafts are being submitted (a moment)"
+    )
     seconds_left: int | None = Field(description="Until the deadline / the exam's end, while open")
-    seconds_to_start: int | None = Field(default=None, description="Until it opens, while upcoming (the server's "
-                                                                     "clock: a page need not trust its own)")
+    seconds_to_start: int | None = Field(
+        default=None,
+        description="Until it opens, while upcoming (the server's clock: a page need not trust its own)",
+    )
     results_visible: bool
     items: list[MyExercise]
 
@@ -166,15 +176,20 @@ class AssignmentResultCell(BaseModel):
     auto: bool
     overridden: bool = Field(default=False, description="The score was set by an instructor")
     created_at: Time
-    exercise_version: int | None = Field(default=None, description="The exercise's version it was graded against")
-    version_note: str = Field(default="", description="\"Version 1\" when that is not the exercise's current one")
+    exercise_version: int | None = Field(
+        default=None, description="The exercise's version it was graded against"
+    )
+    version_note: str = Field(
+        default="", description='"Version 1" when that is not the exercise\'s current one'
+    )
 
 
 class AssignmentResultRow(BaseModel):
     username: str
     results: dict[str, AssignmentResultCell]
-    total: int | None = Field(description="The sum over every gradable exercise of the assignment (one not "
-                                          "handed in counts 0)")
+    total: int | None = Field(
+        description="The sum over every gradable exercise of the assignment (one not handed in counts 0)"
+    )
     max_total: int | None = Field(description="The sum of their maximum scores")
     percent: float | None = Field(default=None, description="total / max_total in %, one decimal")
 
@@ -229,10 +244,14 @@ def _manages(db: Session, user: User, course_id: int) -> bool:
 
 def course_out(db: Session, course: Course, user: User) -> CourseOut:
     rows = repo.members(db, course.id)
-    return CourseOut(id=course.id, name=course.name,
-                     join_code=course.join_code if _manages(db, user, course.id) else None,
-                     instructors=[u.username for m, u in rows if m.role == "instructor"],
-                     students=sum(1 for m, _ in rows if m.role == "student"), created_at=course.created_at)
+    return CourseOut(
+        id=course.id,
+        name=course.name,
+        join_code=course.join_code if _manages(db, user, course.id) else None,
+        instructors=[u.username for m, u in rows if m.role == "instructor"],
+        students=sum(1 for m, _ in rows if m.role == "student"),
+        created_at=course.created_at,
+    )
 
 
 def list_courses(db: Session, principal: Principal) -> list[CourseOut]:
@@ -276,8 +295,14 @@ def delete_course(db: Session, principal: Principal, course_id: int) -> None:
 
 def list_members(db: Session, principal: Principal, course_id: int) -> list[MemberOut]:
     course_for(db, principal, course_id, manage=True)
-    return [MemberOut(username=u.username, role=m.role,  # type: ignore[arg-type]
-                      signed_up=u.signup_course_id == course_id) for m, u in repo.members(db, course_id)]
+    return [
+        MemberOut(
+            username=u.username,
+            role=m.role,  # type: ignore[arg-type]
+            signed_up=u.signup_course_id == course_id,
+        )
+        for m, u in repo.members(db, course_id)
+    ]
 
 
 def add_member(db: Session, principal: Principal, course_id: int, body: MemberIn) -> MemberOut:
@@ -337,11 +362,21 @@ def assignment_out(db: Session, a: Assignment, student: bool = False) -> Assignm
     """The assignment; to a student an exam names its exercises only from its start."""
     course = repo.course_by_id(db, a.course_id)
     hidden = student and a.mode == "exam" and now() < utc(a.opens_at)
-    return AssignmentOut(id=a.id, course=a.course_id, course_name=course.name if course else "", title=a.title,
-                         exercises=[] if hidden else list(a.exercises), mode=a.mode, late=a.late,  # type: ignore[arg-type]
-                         opens_at=a.opens_at, deadline=access.end_of(a), duration_minutes=a.duration_minutes,
-                         settings=access.settings_of(a), released=a.released_at is not None,
-                         created_at=a.created_at)
+    return AssignmentOut(
+        id=a.id,
+        course=a.course_id,
+        course_name=course.name if course else "",
+        title=a.title,
+        exercises=[] if hidden else list(a.exercises),
+        mode=a.mode,  # type: ignore[arg-type]
+        late=a.late,  # type: ignore[arg-type]
+        opens_at=a.opens_at,
+        deadline=access.end_of(a),
+        duration_minutes=a.duration_minutes,
+        settings=access.settings_of(a),
+        released=a.released_at is not None,
+        created_at=a.created_at,
+    )
 
 
 def _check_exercises(db: Session, user: User, slugs: list[str]) -> list[str]:
@@ -360,15 +395,24 @@ def _times(mode: str, opens_at: datetime, deadline: datetime | None, duration: i
     """The stored deadline (an exam's end); ASSIGNMENT_TIMES when they do not fit."""
     if mode == "exam":
         if duration is None:
-            raise ApiError("ASSIGNMENT_TIMES", detail="eine Prüfung braucht eine Dauer (duration_minutes)",
-                           detail_en="an exam needs a duration (duration_minutes)")
+            raise ApiError(
+                "ASSIGNMENT_TIMES",
+                detail="eine Prüfung braucht eine Dauer (duration_minutes)",
+                detail_en="an exam needs a duration (duration_minutes)",
+            )
         return utc(opens_at) + timedelta(minutes=duration)
     if deadline is None:
-        raise ApiError("ASSIGNMENT_TIMES", detail="es fehlt die Abgabefrist (deadline)",
-                       detail_en="the deadline is missing")
+        raise ApiError(
+            "ASSIGNMENT_TIMES",
+            detail="es fehlt die Abgabefrist (deadline)",
+            detail_en="the deadline is missing",
+        )
     if utc(deadline) <= utc(opens_at):
-        raise ApiError("ASSIGNMENT_TIMES", detail="die Abgabefrist liegt nicht nach der Freigabe",
-                       detail_en="the deadline is not after the opening time")
+        raise ApiError(
+            "ASSIGNMENT_TIMES",
+            detail="die Abgabefrist liegt nicht nach der Freigabe",
+            detail_en="the deadline is not after the opening time",
+        )
     return deadline
 
 
@@ -382,14 +426,24 @@ def list_assignments(db: Session, principal: Principal, course_id: int) -> list[
     return [assignment_out(db, a, student) for a in repo.assignments_of(db, [course_id])]
 
 
-def create_assignment(db: Session, principal: Principal, course_id: int, body: AssignmentCreate) -> AssignmentOut:
+def create_assignment(
+    db: Session, principal: Principal, course_id: int, body: AssignmentCreate
+) -> AssignmentOut:
     course_for(db, principal, course_id, manage=True)
     slugs = _check_exercises(db, _user(principal), body.exercises)
     deadline = _times(body.mode, body.opens_at, body.deadline, body.duration_minutes)
-    a = repo.create_assignment(db, course_id=course_id, title=body.title, exercises=slugs, mode=body.mode,
-                               late="refuse" if body.mode == "exam" else body.late, opens_at=body.opens_at,
-                               deadline=deadline, duration_minutes=body.duration_minutes if body.mode == "exam"
-                               else None, settings=_settings(body.settings))
+    a = repo.create_assignment(
+        db,
+        course_id=course_id,
+        title=body.title,
+        exercises=slugs,
+        mode=body.mode,
+        late="refuse" if body.mode == "exam" else body.late,
+        opens_at=body.opens_at,
+        deadline=deadline,
+        duration_minutes=body.duration_minutes if body.mode == "exam" else None,
+        settings=_settings(body.settings),
+    )
     return assignment_out(db, a)
 
 
@@ -406,7 +460,9 @@ def assignment_for(db: Session, principal: Principal, assignment_id: int, manage
     return a
 
 
-def update_assignment(db: Session, principal: Principal, assignment_id: int, body: AssignmentUpdate) -> AssignmentOut:
+def update_assignment(
+    db: Session, principal: Principal, assignment_id: int, body: AssignmentUpdate
+) -> AssignmentOut:
     a = assignment_for(db, principal, assignment_id, manage=True)
     fields = body.model_dump(exclude_unset=True)
     if fields.get("exercises") is not None:
@@ -418,8 +474,12 @@ def update_assignment(db: Session, principal: Principal, assignment_id: int, bod
         a.settings = _settings(body.settings)
     if a.mode == "exam":
         a.late = "refuse"
-    a.deadline = _times(a.mode, a.opens_at, body.deadline or (a.deadline if a.mode == "practice" else None),
-                        a.duration_minutes)
+    a.deadline = _times(
+        a.mode,
+        a.opens_at,
+        body.deadline or (a.deadline if a.mode == "practice" else None),
+        a.duration_minutes,
+    )
     repo.save(db, a)
     return assignment_out(db, a)
 
@@ -433,8 +493,9 @@ def get_assignment(db: Session, principal: Principal, assignment_id: int) -> Ass
     return assignment_out(db, a, student=not _manages(db, _user(principal), a.course_id))
 
 
-async def assignment_sheets(db: Session, workers: Workers, principal: Principal, assignment_id: int,
-                            lang: str) -> bytes:
+async def assignment_sheets(
+    db: Session, workers: Workers, principal: Principal, assignment_id: int, lang: str
+) -> bytes:
     """The assignment's exercises as one printed task sheet (instructors; students once it is open): each
     exercise's pages rendered (and kept) on their own, then put together (services.task_sheet)."""
 
@@ -442,12 +503,19 @@ async def assignment_sheets(db: Session, workers: Workers, principal: Principal,
         a = assignment_for(db, principal, assignment_id)
         if not _manages(db, _user(principal), a.course_id) and now() < utc(a.opens_at):
             raise ApiError("ASSIGNMENT_NOT_OPEN", opens_at=utc(a.opens_at).isoformat())
-        exercises = [e for e in (repo.exercise_by_slug(db, s) for s in a.exercises)
-                     if e is not None and e.document is not None]
-        own = [repo.exercise_drawing(db, e.id) for e in exercises]  # the authors' own drawings, printed instead
+        exercises = [
+            e
+            for e in (repo.exercise_by_slug(db, s) for s in a.exercises)
+            if e is not None and e.document is not None
+        ]
+        own = [
+            repo.exercise_drawing(db, e.id) for e in exercises
+        ]  # the authors' own drawings, printed instead
         db.commit()  # the pooled connection goes back before the wait for the workers
-        return ([e.document for e in exercises if e.document is not None],
-                [(d.media_type, d.data) if d is not None else None for d in own])
+        return (
+            [e.document for e in exercises if e.document is not None],
+            [(d.media_type, d.data) if d is not None else None for d in own],
+        )
 
     documents, drawings = await run_in_threadpool(read)
     if not documents:
@@ -493,8 +561,11 @@ def _claim(db: Session, a: Assignment) -> _Finalising | None:
     students = {user.id for member, user in repo.members(db, a.course_id) if member.role == "student"}
     exercises = {e.id: e for e in (repo.exercise_by_slug(db, slug) for slug in a.exercises) if e is not None}
     done = {(s.user_id, s.exercise_id) for s in repo.assignment_submissions(db, a.id)}
-    drafts = [(d.user_id, d.exercise_id, d.program) for d in repo.exam_drafts(db, a.id)
-              if d.user_id in students and d.exercise_id in exercises and (d.user_id, d.exercise_id) not in done]
+    drafts = [
+        (d.user_id, d.exercise_id, d.program)
+        for d in repo.exam_drafts(db, a.id)
+        if d.user_id in students and d.exercise_id in exercises and (d.user_id, d.exercise_id) not in done
+    ]
     db.commit()  # no connection is held while the workers grade
     return _Finalising(a, int(access.settings_of(a)["max_submissions"] or 0), exercises, drafts)
 
@@ -503,12 +574,22 @@ def _store_finalised(db: Session, work: _Finalising, results: list[dict[str, Any
     a, made = work.assignment, 0
     for (user_id, exercise_id, program), result in zip(work.drafts, results, strict=True):
         exercise = work.exercises[exercise_id]
-        fields = {"exercise_id": exercise.id, "user_id": user_id, "program": program, "dialect": exercise.dialect,
-                  "error_count": result["errors"], "warning_count": result["warnings"],
-                  "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
-                  "grading": result["grading"], "idempotency_key": f"exam{a.id}:u{user_id}:{exercise.slug}",
-                  "assignment_id": a.id, "late": False, "held": a.released_at is None, "auto": True,
-                  "exercise_version": exercise.version}
+        fields = {
+            "exercise_id": exercise.id,
+            "user_id": user_id,
+            "program": program,
+            "dialect": exercise.dialect,
+            "error_count": result["errors"],
+            "warning_count": result["warnings"],
+            "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
+            "grading": result["grading"],
+            "idempotency_key": f"exam{a.id}:u{user_id}:{exercise.slug}",
+            "assignment_id": a.id,
+            "late": False,
+            "held": a.released_at is None,
+            "auto": True,
+            "exercise_version": exercise.version,
+        }
         try:
             submission = services.store_attempt(db, fields, work.limit, exercise.slug)
         except (repo.Duplicate, ApiError):
@@ -533,8 +614,9 @@ async def finalize_exam(db: Session, workers: Workers, a: Assignment) -> int:
     async def graded(program: str, exercise_id: int) -> dict[str, Any]:
         async with at_once:
             exercise = work.exercises[exercise_id]
-            result: dict[str, Any] = await workers.call(job_submission, program, exercise.dialect,
-                                                        services.exercise_spec(exercise, False))
+            result: dict[str, Any] = await workers.call(
+                job_submission, program, exercise.dialect, services.exercise_spec(exercise, False)
+            )
             return result
 
     results = await asyncio.gather(*(graded(program, eid) for _, eid, program in work.drafts))
@@ -577,9 +659,11 @@ def my_assignments(db: Session, principal: Principal) -> list[MyAssignment]:
     drafts = {(d.assignment_id, d.exercise_id) for d in repo.all_drafts_of(db, user.id)}
     for a in repo.student_assignments(db, user.id):
         subs = repo.assignment_submissions(db, a.id, user.id)
-        scope = a.id if a.mode == "exam" else None  # an exam's drafts are its own; practice has the practice draft
+        scope = (
+            a.id if a.mode == "exam" else None
+        )  # an exam's drafts are its own; practice has the practice draft
         items = []
-        for slug in ([] if a.mode == "exam" and t < utc(a.opens_at) else a.exercises):
+        for slug in [] if a.mode == "exam" and t < utc(a.opens_at) else a.exercises:
             exercise = repo.exercise_by_slug(db, slug)
             mine = [s for s in subs if exercise is not None and s.exercise_id == exercise.id]
             drafted = exercise is not None and (scope, exercise.id) in drafts
@@ -590,11 +674,21 @@ def my_assignments(db: Session, principal: Principal) -> list[MyAssignment]:
             visible = access.grade_visible(sit, best, slug)
             score, max_score = services._score(best) if visible else (None, None)
             grading = services.grading_view(best.grading, False) if visible else None
-            items.append(MyExercise(exercise=slug, submitted=True, draft=drafted, late=best.late, auto=best.auto,
-                                    submission=best.id, score=score, max_score=max_score,
-                                    criteria=grading["criteria"] if grading else None,
-                                    override=services.override_out(db, best) if visible else None,
-                                    program=best.program if visible or a.mode != "exam" else None))
+            items.append(
+                MyExercise(
+                    exercise=slug,
+                    submitted=True,
+                    draft=drafted,
+                    late=best.late,
+                    auto=best.auto,
+                    submission=best.id,
+                    score=score,
+                    max_score=max_score,
+                    criteria=grading["criteria"] if grading else None,
+                    override=services.override_out(db, best) if visible else None,
+                    program=best.program if visible or a.mode != "exam" else None,
+                )
+            )
         end = access.end_of(a)
         all_done = all(i.submitted for i in items)
         status: Literal["upcoming", "open", "running", "submitting", "submitted", "late", "closed"]
@@ -608,11 +702,16 @@ def my_assignments(db: Session, principal: Principal) -> list[MyAssignment]:
             status = "late" if any(i.late for i in items) else "submitted"
         else:
             status = "open" if a.mode == "practice" and a.late == "accept" else "closed"
-        out.append(MyAssignment(**assignment_out(db, a, student=True).model_dump(), status=status,
-                                seconds_left=int((end - t).total_seconds()) if utc(a.opens_at) <= t < end else None,
-                                seconds_to_start=int((utc(a.opens_at) - t).total_seconds()) if t < utc(a.opens_at)
-                                else None,
-                                results_visible=a.mode != "exam" or a.released_at is not None, items=items))
+        out.append(
+            MyAssignment(
+                **assignment_out(db, a, student=True).model_dump(),
+                status=status,
+                seconds_left=int((end - t).total_seconds()) if utc(a.opens_at) <= t < end else None,
+                seconds_to_start=int((utc(a.opens_at) - t).total_seconds()) if t < utc(a.opens_at) else None,
+                results_visible=a.mode != "exam" or a.released_at is not None,
+                items=items,
+            )
+        )
     return out
 
 
@@ -639,21 +738,48 @@ def assignment_results(db: Session, principal: Principal, assignment_id: int) ->
                 # Scored carries what best_of reads of a Submission (its grading's score and the override)
                 best = cast(repo.Scored, services.best_of(mine))  # type: ignore[arg-type]
                 score, max_score = services._score(best)  # type: ignore[arg-type]
-                cells[slug] = AssignmentResultCell(submission=best.id, score=score, max_score=max_score,
-                                                   late=best.late, auto=best.auto, overridden=best.overridden,
-                                                   created_at=best.created_at, exercise_version=best.exercise_version,
-                                                   version_note=services.version_note(best.exercise_version,
-                                                                                      versions[eid]))
+                cells[slug] = AssignmentResultCell(
+                    submission=best.id,
+                    score=score,
+                    max_score=max_score,
+                    late=best.late,
+                    auto=best.auto,
+                    overridden=best.overridden,
+                    created_at=best.created_at,
+                    exercise_version=best.exercise_version,
+                    version_note=services.version_note(best.exercise_version, versions[eid]),
+                )
         total = sum(c.score or 0 for c in cells.values())
-        rows.append(AssignmentResultRow(username=user.username, results=cells,
-                                        total=total if max_total else None, max_total=max_total or None,
-                                        percent=round(100 * total / max_total, 1) if max_total else None))
-    return AssignmentResults(assignment=a.id, title=a.title, exercises=list(a.exercises),
-                             released=a.released_at is not None, trainees=rows)
+        rows.append(
+            AssignmentResultRow(
+                username=user.username,
+                results=cells,
+                total=total if max_total else None,
+                max_total=max_total or None,
+                percent=round(100 * total / max_total, 1) if max_total else None,
+            )
+        )
+    return AssignmentResults(
+        assignment=a.id,
+        title=a.title,
+        exercises=list(a.exercises),
+        released=a.released_at is not None,
+        trainees=rows,
+    )
 
 
-RESULT_COLUMNS = ("Benutzer", "Aufgabe", "Punktzahl", "Höchstpunktzahl", "Prozent", "Verspätet",
-                  "Automatisch abgegeben", "Abgabe", "Zeitpunkt", "Von der Lehrkraft geändert")
+RESULT_COLUMNS = (
+    "Benutzer",
+    "Aufgabe",
+    "Punktzahl",
+    "Höchstpunktzahl",
+    "Prozent",
+    "Verspätet",
+    "Automatisch abgegeben",
+    "Abgabe",
+    "Zeitpunkt",
+    "Von der Lehrkraft geändert",
+)
 
 
 def assignment_results_csv(db: Session, principal: Principal, assignment_id: int) -> str:
@@ -666,14 +792,38 @@ def assignment_results_csv(db: Session, principal: Principal, assignment_id: int
             if cell is None:
                 rows.append([trainee.username, slug, "", "", "", "", "", "", "", ""])
                 continue
-            percent = (services.decimal_comma(100 * cell.score / cell.max_score)
-                       if cell.score is not None and cell.max_score else "")
-            rows.append([trainee.username, slug, "" if cell.score is None else cell.score,
-                         "" if cell.max_score is None else cell.max_score, percent, "ja" if cell.late else "nein",
-                         "ja" if cell.auto else "nein", cell.submission, services.berlin_time(cell.created_at),
-                         "ja" if cell.overridden else "nein"])
+            percent = (
+                services.decimal_comma(100 * cell.score / cell.max_score)
+                if cell.score is not None and cell.max_score
+                else ""
+            )
+            rows.append(
+                [
+                    trainee.username,
+                    slug,
+                    "" if cell.score is None else cell.score,
+                    "" if cell.max_score is None else cell.max_score,
+                    percent,
+                    "ja" if cell.late else "nein",
+                    "ja" if cell.auto else "nein",
+                    cell.submission,
+                    services.berlin_time(cell.created_at),
+                    "ja" if cell.overridden else "nein",
+                ]
+            )
         if trainee.max_total:  # the sum over the whole assignment, as the matrix shows it
-            rows.append([trainee.username, "Summe", trainee.total, trainee.max_total,
-                         services.decimal_comma(trainee.percent or 0.0), "", "", "", "", ""])
+            rows.append(
+                [
+                    trainee.username,
+                    "Summe",
+                    trainee.total,
+                    trainee.max_total,
+                    services.decimal_comma(trainee.percent or 0.0),
+                    "",
+                    "",
+                    "",
+                    "",
+                    "",
+                ]
+            )
     return excel_csv(RESULT_COLUMNS, rows)
-

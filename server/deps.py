@@ -78,14 +78,19 @@ class Principal:
 ANONYMOUS = Principal()
 
 
-def resolve(db: Session, settings: Settings, token: str | None, api_key: str | None,
-            cookie: str | None) -> Principal:
+def resolve(
+    db: Session, settings: Settings, token: str | None, api_key: str | None, cookie: str | None
+) -> Principal:
     """The principal of a request's credentials; ApiError 401 on bad ones, ANONYMOUS with none."""
     key = api_key or (token if token and split_api_key(token) else None)
     if key is not None:
         prefix = split_api_key(key)
         record = repo.api_key_by_prefix(db, prefix) if prefix else None
-        if record is None or record.revoked_at is not None or not same_hash(record.key_hash, hash_api_key(key)):
+        if (
+            record is None
+            or record.revoked_at is not None
+            or not same_hash(record.key_hash, hash_api_key(key))
+        ):
             raise ApiError("BAD_API_KEY", headers={"WWW-Authenticate": "Bearer"})
         repo.touch_api_key(db, record)
         owner = repo.user_by_id(db, record.owner_id) if record.owner_id is not None else None
@@ -107,8 +112,12 @@ def token_user(db: Session, settings: Settings, jwt_text: str) -> User | None:
     claims = read_token(settings.jwt_secret(), jwt_text)
     user_id = token_user_id(claims) if claims else None
     user = repo.user_by_id(db, user_id) if user_id is not None else None
-    if user is None or claims is None or token_version(claims) != user.token_version \
-            or user.deactivated_at is not None:
+    if (
+        user is None
+        or claims is None
+        or token_version(claims) != user.token_version
+        or user.deactivated_at is not None
+    ):
         return None
     return user
 
@@ -120,14 +129,19 @@ def get_principal(
     bearer: Annotated[HTTPAuthorizationCredentials | None, Depends(_bearer)],
     api_key: Annotated[str | None, Depends(_api_key_header)],
 ) -> Principal:
-    principal = resolve(db, settings, bearer.credentials if bearer else None, api_key,
-                        request.cookies.get(SESSION_COOKIE))
+    principal = resolve(
+        db, settings, bearer.credentials if bearer else None, api_key, request.cookies.get(SESSION_COOKIE)
+    )
     # the pooled connection goes back now: a route that reads no more holds none (however long it waits for a
     # worker), and one that reads more takes one again (the user stays loaded: expire_on_commit is off)
     db.commit()
     request.state.principal = principal.identity
-    if principal.api_key is None and principal.user is not None and principal.user.must_change_password \
-            and request.url.path not in PASSWORD_CHANGE_PATHS:
+    if (
+        principal.api_key is None
+        and principal.user is not None
+        and principal.user.must_change_password
+        and request.url.path not in PASSWORD_CHANGE_PATHS
+    ):
         raise ApiError("PASSWORD_CHANGE_REQUIRED")
     return principal
 
@@ -193,7 +207,9 @@ def rate_limit(bucket: str, setting: str) -> Callable[[Request, Principal, Setti
     return check
 
 
-async def heavy_job(request: Request, principal: OptionalPrincipal, settings: AppSettings) -> AsyncIterator[None]:
+async def heavy_job(
+    request: Request, principal: OptionalPrincipal, settings: AppSettings
+) -> AsyncIterator[None]:
     """A dependency of every route that computes something heavy in a worker (task sheets, pictures, drawings,
     submissions, simulations, 3D scenes and deviations): at most PALTRAINER_HEAVY_JOBS_PER_USER of them at a
     time per user or API key, PALTRAINER_HEAVY_JOBS_PER_ADDRESS per address for anonymous ones; one more is

@@ -18,8 +18,19 @@ PDF_MAGIC = b"%PDF-"
 SVG = "image/svg+xml"
 PNG = "image/png"
 PDF = "application/pdf"
-_FORBIDDEN_ELEMENTS = {"script", "foreignobject", "iframe", "embed", "object", "audio", "video", "handler",
-                       "listener", "set", "animate"}
+_FORBIDDEN_ELEMENTS = {
+    "script",
+    "foreignobject",
+    "iframe",
+    "embed",
+    "object",
+    "audio",
+    "video",
+    "handler",
+    "listener",
+    "set",
+    "animate",
+}
 _URL = re.compile(r"url\(\s*['\"]?\s*([^)'\"\s]*)", re.IGNORECASE)
 
 
@@ -54,20 +65,35 @@ def _check_svg(data: bytes) -> None:
     for element in root.iter():
         tag = _local(str(element.tag))
         if tag in _FORBIDDEN_ELEMENTS:
-            raise _refuse(f"SVG mit dem Element <{tag}> (Skripte und eingebettete Inhalte sind nicht erlaubt)",
-                          f"SVG with the element <{tag}> (scripts and embedded content are not allowed)")
+            raise _refuse(
+                f"SVG mit dem Element <{tag}> (Skripte und eingebettete Inhalte sind nicht erlaubt)",
+                f"SVG with the element <{tag}> (scripts and embedded content are not allowed)",
+            )
         for name, value in element.attrib.items():
             attr = _local(name)
             if attr.startswith("on"):
-                raise _refuse(f"SVG mit dem Ereignis-Attribut »{attr}«", f"SVG with the event attribute '{attr}'")
+                raise _refuse(
+                    f"SVG mit dem Ereignis-Attribut »{attr}«", f"SVG with the event attribute '{attr}'"
+                )
             if attr == "href" and not value.strip().startswith("#"):
-                raise _refuse("SVG mit einem Verweis nach außen (href)", "SVG with an external reference (href)")
+                raise _refuse(
+                    "SVG mit einem Verweis nach außen (href)", "SVG with an external reference (href)"
+                )
             if any(not u.startswith("#") for u in _URL.findall(value)):
-                raise _refuse("SVG mit einem Verweis nach außen (url)", "SVG with an external reference (url)")
-        if tag == "style" and (element.text or "") and (
+                raise _refuse(
+                    "SVG mit einem Verweis nach außen (url)", "SVG with an external reference (url)"
+                )
+        if (
+            tag == "style"
+            and (element.text or "")
+            and (
                 "@import" in (element.text or "").lower()
-                or any(not u.startswith("#") for u in _URL.findall(element.text or ""))):
-            raise _refuse("SVG mit einem Verweis nach außen (style)", "SVG with an external reference (style)")
+                or any(not u.startswith("#") for u in _URL.findall(element.text or ""))
+            )
+        ):
+            raise _refuse(
+                "SVG mit einem Verweis nach außen (style)", "SVG with an external reference (style)"
+            )
 
 
 def png_size(data: bytes) -> tuple[int, int]:
@@ -93,8 +119,10 @@ def checked(data: bytes, filename: str) -> Drawing:
     if head.startswith((b"<?xml", b"<svg")):
         _check_svg(data)
         return Drawing(SVG, name, data)
-    raise _refuse("nur PDF, PNG oder SVG (nach dem Inhalt der Datei, nicht ihrem Namen)",
-                  "only PDF, PNG or SVG (by the file's content, not its name)")
+    raise _refuse(
+        "nur PDF, PNG oder SVG (nach dem Inhalt der Datei, nicht ihrem Namen)",
+        "only PDF, PNG or SVG (by the file's content, not its name)",
+    )
 
 
 def data_uri(media_type: str, data: bytes) -> str:
@@ -107,9 +135,16 @@ def as_svg(media_type: str, data: bytes, lang: str) -> str:
         return data.decode("utf-8")
     if media_type == PNG:
         width, height = png_size(data)
-        return (f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {width} {height}" width="{width}" '
-                f'height="{height}"><image href="{data_uri(PNG, data)}" width="{width}" height="{height}"/></svg>')
-    text = ("Die Zeichnung dieser Aufgabe ist ein PDF: »Zeichnung (PDF)« öffnet sie." if lang == "de"
-            else "This exercise's drawing is a PDF: 'Drawing (PDF)' opens it.")
-    return ('<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 400 60" width="400" height="60">'
-            f'<text x="10" y="35" font-family="sans-serif" font-size="14">{text}</text></svg>')
+        return (
+            f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {width} {height}" width="{width}" '
+            f'height="{height}"><image href="{data_uri(PNG, data)}" width="{width}" height="{height}"/></svg>'
+        )
+    text = (
+        "Die Zeichnung dieser Aufgabe ist ein PDF: »Zeichnung (PDF)« öffnet sie."
+        if lang == "de"
+        else "This exercise's drawing is a PDF: 'Drawing (PDF)' opens it."
+    )
+    return (
+        '<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 400 60" width="400" height="60">'
+        f'<text x="10" y="35" font-family="sans-serif" font-size="14">{text}</text></svg>'
+    )

@@ -43,8 +43,9 @@ _MT_WORD = re.compile(r"(?<![A-Z])([MT])0*(\d{1,3})(?!\d)", re.IGNORECASE)
 
 
 class Where(BaseModel):
-    block: str = Field(description="The block's feature where most of them had it: its G word (\"G47\"), "
-                                   "else its M or T word")
+    block: str = Field(
+        description='The block\'s feature where most of them had it: its G word ("G47"), else its M or T word'
+    )
     students: int = Field(description="How many of them had it there")
 
 
@@ -80,8 +81,9 @@ class ExerciseInsight(BaseModel):
 class AssignmentInsights(BaseModel):
     assignment: int
     title: str
-    basis: Literal["best"] = Field(description="Which submission of each student counts: the best (as in the "
-                                               "results matrix)")
+    basis: Literal["best"] = Field(
+        description="Which submission of each student counts: the best (as in the results matrix)"
+    )
     students: int = Field(description="Students in the course")
     scanned: int = Field(description="Submissions read")
     capped: bool = Field(description=f"More than {MAX_SUBMISSIONS} submissions: only the newest were read")
@@ -115,7 +117,7 @@ _SEVERITY_ORDER = {"error": 0, "warning": 1, "info": 2}
 def _details(db: Session, ids: list[int]) -> Iterator[Any]:
     """Program, result and grade of these submissions (rows with .program, .result, .grading), a batch at a time."""
     for start in range(0, len(ids), DETAILS_AT_ONCE):
-        yield from repo.submission_details(db, ids[start:start + DETAILS_AT_ONCE])
+        yield from repo.submission_details(db, ids[start : start + DETAILS_AT_ONCE])
 
 
 def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: Iterable[Any]) -> ExerciseInsight:
@@ -136,7 +138,9 @@ def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: Iter
         for code, d in seen.items():
             diag_students[code] += 1
             severity.setdefault(code, str(d.get("severity", "error")))
-            diag_texts.setdefault(code, Counter())[(str(d.get("message", "")), str(d.get("message_en", "")))] += 1
+            diag_texts.setdefault(code, Counter())[
+                (str(d.get("message", "")), str(d.get("message_en", "")))
+            ] += 1
             place = feature(s.program, int(d.get("line") or 0))
             if place:
                 diag_places.setdefault(code, Counter())[place] += 1
@@ -155,18 +159,45 @@ def _exercise_insight(slug: str, title_de: str, title_en: str | None, best: Iter
             if place:
                 lost_places.setdefault(cid, Counter())[place] += 1
     diagnostics = []
-    for code, n in sorted(diag_students.items(),
-                          key=lambda kv: (-kv[1], _SEVERITY_ORDER.get(severity[kv[0]], 3), kv[0]))[:TOP]:
+    for code, n in sorted(
+        diag_students.items(), key=lambda kv: (-kv[1], _SEVERITY_ORDER.get(severity[kv[0]], 3), kv[0])
+    )[:TOP]:
         (de, en), _ = diag_texts[code].most_common(1)[0]
-        diagnostics.append(DiagnosticInsight(code=code, severity=severity[code], message=de,  # type: ignore[arg-type]
-                                             message_en=en, students=n, where=_where(diag_places.get(code, Counter()))))
+        diagnostics.append(
+            DiagnosticInsight(
+                code=code,
+                severity=severity[code],  # type: ignore[arg-type]
+                message=de,
+                message_en=en,
+                students=n,
+                where=_where(diag_places.get(code, Counter())),
+            )
+        )
     criteria = []
-    for cid, n in sorted(lost.items(), key=lambda kv: (-kv[1], -points.get(kv[0], 0), order.get(kv[0], 0)))[:TOP]:
+    for cid, n in sorted(lost.items(), key=lambda kv: (-kv[1], -points.get(kv[0], 0), order.get(kv[0], 0)))[
+        :TOP
+    ]:
         de, en = CRITERION_NAMES.get(cid, (cid, cid))
-        criteria.append(CriterionInsight(id=cid, name=de, name_en=en, lost=n, of=graded, points=points.get(cid, 0),
-                                         where=_where(lost_places.get(cid, Counter()))))
-    return ExerciseInsight(exercise=slug, title_de=title_de, title_en=title_en, students=students, graded=graded,
-                           diagnostics=diagnostics, criteria=criteria)
+        criteria.append(
+            CriterionInsight(
+                id=cid,
+                name=de,
+                name_en=en,
+                lost=n,
+                of=graded,
+                points=points.get(cid, 0),
+                where=_where(lost_places.get(cid, Counter())),
+            )
+        )
+    return ExerciseInsight(
+        exercise=slug,
+        title_de=title_de,
+        title_en=title_en,
+        students=students,
+        graded=graded,
+        diagnostics=diagnostics,
+        criteria=criteria,
+    )
 
 
 def assignment_insights(db: Session, principal: Principal, assignment_id: int) -> AssignmentInsights:
@@ -186,8 +217,18 @@ def assignment_insights(db: Session, principal: Principal, assignment_id: int) -
         exercise = repo.exercise_by_slug(db, slug)
         if exercise is None:
             continue
-        best = [services.best_of(subs).id  # type: ignore[arg-type]  # Scored has the score as its grading
-                for (eid, _), subs in by_key.items() if eid == exercise.id]
+        best = [
+            services.best_of(subs).id  # type: ignore[arg-type]  # Scored has the score as its grading
+            for (eid, _), subs in by_key.items()
+            if eid == exercise.id
+        ]
         out.append(_exercise_insight(slug, exercise.title_de, exercise.title_en, _details(db, best)))
-    return AssignmentInsights(assignment=a.id, title=a.title, basis="best", students=len(students),
-                              scanned=len(rows), capped=capped, exercises=out)
+    return AssignmentInsights(
+        assignment=a.id,
+        title=a.title,
+        basis="best",
+        students=len(students),
+        scanned=len(rows),
+        capped=capped,
+        exercises=out,
+    )

@@ -78,19 +78,31 @@ TOOL_LIST = TypeAdapter(Annotated[list[ToolSpec], Field(max_length=99)])
 LIVE_ERRORS: dict[str, tuple[str, str]] = {
     "BAD_MESSAGE": ("Ungültige Nachricht: {detail}", "Invalid message: {detail_en}"),  # detail_en: detail
     "NOT_OPEN": ("Zuerst ein Dokument öffnen (open).", "Open a document first (open)."),
-    "STALE_VERSION": ("Version {version} ist nicht neuer als {current}; die Änderung wird ignoriert.",
-                      "Version {version} is not newer than {current}; the change is ignored."),
-    "BAD_LINE": ("Zeile {line} gibt es nicht (das Dokument hat {count} Zeilen).",
-                 "Line {line} does not exist (the document has {count} lines)."),
-    "TOO_MANY_LINES": ("Das Dokument hat zu viele Zeilen (höchstens {limit}).",
-                       "The document has too many lines (at most {limit})."),
-    "RUN_FAILED": ("Das Programm konnte wegen eines internen Fehlers nicht ausgewertet werden; bitte weiter tippen.",
-                   "The program could not be evaluated because of an internal error; please keep typing."),
-    "INTERNAL": ("Interner Fehler: die Nachricht wurde nicht verarbeitet.",
-                 "Internal error: the message was not processed."),
+    "STALE_VERSION": (
+        "Version {version} ist nicht neuer als {current}; die Änderung wird ignoriert.",
+        "Version {version} is not newer than {current}; the change is ignored.",
+    ),
+    "BAD_LINE": (
+        "Zeile {line} gibt es nicht (das Dokument hat {count} Zeilen).",
+        "Line {line} does not exist (the document has {count} lines).",
+    ),
+    "TOO_MANY_LINES": (
+        "Das Dokument hat zu viele Zeilen (höchstens {limit}).",
+        "The document has too many lines (at most {limit}).",
+    ),
+    "RUN_FAILED": (
+        "Das Programm konnte wegen eines internen Fehlers nicht ausgewertet werden; bitte weiter tippen.",
+        "The program could not be evaluated because of an internal error; please keep typing.",
+    ),
+    "INTERNAL": (
+        "Interner Fehler: die Nachricht wurde nicht verarbeitet.",
+        "Internal error: the message was not processed.",
+    ),
 }
 # close reasons (at most 123 bytes), German / English
-TOO_MANY_CONNECTIONS = "Zu viele Live-Verbindungen (höchstens {limit}) / Too many live connections (at most {limit})"
+TOO_MANY_CONNECTIONS = (
+    "Zu viele Live-Verbindungen (höchstens {limit}) / Too many live connections (at most {limit})"
+)
 FRAME_TOO_LARGE = "Nachricht zu groß (höchstens {limit} Bytes) / Message too big (at most {limit} bytes)"
 
 
@@ -132,8 +144,11 @@ class Gate:
     async def on_connect(self) -> ApiError | None:
         """Refused at once only where a running exam switches live diagnostics off (the exercise comes later)."""
         exam = access.switched_off(await self.situation(None), "live", now())
-        return None if exam is None else ApiError("EXAM_RUNNING", end=exam.end.isoformat(),
-                                                  until=access.german_time(exam.end))
+        return (
+            None
+            if exam is None
+            else ApiError("EXAM_RUNNING", end=exam.end.isoformat(), until=access.german_time(exam.end))
+        )
 
     async def check(self, slug: str | None) -> None:
         try:
@@ -158,7 +173,7 @@ class Document:
         count = len(self.lines)
         if not 1 <= first <= count + 1 or not first - 1 <= last <= count:
             raise LiveError("BAD_LINE", line=first if not 1 <= first <= count + 1 else last, count=count)
-        self.lines[first - 1:last] = text.split("\n")
+        self.lines[first - 1 : last] = text.split("\n")
 
 
 def _skip(msg: dict[str, Any]) -> bool | None:
@@ -201,10 +216,15 @@ class LiveBatch:
         batch: list[tuple[tuple[Any, ...], asyncio.Future[dict[str, Any]]]] = []
         try:
             while self.waiting:
-                batch, self.waiting = self.waiting[:self.most], self.waiting[self.most:]
+                batch, self.waiting = self.waiting[: self.most], self.waiting[self.most :]
                 try:  # job_live is looked up here, at each call (tests replace it)
-                    answers = await self.workers.call(job_live_batch, job_live, [r for r, _ in batch],
-                                                      self.workers.seconds / 4, affinity=self.slot)
+                    answers = await self.workers.call(
+                        job_live_batch,
+                        job_live,
+                        [r for r, _ in batch],
+                        self.workers.seconds / 4,
+                        affinity=self.slot,
+                    )
                 except ApiError as err:
                     for _, f in batch:
                         if not f.done():
@@ -249,8 +269,14 @@ def live_batch(workers: Workers, slot: int) -> LiveBatch:
 class LiveSession:
     """One editor connection: the document, the last result sent, and the task that re-runs it."""
 
-    def __init__(self, ws: WebSocket, settings: Settings, database: Database, workers: Workers,
-                 gate: Gate | None = None) -> None:
+    def __init__(
+        self,
+        ws: WebSocket,
+        settings: Settings,
+        database: Database,
+        workers: Workers,
+        gate: Gate | None = None,
+    ) -> None:
         self.ws, self.settings, self.database, self.workers = ws, settings, database, workers
         self.gate = gate
         self.doc: Document | None = None
@@ -277,8 +303,15 @@ class LiveSession:
         else:
             err = ApiError(code, **params)
             message, message_en = err.message, err.message_en
-        await self.send({"type": "error", "version": at_version, "code": code, "message": message,
-                         "message_en": message_en})
+        await self.send(
+            {
+                "type": "error",
+                "version": at_version,
+                "code": code,
+                "message": message,
+                "message_en": message_en,
+            }
+        )
 
     def _open_spec(self, msg: dict[str, Any]) -> tuple[str, dict[str, Any]]:
         with self.database.session() as db:
@@ -412,14 +445,24 @@ class LiveSession:
         text = doc.text
         if len(text) > self.settings.max_program_chars:
             raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=self.settings.max_program_chars)
-        result = await live_batch(self.workers, self.slot).run(self.doc_id, self.gen, self.gen + 1, text,
-                                                               doc.dialect, doc.spec)
+        result = await live_batch(self.workers, self.slot).run(
+            self.doc_id, self.gen, self.gen + 1, text, doc.dialect, doc.spec
+        )
         if self.doc is not doc:
             return  # reopened meanwhile
         self.apply(result)
         diags, path = self.changes()
-        await self.send({"type": "update", "version": version, "line_count": len(doc.lines),
-                         "diagnostics": diags, "toolpath": path, "final": result["final"], "run": result["run"]})
+        await self.send(
+            {
+                "type": "update",
+                "version": version,
+                "line_count": len(doc.lines),
+                "diagnostics": diags,
+                "toolpath": path,
+                "final": result["final"],
+                "run": result["run"],
+            }
+        )
 
     async def close(self) -> None:
         """Forget the open document, here and in its worker."""
@@ -432,8 +475,13 @@ class LiveSession:
 
 def ws_principal(database: Database, settings: Settings, ws: WebSocket) -> Principal:
     with database.session() as db:
-        return resolve(db, settings, ws.query_params.get("token"), ws.headers.get("x-api-key"),
-                       ws.cookies.get(SESSION_COOKIE))
+        return resolve(
+            db,
+            settings,
+            ws.query_params.get("token"),
+            ws.headers.get("x-api-key"),
+            ws.cookies.get(SESSION_COOKIE),
+        )
 
 
 def origin_allowed(ws: WebSocket, settings: Settings) -> bool:
@@ -520,7 +568,9 @@ def parse(raw: str) -> dict[str, Any]:
     try:
         msg = json.loads(raw)
     except RecursionError:
-        raise LiveError("BAD_MESSAGE", detail="zu tief verschachtelt", detail_en="nested too deeply") from None
+        raise LiveError(
+            "BAD_MESSAGE", detail="zu tief verschachtelt", detail_en="nested too deeply"
+        ) from None
     except ValueError:
         raise LiveError("BAD_MESSAGE", detail="kein JSON", detail_en="not JSON") from None
     if not isinstance(msg, dict):
@@ -534,10 +584,15 @@ def check_text(msg: dict[str, Any]) -> None:
     try:
         json.dumps(msg, ensure_ascii=False).encode("utf-8")
     except UnicodeEncodeError:
-        raise LiveError("BAD_MESSAGE", detail="einzelnes Surrogat, kein gültiges Unicode",
-                        detail_en="lone surrogate, not valid Unicode") from None
+        raise LiveError(
+            "BAD_MESSAGE",
+            detail="einzelnes Surrogat, kein gültiges Unicode",
+            detail_en="lone surrogate, not valid Unicode",
+        ) from None
     except (RecursionError, ValueError):
-        raise LiveError("BAD_MESSAGE", detail="zu tief verschachtelt", detail_en="nested too deeply") from None
+        raise LiveError(
+            "BAD_MESSAGE", detail="zu tief verschachtelt", detail_en="nested too deeply"
+        ) from None
 
 
 async def serve(ws: WebSocket, settings: Settings, session: LiveSession) -> None:
@@ -556,8 +611,11 @@ async def serve(ws: WebSocket, settings: Settings, session: LiveSession) -> None
             version: int | None = None
             try:
                 if raw is None:
-                    raise LiveError("BAD_MESSAGE", detail="Binärnachricht; bitte JSON als Text senden",
-                                    detail_en="binary frame; send JSON as text")
+                    raise LiveError(
+                        "BAD_MESSAGE",
+                        detail="Binärnachricht; bitte JSON als Text senden",
+                        detail_en="binary frame; send JSON as text",
+                    )
                 msg = parse(raw)
                 if isinstance(msg.get("version"), int) and not isinstance(msg.get("version"), bool):
                     version = msg["version"]

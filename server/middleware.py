@@ -82,17 +82,32 @@ class RequestMiddleware:
                 await self.app(scope, limited_receive, guarded_send)
         finally:
             state: dict[str, Any] = scope.get("state", {})
-            log.info("request", extra={
-                "request_id": request_id, "method": scope["method"], "path": scope["path"], "status": status,
-                "duration_ms": round((time.perf_counter() - started) * 1000, 2),
-                "principal": state.get("principal", "-"),
-                "client": scope["client"][0] if scope.get("client") else "-"})
+            log.info(
+                "request",
+                extra={
+                    "request_id": request_id,
+                    "method": scope["method"],
+                    "path": scope["path"],
+                    "status": status,
+                    "duration_ms": round((time.perf_counter() - started) * 1000, 2),
+                    "principal": state.get("principal", "-"),
+                    "client": scope["client"][0] if scope.get("client") else "-",
+                },
+            )
 
     async def _reject(self, size: int, send: Send) -> None:
         err = ApiError("BODY_TOO_LARGE", size=size, limit=self.max_body)
         body = json.dumps(err.body(), ensure_ascii=False).encode("utf-8")
-        await send({"type": "http.response.start", "status": 413,
-                    "headers": [(b"content-type", b"application/json"), (b"content-length", str(len(body)).encode())]})
+        await send(
+            {
+                "type": "http.response.start",
+                "status": 413,
+                "headers": [
+                    (b"content-type", b"application/json"),
+                    (b"content-length", str(len(body)).encode()),
+                ],
+            }
+        )
         await send({"type": "http.response.body", "body": body})
 
 
@@ -148,16 +163,19 @@ def viser_script_hashes() -> tuple[str, ...]:
     hashes = []
     try:
         html = viz.viser_page().decode("utf-8")
-        for attrs, body in re.findall(r"<script\b([^>]*)>(.*?)</script>", html, flags=re.DOTALL | re.IGNORECASE):
+        for attrs, body in re.findall(
+            r"<script\b([^>]*)>(.*?)</script>", html, flags=re.DOTALL | re.IGNORECASE
+        ):
             if body.strip():
                 hashes.append(_script_hash(body))
             packed = dict(re.findall(r'data-(p|ss|cs)="([^"]*)"', attrs))
             if {"p", "ss", "cs"} <= packed.keys():
                 style, code = int(packed["ss"]), int(packed["cs"])
-                raw = zstandard.ZstdDecompressor().decompress(_viser_payload(packed["p"]),
-                                                              max_output_size=style + code)
+                raw = zstandard.ZstdDecompressor().decompress(
+                    _viser_payload(packed["p"]), max_output_size=style + code
+                )
                 # the loader decodes with TextDecoder, which drops a byte-order mark and replaces bad bytes
-                hashes.append(_script_hash(raw[style:style + code].decode("utf-8-sig", errors="replace")))
+                hashes.append(_script_hash(raw[style : style + code].decode("utf-8-sig", errors="replace")))
     except (OSError, ValueError, KeyError, zstandard.ZstdError):
         # a viser whose page is packed differently: its scripts stay blocked (the 3D view stays empty)
         # rather than the policy allowing inline script
@@ -165,8 +183,9 @@ def viser_script_hashes() -> tuple[str, ...]:
     return tuple(hashes)
 
 
-def content_security_policy(path: str, frame_ancestors: list[str],
-                            extra: dict[str, list[str]] | None = None) -> str:
+def content_security_policy(
+    path: str, frame_ancestors: list[str], extra: dict[str, list[str]] | None = None
+) -> str:
     """`extra` (a route's request.state.csp_extra): "frame-ancestors" replaces the setting's origins for this
     response (an LTI page: its platform only), other directives are added to (a form posted to a platform)."""
     policy = {k: list(v) for k, v in _BASE_POLICY.items()}
@@ -202,10 +221,19 @@ class SecurityHeadersMiddleware:
         async def send_with_headers(message: Message) -> None:
             if message["type"] == "http.response.start":
                 extra = scope.get("state", {}).get("csp_extra")  # set by the route (server/routes/lti.py)
-                policy = csp if extra is None else content_security_policy(
-                    scope["path"], self.settings.frame_ancestors, extra).encode("latin-1")
-                message["headers"] = [*message.get("headers", []), (b"content-security-policy", policy),
-                                      (b"x-content-type-options", b"nosniff"), (b"referrer-policy", b"same-origin")]
+                policy = (
+                    csp
+                    if extra is None
+                    else content_security_policy(scope["path"], self.settings.frame_ancestors, extra).encode(
+                        "latin-1"
+                    )
+                )
+                message["headers"] = [
+                    *message.get("headers", []),
+                    (b"content-security-policy", policy),
+                    (b"x-content-type-options", b"nosniff"),
+                    (b"referrer-policy", b"same-origin"),
+                ]
             await send(message)
 
         await self.app(scope, receive, send_with_headers)

@@ -45,14 +45,16 @@ class User(Base):
     # carried in every token as "ver"; logging out raises it, which revokes every token issued before
     token_version: Mapped[int] = mapped_column(Integer, default=0, server_default="0")
     # the instructor who manages this student: sees their submissions and results (issue 15)
-    instructor_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True,
-                                                      index=True)
+    instructor_id: Mapped[int | None] = mapped_column(
+        ForeignKey("users.id", ondelete="SET NULL"), nullable=True, index=True
+    )
     # a password set by someone else (an instructor's or admin's reset): changed by its owner at the next login
     must_change_password: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     deactivated_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
     # the course whose join code created this account (PALTRAINER_SELF_SIGNUP=course-code); None: made otherwise
     signup_course_id: Mapped[int | None] = mapped_column(
-        ForeignKey("courses.id", ondelete="SET NULL", name="fk_users_signup_course_id_courses"), nullable=True)
+        ForeignKey("courses.id", ondelete="SET NULL", name="fk_users_signup_course_id_courses"), nullable=True
+    )
 
 
 class ApiKey(Base):
@@ -93,7 +95,9 @@ class Exercise(Base):
     # who sees it: "draft" (its author and admins), "courses" (also the students of the author's courses),
     # "public" (everyone on this server); an exercise set in an assignment follows that assignment's rules
     visibility: Mapped[str] = mapped_column(String(20), default="public", server_default="public")
-    version: Mapped[int] = mapped_column(Integer, default=1, server_default="1")  # raised by an edit once published
+    version: Mapped[int] = mapped_column(
+        Integer, default=1, server_default="1"
+    )  # raised by an edit once published
     archived_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)  # "deleted"
     created_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
     updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now, onupdate=now)
@@ -104,7 +108,9 @@ class ExerciseVersion(Base):
     it (Submission.exercise_version)."""
 
     __tablename__ = "exercise_versions"
-    __table_args__ = (UniqueConstraint("exercise_id", "version", name="uq_exercise_versions_exercise_version"),)
+    __table_args__ = (
+        UniqueConstraint("exercise_id", "version", name="uq_exercise_versions_exercise_version"),
+    )
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"), index=True)
@@ -133,14 +139,18 @@ class ExerciseDrawing(Base):
 class Submission(Base):
     __tablename__ = "submissions"
     # `attempt` counts the submissions to an assignment with a limit: two racing for the last one cannot both stay
-    __table_args__ = (UniqueConstraint("assignment_id", "user_id", "exercise_id", "attempt",
-                                       name="uq_submissions_attempt"),)
+    __table_args__ = (
+        UniqueConstraint("assignment_id", "user_id", "exercise_id", "attempt", name="uq_submissions_attempt"),
+    )
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="RESTRICT"), index=True)
-    user_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True,
-                                                index=True)
-    api_key_id: Mapped[int | None] = mapped_column(ForeignKey("api_keys.id", ondelete="SET NULL"), nullable=True)
+    user_id: Mapped[int | None] = mapped_column(
+        ForeignKey("users.id", ondelete="SET NULL"), nullable=True, index=True
+    )
+    api_key_id: Mapped[int | None] = mapped_column(
+        ForeignKey("api_keys.id", ondelete="SET NULL"), nullable=True
+    )
     external_user: Mapped[str | None] = mapped_column(String(200), nullable=True)
     program: Mapped[str] = mapped_column(Text)
     dialect: Mapped[str] = mapped_column(String(40))
@@ -153,8 +163,9 @@ class Submission(Base):
     idempotency_key: Mapped[str | None] = mapped_column(String(300), nullable=True, unique=True, index=True)
     # the assignment it was made for (issue 19); late: after the deadline; held: an exam's, hidden from its
     # author until the instructor releases the results; auto: the last draft, submitted at the exam's end
-    assignment_id: Mapped[int | None] = mapped_column(ForeignKey("assignments.id", ondelete="SET NULL"),
-                                                      nullable=True, index=True)
+    assignment_id: Mapped[int | None] = mapped_column(
+        ForeignKey("assignments.id", ondelete="SET NULL"), nullable=True, index=True
+    )
     late: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     held: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
     auto: Mapped[bool] = mapped_column(default=False, server_default=sa_false())
@@ -165,7 +176,9 @@ class Submission(Base):
     # the teacher's last word (GradeOverride keeps every change): the score that counts instead of the grader's
     override_score: Mapped[int | None] = mapped_column(Integer, nullable=True)
     override_comment: Mapped[str | None] = mapped_column(Text, nullable=True)
-    override_by: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
+    override_by: Mapped[int | None] = mapped_column(
+        ForeignKey("users.id", ondelete="SET NULL"), nullable=True
+    )
     override_at: Mapped[datetime | None] = mapped_column(DateTime(timezone=True), nullable=True)
 
 
@@ -176,16 +189,25 @@ class Draft(Base):
 
     __tablename__ = "drafts"
     __table_args__ = (
-        UniqueConstraint("user_id", "exercise_id", "assignment_id", name="uq_drafts_user_exercise_assignment"),
-        Index("uq_drafts_practice", "user_id", "exercise_id", unique=True,
-              sqlite_where=sa_text("assignment_id IS NULL"), postgresql_where=sa_text("assignment_id IS NULL")),
+        UniqueConstraint(
+            "user_id", "exercise_id", "assignment_id", name="uq_drafts_user_exercise_assignment"
+        ),
+        Index(
+            "uq_drafts_practice",
+            "user_id",
+            "exercise_id",
+            unique=True,
+            sqlite_where=sa_text("assignment_id IS NULL"),
+            postgresql_where=sa_text("assignment_id IS NULL"),
+        ),
     )
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
     exercise_id: Mapped[int] = mapped_column(ForeignKey("exercises.id", ondelete="CASCADE"), index=True)
-    assignment_id: Mapped[int | None] = mapped_column(ForeignKey("assignments.id", ondelete="CASCADE"),
-                                                      nullable=True)
+    assignment_id: Mapped[int | None] = mapped_column(
+        ForeignKey("assignments.id", ondelete="CASCADE"), nullable=True
+    )
     program: Mapped[str] = mapped_column(Text)
     updated_at: Mapped[datetime] = mapped_column(DateTime(timezone=True), default=now)
 
@@ -269,7 +291,9 @@ class LtiPlatform(Base):
 
 class LtiDeployment(Base):
     __tablename__ = "lti_deployments"
-    __table_args__ = (UniqueConstraint("platform_id", "deployment_id", name="uq_lti_deployments_platform_dep"),)
+    __table_args__ = (
+        UniqueConstraint("platform_id", "deployment_id", name="uq_lti_deployments_platform_dep"),
+    )
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
@@ -311,8 +335,9 @@ class LtiContext(Base):
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
     context_id: Mapped[str] = mapped_column(String(255))
-    course_id: Mapped[int | None] = mapped_column(ForeignKey("courses.id", ondelete="SET NULL"), nullable=True,
-                                                  index=True)
+    course_id: Mapped[int | None] = mapped_column(
+        ForeignKey("courses.id", ondelete="SET NULL"), nullable=True, index=True
+    )
     title: Mapped[str] = mapped_column(String(500), default="")
     memberships_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)  # NRPS
 
@@ -325,13 +350,15 @@ class LtiResourceLink(Base):
 
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
-    context_pk: Mapped[int | None] = mapped_column(ForeignKey("lti_contexts.id", ondelete="SET NULL"),
-                                                   nullable=True, index=True)
+    context_pk: Mapped[int | None] = mapped_column(
+        ForeignKey("lti_contexts.id", ondelete="SET NULL"), nullable=True, index=True
+    )
     resource_link_id: Mapped[str] = mapped_column(String(255))
     title: Mapped[str] = mapped_column(String(500), default="")
     exercise_slug: Mapped[str | None] = mapped_column(String(80), nullable=True)
-    assignment_id: Mapped[int | None] = mapped_column(ForeignKey("assignments.id", ondelete="SET NULL"),
-                                                      nullable=True)
+    assignment_id: Mapped[int | None] = mapped_column(
+        ForeignKey("assignments.id", ondelete="SET NULL"), nullable=True
+    )
     lineitem_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)
     lineitems_url: Mapped[str | None] = mapped_column(String(1000), nullable=True)
     ags_scopes: Mapped[list[str]] = mapped_column(JSON, default=list)
@@ -386,8 +413,9 @@ class LtiLaunch(Base):
     message_type: Mapped[str] = mapped_column(String(64))
     user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
     lti_user_pk: Mapped[int] = mapped_column(ForeignKey("lti_users.id", ondelete="CASCADE"))
-    resource_link_pk: Mapped[int | None] = mapped_column(ForeignKey("lti_resource_links.id", ondelete="SET NULL"),
-                                                         nullable=True, index=True)
+    resource_link_pk: Mapped[int | None] = mapped_column(
+        ForeignKey("lti_resource_links.id", ondelete="SET NULL"), nullable=True, index=True
+    )
     exercise_slug: Mapped[str | None] = mapped_column(String(80), nullable=True)
     role: Mapped[str] = mapped_column(String(20))
     ticket_hash: Mapped[str] = mapped_column(String(64), unique=True, index=True)
@@ -415,10 +443,12 @@ class LtiScore(Base):
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     submission_id: Mapped[int] = mapped_column(ForeignKey("submissions.id", ondelete="CASCADE"))
     platform_id: Mapped[int] = mapped_column(ForeignKey("lti_platforms.id", ondelete="CASCADE"), index=True)
-    resource_link_pk: Mapped[int | None] = mapped_column(ForeignKey("lti_resource_links.id", ondelete="SET NULL"),
-                                                         nullable=True, index=True)
-    course_id: Mapped[int | None] = mapped_column(ForeignKey("courses.id", ondelete="SET NULL"), nullable=True,
-                                                  index=True)
+    resource_link_pk: Mapped[int | None] = mapped_column(
+        ForeignKey("lti_resource_links.id", ondelete="SET NULL"), nullable=True, index=True
+    )
+    course_id: Mapped[int | None] = mapped_column(
+        ForeignKey("courses.id", ondelete="SET NULL"), nullable=True, index=True
+    )
     user_id: Mapped[int | None] = mapped_column(ForeignKey("users.id", ondelete="SET NULL"), nullable=True)
     exercise_slug: Mapped[str] = mapped_column(String(80))
     lineitem_url: Mapped[str] = mapped_column(String(1000))

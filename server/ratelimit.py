@@ -34,8 +34,13 @@ class RateLimiter:
         self._local = MovingWindowRateLimiter(MemoryStorage())
         self._remote: MovingWindowRateLimiter | None = None
         if redis_url:
-            storage = storage_from_string(redis_url, key_prefix=KEY_PREFIX, wrap_exceptions=True,
-                                                   socket_timeout=1.0, socket_connect_timeout=1.0)
+            storage = storage_from_string(
+                redis_url,
+                key_prefix=KEY_PREFIX,
+                wrap_exceptions=True,
+                socket_timeout=1.0,
+                socket_connect_timeout=1.0,
+            )
             self._remote = MovingWindowRateLimiter(storage)
         self._down_until = 0.0
         self._lock = Lock()

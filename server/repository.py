@@ -57,8 +57,12 @@ def user_by_id(db: Session, user_id: int) -> User | None:
     return db.get(User, user_id)
 
 
-def create_user(db: Session, username: str, password_hash: str, role: str, instructor_id: int | None = None) -> User:
-    user = _insert(db, User(username=username, password_hash=password_hash, role=role, instructor_id=instructor_id))
+def create_user(
+    db: Session, username: str, password_hash: str, role: str, instructor_id: int | None = None
+) -> User:
+    user = _insert(
+        db, User(username=username, password_hash=password_hash, role=role, instructor_id=instructor_id)
+    )
     if instructor_id is not None:
         enrol_managed(db, user.id, instructor_id)
     return user
@@ -105,12 +109,16 @@ def new_join_code() -> str:
 def enrol_managed(db: Session, user_id: int, instructor_id: int) -> None:
     """A student put under an instructor joins the instructor's course "Meine Klasse" (made if missing)."""
     if user_id != instructor_id:
-        add_member(db, default_course(db, instructor_id, DEFAULT_COURSE, new_join_code()).id, user_id, "student")
+        add_member(
+            db, default_course(db, instructor_id, DEFAULT_COURSE, new_join_code()).id, user_id, "student"
+        )
 
 
 def students_of(db: Session, instructor_id: int) -> Sequence[User]:
     """The students of every course the instructor teaches, by name."""
-    return db.scalars(select(User).where(User.id.in_(taught_students(instructor_id))).order_by(User.username)).all()
+    return db.scalars(
+        select(User).where(User.id.in_(taught_students(instructor_id))).order_by(User.username)
+    ).all()
 
 
 def list_users(db: Session) -> Sequence[User]:
@@ -125,8 +133,9 @@ def set_password(db: Session, user: User, password_hash: str) -> None:
 # --- API keys ----------------------------------------------------------------------------
 
 
-def create_api_key(db: Session, name: str, prefix: str, key_hash: str, scopes: list[str],
-                   owner_id: int | None) -> ApiKey:
+def create_api_key(
+    db: Session, name: str, prefix: str, key_hash: str, scopes: list[str], owner_id: int | None
+) -> ApiKey:
     return _insert(db, ApiKey(name=name, prefix=prefix, key_hash=key_hash, scopes=scopes, owner_id=owner_id))
 
 
@@ -171,7 +180,9 @@ def exercise_by_id(db: Session, exercise_id: int) -> Exercise | None:
     return db.get(Exercise, exercise_id)
 
 
-def create_exercise(db: Session, fields: dict[str, Any], owner_id: int | None, builtin: bool = False) -> Exercise:
+def create_exercise(
+    db: Session, fields: dict[str, Any], owner_id: int | None, builtin: bool = False
+) -> Exercise:
     return _insert(db, Exercise(**fields, owner_id=owner_id, builtin=builtin))
 
 
@@ -194,27 +205,45 @@ def delete_exercise(db: Session, exercise: Exercise) -> None:
 
 def restricted_exercises(db: Session) -> Sequence[tuple[str, int | None, str, bool]]:
     """(slug, owner_id, visibility, archived) of every exercise not simply public: drafts, course-only, archived."""
-    rows = db.execute(select(Exercise.slug, Exercise.owner_id, Exercise.visibility, Exercise.archived_at)
-                      .where(or_(Exercise.visibility != "public", Exercise.archived_at.is_not(None)))).all()
+    rows = db.execute(
+        select(Exercise.slug, Exercise.owner_id, Exercise.visibility, Exercise.archived_at).where(
+            or_(Exercise.visibility != "public", Exercise.archived_at.is_not(None))
+        )
+    ).all()
     return [(r[0], r[1], r[2], r[3] is not None) for r in rows]
 
 
 def course_instructors_of(db: Session, user_id: int) -> set[int]:
     """The instructors of every course the user is a member of (in any role)."""
     courses = select(CourseMember.course_id).where(CourseMember.user_id == user_id)
-    return set(db.scalars(select(CourseMember.user_id).where(CourseMember.course_id.in_(courses),
-                                                             CourseMember.role == "instructor")).all())
+    return set(
+        db.scalars(
+            select(CourseMember.user_id).where(
+                CourseMember.course_id.in_(courses), CourseMember.role == "instructor"
+            )
+        ).all()
+    )
 
 
 def add_exercise_version(db: Session, exercise: Exercise, created_by: int | None) -> None:
     """Keep the exercise's current document as its version `exercise.version` (before an edit makes a new one)."""
-    db.add(ExerciseVersion(exercise_id=exercise.id, version=exercise.version, title_de=exercise.title_de,
-                           document=exercise.document, created_by=created_by))
+    db.add(
+        ExerciseVersion(
+            exercise_id=exercise.id,
+            version=exercise.version,
+            title_de=exercise.title_de,
+            document=exercise.document,
+            created_by=created_by,
+        )
+    )
 
 
 def exercise_versions(db: Session, exercise_id: int) -> Sequence[ExerciseVersion]:
-    return db.scalars(select(ExerciseVersion).where(ExerciseVersion.exercise_id == exercise_id)
-                      .order_by(ExerciseVersion.version)).all()
+    return db.scalars(
+        select(ExerciseVersion)
+        .where(ExerciseVersion.exercise_id == exercise_id)
+        .order_by(ExerciseVersion.version)
+    ).all()
 
 
 def exercise_drawing(db: Session, exercise_id: int) -> ExerciseDrawing | None:
@@ -226,12 +255,17 @@ def own_drawings(db: Session, exercise_ids: Iterable[int]) -> dict[int, tuple[st
     ids = list(exercise_ids)
     if not ids:
         return {}
-    rows = db.execute(select(ExerciseDrawing.exercise_id, ExerciseDrawing.media_type, ExerciseDrawing.filename)
-                      .where(ExerciseDrawing.exercise_id.in_(ids))).all()
+    rows = db.execute(
+        select(ExerciseDrawing.exercise_id, ExerciseDrawing.media_type, ExerciseDrawing.filename).where(
+            ExerciseDrawing.exercise_id.in_(ids)
+        )
+    ).all()
     return {r[0]: (r[1], r[2]) for r in rows}
 
 
-def set_exercise_drawing(db: Session, exercise: Exercise, media_type: str, filename: str, data: bytes) -> None:
+def set_exercise_drawing(
+    db: Session, exercise: Exercise, media_type: str, filename: str, data: bytes
+) -> None:
     row = exercise_drawing(db, exercise.id)
     if row is None:
         db.add(ExerciseDrawing(exercise_id=exercise.id, media_type=media_type, filename=filename, data=data))
@@ -266,20 +300,31 @@ def submission_by_idempotency_key(db: Session, key: str) -> Submission | None:
     return db.scalars(select(Submission).where(Submission.idempotency_key == key)).first()
 
 
-def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int | None = None,
-                     api_key_id: int | None = None, exercise_slug: str | None = None,
-                     everything: bool = False, instructor_id: int | None = None
-                     ) -> Sequence[tuple[Submission, Exercise, User | None]]:
+def list_submissions(
+    db: Session,
+    *,
+    user_id: int | None = None,
+    owner_id: int | None = None,
+    api_key_id: int | None = None,
+    exercise_slug: str | None = None,
+    everything: bool = False,
+    instructor_id: int | None = None,
+) -> Sequence[tuple[Submission, Exercise, User | None]]:
     """Submissions with their exercise and author, newest first, filtered by who may see them.
 
     `user_id`: the author's own; `owner_id`: those to exercises that user owns; `api_key_id`: those
     made through that key; `instructor_id`: those of the students that instructor manages; `everything`:
     all (admins).
     """
-    q = (select(Submission, Exercise, User).join(Exercise, Submission.exercise_id == Exercise.id)
-         .outerjoin(User, Submission.user_id == User.id))
+    q = (
+        select(Submission, Exercise, User)
+        .join(Exercise, Submission.exercise_id == Exercise.id)
+        .outerjoin(User, Submission.user_id == User.id)
+    )
     if not everything:
-        visible = visible_to(user_id=user_id, owner_id=owner_id, api_key_id=api_key_id, instructor_id=instructor_id)
+        visible = visible_to(
+            user_id=user_id, owner_id=owner_id, api_key_id=api_key_id, instructor_id=instructor_id
+        )
         if visible is None:
             return []
         q = q.where(visible)
@@ -289,8 +334,9 @@ def list_submissions(db: Session, *, user_id: int | None = None, owner_id: int |
     return [(r[0], r[1], r[2]) for r in rows]
 
 
-def own_submissions(db: Session, user_id: int, exercise_id: int | None = None,
-                    limit: int | None = None) -> Sequence[Submission]:
+def own_submissions(
+    db: Session, user_id: int, exercise_id: int | None = None, limit: int | None = None
+) -> Sequence[Submission]:
     """A user's own submissions (to one exercise), newest first."""
     q = select(Submission).where(Submission.user_id == user_id)
     if exercise_id is not None:
@@ -331,20 +377,50 @@ class Scored:
 # the score that counts: the teacher's override, else the grader's (read from the grade in the database)
 _SCORE = func.coalesce(Submission.override_score, Submission.grading["score"].as_float())
 _MAX_SCORE = Submission.grading["max_score"].as_float()
-_SCORED = (Submission.id, Submission.user_id, Submission.exercise_id, Submission.assignment_id, Submission.created_at,
-           Submission.late, Submission.auto, Submission.held, _SCORE, _MAX_SCORE,
-           Submission.override_score.is_not(None), Submission.exercise_version)
+_SCORED = (
+    Submission.id,
+    Submission.user_id,
+    Submission.exercise_id,
+    Submission.assignment_id,
+    Submission.created_at,
+    Submission.late,
+    Submission.auto,
+    Submission.held,
+    _SCORE,
+    _MAX_SCORE,
+    Submission.override_score.is_not(None),
+    Submission.exercise_version,
+)
 _NEWEST = (Submission.created_at.desc(), Submission.id.desc())
 
 
 def _scored(rows: Iterable[Any]) -> list[Scored]:
-    return [Scored(r[0], r[1], r[2], r[3], r[4], bool(r[5]), bool(r[6]), bool(r[7]),
-                   None if r[8] is None or r[9] is None else int(r[8]), None if r[9] is None else int(r[9]),
-                   bool(r[10]), r[11]) for r in rows]
+    return [
+        Scored(
+            r[0],
+            r[1],
+            r[2],
+            r[3],
+            r[4],
+            bool(r[5]),
+            bool(r[6]),
+            bool(r[7]),
+            None if r[8] is None or r[9] is None else int(r[8]),
+            None if r[9] is None else int(r[9]),
+            bool(r[10]),
+            r[11],
+        )
+        for r in rows
+    ]
 
 
-def visible_to(*, user_id: int | None = None, owner_id: int | None = None, api_key_id: int | None = None,
-               instructor_id: int | None = None) -> Any:
+def visible_to(
+    *,
+    user_id: int | None = None,
+    owner_id: int | None = None,
+    api_key_id: int | None = None,
+    instructor_id: int | None = None,
+) -> Any:
     """The condition of `list_submissions` on submissions (joined with their exercise) for these readers, or None
     when it has none (nothing is visible)."""
     conds = []
@@ -359,13 +435,21 @@ def visible_to(*, user_id: int | None = None, owner_id: int | None = None, api_k
     return or_(*conds) if conds else None
 
 
-def scored_submissions(db: Session, *, user_id: int | None = None, owner_id: int | None = None,
-                       api_key_id: int | None = None, everything: bool = False,
-                       instructor_id: int | None = None) -> list[Scored]:
+def scored_submissions(
+    db: Session,
+    *,
+    user_id: int | None = None,
+    owner_id: int | None = None,
+    api_key_id: int | None = None,
+    everything: bool = False,
+    instructor_id: int | None = None,
+) -> list[Scored]:
     """What `list_submissions` gives the same readers, newest first, in light columns (Scored)."""
     q = select(*_SCORED).join(Exercise, Submission.exercise_id == Exercise.id)
     if not everything:
-        cond = visible_to(user_id=user_id, owner_id=owner_id, api_key_id=api_key_id, instructor_id=instructor_id)
+        cond = visible_to(
+            user_id=user_id, owner_id=owner_id, api_key_id=api_key_id, instructor_id=instructor_id
+        )
         if cond is None:
             return []
         q = q.where(cond)
@@ -374,8 +458,11 @@ def scored_submissions(db: Session, *, user_id: int | None = None, owner_id: int
 
 def assignment_scores(db: Session, assignment_id: int, limit: int | None = None) -> list[Scored]:
     """An assignment's submissions by users (not learning-platform learners), newest first, in light columns."""
-    q = (select(*_SCORED).where(Submission.assignment_id == assignment_id, Submission.user_id.is_not(None))
-         .order_by(*_NEWEST))
+    q = (
+        select(*_SCORED)
+        .where(Submission.assignment_id == assignment_id, Submission.user_id.is_not(None))
+        .order_by(*_NEWEST)
+    )
     return _scored(db.execute(q.limit(limit) if limit is not None else q).all())
 
 
@@ -384,8 +471,11 @@ def submission_details(db: Session, ids: Sequence[int]) -> Sequence[Any]:
     .result, .grading."""
     if not ids:
         return []
-    return db.execute(select(Submission.id, Submission.program, Submission.result, Submission.grading)
-                      .where(Submission.id.in_(list(ids))).order_by(Submission.id)).all()
+    return db.execute(
+        select(Submission.id, Submission.program, Submission.result, Submission.grading)
+        .where(Submission.id.in_(list(ids)))
+        .order_by(Submission.id)
+    ).all()
 
 
 def exercises_by_ids(db: Session, ids: Iterable[int]) -> Sequence[Exercise]:
@@ -399,13 +489,18 @@ def set_override(db: Session, submission: Submission, score: int | None, comment
     submission.override_score = score
     submission.override_comment = comment if score is not None else None
     submission.override_by, submission.override_at = (by, at) if score is not None else (None, None)
-    db.add(GradeOverride(submission_id=submission.id, score=score, comment=comment, by_user_id=by, created_at=at))
+    db.add(
+        GradeOverride(submission_id=submission.id, score=score, comment=comment, by_user_id=by, created_at=at)
+    )
     db.commit()
 
 
 def overrides_of(db: Session, submission_id: int) -> Sequence[GradeOverride]:
-    return db.scalars(select(GradeOverride).where(GradeOverride.submission_id == submission_id)
-                      .order_by(GradeOverride.created_at, GradeOverride.id)).all()
+    return db.scalars(
+        select(GradeOverride)
+        .where(GradeOverride.submission_id == submission_id)
+        .order_by(GradeOverride.created_at, GradeOverride.id)
+    ).all()
 
 
 def summarise_submissions(db: Session, submission: Submission, keep: int) -> int:
@@ -418,29 +513,49 @@ def summarise_submissions(db: Session, submission: Submission, keep: int) -> int
     if submission.user_id is not None:
         author = [Submission.user_id == submission.user_id]
     else:
-        learner = (Submission.external_user.is_(None) if submission.external_user is None
-                   else Submission.external_user == submission.external_user)
+        learner = (
+            Submission.external_user.is_(None)
+            if submission.external_user is None
+            else Submission.external_user == submission.external_user
+        )
         author = [Submission.user_id.is_(None), Submission.api_key_id == submission.api_key_id, learner]
     same = [Submission.exercise_id == submission.exercise_id, *author]
     newest = select(Submission.id).where(*same).order_by(*_NEWEST).limit(keep)
-    older = db.execute(select(Submission.id, Submission.assignment_id).where(
-        *same, Submission.id.not_in(newest), Submission.result["summarised"].as_boolean().is_(None))).all()
+    older = db.execute(
+        select(Submission.id, Submission.assignment_id).where(
+            *same, Submission.id.not_in(newest), Submission.result["summarised"].as_boolean().is_(None)
+        )
+    ).all()
     if not older:
         return 0
     best = set()
-    for scope in {row[1] for row in older}:  # the best of practice (None) and of each assignment, as best_of chooses
+    for scope in {
+        row[1] for row in older
+    }:  # the best of practice (None) and of each assignment, as best_of chooses
         in_scope = Submission.assignment_id.is_(None) if scope is None else Submission.assignment_id == scope
-        best.add(db.scalar(select(Submission.id).where(*same, in_scope, _SCORE.is_not(None))
-                           .order_by(_SCORE.desc(), *_NEWEST).limit(1)))
+        best.add(
+            db.scalar(
+                select(Submission.id)
+                .where(*same, in_scope, _SCORE.is_not(None))
+                .order_by(_SCORE.desc(), *_NEWEST)
+                .limit(1)
+            )
+        )
     done = 0
-    for row_id, result in db.execute(select(Submission.id, Submission.result).where(
-            Submission.id.in_([row[0] for row in older if row[0] not in best]))).all():
+    for row_id, result in db.execute(
+        select(Submission.id, Submission.result).where(
+            Submission.id.in_([row[0] for row in older if row[0] not in best])
+        )
+    ).all():
         result = dict(result or {})
         summary = dict(result.get("summary") or {})
         summary.setdefault("diagnostics", len(result.get("diagnostics") or []))
-        db.execute(update(Submission).where(Submission.id == row_id)
-                   .values(result={**result, "diagnostics": [], "summary": summary, "summarised": True})
-                   .execution_options(synchronize_session=False))
+        db.execute(
+            update(Submission)
+            .where(Submission.id == row_id)
+            .values(result={**result, "diagnostics": [], "summary": summary, "summarised": True})
+            .execution_options(synchronize_session=False)
+        )
         done += 1
     db.commit()
     return done
@@ -452,10 +567,14 @@ def summarise_submissions(db: Session, submission: Submission, keep: int) -> int
 def draft(db: Session, user_id: int, exercise_id: int, assignment_id: int | None = None) -> Draft | None:
     """The practice draft (`assignment_id` None) or the draft for that exam."""
     scope = Draft.assignment_id.is_(None) if assignment_id is None else Draft.assignment_id == assignment_id
-    return db.scalars(select(Draft).where(Draft.user_id == user_id, Draft.exercise_id == exercise_id, scope)).first()
+    return db.scalars(
+        select(Draft).where(Draft.user_id == user_id, Draft.exercise_id == exercise_id, scope)
+    ).first()
 
 
-def save_draft(db: Session, user_id: int, exercise_id: int, program: str, assignment_id: int | None = None) -> Draft:
+def save_draft(
+    db: Session, user_id: int, exercise_id: int, program: str, assignment_id: int | None = None
+) -> Draft:
     """Insert or replace the draft; two tabs saving at the same moment end with one row (the later text)."""
     for _ in range(3):
         row = draft(db, user_id, exercise_id, assignment_id)
@@ -464,8 +583,16 @@ def save_draft(db: Session, user_id: int, exercise_id: int, program: str, assign
             db.commit()
             return row
         try:
-            return _insert(db, Draft(user_id=user_id, exercise_id=exercise_id, assignment_id=assignment_id,
-                                     program=program, updated_at=now()))
+            return _insert(
+                db,
+                Draft(
+                    user_id=user_id,
+                    exercise_id=exercise_id,
+                    assignment_id=assignment_id,
+                    program=program,
+                    updated_at=now(),
+                ),
+            )
         except Duplicate:
             continue  # the other request inserted it first: update that row
     raise Duplicate("draft")
@@ -534,14 +661,19 @@ def delete_course(db: Session, course: Course) -> None:
 
 
 def members(db: Session, course_id: int) -> Sequence[tuple[CourseMember, User]]:
-    rows = db.execute(select(CourseMember, User).join(User, CourseMember.user_id == User.id)
-                      .where(CourseMember.course_id == course_id).order_by(CourseMember.role, User.username)).all()
+    rows = db.execute(
+        select(CourseMember, User)
+        .join(User, CourseMember.user_id == User.id)
+        .where(CourseMember.course_id == course_id)
+        .order_by(CourseMember.role, User.username)
+    ).all()
     return [(r[0], r[1]) for r in rows]
 
 
 def membership(db: Session, course_id: int, user_id: int) -> CourseMember | None:
-    return db.scalars(select(CourseMember).where(CourseMember.course_id == course_id,
-                                                 CourseMember.user_id == user_id)).first()
+    return db.scalars(
+        select(CourseMember).where(CourseMember.course_id == course_id, CourseMember.user_id == user_id)
+    ).first()
 
 
 def add_member(db: Session, course_id: int, user_id: int, role: str) -> CourseMember:
@@ -568,26 +700,37 @@ def remove_member(db: Session, course_id: int, user_id: int) -> None:
 
 def taught_students(instructor_id: int) -> Any:
     """A subquery: the ids of the students of every course the user teaches."""
-    taught = select(CourseMember.course_id).where(CourseMember.user_id == instructor_id,
-                                                  CourseMember.role == "instructor")
-    return select(CourseMember.user_id).where(CourseMember.course_id.in_(taught), CourseMember.role == "student")
+    taught = select(CourseMember.course_id).where(
+        CourseMember.user_id == instructor_id, CourseMember.role == "instructor"
+    )
+    return select(CourseMember.user_id).where(
+        CourseMember.course_id.in_(taught), CourseMember.role == "student"
+    )
 
 
 def instructed(instructor_id: int) -> Any:
     """A condition on submissions: what an instructor sees of their students' work — the submissions to the
     assignments of every course they teach, and the practice (no assignment) of the students they manage. Not a
     student's work in another course, nor the practice of a student who merely joined their course."""
-    taught = select(CourseMember.course_id).where(CourseMember.user_id == instructor_id,
-                                                  CourseMember.role == "instructor")
+    taught = select(CourseMember.course_id).where(
+        CourseMember.user_id == instructor_id, CourseMember.role == "instructor"
+    )
     managed = select(User.id).where(User.instructor_id == instructor_id)
-    return or_(Submission.assignment_id.in_(select(Assignment.id).where(Assignment.course_id.in_(taught))),
-               (Submission.assignment_id.is_(None)) & Submission.user_id.in_(managed))
+    return or_(
+        Submission.assignment_id.in_(select(Assignment.id).where(Assignment.course_id.in_(taught))),
+        (Submission.assignment_id.is_(None)) & Submission.user_id.in_(managed),
+    )
 
 
 def instructs(db: Session, instructor_id: int, submission_id: int) -> bool:
     """Whether the submission is among what the instructor sees of their students' work (`instructed`)."""
-    return bool(db.scalar(select(func.count()).select_from(Submission).where(
-        Submission.id == submission_id, instructed(instructor_id))))
+    return bool(
+        db.scalar(
+            select(func.count())
+            .select_from(Submission)
+            .where(Submission.id == submission_id, instructed(instructor_id))
+        )
+    )
 
 
 def default_course(db: Session, instructor_id: int, name: str, join_code: str) -> Course:
@@ -609,57 +752,90 @@ def assignment_by_id(db: Session, assignment_id: int) -> Assignment | None:
 def assignments_of(db: Session, course_ids: Sequence[int]) -> Sequence[Assignment]:
     if not course_ids:
         return []
-    return db.scalars(select(Assignment).where(Assignment.course_id.in_(list(course_ids)))
-                      .order_by(Assignment.opens_at, Assignment.id)).all()
+    return db.scalars(
+        select(Assignment)
+        .where(Assignment.course_id.in_(list(course_ids)))
+        .order_by(Assignment.opens_at, Assignment.id)
+    ).all()
 
 
 def student_assignments(db: Session, user_id: int) -> Sequence[Assignment]:
     """The assignments of every course the user is a student of (their role in the course decides, not their
     account's role)."""
-    courses = select(CourseMember.course_id).where(CourseMember.user_id == user_id, CourseMember.role == "student")
-    return db.scalars(select(Assignment).where(Assignment.course_id.in_(courses))
-                      .order_by(Assignment.opens_at, Assignment.id)).all()
+    courses = select(CourseMember.course_id).where(
+        CourseMember.user_id == user_id, CourseMember.role == "student"
+    )
+    return db.scalars(
+        select(Assignment)
+        .where(Assignment.course_id.in_(courses))
+        .order_by(Assignment.opens_at, Assignment.id)
+    ).all()
 
 
 def taught_assignments(db: Session, instructor_id: int) -> Sequence[Assignment]:
     """The assignments of every course the user teaches."""
-    courses = select(CourseMember.course_id).where(CourseMember.user_id == instructor_id,
-                                                   CourseMember.role == "instructor")
+    courses = select(CourseMember.course_id).where(
+        CourseMember.user_id == instructor_id, CourseMember.role == "instructor"
+    )
     return db.scalars(select(Assignment).where(Assignment.course_id.in_(courses))).all()
 
 
 def unreleased_exams(db: Session) -> Sequence[Assignment]:
     """Every exam whose results are not released: upcoming, running, or ended and held."""
-    return db.scalars(select(Assignment).where(Assignment.mode == "exam", Assignment.released_at.is_(None))).all()
+    return db.scalars(
+        select(Assignment).where(Assignment.mode == "exam", Assignment.released_at.is_(None))
+    ).all()
 
 
 def unfinalized_exams(db: Session, before: datetime) -> Sequence[Assignment]:
-    return db.scalars(select(Assignment).where(Assignment.mode == "exam", Assignment.finalized_at.is_(None),
-                                               Assignment.deadline <= before)).all()
+    return db.scalars(
+        select(Assignment).where(
+            Assignment.mode == "exam", Assignment.finalized_at.is_(None), Assignment.deadline <= before
+        )
+    ).all()
 
 
 def claim_finalizing(db: Session, assignment_id: int, at: datetime, until: datetime) -> bool:
     """Take the lease of finalising an ended exam: True for the one caller (of any replica) that got it; an
     expired lease (its replica stopped) can be taken again."""
     claimed = db.execute(
-        update(Assignment).where(Assignment.id == assignment_id, Assignment.finalized_at.is_(None),
-                                 or_(Assignment.finalizing_until.is_(None), Assignment.finalizing_until < at))
-        .values(finalizing_until=until).execution_options(synchronize_session=False))
+        update(Assignment)
+        .where(
+            Assignment.id == assignment_id,
+            Assignment.finalized_at.is_(None),
+            or_(Assignment.finalizing_until.is_(None), Assignment.finalizing_until < at),
+        )
+        .values(finalizing_until=until)
+        .execution_options(synchronize_session=False)
+    )
     db.commit()
     return bool(claimed.rowcount)  # type: ignore[attr-defined]
 
 
 def finish_finalizing(db: Session, assignment_id: int, at: datetime) -> None:
-    db.execute(update(Assignment).where(Assignment.id == assignment_id)
-               .values(finalized_at=at, finalizing_until=None).execution_options(synchronize_session=False))
+    db.execute(
+        update(Assignment)
+        .where(Assignment.id == assignment_id)
+        .values(finalized_at=at, finalizing_until=None)
+        .execution_options(synchronize_session=False)
+    )
     db.commit()
 
 
 def count_attempts(db: Session, assignment_id: int, user_id: int, exercise_id: int) -> int:
     """The submissions of a user to one exercise of an assignment."""
-    return int(db.scalar(select(func.count()).select_from(Submission).where(
-        Submission.assignment_id == assignment_id, Submission.user_id == user_id,
-        Submission.exercise_id == exercise_id)) or 0)
+    return int(
+        db.scalar(
+            select(func.count())
+            .select_from(Submission)
+            .where(
+                Submission.assignment_id == assignment_id,
+                Submission.user_id == user_id,
+                Submission.exercise_id == exercise_id,
+            )
+        )
+        or 0
+    )
 
 
 def save(db: Session, row: Base) -> None:
@@ -673,7 +849,9 @@ def delete_row(db: Session, row: Base) -> None:
     db.commit()
 
 
-def assignment_submissions(db: Session, assignment_id: int, user_id: int | None = None) -> Sequence[Submission]:
+def assignment_submissions(
+    db: Session, assignment_id: int, user_id: int | None = None
+) -> Sequence[Submission]:
     """An assignment's submissions (one user's), newest first."""
     q = select(Submission).where(Submission.assignment_id == assignment_id)
     if user_id is not None:

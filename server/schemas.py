@@ -48,7 +48,9 @@ def clean_text(value: str) -> str:
     try:
         value.encode("utf-8")
     except UnicodeEncodeError as err:
-        raise ValueError("is not valid Unicode (lone surrogate) / ist kein gültiges Unicode (einzelnes Surrogat)") from err
+        raise ValueError(
+            "is not valid Unicode (lone surrogate) / ist kein gültiges Unicode (einzelnes Surrogat)"
+        ) from err
     return value
 
 
@@ -66,7 +68,9 @@ Slug = Annotated[str, length(80, min_length=1), CLEAN]  # looked up: an exercise
 Dialect = Annotated[str, length(40, min_length=1), CLEAN]
 # a program to check or submit: the body limit bounds it; settings.max_program_chars answers 413 above its own limit
 Program = Annotated[str, length(1_000_000), CLEAN]
-Username = Annotated[str, length(80, min_length=1), CLEAN]  # a name looked up (login, members): also the names launches made
+Username = Annotated[
+    str, length(80, min_length=1), CLEAN
+]  # a name looked up (login, members): also the names launches made
 
 # "lti" and a digit begins the names of accounts an LTI launch makes (lti<platform>-…, server/lti/launch.py): no
 # one else may take such a name, so that no local account looks like one a platform user is meant to get
@@ -85,7 +89,10 @@ def _not_lti_name(name: str) -> str:
     return name
 
 
-NewUsername = Annotated[Annotated[str, length(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$"), CLEAN], AfterValidator(_not_lti_name)]
+NewUsername = Annotated[
+    Annotated[str, length(80, min_length=1, pattern=r"^[A-Za-z0-9_.@-]+$"), CLEAN],
+    AfterValidator(_not_lti_name),
+]
 Password = Annotated[str, length(1000, min_length=1), CLEAN]
 
 
@@ -97,8 +104,12 @@ def _password_rule(password: str) -> str:
 
 
 # a password someone chooses: the one rule of server/security.py (password_problem)
-NewPassword = Annotated[str, AfterValidator(_password_rule), AfterValidator(clean_text),
-                        Field(json_schema_extra={"minLength": PASSWORD_MIN, "maxLength": PASSWORD_MAX})]
+NewPassword = Annotated[
+    str,
+    AfterValidator(_password_rule),
+    AfterValidator(clean_text),
+    Field(json_schema_extra={"minLength": PASSWORD_MIN, "maxLength": PASSWORD_MAX}),
+]
 NewSlug = Annotated[str, length(80, min_length=1, pattern=r"^[a-z0-9][a-z0-9-]*$"), CLEAN]
 Title = Annotated[str, length(200, min_length=1), CLEAN]
 Subtitle = Annotated[str, length(200), CLEAN]
@@ -115,14 +126,18 @@ def clean_json(value: Any) -> Any:
         item, depth = stack.pop()
         count += 1
         if count > JSON_MAX_ITEMS:
-            raise ValueError(f"has more than {JSON_MAX_ITEMS} entries / hat mehr als {JSON_MAX_ITEMS} Einträge")
+            raise ValueError(
+                f"has more than {JSON_MAX_ITEMS} entries / hat mehr als {JSON_MAX_ITEMS} Einträge"
+            )
         if isinstance(item, str):
             clean_text(item)
         elif isinstance(item, float) and not math.isfinite(item):
             raise ValueError("contains a number that is not finite / enthält eine nicht endliche Zahl")
         elif isinstance(item, dict | list):
             if depth > JSON_MAX_DEPTH:
-                raise ValueError(f"is nested deeper than {JSON_MAX_DEPTH} / ist tiefer als {JSON_MAX_DEPTH} verschachtelt")
+                raise ValueError(
+                    f"is nested deeper than {JSON_MAX_DEPTH} / ist tiefer als {JSON_MAX_DEPTH} verschachtelt"
+                )
             children = [*item.keys(), *item.values()] if isinstance(item, dict) else item
             stack.extend((child, depth + 1) for child in children)
     return value
@@ -139,7 +154,9 @@ class ToolSpec(BaseModel):
     kind: ToolKind = Field(default="end_mill", description="every kind of docs/tools.md")
     name: ShortText = ""
     nose_radius: float = Field(default=0.0, ge=0, le=50, description="turning: nose radius R_s in mm")
-    quadrant: int = Field(default=0, ge=0, le=4, description="turning: cutting-edge quadrant P1…P4 (0: not given)")
+    quadrant: int = Field(
+        default=0, ge=0, le=4, description="turning: cutting-edge quadrant P1…P4 (0: not given)"
+    )
 
 
 class ProgramRequest(BaseModel):
@@ -147,11 +164,17 @@ class ProgramRequest(BaseModel):
 
     program: Program = Field(description="The NC program text")
     dialect: Dialect = Field(default=DEFAULT_DIALECT, description="e.g. pal-mill")
-    exercise: Slug | None = Field(default=None, description="Slug of an exercise whose tool table and stock to use")
-    tools: list[ToolSpec] | None = Field(default=None, max_length=99,
-                                         description="Tools that override the default table (free practice)")
-    skip_blocks: bool | None = Field(default=None, description="Skip blocks marked with /; not given: the "
-                                     "dialect's default (PAL runs them, TRAUB skips them)")
+    exercise: Slug | None = Field(
+        default=None, description="Slug of an exercise whose tool table and stock to use"
+    )
+    tools: list[ToolSpec] | None = Field(
+        default=None, max_length=99, description="Tools that override the default table (free practice)"
+    )
+    skip_blocks: bool | None = Field(
+        default=None,
+        description="Skip blocks marked with /; not given: the "
+        "dialect's default (PAL runs them, TRAUB skips them)",
+    )
 
 
 Coordinate = Annotated[float, Field(allow_inf_nan=False)]
@@ -174,8 +197,9 @@ class BlankSpec(BaseModel):
     diameter: float = Field(gt=0, le=2000)
     inner_diameter: float = Field(default=0.0, ge=0, le=2000, description="0: a bar")
     length: float = Field(gt=0, le=5000)
-    chuck_length: float | None = Field(default=None, gt=0, le=5000, description="Clamped length; default "
-                                                                                 "a third of the length, ≤ 30 mm")
+    chuck_length: float | None = Field(
+        default=None, gt=0, le=5000, description="Clamped length; default a third of the length, ≤ 30 mm"
+    )
 
     @model_validator(mode="after")
     def _sizes(self) -> BlankSpec:
@@ -187,10 +211,16 @@ class BlankSpec(BaseModel):
 
 
 class SimulateRequest(ProgramRequest):
-    stock: StockSpec | None = Field(default=None, description="Default: the exercise's stock, else the PAL "
-                                                               "examples' block 80 × 70 × 30 ([0,0,-30]–[80,70,0])")
-    blank: BlankSpec | None = Field(default=None, description="Turning (TRAUB): the bar or tube; default: the "
-                                                              "exercise's blank, else a bar around the program")
+    stock: StockSpec | None = Field(
+        default=None,
+        description="Default: the exercise's stock, else the PAL "
+        "examples' block 80 × 70 × 30 ([0,0,-30]–[80,70,0])",
+    )
+    blank: BlankSpec | None = Field(
+        default=None,
+        description="Turning (TRAUB): the bar or tube; default: the "
+        "exercise's blank, else a bar around the program",
+    )
     resolution: float = Field(default=0.1, ge=0.05, le=5.0, description="Cell size of the height map, mm")
 
 
@@ -315,11 +345,14 @@ class UserOut(BaseModel):
     created_at: Time
     instructor: str | None = Field(default=None, description="The instructor who manages the user (students)")
     active: bool = Field(default=True, description="False: deactivated by an admin (no login, no tokens)")
-    must_change_password: bool = Field(default=False, description="A one-time password was set: the user must "
-                                       "change it before anything else")
-    signed_up_to: int | None = Field(default=None, description="The course whose join code created the account "
-                                     "(self-registration); null: made otherwise")
-
+    must_change_password: bool = Field(
+        default=False, description="A one-time password was set: the user must change it before anything else"
+    )
+    signed_up_to: int | None = Field(
+        default=None,
+        description="The course whose join code created the account "
+        "(self-registration); null: made otherwise",
+    )
 
 
 class Me(BaseModel):
@@ -331,7 +364,9 @@ class Me(BaseModel):
     scopes: list[Scope] | None = Field(description="An API key's scopes; null for users")
 
 
-ChosenPassword = Annotated[str, length(10_000, min_length=1), CLEAN]  # checked by password_problem in the route: a 422 naming the rule
+ChosenPassword = Annotated[
+    str, length(10_000, min_length=1), CLEAN
+]  # checked by password_problem in the route: a 422 naming the rule
 JoinCodeText = Annotated[str, length(32, min_length=1), CLEAN]
 
 
@@ -344,8 +379,9 @@ class PasswordChange(BaseModel):
 
 class PasswordReset(BaseModel):
     username: str
-    password: str = Field(description="The one-time password (shown only this once); the user must change it at "
-                                      "the next login")
+    password: str = Field(
+        description="The one-time password (shown only this once); the user must change it at the next login"
+    )
 
 
 class SignupRequest(BaseModel):
@@ -362,8 +398,11 @@ class UserCreate(BaseModel):
     username: NewUsername
     password: NewPassword
     role: Role = "student"
-    instructor: Username | None = Field(default=None, description="The instructor who manages the new user; an "
-                                        "instructor creating a student: themselves (also when not given)")
+    instructor: Username | None = Field(
+        default=None,
+        description="The instructor who manages the new user; an "
+        "instructor creating a student: themselves (also when not given)",
+    )
 
 
 class ApiKeyCreate(BaseModel):
@@ -399,8 +438,9 @@ class CriterionSpec(BaseModel):
     id: CriterionId
     points: int = Field(ge=0, le=100)
     hidden: bool = False
-    tolerance: float | None = Field(default=None, gt=0, allow_inf_nan=False,
-                                    description="geometry: mm; technology: relative (0.1 = 10 %)")
+    tolerance: float | None = Field(
+        default=None, gt=0, allow_inf_nan=False, description="geometry: mm; technology: relative (0.1 = 10 %)"
+    )
 
 
 class RubricSpec(BaseModel):
@@ -433,19 +473,27 @@ class ExerciseFields(BaseModel):
     task_en: TaskText = ""
     dialect: Dialect = DEFAULT_DIALECT
     stock: StockSpec | None = None
-    tools: list[ToolSpec] | None = Field(default=None, max_length=99, description="The exercise's whole tool table")
+    tools: list[ToolSpec] | None = Field(
+        default=None, max_length=99, description="The exercise's whole tool table"
+    )
     reference_program: StoredText = ""
     rubric: RubricSpec | None = None
     hidden_criteria: RubricSpec | None = None
 
 
 Visibility = Literal["draft", "courses", "public"]
-_VISIBILITY = ("draft: only its author (and admins); courses: also the members of the author's courses; public: "
-               "everyone on this server. An exercise set in an assignment is seen by the course's students from its "
-               "opening on (docs/server.md)")
-ExerciseDocumentIn = Annotated[dict[str, Any], Field(
-    description="The whole exercise in the exercise format (docs/exercises.md), as the editor and the YAML import "
-                "use it; validated with every error at once (422 EXERCISE_INVALID, details.errors per field)")]
+_VISIBILITY = (
+    "draft: only its author (and admins); courses: also the members of the author's courses; public: "
+    "everyone on this server. An exercise set in an assignment is seen by the course's students from its "
+    "opening on (docs/server.md)"
+)
+ExerciseDocumentIn = Annotated[
+    dict[str, Any],
+    Field(
+        description="The whole exercise in the exercise format (docs/exercises.md), as the editor and the YAML import "
+        "use it; validated with every error at once (422 EXERCISE_INVALID, details.errors per field)"
+    ),
+]
 
 
 class ExerciseCreate(ExerciseFields):
@@ -461,8 +509,12 @@ class ExerciseCreate(ExerciseFields):
             doc = data["document"]
             title = doc.get("title") if isinstance(doc.get("title"), dict) else {}
             slug = doc.get("id") if isinstance(doc.get("id"), str) and doc.get("id") else "neu"
-            return {"document": doc, "visibility": data.get("visibility", "draft"), "slug": slug[:80],
-                    "title_de": str(title.get("de") or "-")[:200]}
+            return {
+                "document": doc,
+                "visibility": data.get("visibility", "draft"),
+                "slug": slug[:80],
+                "title_de": str(title.get("de") or "-")[:200],
+            }
         return data
 
 
@@ -510,46 +562,83 @@ class ExerciseOut(BaseModel):
     dialect: str
     stock: dict[str, Any] | None
     tools: list[dict[str, Any]] | None = Field(description="Tool table entries (docs/tools.md)")
-    rubric: dict[str, Any] | None = Field(description="Without hidden criteria unless one manages the exercise")
-    gradable: bool = Field(description="Submissions are graded (the exercise is complete in the grader's format)")
+    rubric: dict[str, Any] | None = Field(
+        description="Without hidden criteria unless one manages the exercise"
+    )
+    gradable: bool = Field(
+        description="Submissions are graded (the exercise is complete in the grader's format)"
+    )
     owner: str | None
     builtin: bool
     created_at: Time
     updated_at: Time
     reference_program: str | None = Field(description="Only for the owner and admins; null otherwise")
-    hidden_criteria: dict[str, Any] | None = Field(description="Only for the owner and admins; null otherwise")
+    hidden_criteria: dict[str, Any] | None = Field(
+        description="Only for the owner and admins; null otherwise"
+    )
     kind: str = Field(default="write", description="write | complete | fix (docs/exercises.md)")
-    start_program: str = Field(default="", description="What the trainee starts from (kinds complete and fix)")
-    locked_lines: list[int] = Field(default=[], description="Lines of start_program that must stay (kind complete)")
+    start_program: str = Field(
+        default="", description="What the trainee starts from (kinds complete and fix)"
+    )
+    locked_lines: list[int] = Field(
+        default=[], description="Lines of start_program that must stay (kind complete)"
+    )
     cutting_data: list[dict[str, Any]] = Field(default=[], description="Prescribed S and F per tool")
-    order: int | None = Field(default=None, description="Place in its set (the list is sorted by it, then title)")
+    order: int | None = Field(
+        default=None, description="Place in its set (the list is sorted by it, then title)"
+    )
     dialect_title: str = Field(default="", description="The dialect's German name, e.g. PAL Fräsen")
     dialect_title_en: str = Field(default="", description="The dialect's English name, e.g. PAL milling")
-    hint_count: int = Field(default=0, description="Hints one at a time: GET /exercises/{slug}/hints/{n}, n = 1 …")
+    hint_count: int = Field(
+        default=0, description="Hints one at a time: GET /exercises/{slug}/hints/{n}, n = 1 …"
+    )
     solution: Literal["never", "after_submission", "after_full_marks"] = Field(
-        default="after_submission", description="When GET /exercises/{slug}/solution shows the reference to students")
-    task_html_de: str = Field(default="", description="task_de as HTML to insert into the page as it is: paragraphs, "
-                              "bold, italic, lists, inline code, https links; raw HTML in the Markdown is text")
+        default="after_submission",
+        description="When GET /exercises/{slug}/solution shows the reference to students",
+    )
+    task_html_de: str = Field(
+        default="",
+        description="task_de as HTML to insert into the page as it is: paragraphs, "
+        "bold, italic, lists, inline code, https links; raw HTML in the Markdown is text",
+    )
     task_html_en: str = Field(default="", description="task_en (else task_de) as HTML, as task_html_de")
-    blank_de: str = Field(default="", description="The blank, e.g. 'Rohteil: Stange Ø100 × 160 mm, 30 mm im Futter' "
-                          "or 'Rohteil: 80 × 70 × 30 mm'; empty without a stock")
+    blank_de: str = Field(
+        default="",
+        description="The blank, e.g. 'Rohteil: Stange Ø100 × 160 mm, 30 mm im Futter' "
+        "or 'Rohteil: 80 × 70 × 30 mm'; empty without a stock",
+    )
     blank_en: str = Field(default="", description="The blank in English, e.g. 'Blank: bar Ø100 × 160 mm'")
     zero_de: str = Field(default="", description="'Werkstücknullpunkt: …', where the workpiece zero lies")
     zero_en: str = Field(default="", description="'Workpiece zero: …'")
-    blank_in_task_de: bool = Field(default=False, description="task_de states the blank itself: the page does not "
-                                   "print blank_de above it a second time")
-    blank_in_task_en: bool = Field(default=False, description="task_en (else task_de) states the blank itself")
+    blank_in_task_de: bool = Field(
+        default=False,
+        description="task_de states the blank itself: the page does not "
+        "print blank_de above it a second time",
+    )
+    blank_in_task_en: bool = Field(
+        default=False, description="task_en (else task_de) states the blank itself"
+    )
     visibility: str = Field(default="public", description=_VISIBILITY)
     version: int = Field(default=1, description="Raised by every edit of the content once published")
-    archived: bool = Field(default=False, description="Deleted with submissions: hidden, its submissions kept")
-    own_drawing: str | None = Field(default=None, description="The media type of the author's own drawing "
-                                    "(GET …/own-drawing), shown and printed instead of the generated one; null: none")
-    document: dict[str, Any] | None = Field(default=None, description="The whole exercise document (the editor's "
-                                            "model, docs/exercises.md): only for its owner and admins")
+    archived: bool = Field(
+        default=False, description="Deleted with submissions: hidden, its submissions kept"
+    )
+    own_drawing: str | None = Field(
+        default=None,
+        description="The media type of the author's own drawing "
+        "(GET …/own-drawing), shown and printed instead of the generated one; null: none",
+    )
+    document: dict[str, Any] | None = Field(
+        default=None,
+        description="The whole exercise document (the editor's "
+        "model, docs/exercises.md): only for its owner and admins",
+    )
     tool_feeds: dict[str, dict[str, Any]] = Field(
-        default={}, description="Turning: per tool number its feeds (mm/U) as F ('feed') and as the reduced feed E "
-                                "('reduced': what the reference writes as E) and its spindle direction ('spindle': "
-                                "M3, M4 or null), as the task sheet prints them; {} for milling")
+        default={},
+        description="Turning: per tool number its feeds (mm/U) as F ('feed') and as the reduced feed E "
+        "('reduced': what the reference writes as E) and its spindle direction ('spindle': "
+        "M3, M4 or null), as the task sheet prints them; {} for milling",
+    )
 
 
 # --- submissions -----------------------------------------------------------------------------
@@ -562,12 +651,17 @@ class SubmissionCreate(BaseModel):
     program: Program
     skip_blocks: bool = False
     external_user: ExternalUser | None = Field(
-        default=None, description="The learner's id on the learning platform (API keys of the operator, an "
-                                  "instructor or an admin only)")
+        default=None,
+        description="The learner's id on the learning platform (API keys of the operator, an "
+        "instructor or an admin only)",
+    )
     assignment: int | None = Field(
-        default=None, ge=1, le=DB_INT_MAX,
+        default=None,
+        ge=1,
+        le=DB_INT_MAX,
         description="The assignment it is for (GET /me/assignments); without it, the running exam or the open "
-                    "practice assignment with the exercise, if any")
+        "practice assignment with the exercise, if any",
+    )
 
 
 class RunSummary(BaseModel):
@@ -599,8 +693,9 @@ class OverrideOut(BaseModel):
     comment: str
     by: str | None = Field(description="The instructor who set it")
     at: Time
-    message: str = Field(description="As the trainee reads it: \"Punktzahl von der Lehrkraft geändert: 80 statt "
-                                     "50 – …\"")
+    message: str = Field(
+        description='As the trainee reads it: "Punktzahl von der Lehrkraft geändert: 80 statt 50 – …"'
+    )
     message_en: str
 
 
@@ -614,29 +709,44 @@ class OverrideIn(BaseModel):
 class SubmissionOut(BaseModel):
     id: int
     exercise: str
-    exercise_title: str = Field(default="", description="The exercise's German title (lists show it, not the slug)")
+    exercise_title: str = Field(
+        default="", description="The exercise's German title (lists show it, not the slug)"
+    )
     exercise_title_en: str = Field(default="", description="The exercise's English title, if it has one")
     user: str | None
     external_user: str | None
     dialect: str
     created_at: Time
-    error_count: int | None = Field(description="null for its author while held (an exam's, not yet released)")
+    error_count: int | None = Field(
+        description="null for its author while held (an exam's, not yet released)"
+    )
     warning_count: int | None = Field(description="null for its author while held")
     grading: dict[str, Any] | None = Field(
         description="The grade as `paltrainer grade --json` (hidden criteria only for the exercise's owner and "
-                    "admins); null if the exercise is not gradable, and for its author while held or while the "
-                    "exercise is in an unreleased exam of their course (docs/server.md, \"Exams\")")
+        "admins); null if the exercise is not gradable, and for its author while held or while the "
+        'exercise is in an unreleased exam of their course (docs/server.md, "Exams")'
+    )
     score: int | None = Field(description="Points out of grading.max_score; null if not graded or not shown")
-    held: bool = Field(default=False, description="An exam's submission as its author sees it before the results "
-                                                  "are released: stored and handed in, nothing else until then")
+    held: bool = Field(
+        default=False,
+        description="An exam's submission as its author sees it before the results "
+        "are released: stored and handed in, nothing else until then",
+    )
     summary: RunSummary | None = Field(description="null for its author while held")
-    override: OverrideOut | None = Field(default=None, description="The teacher's score and comment, if set; "
-                                                                   "`score` is then this one")
+    override: OverrideOut | None = Field(
+        default=None, description="The teacher's score and comment, if set; `score` is then this one"
+    )
     diagnostics: list[DiagnosticOut] | None = Field(description="The check diagnostics (detail views only)")
     program: str | None = Field(description="The program (detail views only)")
-    lms: LmsResult | None = Field(default=None, description="The grade for a learning platform; null if not graded")
-    exercise_version: int | None = Field(default=None, description="The exercise's version it was graded against")
-    version_note: str = Field(default="", description="\"Version 1\" when that is not the exercise's current one")
+    lms: LmsResult | None = Field(
+        default=None, description="The grade for a learning platform; null if not graded"
+    )
+    exercise_version: int | None = Field(
+        default=None, description="The exercise's version it was graded against"
+    )
+    version_note: str = Field(
+        default="", description='"Version 1" when that is not the exercise\'s current one'
+    )
 
 
 # --- the trainee's day: drafts, history, progress, hints, solution (issue 15) ---------------------
@@ -645,14 +755,19 @@ class SubmissionOut(BaseModel):
 class DraftIn(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    program: Program = Field(description="The editor's text (at most PALTRAINER_MAX_PROGRAM_CHARS characters)")
+    program: Program = Field(
+        description="The editor's text (at most PALTRAINER_MAX_PROGRAM_CHARS characters)"
+    )
 
 
 class DraftOut(BaseModel):
     exercise: str
-    assignment: int | None = Field(default=None, description="The exam this draft belongs to; null: the practice "
-                                                             "draft")
-    program: str | None = Field(description="The saved text; null: no draft (start from the exercise's start_program)")
+    assignment: int | None = Field(
+        default=None, description="The exam this draft belongs to; null: the practice draft"
+    )
+    program: str | None = Field(
+        description="The saved text; null: no draft (start from the exercise's start_program)"
+    )
     updated_at: Time | None
 
 
@@ -668,8 +783,10 @@ class MySubmission(BaseModel):
     warning_count: int | None
     held: bool = False
     override: OverrideOut | None = None
-    criteria: list[dict[str, Any]] = Field(description="The grade's criteria as the trainee sees them (no hidden "
-                                                       "ones; none while held or withheld by an exam)")
+    criteria: list[dict[str, Any]] = Field(
+        description="The grade's criteria as the trainee sees them (no hidden "
+        "ones; none while held or withheld by an exam)"
+    )
     program: str
 
 
@@ -678,9 +795,13 @@ class Progress(BaseModel):
 
     exercise: str
     status: Literal["not_started", "draft", "submitted"]
-    best_score: int | None = Field(description="The best score of the caller's submissions; null: none graded")
+    best_score: int | None = Field(
+        description="The best score of the caller's submissions; null: none graded"
+    )
     max_score: int | None
-    best_submission: int | None = Field(description="Id of the submission with the best score (the newest of equals)")
+    best_submission: int | None = Field(
+        description="Id of the submission with the best score (the newest of equals)"
+    )
     submissions: int
     draft_updated_at: Time | None
 
@@ -706,8 +827,10 @@ class Solution(BaseModel):
 class UserUpdate(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
-    instructor: Username | None = Field(default=None, description="The instructor who manages the user; null: "
-                                       "nobody (left as it is when absent)")
+    instructor: Username | None = Field(
+        default=None,
+        description="The instructor who manages the user; null: nobody (left as it is when absent)",
+    )
     role: Role | None = Field(default=None, description="The user's new role (absent or null: unchanged)")
 
     @model_validator(mode="before")
@@ -715,8 +838,12 @@ class UserUpdate(BaseModel):
     def _known_role(cls, data: Any) -> Any:
         role = data.get("role") if isinstance(data, dict) else None
         if role is not None and role not in Role.__args__:  # type: ignore[attr-defined]
-            raise PydanticCustomError("role", "Rolle »{role}« gibt es nicht (student, instructor oder admin) / no such "
-                                      "role (student, instructor or admin)", {"role": str(role)[:40]})
+            raise PydanticCustomError(
+                "role",
+                "Rolle »{role}« gibt es nicht (student, instructor oder admin) / no such "
+                "role (student, instructor or admin)",
+                {"role": str(role)[:40]},
+            )
         return data
 
 
@@ -724,8 +851,9 @@ class ImportedUser(BaseModel):
     username: str
     role: Role
     instructor: str | None
-    password: str | None = Field(description="The generated password (shown only this once); null when the list "
-                                             "gave one")
+    password: str | None = Field(
+        description="The generated password (shown only this once); null when the list gave one"
+    )
 
 
 class ImportedUsers(BaseModel):
@@ -739,9 +867,12 @@ class ResultCell(BaseModel):
     overridden: bool = Field(default=False, description="Its score was set by an instructor")
     submissions: list[int] = Field(description="Every submission's id, newest first")
     created_at: Time = Field(description="When the best submission was made")
-    exercise_version: int | None = Field(default=None, description="The version the best submission was graded "
-                                                                   "against")
-    version_note: str = Field(default="", description="\"Version 1\" when that is not the exercise's current one")
+    exercise_version: int | None = Field(
+        default=None, description="The version the best submission was graded against"
+    )
+    version_note: str = Field(
+        default="", description='"Version 1" when that is not the exercise\'s current one'
+    )
 
 
 class ResultRow(BaseModel):
@@ -757,6 +888,10 @@ class ResultExercise(BaseModel):
 
 
 class Results(BaseModel):
-    exercises: list[ResultExercise] = Field(description="The columns: exercises with a submission, in list order")
-    trainees: list[ResultRow] = Field(description="The rows: the caller's students and everyone whose "
-                                                  "submissions the caller may see, by name")
+    exercises: list[ResultExercise] = Field(
+        description="The columns: exercises with a submission, in list order"
+    )
+    trainees: list[ResultRow] = Field(
+        description="The rows: the caller's students and everyone whose "
+        "submissions the caller may see, by name"
+    )

@@ -31,11 +31,15 @@ def password_problem(password: str) -> tuple[str, str] | None:
     """The one rule for a new password (class lists, new users, changes, resets, sign-up): 8 to 1000 characters,
     no NUL; None if it holds, else what is wrong (German, English)."""
     if len(password) < PASSWORD_MIN:
-        return (f"das Passwort braucht mindestens {PASSWORD_MIN} Zeichen",
-                f"the password needs at least {PASSWORD_MIN} characters")
+        return (
+            f"das Passwort braucht mindestens {PASSWORD_MIN} Zeichen",
+            f"the password needs at least {PASSWORD_MIN} characters",
+        )
     if len(password) > PASSWORD_MAX:
-        return (f"das Passwort darf höchstens {PASSWORD_MAX} Zeichen lang sein",
-                f"the password may be at most {PASSWORD_MAX} characters long")
+        return (
+            f"das Passwort darf höchstens {PASSWORD_MAX} Zeichen lang sein",
+            f"the password may be at most {PASSWORD_MAX} characters long",
+        )
     if "\x00" in password:
         return "das Passwort enthält das Zeichen NUL", "the password contains the NUL character"
     return None
@@ -55,13 +59,21 @@ def verify_password(password: str, hashed: str | None) -> bool:
 def make_token(secret: str, user_id: int, role: str, minutes: int, version: int = 0) -> str:
     """A signed token for the user; `ver` is the user's token version then (logging out raises it)."""
     now = datetime.now(UTC)
-    claims = {"sub": str(user_id), "role": role, "ver": version, "iat": now, "exp": now + timedelta(minutes=minutes)}
+    claims = {
+        "sub": str(user_id),
+        "role": role,
+        "ver": version,
+        "iat": now,
+        "exp": now + timedelta(minutes=minutes),
+    }
     return jwt.encode(claims, secret, algorithm="HS256")
 
 
 def read_token(secret: str, token: str) -> dict[str, Any] | None:
     try:
-        claims: dict[str, Any] = jwt.decode(token, secret, algorithms=["HS256"], options={"require": ["exp", "sub"]})
+        claims: dict[str, Any] = jwt.decode(
+            token, secret, algorithms=["HS256"], options={"require": ["exp", "sub"]}
+        )
     except jwt.PyJWTError:
         return None
     return claims
@@ -113,7 +125,7 @@ def split_api_key(key: str) -> str | None:
     """The prefix of a well-formed key, else None."""
     if not key.startswith(API_KEY_PREFIX):
         return None
-    parts = key[len(API_KEY_PREFIX):].split("_", 1)
+    parts = key[len(API_KEY_PREFIX) :].split("_", 1)
     return parts[0] if len(parts) == 2 and parts[0] else None
 
 

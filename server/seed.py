@@ -44,14 +44,21 @@ def document_from_fields(fields: dict[str, Any], base: dict[str, Any] | None = N
     reference program, a rubric that does not add up to 100 …)."""
     data: dict[str, Any] = {
         **(base or {}),
-        "id": fields["slug"], "title": {"de": fields["title_de"], "en": fields.get("title_en") or ""},
+        "id": fields["slug"],
+        "title": {"de": fields["title_de"], "en": fields.get("title_en") or ""},
         "task": {"de": fields.get("task_de") or "", "en": fields.get("task_en") or ""},
-        "dialect": fields.get("dialect"), "stock": fields.get("stock"), "tools": fields.get("tools") or [],
-        "reference": fields.get("reference_program") or "", "source": (base or {}).get("source") or "api",
+        "dialect": fields.get("dialect"),
+        "stock": fields.get("stock"),
+        "tools": fields.get("tools") or [],
+        "reference": fields.get("reference_program") or "",
+        "source": (base or {}).get("source") or "api",
     }
     rubric = fields.get("rubric") or {}
     hidden = fields.get("hidden_criteria") or {}
-    criteria = [*(rubric.get("criteria") or []), *({**c, "hidden": True} for c in hidden.get("criteria") or [])]
+    criteria = [
+        *(rubric.get("criteria") or []),
+        *({**c, "hidden": True} for c in hidden.get("criteria") or []),
+    ]
     if criteria:
         data["rubric"] = criteria
     else:

@@ -89,7 +89,9 @@ def exercise_spec(exercise: Exercise, skip_blocks: bool | None) -> dict[str, Any
     """How to run a program for `exercise`: its whole document when the grader can read it, else its tools."""
     spec: dict[str, Any] = {"skip_blocks": skip_blocks, "stock": exercise.stock}
     if exercise.document is not None:
-        spec.update(exercise=exercise.document, exercise_key=f"{exercise.id}:{exercise.updated_at.isoformat()}")
+        spec.update(
+            exercise=exercise.document, exercise_key=f"{exercise.id}:{exercise.updated_at.isoformat()}"
+        )
     elif exercise.tools:
         spec.update(tools=exercise.tools, replace_tools=True)
     return spec
@@ -119,8 +121,11 @@ def simulate_spec(db: Session, settings: Settings, req: SimulateRequest) -> dict
     stock = req.stock.model_dump() if req.stock is not None else spec.get("stock") or DEFAULT_STOCK
     try:
         lo, hi = [float(v) for v in stock["min"]], [float(v) for v in stock["max"]]
-        ok = len(lo) == len(hi) == 3 and all(abs(v) <= 100_000 for v in lo + hi) and all(
-            b > a for a, b in zip(lo, hi, strict=True))
+        ok = (
+            len(lo) == len(hi) == 3
+            and all(abs(v) <= 100_000 for v in lo + hi)
+            and all(b > a for a, b in zip(lo, hi, strict=True))
+        )
     except (KeyError, TypeError, ValueError):
         ok = False
     if not ok:
@@ -143,15 +148,24 @@ def create_user(db: Session, username: str, password: str, role: str, instructor
     if repo.user_by_name(db, username) is not None:
         raise ApiError("USER_EXISTS", user=username)
     try:
-        return repo.create_user(db, username, hash_password(password), role, instructor.id if instructor else None)
+        return repo.create_user(
+            db, username, hash_password(password), role, instructor.id if instructor else None
+        )
     except repo.Duplicate:
         raise ApiError("USER_EXISTS", user=username) from None
 
 
 def user_out(user: User, instructor: str | None = None) -> UserOut:
-    return UserOut(id=user.id, username=user.username, role=user.role,  # type: ignore[arg-type]
-                   created_at=user.created_at, instructor=instructor, active=user.deactivated_at is None,
-                   must_change_password=user.must_change_password, signed_up_to=user.signup_course_id)
+    return UserOut(
+        id=user.id,
+        username=user.username,
+        role=user.role,  # type: ignore[arg-type]
+        created_at=user.created_at,
+        instructor=instructor,
+        active=user.deactivated_at is None,
+        must_change_password=user.must_change_password,
+        signed_up_to=user.signup_course_id,
+    )
 
 
 def create_api_key(db: Session, name: str, scopes: list[str], owner: User | None) -> tuple[ApiKey, str]:
@@ -162,9 +176,16 @@ def create_api_key(db: Session, name: str, scopes: list[str], owner: User | None
 
 def api_key_out(db: Session, key: ApiKey) -> ApiKeyOut:
     owner = repo.user_by_id(db, key.owner_id) if key.owner_id is not None else None
-    return ApiKeyOut(id=key.id, name=key.name, prefix=key.prefix, scopes=key.scopes,  # type: ignore[arg-type]
-                     owner=owner.username if owner else None, created_at=key.created_at,
-                     last_used_at=key.last_used_at, revoked_at=key.revoked_at)
+    return ApiKeyOut(
+        id=key.id,
+        name=key.name,
+        prefix=key.prefix,
+        scopes=key.scopes,  # type: ignore[arg-type]
+        owner=owner.username if owner else None,
+        created_at=key.created_at,
+        last_used_at=key.last_used_at,
+        revoked_at=key.revoked_at,
+    )
 
 
 def api_key_created(db: Session, key: ApiKey, secret: str) -> ApiKeyCreated:
@@ -178,7 +199,9 @@ def visible_api_keys(db: Session, principal: Principal) -> list[ApiKeyOut]:
 
 def revoke_api_key(db: Session, principal: Principal, key_id: int) -> ApiKeyOut:
     key = repo.api_key_by_id(db, key_id)
-    if key is None or not (principal.is_admin() or (key.owner_id is not None and key.owner_id == principal.user_id)):
+    if key is None or not (
+        principal.is_admin() or (key.owner_id is not None and key.owner_id == principal.user_id)
+    ):
         raise ApiError("API_KEY_NOT_FOUND", key=key_id)
     repo.revoke_api_key(db, key)
     return api_key_out(db, key)
@@ -196,8 +219,13 @@ def can_manage(principal: Principal, exercise: Exercise) -> bool:
     return principal.user.role == "instructor" and exercise.owner_id == principal.user.id
 
 
-def exercise_out(db: Session, exercise: Exercise, principal: Principal,
-                 sit: access.Situation | None = None, own_drawing: str | None | bool = True) -> ExerciseOut:
+def exercise_out(
+    db: Session,
+    exercise: Exercise,
+    principal: Principal,
+    sit: access.Situation | None = None,
+    own_drawing: str | None | bool = True,
+) -> ExerciseOut:
     """The exercise as `principal` may see it (`sit`: their situation, when the caller has it already;
     `own_drawing`: the media type of its own drawing when the caller read it, True: read it here)."""
     owner = repo.user_by_id(db, exercise.owner_id) if exercise.owner_id is not None else None
@@ -207,18 +235,35 @@ def exercise_out(db: Session, exercise: Exercise, principal: Principal,
         full = access.allowed(sit, "reference", exercise.slug)
     rubric = exercise.rubric
     if not full and isinstance(rubric, dict) and isinstance(rubric.get("criteria"), list):
-        rubric = {**rubric, "criteria": [c for c in rubric["criteria"] if not (isinstance(c, dict) and c.get("hidden"))]}
+        rubric = {
+            **rubric,
+            "criteria": [c for c in rubric["criteria"] if not (isinstance(c, dict) and c.get("hidden"))],
+        }
     return ExerciseOut(
-        slug=exercise.slug, title_de=exercise.title_de, title_en=exercise.title_en, task_de=exercise.task_de,
-        task_en=exercise.task_en, dialect=exercise.dialect, stock=exercise.stock,
-        tools=exercise.tools, rubric=rubric, gradable=exercise.document is not None,
-        owner=owner.username if owner else None, builtin=exercise.builtin, created_at=exercise.created_at,
-        updated_at=exercise.updated_at, reference_program=exercise.reference_program if full else None,
+        slug=exercise.slug,
+        title_de=exercise.title_de,
+        title_en=exercise.title_en,
+        task_de=exercise.task_de,
+        task_en=exercise.task_en,
+        dialect=exercise.dialect,
+        stock=exercise.stock,
+        tools=exercise.tools,
+        rubric=rubric,
+        gradable=exercise.document is not None,
+        owner=owner.username if owner else None,
+        builtin=exercise.builtin,
+        created_at=exercise.created_at,
+        updated_at=exercise.updated_at,
+        reference_program=exercise.reference_program if full else None,
         hidden_criteria=exercise.hidden_criteria if full else None,
-        visibility=exercise.visibility, version=exercise.version, archived=exercise.archived_at is not None,
+        visibility=exercise.visibility,
+        version=exercise.version,
+        archived=exercise.archived_at is not None,
         own_drawing=own_drawing if not isinstance(own_drawing, bool) else _own_drawing_type(db, exercise),
         document=exercise.document if full else None,
-        **_document_view(exercise.document), **_list_view(exercise), **task_view(exercise),
+        **_document_view(exercise.document),
+        **_list_view(exercise),
+        **task_view(exercise),
     )
 
 
@@ -227,7 +272,9 @@ def _own_drawing_type(db: Session, exercise: Exercise) -> str | None:
     return found[0] if found else None
 
 
-def exercise_seen(db: Session, principal: Principal, slug: str, sit: access.Situation | None = None) -> Exercise:
+def exercise_seen(
+    db: Session, principal: Principal, slug: str, sit: access.Situation | None = None
+) -> Exercise:
     """The exercise `slug` if the caller sees it (server/access.py, rules 6–9); EXERCISE_NOT_FOUND alike for names
     that do not exist."""
     exercise = get_exercise(db, slug)
@@ -235,8 +282,9 @@ def exercise_seen(db: Session, principal: Principal, slug: str, sit: access.Situ
     return exercise
 
 
-def visible_exercises(db: Session, principal: Principal, mine: bool = False,
-                      archived: bool = False) -> list[ExerciseOut]:
+def visible_exercises(
+    db: Session, principal: Principal, mine: bool = False, archived: bool = False
+) -> list[ExerciseOut]:
     """The list: what the caller sees (not archived ones unless `archived`); `mine`: only those they manage
     (instructors: their own; admins: every exercise not built in)."""
     user = access.acting_user(principal)
@@ -252,8 +300,12 @@ def _document_view(document: dict[str, Any] | None) -> dict[str, Any]:
     """What the exercise page shows from the grader's document: kind, start program, cutting data."""
     if not document:
         return {}
-    return {"kind": document.get("kind", "write"), "start_program": document.get("start_program", ""),
-            "locked_lines": document.get("locked_lines", []), "cutting_data": document.get("cutting_data", [])}
+    return {
+        "kind": document.get("kind", "write"),
+        "start_program": document.get("start_program", ""),
+        "locked_lines": document.get("locked_lines", []),
+        "cutting_data": document.get("cutting_data", []),
+    }
 
 
 async def exercise_picture(db: Session, workers: Workers, principal: Principal, slug: str) -> bytes:
@@ -326,18 +378,27 @@ async def drawing_preview(workers: Workers, document: dict[str, Any], lang: str)
     if not isinstance(data.get("title"), dict) or not str(data["title"].get("de") or "").strip():
         data["title"] = {"de": "Vorschau"}
     try:
-        checked = await run_in_threadpool(lambda: ExerciseDocument.model_validate(data).model_dump(mode="json"))
+        checked = await run_in_threadpool(
+            lambda: ExerciseDocument.model_validate(data).model_dump(mode="json")
+        )
     except ValidationError as err:
         problems = [field_problem(e) for e in err.errors()]
-        raise ApiError("EXERCISE_INVALID", detail="; ".join(f"{p['field']}: {p['message']}" for p in problems),
-                       detail_en="; ".join(f"{p['field']}: {p['message_en']}" for p in problems),
-                       errors=problems) from None
+        raise ApiError(
+            "EXERCISE_INVALID",
+            detail="; ".join(f"{p['field']}: {p['message']}" for p in problems),
+            detail_en="; ".join(f"{p['field']}: {p['message_en']}" for p in problems),
+            errors=problems,
+        ) from None
     svg: str = await workers.cached(content_key("drawing", checked, lang), job_drawing, checked, lang)
     return svg
 
 
-async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: str,
-                     own: list[tuple[str, bytes] | None] | None = None) -> bytes:
+async def task_sheet(
+    workers: Workers,
+    documents: list[dict[str, Any]],
+    lang: str,
+    own: list[tuple[str, bytes] | None] | None = None,
+) -> bytes:
     """Exercises as a printed task sheet (PDF, core/sheet): each exercise's pages are a worker job of their own,
     kept by content (the exercise's document and the language: an edited exercise is rendered again), and several
     are put together in one more job (kept as well) — no job grows with the number of exercises, and a class
@@ -347,11 +408,18 @@ async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: st
     try:
         await asyncio.to_thread(pdf_engine)
         drawn = own or [None] * len(documents)  # the authors' own drawings (media type, bytes), if any
-        keys = await run_in_threadpool(lambda: [content_key("sheet", d, lang, o[0], hashlib.sha256(o[1]).hexdigest())
-                                                if o else content_key("sheet", d, lang)
-                                                for d, o in zip(documents, drawn, strict=True)])
+        keys = await run_in_threadpool(
+            lambda: [
+                content_key("sheet", d, lang, o[0], hashlib.sha256(o[1]).hexdigest())
+                if o
+                else content_key("sheet", d, lang)
+                for d, o in zip(documents, drawn, strict=True)
+            ]
+        )
         parts: list[bytes] = []
-        for document, key, drawing in zip(documents, keys, drawn, strict=True):  # one job at a time per request
+        for document, key, drawing in zip(
+            documents, keys, drawn, strict=True
+        ):  # one job at a time per request
             parts.append(await workers.cached(key, job_sheet, document, lang, drawing))
         if len(parts) == 1:
             return parts[0]
@@ -364,7 +432,9 @@ async def task_sheet(workers: Workers, documents: list[dict[str, Any]], lang: st
 async def exercise_sheet(db: Session, workers: Workers, principal: Principal, slug: str, lang: str) -> bytes:
     """The exercise's printed task sheet with its empty programming form (PDF)."""
 
-    def read() -> tuple[dict[str, Any], tuple[str, bytes] | None]:  # in the threadpool: no query on the event loop
+    def read() -> tuple[
+        dict[str, Any], tuple[str, bytes] | None
+    ]:  # in the threadpool: no query on the event loop
         exercise = exercise_seen(db, principal, slug)
         if exercise.document is None:
             raise ApiError("NOT_FOUND")
@@ -398,15 +468,20 @@ def create_exercise(db: Session, settings: Settings, principal: Principal, body:
         raise ApiError("EXERCISE_EXISTS", exercise=body.slug)
     fields = body.model_dump(mode="json", exclude={"document"})
     try:
-        return repo.create_exercise(db, {**fields, "document": document_from_fields(fields)}, principal.user_id)
+        return repo.create_exercise(
+            db, {**fields, "document": document_from_fields(fields)}, principal.user_id
+        )
     except repo.Duplicate:
         raise ApiError("EXERCISE_EXISTS", exercise=body.slug) from None
 
 
 def _invalid(problems: list[dict[str, str]]) -> ApiError:
-    return ApiError("EXERCISE_INVALID", detail="; ".join(f"Feld `{p['field']}`: {p['message']}" for p in problems),
-                    detail_en="; ".join(f"field `{p['field']}`: {p['message_en']}" for p in problems),
-                    errors=problems)
+    return ApiError(
+        "EXERCISE_INVALID",
+        detail="; ".join(f"Feld `{p['field']}`: {p['message']}" for p in problems),
+        detail_en="; ".join(f"field `{p['field']}`: {p['message_en']}" for p in problems),
+        errors=problems,
+    )
 
 
 async def checked_document(settings: Settings, workers: Workers, text: str, graded: bool) -> ExerciseDocument:
@@ -417,22 +492,43 @@ async def checked_document(settings: Settings, workers: Workers, text: str, grad
         raise ApiError("PROGRAM_TOO_LARGE", size=len(text), limit=settings.max_program_chars * 2)
     checked = await workers.call(job_validate_exercise, text, graded)
     if "invalid" in checked:
-        problems = checked.get("problems") or [{"field": "(Aufgabe)", "message": checked["invalid"],
-                                                "message_en": checked.get("invalid_en", "")}]
-        raise ApiError("EXERCISE_INVALID", detail=checked["invalid"], detail_en=checked.get("invalid_en", ""),
-                       errors=problems)
+        problems = checked.get("problems") or [
+            {"field": "(Aufgabe)", "message": checked["invalid"], "message_en": checked.get("invalid_en", "")}
+        ]
+        raise ApiError(
+            "EXERCISE_INVALID",
+            detail=checked["invalid"],
+            detail_en=checked.get("invalid_en", ""),
+            errors=problems,
+        )
     if "reference" in checked:
         ref = checked["reference"]
-        error = ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
-                         detail_en=ref["detail_en"])
-        raise ApiError("REFERENCE_NOT_CLEAN", score=ref["score"], max_score=ref["max_score"], detail=ref["detail"],
-                       detail_en=ref["detail_en"], errors=[{"field": "reference", "message": error.message,
-                                                            "message_en": error.message_en}])
+        error = ApiError(
+            "REFERENCE_NOT_CLEAN",
+            score=ref["score"],
+            max_score=ref["max_score"],
+            detail=ref["detail"],
+            detail_en=ref["detail_en"],
+        )
+        raise ApiError(
+            "REFERENCE_NOT_CLEAN",
+            score=ref["score"],
+            max_score=ref["max_score"],
+            detail=ref["detail"],
+            detail_en=ref["detail_en"],
+            errors=[{"field": "reference", "message": error.message, "message_en": error.message_en}],
+        )
     return ExerciseDocument.model_validate(checked["document"])
 
 
-async def import_exercise(db: Session, settings: Settings, workers: Workers, principal: Principal,
-                          text: str, visibility: str = "public") -> Exercise:
+async def import_exercise(
+    db: Session,
+    settings: Settings,
+    workers: Workers,
+    principal: Principal,
+    text: str,
+    visibility: str = "public",
+) -> Exercise:
     """An instructor's exercise file (YAML or JSON, docs/exercises.md), validated: the file itself, and its
     reference must score full marks."""
     require_instructor(principal)
@@ -440,8 +536,9 @@ async def import_exercise(db: Session, settings: Settings, workers: Workers, pri
     return await run_in_threadpool(_store_exercise, db, document, principal.user_id, visibility)
 
 
-async def create_from_document(db: Session, settings: Settings, workers: Workers, principal: Principal,
-                               body: ExerciseCreate) -> Exercise:
+async def create_from_document(
+    db: Session, settings: Settings, workers: Workers, principal: Principal, body: ExerciseCreate
+) -> Exercise:
     """The editor's "Speichern" of a new exercise: its document validated (every error at once); a published one
     (visibility courses or public) also with a reference that scores full marks."""
     require_instructor(principal)
@@ -450,21 +547,44 @@ async def create_from_document(db: Session, settings: Settings, workers: Workers
     return await run_in_threadpool(_store_exercise, db, document, principal.user_id, body.visibility)
 
 
-def _store_exercise(db: Session, document: ExerciseDocument, owner_id: int | None,
-                    visibility: str = "public") -> Exercise:
+def _store_exercise(
+    db: Session, document: ExerciseDocument, owner_id: int | None, visibility: str = "public"
+) -> Exercise:
     if repo.exercise_by_slug(db, document.id) is not None:
-        raise ApiError("EXERCISE_EXISTS", exercise=document.id,
-                       errors=[{"field": "id", "message": f"die Kennung »{document.id}« gibt es schon",
-                                "message_en": f"the slug '{document.id}' exists already"}])
+        raise ApiError(
+            "EXERCISE_EXISTS",
+            exercise=document.id,
+            errors=[
+                {
+                    "field": "id",
+                    "message": f"die Kennung »{document.id}« gibt es schon",
+                    "message_en": f"the slug '{document.id}' exists already",
+                }
+            ],
+        )
     try:
         return repo.create_exercise(db, {**exercise_fields(document), "visibility": visibility}, owner_id)
     except repo.Duplicate:
         raise ApiError("EXERCISE_EXISTS", exercise=document.id) from None
 
 
-EXERCISE_FIELDS = ("slug", "title_de", "title_en", "task_de", "task_en", "dialect", "stock", "tools",
-                   "reference_program", "rubric", "hidden_criteria")
-CONTENT_FIELDS = (*EXERCISE_FIELDS, "document")  # what an edit changes: a published exercise gets a new version
+EXERCISE_FIELDS = (
+    "slug",
+    "title_de",
+    "title_en",
+    "task_de",
+    "task_en",
+    "dialect",
+    "stock",
+    "tools",
+    "reference_program",
+    "rubric",
+    "hidden_criteria",
+)
+CONTENT_FIELDS = (
+    *EXERCISE_FIELDS,
+    "document",
+)  # what an edit changes: a published exercise gets a new version
 
 
 NULLABLE_EXERCISE_FIELDS = ("stock", "tools", "rubric", "hidden_criteria")
@@ -498,21 +618,29 @@ def _state_fields(body: ExerciseUpdate) -> dict[str, Any]:
     return fields
 
 
-def update_exercise(db: Session, settings: Settings, principal: Principal, slug: str,
-                    body: ExerciseUpdate) -> Exercise:
+def update_exercise(
+    db: Session, settings: Settings, principal: Principal, slug: str, body: ExerciseUpdate
+) -> Exercise:
     exercise = _managed(db, principal, slug)
-    fields = {k: v for k, v in body.model_dump(mode="json", exclude_unset=True,
-                                               exclude={"document", "visibility", "archived"}).items()
-              if v is not None or k in NULLABLE_EXERCISE_FIELDS}
+    fields = {
+        k: v
+        for k, v in body.model_dump(
+            mode="json", exclude_unset=True, exclude={"document", "visibility", "archived"}
+        ).items()
+        if v is not None or k in NULLABLE_EXERCISE_FIELDS
+    }
     if fields:
-        check_program(settings, fields.get("reference_program", ""), fields.get("dialect") or exercise.dialect)
+        check_program(
+            settings, fields.get("reference_program", ""), fields.get("dialect") or exercise.dialect
+        )
         merged = {**{name: getattr(exercise, name) for name in EXERCISE_FIELDS}, **fields}
         fields["document"] = document_from_fields(merged, exercise.document)
     return _apply(db, principal, exercise, {**fields, **_state_fields(body)})
 
 
-async def update_from_document(db: Session, settings: Settings, workers: Workers, principal: Principal, slug: str,
-                               body: ExerciseUpdate) -> Exercise:
+async def update_from_document(
+    db: Session, settings: Settings, workers: Workers, principal: Principal, slug: str, body: ExerciseUpdate
+) -> Exercise:
     """The editor's "Speichern" of an exercise: the whole document (its id stays the slug); validated with every
     error at once; published (or to be published) with a reference that scores full marks."""
     exercise = await run_in_threadpool(_managed, db, principal, slug)
@@ -521,16 +649,26 @@ async def update_from_document(db: Session, settings: Settings, workers: Workers
     text = json.dumps({**(body.document or {}), "id": slug}, ensure_ascii=False)
     document = await checked_document(settings, workers, text, visibility != "draft")
     fields = {k: v for k, v in exercise_fields(document).items() if k != "slug"}
-    return await run_in_threadpool(lambda: _apply(db, principal, _managed(db, principal, slug),
-                                                  {**fields, **_state_fields(body)}))
+    return await run_in_threadpool(
+        lambda: _apply(db, principal, _managed(db, principal, slug), {**fields, **_state_fields(body)})
+    )
 
 
-async def publish_check(settings: Settings, workers: Workers, exercise: Exercise, body: ExerciseUpdate) -> None:
+async def publish_check(
+    settings: Settings, workers: Workers, exercise: Exercise, body: ExerciseUpdate
+) -> None:
     """Publishing (a draft made visible) needs a gradable exercise whose reference scores full marks."""
     if body.visibility in ("courses", "public") and exercise.visibility == "draft" and body.document is None:
         if exercise.document is None:
-            raise _invalid([{"field": "reference", "message": "die Aufgabe ist nicht vollständig (bewertbar)",
-                             "message_en": "the exercise is not complete (gradable)"}])
+            raise _invalid(
+                [
+                    {
+                        "field": "reference",
+                        "message": "die Aufgabe ist nicht vollständig (bewertbar)",
+                        "message_en": "the exercise is not complete (gradable)",
+                    }
+                ]
+            )
         await checked_document(settings, workers, json.dumps(exercise.document, ensure_ascii=False), True)
 
 
@@ -562,8 +700,15 @@ def duplicate_exercise(db: Session, principal: Principal, slug: str) -> Exercise
     if not (source.builtin or can_manage(principal, source)):
         raise ApiError("EXERCISE_NOT_COPYABLE")
     if source.document is None:
-        raise _invalid([{"field": "(Aufgabe)", "message": "die Aufgabe ist nicht vollständig (bewertbar)",
-                         "message_en": "the exercise is not complete (gradable)"}])
+        raise _invalid(
+            [
+                {
+                    "field": "(Aufgabe)",
+                    "message": "die Aufgabe ist nicht vollständig (bewertbar)",
+                    "message_en": "the exercise is not complete (gradable)",
+                }
+            ]
+        )
     new_slug = _copy_slug(db, slug)
     doc = dict(source.document)
     title = dict(doc.get("title") or {})
@@ -616,15 +761,23 @@ class Readers:
         return self.known[author.id]
 
 
-def submission_out(db: Session, submission: Submission, exercise: Exercise, author: User | None, detail: bool,
-                   principal: Principal, readers: Readers | None = None) -> SubmissionOut:
+def submission_out(
+    db: Session,
+    submission: Submission,
+    exercise: Exercise,
+    author: User | None,
+    detail: bool,
+    principal: Principal,
+    readers: Readers | None = None,
+) -> SubmissionOut:
     """A submission as its reader may see it. Its author (or the key that made it) sees an exam's submission as
     handed in and nothing else until the results are released, and no score or criteria of a practice
     submission while the exercise is in an unreleased exam of their course (server/access.py); instructors see
     the whole grade of what they may see (their students' work on any exercise)."""
     result = submission.result
-    own = ((principal.user_id is not None and submission.user_id == principal.user_id)
-           or (principal.api_key is not None and submission.api_key_id == principal.api_key.id))
+    own = (principal.user_id is not None and submission.user_id == principal.user_id) or (
+        principal.api_key is not None and submission.api_key_id == principal.api_key.id
+    )
     held = submission.held and own
     if own:
         sit = (readers or Readers(db)).of(author, submission, exercise.slug)
@@ -635,26 +788,39 @@ def submission_out(db: Session, submission: Submission, exercise: Exercise, auth
     grading = grading_view(submission.grading, full) if visible else None
     score = _score(submission)[0] if grading else None
     return SubmissionOut(
-        id=submission.id, exercise=exercise.slug, user=author.username if author else None,
-        exercise_title=exercise.title_de, exercise_title_en=exercise.title_en or "",
-        external_user=submission.external_user, dialect=submission.dialect, created_at=submission.created_at,
-        error_count=None if held else submission.error_count, warning_count=None if held else submission.warning_count,
-        grading=grading, score=score, held=held, override=override_out(db, submission) if grading else None,
-        summary=None if held else result["summary"], diagnostics=result["diagnostics"] if detail and not held else None,
+        id=submission.id,
+        exercise=exercise.slug,
+        user=author.username if author else None,
+        exercise_title=exercise.title_de,
+        exercise_title_en=exercise.title_en or "",
+        external_user=submission.external_user,
+        dialect=submission.dialect,
+        created_at=submission.created_at,
+        error_count=None if held else submission.error_count,
+        warning_count=None if held else submission.warning_count,
+        grading=grading,
+        score=score,
+        held=held,
+        override=override_out(db, submission) if grading else None,
+        summary=None if held else result["summary"],
+        diagnostics=result["diagnostics"] if detail and not held else None,
         program=submission.program if detail else None,
-        lms=lms_result(grading, score, submission.override_comment if submission.override_score is not None else None),
+        lms=lms_result(
+            grading, score, submission.override_comment if submission.override_score is not None else None
+        ),
         exercise_version=submission.exercise_version,
         version_note=version_note(submission.exercise_version, exercise.version),
     )
 
 
 def version_note(graded: int | None, current: int) -> str:
-    """"Version 1" where a submission was graded against an earlier version of its exercise, else ""."""
+    """ "Version 1" where a submission was graded against an earlier version of its exercise, else ""."""
     return VERSION_NOTE[0].format(v=graded) if graded is not None and graded != current else ""
 
 
-def lms_result(grading: dict[str, Any] | None, score: int | None = None,
-               teacher: str | None = None) -> LmsResult | None:
+def lms_result(
+    grading: dict[str, Any] | None, score: int | None = None, teacher: str | None = None
+) -> LmsResult | None:
     """The grade as a learning platform takes it — the score that counts (`score`: the teacher's, if set) — and a
     comment naming what lost points (as the reader may see it), the teacher's comment first."""
     if grading is None:
@@ -667,8 +833,12 @@ def lms_result(grading: dict[str, Any] | None, score: int | None = None,
         comment, comment_en = "Alle Kriterien erfüllt.", "All criteria met."
     if teacher:
         comment, comment_en = f"{teacher} {comment}", f"{teacher} {comment_en}"
-    return LmsResult(score=int(grading["score"]) if score is None else score, maximum=int(grading["max_score"]),
-                     comment=comment, comment_en=comment_en)
+    return LmsResult(
+        score=int(grading["score"]) if score is None else score,
+        maximum=int(grading["max_score"]),
+        comment=comment,
+        comment_en=comment_en,
+    )
 
 
 @dataclass(frozen=True)
@@ -681,8 +851,14 @@ class _Pending:
     external: str | None
 
 
-async def create_submission(db: Session, settings: Settings, workers: Workers, principal: Principal,
-                            body: SubmissionCreate, idempotency_key: str | None = None) -> tuple[SubmissionOut, bool]:
+async def create_submission(
+    db: Session,
+    settings: Settings,
+    workers: Workers,
+    principal: Principal,
+    body: SubmissionCreate,
+    idempotency_key: str | None = None,
+) -> tuple[SubmissionOut, bool]:
     """Grade and store a submission; with an idempotency key already used by the same caller, the stored one
     (and False: nothing new was made). The database is read and written in the thread pool, never on the event
     loop, and no connection is held while the worker grades (many submissions waiting at once must not take
@@ -690,13 +866,18 @@ async def create_submission(db: Session, settings: Settings, workers: Workers, p
     pending = await run_in_threadpool(_prepare_submission, db, settings, principal, body, idempotency_key)
     if isinstance(pending, SubmissionOut):
         return pending, False
-    result = await workers.call(job_submission, body.program, pending.exercise.dialect,
-                                exercise_spec(pending.exercise, body.skip_blocks))
+    result = await workers.call(
+        job_submission,
+        body.program,
+        pending.exercise.dialect,
+        exercise_spec(pending.exercise, body.skip_blocks),
+    )
     return await run_in_threadpool(_store_submission, db, settings, principal, body, pending, result)
 
 
-def _prepare_submission(db: Session, settings: Settings, principal: Principal, body: SubmissionCreate,
-                        idempotency_key: str | None) -> _Pending | SubmissionOut:
+def _prepare_submission(
+    db: Session, settings: Settings, principal: Principal, body: SubmissionCreate, idempotency_key: str | None
+) -> _Pending | SubmissionOut:
     """The checks before grading (scope, the exam rules, the limit); the earlier submission for a repeated
     idempotency key. Gives the connection back."""
     if not principal.has_scope("submissions:write"):
@@ -715,24 +896,43 @@ def _prepare_submission(db: Session, settings: Settings, principal: Principal, b
     external = body.external_user if principal.api_key is not None else None
     verdict = access.check(db, principal, "submit", exercise.slug, body.assignment, external)
     target = verdict.assignment
-    if target is not None and verdict.limit and principal.user_id is not None and repo.count_attempts(
-            db, target.id, principal.user_id, exercise.id) >= verdict.limit:
+    if (
+        target is not None
+        and verdict.limit
+        and principal.user_id is not None
+        and repo.count_attempts(db, target.id, principal.user_id, exercise.id) >= verdict.limit
+    ):
         raise ApiError("ASSIGNMENT_SUBMITTED", exercise=exercise.slug, limit=verdict.limit)
     db.commit()
     return _Pending(exercise, verdict, stored_key, external)
 
 
-def _store_submission(db: Session, settings: Settings, principal: Principal, body: SubmissionCreate,
-                      pending: _Pending, result: dict[str, Any]) -> tuple[SubmissionOut, bool]:
+def _store_submission(
+    db: Session,
+    settings: Settings,
+    principal: Principal,
+    body: SubmissionCreate,
+    pending: _Pending,
+    result: dict[str, Any],
+) -> tuple[SubmissionOut, bool]:
     exercise, verdict, target = pending.exercise, pending.verdict, pending.verdict.assignment
-    fields = {"exercise_id": exercise.id, "user_id": principal.user_id,
-              "api_key_id": principal.api_key.id if principal.api_key else None,
-              "external_user": pending.external, "program": body.program, "dialect": exercise.dialect,
-              "error_count": result["errors"], "warning_count": result["warnings"],
-              "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
-              "grading": result["grading"], "idempotency_key": pending.stored_key,
-              "assignment_id": target.id if target else None, "late": verdict.late, "held": verdict.held,
-              "exercise_version": exercise.version}
+    fields = {
+        "exercise_id": exercise.id,
+        "user_id": principal.user_id,
+        "api_key_id": principal.api_key.id if principal.api_key else None,
+        "external_user": pending.external,
+        "program": body.program,
+        "dialect": exercise.dialect,
+        "error_count": result["errors"],
+        "warning_count": result["warnings"],
+        "result": {"diagnostics": result["diagnostics"], "summary": result["summary"]},
+        "grading": result["grading"],
+        "idempotency_key": pending.stored_key,
+        "assignment_id": target.id if target else None,
+        "late": verdict.late,
+        "held": verdict.held,
+        "exercise_version": exercise.version,
+    }
     try:
         submission = store_attempt(db, fields, verdict.limit if target is not None else 0, exercise.slug)
     except repo.Duplicate:
@@ -742,7 +942,9 @@ def _store_submission(db: Session, settings: Settings, principal: Principal, bod
             raise ApiError("CONFLICT") from None
         return earlier, False
     repo.summarise_submissions(db, submission, settings.submissions_with_details)  # the storage quota
-    lti_ags.after_graded(db, submission)  # the grade to the learning platform's gradebook, if it came from one
+    lti_ags.after_graded(
+        db, submission
+    )  # the grade to the learning platform's gradebook, if it came from one
     return submission_out(db, submission, exercise, principal.user, True, principal), True
 
 
@@ -759,7 +961,9 @@ def store_attempt(db: Session, fields: dict[str, Any], limit: int, slug: str) ->
         try:
             return repo.create_submission(db, **fields, attempt=done + 1)
         except repo.Duplicate:
-            if fields.get("idempotency_key") and repo.submission_by_idempotency_key(db, fields["idempotency_key"]):
+            if fields.get("idempotency_key") and repo.submission_by_idempotency_key(
+                db, fields["idempotency_key"]
+            ):
                 raise
             continue  # another submission took this attempt: count again
     raise ApiError("ASSIGNMENT_SUBMITTED", exercise=slug, limit=limit)
@@ -773,8 +977,9 @@ def may_name_learners(principal: Principal) -> bool:
     return principal.api_key.owner_id is None or principal.is_instructor()
 
 
-def _earlier_submission(db: Session, principal: Principal, stored_key: str,
-                        body: SubmissionCreate) -> SubmissionOut | None:
+def _earlier_submission(
+    db: Session, principal: Principal, stored_key: str, body: SubmissionCreate
+) -> SubmissionOut | None:
     """The submission stored under this caller's idempotency key, if the request is the same; else a conflict."""
     earlier = repo.submission_by_idempotency_key(db, stored_key)
     if earlier is None:
@@ -785,8 +990,9 @@ def _earlier_submission(db: Session, principal: Principal, stored_key: str,
     return submission_out(db, earlier, exercise, principal.user, True, principal)
 
 
-def visible_submissions(db: Session, principal: Principal,
-                        exercise: str | None) -> list[tuple[Submission, Exercise, User | None]]:
+def visible_submissions(
+    db: Session, principal: Principal, exercise: str | None
+) -> list[tuple[Submission, Exercise, User | None]]:
     """Students: their own; instructors: their own, those to their exercises and their students' work
     (repo.instructed); admins: all; API keys: those made through the key plus what their owner may see."""
     if not principal.has_scope("submissions:read"):
@@ -795,13 +1001,22 @@ def visible_submissions(db: Session, principal: Principal,
         get_exercise(db, exercise)
     admin = principal.user is not None and principal.user.role == "admin"
     instructor = principal.user_id if principal.is_instructor() else None
-    return list(repo.list_submissions(
-        db, user_id=principal.user_id, owner_id=instructor, instructor_id=instructor,
-        api_key_id=principal.api_key.id if principal.api_key else None, exercise_slug=exercise,
-        everything=admin))
+    return list(
+        repo.list_submissions(
+            db,
+            user_id=principal.user_id,
+            owner_id=instructor,
+            instructor_id=instructor,
+            api_key_id=principal.api_key.id if principal.api_key else None,
+            exercise_slug=exercise,
+            everything=admin,
+        )
+    )
 
 
-def may_see(principal: Principal, submission: Submission, exercise: Exercise, instructed: bool = False) -> bool:
+def may_see(
+    principal: Principal, submission: Submission, exercise: Exercise, instructed: bool = False
+) -> bool:
     """Admins: all; everyone their own; instructors: those to their exercises and their students' work
     (`instructed`: an assignment of a course they teach, or the practice of a student they manage —
     repo.instructed); keys: those made through the key, plus what their owner may see."""
@@ -822,16 +1037,32 @@ def get_submission(db: Session, principal: Principal, submission_id: int) -> Sub
         raise ApiError("MISSING_SCOPE", scope="submissions:read")
     submission = repo.submission_by_id(db, submission_id)
     exercise = repo.exercise_by_id(db, submission.exercise_id) if submission else None
-    author = repo.user_by_id(db, submission.user_id) if submission and submission.user_id is not None else None
-    instructed = (principal.is_instructor() and submission is not None and principal.user_id is not None
-                  and repo.instructs(db, principal.user_id, submission.id))
+    author = (
+        repo.user_by_id(db, submission.user_id) if submission and submission.user_id is not None else None
+    )
+    instructed = (
+        principal.is_instructor()
+        and submission is not None
+        and principal.user_id is not None
+        and repo.instructs(db, principal.user_id, submission.id)
+    )
     if submission is None or exercise is None or not may_see(principal, submission, exercise, instructed):
         raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
     return submission_out(db, submission, exercise, author, True, principal)
 
 
-CSV_COLUMNS = ("Abgabe", "Aufgabe", "Benutzer", "Lernplattform-Kennung", "Zeitpunkt", "Fehler", "Warnungen",
-               "Bewegungen", "Punktzahl", "Höchstpunktzahl")
+CSV_COLUMNS = (
+    "Abgabe",
+    "Aufgabe",
+    "Benutzer",
+    "Lernplattform-Kennung",
+    "Zeitpunkt",
+    "Fehler",
+    "Warnungen",
+    "Bewegungen",
+    "Punktzahl",
+    "Höchstpunktzahl",
+)
 
 
 def submissions_csv(db: Session, principal: Principal, exercise: str | None) -> str:
@@ -839,11 +1070,24 @@ def submissions_csv(db: Session, principal: Principal, exercise: str | None) -> 
     German local time); the score is the teacher's where they changed it."""
     if not principal.is_instructor():
         raise ApiError("FORBIDDEN")
-    return excel_csv(CSV_COLUMNS, (
-        [s.id, e.slug, u.username if u else "", s.external_user or "", utc(s.created_at),
-         s.error_count, s.warning_count, s.result["summary"]["moves"],
-         _score(s)[0], s.grading["max_score"] if s.grading else None]
-        for s, e, u in visible_submissions(db, principal, exercise)))
+    return excel_csv(
+        CSV_COLUMNS,
+        (
+            [
+                s.id,
+                e.slug,
+                u.username if u else "",
+                s.external_user or "",
+                utc(s.created_at),
+                s.error_count,
+                s.warning_count,
+                s.result["summary"]["moves"],
+                _score(s)[0],
+                s.grading["max_score"] if s.grading else None,
+            ]
+            for s, e, u in visible_submissions(db, principal, exercise)
+        ),
+    )
 
 
 # --- the exercise list: order and dialect names (issue 15) ------------------------------------
@@ -853,10 +1097,13 @@ def _list_view(exercise: Exercise) -> dict[str, Any]:
     """What the list shows besides the fields: place in the set, the dialect's names, hints, solution policy."""
     document = exercise.document or {}
     dialect = DIALECTS.get(exercise.dialect)
-    return {"order": document.get("order"), "hint_count": len(document.get("hints") or []),
-            "solution": document.get("solution") or "after_submission",
-            "dialect_title": dialect.title_de if dialect else exercise.dialect,
-            "dialect_title_en": dialect.title_en if dialect else exercise.dialect}
+    return {
+        "order": document.get("order"),
+        "hint_count": len(document.get("hints") or []),
+        "solution": document.get("solution") or "after_submission",
+        "dialect_title": dialect.title_de if dialect else exercise.dialect,
+        "dialect_title_en": dialect.title_en if dialect else exercise.dialect,
+    }
 
 
 _DIALECT_ORDER = {name: i for i, name in enumerate(DIALECTS)}
@@ -865,15 +1112,23 @@ _DIALECT_ORDER = {name: i for i, name in enumerate(DIALECTS)}
 def _natural(text: str) -> tuple[tuple[int, int | str], ...]:
     """A sort key that compares the numbers in a text as numbers: G2 before G3 before G23."""
     # ASCII digits only: "²" is a digit to str.isdigit() but no number to int()
-    return tuple((0, int(part)) if part.isascii() and part.isdigit() else (1, part)
-                 for part in re.split(r"([0-9]+)", text.casefold()) if part)
+    return tuple(
+        (0, int(part)) if part.isascii() and part.isdigit() else (1, part)
+        for part in re.split(r"([0-9]+)", text.casefold())
+        if part
+    )
 
 
 def list_order(exercise: Exercise) -> tuple[Any, ...]:
     """Sets (dialects) in their fixed order; within one, by `order` (exercises without one last), then title."""
     order = (exercise.document or {}).get("order")
-    return (_DIALECT_ORDER.get(exercise.dialect, len(_DIALECT_ORDER)), order is None,
-            order if isinstance(order, int) else 0, _natural(exercise.title_de), exercise.slug)
+    return (
+        _DIALECT_ORDER.get(exercise.dialect, len(_DIALECT_ORDER)),
+        order is None,
+        order if isinstance(order, int) else 0,
+        _natural(exercise.title_de),
+        exercise.slug,
+    )
 
 
 def sorted_exercises(db: Session) -> list[Exercise]:
@@ -897,12 +1152,22 @@ def get_draft(db: Session, principal: Principal, slug: str, assignment: int | No
     exercise = get_exercise(db, slug)
     scope = access.check(db, principal, "read_draft", slug, assignment).draft_scope
     row = repo.draft(db, user_id, exercise.id, scope)
-    return DraftOut(exercise=slug, assignment=scope, program=row.program if row else None,
-                    updated_at=row.updated_at if row else None)
+    return DraftOut(
+        exercise=slug,
+        assignment=scope,
+        program=row.program if row else None,
+        updated_at=row.updated_at if row else None,
+    )
 
 
-def save_draft(db: Session, settings: Settings, principal: Principal, slug: str, program: str,
-               assignment: int | None = None) -> DraftOut:
+def save_draft(
+    db: Session,
+    settings: Settings,
+    principal: Principal,
+    slug: str,
+    program: str,
+    assignment: int | None = None,
+) -> DraftOut:
     """Replace the caller's draft (the same text twice is the same state: PUT is idempotent)."""
     user_id = _draft_user(principal)
     exercise = get_exercise(db, slug)
@@ -942,15 +1207,20 @@ def override_out(db: Session, submission: Submission) -> OverrideOut | None:
     auto = int(submission.grading["score"]) if submission.grading else None
     comment = submission.override_comment or ""
     tail_de, tail_en = (f" – {comment}", f" – {comment}") if comment else ("", "")
-    return OverrideOut(score=submission.override_score, automatic_score=auto, comment=comment,
-                       by=by.username if by else None, at=submission.override_at,
-                       message=f"Punktzahl von der Lehrkraft geändert: {submission.override_score} statt {auto}"
-                               f"{tail_de}",
-                       message_en=f"Score changed by the instructor: {submission.override_score} instead of {auto}"
-                                  f"{tail_en}")
+    return OverrideOut(
+        score=submission.override_score,
+        automatic_score=auto,
+        comment=comment,
+        by=by.username if by else None,
+        at=submission.override_at,
+        message=f"Punktzahl von der Lehrkraft geändert: {submission.override_score} statt {auto}{tail_de}",
+        message_en=f"Score changed by the instructor: {submission.override_score} instead of {auto}{tail_en}",
+    )
 
 
-def set_override(db: Session, principal: Principal, submission_id: int, body: OverrideIn | None) -> SubmissionOut:
+def set_override(
+    db: Session, principal: Principal, submission_id: int, body: OverrideIn | None
+) -> SubmissionOut:
     """The teacher's last word: admins, and instructors whose course the submission belongs to or who manage its
     author (repo.instructed), set its score and a comment (None: back to the grader's score). The results tables,
     their CSV and the learning platform's gradebook use it from then on."""
@@ -958,8 +1228,11 @@ def set_override(db: Session, principal: Principal, submission_id: int, body: Ov
         raise ApiError("FORBIDDEN")
     submission = repo.submission_by_id(db, submission_id)
     exercise = repo.exercise_by_id(db, submission.exercise_id) if submission else None
-    if submission is None or exercise is None or not (
-            principal.user.role == "admin" or repo.instructs(db, principal.user.id, submission.id)):
+    if (
+        submission is None
+        or exercise is None
+        or not (principal.user.role == "admin" or repo.instructs(db, principal.user.id, submission.id))
+    ):
         raise ApiError("SUBMISSION_NOT_FOUND", submission=submission_id)
     if body is not None:
         if not submission.grading:
@@ -967,7 +1240,9 @@ def set_override(db: Session, principal: Principal, submission_id: int, body: Ov
         limit = int(submission.grading["max_score"])
         if body.score > limit:
             raise ApiError("OVERRIDE_OUT_OF_RANGE", score=body.score, max_score=limit)
-    repo.set_override(db, submission, body.score if body else None, body.comment if body else "", principal.user.id)
+    repo.set_override(
+        db, submission, body.score if body else None, body.comment if body else "", principal.user.id
+    )
     lti_ags.regraded(db, submission)  # the platform's gradebook follows
     author = repo.user_by_id(db, submission.user_id) if submission.user_id is not None else None
     return submission_out(db, submission, exercise, author, True, principal)
@@ -997,11 +1272,21 @@ def my_submissions(db: Session, principal: Principal, slug: str) -> list[MySubmi
         visible = access.grade_visible(sit, s, slug)
         score, max_score = _score(s) if visible else (None, None)
         grading = grading_view(s.grading, full) if visible else None
-        out.append(MySubmission(id=s.id, exercise=slug, created_at=s.created_at, score=score, max_score=max_score,
-                                override=override_out(db, s) if visible else None,
-                                error_count=None if s.held else s.error_count,
-                                warning_count=None if s.held else s.warning_count, held=s.held,
-                                criteria=grading["criteria"] if grading else [], program=s.program))
+        out.append(
+            MySubmission(
+                id=s.id,
+                exercise=slug,
+                created_at=s.created_at,
+                score=score,
+                max_score=max_score,
+                override=override_out(db, s) if visible else None,
+                error_count=None if s.held else s.error_count,
+                warning_count=None if s.held else s.warning_count,
+                held=s.held,
+                criteria=grading["criteria"] if grading else [],
+                program=s.program,
+            )
+        )
     return out
 
 
@@ -1027,9 +1312,17 @@ def my_progress(db: Session, principal: Principal) -> list[Progress]:
         best = best_of(shown) if shown else None
         score, max_score = _score(best) if best else (None, None)
         status = "submitted" if subs else "draft" if e.id in drafts else "not_started"
-        out.append(Progress(exercise=e.slug, status=status, best_score=score, max_score=max_score,  # type: ignore[arg-type]
-                            best_submission=best.id if best else None, submissions=len(subs),
-                            draft_updated_at=drafts.get(e.id)))
+        out.append(
+            Progress(
+                exercise=e.slug,
+                status=status,  # type: ignore[arg-type]
+                best_score=score,
+                max_score=max_score,
+                best_submission=best.id if best else None,
+                submissions=len(subs),
+                draft_updated_at=drafts.get(e.id),
+            )
+        )
     return out
 
 
@@ -1044,7 +1337,9 @@ def hint(db: Session, principal: Principal, slug: str, number: int) -> Hint:
     if not 1 <= number <= len(hints):
         raise ApiError("HINT_NOT_FOUND", hint=number, count=len(hints))
     h = hints[number - 1]
-    return Hint(exercise=slug, number=number, count=len(hints), text=h.get("de", ""), text_en=h.get("en") or "")
+    return Hint(
+        exercise=slug, number=number, count=len(hints), text=h.get("de", ""), text_en=h.get("en") or ""
+    )
 
 
 def solution(db: Session, principal: Principal, slug: str) -> Solution:
@@ -1056,16 +1351,25 @@ def solution(db: Session, principal: Principal, slug: str) -> Solution:
     policy = (exercise.document or {}).get("solution") or "after_submission"
     access.check(db, principal, "solution", slug)
     if not _answers_for(db, principal, exercise):
-        own = list(repo.own_submissions(db, principal.user_id, exercise.id)) if principal.user_id is not None else []
+        own = (
+            list(repo.own_submissions(db, principal.user_id, exercise.id))
+            if principal.user_id is not None
+            else []
+        )
         if policy == "never":
             raise ApiError("SOLUTION_NEVER")
         if policy == "after_submission" and not own:
             raise ApiError("SOLUTION_AFTER_SUBMISSION")
         if policy == "after_full_marks" and not any(
-                _score(s)[0] is not None and _score(s)[0] == _score(s)[1] for s in own):
+            _score(s)[0] is not None and _score(s)[0] == _score(s)[1] for s in own
+        ):
             raise ApiError("SOLUTION_AFTER_FULL_MARKS")
-    return Solution(exercise=slug, program=exercise.reference_program, dialect=exercise.dialect,
-                    policy=policy)  # type: ignore[arg-type]  # the document was validated (core.exercises)
+    return Solution(
+        exercise=slug,
+        program=exercise.reference_program,
+        dialect=exercise.dialect,
+        policy=policy,  # type: ignore[arg-type]
+    )  # the document was validated (core.exercises)
 
 
 def _answers_for(db: Session, principal: Principal, exercise: Exercise) -> bool:
@@ -1073,8 +1377,11 @@ def _answers_for(db: Session, principal: Principal, exercise: Exercise) -> bool:
     user = principal.user
     if user is None or user.role not in ("instructor", "admin"):
         return False
-    return (user.role == "admin" or exercise.owner_id == user.id
-            or any(exercise.slug in a.exercises for a in repo.taught_assignments(db, user.id)))
+    return (
+        user.role == "admin"
+        or exercise.owner_id == user.id
+        or any(exercise.slug in a.exercises for a in repo.taught_assignments(db, user.id))
+    )
 
 
 # --- users: instructors and their students, class lists (issue 15) -------------------------------
@@ -1090,7 +1397,9 @@ def instructor_named(db: Session, name: str) -> User:
     return user
 
 
-def _managing_instructor(db: Session, principal: Principal, name: str | None, role: str = "student") -> User | None:
+def _managing_instructor(
+    db: Session, principal: Principal, name: str | None, role: str = "student"
+) -> User | None:
     """Who will manage users made by `principal`: admins name anyone (or nobody); instructors make students
     managed by themselves only."""
     if principal.api_key is not None or principal.user is None:
@@ -1126,8 +1435,11 @@ def visible_users(db: Session, principal: Principal) -> list[UserOut]:
         users = list(repo.students_of(db, principal.user_id))  # type: ignore[arg-type]
     else:
         raise ApiError("FORBIDDEN")
-    names = {u.id: u.username for u in repo.list_users(db)} if principal.is_admin() else {
-        principal.user_id: principal.user.username if principal.user else None}
+    names = (
+        {u.id: u.username for u in repo.list_users(db)}
+        if principal.is_admin()
+        else {principal.user_id: principal.user.username if principal.user else None}
+    )
     return [user_out(u, names.get(u.instructor_id) if u.instructor_id else None) for u in users]
 
 
@@ -1147,8 +1459,12 @@ def parse_class_list(data: bytes) -> list[tuple[str, str | None]]:
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError:
-        raise ApiError("CLASS_LIST_INVALID", detail="die Datei ist nicht UTF-8-kodiert",
-                       detail_en="the file is not UTF-8 encoded", errors=[]) from None
+        raise ApiError(
+            "CLASS_LIST_INVALID",
+            detail="die Datei ist nicht UTF-8-kodiert",
+            detail_en="the file is not UTF-8 encoded",
+            errors=[],
+        ) from None
     lines = [line for line in text.splitlines() if line.strip()]
     delimiter = ";" if lines and ";" in lines[0] else ","
     rows = list(csv.reader(lines, delimiter=delimiter))
@@ -1172,8 +1488,11 @@ def parse_class_list(data: bytes) -> list[tuple[str, str | None]]:
         name = cells[0].strip() if cells else ""
         password = cells[1].strip() if len(cells) > 1 and cells[1].strip() else None
         if not _NAME_RE.match(name):
-            bad(i, f"Name »{name[:80]}«: nur Buchstaben ohne Umlaute, Ziffern und _ . @ - (höchstens 80 Zeichen)",
-                f"name '{name[:80]}': only letters without umlauts, digits and _ . @ - (at most 80 characters)")
+            bad(
+                i,
+                f"Name »{name[:80]}«: nur Buchstaben ohne Umlaute, Ziffern und _ . @ - (höchstens 80 Zeichen)",
+                f"name '{name[:80]}': only letters without umlauts, digits and _ . @ - (at most 80 characters)",
+            )
         elif lti_reserved(name):
             bad(i, f"Name »{name}«: {LTI_NAME_DE}", f"name '{name}': {LTI_NAME_EN}")
         elif name.casefold() in seen:
@@ -1184,9 +1503,12 @@ def parse_class_list(data: bytes) -> list[tuple[str, str | None]]:
             bad(i, *problem)
         out.append((name, password))
     if errors:
-        raise ApiError("CLASS_LIST_INVALID", errors=errors,
-                       detail="; ".join(f"Zeile {e['row']}: {e['message']}" for e in errors[:5]),
-                       detail_en="; ".join(f"row {e['row']}: {e['message_en']}" for e in errors[:5]))
+        raise ApiError(
+            "CLASS_LIST_INVALID",
+            errors=errors,
+            detail="; ".join(f"Zeile {e['row']}: {e['message']}" for e in errors[:5]),
+            detail_en="; ".join(f"row {e['row']}: {e['message_en']}" for e in errors[:5]),
+        )
     return out
 
 
@@ -1199,22 +1521,35 @@ def import_class_list(db: Session, data: bytes, instructor: User | None) -> list
         raise ApiError("USER_EXISTS", user=", ".join(sorted(taken)))
     passwords = [(name, given or new_password(), given is None) for name, given in rows]
     try:
-        repo.create_users(db, [(n, hash_password(p), "student", instructor.id if instructor else None)
-                               for n, p, _ in passwords])
+        repo.create_users(
+            db,
+            [
+                (n, hash_password(p), "student", instructor.id if instructor else None)
+                for n, p, _ in passwords
+            ],
+        )
     except repo.Duplicate:
         raise ApiError("CONFLICT") from None
-    return [ImportedUser(username=n, role="student", instructor=instructor.username if instructor else None,
-                         password=p if generated else None) for n, p, generated in passwords]
+    return [
+        ImportedUser(
+            username=n,
+            role="student",
+            instructor=instructor.username if instructor else None,
+            password=p if generated else None,
+        )
+        for n, p, generated in passwords
+    ]
 
 
-def import_class_list_by(db: Session, principal: Principal, data: bytes, instructor: str | None) -> ImportedUsers:
+def import_class_list_by(
+    db: Session, principal: Principal, data: bytes, instructor: str | None
+) -> ImportedUsers:
     """An instructor imports students for themselves; an admin for any instructor (or none)."""
     manager = _managing_instructor(db, principal, instructor)
     return ImportedUsers(users=import_class_list(db, data, manager))
 
 
 # --- the results table (issue 15) -------------------------------------------------------------------
-
 
 
 def results(db: Session, principal: Principal) -> Results:
@@ -1233,9 +1568,14 @@ def results(db: Session, principal: Principal) -> Results:
     else:
         members = {u.id for u in repo.students_of(db, principal.user_id)}  # type: ignore[arg-type]
     instructor = principal.user_id  # an instructor (checked above) or a key acting for one
-    scored = repo.scored_submissions(db, user_id=principal.user_id, owner_id=instructor, instructor_id=instructor,
-                                     api_key_id=principal.api_key.id if principal.api_key else None,
-                                     everything=admin)
+    scored = repo.scored_submissions(
+        db,
+        user_id=principal.user_id,
+        owner_id=instructor,
+        instructor_id=instructor,
+        api_key_id=principal.api_key.id if principal.api_key else None,
+        everything=admin,
+    )
     cells: dict[tuple[int, int], list[repo.Scored]] = {}
     for s in scored:
         if s.user_id is None or s.user_id == principal.user_id or s.user_id not in users:
@@ -1252,21 +1592,40 @@ def results(db: Session, principal: Principal) -> Results:
             if subs:
                 best = best_of(subs)  # type: ignore[arg-type]  # Scored has the score as its grading
                 score, max_score = _score(best)
-                row[e.slug] = ResultCell(best_score=score, max_score=max_score, best_submission=best.id,
-                                         overridden=bool(getattr(best, "overridden", False)),
-                                         submissions=[s.id for s in subs], created_at=best.created_at,
-                                         exercise_version=getattr(best, "exercise_version", None),
-                                         version_note=version_note(getattr(best, "exercise_version", None),
-                                                                   e.version))
+                row[e.slug] = ResultCell(
+                    best_score=score,
+                    max_score=max_score,
+                    best_submission=best.id,
+                    overridden=bool(getattr(best, "overridden", False)),
+                    submissions=[s.id for s in subs],
+                    created_at=best.created_at,
+                    exercise_version=getattr(best, "exercise_version", None),
+                    version_note=version_note(getattr(best, "exercise_version", None), e.version),
+                )
         manager = users.get(users[uid].instructor_id) if users[uid].instructor_id else None  # type: ignore[arg-type]
-        rows.append(ResultRow(username=users[uid].username, instructor=manager.username if manager else None,
-                              results=row))
-    return Results(exercises=[ResultExercise(slug=e.slug, title_de=e.title_de, title_en=e.title_en) for e in columns],
-                   trainees=rows)
+        rows.append(
+            ResultRow(
+                username=users[uid].username, instructor=manager.username if manager else None, results=row
+            )
+        )
+    return Results(
+        exercises=[ResultExercise(slug=e.slug, title_de=e.title_de, title_en=e.title_en) for e in columns],
+        trainees=rows,
+    )
 
 
-RESULTS_COLUMNS = ("Benutzer", "Lehrkraft", "Aufgabe", "Titel", "Beste Punktzahl", "Höchstpunktzahl", "Prozent",
-                   "Abgaben", "Beste Abgabe", "Zeitpunkt")
+RESULTS_COLUMNS = (
+    "Benutzer",
+    "Lehrkraft",
+    "Aufgabe",
+    "Titel",
+    "Beste Punktzahl",
+    "Höchstpunktzahl",
+    "Prozent",
+    "Abgaben",
+    "Beste Abgabe",
+    "Zeitpunkt",
+)
 
 
 def berlin_time(value: Any) -> str:
@@ -1287,12 +1646,27 @@ def results_csv(db: Session, principal: Principal) -> str:
         for e in table.exercises:
             cell = trainee.results.get(e.slug)
             if cell is None:
-                rows.append([trainee.username, trainee.instructor or "", e.slug, e.title_de, "", "", "", 0, "", ""])
+                rows.append(
+                    [trainee.username, trainee.instructor or "", e.slug, e.title_de, "", "", "", 0, "", ""]
+                )
                 continue
-            percent = (decimal_comma(100 * cell.best_score / cell.max_score)
-                       if cell.best_score is not None and cell.max_score else "")
-            rows.append([trainee.username, trainee.instructor or "", e.slug, e.title_de,
-                         "" if cell.best_score is None else cell.best_score,
-                         "" if cell.max_score is None else cell.max_score, percent, len(cell.submissions),
-                         cell.best_submission, berlin_time(cell.created_at)])
+            percent = (
+                decimal_comma(100 * cell.best_score / cell.max_score)
+                if cell.best_score is not None and cell.max_score
+                else ""
+            )
+            rows.append(
+                [
+                    trainee.username,
+                    trainee.instructor or "",
+                    e.slug,
+                    e.title_de,
+                    "" if cell.best_score is None else cell.best_score,
+                    "" if cell.max_score is None else cell.max_score,
+                    percent,
+                    len(cell.submissions),
+                    cell.best_submission,
+                    berlin_time(cell.created_at),
+                ]
+            )
     return excel_csv(RESULTS_COLUMNS, rows)

@@ -33,7 +33,10 @@ def feeds_view(document: dict[str, Any] | None) -> dict[str, dict[str, Any]]:
     feeds = _FEEDS.get(key)  # (requests in several threads: read once, never after another one's eviction)
     if feeds is None:
         try:
-            feeds = {str(tool): entry for tool, entry in tool_feeds(ExerciseDocument.model_validate(document)).items()}
+            feeds = {
+                str(tool): entry
+                for tool, entry in tool_feeds(ExerciseDocument.model_validate(document)).items()
+            }
         except Exception:  # a defect in one document's run: its page shows the feeds without E
             log.warning("feeds of a turning exercise not worked out", exc_info=True)
             feeds = {}

@@ -32,12 +32,22 @@ log = logging.getLogger("paltrainer.server")
 TOKEN_MINUTES = 30
 VIZ_COOKIE = "paltrainer_viz"  # an anonymous browser's 3D id: its tokens drive only its own scenes
 # client → server messages the view may send; everything else (ShareUrlRequest, FileTransfer…) is dropped
-ALLOWED_CLIENT_MESSAGES = frozenset({
-    "ViewerCameraMessage", "ScenePointerMessage", "SceneNodeClickMessage", "SceneNodeDragMessage",
-    "GuiUpdateMessage", "GuiButtonHoldMessage", "GuiFormSubmitMessage", "GuiFormDirtyMessage",
-    "TransformControlsUpdateMessage", "TransformControlsDragStartMessage", "TransformControlsDragEndMessage",
-    "GetRenderResponseMessage",
-})
+ALLOWED_CLIENT_MESSAGES = frozenset(
+    {
+        "ViewerCameraMessage",
+        "ScenePointerMessage",
+        "SceneNodeClickMessage",
+        "SceneNodeDragMessage",
+        "GuiUpdateMessage",
+        "GuiButtonHoldMessage",
+        "GuiFormSubmitMessage",
+        "GuiFormDirtyMessage",
+        "TransformControlsUpdateMessage",
+        "TransformControlsDragStartMessage",
+        "TransformControlsDragEndMessage",
+        "GetRenderResponseMessage",
+    }
+)
 # the colours of docs/UI.md (the page's legend shows the same)
 FEED_COLOUR = (21, 101, 192)  # feed moves: solid blue
 RAPID_COLOUR = (239, 108, 0)  # rapid moves: dashed orange
@@ -65,7 +75,12 @@ _VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front"
 # (x = radius, y, z) becomes the scene's (z, -y, x): Z (the spindle axis) to the right, the chuck side on the
 # left, X up; the front camera stands at the lathe's +Y, so G2 is clockwise in the picture as in the manual.
 LATHE_AXES = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
-LATHE_ZERO = (0.0, float(np.sqrt(0.5)), 0.0, float(np.sqrt(0.5)))  # the same turn: the zero's red axis is X, up
+LATHE_ZERO = (
+    0.0,
+    float(np.sqrt(0.5)),
+    0.0,
+    float(np.sqrt(0.5)),
+)  # the same turn: the zero's red axis is X, up
 # the lathe's front view is the drawing itself: straight from the front, not from a little above
 _LATHE_DIRECTIONS = {**_VIEW_DIRECTIONS, "front": (0.0, -1.0, 0.0)}
 AXIS_COLOUR = (70, 76, 86)  # the spindle axis, dash-dotted as on a drawing
@@ -98,11 +113,19 @@ BASE88 = b"!#$%()*+,-./0123456789:;=?@ABCDEFGHIJKLMNOPQRSTUVWXYZ[\\]^_abcdefghij
 # load; it is set up on first use instead (a splat, which our scenes never contain). (2) A server message may
 # carry JavaScript to run (RunJavascriptMessage, never sent by us): such a message runs nothing.
 CLIENT_PATCHES = (
-    (re.compile(rb"([\w$]+)=fetch\(([\w$]+)\)\.then\(e=>e\.arrayBuffer\(\)\)\.then\(e=>([\w$]+)\(\{wasmBinary:e\}\)\)"),
-     (rb"\1={then:(ok$,no$)=>(\1.p??=fetch(\2).then(e=>e.arrayBuffer()).then(e=>\3({wasmBinary:e})))"
-      rb".then(ok$,no$)}")),
-    (re.compile(rb"case`RunJavascriptMessage`:Function\([\w$]+\.source\)\(\);return;"),
-     rb"case`RunJavascriptMessage`:return;"),
+    (
+        re.compile(
+            rb"([\w$]+)=fetch\(([\w$]+)\)\.then\(e=>e\.arrayBuffer\(\)\)\.then\(e=>([\w$]+)\(\{wasmBinary:e\}\)\)"
+        ),
+        (
+            rb"\1={then:(ok$,no$)=>(\1.p??=fetch(\2).then(e=>e.arrayBuffer()).then(e=>\3({wasmBinary:e})))"
+            rb".then(ok$,no$)}"
+        ),
+    ),
+    (
+        re.compile(rb"case`RunJavascriptMessage`:Function\([\w$]+\.source\)\(\);return;"),
+        rb"case`RunJavascriptMessage`:return;",
+    ),
 )
 
 
@@ -133,13 +156,13 @@ def base88_encode(data: bytes) -> bytes:
     whole = len(data) - len(data) % 4
     values = np.frombuffer(data[:whole], dtype=">u4").astype(np.uint64)
     table = np.frombuffer(BASE88, dtype=np.uint8)
-    columns = [table[(values // np.uint64(88 ** k)) % np.uint64(88)] for k in range(4, -1, -1)]
+    columns = [table[(values // np.uint64(88**k)) % np.uint64(88)] for k in range(4, -1, -1)]
     out = np.stack(columns, axis=1).tobytes() if len(values) else b""
     if len(data) > whole:
         rest, tail = int.from_bytes(data[whole:], "big"), b""
         for _ in range(len(data) - whole + 1):
             rest, digit = divmod(rest, 88)
-            tail = BASE88[digit:digit + 1] + tail
+            tail = BASE88[digit : digit + 1] + tail
         out += tail
     return out
 
@@ -153,7 +176,7 @@ def viser_client(page: bytes) -> tuple[bytes, bytes] | None:
         return None
     style, code = int(found[2]), int(found[3])
     raw = zstandard.ZstdDecompressor().decompress(base88_decode(found[1]), max_output_size=style + code)
-    return raw[:style], raw[style:style + code]
+    return raw[:style], raw[style : style + code]
 
 
 def _repacked(page: bytes) -> bytes:
@@ -169,8 +192,10 @@ def _repacked(page: bytes) -> bytes:
     for pattern, replacement in CLIENT_PATCHES:
         code, count = pattern.subn(replacement, code)
         if count == 0:
-            log.warning("3D view: a change to viser's client did not apply; served as it is",
-                        extra={"job": pattern.pattern[:60].decode("ascii", "replace")})
+            log.warning(
+                "3D view: a change to viser's client did not apply; served as it is",
+                extra={"job": pattern.pattern[:60].decode("ascii", "replace")},
+            )
             return page
     packed = base88_encode(zstandard.ZstdCompressor(level=19).compress(style + code))
     sizes = {1: b'data-p="' + packed + b'"', 2: b'data-ss="%d"' % len(style), 3: b'data-cs="%d"' % len(code)}
@@ -211,13 +236,17 @@ class Scene:
     aspect: float = 1.3  # the view's width / height, as the page last said
     view: str = "iso"
     layers: dict[str, bool] = field(default_factory=lambda: dict.fromkeys(LAYERS, True))
-    nodes: dict[str, Any] = field(default_factory=dict)  # the handles of the nodes the layers and playback move
+    nodes: dict[str, Any] = field(
+        default_factory=dict
+    )  # the handles of the nodes the layers and playback move
     has_stock: bool = False
     lathe: bool = False  # a turning program: the lathe's drawing view (LATHE_AXES), the turned part
     half: bool = False  # the turned part cut open (half section)
     turned: dict[str, Any] | None = None  # the profile shown (turned_chunks) and its blank
     chuck_key: tuple[Any, ...] | None = None  # the blank and cut the chuck node shows now
-    segment_centre: list[bool] = field(default_factory=list)  # lathe: the segment's end is the nose centre (SRK)
+    segment_centre: list[bool] = field(
+        default_factory=list
+    )  # lathe: the segment's end is the nose centre (SRK)
     moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
     exercise: str | None = None  # the exercise of what is shown (server/access.py asks about it)
@@ -237,17 +266,26 @@ class Scenes:
         self.per_address = int(getattr(settings, "viz_sessions_per_address", 40))
         self.total = int(getattr(settings, "viz_sessions_max", 200))
         self.idle_seconds = float(getattr(settings, "viz_idle_seconds", 900.0))
-        self.replica = str(getattr(settings, "replica_id", "") or "")  # the tokens' prefix (deploy/haproxy.cfg)
+        self.replica = str(
+            getattr(settings, "replica_id", "") or ""
+        )  # the tokens' prefix (deploy/haproxy.cfg)
         self._scenes: dict[str, Scene] = {}
         self._lock = threading.Lock()
-        if _PAGE is None:  # viser's page is unpacked, changed and packed again once (about 1.5 s): not on a request
+        if (
+            _PAGE is None
+        ):  # viser's page is unpacked, changed and packed again once (about 1.5 s): not on a request
             threading.Thread(target=_warm_page, name="viser-page", daemon=True).start()
 
     # -- tokens ---------------------------------------------------------------------------------
     def new_token(self, owner: str = "anon:-", quota: str = "ip:-") -> str:
         sid = uuid.uuid4().hex
-        payload = {"sid": sid, "kind": "viz", "own": owner, "quota": quota,
-                   "exp": int(time.time()) + TOKEN_MINUTES * 60}
+        payload = {
+            "sid": sid,
+            "kind": "viz",
+            "own": owner,
+            "quota": quota,
+            "exp": int(time.time()) + TOKEN_MINUTES * 60,
+        }
         signed = jwt.encode(payload, self._secret, algorithm="HS256")
         return f"{self.replica}.{signed}" if self.replica else signed
 
@@ -287,13 +325,25 @@ class Scenes:
                 found = self._scenes.get(ticket.sid)
                 if found is None:
                     cap = self.per_address if ticket.quota.startswith("ip:") else self.per_user
-                    stopped += [(s, "evicted") for s in self._make_room(
-                        lambda s: s.ticket is not None and s.ticket.quota == ticket.quota, cap)]
+                    stopped += [
+                        (s, "evicted")
+                        for s in self._make_room(
+                            lambda s: s.ticket is not None and s.ticket.quota == ticket.quota, cap
+                        )
+                    ]
                     stopped += [(s, "evicted") for s in self._make_room(lambda s: True, self.total)]
                     found = self._scenes[ticket.sid] = _new_scene(ticket)
-                    log.info("3D view started", extra={"viz": {
-                        "session": ticket.sid[:8], "owner": ticket.owner_kind, "port": found.port,
-                        "live": len(self._scenes)}})
+                    log.info(
+                        "3D view started",
+                        extra={
+                            "viz": {
+                                "session": ticket.sid[:8],
+                                "owner": ticket.owner_kind,
+                                "port": found.port,
+                                "live": len(self._scenes),
+                            }
+                        },
+                    )
                 found.used = time.monotonic()
                 return found
         finally:
@@ -307,7 +357,7 @@ class Scenes:
     def _make_room(self, which: Any, cap: int) -> list[Scene]:
         """Take the scenes idle the longest among `which` until one more fits under `cap`."""
         mine = sorted((s for s in self._scenes.values() if which(s)), key=lambda s: s.used)
-        gone = mine[:max(0, len(mine) - max(cap, 1) + 1)]
+        gone = mine[: max(0, len(mine) - max(cap, 1) + 1)]
         for s in gone:
             if s.ticket is not None:
                 self._scenes.pop(s.ticket.sid, None)
@@ -339,9 +389,17 @@ def _stop(scene: Scene, reason: str) -> None:
     with contextlib.suppress(Exception):
         scene.server.stop()
     ticket = scene.ticket
-    log.info("3D view stopped", extra={"viz": {
-        "session": ticket.sid[:8] if ticket else "-", "owner": ticket.owner_kind if ticket else "-",
-        "reason": reason, "seconds": round(time.monotonic() - scene.started, 1)}})
+    log.info(
+        "3D view stopped",
+        extra={
+            "viz": {
+                "session": ticket.sid[:8] if ticket else "-",
+                "owner": ticket.owner_kind if ticket else "-",
+                "reason": reason,
+                "seconds": round(time.monotonic() - scene.started, 1),
+            }
+        },
+    )
 
 
 def _quiet_viser() -> None:
@@ -386,13 +444,21 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
     s = scene.server.scene
     with scene.lock, scene.server.atomic():
         scene.generation += 1
-        lines = {"feed": (data["feed"], FEED_COLOUR, 2.0), "rapid": (_dashed(data["rapid"]), RAPID_COLOUR, 1.5),
-                 "contour": (data.get("contour"), CONTOUR_COLOUR, 1.5)}
+        lines = {
+            "feed": (data["feed"], FEED_COLOUR, 2.0),
+            "rapid": (_dashed(data["rapid"]), RAPID_COLOUR, 1.5),
+            "contour": (data.get("contour"), CONTOUR_COLOUR, 1.5),
+        }
         for name, (segments, colour, thickness) in lines.items():
             if segments is not None and len(segments):
-                scene.nodes[name] = s.add_line_segments(f"/toolpath/{name}", segments * M, colour,
-                                                        thickness=thickness, thickness_units="screen",
-                                                        visible=scene.layers[name])
+                scene.nodes[name] = s.add_line_segments(
+                    f"/toolpath/{name}",
+                    segments * M,
+                    colour,
+                    thickness=thickness,
+                    thickness_units="screen",
+                    visible=scene.layers[name],
+                )
             else:
                 s.remove_by_name(f"/toolpath/{name}")
                 scene.nodes.pop(name, None)
@@ -404,19 +470,31 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         lathe = bool(data.get("lathe"))
         if lathe != scene.lathe:  # another kind of machine: its own zero axes and its own first view
             scene.lathe, scene.framed = lathe, False
-            s.add_frame("/zero", axes_length=10 * M, axes_radius=0.4 * M,
-                        wxyz=LATHE_ZERO if lathe else (1.0, 0.0, 0.0, 0.0))
+            s.add_frame(
+                "/zero",
+                axes_length=10 * M,
+                axes_radius=0.4 * M,
+                wxyz=LATHE_ZERO if lathe else (1.0, 0.0, 0.0, 0.0),
+            )
         scene.turned = data.get("turned")
         _chuck(scene)
         bounds = _bounds(data)
         _axis(scene, bounds)
         if scene.has_stock and not lathe and bounds is not None:  # the blank's edges, with the stock layer
-            s.add_line_segments("/stock/outline", stock_outline(*bounds) * M, OUTLINE_COLOUR, thickness=1.2,
-                                thickness_units="screen")
+            s.add_line_segments(
+                "/stock/outline",
+                stock_outline(*bounds) * M,
+                OUTLINE_COLOUR,
+                thickness=1.2,
+                thickness_units="screen",
+            )
         else:
             s.remove_by_name("/stock/outline")
-        if bounds is not None and (not scene.framed or scene.bounds is None
-                                   or not all(np.allclose(a, b) for a, b in zip(bounds, scene.bounds, strict=True))):
+        if bounds is not None and (
+            not scene.framed
+            or scene.bounds is None
+            or not all(np.allclose(a, b) for a, b in zip(bounds, scene.bounds, strict=True))
+        ):
             scene.bounds = bounds
             _look(scene, scene.view if scene.framed else _home(scene))
         scene.segments = data["segments"]
@@ -428,9 +506,12 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         scene.tools = {int(k): v for k, v in (data.get("tools") or {}).items()}
         scene.tool_radius = float(data.get("tool_radius") or 3.0)
         last = scene.segment_tools[-1] if scene.segment_tools else data.get("tool_number")
-        _tool(scene, scene.tools.get(last) if last is not None else None,
-              tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0),
-              bool(scene.segment_centre[-1]) if scene.segment_centre else False)
+        _tool(
+            scene,
+            scene.tools.get(last) if last is not None else None,
+            tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0),
+            bool(scene.segment_centre[-1]) if scene.segment_centre else False,
+        )
         s.remove_by_name("/playback/current")
         return scene.generation
 
@@ -454,7 +535,9 @@ def lathe_view(data: dict[str, Any], nose: dict[int, Any]) -> dict[str, Any]:
     name the plane G18."""
     for key in ("segments", "feed", "rapid", "contour"):
         if data.get(key) is not None:
-            data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(np.float32)
+            data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(
+                np.float32
+            )
     data["tool"] = [float(v) for v in LATHE_AXES @ np.asarray(data["tool"], dtype=np.float64)]
     data["stock"] = None
     data["tools"] = {n: r if isinstance(r, dict) else {"kind": "turning", "nose": r} for n, r in nose.items()}
@@ -527,13 +610,30 @@ def _put_tiles(scene: Scene, tiles: Tiles) -> None:
     for key, (digest, vertices, triangles) in tiles.items():
         if scene.tiles.get(key) == digest:
             continue
-        if key.startswith("z"):  # a chunk of a turned part: round (smooth normals), its cut face the section's
+        if key.startswith(
+            "z"
+        ):  # a chunk of a turned part: round (smooth normals), its cut face the section's
             cut = key.endswith("_cut")
-            s.add_mesh_simple(f"/stock/{key}", vertices * M, triangles, color=CUT_COLOUR if cut else STOCK_COLOUR,
-                              flat_shading=cut, side="double", cast_shadow=False, receive_shadow=False)
+            s.add_mesh_simple(
+                f"/stock/{key}",
+                vertices * M,
+                triangles,
+                color=CUT_COLOUR if cut else STOCK_COLOUR,
+                flat_shading=cut,
+                side="double",
+                cast_shadow=False,
+                receive_shadow=False,
+            )
         else:
-            s.add_mesh_simple(f"/stock/{key}", vertices * M, triangles, color=STOCK_COLOUR, flat_shading=True,
-                              cast_shadow=False, receive_shadow=False)
+            s.add_mesh_simple(
+                f"/stock/{key}",
+                vertices * M,
+                triangles,
+                color=STOCK_COLOUR,
+                flat_shading=True,
+                cast_shadow=False,
+                receive_shadow=False,
+            )
         scene.tiles[key] = digest
 
 
@@ -547,8 +647,15 @@ def show_deviation_bands(scene: Scene, bands: dict[str, tuple[np.ndarray, np.nda
         for name, colour in (("too_much", TOO_MUCH_COLOUR), ("too_little", TOO_LITTLE_COLOUR)):
             vertices, triangles = bands.get(name, (np.zeros((0, 3)), np.zeros((0, 3))))
             if len(triangles):
-                s.add_mesh_simple(f"/deviation/{name}", np.asarray(vertices) * M, triangles, color=colour,
-                                  side="double", cast_shadow=False, receive_shadow=False)
+                s.add_mesh_simple(
+                    f"/deviation/{name}",
+                    np.asarray(vertices) * M,
+                    triangles,
+                    color=colour,
+                    side="double",
+                    cast_shadow=False,
+                    receive_shadow=False,
+                )
         if scene.bounds is not None and any(len(t) for _, t in bands.values()):
             _look(scene, _home(scene))
 
@@ -562,11 +669,21 @@ def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, c
         s.remove_by_name("/deviation")
         s.remove_by_name("/playback/current")
         size = max(cell, 0.4) * M  # at least a few pixels: a thin gouge must still show
-        for name, points, colour in (("too_much", too_much, TOO_MUCH_COLOUR), ("too_little", too_little, TOO_LITTLE_COLOUR)):
+        for name, points, colour in (
+            ("too_much", too_much, TOO_MUCH_COLOUR),
+            ("too_little", too_little, TOO_LITTLE_COLOUR),
+        ):
             if len(points):
-                s.add_point_cloud(f"/deviation/{name}", points * M, colors=colour, point_size=size,
-                                  point_shape="square", precision="float32", point_shading="flat",
-                                  position=(0.0, 0.0, 0.05 * M))  # just above the surface, not in it
+                s.add_point_cloud(
+                    f"/deviation/{name}",
+                    points * M,
+                    colors=colour,
+                    point_size=size,
+                    point_shape="square",
+                    precision="float32",
+                    point_shading="flat",
+                    position=(0.0, 0.0, 0.05 * M),
+                )  # just above the surface, not in it
         if scene.bounds is not None and (len(too_much) or len(too_little)):
             _look(scene, _home(scene))
 
@@ -578,9 +695,15 @@ HELIX = 0.55  # rad: the cutting edges' helix angle (about 30°)
 
 def tool_shape(tool: Any) -> dict[str, Any]:
     """A tool table entry as the view draws it (plain data: crosses from the worker process)."""
-    return {"kind": str(tool.kind), "diameter": float(tool.diameter), "flute": float(tool.flute_length),
-            "length": float(tool.length), "shank": float(tool.shank), "corner": float(tool.corner_radius),
-            "angle": float(tool.point_angle)}
+    return {
+        "kind": str(tool.kind),
+        "diameter": float(tool.diameter),
+        "flute": float(tool.flute_length),
+        "length": float(tool.length),
+        "shank": float(tool.shank),
+        "corner": float(tool.corner_radius),
+        "angle": float(tool.point_angle),
+    }
 
 
 def _envelope(shape: dict[str, Any], z: np.ndarray) -> np.ndarray:
@@ -600,15 +723,18 @@ def _envelope(shape: dict[str, Any], z: np.ndarray) -> np.ndarray:
     return np.asarray(out, dtype=np.float64)
 
 
-def tool_mesh(shape: dict[str, Any], around: int = 48) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                                                                 np.ndarray]:
+def tool_mesh(
+    shape: dict[str, Any], around: int = 48
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """The tool standing on its tip at the origin (mm): the cutting part (vertices, triangles), the shank
     (vertices, triangles) and its cutting edges as helical line segments. An end mill has four edges, a slot
     drill two; a ball-nose mill a round tip, a drill a point."""
     r, flute, length = shape["diameter"] / 2, shape["flute"], max(shape["length"], shape["flute"])
     n = FLUTES.get(shape["kind"], 2)
     tip = r if shape["kind"] == "ball_nose" else 0.0
-    zs_cut = np.unique(np.concatenate([np.linspace(0, min(max(tip, r), flute), 9), np.linspace(0, flute, 17)]))
+    zs_cut = np.unique(
+        np.concatenate([np.linspace(0, min(max(tip, r), flute), 9), np.linspace(0, flute, 17)])
+    )
     theta = np.linspace(0, 2 * np.pi, around, endpoint=False)
 
     def rings(zs: np.ndarray, gullets: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -616,7 +742,9 @@ def tool_mesh(shape: dict[str, Any], around: int = 48) -> tuple[np.ndarray, np.n
         phase = theta[None, :] - (zs[:, None] / max(r, 1e-6)) * np.tan(HELIX)
         depth = 0.16 * np.clip(np.cos(n * phase), 0, None) ** 3 if gullets else 0.0
         radius = np.broadcast_to(env * (1 - depth), (len(zs), around))
-        pts = np.stack([radius * np.cos(theta), radius * np.sin(theta), np.broadcast_to(zs[:, None], radius.shape)], -1)
+        pts = np.stack(
+            [radius * np.cos(theta), radius * np.sin(theta), np.broadcast_to(zs[:, None], radius.shape)], -1
+        )
         vertices = np.vstack([pts.reshape(-1, 3), [[0, 0, zs[0]], [0, 0, zs[-1]]]])
         k, m = len(zs), around
         tris = []
@@ -662,8 +790,15 @@ def insert_mesh(nose: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.nda
     insert_t = np.array([(middle, k, (k + 1) % middle) for k in range(middle)], dtype=np.uint32)
     edges = np.stack([outline_3d, np.roll(outline_3d, -1, axis=0)], 1).astype(np.float32)
     centre = size * (e1 + e2) / 2
-    holder = np.array([[centre[0] - 6, 2.0, centre[1]], [centre[0] + 6, 2.0, centre[1]],
-                       [centre[0] + 6, 2.0, centre[1] + 45], [centre[0] - 6, 2.0, centre[1] + 45]], dtype=np.float32)
+    holder = np.array(
+        [
+            [centre[0] - 6, 2.0, centre[1]],
+            [centre[0] + 6, 2.0, centre[1]],
+            [centre[0] + 6, 2.0, centre[1] + 45],
+            [centre[0] - 6, 2.0, centre[1] + 45],
+        ],
+        dtype=np.float32,
+    )
     return insert_v, insert_t, holder, np.array([(0, 1, 2), (0, 2, 3)], dtype=np.uint32), edges
 
 
@@ -675,10 +810,26 @@ def _insert(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) 
     if key != scene.tool_key:
         insert_v, insert_t, holder_v, holder_t, edges = insert_mesh(nose)
         scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
-        s.add_mesh_simple("/tool/cutter", insert_v * M, insert_t, color=INSERT_COLOUR, opacity=0.7, side="double",
-                          cast_shadow=False, receive_shadow=False)
-        s.add_mesh_simple("/tool/shank", holder_v * M, holder_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
-                          side="double", cast_shadow=False, receive_shadow=False)
+        s.add_mesh_simple(
+            "/tool/cutter",
+            insert_v * M,
+            insert_t,
+            color=INSERT_COLOUR,
+            opacity=0.7,
+            side="double",
+            cast_shadow=False,
+            receive_shadow=False,
+        )
+        s.add_mesh_simple(
+            "/tool/shank",
+            holder_v * M,
+            holder_t,
+            color=SHANK_COLOUR,
+            opacity=TOOL_OPACITY,
+            side="double",
+            cast_shadow=False,
+            receive_shadow=False,
+        )
         s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
         scene.tool_key = key
     else:
@@ -690,7 +841,9 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], ce
     meshes are given in scene coordinates, Z up: nothing needs turning.) On a lathe: the turning tool, its
     theoretical tip at `tip` (or, `centre`, under SRK, its nose centre)."""
     if scene.lathe:
-        if scene.nodes.pop("tool_footprint", None) is not None:  # the milling tool's, before a turning program
+        if (
+            scene.nodes.pop("tool_footprint", None) is not None
+        ):  # the milling tool's, before a turning program
             scene.server.scene.remove_by_name("/tool/footprint")
         scene.nodes.pop("tool_body", None)
         if shape is not None and shape.get("kind") == "insert":
@@ -699,8 +852,15 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], ce
             _insert(scene, shape, tip)
         return
     if shape is None:  # no tool table entry: a plain cylinder of the tool's radius
-        shape = {"kind": "end_mill", "diameter": 2 * scene.tool_radius, "flute": 4 * scene.tool_radius,
-                 "length": 4 * scene.tool_radius + 40, "shank": 2 * scene.tool_radius, "corner": 0.0, "angle": 0.0}
+        shape = {
+            "kind": "end_mill",
+            "diameter": 2 * scene.tool_radius,
+            "flute": 4 * scene.tool_radius,
+            "length": 4 * scene.tool_radius + 40,
+            "shank": 2 * scene.tool_radius,
+            "corner": 0.0,
+            "angle": 0.0,
+        }
     key = tuple(sorted(shape.items()))
     s = scene.server.scene
     position = (tip[0] * M, tip[1] * M, tip[2] * M)
@@ -710,16 +870,39 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], ce
         body = scene.view != "top"
         # see-through: a Ø25 end mill is taller than the part and would hide what it cuts
         scene.nodes["tool_body"] = [
-            s.add_mesh_simple("/tool/cutter", cut_v * M, cut_t, color=TOOL_COLOUR, opacity=TOOL_OPACITY,
-                              cast_shadow=False, receive_shadow=False, visible=body),
-            s.add_mesh_simple("/tool/shank", shank_v * M, shank_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
-                              cast_shadow=False, receive_shadow=False, visible=body),
-            s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen",
-                                visible=body)]
+            s.add_mesh_simple(
+                "/tool/cutter",
+                cut_v * M,
+                cut_t,
+                color=TOOL_COLOUR,
+                opacity=TOOL_OPACITY,
+                cast_shadow=False,
+                receive_shadow=False,
+                visible=body,
+            ),
+            s.add_mesh_simple(
+                "/tool/shank",
+                shank_v * M,
+                shank_t,
+                color=SHANK_COLOUR,
+                opacity=TOOL_OPACITY,
+                cast_shadow=False,
+                receive_shadow=False,
+                visible=body,
+            ),
+            s.add_line_segments(
+                "/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen", visible=body
+            ),
+        ]
         # from above the tool would cover the part it cuts: there only the circle it cuts is drawn
         scene.nodes["tool_footprint"] = s.add_line_segments(
-            "/tool/footprint", footprint(shape["diameter"] / 2) * M, EDGE_COLOUR, thickness=2.0,
-            thickness_units="screen", visible=not body)
+            "/tool/footprint",
+            footprint(shape["diameter"] / 2) * M,
+            EDGE_COLOUR,
+            thickness=2.0,
+            thickness_units="screen",
+            visible=not body,
+        )
         scene.tool_key = key
     else:
         scene.nodes["tool"].position = position
@@ -763,16 +946,23 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
     else:
         return None
     lo, hi = pts.min(axis=0).astype(np.float64), pts.max(axis=0).astype(np.float64)
-    if data.get("lathe"):  # the spindle axis is in the picture: the part is seen as in the drawing, from X0 up
+    if data.get(
+        "lathe"
+    ):  # the spindle axis is in the picture: the part is seen as in the drawing, from X0 up
         lo[2], hi[2] = min(lo[2], 0.0), max(hi[2], 0.0)
         if data.get("turned"):  # and the jaws of the chuck at its left end
             lo[0] -= 0.08 * float(hi[0] - lo[0]) + 5.0
     return lo, hi
 
 
-def camera_for(bounds: tuple[np.ndarray, np.ndarray], view: str, aspect: float,
-               fov: float = np.radians(50), lathe: bool = False,
-               margin: float = VIEW_MARGIN) -> tuple[np.ndarray, np.ndarray]:
+def camera_for(
+    bounds: tuple[np.ndarray, np.ndarray],
+    view: str,
+    aspect: float,
+    fov: float = np.radians(50),
+    lathe: bool = False,
+    margin: float = VIEW_MARGIN,
+) -> tuple[np.ndarray, np.ndarray]:
     """Eye and target (mm) so that the box is centred in the picture and fills it but for `margin` (a fraction
     of the picture's width and height) on every side: the distance at which the box's farthest-out corner just
     fits, in width and in height, the target moved until the box's picture has as much room left as right and
@@ -854,12 +1044,21 @@ def playhead(scene: Scene, index: int) -> int | None:
         s = scene.server.scene
         with scene.server.atomic():
             s.remove_by_name("/deviation")  # it belongs to the finished part
-            s.add_line_segments("/playback/current", seg[None, :, :] * M, CURRENT_COLOUR, thickness=5.0,
-                                thickness_units="screen")
+            s.add_line_segments(
+                "/playback/current",
+                seg[None, :, :] * M,
+                CURRENT_COLOUR,
+                thickness=5.0,
+                thickness_units="screen",
+            )
             number = scene.segment_tools[index] if index < len(scene.segment_tools) else None
             centre = index < len(scene.segment_centre) and scene.segment_centre[index]
-            _tool(scene, scene.tools.get(number) if number is not None else None,
-                  tuple(float(v) for v in seg[1]), centre)
+            _tool(
+                scene,
+                scene.tools.get(number) if number is not None else None,
+                tuple(float(v) for v in seg[1]),
+                centre,
+            )
         return scene.lines[index] if index < len(scene.lines) else None
 
 
@@ -882,8 +1081,13 @@ async def bridge(browser: Any, port: int, subprotocol: str) -> None:
     """Relay frames between the browser's WebSocket and the session's viser until one side closes."""
     import websockets
 
-    async with websockets.connect(f"ws://127.0.0.1:{port}", subprotocols=[subprotocol],  # type: ignore[list-item]
-                                  max_size=None, compression=None) as upstream:
+    async with websockets.connect(
+        f"ws://127.0.0.1:{port}",
+        subprotocols=[subprotocol],  # type: ignore[list-item]
+        max_size=None,
+        compression=None,
+    ) as upstream:
+
         async def up() -> None:
             while True:
                 message = await browser.receive()
@@ -926,7 +1130,9 @@ def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     return depth_png(result.heightmap, max_pixels=480)
 
 
-PICTURE_RASTER = 400  # cells along the stock's longer side at most: the 2D picture's height map (core/picture2d.py)
+PICTURE_RASTER = (
+    400  # cells along the stock's longer side at most: the 2D picture's height map (core/picture2d.py)
+)
 PICTURE_CELL = 0.25  # mm: no finer cells for it
 
 
@@ -981,7 +1187,9 @@ def turned_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     toolpath = run(text, dialect, setup)
     blank = view_blank(spec, toolpath)
     profile = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION).profile
-    return png_rgb(half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE))
+    return png_rgb(
+        half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE)
+    )
 
 
 def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
@@ -998,18 +1206,29 @@ def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
     if "segment_tools" not in data:
         tools = [m.tool for m in run(text, dialect, setup).moves]
         data["segment_tools"] = [tools[k] if k < len(tools) else None for k in data["moves"]]
-        data["tools"] = {n: tool_shape(t) for n in set(data["segment_tools"])
-                         if n is not None and (t := setup.tools.get(n)) is not None}
+        data["tools"] = {
+            n: tool_shape(t)
+            for n in set(data["segment_tools"])
+            if n is not None and (t := setup.tools.get(n)) is not None
+        }
     if lathe:
         from core.sim import DEFAULT_LATHE_TOOLS
         from core.sim.insert import insert_of
 
         lathe_tools = make_setup(spec, DEFAULT_LATHE_TOOLS).tools
-        data = lathe_view(data, {n: insert_shape(insert_of(lathe_tools.get(n), n))
-                                 for n in set(data["segment_tools"]) if n is not None})
+        data = lathe_view(
+            data,
+            {
+                n: insert_shape(insert_of(lathe_tools.get(n), n))
+                for n in set(data["segment_tools"])
+                if n is not None
+            },
+        )
         toolpath = run(text, dialect, setup)
-        centre = [m.programmed_end is not None and bool(np.any(np.abs(np.subtract(m.programmed_end, m.end)) > 1e-6))
-                  for m in toolpath.moves]
+        centre = [
+            m.programmed_end is not None and bool(np.any(np.abs(np.subtract(m.programmed_end, m.end)) > 1e-6))
+            for m in toolpath.moves
+        ]
         data["segment_centre"] = [centre[k] if k < len(centre) else False for k in data["moves"]]
         turned = job_turned_after(text, dialect, spec, None)
         data["stock"] = {"coarse": turned["chunks"]}
@@ -1028,15 +1247,26 @@ def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
     exercise = exercise_document(spec)
     if exercise is None:
         none = np.zeros((0, 3), np.float32)
-        return {"too_much": none, "too_little": none, "cell": 0.0, "too_much_mm3": 0.0, "too_little_mm3": 0.0,
-                "largest_mm": 0.0}
+        return {
+            "too_much": none,
+            "too_little": none,
+            "cell": 0.0,
+            "too_much_mm3": 0.0,
+            "too_little_mm3": 0.0,
+            "largest_mm": 0.0,
+        }
     if exercise.lathe:
         return lathe_deviation(exercise, text, bool(spec.get("half")))
     d = deviation(exercise, text)
     area = d.part.grid.dx * d.part.grid.dy
-    return {"too_much": d.points("over"), "too_little": d.points("left"), "cell": d.part.grid.dx,
-            "too_much_mm3": float(d.over.sum()) * area, "too_little_mm3": float(d.left.sum()) * area,
-            "largest_mm": float(max(d.over.max(initial=0.0), d.left.max(initial=0.0)))}
+    return {
+        "too_much": d.points("over"),
+        "too_little": d.points("left"),
+        "cell": d.part.grid.dx,
+        "too_much_mm3": float(d.over.sum()) * area,
+        "too_little_mm3": float(d.left.sum()) * area,
+        "largest_mm": float(max(d.over.max(initial=0.0), d.left.max(initial=0.0))),
+    }
 
 
 # -- the turned part (a lathe dialect): the bar revolved from the turning simulation's profile --------------
@@ -1065,10 +1295,17 @@ def view_blank(spec: dict[str, Any], toolpath: Any) -> Any:
 
     found = spec.get("blank") or (spec.get("exercise") or {}).get("blank")
     if found:
-        return Blank(float(found["diameter"]), float(found["length"]), float(found.get("inner_diameter") or 0.0),
-                     found.get("chuck_length"), found.get("jaw_diameter"))
+        return Blank(
+            float(found["diameter"]),
+            float(found["length"]),
+            float(found.get("inner_diameter") or 0.0),
+            found.get("chuck_length"),
+            found.get("jaw_diameter"),
+        )
     cutting = [m for m in toolpath.moves if m.kind != "rapid"]
-    points = np.array([p for m in cutting for p in (m.start, m.end)] or [(10.0, 0.0, -10.0)], dtype=np.float64)
+    points = np.array(
+        [p for m in cutting for p in (m.start, m.end)] or [(10.0, 0.0, -10.0)], dtype=np.float64
+    )
     diameter = max(10.0, float(np.ceil(2 * np.max(np.abs(points[:, 0])) - 1e-6)))
     depth = max(5.0, -float(np.min(points[:, 2])))
     length = max(20.0, 5 * float(np.ceil(1.5 * (depth + 5) / 5)))  # the chuck holds at most a third
@@ -1076,13 +1313,22 @@ def view_blank(spec: dict[str, Any], toolpath: Any) -> Any:
 
 
 def profile_data(profile: Any) -> dict[str, Any]:
-    return {"z0": float(profile.z0), "dz": float(profile.dz), "outer": np.asarray(profile.outer, np.float32),
-            "inner": np.asarray(profile.inner, np.float32)}
+    return {
+        "z0": float(profile.z0),
+        "dz": float(profile.dz),
+        "outer": np.asarray(profile.outer, np.float32),
+        "inner": np.asarray(profile.inner, np.float32),
+    }
 
 
 def blank_data(blank: Any) -> dict[str, float]:
-    return {"diameter": float(blank.diameter), "inner_diameter": float(blank.bore), "length": float(blank.length),
-            "clamp": float(blank.clamp), "jaw_radius": float(blank.jaw_radius)}
+    return {
+        "diameter": float(blank.diameter),
+        "inner_diameter": float(blank.bore),
+        "length": float(blank.length),
+        "clamp": float(blank.clamp),
+        "jaw_radius": float(blank.jaw_radius),
+    }
 
 
 def _pieces(points: np.ndarray) -> list[np.ndarray]:
@@ -1093,7 +1339,7 @@ def _pieces(points: np.ndarray) -> list[np.ndarray]:
     angle = np.arctan2(d[:, 1], d[:, 0])
     turn = np.abs((np.diff(angle) + np.pi) % (2 * np.pi) - np.pi)
     cuts = np.flatnonzero(turn > CORNER) + 1
-    return [points[a:b + 1] for a, b in itertools.pairwise([0, *cuts.tolist(), len(points) - 1])]
+    return [points[a : b + 1] for a, b in itertools.pairwise([0, *cuts.tolist(), len(points) - 1])]
 
 
 def _angles(half: bool, sections: int = TURNED_SECTIONS) -> tuple[np.ndarray, bool]:
@@ -1108,7 +1354,9 @@ def revolve(points: np.ndarray, half: bool, sections: int = TURNED_SECTIONS) -> 
     theta, wrap = _angles(half, sections)
     columns = len(theta)
     z, r = points[:, 0][:, None], points[:, 1][:, None]
-    vertices = np.stack([np.broadcast_to(z, (len(points), columns)), r * np.sin(theta), r * np.cos(theta)], -1)
+    vertices = np.stack(
+        [np.broadcast_to(z, (len(points), columns)), r * np.sin(theta), r * np.cos(theta)], -1
+    )
     i, j = np.meshgrid(np.arange(len(points) - 1), np.arange(columns if wrap else columns - 1), indexing="ij")
     a = i * columns + j
     b = i * columns + (j + 1) % columns
@@ -1174,8 +1422,9 @@ def turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
                     bottom = np.stack([zz, np.full_like(zz, CUT_OFFSET), sign * ri], -1)
                     count = len(zz)
                     q = np.arange(count - 1)
-                    tris = np.concatenate([np.stack([q, q + 1, count + q + 1], -1),
-                                           np.stack([q, count + q + 1, count + q], -1)])
+                    tris = np.concatenate(
+                        [np.stack([q, q + 1, count + q + 1], -1), np.stack([q, count + q + 1, count + q], -1)]
+                    )
                     cut.append((np.vstack([top, bottom]).astype(np.float32), tris.astype(np.uint32)))
         for key, parts in ((f"z{k}", surface), (f"z{k}_cut", cut)):
             if parts:
@@ -1207,8 +1456,14 @@ def chuck_meshes(blank: dict[str, float], half: bool) -> dict[str, tuple[np.ndar
             continue
         u = np.array([0.0, np.sin(theta), np.cos(theta)])  # radial (scene y, z)
         v = np.array([0.0, np.cos(theta), -np.sin(theta)])  # tangential
-        corners = np.array([[z, 0.0, 0.0] + t * v + rr * u for rr in (r, jaw_r) for t in (-width / 2, width / 2)
-                            for z in (back, back + blank["clamp"])])
+        corners = np.array(
+            [
+                [z, 0.0, 0.0] + t * v + rr * u
+                for rr in (r, jaw_r)
+                for t in (-width / 2, width / 2)
+                for z in (back, back + blank["clamp"])
+            ]
+        )
         jaws.append(_box(corners))
     return {"body": body, "jaws": _merge(jaws)}
 
@@ -1228,8 +1483,13 @@ def insert_shape(insert: Any) -> dict[str, Any]:
         lo, hi = outline.min(axis=0), outline.max(axis=0)
         holder[:, 0] = np.clip(holder[:, 0], lo[0] - HOLDER_REACH - 40, hi[0] + HOLDER_REACH + 40)
         holder[:, 1] = np.clip(holder[:, 1], lo[1] - HOLDER_REACH, hi[1] + HOLDER_REACH)
-    return {"kind": "insert", "insert": insert.kind, "outline": outline.round(4).tolist(),
-            "holder": holder.round(4).tolist(), "tip": [float(tz), float(tx)]}
+    return {
+        "kind": "insert",
+        "insert": insert.kind,
+        "outline": outline.round(4).tolist(),
+        "holder": holder.round(4).tolist(),
+        "tip": [float(tz), float(tx)],
+    }
 
 
 def _hull(points: np.ndarray) -> np.ndarray:
@@ -1241,8 +1501,14 @@ def _hull(points: np.ndarray) -> np.ndarray:
     def chain(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
         out: list[tuple[float, float]] = []
         for p in seq:
-            while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
-                                     - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+            while (
+                len(out) >= 2
+                and (
+                    (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                    - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])
+                )
+                <= 0
+            ):
                 out.pop()
             out.append(p)
         return out
@@ -1258,8 +1524,11 @@ def prism(outline: np.ndarray, thickness: float) -> tuple[np.ndarray, np.ndarray
     back = front + [0.0, thickness, 0.0]
     k = np.arange(n)
     fan = [(0, i, i + 1) for i in range(1, n - 1)]
-    tris = (fan + [(n + a, n + c, n + b) for a, b, c in fan]
-            + [t for i in k for t in ((i, (i + 1) % n, n + (i + 1) % n), (i, n + (i + 1) % n, n + i))])
+    tris = (
+        fan
+        + [(n + a, n + c, n + b) for a, b, c in fan]
+        + [t for i in k for t in ((i, (i + 1) % n, n + (i + 1) % n), (i, n + (i + 1) % n, n + i))]
+    )
     return np.vstack([front, back]).astype(np.float32), np.asarray(tris, dtype=np.uint32)
 
 
@@ -1277,8 +1546,11 @@ def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int |
         toolpath = toolpath.until_move(moves)
     result = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION)
     profile = profile_data(result.profile)
-    return {"chunks": turned_chunks(profile, bool(spec.get("half"))), "profile": profile,
-            "blank": blank_data(blank)}
+    return {
+        "chunks": turned_chunks(profile, bool(spec.get("half"))),
+        "profile": profile,
+        "blank": blank_data(blank),
+    }
 
 
 def job_turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
@@ -1301,11 +1573,20 @@ def _chuck(scene: Scene) -> None:
     meshes = chuck_meshes(blank, scene.half)
     s.add_frame("/chuck", show_axes=False)
     v, t = meshes["body"]
-    s.add_mesh_simple("/chuck/body", v * M, t, color=CHUCK_COLOUR, side="double", cast_shadow=False,
-                      receive_shadow=False)
+    s.add_mesh_simple(
+        "/chuck/body", v * M, t, color=CHUCK_COLOUR, side="double", cast_shadow=False, receive_shadow=False
+    )
     v, t = meshes["jaws"]
-    s.add_mesh_simple("/chuck/jaws", v * M, t, color=JAW_COLOUR, flat_shading=True, side="double",
-                      cast_shadow=False, receive_shadow=False)
+    s.add_mesh_simple(
+        "/chuck/jaws",
+        v * M,
+        t,
+        color=JAW_COLOUR,
+        flat_shading=True,
+        side="double",
+        cast_shadow=False,
+        receive_shadow=False,
+    )
     scene.chuck_key = key
 
 
@@ -1315,21 +1596,48 @@ def _insert_shape(scene: Scene, shape: dict[str, Any], point: tuple[float, ...],
     s = scene.server.scene
     tz, tx = shape["tip"]
     # the mesh is made around the theoretical tip; under SRK the path is the nose centre's: the tip is beside it
-    position = tuple(v * M for v in (point[0] + (tz if centre else 0.0), point[1], point[2] + (tx if centre else 0.0)))
-    key = ("insert", str(shape.get("insert")), tuple(map(tuple, shape["outline"])), tuple(map(tuple, shape["holder"])))
+    position = tuple(
+        v * M for v in (point[0] + (tz if centre else 0.0), point[1], point[2] + (tx if centre else 0.0))
+    )
+    key = (
+        "insert",
+        str(shape.get("insert")),
+        tuple(map(tuple, shape["outline"])),
+        tuple(map(tuple, shape["holder"])),
+    )
     if key != scene.tool_key:
         outline = np.asarray(shape["outline"], dtype=np.float64)
         insert_v, insert_t = prism(outline, INSERT_THICKNESS)
         scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
-        s.add_mesh_simple("/tool/cutter", insert_v * M, insert_t, color=INSERT_COLOUR, opacity=0.85,
-                          flat_shading=True, side="double", cast_shadow=False, receive_shadow=False)
+        s.add_mesh_simple(
+            "/tool/cutter",
+            insert_v * M,
+            insert_t,
+            color=INSERT_COLOUR,
+            opacity=0.85,
+            flat_shading=True,
+            side="double",
+            cast_shadow=False,
+            receive_shadow=False,
+        )
         if len(shape["holder"]) >= 3:
             holder_v, holder_t = prism(_hull(np.asarray(shape["holder"], dtype=np.float64)), HOLDER_THICKNESS)
-            s.add_mesh_simple("/tool/shank", holder_v * M, holder_t, color=SHANK_COLOUR, opacity=TOOL_OPACITY,
-                              flat_shading=True, side="double", cast_shadow=False, receive_shadow=False)
+            s.add_mesh_simple(
+                "/tool/shank",
+                holder_v * M,
+                holder_t,
+                color=SHANK_COLOUR,
+                opacity=TOOL_OPACITY,
+                flat_shading=True,
+                side="double",
+                cast_shadow=False,
+                receive_shadow=False,
+            )
         else:
             s.remove_by_name("/tool/shank")
-        ring = np.stack([outline[:, 0], np.full(len(outline), -INSERT_THICKNESS / 2 - 0.05), outline[:, 1]], -1)
+        ring = np.stack(
+            [outline[:, 0], np.full(len(outline), -INSERT_THICKNESS / 2 - 0.05), outline[:, 1]], -1
+        )
         edges = np.stack([ring, np.roll(ring, -1, axis=0)], 1).astype(np.float32)
         s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
         scene.tool_key = key
@@ -1368,23 +1676,38 @@ def lathe_deviation(exercise: Any, text: str, half: bool) -> dict[str, Any]:
     leaves the band (too much removed red, too much left blue). Runs in a worker process."""
     from core.grading.turning import compare_profiles, execute_turning
 
-    tol = next((c.tolerance if c.tolerance is not None else 0.05 for c in exercise.rubric if c.id == "geometry"),
-               0.05)
+    tol = next(
+        (c.tolerance if c.tolerance is not None else 0.05 for c in exercise.rubric if c.id == "geometry"),
+        0.05,
+    )
     reference, submission = execute_turning(exercise, exercise.reference), execute_turning(exercise, text)
     dev = compare_profiles(reference.sim.profile, submission.sim.profile, tol)
     part = submission.sim.profile
-    bands = {"too_much": deviation_band(part, dev.over_outer > 0, dev.over_inner > 0, half),
-             "too_little": deviation_band(part, dev.left_outer > 0, dev.left_inner > 0, half)}
+    bands = {
+        "too_much": deviation_band(part, dev.over_outer > 0, dev.over_inner > 0, half),
+        "too_little": deviation_band(part, dev.left_outer > 0, dev.left_inner > 0, half),
+    }
     none = np.zeros((0, 3), np.float32)
-    largest = max(float(np.max(a, initial=0.0)) for a in (dev.over_outer, dev.left_outer, dev.over_inner,
-                                                           dev.left_inner))
-    return {"too_much": none, "too_little": none, "cell": 0.0, "bands": bands,
-            "too_much_samples": int(np.count_nonzero((dev.over_outer > 0) | (dev.over_inner > 0))),
-            "too_little_samples": int(np.count_nonzero((dev.left_outer > 0) | (dev.left_inner > 0))),
-            "too_much_mm3": dev.over_volume, "too_little_mm3": dev.left_volume, "largest_mm": largest}
+    largest = max(
+        float(np.max(a, initial=0.0))
+        for a in (dev.over_outer, dev.left_outer, dev.over_inner, dev.left_inner)
+    )
+    return {
+        "too_much": none,
+        "too_little": none,
+        "cell": 0.0,
+        "bands": bands,
+        "too_much_samples": int(np.count_nonzero((dev.over_outer > 0) | (dev.over_inner > 0))),
+        "too_little_samples": int(np.count_nonzero((dev.left_outer > 0) | (dev.left_inner > 0))),
+        "too_much_mm3": dev.over_volume,
+        "too_little_mm3": dev.left_volume,
+        "largest_mm": largest,
+    }
 
 
-def deviation_band(part: Any, outside: np.ndarray, inside: np.ndarray, half: bool) -> tuple[np.ndarray, np.ndarray]:
+def deviation_band(
+    part: Any, outside: np.ndarray, inside: np.ndarray, half: bool
+) -> tuple[np.ndarray, np.ndarray]:
     """Revolved strips over the runs of marked Z samples: on the outside surface (lifted by BAND_LIFT) and in
     the bore (lowered by it), scene mm."""
     z0, dz = float(part.z0), float(part.dz)

@@ -70,14 +70,23 @@ def make_setup(spec: dict[str, Any], base: ToolTable = DEFAULT_TOOLS) -> RunSetu
     extra: dict[str, Any] = {}
     if exercise is not None:
         table = exercise.tool_table()
-        extra = {"zero_offsets": tuple(exercise.zero_offsets.items()),
-                 "subprograms": tuple(exercise.subprograms.items())}
+        extra = {
+            "zero_offsets": tuple(exercise.zero_offsets.items()),
+            "subprograms": tuple(exercise.subprograms.items()),
+        }
     else:
         table = ToolTable({}) if spec.get("replace_tools") else base
     for t in spec.get("tools") or ():
-        table = table.with_tool(Tool(int(t["number"]), t.get("kind", "end_mill"), float(t["diameter"]),
-                                     t.get("name", ""), nose_radius=float(t.get("nose_radius", 0.0)),
-                                     quadrant=int(t.get("quadrant", 0))))
+        table = table.with_tool(
+            Tool(
+                int(t["number"]),
+                t.get("kind", "end_mill"),
+                float(t["diameter"]),
+                t.get("name", ""),
+                nose_radius=float(t.get("nose_radius", 0.0)),
+                quadrant=int(t.get("quadrant", 0)),
+            )
+        )
     skip = spec.get("skip_blocks")  # None: the dialect's default
     return RunSetup(tools=table, skip_blocks=None if skip is None else bool(skip), **extra)
 
@@ -134,9 +143,15 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
         "diagnostics": diags,
         "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics),
         "warnings": sum(d.severity is Severity.WARNING for d in toolpath.diagnostics),
-        "summary": {"moves": len(toolpath.moves), "rapid": kinds["rapid"], "feed": kinds["feed"],
-                    "arc": kinds["arc"], "tool_changes": len(toolpath.tool_changes),
-                    "dwells": len(toolpath.dwells), "diagnostics": len(toolpath.diagnostics)},
+        "summary": {
+            "moves": len(toolpath.moves),
+            "rapid": kinds["rapid"],
+            "feed": kinds["feed"],
+            "arc": kinds["arc"],
+            "tool_changes": len(toolpath.tool_changes),
+            "dwells": len(toolpath.dwells),
+            "diagnostics": len(toolpath.diagnostics),
+        },
         "grading": grading,
     }
 
@@ -176,10 +191,16 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     for line in sorted(set(lines)):
         state, position = toolpath.state_at(line)
         codes = state.codes
-        states[line] = {"plane": codes.get("plane"), "dimensions": codes.get("dimensions"),
-                        "compensation": codes.get("compensation"), "zero_offset": codes.get("zero_offset"),
-                        "feed": state.feed, "speed": state.speed, "tool": state.tool,
-                        "position": [round(v, 3) for v in position]}
+        states[line] = {
+            "plane": codes.get("plane"),
+            "dimensions": codes.get("dimensions"),
+            "compensation": codes.get("compensation"),
+            "zero_offset": codes.get("zero_offset"),
+            "feed": state.feed,
+            "speed": state.speed,
+            "tool": state.tool,
+            "position": [round(v, 3) for v in position],
+        }
     cut = notice is not None or len(segments) > MAX_SCENE_SEGMENTS
     segments, rapid = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS]
     lines, moves = lines[:MAX_SCENE_SEGMENTS], moves[:MAX_SCENE_SEGMENTS]
@@ -189,17 +210,29 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     box = spec.get("stock")
     if box:
         result = simulate(toolpath, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
-        stock = {"coarse": stock_tiles(result.heightmap, PLAYBACK_TRIANGLES),
-                 "fine": stock_tiles(result.heightmap, SCENE_TRIANGLES)}
+        stock = {
+            "coarse": stock_tiles(result.heightmap, PLAYBACK_TRIANGLES),
+            "fine": stock_tiles(result.heightmap, SCENE_TRIANGLES),
+        }
     last = toolpath.moves[-1] if toolpath.moves else None
     tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
     programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
-    return {"segments": seg, "feed": seg[~is_rapid], "rapid": seg[is_rapid], "lines": lines, "cut": cut,
-            "notice": notice.to_json() if notice is not None else None,
-            "contour": programmed, "states": states, "moves": moves, "cycles": cycles,
-            "stock": stock, "tool": list(toolpath.final_position), "tool_radius": tool.radius if tool else 3.0,
-            "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics)}
-
+    return {
+        "segments": seg,
+        "feed": seg[~is_rapid],
+        "rapid": seg[is_rapid],
+        "lines": lines,
+        "cut": cut,
+        "notice": notice.to_json() if notice is not None else None,
+        "contour": programmed,
+        "states": states,
+        "moves": moves,
+        "cycles": cycles,
+        "stock": stock,
+        "tool": list(toolpath.final_position),
+        "tool_radius": tool.radius if tool else 3.0,
+        "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics),
+    }
 
 
 def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -> Any:
@@ -222,7 +255,11 @@ def job_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
 
     exercise = exercise_document(spec)
     if exercise is None:
-        return {"too_much": np.zeros((0, 3), np.float32), "too_little": np.zeros((0, 3), np.float32), "cell": 0.0}
+        return {
+            "too_much": np.zeros((0, 3), np.float32),
+            "too_little": np.zeros((0, 3), np.float32),
+            "cell": 0.0,
+        }
     d = deviation(exercise, text)
     return {"too_much": d.points("over"), "too_little": d.points("left"), "cell": d.part.grid.dx}
 
@@ -233,8 +270,11 @@ def job_picture(document: dict[str, Any]) -> bytes:
 
     exercise = ExerciseDocument.model_validate(document)
     tools = exercise.tool_table()
-    setup = RunSetup(tools=tools, zero_offsets=tuple(exercise.zero_offsets.items()),
-                     subprograms=tuple(exercise.subprograms.items()))
+    setup = RunSetup(
+        tools=tools,
+        zero_offsets=tuple(exercise.zero_offsets.items()),
+        subprograms=tuple(exercise.subprograms.items()),
+    )
     result = simulate(run(exercise.reference, exercise.dialect, setup), exercise.stock.stock(), tools, 0.2)
     return depth_png(result.heightmap, max_pixels=640)
 
@@ -283,9 +323,14 @@ def job_validate_exercise(text: str, graded: bool = True) -> dict[str, Any]:
     result = grade(exercise, exercise.reference)
     if result.score < result.max_score:
         lost = [c for c in result.criteria if not c.passed]
-        return {"reference": {"score": result.score, "max_score": result.max_score,
-                              "detail": " ".join(c.message for c in lost),
-                              "detail_en": " ".join(c.message_en for c in lost)}}
+        return {
+            "reference": {
+                "score": result.score,
+                "max_score": result.max_score,
+                "detail": " ".join(c.message for c in lost),
+                "detail_en": " ".join(c.message_en for c in lost),
+            }
+        }
     return {"document": exercise.model_dump(mode="json")}
 
 
@@ -295,8 +340,15 @@ class _LiveCache:
 
     __slots__ = ("commands", "diagnostics", "gen", "json", "memo", "memo_key")
 
-    def __init__(self, gen: int, diagnostics: dict[int, tuple[Any, ...]], commands: dict[int, tuple[Any, ...]],
-                 memo: Memo, memo_key: str, json: dict[int, tuple[Any, dict[str, Any]]] | None = None) -> None:
+    def __init__(
+        self,
+        gen: int,
+        diagnostics: dict[int, tuple[Any, ...]],
+        commands: dict[int, tuple[Any, ...]],
+        memo: Memo,
+        memo_key: str,
+        json: dict[int, tuple[Any, dict[str, Any]]] | None = None,
+    ) -> None:
         self.gen, self.diagnostics, self.commands = gen, diagnostics, commands
         self.memo, self.memo_key, self.json = memo, memo_key, json or {}
 
@@ -312,13 +364,16 @@ def _by_line(items: Any) -> dict[int, tuple[Any, ...]]:
     return {k: tuple(v) for k, v in out.items()}
 
 
-def _path_json(commands: tuple[Any, ...], to_json: Callable[[Any], dict[str, Any]] | None = None,
-               ) -> dict[str, list[dict[str, Any]]]:
+def _path_json(
+    commands: tuple[Any, ...],
+    to_json: Callable[[Any], dict[str, Any]] | None = None,
+) -> dict[str, list[dict[str, Any]]]:
     entry: dict[str, list[dict[str, Any]]] = {"moves": [], "dwells": [], "tool_changes": []}
     for c in commands:
         kind = type(c).__name__
         entry["moves" if kind == "Move" else "dwells" if kind == "Dwell" else "tool_changes"].append(
-            c.to_json() if to_json is None else to_json(c))
+            c.to_json() if to_json is None else to_json(c)
+        )
     return entry
 
 
@@ -339,8 +394,11 @@ class _Json:
         if was is not None:
             hit = self.known.get(id(was))
             if hit is not None and hit[0] is was:  # only the span and the calling lines differ
-                data = {**hit[1], "line": c.span.line,
-                        "call_stack": [{"source": src, "line": line} for src, line in c.call_stack]}
+                data = {
+                    **hit[1],
+                    "line": c.span.line,
+                    "call_stack": [{"source": src, "line": line} for src, line in c.call_stack],
+                }
         if data is None:
             data = c.to_json()
         self.known[id(c)] = (c, data)
@@ -358,7 +416,9 @@ class _Json:
         return out
 
 
-def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
+def job_live(
+    doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: dict[str, Any]
+) -> dict[str, Any]:
     """Re-run live document `doc` and answer the lines whose result differs from generation `base_gen`.
 
     The worker keeps each document's last result (a pool of one process per slot keeps a document
@@ -368,31 +428,48 @@ def job_live(doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: d
     cached = _LIVE.pop(doc, None)
     memo_key = json.dumps([dialect, spec], sort_keys=True, default=str)
     memo = cached.memo if cached is not None and cached.memo_key == memo_key else Memo()
-    toolpath = summarised(run(text, dialect, make_setup(spec), memo))  # at most max_answer_commands (PAL-I018)
+    toolpath = summarised(
+        run(text, dialect, make_setup(spec), memo)
+    )  # at most max_answer_commands (PAL-I018)
     diagnostics, commands = _by_line(toolpath.diagnostics), _by_line(toolpath.commands)
     full = cached is None or cached.gen != base_gen
     old_d = {} if full or cached is None else cached.diagnostics
     old_c = {} if full or cached is None else cached.commands
     to_json = _Json(cached.json if cached is not None and cached.memo is memo else {}, memo.runs.shifted)
-    d_out = {n: [x.to_json() for x in diagnostics.get(n, ())] for n in old_d.keys() | diagnostics.keys()
-             if old_d.get(n) != diagnostics.get(n)}
+    d_out = {
+        n: [x.to_json() for x in diagnostics.get(n, ())]
+        for n in old_d.keys() | diagnostics.keys()
+        if old_d.get(n) != diagnostics.get(n)
+    }
     empty: tuple[Any, ...] = ()
-    c_out = {n: _path_json(commands.get(n, empty), to_json) for n in old_c.keys() | commands.keys()
-             if old_c.get(n) != commands.get(n)}
+    c_out = {
+        n: _path_json(commands.get(n, empty), to_json)
+        for n in old_c.keys() | commands.keys()
+        if old_c.get(n) != commands.get(n)
+    }
     _LIVE[doc] = _LiveCache(gen, diagnostics, commands, memo, memo_key, to_json.kept(commands))
     while len(_LIVE) > _LIVE_MAX:
         _LIVE.popitem(last=False)
     p = toolpath.final_position
-    return {"full": full, "gen": gen, "diagnostics": d_out, "toolpath": c_out,
-            "final": [round(p[0], 6), round(p[1], 6), round(p[2], 6)], "run": memo.runs.kind}
+    return {
+        "full": full,
+        "gen": gen,
+        "diagnostics": d_out,
+        "toolpath": c_out,
+        "final": [round(p[0], 6), round(p[1], 6), round(p[2], 6)],
+        "run": memo.runs.kind,
+    }
 
 
 def job_live_close(doc: str) -> None:
     _LIVE.pop(doc, None)
 
 
-def job_live_batch(fn: Callable[..., dict[str, Any]], requests: list[tuple[Any, ...]], seconds: float,
-                   ) -> list[dict[str, Any] | None]:
+def job_live_batch(
+    fn: Callable[..., dict[str, Any]],
+    requests: list[tuple[Any, ...]],
+    seconds: float,
+) -> list[dict[str, Any] | None]:
     """Several live documents of one worker process in one job, so that the documents waiting for it cost one
     round trip, not one each: the answer of `fn(*request)` (job_live) for each, {"failed": True} where it
     raised, and None for those it left for the next job because `seconds` had passed (well within the job's
@@ -413,8 +490,9 @@ def job_live_batch(fn: Callable[..., dict[str, Any]], requests: list[tuple[Any, 
 
 # the jobs every page waits for while a trainee types: they may take any process; every other job is heavy and
 # leaves one process free for them (Workers.call)
-LIGHT_JOBS: frozenset[Callable[..., Any]] = frozenset({job_warm, job_check, job_run, job_live, job_live_batch,
-                                                      job_live_close})
+LIGHT_JOBS: frozenset[Callable[..., Any]] = frozenset(
+    {job_warm, job_check, job_run, job_live, job_live_batch, job_live_close}
+)
 
 
 def content_key(*parts: Any) -> str:
@@ -644,8 +722,12 @@ class Workers:
 
     def _replace(self, slot: _Slot, reason: str) -> None:
         """End `slot`'s process (if it still runs) and start a new one."""
-        log.warning("worker process replaced (slot %d, pid %s): %s", slot.index, getattr(slot.process, "pid", None),
-                    reason)
+        log.warning(
+            "worker process replaced (slot %d, pid %s): %s",
+            slot.index,
+            getattr(slot.process, "pid", None),
+            reason,
+        )
         self._unwatch(slot)
         if slot.process is not None:
             slot.process.kill()
@@ -824,7 +906,10 @@ class Workers:
         if home is not None and home is not loop:
             if home.is_running():  # the pool's state belongs to its loop: the call runs there
                 return await asyncio.wrap_future(
-                    asyncio.run_coroutine_threadsafe(self.call(fn, *args, affinity=affinity, heavy=heavy), home))
+                    asyncio.run_coroutine_threadsafe(
+                        self.call(fn, *args, affinity=affinity, heavy=heavy), home
+                    )
+                )
             self._rehome()  # the loop start() ran in has ended: this one takes the pool over
         failures = 0
         while True:
@@ -837,7 +922,10 @@ class Workers:
                 continue
             except BrokenProcessPool:
                 failures += 1
-                log.warning("worker process lost during a job (%d of 2)", failures,
-                            extra={"job": getattr(fn, "__name__", "job")})
+                log.warning(
+                    "worker process lost during a job (%d of 2)",
+                    failures,
+                    extra={"job": getattr(fn, "__name__", "job")},
+                )
                 if failures >= 2:
                     raise ApiError("WORKER_FAILED") from None

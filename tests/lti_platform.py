@@ -55,10 +55,14 @@ def free_port() -> int:
 
 def rsa_pem_pair() -> tuple[str, str]:
     key = rsa.generate_private_key(public_exponent=65537, key_size=2048)
-    private = key.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
-                                serialization.NoEncryption()).decode()
-    public = key.public_key().public_bytes(serialization.Encoding.PEM,
-                                           serialization.PublicFormat.SubjectPublicKeyInfo).decode()
+    private = key.private_bytes(
+        serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8, serialization.NoEncryption()
+    ).decode()
+    public = (
+        key.public_key()
+        .public_bytes(serialization.Encoding.PEM, serialization.PublicFormat.SubjectPublicKeyInfo)
+        .decode()
+    )
     return private, public
 
 
@@ -81,7 +85,9 @@ class PlatformState:
     deep_linked: list[dict[str, Any]] = field(default_factory=list)
     lineitems: list[dict[str, Any]] = field(default_factory=list)  # made by the tool (AGS line item service)
     token_requests: int = 0
-    tool_jwks: dict[str, Any] | None = None  # the tool's keys as entered by hand; None: fetched from its /lti/jwks
+    tool_jwks: dict[str, Any] | None = (
+        None  # the tool's keys as entered by hand; None: fetched from its /lti/jwks
+    )
 
     @classmethod
     def new(cls) -> PlatformState:
@@ -98,10 +104,17 @@ class MoodleConf(LTI1P3PlatformConfAbstract):
 
     def get_registration_by_params(self, **kwargs: Any) -> Registration:
         registration = (
-            Registration().set_iss(self.base).set_client_id(CLIENT_ID).set_deployment_id(DEPLOYMENT_ID)
-            .set_oidc_login_url(f"{self.tool}/lti/login").set_launch_url(f"{self.tool}/lti/launch")
-            .set_deeplink_launch_url(f"{self.tool}/lti/launch").set_tool_key_set_url(f"{self.tool}/lti/jwks")
-            .set_platform_public_key(self.state.public_pem).set_platform_private_key(self.state.private_pem))
+            Registration()
+            .set_iss(self.base)
+            .set_client_id(CLIENT_ID)
+            .set_deployment_id(DEPLOYMENT_ID)
+            .set_oidc_login_url(f"{self.tool}/lti/login")
+            .set_launch_url(f"{self.tool}/lti/launch")
+            .set_deeplink_launch_url(f"{self.tool}/lti/launch")
+            .set_tool_key_set_url(f"{self.tool}/lti/jwks")
+            .set_platform_public_key(self.state.public_pem)
+            .set_platform_private_key(self.state.private_pem)
+        )
         if self.state.tool_jwks is not None:
             registration.set_tool_key_set(t.cast(Any, self.state.tool_jwks))
         return registration
@@ -125,10 +138,13 @@ class Launch(LTIAdvantageMessageLaunchAbstract):
 
     def render_launch_form(self, launch_data: dict[str, Any], **kwargs: Any) -> HTMLResponse:
         # the auto-submitting form a browser posts to the tool (the test reads its fields)
-        fields = "".join(f'<input type="hidden" name="{k}" value="{html.escape(str(launch_data[k]))}">'
-                         for k in ("id_token", "state"))
-        return HTMLResponse(f'<form method="post" action="{html.escape(str(launch_data["launch_url"]))}">{fields}'
-                            "</form>")
+        fields = "".join(
+            f'<input type="hidden" name="{k}" value="{html.escape(str(launch_data[k]))}">'
+            for k in ("id_token", "state")
+        )
+        return HTMLResponse(
+            f'<form method="post" action="{html.escape(str(launch_data["launch_url"]))}">{fields}</form>'
+        )
 
 
 class PlainRequest(LtiRequest):
@@ -145,9 +161,15 @@ class Grades(AssignmentsGradesService):
         self.state.scores.append((line_item_id, dict(score)))
         return UpdateScoreStatus.SUCCESS
 
-    def find_lineitems(self, page: int = 1, limit: int | None = None, line_item_id: str | None = None,
-                       resource_link_id: str | None = None, resource_id: str | None = None,
-                       tag: str | None = None) -> TPage:
+    def find_lineitems(
+        self,
+        page: int = 1,
+        limit: int | None = None,
+        line_item_id: str | None = None,
+        resource_link_id: str | None = None,
+        resource_id: str | None = None,
+        tag: str | None = None,
+    ) -> TPage:
         items = [i for i in self.state.lineitems if resource_link_id in (None, i.get("resourceLinkId"))]
         return {"content": items, "has_next": False, "next": None}
 
@@ -155,8 +177,13 @@ class Grades(AssignmentsGradesService):
         return {"id": line_item_id, "scoreMaximum": 100}
 
     def create_lineitem(self, creation_data: TLineItem) -> TLineItem:
-        item = t.cast(TLineItem, {**creation_data,
-                                  "id": f"{self.ags.lineitems_url}/made-{len(self.state.lineitems) + 1}/lineitem"})
+        item = t.cast(
+            TLineItem,
+            {
+                **creation_data,
+                "id": f"{self.ags.lineitems_url}/made-{len(self.state.lineitems) + 1}/lineitem",
+            },
+        )
         self.state.lineitems.append(dict(item))
         return item
 
@@ -166,8 +193,9 @@ class Grades(AssignmentsGradesService):
     def delete_lineitem(self, line_item_id: str) -> None:
         return None
 
-    def get_results(self, line_item_id: str, page: int = 1, limit: int | None = None,
-                    user_id: str | None = None) -> TPage:
+    def get_results(
+        self, line_item_id: str, page: int = 1, limit: int | None = None, user_id: str | None = None
+    ) -> TPage:
         return {"content": [], "has_next": False, "next": None}
 
 
@@ -176,10 +204,13 @@ class Roster(NamesRoleProvisioningService):
         super().__init__(request, conf, url)
         self.state = state
 
-    def get_member_data_page(self, page: int = 1, limit: int | None = None, role: str | None = None,
-                             since: str | None = None) -> TPage:
-        members = [{"user_id": m.sub, "name": m.name, "email": m.email, "roles": m.roles, "status": "Active"}
-                   for m in self.state.members]
+    def get_member_data_page(
+        self, page: int = 1, limit: int | None = None, role: str | None = None, since: str | None = None
+    ) -> TPage:
+        members = [
+            {"user_id": m.sub, "name": m.name, "email": m.email, "roles": m.roles, "status": "Active"}
+            for m in self.state.members
+        ]
         return {"content": members, "has_next": False, "next": None}
 
     def get_context_by_id(self) -> Context:
@@ -202,9 +233,17 @@ def platform_app(base: str, tool: str, state: PlatformState) -> FastAPI:
         return MoodleConf(base=base, tool=tool, state=state)
 
     def service_request(request: Request, body: Any) -> LtiRequest:
-        return PlainRequest({"method": request.method, "form_data": {}, "get_data": dict(request.query_params),
-                             "headers": request.headers, "content_type": request.headers.get("content-type"),
-                             "path": request.url.path, "json": body})
+        return PlainRequest(
+            {
+                "method": request.method,
+                "form_data": {},
+                "get_data": dict(request.query_params),
+                "headers": request.headers,
+                "content_type": request.headers.get("content-type"),
+                "path": request.url.path,
+                "json": body,
+            }
+        )
 
     @app.get("/jwks")
     def jwks() -> dict[str, Any]:
@@ -213,8 +252,9 @@ def platform_app(base: str, tool: str, state: PlatformState) -> FastAPI:
         return dict(c.get_jwks())
 
     @app.get("/start")
-    def start(user: str, kind: str = "resource", link: str = "link-1", exercise: str = "",
-              lineitem: str = "li-1") -> Response:
+    def start(
+        user: str, kind: str = "resource", link: str = "link-1", exercise: str = "", lineitem: str = "li-1"
+    ) -> Response:
         """A user clicks the tool's link in the course (kind "resource") or the teacher adds content ("deeplink")."""
         c = conf()
         login = Login(None, c)
@@ -233,7 +273,9 @@ def platform_app(base: str, tool: str, state: PlatformState) -> FastAPI:
             return JSONResponse({"error": "unknown user"}, status_code=400)
         launch = Launch(query, conf())
         launch.set_user_data(member.sub, member.roles, full_name=member.name, email_address=member.email)
-        launch.set_launch_context_claim(CONTEXT_ID, context_title="Fertigungstechnik 2A", context_label="FT-2A")
+        launch.set_launch_context_claim(
+            CONTEXT_ID, context_title="Fertigungstechnik 2A", context_label="FT-2A"
+        )
         launch.set_nrps(f"{base}/contexts/{CONTEXT_ID}/memberships")
         if hint.get("kind") == "deeplink":
             launch.set_dl(f"{base}/deep_link_return", title="PAL Trainer", accept_types={"ltiResourceLink"})
@@ -242,8 +284,11 @@ def platform_app(base: str, tool: str, state: PlatformState) -> FastAPI:
             if hint.get("exercise"):
                 launch.set_custom_parameters_claim({"exercise": hint["exercise"]})
             if hint.get("lineitem"):
-                launch.set_ags(f"{base}/lineitems", f"{base}/lineitems/{hint['lineitem']}/lineitem",
-                               allow_creating_lineitems=False)
+                launch.set_ags(
+                    f"{base}/lineitems",
+                    f"{base}/lineitems/{hint['lineitem']}/lineitem",
+                    allow_creating_lineitems=False,
+                )
             else:  # a link without a grade item: the tool may make one (scope lineitem)
                 launch.set_ags(f"{base}/lineitems", None, allow_creating_lineitems=True)
         try:
@@ -324,7 +369,9 @@ class Served:
         self._thread: threading.Thread | None = None
 
     def start(self) -> Served:
-        config = uvicorn.Config(self.app, host="127.0.0.1", port=self.port, log_level="warning", lifespan="on")
+        config = uvicorn.Config(
+            self.app, host="127.0.0.1", port=self.port, log_level="warning", lifespan="on"
+        )
         self._server = uvicorn.Server(config)
         self._thread = threading.Thread(target=self._server.run, daemon=True)
         self._thread.start()

@@ -38,8 +38,12 @@ def rsa_key() -> tuple[rsa.RSAPrivateKey, dict[str, Any]]:
 class Platform:
     """One platform (issuer, client id, deployment) with a published key; `requests` counts JWKS fetches."""
 
-    def __init__(self, issuer: str = "https://lms.example.test", client_id: str = "pal-client",
-                 deployment: str = "dep-1") -> None:
+    def __init__(
+        self,
+        issuer: str = "https://lms.example.test",
+        client_id: str = "pal-client",
+        deployment: str = "dep-1",
+    ) -> None:
         self.issuer, self.client_id, self.deployment = issuer, client_id, deployment
         self.key, self.jwk = rsa_key()
         self.jwks_fetches = 0
@@ -59,17 +63,33 @@ class Platform:
         return httpx.Response(404)
 
     def body(self, deployment_ids: list[str] | None = None) -> dict[str, Any]:
-        return {"issuer": self.issuer, "client_id": self.client_id, "auth_login_url": self.auth_url,
-                "token_url": f"{self.issuer}/mod/lti/token.php", "jwks_url": self.jwks_url,
-                "deployment_ids": deployment_ids or [self.deployment], "name": "Moodle Testschule"}
+        return {
+            "issuer": self.issuer,
+            "client_id": self.client_id,
+            "auth_login_url": self.auth_url,
+            "token_url": f"{self.issuer}/mod/lti/token.php",
+            "jwks_url": self.jwks_url,
+            "deployment_ids": deployment_ids or [self.deployment],
+            "name": "Moodle Testschule",
+        }
 
-    def claims(self, nonce: str, sub: str = "user-1", roles: list[str] | None = None, **extra: Any) -> dict[str, Any]:
+    def claims(
+        self, nonce: str, sub: str = "user-1", roles: list[str] | None = None, **extra: Any
+    ) -> dict[str, Any]:
         now = int(time.time())
         claims: dict[str, Any] = {
-            "iss": self.issuer, "aud": self.client_id, "sub": sub, "iat": now, "exp": now + 300, "nonce": nonce,
-            "name": "Erika Mustermann", "email": "erika@example.test",
-            LTI + "message_type": "LtiResourceLinkRequest", LTI + "version": "1.3.0",
-            LTI + "deployment_id": self.deployment, LTI + "target_link_uri": "http://127.0.0.1/lti/launch",
+            "iss": self.issuer,
+            "aud": self.client_id,
+            "sub": sub,
+            "iat": now,
+            "exp": now + 300,
+            "nonce": nonce,
+            "name": "Erika Mustermann",
+            "email": "erika@example.test",
+            LTI + "message_type": "LtiResourceLinkRequest",
+            LTI + "version": "1.3.0",
+            LTI + "deployment_id": self.deployment,
+            LTI + "target_link_uri": "http://127.0.0.1/lti/launch",
             LTI + "roles": roles if roles is not None else LEARNER,
             LTI + "context": {"id": "course-7", "label": "FK1", "title": "Fachklasse CNC 1"},
             LTI + "resource_link": {"id": "link-1", "title": "Gerade"},
@@ -77,14 +97,19 @@ class Platform:
             "https://purl.imsglobal.org/spec/lti-ags/claim/endpoint": {
                 "scope": ["https://purl.imsglobal.org/spec/lti-ags/scope/score"],
                 "lineitems": f"{self.issuer}/ags/7/lineitems",
-                "lineitem": f"{self.issuer}/ags/7/lineitems/1/lineitem"},
+                "lineitem": f"{self.issuer}/ags/7/lineitems/1/lineitem",
+            },
             "https://purl.imsglobal.org/spec/lti-nrps/claim/namesroleservice": {
-                "context_memberships_url": f"{self.issuer}/nrps/7/memberships", "service_versions": ["2.0"]},
+                "context_memberships_url": f"{self.issuer}/nrps/7/memberships",
+                "service_versions": ["2.0"],
+            },
         }
         claims.update(extra)
         return claims
 
-    def sign(self, claims: dict[str, Any], key: rsa.RSAPrivateKey | None = None, kid: str | None = None) -> str:
+    def sign(
+        self, claims: dict[str, Any], key: rsa.RSAPrivateKey | None = None, kid: str | None = None
+    ) -> str:
         return jwt.encode(claims, key or self.key, algorithm="RS256", headers={"kid": kid or self.jwk["kid"]})
 
 
@@ -113,16 +138,25 @@ def admin_headers(client: TestClient) -> dict[str, str]:
 
 
 def register(client: TestClient, platform: Platform, deployment_ids: list[str] | None = None) -> None:
-    r = client.post("/api/v1/admin/lti/platforms", json=platform.body(deployment_ids), headers=admin_headers(client))
+    r = client.post(
+        "/api/v1/admin/lti/platforms", json=platform.body(deployment_ids), headers=admin_headers(client)
+    )
     assert r.status_code == 201, r.text
 
 
 def login(client: TestClient, platform: Platform, client_id: str | None = None) -> tuple[str, str]:
     """OIDC login initiation; returns (state, nonce) from the redirect to the platform's auth URL."""
-    r = client.get("/lti/login", params={"iss": platform.issuer, "login_hint": "42",
-                                         "target_link_uri": "http://127.0.0.1/lti/launch",
-                                         "client_id": client_id or platform.client_id,
-                                         "lti_message_hint": "hint-9"}, follow_redirects=False)
+    r = client.get(
+        "/lti/login",
+        params={
+            "iss": platform.issuer,
+            "login_hint": "42",
+            "target_link_uri": "http://127.0.0.1/lti/launch",
+            "client_id": client_id or platform.client_id,
+            "lti_message_hint": "hint-9",
+        },
+        follow_redirects=False,
+    )
     assert r.status_code == 302, r.text
     location = r.headers["location"]
     assert location.startswith(platform.auth_url + "?")
@@ -130,14 +164,18 @@ def login(client: TestClient, platform: Platform, client_id: str | None = None) 
     return query["state"][0], query["nonce"][0]
 
 
-def launch(client: TestClient, platform: Platform, token_for: Any = None, state: str | None = None,
-           **claims: Any) -> httpx.Response:
+def launch(
+    client: TestClient, platform: Platform, token_for: Any = None, state: str | None = None, **claims: Any
+) -> httpx.Response:
     """A whole launch: login, then the form post of an id_token made by `token_for(nonce)` (default: signed
     claims with `claims` changed)."""
     got_state, nonce = login(client, platform)
     token = token_for(nonce) if token_for else platform.sign(platform.claims(nonce, **claims))
-    return client.post("/lti/launch", data={"id_token": token, "state": state if state is not None else got_state},
-                       follow_redirects=False)
+    return client.post(
+        "/lti/launch",
+        data={"id_token": token, "state": state if state is not None else got_state},
+        follow_redirects=False,
+    )
 
 
 @contextmanager
@@ -146,9 +184,13 @@ def tool_client(data: Path, **settings_: Any) -> Iterator[TestClient]:
     from server.app import create_app
     from server.config import Settings
 
-    settings = Settings(data_dir=data / "data", secret_key="lti-test-secret-of-at-least-thirty-two-bytes",
-                        workers=1, exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill",
-                        **settings_)
+    settings = Settings(
+        data_dir=data / "data",
+        secret_key="lti-test-secret-of-at-least-thirty-two-bytes",
+        workers=1,
+        exercises_dir=Path(__file__).resolve().parents[1] / "exercises" / "pal-mill",
+        **settings_,
+    )
     with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
         yield c
 

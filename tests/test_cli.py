@@ -39,7 +39,13 @@ def test_check_json_shape(tmp_path: Path, capsys: pytest.CaptureFixture[str]) ->
     (d,) = data["diagnostics"]
     assert set(d) == {"code", "severity", "line", "column", "end_line", "end_column", "message", "message_en"}
     assert (d["code"], d["severity"], d["line"], d["column"], d["end_line"], d["end_column"]) == (
-        "PAL-E010", "error", 1, 9, 1, 12)
+        "PAL-E010",
+        "error",
+        1,
+        9,
+        1,
+        12,
+    )
 
 
 def test_run_json_shape(capsys: pytest.CaptureFixture[str]) -> None:
@@ -49,8 +55,15 @@ def test_run_json_shape(capsys: pytest.CaptureFixture[str]) -> None:
     arc = next(m for m in data["moves"] if m["kind"] == "arc")
     for key in ("line", "kind", "start", "end", "center", "direction", "feed", "spindle", "tool"):
         assert key in arc
-    assert (arc["line"], arc["center"], arc["direction"], arc["end"], arc["feed"], arc["spindle"], arc["tool"]) == (
-        8, [35, 75, -10], "cw", [55, 75, -10], 250, 2000, 1)
+    assert (
+        arc["line"],
+        arc["center"],
+        arc["direction"],
+        arc["end"],
+        arc["feed"],
+        arc["spindle"],
+        arc["tool"],
+    ) == (8, [35, 75, -10], "cw", [55, 75, -10], 250, 2000, 1)
     rapid = data["moves"][0]
     assert (rapid["kind"], rapid["center"], rapid["direction"]) == ("rapid", None, None)
     assert data["diagnostics"] == []
@@ -71,8 +84,9 @@ def test_usage_errors_exit_2(tmp_path: Path, capsys: pytest.CaptureFixture[str])
 
 
 def test_console_entry_point_runs_as_a_module() -> None:
-    proc = subprocess.run([sys.executable, "-m", "core.cli", "run", str(DEMO)], capture_output=True, text=True,
-                          check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "core.cli", "run", str(DEMO)], capture_output=True, text=True, check=False
+    )
     assert proc.returncode == 0
     assert "23 arc ccw X55 Y10 Z-2 -> X70 Y25 Z-2 C X55 Y25 R15 A90" in proc.stdout
 

@@ -48,11 +48,17 @@ def samples(m: object) -> list[Pt]:
     """Points along a move: 25 per element, arcs by angle."""
     start, end = m.start, m.end  # type: ignore[attr-defined]
     if m.kind != "arc":  # type: ignore[attr-defined]
-        return [(start[0] + (end[0] - start[0]) * k / 24, start[1] + (end[1] - start[1]) * k / 24) for k in range(25)]
+        return [
+            (start[0] + (end[0] - start[0]) * k / 24, start[1] + (end[1] - start[1]) * k / 24)
+            for k in range(25)
+        ]
     c, r = m.center, m.radius  # type: ignore[attr-defined]
     a0 = math.atan2(start[1] - c[1], start[0] - c[0])
     sweep = math.radians(m.angle) * (-1 if m.direction == "cw" else 1)  # type: ignore[attr-defined]
-    return [(c[0] + r * math.cos(a0 + sweep * k / 24), c[1] + r * math.sin(a0 + sweep * k / 24)) for k in range(25)]
+    return [
+        (c[0] + r * math.cos(a0 + sweep * k / 24), c[1] + r * math.sin(a0 + sweep * k / 24))
+        for k in range(25)
+    ]
 
 
 @st.composite
@@ -126,7 +132,9 @@ def test_chain_with_outward_arcs_keeps_the_tool_radius(poly: list[Pt], bulges: l
             pieces.append((a, b, None))
 
     def distance(p: Pt) -> float:
-        return min(seg_distance(p, a, b) if c is None else arc_distance(p, a, b, c, ccw=True) for a, b, c in pieces)
+        return min(
+            seg_distance(p, a, b) if c is None else arc_distance(p, a, b, c, ccw=True) for a, b, c in pieces
+        )
 
     outline = [q for a, b, c in pieces for q in ([a] if c is None else _arc_points(a, b, c))]
     _check(_program(body, ring[0]), distance, outline)
@@ -137,4 +145,7 @@ def _arc_points(a: Pt, b: Pt, c: Pt) -> list[Pt]:
     a1 = math.atan2(b[1] - c[1], b[0] - c[0])
     sweep = (a1 - a0) % (2 * math.pi)
     r = math.dist(a, c)
-    return [(c[0] + r * math.cos(a0 + sweep * k / 16), c[1] + r * math.sin(a0 + sweep * k / 16)) for k in range(16)]
+    return [
+        (c[0] + r * math.cos(a0 + sweep * k / 16), c[1] + r * math.sin(a0 + sweep * k / 16))
+        for k in range(16)
+    ]

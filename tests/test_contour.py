@@ -26,6 +26,7 @@ def feed_path(name: str) -> list[tuple[str, tuple[float, float], tuple[float, fl
 
 # -- G1 examples 1–4 ----------------------------------------------------------------------------
 
+
 def test_example_1_tool_centre_path_with_g42() -> None:
     tp = SeedReader.run("pal-01-g1-gerade.nc")
     assert errors(tp) == []
@@ -83,6 +84,7 @@ def test_run_json_has_programmed_end() -> None:
 
 # -- approach and departure -------------------------------------------------------------------
 
+
 def test_linear_approach_and_departure_g45_g46() -> None:
     tp = SeedReader.run("pal-15-g45-g46.nc")
     assert errors(tp) == []
@@ -107,7 +109,11 @@ def test_quarter_circle_approach_and_departure_g47_g48() -> None:
     approach = next(m for m in tp.moves if m.line == 6 and m.kind == "arc")
     assert xy(approach.start) == pytest.approx((-12.5, -12.5), abs=TOL)  # DECISIONS §1
     assert xy(approach.end) == pytest.approx((0, 0), abs=TOL)
-    assert (approach.radius, approach.angle, approach.direction) == (pytest.approx(12.5), pytest.approx(90), "cw")
+    assert (approach.radius, approach.angle, approach.direction) == (
+        pytest.approx(12.5),
+        pytest.approx(90),
+        "cw",
+    )
     departure = next(m for m in tp.moves if m.line == 9)
     assert departure.kind == "arc" and departure.angle == pytest.approx(90)
     assert xy(departure.start) == pytest.approx((63.461, 49.128), abs=TOL)
@@ -122,53 +128,66 @@ def test_approach_with_w_and_plunge_feed() -> None:
     assert moves[1][:2] == ("rapid", pytest.approx((-12.5, -2.5, 2)))  # rapid to W
     assert moves[2] == ("feed", pytest.approx((-12.5, -2.5, -3)), 40)  # plunge at E
     assert moves[3][:2] == ("feed", pytest.approx((0, -2.5, -3)))
-    assert [m[:2] for m in moves[4:]] == [("feed", pytest.approx((55, -2.5, -3))),
-                                          ("feed", pytest.approx((55, -2.5, 2))),
-                                          ("rapid", pytest.approx((55, -2.5, 50)))]
+    assert [m[:2] for m in moves[4:]] == [
+        ("feed", pytest.approx((55, -2.5, -3))),
+        ("feed", pytest.approx((55, -2.5, 2))),
+        ("rapid", pytest.approx((55, -2.5, 50))),
+    ]
 
 
 # -- G1 with D, AS, H ---------------------------------------------------------------------------
 
-@pytest.mark.parametrize("block,end", [
-    ("G1 X10 D20", (10, 10 * math.sqrt(3))),  # H1: the smaller rise angle (60° rather than 300°)
-    ("G1 X10 D20 H2", (10, -10 * math.sqrt(3))),
-    ("G1 Y10 D20", (10 * math.sqrt(3), 10)),  # 30° rather than 150°
-    ("G1 Y10 D20 H2", (-10 * math.sqrt(3), 10)),
-    ("G1 D10 AS30", (10 * math.cos(math.radians(30)), 5)),
-    ("G1 X20 AS45", (20, 20)),
-    ("G1 Y-5 AS135", (5, -5)),
-])
+
+@pytest.mark.parametrize(
+    "block,end",
+    [
+        ("G1 X10 D20", (10, 10 * math.sqrt(3))),  # H1: the smaller rise angle (60° rather than 300°)
+        ("G1 X10 D20 H2", (10, -10 * math.sqrt(3))),
+        ("G1 Y10 D20", (10 * math.sqrt(3), 10)),  # 30° rather than 150°
+        ("G1 Y10 D20 H2", (-10 * math.sqrt(3), 10)),
+        ("G1 D10 AS30", (10 * math.cos(math.radians(30)), 5)),
+        ("G1 X20 AS45", (20, 20)),
+        ("G1 Y-5 AS135", (5, -5)),
+    ],
+)
 def test_line_from_two_of_x_y_d_as(block: str, end: tuple[float, float]) -> None:
     tp = run(READY + "G0 X0 Y0 Z0\n" + block + "\nM30")
     assert errors(tp) == []
     assert xy(tp.moves[-1].end) == pytest.approx(end, abs=1e-6)
 
 
-@pytest.mark.parametrize("block,code", [
-    ("G1 X10 Y10 D5", "PAL-E211"),
-    ("G1 D5", "PAL-E212"),
-    ("G1 AS30", "PAL-E212"),
-    ("G1 X30 D5", "PAL-E210"),
-    ("G1 X5 AS90", "PAL-E210"),
-    ("G1 D-5 AS10", "PAL-E213"),
-])
+@pytest.mark.parametrize(
+    "block,code",
+    [
+        ("G1 X10 Y10 D5", "PAL-E211"),
+        ("G1 D5", "PAL-E212"),
+        ("G1 AS30", "PAL-E212"),
+        ("G1 X30 D5", "PAL-E210"),
+        ("G1 X5 AS90", "PAL-E210"),
+        ("G1 D-5 AS10", "PAL-E213"),
+    ],
+)
 def test_line_geometry_errors(block: str, code: str) -> None:
     assert (code, 4) in codes(run(READY + "G0 X0 Y0 Z0\n" + block + "\nM30"))
 
 
 # -- G2/G3 with any three addresses ---------------------------------------------------------------
 
-@pytest.mark.parametrize("block", [
-    "G2 X56.4 Y10 AO54.5107",
-    "G2 X56.4 IA50 JA30",
-    "G2 Y10 IA50 JA30",
-    "G2 IA50 JA30 AO54.5107",
-    "G2 X56.4 IA50 AO54.5107",
-    "G2 Y10 JA30 AO54.5107",
-    "G2 X56.4 R21 AO54.5107 H2",  # two arcs of equal length: H2, the larger start tangent angle
-    "G2 X56.4 Y10 IA50 R21",
-    "G2 X56.4 Y10 I-20 J6.4 R21",
-])
+
+@pytest.mark.parametrize(
+    "block",
+    [
+        "G2 X56.4 Y10 AO54.5107",
+        "G2 X56.4 IA50 JA30",
+        "G2 Y10 IA50 JA30",
+        "G2 IA50 JA30 AO54.5107",
+        "G2 X56.4 IA50 AO54.5107",
+        "G2 Y10 JA30 AO54.5107",
+        "G2 X56.4 R21 AO54.5107 H2",  # two arcs of equal length: H2, the larger start tangent angle
+        "G2 X56.4 Y10 IA50 R21",
+        "G2 X56.4 Y10 I-20 J6.4 R21",
+    ],
+)
 def test_arc_forms_of_the_g2_example(block: str) -> None:
     tp = run(READY + "G0 X70 Y23.6 Z-2\n" + block + "\nM30")
     assert errors(tp) == []
@@ -195,27 +214,37 @@ def test_arc_length_and_start_angle_choice() -> None:
     assert xy(h2.end) == pytest.approx((5, -5))  # centre X5 Y0: start tangent 270°
 
 
-@pytest.mark.parametrize("block,code", [
-    ("G2 X10 Y0 I3 J0", "PAL-E202"),  # Kreisendpunktfehler
-    ("G2 X10 Y0 R5.1 I3", "PAL-E202"),
-    ("G2 X10 Y0 R2", "PAL-E201"),
-    ("G2 X10 AO0 R5", "PAL-E213"),
-    ("G2 X10", "PAL-E203"),
-])
+@pytest.mark.parametrize(
+    "block,code",
+    [
+        ("G2 X10 Y0 I3 J0", "PAL-E202"),  # Kreisendpunktfehler
+        ("G2 X10 Y0 R5.1 I3", "PAL-E202"),
+        ("G2 X10 Y0 R2", "PAL-E201"),
+        ("G2 X10 AO0 R5", "PAL-E213"),
+        ("G2 X10", "PAL-E203"),
+    ],
+)
 def test_arc_errors(block: str, code: str) -> None:
     assert (code, 4) in codes(run(READY + "G0 X0 Y0 Z0\n" + block + "\nM30"))
 
 
 # -- polar coordinates ------------------------------------------------------------------------------
 
+
 def test_polar_moves() -> None:
-    tp = run(READY + "G0 X0 Y0 Z0\nG11 IA10 JA10 RP5 AP90\nG11 RP5 AI-90\nG13 AP90\nG12 AI-90\nG10 RP0 AP0\nM30")
+    tp = run(
+        READY + "G0 X0 Y0 Z0\nG11 IA10 JA10 RP5 AP90\nG11 RP5 AI-90\nG13 AP90\nG12 AI-90\nG10 RP0 AP0\nM30"
+    )
     assert errors(tp) == []
     ends = [xy(m.end) for m in tp.moves[1:]]
     assert ends[0] == pytest.approx((10, 15))  # pole X10 Y10, 5 mm at 90°
     assert ends[1] == pytest.approx((15, 10))  # the pole stays; 90° less
     assert ends[2] == pytest.approx((10, 15))  # counter-clockwise about the pole to 90°
-    assert tp.moves[3].kind == "arc" and tp.moves[3].direction == "ccw" and tp.moves[3].angle == pytest.approx(90)
+    assert (
+        tp.moves[3].kind == "arc"
+        and tp.moves[3].direction == "ccw"
+        and tp.moves[3].angle == pytest.approx(90)
+    )
     assert ends[3] == pytest.approx((15, 10)) and tp.moves[4].direction == "cw"
     assert ends[4] == pytest.approx((10, 10)) and tp.moves[5].kind == "rapid"
 
@@ -226,6 +255,7 @@ def test_polar_pole_defaults_to_workpiece_zero() -> None:
 
 
 # -- compensation errors -----------------------------------------------------------------------------
+
 
 def test_inside_arc_smaller_than_tool_radius() -> None:
     # tool left of a ccw arc is inside it: R10 < 12.5

@@ -57,9 +57,11 @@ NOMINAL = {
     + 6 * hole(spot(10, 4), drill(6.8, 15), drill(8, 12)),
     # 100 × 80 stock less the spigot 90 × 70 R10, 5 deep; pocket 40 × 20 R5 8 deep; 4 holes Ø8 12 deep
     "pal-34-kontur-tasche-bohrungen": (100 * 80 - rounded_rectangle(90, 70, 10)) * 5
-    + rounded_rectangle(40, 20, 5) * 8 + 4 * hole(drill(8, 12)),
+    + rounded_rectangle(40, 20, 5) * 8
+    + 4 * hole(drill(8, 12)),
     # G72 40 × 30 R8 5 deep; G73 R12 6 deep; 2 holes centred 3 deep and drilled Ø8 12 deep
-    "pal-35-zyklen-fehler": rounded_rectangle(40, 30, 8) * 5 + math.pi * 12**2 * 6
+    "pal-35-zyklen-fehler": rounded_rectangle(40, 30, 8) * 5
+    + math.pi * 12**2 * 6
     + 2 * hole(spot(10, 3), drill(8, 12)),
 }
 CYCLE_EXERCISES = sorted(NOMINAL)
@@ -121,39 +123,80 @@ def test_drawing_and_task_sheet_render(eid: str, lang: str) -> None:
 
 MISTAKES = [
     # (exercise, reference text, mistake, criteria lost with their cause)
-    ("pal-30-g72-rechtecktasche", "ZI-6", "ZI6",  # the depth's sign: the pocket is not milled at all
-     {"geometry": "element_missing", "syntax": "PAL-E603"}),
+    (
+        "pal-30-g72-rechtecktasche",
+        "ZI-6",
+        "ZI6",  # the depth's sign: the pocket is not milled at all
+        {"geometry": "element_missing", "syntax": "PAL-E603"},
+    ),
     ("pal-30-g72-rechtecktasche", "LP60 BP40", "LP50 BP30", {"geometry": "end_point"}),  # pocket too small
     ("pal-30-g72-rechtecktasche", "RN8", "RN5", {"geometry": "end_point"}),  # corner radius too small
     ("pal-31-g73-kreistasche", "R20", "R15", {"geometry": "arc_radius"}),  # pocket too small
     ("pal-31-g73-kreistasche", "ZI-8", "ZI-10", {"geometry": "depth"}),  # 2 mm too deep
     ("pal-32-g74-g75-nuten", "LP50", "LP40", {"geometry": "end_point"}),  # slot too short
     ("pal-32-g74-g75-nuten", "AO120", "AO90", {"geometry": "arc_end"}),  # arc slot ends too early
-    ("pal-33-g76-g77-bohrungen", "N190 G77 IA60 JA50 R20", "N190 G77 IA60 JA50 R25",  # threads on Ø50 for Ø40
-     {"geometry": "end_point"}),
-    ("pal-33-g76-g77-bohrungen", "N130 G77 IA60 JA50 R20", "N130 G77 IA60 JA50 R40",  # diameter for radius
-     {"geometry": "end_point"}),
-    ("pal-33-g76-g77-bohrungen", "G84 ZI-12 F1.25 M3", "G84 ZI-12 F1.25",  # no spindle for the tap: the
-     {"geometry": "element_missing", "syntax": "PAL-E102"}),  # definition is refused, its calls tap nothing
-    ("pal-33-g76-g77-bohrungen", "N160 S400 M3", "N160 M3",  # the drill's speed left on for the tap
-     {"technology": "speed"}),
-    ("pal-33-g76-g77-bohrungen", "G84 ZI-12 F1.25 M3", "G84 ZI-12 F1.25 M4",  # a left-hand thread
-     {"technology": "spindle_direction"}),
-    ("pal-34-kontur-tasche-bohrungen", "G41 G45", "G42 G45",  # compensation on the wrong side
-     {"geometry": "compensation_side", "syntax": "PAL-E214"}),
-    ("pal-34-kontur-tasche-bohrungen", "G72 ZI-8", "G72 ZI-4", {"geometry": "element_missing"}),  # pocket too shallow
+    (
+        "pal-33-g76-g77-bohrungen",
+        "N190 G77 IA60 JA50 R20",
+        "N190 G77 IA60 JA50 R25",  # threads on Ø50 for Ø40
+        {"geometry": "end_point"},
+    ),
+    (
+        "pal-33-g76-g77-bohrungen",
+        "N130 G77 IA60 JA50 R20",
+        "N130 G77 IA60 JA50 R40",  # diameter for radius
+        {"geometry": "end_point"},
+    ),
+    (
+        "pal-33-g76-g77-bohrungen",
+        "G84 ZI-12 F1.25 M3",
+        "G84 ZI-12 F1.25",  # no spindle for the tap: the
+        {"geometry": "element_missing", "syntax": "PAL-E102"},
+    ),  # definition is refused, its calls tap nothing
+    (
+        "pal-33-g76-g77-bohrungen",
+        "N160 S400 M3",
+        "N160 M3",  # the drill's speed left on for the tap
+        {"technology": "speed"},
+    ),
+    (
+        "pal-33-g76-g77-bohrungen",
+        "G84 ZI-12 F1.25 M3",
+        "G84 ZI-12 F1.25 M4",  # a left-hand thread
+        {"technology": "spindle_direction"},
+    ),
+    (
+        "pal-34-kontur-tasche-bohrungen",
+        "G41 G45",
+        "G42 G45",  # compensation on the wrong side
+        {"geometry": "compensation_side", "syntax": "PAL-E214"},
+    ),
+    (
+        "pal-34-kontur-tasche-bohrungen",
+        "G72 ZI-8",
+        "G72 ZI-4",
+        {"geometry": "element_missing"},
+    ),  # pocket too shallow
     ("pal-34-kontur-tasche-bohrungen", "N240 G76 X20 Y60", "N240 G76 X20 Y50", {"geometry": "end_point"}),
-    ("pal-35-zyklen-fehler", "N10 T2", "N10 T1",  # one of the four mistakes left: the cutter too large
-     {"geometry": "tool", "technology": "tool", "syntax": "PAL-E602"}),
-    ("pal-35-zyklen-fehler", "G82 ZI-12", "G82 ZI12",  # another one left: the depth's sign, the holes not drilled
-     {"geometry": "element_missing", "syntax": "PAL-E603"}),
+    (
+        "pal-35-zyklen-fehler",
+        "N10 T2",
+        "N10 T1",  # one of the four mistakes left: the cutter too large
+        {"geometry": "tool", "technology": "tool", "syntax": "PAL-E602"},
+    ),
+    (
+        "pal-35-zyklen-fehler",
+        "G82 ZI-12",
+        "G82 ZI12",  # another one left: the depth's sign, the holes not drilled
+        {"geometry": "element_missing", "syntax": "PAL-E603"},
+    ),
 ]
 
 
-@pytest.mark.parametrize("eid,old,new,expected", MISTAKES,
-                         ids=[f"{e}-{n}" for e, _, n, _ in MISTAKES])
-def test_a_typical_mistake_loses_the_right_criterion(eid: str, old: str, new: str,
-                                                     expected: dict[str, str | None]) -> None:
+@pytest.mark.parametrize("eid,old,new,expected", MISTAKES, ids=[f"{e}-{n}" for e, _, n, _ in MISTAKES])
+def test_a_typical_mistake_loses_the_right_criterion(
+    eid: str, old: str, new: str, expected: dict[str, str | None]
+) -> None:
     ex = _exercise(eid)
     assert ex.reference.count(old) == 1
     result = grade(ex, ex.reference.replace(old, new))
@@ -169,8 +212,10 @@ def test_the_pocket_is_one_feature_of_the_part() -> None:
         geometry = next(c for c in grade(ex, mistake).criteria if c.id == "geometry")
         assert geometry.status == "partial" and "Rechtecktasche (Zeile" in geometry.message
         assert "Fase" not in geometry.message and "Bahn" not in geometry.message
-    deeper = grade(_exercise("pal-31-g73-kreistasche"), _exercise("pal-31-g73-kreistasche").reference.replace(
-        "ZI-8", "ZI-10"))
+    deeper = grade(
+        _exercise("pal-31-g73-kreistasche"),
+        _exercise("pal-31-g73-kreistasche").reference.replace("ZI-8", "ZI-10"),
+    )
     assert deeper.score <= 90
 
 
@@ -184,7 +229,9 @@ def test_a_hole_pattern_on_the_wrong_pitch_circle_loses_those_holes() -> None:
 def test_the_tap_reverses_out_of_the_thread_and_keeps_the_technology_points() -> None:
     ex = _exercise("pal-33-g76-g77-bohrungen")
     machined = execute(ex, ex.reference)
-    taps = [m for m in machined.toolpath.moves if m.cycle is not None and m.cycle[0] == "G84" and m.kind == "feed"]
+    taps = [
+        m for m in machined.toolpath.moves if m.cycle is not None and m.cycle[0] == "G84" and m.kind == "feed"
+    ]
     assert {(m.end[2] > m.start[2], m.spindle_direction) for m in taps} == {(False, "cw"), (True, "ccw")}
     assert taps and all(m.feed == pytest.approx(500) for m in taps)  # n × P = 400 × 1,25
     technology = next(c for c in grade(ex, ex.reference).criteria if c.id == "technology")
@@ -192,6 +239,7 @@ def test_the_tap_reverses_out_of_the_thread_and_keeps_the_technology_points() ->
 
 
 # -- the find-the-mistakes exercise ----------------------------------------------------------------------------------
+
 
 def test_the_start_program_shows_the_four_planted_cycle_errors_at_their_lines() -> None:
     ex = _exercise("pal-35-zyklen-fehler")
@@ -205,8 +253,11 @@ def test_the_start_program_shows_the_four_planted_cycle_errors_at_their_lines() 
         ("PAL-E603", 19),  # ZI12 for ZI-12
         ("PAL-E601", 20),  # … a follow-up of line 19
     }
-    assert {d.span.line: d.follows_from for d in result.diagnostics if d.code == "PAL-E601"} == {5: None, 14: 13,
-                                                                                                 20: 19}
+    assert {d.span.line: d.follows_from for d in result.diagnostics if d.code == "PAL-E601"} == {
+        5: None,
+        14: 13,
+        20: 19,
+    }
     assert result.score < 70
     assert lost(result).keys() == {"geometry", "syntax"}
     assert len(ex.start_program.splitlines()) == len(ex.reference.splitlines())

@@ -31,7 +31,11 @@ CASES = [
     ("decimal comma", "G1 X1,5\nM30", ("PAL-E010", 1)),
     ("unexpected character", "G1 X1 #\nM30", ("PAL-E001", 1)),
     ("arc without a solution", READY + "G0 X0 Y0 Z0\nG2 X10 Y0 R2\nM30", ("PAL-E201", 4)),
-    ("arc end point inconsistent with the centre", READY + "G0 X0 Y0 Z0\nG2 X10 Y0 I3 J0\nM30", ("PAL-E202", 4)),
+    (
+        "arc end point inconsistent with the centre",
+        READY + "G0 X0 Y0 Z0\nG2 X10 Y0 I3 J0\nM30",
+        ("PAL-E202", 4),
+    ),
     ("arc underdetermined", READY + "G0 X0 Y0\nG2 X10 Y0\nM30", ("PAL-E203", 4)),
     ("K in plane G17", READY + "G0 X0 Y0\nG2 X10 Y0 K5 R5\nM30", ("PAL-E204", 4)),
     ("full circle with R", READY + "G0 X0 Y0\nG2 X0 Y0 R5\nM30", ("PAL-E205", 4)),
@@ -111,7 +115,9 @@ def test_docs_list_every_diagnostic() -> None:
     from core.diagnostics import catalogue_markdown
 
     doc = Path(__file__).parents[1] / "docs" / "diagnostics.md"
-    assert doc.read_text(encoding="utf-8") == catalogue_markdown(), "run: python -m core.diagnostics > docs/diagnostics.md"
+    assert doc.read_text(encoding="utf-8") == catalogue_markdown(), (
+        "run: python -m core.diagnostics > docs/diagnostics.md"
+    )
 
 
 @pytest.mark.parametrize("dialect", ["pal-mill", "sinumerik-iso", "beckhoff", "traub-tx8d"])
@@ -119,5 +125,10 @@ def test_an_empty_program_has_no_missing_end_warning(dialect: str) -> None:
     # an empty editor has nothing to report; one written block without M30 still gets the end-of-program warning
     assert [d.code for d in run("", dialect).diagnostics] == []
     assert [d.code for d in run("\n\n  \n", dialect).diagnostics] == []
-    prefix = {"pal-mill": "PAL-W102", "sinumerik-iso": "ISO-W1102", "beckhoff": "BK-W1102", "traub-tx8d": "TX-W1102"}
+    prefix = {
+        "pal-mill": "PAL-W102",
+        "sinumerik-iso": "ISO-W1102",
+        "beckhoff": "BK-W1102",
+        "traub-tx8d": "TX-W1102",
+    }
     assert prefix[dialect] in [d.code for d in run("G0 X10\n", dialect).diagnostics]

@@ -42,8 +42,9 @@ BAD = {
 }
 
 
-@pytest.mark.parametrize(("dialect", "text", "code", "line"),
-                         [(d, t, c, n) for d, cases in BAD.items() for t, c, n in cases])
+@pytest.mark.parametrize(
+    ("dialect", "text", "code", "line"), [(d, t, c, n) for d, cases in BAD.items() for t, c, n in cases]
+)
 def test_a_shared_check_carries_the_dialects_prefix(dialect: str, text: str, code: str, line: int) -> None:
     diagnostics = run(text, dialect).diagnostics
     assert (code, line) in [(d.code, d.span.line) for d in diagnostics]
@@ -85,7 +86,6 @@ def test_no_shown_code_collides_with_a_dialects_own_code() -> None:
 
 def _params(code: str) -> dict[str, str]:
     """Any value for every {named} field of the code's texts."""
-
 
     entry = CATALOGUE[code]
     names = {n for text in (entry.de, entry.en) for _, n, _, _ in string.Formatter().parse(text) if n}

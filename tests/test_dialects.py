@@ -23,6 +23,7 @@ def iso(program: str) -> list[Move]:
 
 # -- SINUMERIK 808D ISO -------------------------------------------------------------------------------
 
+
 def test_g18_arc_with_k_and_i() -> None:
     (arc,) = iso("G18 G02 Z10 X10 K10 I0")
     assert (arc.plane, arc.direction) == ("G18", "cw")
@@ -46,14 +47,22 @@ def test_g17_arc_with_r_plus_and_r_minus() -> None:
 
 def test_arc_outside_the_selected_plane_takes_the_plane_of_its_centre_words() -> None:
     (arc,) = iso("G17 G02 Z10 X10 K10")  # K cannot belong to G17: the arc lies in Z-X (I omitted = 0)
-    assert arc.plane == "G18" and arc.end == pytest.approx((10, 0, 10)) and arc.center == pytest.approx((0, 0, 10))
+    assert (
+        arc.plane == "G18"
+        and arc.end == pytest.approx((10, 0, 10))
+        and arc.center == pytest.approx((0, 0, 10))
+    )
 
 
 def test_r_arc_leaves_the_selected_plane_only_where_r_is_impossible_in_it() -> None:
     (helix,) = iso("G17 G02 Z10 X10 R10")  # possible in X-Y: a helix in G17, Y omitted = current position
-    assert helix.plane == "G17" and helix.end == pytest.approx((10, 0, 10)) and helix.angle == pytest.approx(60)
+    assert (
+        helix.plane == "G17" and helix.end == pytest.approx((10, 0, 10)) and helix.angle == pytest.approx(60)
+    )
     (arc,) = iso("G17 G02 Z10 X0 R5")  # in X-Y the end equals the start: the arc lies in Z-X
-    assert arc.plane == "G18" and arc.end == pytest.approx((0, 0, 10)) and arc.center == pytest.approx((0, 0, 5))
+    assert (
+        arc.plane == "G18" and arc.end == pytest.approx((0, 0, 10)) and arc.center == pytest.approx((0, 0, 5))
+    )
 
 
 def test_full_circle_and_helix_in_g19() -> None:
@@ -63,19 +72,24 @@ def test_full_circle_and_helix_in_g19() -> None:
 
 
 def test_compensation_in_the_plane_g18() -> None:
-    tp = run("T1 M6\nS1000 F100 M3\nG0 X0 Y0 Z-20\nG18 G41 G1 Z0 X0\nG1 Z50\nG40 G0 X100\nM30", "sinumerik-iso")
+    tp = run(
+        "T1 M6\nS1000 F100 M3\nG0 X0 Y0 Z-20\nG18 G41 G1 Z0 X0\nG1 Z50\nG40 G0 X100\nM30", "sinumerik-iso"
+    )
     assert errors(tp) == []
     line = next(m for m in tp.moves if m.line == 5)
     # along +Z in the Z-X plane (u = Z, v = X), the left side is +X: the Ø25 tool runs at X12.5
     assert line.start == pytest.approx((12.5, 0, 0)) and line.end == pytest.approx((12.5, 0, 50))
 
 
-@pytest.mark.parametrize("block,code", [
-    ("G02 X10 Y0 I3 J0", "ISO-E1202"),  # centre and end point disagree
-    ("G02 X10 Y0 R2", "ISO-E1201"),  # radius too small
-    ("G18 G02 Z10 X10 J5 R5", "ISO-E1204"),  # J is not a centre address of Z-X
-    ("G01 U10", "ISO-E1003"),  # no fifth axis on the trainer's machine
-])
+@pytest.mark.parametrize(
+    "block,code",
+    [
+        ("G02 X10 Y0 I3 J0", "ISO-E1202"),  # centre and end point disagree
+        ("G02 X10 Y0 R2", "ISO-E1201"),  # radius too small
+        ("G18 G02 Z10 X10 J5 R5", "ISO-E1204"),  # J is not a centre address of Z-X
+        ("G01 U10", "ISO-E1003"),  # no fifth axis on the trainer's machine
+    ],
+)
 def test_iso_errors(block: str, code: str) -> None:
     assert (code, 4) in codes(run(READY + block + "\nM30", "sinumerik-iso"))
 
@@ -85,6 +99,7 @@ def test_iso_rejects_pal_only_addresses() -> None:
 
 
 # -- Beckhoff ----------------------------------------------------------------------------------------------
+
 
 def beckhoff(name: str) -> list[Move]:
     tp = run((BECKHOFF / name).read_text(encoding="utf-8"), "beckhoff")
@@ -110,7 +125,11 @@ def test_bk02_pocket_with_r20_corners_in_both_variants() -> None:
     assert path(standard) == path(alternative)
     arcs = [m for m in standard if m.kind == "arc"]
     assert [tuple(round(c, 3) for c in (m.center or ())[:2]) for m in arcs] == [
-        (180, 20), (180, 80), (20, 80), (20, 20)]
+        (180, 20),
+        (180, 80),
+        (20, 80),
+        (20, 20),
+    ]
     assert {m.radius for m in arcs} == {20} and {m.feed for m in arcs} == {150}
     assert {m.feed for m in standard if m.kind == "feed"} == {200}
     assert standard[-1].end[:2] == pytest.approx((40, 0))
@@ -128,11 +147,16 @@ def test_bk04_valued_g301_g302() -> None:
     moves = beckhoff("bk-04-g301-g302-wert.nc")
     by_line = [(m.line, m.kind, tuple(round(v, 3) for v in m.end[:2]), m.feed) for m in moves[1:]]
     assert by_line == [
-        (2, "feed", (80, 0), 2000), (2, "feed", (100, 20), 500),  # chamfer X80 Y0 → X100 Y20
-        (3, "feed", (100, 80), 2000), (3, "arc", (80, 100), 1000),  # rounding about X80 Y80
-        (4, "feed", (20, 100), 2000), (4, "feed", (0, 80), 500),
-        (5, "feed", (0, 20), 2000), (5, "arc", (20, 0), 1000),
-        (6, "feed", (40, 0), 2000)]
+        (2, "feed", (80, 0), 2000),
+        (2, "feed", (100, 20), 500),  # chamfer X80 Y0 → X100 Y20
+        (3, "feed", (100, 80), 2000),
+        (3, "arc", (80, 100), 1000),  # rounding about X80 Y80
+        (4, "feed", (20, 100), 2000),
+        (4, "feed", (0, 80), 500),
+        (5, "feed", (0, 20), 2000),
+        (5, "arc", (20, 0), 1000),
+        (6, "feed", (40, 0), 2000),
+    ]
 
 
 def test_bk05_chamfer_by_width_and_by_length() -> None:

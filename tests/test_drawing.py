@@ -35,8 +35,11 @@ def _dims(exercise_id: str, lang: str = "de") -> dict[str, list[str]]:
 
 def _values(exercise_id: str, kind: str) -> set[float]:
     root = ET.fromstring(part_drawing(_exercises()[exercise_id]))
-    return {round(float(t.get("data-value", "nan")), 3) for t in root.iter(f"{SVG}text")
-            if t.get("class") == "dim" and t.get("data-kind") == kind}
+    return {
+        round(float(t.get("data-value", "nan")), 3)
+        for t in root.iter(f"{SVG}text")
+        if t.get("class") == "dim" and t.get("data-kind") == kind
+    }
 
 
 def test_outer_contour_with_arc_pal13() -> None:

@@ -32,8 +32,11 @@ def _svg_texts(exercise: Exercise, lang: str = "de") -> list[str]:
 
 
 def _kind(eid: str, kind: str) -> list[str]:
-    return [t.text or "" for t in ET.fromstring(part_drawing(_exercise(eid))).iter(f"{SVG}text")
-            if t.get("data-kind") == kind]
+    return [
+        t.text or ""
+        for t in ET.fromstring(part_drawing(_exercise(eid))).iter(f"{SVG}text")
+        if t.get("data-kind") == kind
+    ]
 
 
 def test_rectangular_pocket_is_dimensioned_by_its_words_not_as_slots() -> None:
@@ -102,7 +105,9 @@ def test_combined_part_pocket_and_holes() -> None:
 
 def test_rotated_pocket_says_its_angle() -> None:
     base = _exercise("pal-30-g72-rechtecktasche")
-    turned = base.model_copy(update={"reference": base.reference.replace("G79 X50 Y40 Z0", "G79 X50 Y40 Z0 AR30")})
+    turned = base.model_copy(
+        update={"reference": base.reference.replace("G79 X50 Y40 Z0", "G79 X50 Y40 Z0 AR30")}
+    )
     texts = _svg_texts(turned)
     assert "60 × 40, 30°, Tiefe 6" in texts
     assert not [t for t in texts if "Nut" in t], texts
@@ -137,8 +142,13 @@ def test_pocket_from_its_corner_and_a_call_without_position() -> None:
     """EP1: the call's point is the pocket's corner, the drawing dimensions its centre; a call without X and Y
     runs where the tool stood."""
     base = _exercise("pal-30-g72-rechtecktasche")
-    corner = base.model_copy(update={"reference": base.reference.replace("LP60", "EP1 LP60")
-                                     .replace("G79 X50 Y40 Z0", "G79 X10 Y10 Z0")})
+    corner = base.model_copy(
+        update={
+            "reference": base.reference.replace("LP60", "EP1 LP60").replace(
+                "G79 X50 Y40 Z0", "G79 X10 Y10 Z0"
+            )
+        }
+    )
     texts = _svg_texts(corner)
     assert "60 × 40, Tiefe 6" in texts
     root = ET.fromstring(part_drawing(corner))
@@ -152,7 +162,9 @@ def test_pocket_from_its_corner_and_a_call_without_position() -> None:
 def test_bore_milled_on_a_helix_has_the_bore_diameter() -> None:
     """G87 mills a bore with a smaller cutter: the drawing gives the bore's Ø (2 × R), not the cutter's."""
     base = _exercise("pal-31-g73-kreistasche")
-    bore = base.model_copy(update={"reference": base.reference.replace("G73 ZI-8 R20 D4 V2 W5", "G87 ZI-8 R15 D2 V2 W5")})
+    bore = base.model_copy(
+        update={"reference": base.reference.replace("G73 ZI-8 R20 D4 V2 W5", "G87 ZI-8 R15 D2 V2 W5")}
+    )
     texts = _svg_texts(bore)
     assert "Ø30, Tiefe 8" in texts
     assert not [t for t in texts if "Ø12," in t or "Nut" in t], texts

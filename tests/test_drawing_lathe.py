@@ -139,7 +139,9 @@ def test_groove_and_chamfer_callouts() -> None:
     """A plunge with a grooving insert B3 at Z-20 down to X30: "Einstich 3 breit", its bottom Ø30, its
     programmed wall Z-20 (not the insert's other side, Z-17, which the program does not give)."""
     eid = "drehen-einstich"
-    assert printed(eid, "groove") == ["Einstich 3 breit"] and printed(eid, "groove", "en") == ["groove 3 wide"]
+    assert printed(eid, "groove") == ["Einstich 3 breit"] and printed(eid, "groove", "en") == [
+        "groove 3 wide"
+    ]
     assert sorted(printed(eid, "d")) == ["Ø30", "Ø36", "Ø40"]
     assert printed(eid, "z") == ["0", "20", "40"]
     assert printed(eid, "chamfer") == ["1×45°"]
@@ -150,7 +152,9 @@ def _programmed(ex: Exercise) -> tuple[set[float], set[float]]:
     and arc centres, the tools' diameters, the blank's diameters."""
     moves = execute_turning(ex, ex.reference).toolpath.moves
     points = [p for m in moves for p in (m.programmed_end or m.end, m.start, m.center or m.end)]
-    diameters = {round(2 * p[0], 3) for p in points} | {round(t.diameter, 3) for t in ex.tool_table().tools.values()}
+    diameters = {round(2 * p[0], 3) for p in points} | {
+        round(t.diameter, 3) for t in ex.tool_table().tools.values()
+    }
     assert ex.blank is not None
     diameters |= {ex.blank.diameter, ex.blank.inner_diameter}
     return diameters, {round(p[2], 3) for p in points} | {0.0}
@@ -174,7 +178,10 @@ def test_every_turning_drawing_is_real_and_prints_only_the_programs_numbers(eid:
     for text, raw in found["z"]:
         assert round(float(raw), 3) in zs, (text, raw)
         if text.startswith("("):
-            assert abs(float(raw)) not in words and text == f"({abs(float(raw)):.2f})".replace(".", ","), (text, raw)
+            assert abs(float(raw)) not in words and text == f"({abs(float(raw)):.2f})".replace(".", ","), (
+                text,
+                raw,
+            )
         else:
             assert text == f"{abs(float(raw)):g}".replace(".", ","), (text, raw)
     for text, raw in found.get("d", []):
@@ -201,7 +208,7 @@ def _boxes(svg: str) -> list[tuple[str, float, float, float, float]]:
 def test_no_dimension_text_lies_on_another(eid: str) -> None:
     boxes = _boxes(drawing(eid))
     for i, a in enumerate(boxes):
-        for b in boxes[i + 1:]:
+        for b in boxes[i + 1 :]:
             overlap = min(a[3], b[3]) - max(a[1], b[1]) > 0.2 and min(a[4], b[4]) - max(a[2], b[2]) > 0.2
             assert not overlap, (a, b)
 
@@ -223,9 +230,12 @@ def _pdf_engine() -> bool:
     return True
 
 
-needs_pdf = pytest.mark.skipif(not _pdf_engine(), reason="WeasyPrint or Pango missing (bash .ci/run installs them)")
-needs_poppler = pytest.mark.skipif(shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None,
-                                   reason="poppler-utils missing")
+needs_pdf = pytest.mark.skipif(
+    not _pdf_engine(), reason="WeasyPrint or Pango missing (bash .ci/run installs them)"
+)
+needs_poppler = pytest.mark.skipif(
+    shutil.which("pdftotext") is None or shutil.which("pdftoppm") is None, reason="poppler-utils missing"
+)
 
 
 @needs_pdf
@@ -235,8 +245,13 @@ def test_task_sheet_of_a_turning_exercise_has_the_diameters(tmp_path: Path) -> N
 
     pdf = tmp_path / "tx17.pdf"
     pdf.write_bytes(task_sheet_pdf([exercise("traub-02-uebersichtskontur")], "de"))
-    text = subprocess.run(["pdftotext", "-layout", "-f", "1", "-l", "1", str(pdf), "-"], capture_output=True,
-                          text=True, check=True, timeout=60).stdout
+    text = subprocess.run(
+        ["pdftotext", "-layout", "-f", "1", "-l", "1", str(pdf), "-"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=60,
+    ).stdout
     words = set(re.split(r"\s+", text))
     assert {"Ø20", "Ø40", "Ø60", "R10", "75", "Halbschnitt"} <= words
     # the task text names the bar (once: the data line gives the zero only); the tools with nose radius and V
@@ -251,13 +266,21 @@ def test_picture_of_the_drawing(tmp_path: Path) -> None:
     import weasyprint
     from PIL import Image
 
-    uri = "data:image/svg+xml;base64," + base64.b64encode(drawing("traub-02-uebersichtskontur").encode()).decode()
-    page = (f'<html><head><style>@page {{ size: 297mm 210mm; margin: 0 }} body {{ margin: 0 }}</style></head>'
-            f'<body><img src="{uri}" style="width: 297mm; height: 210mm; display: block"></body></html>')
+    uri = (
+        "data:image/svg+xml;base64,"
+        + base64.b64encode(drawing("traub-02-uebersichtskontur").encode()).decode()
+    )
+    page = (
+        f"<html><head><style>@page {{ size: 297mm 210mm; margin: 0 }} body {{ margin: 0 }}</style></head>"
+        f'<body><img src="{uri}" style="width: 297mm; height: 210mm; display: block"></body></html>'
+    )
     pdf = tmp_path / "drawing.pdf"
     pdf.write_bytes(weasyprint.HTML(string=page).write_pdf())
-    subprocess.run(["pdftoppm", "-png", "-r", "150", "-singlefile", str(pdf), str(tmp_path / "drawing")],
-                   check=True, timeout=60)
+    subprocess.run(
+        ["pdftoppm", "-png", "-r", "150", "-singlefile", str(pdf), str(tmp_path / "drawing")],
+        check=True,
+        timeout=60,
+    )
     SHOTS.mkdir(parents=True, exist_ok=True)
     shutil.copy(tmp_path / "drawing.png", SHOTS / "drawing-traub-02-lathe.png")
     with Image.open(tmp_path / "drawing.png") as image:
@@ -290,16 +313,31 @@ def test_half_section_picture_of_the_turned_part() -> None:
     assert removed.sum() > 1000  # what was turned away, inside the blank's outline
 
 
-@pytest.mark.parametrize("program,lengths", [
-    ("M30\n", ["0"]),  # nothing turned: the bar and its face, no placeholder
-    ("G95\nG97 S1000 T0101 M4\nG0 X10 Z-20\nG0 X100 Z50\nM30\n", ["0"]),  # a rapid through the bar cuts nothing drawn
-    ("G95\nG97 S1000 T0101 M4\nG0 X42 Z-2\nG1 X-1 F0.2\nG0 Z2\nG0 X100 Z50\nM30\n", ["0", "2"]),  # faced to Z-2
-    ("G95\nG97 S600 T0202 M4\nG0 X42 Z-30\nG1 X0 F0.05\nG0 X42\nG0 X100 Z50\nM30\n", ["0", "30"]),  # parted off
-    ("G95\nG97 S1000 T0101 M4\nG1 X30 Z-10 F\nM30\n", ["0"]),  # a syntax error
-])
+@pytest.mark.parametrize(
+    "program,lengths",
+    [
+        ("M30\n", ["0"]),  # nothing turned: the bar and its face, no placeholder
+        (
+            "G95\nG97 S1000 T0101 M4\nG0 X10 Z-20\nG0 X100 Z50\nM30\n",
+            ["0"],
+        ),  # a rapid through the bar cuts nothing drawn
+        (
+            "G95\nG97 S1000 T0101 M4\nG0 X42 Z-2\nG1 X-1 F0.2\nG0 Z2\nG0 X100 Z50\nM30\n",
+            ["0", "2"],
+        ),  # faced to Z-2
+        (
+            "G95\nG97 S600 T0202 M4\nG0 X42 Z-30\nG1 X0 F0.05\nG0 X42\nG0 X100 Z50\nM30\n",
+            ["0", "30"],
+        ),  # parted off
+        ("G95\nG97 S1000 T0101 M4\nG1 X30 Z-10 F\nM30\n", ["0"]),  # a syntax error
+    ],
+)
 def test_any_program_gets_a_drawing(program: str, lengths: list[str]) -> None:
-    ex = parse_exercise(GROOVE.split("reference: |")[0] + "reference: |\n" + "".join(f"  {line}\n" for line in
-                                                                                   program.splitlines()))
+    ex = parse_exercise(
+        GROOVE.split("reference: |")[0]
+        + "reference: |\n"
+        + "".join(f"  {line}\n" for line in program.splitlines())
+    )
     svg = part_drawing(ex)
     texts = [t for t in ET.fromstring(svg).iter(f"{SVG}text") if t.get("class") == "dim"]
     assert [t.text for t in texts if t.get("data-kind") == "z"] == lengths

@@ -63,7 +63,7 @@ def _box(t: ET.Element) -> tuple[float, float, float, float]:
 def test_no_text_lies_on_another(eid: str, lang: str) -> None:
     texts = [(t.text or "", _box(t)) for t in _texts(eid, lang)]
     for i, (a, p) in enumerate(texts):
-        for b, q in texts[i + 1:]:
+        for b, q in texts[i + 1 :]:
             overlap = min(p[2], q[2]) - max(p[0], q[0]) > 0.1 and min(p[3], q[3]) - max(p[1], q[1]) > 0.1
             assert not overlap, (a, p, b, q)
 
@@ -86,8 +86,12 @@ def test_no_placeholder_and_no_number_beyond_the_drawings_precision(eid: str, la
         for found in NUMBER.findall(text):
             decimals = found.replace(",", ".").split(".")[1] if re.search(r"[.,]", found) else ""
             assert len(decimals) <= numbers.decimals, (text, t.get("data-kind"))
-        assert not re.search(r"\d\.\d" if lang == "de" else r"\d,\d", text), text  # the decimal comma in German
-        if text.startswith("("):  # an auxiliary dimension: a coordinate the program computes, not one it states
+        assert not re.search(r"\d\.\d" if lang == "de" else r"\d,\d", text), (
+            text
+        )  # the decimal comma in German
+        if text.startswith(
+            "("
+        ):  # an auxiliary dimension: a coordinate the program computes, not one it states
             assert not numbers.stated(float(t.get("data-value", "nan"))), text
 
 
@@ -117,7 +121,7 @@ def test_the_title_block_wraps_a_long_title(eid: str) -> None:
     for lang in ("de", "en"):
         texts = [t.text or "" for t in _texts(eid, lang)]
         start = texts.index(LABELS_TITLE[lang]) + 1
-        lines = texts[start:start + 3]
+        lines = texts[start : start + 3]
         title = ex.title.get(lang)
         assert not any("…" in line for line in lines)
         joined = ""
@@ -133,8 +137,11 @@ LABELS_TITLE = {"de": "Benennung", "en": "Title"}
 
 # ---- the numbers of the issue ---------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("eid", ["pal-05-g2-kreisbogen", "pal-06-g3-kreisbogen", "ergaenzen-01-kreisbogen",
-                                 "fehler-01-kreisendpunkt"])
+
+@pytest.mark.parametrize(
+    "eid",
+    ["pal-05-g2-kreisbogen", "pal-06-g3-kreisbogen", "ergaenzen-01-kreisbogen", "fehler-01-kreisendpunkt"],
+)
 def test_the_arc_is_R21_as_the_task_says(eid: str) -> None:
     """G2 X56.4 Y10 I-20 J6.4 from X70 Y23.6: the interpreter's radius is 20.999 (the program's end point is
     rounded); the task and the seed say R21, and so does the drawing, at its precision."""
@@ -194,7 +201,9 @@ def test_a_rounded_corner_is_dimensioned_to_its_corner() -> None:
     assert _printed(eid, "x") == ["0", "50", "(53,5)"] and _printed(eid, "y") == ["0", "10", "50"]
     assert _printed(eid, "r") == ["R10"] and _printed(eid, "angle") == ["85°"]
     assert _printed("pal-02-g1-rn-radius", "x") == ["0", "70"]  # G1 X70 Y10 RN20: the corner, and R20
-    assert _printed("pal-03-g1-rn-fase", "x") == ["0", "70"] and _printed("pal-03-g1-rn-fase", "chamfer") == ["15×45°"]
+    assert _printed("pal-03-g1-rn-fase", "x") == ["0", "70"] and _printed("pal-03-g1-rn-fase", "chamfer") == [
+        "15×45°"
+    ]
 
 
 def test_beckhoff_chamfers_by_their_programmed_words() -> None:
@@ -204,7 +213,11 @@ def test_beckhoff_chamfers_by_their_programmed_words() -> None:
     chamfers = _printed(eid, "chamfer")
     assert sorted(chamfers) == ["20×45°", "35"]
     assert "24,749" not in _svg(eid) and "75,251" not in _svg(eid)
-    assert set(_printed(eid, "x")) == {"-10", "0", "40", "200"} and set(_printed(eid, "y")) == {"-10", "0", "100"}
+    assert set(_printed(eid, "x")) == {"-10", "0", "40", "200"} and set(_printed(eid, "y")) == {
+        "-10",
+        "0",
+        "100",
+    }
 
 
 def test_holes_by_their_centres_and_a_callout() -> None:
@@ -222,5 +235,7 @@ def test_the_drawings_precision_comes_from_the_programs_words() -> None:
     assert written_decimals("G1 X12.345 Z-3") == 3 and written_decimals("G71 P50 Q60 I0.5 K0.05 D4") == 2
     numbers = Numbers.of("de", "G1 X12.5 Z-3")
     assert numbers.decimals == 2 and numbers.text(20.999) == "21" and numbers.text(73.951) == "73,95"
-    assert numbers.dimension(45.0) == "45" and numbers.dimension(73.9511) == "(73,95)" and numbers.stated(12.5)
+    assert (
+        numbers.dimension(45.0) == "45" and numbers.dimension(73.9511) == "(73,95)" and numbers.stated(12.5)
+    )
     assert Numbers.of("en", "G1 X1.125").text(1.12549) == "1.125"

@@ -23,9 +23,14 @@ def test_g23_example_mills_three_l_slots() -> None:
     tp = SeedReader.run("pal-09-g23-l-nuten.nc")
     assert errors(tp) == []
     cuts = [(xy(m.start), xy(m.end)) for m in tp.moves if m.kind == "feed" and m.start[2] == m.end[2] == -2]
-    assert cuts == [((15, 10), (30, 10)), ((30, 10), (30, 20)),
-                    ((30, 30), (45, 30)), ((45, 30), (45, 40)),
-                    ((45, 50), (60, 50)), ((60, 50), (60, 60))]
+    assert cuts == [
+        ((15, 10), (30, 10)),
+        ((30, 10), (30, 20)),
+        ((30, 30), (45, 30)),
+        ((45, 30), (45, 40)),
+        ((45, 50), (60, 50)),
+        ((60, 50), (60, 60)),
+    ]
     assert tp.moves[-1].start == (60, 70, 2)  # 10 mm above the last slot in Y
     assert tp.moves[-1].end == (250, 150, 250)
 
@@ -53,8 +58,19 @@ def test_g29_loop_runs_the_counted_number_of_times() -> None:
     assert tp.params == {12: 6, 2: 5}
 
 
-@pytest.mark.parametrize("op,a,b,taken", [(1, 3, 3, True), (1, 3, 4, False), (2, 3, 4, True), (2, 4, 4, False),
-                                          (3, 5, 4, True), (3, 4, 5, False), (4, 4, 5, True), (4, 5, 4, False)])
+@pytest.mark.parametrize(
+    "op,a,b,taken",
+    [
+        (1, 3, 3, True),
+        (1, 3, 4, False),
+        (2, 3, 4, True),
+        (2, 4, 4, False),
+        (3, 5, 4, True),
+        (3, 4, 5, False),
+        (4, 4, 5, True),
+        (4, 5, 4, False),
+    ],
+)
 def test_g29_comparisons(op: int, a: int, b: int, taken: bool) -> None:
     tp = run(f"P1={a} P2={b}\nG29 P1 O{op} P2 N30\nG0 X1\nN30 M30")
     assert (len(tp.moves) == 0) is taken
@@ -105,7 +121,11 @@ def test_g66_mirroring_with_subprogram_in_the_same_file() -> None:
     assert errors(tp) == []
     arcs = [m for m in tp.moves if m.kind == "arc"]
     assert [(xy(a.center), a.direction) for a in arcs] == [
-        ((20, 20), "ccw"), ((-20, 20), "cw"), ((20, -20), "cw"), ((-20, -20), "ccw")]
+        ((20, 20), "ccw"),
+        ((-20, 20), "cw"),
+        ((20, -20), "cw"),
+        ((-20, -20), "ccw"),
+    ]
     assert [xy(a.end) for a in arcs] == [(10, 20), (-10, 20), (10, -20), (-10, -20)]
     shafts = [m for m in tp.moves if m.kind == "feed" and m.line == 17]  # N3 of L235, file line 17
     assert [xy(m.end) for m in shafts] == [(30, 30), (-30, 30), (30, -30), (-30, -30)]
@@ -144,6 +164,7 @@ def test_recursion_is_reported_at_once() -> None:
 
 
 # -- transforms ---------------------------------------------------------------------------------------
+
 
 def test_g59_shift_and_rotation_and_g50() -> None:
     tp = run("G59 XA10 YA5\nG0 X0 Y0\nG59 AR90\nG0 X10 Y0\nG50\nG0 X1 Y1\nM30")

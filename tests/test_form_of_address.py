@@ -20,17 +20,83 @@ import pytest
 import yaml
 
 ROOT = Path(__file__).parents[1]
-DU_WORDS = ("du", "dich", "dir", "dein", "deine", "deinen", "deinem", "deiner", "deines", "bist", "hast", "kannst",
-            "musst", "wirst", "willst", "sollst", "darfst", "möchtest", "weißt", "siehst", "gibst", "hättest", "wärst",
-            "euch", "euer", "eure", "euren", "eurem", "eurer")
+DU_WORDS = (
+    "du",
+    "dich",
+    "dir",
+    "dein",
+    "deine",
+    "deinen",
+    "deinem",
+    "deiner",
+    "deines",
+    "bist",
+    "hast",
+    "kannst",
+    "musst",
+    "wirst",
+    "willst",
+    "sollst",
+    "darfst",
+    "möchtest",
+    "weißt",
+    "siehst",
+    "gibst",
+    "hättest",
+    "wärst",
+    "euch",
+    "euer",
+    "eure",
+    "euren",
+    "eurem",
+    "eurer",
+)
 _WORD = "|".join(DU_WORDS)
 DU_FORM = re.compile(rf"(?<![\w-])(?:{_WORD}|{'|'.join(w.capitalize() for w in DU_WORDS)})(?![\w-])")
 # the du form's imperative where a text or a sentence starts ("Wähle …", "Merke: …"; the Sie form: "Wählen Sie …")
-DU_IMPERATIVES = ("Wähle", "Gib", "Klicke", "Öffne", "Schreibe", "Prüfe", "Melde", "Speichere", "Sieh", "Lies", "Nimm",
-                  "Trage", "Ändere", "Starte", "Beachte", "Füge", "Drücke", "Wechsle", "Gehe", "Nutze", "Benutze",
-                  "Setze", "Achte", "Denke", "Vergiss", "Schaue", "Warte", "Programmiere", "Ergänze", "Korrigiere",
-                  "Verwende", "Fahre", "Rechne", "Merke", "Lösche", "Entferne", "Wiederhole", "Kontrolliere",
-                  "Überprüfe", "Suche", "Finde")
+DU_IMPERATIVES = (
+    "Wähle",
+    "Gib",
+    "Klicke",
+    "Öffne",
+    "Schreibe",
+    "Prüfe",
+    "Melde",
+    "Speichere",
+    "Sieh",
+    "Lies",
+    "Nimm",
+    "Trage",
+    "Ändere",
+    "Starte",
+    "Beachte",
+    "Füge",
+    "Drücke",
+    "Wechsle",
+    "Gehe",
+    "Nutze",
+    "Benutze",
+    "Setze",
+    "Achte",
+    "Denke",
+    "Vergiss",
+    "Schaue",
+    "Warte",
+    "Programmiere",
+    "Ergänze",
+    "Korrigiere",
+    "Verwende",
+    "Fahre",
+    "Rechne",
+    "Merke",
+    "Lösche",
+    "Entferne",
+    "Wiederhole",
+    "Kontrolliere",
+    "Überprüfe",
+    "Suche",
+    "Finde",
+)
 DU_IMPERATIVE = re.compile(rf"(?:^|[.:;!?]\s+|[(»„]\s*)(?:{'|'.join(DU_IMPERATIVES)})(?![\w-])")
 
 
@@ -59,14 +125,18 @@ def js_strings(text: str) -> Iterator[tuple[int, str]]:
         if c in "\"'`":
             j, chars = i + 1, []
             while j < n and text[j] != c:
-                chars.append(text[j: j + 2] if text[j] == "\\" else text[j])
+                chars.append(text[j : j + 2] if text[j] == "\\" else text[j])
                 j += 2 if text[j] == "\\" else 1
             literal = "".join(chars)
             yield line, literal
             line += literal.count("\n")
             i, prev = j + 1, c
             continue
-        if c == "/" and (prev == "" or prev in "(,=:[!&|?{};+-*%<>~^" or re.search(r"\breturn\s*$", text[max(0, i - 10):i])):
+        if c == "/" and (
+            prev == ""
+            or prev in "(,=:[!&|?{};+-*%<>~^"
+            or re.search(r"\breturn\s*$", text[max(0, i - 10) : i])
+        ):
             j, in_class = i + 1, False
             while j < n and text[j] != "\n" and (text[j] != "/" or in_class):
                 if text[j] == "\\":
@@ -135,25 +205,51 @@ def du_form(text: str) -> str | None:
 
 def test_every_text_addresses_the_reader_with_sie() -> None:
     found = [(file, line, du_form(text), text[:120]) for file, line, text in texts() if du_form(text)]
-    assert not found, "du form (use the Sie form): " + "; ".join(f"{f}:{n} »{w}« in {t!r}" for f, n, w, t in found)
+    assert not found, "du form (use the Sie form): " + "; ".join(
+        f"{f}:{n} »{w}« in {t!r}" for f, n, w, t in found
+    )
 
 
 def test_the_scan_sees_the_strings() -> None:
     """The scanners find what they must: a text table's German entries, strings after a regular expression and
     a comment, f-strings; and the words as whole words only."""
-    js = ('// Du bist hier nicht gemeint (a comment)\nconst r = /["\']/g;\naddTexts({\n'
-          '  "a": ["Dein Entwurf ist gespeichert.", "Your draft is saved."],\n  "b": [`Du bist ${n}.`, "x"],\n});\n')
+    js = (
+        "// Du bist hier nicht gemeint (a comment)\nconst r = /[\"']/g;\naddTexts({\n"
+        '  "a": ["Dein Entwurf ist gespeichert.", "Your draft is saved."],\n  "b": [`Du bist ${n}.`, "x"],\n});\n'
+    )
     found = [(line, text) for line, text in js_strings(js) if DU_FORM.search(text)]
     assert found == [(4, "Dein Entwurf ist gespeichert."), (5, "Du bist ${n}.")]
     py = 'X = ("Sie sind angemeldet.", f"Das kannst du {n} Mal.")\n# du: a comment\n'
     assert [text for _, text in python_strings(py) if DU_FORM.search(text)] in (
-        ['f"Das kannst du {n} Mal."'], ["Das kannst du "])
-    for clean in ("Sie haben {n} Abgaben.", "Duplikat", "dual", "Bestand", "Fräsen Sie die Kontur.", "--dir DIR",
-                  "Ihr Entwurf", "Durchmesser", "Wählen Sie ein Beispiel.", "Zu Zeile springen", "Regel: G41 links",
-                  "Versuche", "Gehäuse"):
+        ['f"Das kannst du {n} Mal."'],
+        ["Das kannst du "],
+    )
+    for clean in (
+        "Sie haben {n} Abgaben.",
+        "Duplikat",
+        "dual",
+        "Bestand",
+        "Fräsen Sie die Kontur.",
+        "--dir DIR",
+        "Ihr Entwurf",
+        "Durchmesser",
+        "Wählen Sie ein Beispiel.",
+        "Zu Zeile springen",
+        "Regel: G41 links",
+        "Versuche",
+        "Gehäuse",
+    ):
         assert du_form(clean) is None, clean
-    for du in ("Du bist im Kurs.", "Was hast du abgegeben?", "dein Programm", "Gib dir Zeit.", "(du)",
-               "Wähle ein Beispiel.", "Merke: + Rundung", "Gespeichert. Prüfe die Meldungen."):
+    for du in (
+        "Du bist im Kurs.",
+        "Was hast du abgegeben?",
+        "dein Programm",
+        "Gib dir Zeit.",
+        "(du)",
+        "Wähle ein Beispiel.",
+        "Merke: + Rundung",
+        "Gespeichert. Prüfe die Meldungen.",
+    ):
         assert du_form(du), du
 
 

@@ -26,14 +26,17 @@ def _run_case(data: st.DataObject, loops: bool) -> None:
     data.draw(st.just(program), label="program")  # shown with a failing example
     out = check(program, dialect)  # an exception fails the test with the program above
     ceiling = work_ceiling(LIMITS)
-    assert all(w <= c for w, c in zip(out.work, ceiling, strict=True)), f"work {out.work} > {ceiling} ({name})"
+    assert all(w <= c for w, c in zip(out.work, ceiling, strict=True)), (
+        f"work {out.work} > {ceiling} ({name})"
+    )
     assert out.moves <= LIMITS.max_moves, f"{out.moves} moves in the toolpath of a mutation of {name}"
     assert out.segments <= LIMITS.max_drawn_segments
     assert out.answer_bytes < MAX_ANSWER_BYTES
 
 
-FUZZ = settings(deadline=None, database=None, suppress_health_check=[HealthCheck.too_slow,
-                                                                      HealthCheck.data_too_large])
+FUZZ = settings(
+    deadline=None, database=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large]
+)
 
 
 @settings(FUZZ, max_examples=2500)

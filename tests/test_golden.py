@@ -18,7 +18,9 @@ from core.trace import trace_lines
 
 ROOT = Path(__file__).parents[1]
 # the exercises' references run with their exercise's set-up: tests/test_grading.py covers them
-PROGRAMS = sorted((ROOT / "tests" / "seeds").rglob("*.nc")) + [ROOT / "exercises" / "pal-mill" / "nuten-demo.nc"]
+PROGRAMS = sorted((ROOT / "tests" / "seeds").rglob("*.nc")) + [
+    ROOT / "exercises" / "pal-mill" / "nuten-demo.nc"
+]
 GOLDEN = Path(__file__).with_name("golden")
 
 
@@ -27,7 +29,9 @@ def render(path: Path) -> str:
     folder = {"traub": "traub-tx8d"}.get(path.parent.name, path.parent.name)
     dialect = folder if folder in DIALECTS else "pal-mill"
     tp = run(path.read_text(encoding="utf-8"), dialect)
-    lines = trace_lines(tp, DIALECTS[dialect].lathe) + [f"! {d.code} {d.span.line}:{d.span.column}" for d in tp.diagnostics]
+    lines = trace_lines(tp, DIALECTS[dialect].lathe) + [
+        f"! {d.code} {d.span.line}:{d.span.column}" for d in tp.diagnostics
+    ]
     return "\n".join(lines) + "\n"
 
 

@@ -19,7 +19,6 @@ def lost(result: object) -> dict[str, int]:
     return {c.id: c.max_points - c.points for c in result.criteria if not c.passed}  # type: ignore[attr-defined]
 
 
-
 @pytest.mark.parametrize("eid", sorted(EXERCISES))
 def test_reference_scores_100_and_runs_without_error(eid: str) -> None:
     ex = EXERCISES[eid]
@@ -32,8 +31,21 @@ def test_the_built_in_set_covers_the_seed_examples_and_the_variants() -> None:
     kinds = [e.kind for e in EXERCISES.values()]
     assert kinds.count("fix") >= 3 and kinds.count("complete") >= 3
     assert {e.dialect for e in EXERCISES.values()} == {"pal-mill", "sinumerik-iso", "beckhoff", "traub-tx8d"}
-    for seed in ("pal-01", "pal-02", "pal-03", "pal-04", "pal-05", "pal-06", "pal-09", "pal-11", "pal-13", "pal-14",
-                 "pal-15", "pal-16", "pal-18"):
+    for seed in (
+        "pal-01",
+        "pal-02",
+        "pal-03",
+        "pal-04",
+        "pal-05",
+        "pal-06",
+        "pal-09",
+        "pal-11",
+        "pal-13",
+        "pal-14",
+        "pal-15",
+        "pal-16",
+        "pal-18",
+    ):
         assert any(eid.startswith(seed) for eid in EXERCISES), seed
 
 
@@ -47,15 +59,26 @@ EQUIVALENT = [
     ("pal-05-g2-kreisbogen", "N70 G2 X56.4 Y10 I-20 J6.4", "N70 G2 X56.4 Y10 R21"),
     ("pal-05-g2-kreisbogen", "N70 G2 X56.4 Y10 I-20 J6.4", "N70 G2 X56.4 Y10 IA50 JA30"),
     ("pal-06-g3-kreisbogen", "N70 G3 X70 Y23.6 I-6.4 J20", "N70 G3 X70 Y23.6 R21"),
-    ("pal-02-g1-rn-radius", "N60 G1 X70 Y10 RN20", "N60 G1 X50 Y10\nN65 G3 X70 Y30 R20"),  # the arc written out
+    (
+        "pal-02-g1-rn-radius",
+        "N60 G1 X70 Y10 RN20",
+        "N60 G1 X50 Y10\nN65 G3 X70 Y30 R20",
+    ),  # the arc written out
     ("pal-01-g1-gerade", "N60 G1 X70\nN70 G1 Y84", "N55 G91\nN60 G1 X84\nN70 G1 Y74\nN75 G90"),  # incremental
-    ("pal-09-g23-l-nuten", "N110 G23 N40 N100 H2",
-     ("N111 G1 Z-4\nN112 G1 X15\nN113 G1 Y10\nN114 G0 Z4\nN115 G0 Y10\nN116 G1 Z-4\nN117 G1 X15\nN118 G1 Y10\n"
-      "N119 G0 Z4\nN120 G0 Y10\nN121 G90")),  # the repeats written out (G91 from N40 is still on: add it back)
+    (
+        "pal-09-g23-l-nuten",
+        "N110 G23 N40 N100 H2",
+        (
+            "N111 G1 Z-4\nN112 G1 X15\nN113 G1 Y10\nN114 G0 Z4\nN115 G0 Y10\nN116 G1 Z-4\nN117 G1 X15\nN118 G1 Y10\n"
+            "N119 G0 Z4\nN120 G0 Y10\nN121 G90"
+        ),
+    ),  # the repeats written out (G91 from N40 is still on: add it back)
 ]
 
 
-@pytest.mark.parametrize("eid,old,new", EQUIVALENT, ids=[f"{e}-{i}" for i, (e, _, _) in enumerate(EQUIVALENT)])
+@pytest.mark.parametrize(
+    "eid,old,new", EQUIVALENT, ids=[f"{e}-{i}" for i, (e, _, _) in enumerate(EQUIVALENT)]
+)
 def test_equivalent_programs_score_100(eid: str, old: str, new: str) -> None:
     program = swap(eid, old, new)
     if eid == "pal-09-g23-l-nuten":
@@ -92,7 +115,9 @@ def test_missing_m30_loses_only_the_structure_point() -> None:
 
 
 def test_wrong_technology_is_named() -> None:
-    result = grade(EXERCISES["pal-05-g2-kreisbogen"], swap("pal-05-g2-kreisbogen", "S1200 F150", "S1200 F300"))
+    result = grade(
+        EXERCISES["pal-05-g2-kreisbogen"], swap("pal-05-g2-kreisbogen", "S1200 F150", "S1200 F300")
+    )
     assert lost(result) == {"technology": 10}
 
 
@@ -118,7 +143,8 @@ def test_hidden_criteria_count_but_students_do_not_see_them() -> None:
     instructor = result.to_json("instructor")
     assert "technology" not in {c["id"] for c in student["criteria"]}
     assert {"id": "technology", "hidden": True}.items() <= next(
-        c for c in instructor["criteria"] if c["id"] == "technology").items()
+        c for c in instructor["criteria"] if c["id"] == "technology"
+    ).items()
     assert student["score"] == instructor["score"] == 90
 
 
@@ -133,8 +159,10 @@ def test_invalid_exercise_files_are_explained() -> None:
     with pytest.raises(ExerciseError, match="100"):
         parse_exercise(base + "rubric: [{id: geometry, points: 40}]\n", Path("exercises/pal-mill"))
     with pytest.raises(ExerciseError, match="reference"):
-        parse_exercise(base.replace("reference_file: pal-01-g1-gerade.nc", "reference_file: ../../README.md"),
-                       Path("exercises/pal-mill"))
+        parse_exercise(
+            base.replace("reference_file: pal-01-g1-gerade.nc", "reference_file: ../../README.md"),
+            Path("exercises/pal-mill"),
+        )
     with pytest.raises(ExerciseError):
         parse_exercise("id: x\n")
 
@@ -146,21 +174,50 @@ def test_exercise_model_round_trip() -> None:
 
 
 def test_cli_contract() -> None:
-    out = subprocess.run([sys.executable, "-m", "core.cli", "exercises", "--json"], capture_output=True, text=True,
-                         check=False)
+    out = subprocess.run(
+        [sys.executable, "-m", "core.cli", "exercises", "--json"], capture_output=True, text=True, check=False
+    )
     if out.returncode != 0 and "invalid choice" in out.stderr:
         pytest.skip("entry points not installed (pip install -e .)")
     listed = json.loads(out.stdout)["exercises"]
     assert {"id": "pal-05-g2-kreisbogen", "dialect": "pal-mill"}.items() <= next(
-        e for e in listed if e["id"] == "pal-05-g2-kreisbogen").items()
-    ref = subprocess.run([sys.executable, "-m", "core.cli", "grade", "pal-05-g2-kreisbogen", "--reference", "--json"],
-                         capture_output=True, text=True, check=False)
+        e for e in listed if e["id"] == "pal-05-g2-kreisbogen"
+    ).items()
+    ref = subprocess.run(
+        [sys.executable, "-m", "core.cli", "grade", "pal-05-g2-kreisbogen", "--reference", "--json"],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     assert ref.returncode == 0
     data = json.loads(ref.stdout)
     assert (data["score"], data["max_score"]) == (100, 100)
-    assert set(data["criteria"][0]) == {"id", "status", "points", "max_points", "message", "message_en", "lines",
-                                        "hidden", "cause", "causes", "features"}
+    assert set(data["criteria"][0]) == {
+        "id",
+        "status",
+        "points",
+        "max_points",
+        "message",
+        "message_en",
+        "lines",
+        "hidden",
+        "cause",
+        "causes",
+        "features",
+    }
     assert {c["id"]: set(c) for c in data["criteria"]}["safety"] == {
-        "id", "status", "points", "max_points", "message", "message_en", "lines", "hidden", "cause", "causes"}
-    assert [f["ok"] for f in data["criteria"][0]["features"]] == [True] * 4  # three contour elements and the floor
+        "id",
+        "status",
+        "points",
+        "max_points",
+        "message",
+        "message_en",
+        "lines",
+        "hidden",
+        "cause",
+        "causes",
+    }
+    assert [f["ok"] for f in data["criteria"][0]["features"]] == [
+        True
+    ] * 4  # three contour elements and the floor
     assert "diagnostics" in data

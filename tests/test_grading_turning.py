@@ -113,8 +113,10 @@ def test_a_wrong_diameter_costs_its_features_and_names_the_block() -> None:
     # the part's features: the chamfer, the Ø40 and the shoulder; the Ø39 spoils the chamfer and the Ø40
     assert geo.status == "partial" and (geo.points, geo.max_points) == (17, 50)  # type: ignore[attr-defined]
     assert [(f.name, f.ok) for f in geo.features] == [  # type: ignore[attr-defined]
-        ("Ø40 (Z-2 … Z-30.75)", False), ("Kegel/Fase Ø36 → Ø40 (Z0 … Z-2)", False),
-        ("Planfläche Z-30.75 (Ø40.9 → Ø44)", True)]
+        ("Ø40 (Z-2 … Z-30.75)", False),
+        ("Kegel/Fase Ø36 → Ø40 (Z0 … Z-2)", False),
+        ("Planfläche Z-30.75 (Ø40.9 → Ø44)", True),
+    ]
     line = program.splitlines().index("G1 X39 D2 E0.1") + 1
     assert geo.cause.code == "end_point" and geo.cause.line == line  # type: ignore[attr-defined]
     assert f"Ursache: Zeile {line}: Ø39 statt Ø40" in geo.message  # type: ignore[attr-defined]
@@ -152,7 +154,9 @@ def test_a_wrong_diameter_costs_the_geometry_of_every_exercise(eid: str) -> None
     assert not geo.passed and geo.points < geo.max_points and "Zu viel Material abgetragen" in geo.message  # type: ignore[attr-defined]
     assert any(not f.ok for f in geo.features) and geo.points < 50  # type: ignore[attr-defined]
     lines = [program.splitlines()[n - 1] for n in geo.lines]  # type: ignore[attr-defined]
-    assert wrong.strip() in lines[0] and cutter in lines  # the changed block first, and the block that cut there
+    assert (
+        wrong.strip() in lines[0] and cutter in lines
+    )  # the changed block first, and the block that cut there
     if geo.cause is not None:  # type: ignore[attr-defined]  (G76's thread is a cycle: no contour to compare)
         assert program.splitlines()[geo.cause.line - 1].startswith(wrong.strip())  # type: ignore[attr-defined]
 
@@ -237,18 +241,18 @@ reference: |
 def test_volumes_of_a_simple_turned_part_through_the_grader() -> None:
     ex = parse_exercise(SIMPLE)
     turned = execute_turning(ex, ex.reference)
-    expected = math.pi * (20 ** 2 - 15 ** 2) * 20  # Ø40 → Ø30 over 20 mm
+    expected = math.pi * (20**2 - 15**2) * 20  # Ø40 → Ø30 over 20 mm
     assert turned.sim.removed_volume == pytest.approx(expected, rel=0.005)
     assert grade(ex, ex.reference).score == 100
     smaller = ex.reference.replace("G0 X30\n", "G0 X28\n")
     geo = criterion(grade(ex, smaller), "geometry")
     over = german(geo.message.split("abgetragen: ")[1].split(" mm³")[0])  # type: ignore[attr-defined]
-    assert over == pytest.approx(math.pi * (15 ** 2 - 14 ** 2) * 20, rel=0.02)
+    assert over == pytest.approx(math.pi * (15**2 - 14**2) * 20, rel=0.02)
     assert "2 mm" not in geo.message and "Ø28 statt Ø30 (1 mm zu viel abgetragen)" in geo.message  # radial  # type: ignore[attr-defined]
     bigger = ex.reference.replace("G0 X30\n", "G0 X32\n")
     geo = criterion(grade(ex, bigger), "geometry")
     left = german(geo.message.split("gelassen: ")[1].split(" mm³")[0])  # type: ignore[attr-defined]
-    assert left == pytest.approx(math.pi * (16 ** 2 - 15 ** 2) * 20, rel=0.02)
+    assert left == pytest.approx(math.pi * (16**2 - 15**2) * 20, rel=0.02)
 
 
 def german(text: str) -> float:
@@ -288,10 +292,14 @@ def test_the_turning_format_and_its_mistakes() -> None:
     assert "genau eines" in err.value.message
     milling = EXERCISES["pal-01-g1-gerade"].model_dump(mode="json")
     with pytest.raises(Exception, match="blank"):
-        type(EXERCISES["pal-01-g1-gerade"]).model_validate({**milling, "blank": {"diameter": 40, "length": 60}})
+        type(EXERCISES["pal-01-g1-gerade"]).model_validate(
+            {**milling, "blank": {"diameter": 40, "length": 60}}
+        )
 
 
-@pytest.mark.parametrize("lang,note", [("de", "Zeichnung für Drehteile folgt"), ("en", "drawing of turned parts to follow")])
+@pytest.mark.parametrize(
+    "lang,note", [("de", "Zeichnung für Drehteile folgt"), ("en", "drawing of turned parts to follow")]
+)
 def test_the_drawing_of_a_turning_exercise_is_titled_and_no_placeholder(lang: str, note: str) -> None:
     ex = EXERCISES["traub-01-srk-fase"]
     svg = part_drawing(ex, lang)  # the drawing itself: tests/test_drawing_lathe.py

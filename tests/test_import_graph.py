@@ -9,8 +9,10 @@ import re
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-JS_IMPORT = re.compile(r"""^\s*(?:import|export)\s[^;]*?from\s+["'](\.{1,2}/[^"']+)["']|^\s*import\s+["'](\.{1,2}/[^"']+)["']""",
-                       re.MULTILINE)
+JS_IMPORT = re.compile(
+    r"""^\s*(?:import|export)\s[^;]*?from\s+["'](\.{1,2}/[^"']+)["']|^\s*import\s+["'](\.{1,2}/[^"']+)["']""",
+    re.MULTILINE,
+)
 
 
 def python_graph() -> dict[str, set[str]]:
@@ -24,14 +26,21 @@ def python_graph() -> dict[str, set[str]]:
     graph: dict[str, set[str]] = {}
     for name, path in modules.items():
         tree = ast.parse(path.read_text(encoding="utf-8"))
-        typing_only = {id(n) for node in ast.walk(tree) if isinstance(node, ast.If)
-                       and "TYPE_CHECKING" in ast.unparse(node.test) for part in node.body for n in ast.walk(part)}
+        typing_only = {
+            id(n)
+            for node in ast.walk(tree)
+            if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+            for part in node.body
+            for n in ast.walk(part)
+        }
         found: set[str] = set()
         for node in ast.walk(tree):
             if id(node) in typing_only:
                 continue
             if isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
-                found |= {m for m in [node.module, *(f"{node.module}.{a.name}" for a in node.names)] if m in modules}
+                found |= {
+                    m for m in [node.module, *(f"{node.module}.{a.name}" for a in node.names)] if m in modules
+                }
             elif isinstance(node, ast.Import):
                 found |= {a.name for a in node.names if a.name in modules}
         graph[name] = found - {name}

@@ -21,18 +21,69 @@ from core.pipeline import Memo, run, toolpath_json
 from server.workers import job_live
 
 # small budgets: endless loops end quickly, and the budgets' diagnostics are part of what is compared
-SMALL = RunSetup(limits=Limits(max_executed_blocks=400, max_moves=150, max_evaluation_steps=4_000,
-                               max_diagnostics=60, max_answer_commands=120))
+SMALL = RunSetup(
+    limits=Limits(
+        max_executed_blocks=400,
+        max_moves=150,
+        max_evaluation_steps=4_000,
+        max_diagnostics=60,
+        max_answer_commands=120,
+    )
+)
 
 PAL_LINES = [
-    "N10 T1 TC1 M6", "N20 S1200 F150 M3", "G0 X10 Y10 Z2", "G1 Z-2", "G1 X20 Y15", "G1 X35 Y40",
-    "G2 X30 Y15 R10", "G3 X20 Y15 R10", "G2 X40 Y20 I10 J0", "P1=5", "P2=P1*2+1", "G1 X=P1 Y=P2",
-    "P3=P3+1", "G91", "G90", "G1 X5", "G91 G1 X5", "G41 G1 X10 Y10", "G40 G1 X0", "G1 X30 RN3",
-    "G1 Y30 RN-2", "N100 G1 X40", "N110 G0 Z5", "G23 N100 N110 H2", "G29 N110", "G29 N100", "G22 L10",
-    "G22 L10 H2", "G22 L20", "G22 L30", "M17", "M30", "G4 F1", "T2 M6", "G54", "G59 X10", "G17", "F0", "M5",
-    "/G1 X7", "/N115 G0 Z9",
+    "N10 T1 TC1 M6",
+    "N20 S1200 F150 M3",
+    "G0 X10 Y10 Z2",
+    "G1 Z-2",
+    "G1 X20 Y15",
+    "G1 X35 Y40",
+    "G2 X30 Y15 R10",
+    "G3 X20 Y15 R10",
+    "G2 X40 Y20 I10 J0",
+    "P1=5",
+    "P2=P1*2+1",
+    "G1 X=P1 Y=P2",
+    "P3=P3+1",
+    "G91",
+    "G90",
+    "G1 X5",
+    "G91 G1 X5",
+    "G41 G1 X10 Y10",
+    "G40 G1 X0",
+    "G1 X30 RN3",
+    "G1 Y30 RN-2",
+    "N100 G1 X40",
+    "N110 G0 Z5",
+    "G23 N100 N110 H2",
+    "G29 N110",
+    "G29 N100",
+    "G22 L10",
+    "G22 L10 H2",
+    "G22 L20",
+    "G22 L30",
+    "M17",
+    "M30",
+    "G4 F1",
+    "T2 M6",
+    "G54",
+    "G59 X10",
+    "G17",
+    "F0",
+    "M5",
+    "/G1 X7",
+    "/N115 G0 Z9",
     # broken, half-typed, empty and comment lines
-    "", "; Kommentar", "G1 X", "G1 X1 X2", "N", "P4=", "G7", "G2 X10 R", "N12 G1 X5 Y(", "(offen",
+    "",
+    "; Kommentar",
+    "G1 X",
+    "G1 X1 X2",
+    "N",
+    "P4=",
+    "G7",
+    "G2 X10 R",
+    "N12 G1 X5 Y(",
+    "(offen",
 ]
 PAL_HEADERS = ["%L10", "%L20"]
 
@@ -41,22 +92,74 @@ LIBRARY = RunSetup(limits=SMALL.limits, subprograms=((30, "G91 G1 X2\nG90\nM17\n
 SKIPPING = RunSetup(limits=SMALL.limits, skip_blocks=True)
 
 BECKHOFF_LINES = [
-    "N05 G17 G00 G90 X0 Y0", "G01 F2000 X100 G301=20 #FRC=500", "Y100 G302=20 #FRC=1000", "X0 G301=20",
-    "N120 G301 I20", "X-60", "G00 G90 X0 Y0", "G01 F2000 X200 #CHR=20 #FRC=500", "Y100 #RND=20", "X0 #CHF=35",
-    "G00 G91 X100 Y0", "G01 Y100 F200", "M30", "", "G01 X", "T1 M6", "S1000 M3",
+    "N05 G17 G00 G90 X0 Y0",
+    "G01 F2000 X100 G301=20 #FRC=500",
+    "Y100 G302=20 #FRC=1000",
+    "X0 G301=20",
+    "N120 G301 I20",
+    "X-60",
+    "G00 G90 X0 Y0",
+    "G01 F2000 X200 #CHR=20 #FRC=500",
+    "Y100 #RND=20",
+    "X0 #CHF=35",
+    "G00 G91 X100 Y0",
+    "G01 Y100 F200",
+    "M30",
+    "",
+    "G01 X",
+    "T1 M6",
+    "S1000 M3",
 ]
 
 ISO_LINES = [
-    "N10 T1 M6", "N20 S1200 M3", "N30 G17 G90 G00 X-20 Y10 Z2", "N40 G01 Z-2 F150", "G01 X40",
-    "G03 X60 Y30 R20", "G01 Y50", "G02 X80 Y70 I20 J0", "G91 G01 X5", "G90", "G00 Z50", "M30", "G04 X1",
-    "", "G01 X", "G99", "; Satz",
+    "N10 T1 M6",
+    "N20 S1200 M3",
+    "N30 G17 G90 G00 X-20 Y10 Z2",
+    "N40 G01 Z-2 F150",
+    "G01 X40",
+    "G03 X60 Y30 R20",
+    "G01 Y50",
+    "G02 X80 Y70 I20 J0",
+    "G91 G01 X5",
+    "G90",
+    "G00 Z50",
+    "M30",
+    "G04 X1",
+    "",
+    "G01 X",
+    "G99",
+    "; Satz",
 ]
 
 TRAUB_LINES = [
-    "G59 X0 Z210", "G95", "G96 V180 T0101 M4", "G92 S3000", "G0 X54 Z2 M8", "G0 X100 Z50",
-    "G1 X20 Z0 F0.15", "G1 A180", "G2 X40 Z-20 R10", "G1 Z-30", "G1 X50 A135", "G1 Z-60", "G1 X54 Z-62",
-    "N10 G46", "N20 G40", "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "G22 A8001", "M9", "M30", "G97 S1000 M3",
-    "G1 X30 F0,2", "G1 U-2", "", "G1 X", "G7", "(Kommentar)", "L1=10", "G1 X=L1 Z-5",
+    "G59 X0 Z210",
+    "G95",
+    "G96 V180 T0101 M4",
+    "G92 S3000",
+    "G0 X54 Z2 M8",
+    "G0 X100 Z50",
+    "G1 X20 Z0 F0.15",
+    "G1 A180",
+    "G2 X40 Z-20 R10",
+    "G1 Z-30",
+    "G1 X50 A135",
+    "G1 Z-60",
+    "G1 X54 Z-62",
+    "N10 G46",
+    "N20 G40",
+    "G71 P10 Q20 I0.5 K0.1 D3 F0.3",
+    "G22 A8001",
+    "M9",
+    "M30",
+    "G97 S1000 M3",
+    "G1 X30 F0,2",
+    "G1 U-2",
+    "",
+    "G1 X",
+    "G7",
+    "(Kommentar)",
+    "L1=10",
+    "G1 X=L1 Z-5",
 ]
 TRAUB_SUB = ["%", "O 8001", "G00 X40 Z2", "G01 X20 F0,2", "M99", "%"]
 
@@ -72,8 +175,12 @@ def live_json(text: str, dialect: str, setup: RunSetup, memo: Memo | None) -> st
 def edits(pool: list[str]) -> st.SearchStrategy[tuple[str, int, int, list[str]]]:
     """(kind, at, count, lines): replace, insert or delete lines at a relative position (0..1000)."""
     line = st.one_of(st.sampled_from(pool), st.sampled_from(pool).map(lambda s: s[: len(s) // 2]))
-    return st.tuples(st.sampled_from(["replace", "insert", "delete", "type"]), st.integers(0, 1000),
-                     st.integers(1, 3), st.lists(line, min_size=1, max_size=3))
+    return st.tuples(
+        st.sampled_from(["replace", "insert", "delete", "type"]),
+        st.integers(0, 1000),
+        st.integers(1, 3),
+        st.lists(line, min_size=1, max_size=3),
+    )
 
 
 def apply(lines: list[str], edit: tuple[str, int, int, list[str]]) -> list[str]:
@@ -82,32 +189,43 @@ def apply(lines: list[str], edit: tuple[str, int, int, list[str]]) -> list[str]:
     if kind == "insert":
         return lines[:i] + new + lines[i:]
     if kind == "delete":
-        return lines[:i] + lines[i + count:]
+        return lines[:i] + lines[i + count :]
     if kind == "type" and lines:  # one more character of a line from the pool, as a typist does
         target = new[0] or "X1"
         current = lines[i]
-        return lines[:i] + [target[: len(current) + 1] if target.startswith(current) else target[:1]] + lines[i + 1:]
-    return lines[:i] + new + lines[i + 1:]
+        return (
+            lines[:i]
+            + [target[: len(current) + 1] if target.startswith(current) else target[:1]]
+            + lines[i + 1 :]
+        )
+    return lines[:i] + new + lines[i + 1 :]
 
 
-def check_sequence(start: list[str], steps: list[tuple[str, int, int, list[str]]], dialect: str,
-                   setup: RunSetup) -> None:
+def check_sequence(
+    start: list[str], steps: list[tuple[str, int, int, list[str]]], dialect: str, setup: RunSetup
+) -> None:
     memo = Memo()
     lines = start
     for k in range(len(steps) + 1):
         text = "\n".join(lines) + "\n"
-        assert live_json(text, dialect, setup, memo) == live_json(text, dialect, setup, None), \
+        assert live_json(text, dialect, setup, memo) == live_json(text, dialect, setup, None), (
             f"after {k} edits of {start!r} by {steps!r}"
+        )
         if k < len(steps):
             lines = apply(lines, steps[k])
 
 
 PAL_PROGRAM = st.tuples(
     st.lists(st.sampled_from(PAL_LINES), min_size=3, max_size=30),
-    st.lists(st.tuples(st.sampled_from(PAL_HEADERS), st.lists(st.sampled_from(PAL_LINES), max_size=6)),
-             max_size=2),
-).map(lambda p: ["N10 T1 TC1 M6", "N20 S1200 F150 M3", *p[0], "M30"]
-      + [x for header, body in p[1] for x in (header, *body, "M17")])
+    st.lists(
+        st.tuples(st.sampled_from(PAL_HEADERS), st.lists(st.sampled_from(PAL_LINES), max_size=6)), max_size=2
+    ),
+).map(
+    lambda p: (
+        ["N10 T1 TC1 M6", "N20 S1200 F150 M3", *p[0], "M30"]
+        + [x for header, body in p[1] for x in (header, *body, "M17")]
+    )
+)
 
 
 @settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -118,14 +236,17 @@ def test_pal_milling_incremental_equals_full_run(program: list[str], steps: list
 
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(PAL_PROGRAM, st.lists(edits(PAL_LINES + PAL_HEADERS), min_size=1, max_size=6), st.booleans())
-def test_pal_milling_with_a_library_subprogram_or_skipped_blocks(program: list[str], steps: list[Any],
-                                                                  skipping: bool) -> None:
+def test_pal_milling_with_a_library_subprogram_or_skipped_blocks(
+    program: list[str], steps: list[Any], skipping: bool
+) -> None:
     check_sequence(program, steps, "pal-mill", SKIPPING if skipping else LIBRARY)
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.lists(st.sampled_from(BECKHOFF_LINES), min_size=2, max_size=20),
-       st.lists(edits(BECKHOFF_LINES), min_size=1, max_size=6))
+@given(
+    st.lists(st.sampled_from(BECKHOFF_LINES), min_size=2, max_size=20),
+    st.lists(edits(BECKHOFF_LINES), min_size=1, max_size=6),
+)
 def test_beckhoff_incremental_equals_full_run(program: list[str], steps: list[Any]) -> None:
     check_sequence(program, steps, "beckhoff", SMALL)
 
@@ -138,18 +259,24 @@ def test_pal_milling_incremental_equals_full_run_default_limits(program: list[st
 
 
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.lists(st.sampled_from(ISO_LINES), min_size=2, max_size=25), st.lists(edits(ISO_LINES), min_size=1,
-                                                                               max_size=6))
+@given(
+    st.lists(st.sampled_from(ISO_LINES), min_size=2, max_size=25),
+    st.lists(edits(ISO_LINES), min_size=1, max_size=6),
+)
 def test_iso_incremental_equals_full_run(program: list[str], steps: list[Any]) -> None:
     check_sequence(program, steps, "sinumerik-iso", SMALL)
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.lists(st.sampled_from(TRAUB_LINES), min_size=2, max_size=20), st.booleans(),
-       st.lists(edits(TRAUB_LINES), min_size=1, max_size=5))
+@given(
+    st.lists(st.sampled_from(TRAUB_LINES), min_size=2, max_size=20),
+    st.booleans(),
+    st.lists(edits(TRAUB_LINES), min_size=1, max_size=5),
+)
 def test_traub_incremental_equals_full_run(program: list[str], sub: bool, steps: list[Any]) -> None:
-    check_sequence(["%", "O 4711", *program, "M30", "%", *(TRAUB_SUB if sub else [])], steps, "traub-tx8d",
-                   RunSetup())
+    check_sequence(
+        ["%", "O 4711", *program, "M30", "%", *(TRAUB_SUB if sub else [])], steps, "traub-tx8d", RunSetup()
+    )
 
 
 def fold(answers: list[dict[str, Any]]) -> dict[str, Any]:
@@ -171,15 +298,18 @@ def fold(answers: list[dict[str, Any]]) -> dict[str, Any]:
 
 def typing(lines: list[str], line: int, target: str) -> list[list[str]]:
     """The documents while `target` is typed into line `line` character by character."""
-    return [lines[:line - 1] + [target[:i]] + lines[line:] for i in range(1, len(target) + 1)]
+    return [lines[: line - 1] + [target[:i]] + lines[line:] for i in range(1, len(target) + 1)]
 
 
 def bench_program(blocks: int = 500) -> list[str]:
     lines = ["N10 T1 TC1 M6", "N20 S1200 F150 M3", "N30 G0 X10 Y10 Z2", "N40 G1 Z-2"]
     while len(lines) < blocks - 1:
         n = (len(lines) + 1) * 10
-        lines.append(f"N{n} G1 X{len(lines) % 70 + 5} Y{len(lines) * 7 % 60 + 5}" if n % 30 else
-                     f"N{n} G2 X{len(lines) % 70 + 5} Y{len(lines) * 7 % 60 + 5} R40")
+        lines.append(
+            f"N{n} G1 X{len(lines) % 70 + 5} Y{len(lines) * 7 % 60 + 5}"
+            if n % 30
+            else f"N{n} G2 X{len(lines) % 70 + 5} Y{len(lines) * 7 % 60 + 5} R40"
+        )
     return [*lines, f"N{blocks * 10} G0 Z50 M30"]
 
 
@@ -221,8 +351,10 @@ def test_typing_in_a_long_program_takes_over_the_previous_run() -> None:
 def test_a_loop_across_the_edit_runs_to_the_end_and_stays_correct() -> None:
     """A G23 section around the edited line: the previous run meets it in every pass, so the new run can only
     take over after the last pass; a G29 jump back over it the same."""
-    text = ("N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X0 Y0 Z2\nN40 G91 G1 X5\nN50 G1 Y{y}\nN60 G90\n"
-            "N70 G23 N40 N60 H3\nN80 G1 X0 Y0\nN90 M30\n")
+    text = (
+        "N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X0 Y0 Z2\nN40 G91 G1 X5\nN50 G1 Y{y}\nN60 G90\n"
+        "N70 G23 N40 N60 H3\nN80 G1 X0 Y0\nN90 M30\n"
+    )
     memo = Memo()
     for y in (1, 2, 3, 13):
         t = text.format(y=y)
@@ -258,29 +390,70 @@ def test_live_answers_fold_to_a_full_answer_for_any_edits(program: list[str], st
         text = "\n".join(lines) + "\n"
         answers.append(job_live("fold", gen, gen + 1, text, "pal-mill", spec))
         fresh = fold([job_live(f"fold-fresh-{gen}", 0, 1, text, "pal-mill", spec)])
-        assert json.dumps(fold(answers), sort_keys=True) == json.dumps(fresh, sort_keys=True), (program, steps)
+        assert json.dumps(fold(answers), sort_keys=True) == json.dumps(fresh, sort_keys=True), (
+            program,
+            steps,
+        )
         if gen < len(steps):
             lines = apply(lines, steps[gen])
 
 
 # a TRAUB program with a roughing cycle over a P/Q contour, a subprogram called by G22 and L parameters
 TRAUB_BODY = [
-    "G59 X0 Z210", "G95", "G96 V180 T0101 M4", "G92 S3000", "L1=10", "L2=L1*2", "G0 X54 Z2 M8", "N10 G46",
-    "G1 X20 Z0 F0.15", "G1 X=L1 Z-5", "G1 Z-30", "G2 X40 Z-40 R10", "G1 X50 A135", "N20 G40",
-    "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "G0 X100 Z50", "G22 A8001", "L1=L1+1", "G22 A8001 H2", "G22 P10 Q20",
+    "G59 X0 Z210",
+    "G95",
+    "G96 V180 T0101 M4",
+    "G92 S3000",
+    "L1=10",
+    "L2=L1*2",
+    "G0 X54 Z2 M8",
+    "N10 G46",
+    "G1 X20 Z0 F0.15",
+    "G1 X=L1 Z-5",
+    "G1 Z-30",
+    "G2 X40 Z-40 R10",
+    "G1 X50 A135",
+    "N20 G40",
+    "G71 P10 Q20 I0.5 K0.1 D3 F0.3",
+    "G0 X100 Z50",
+    "G22 A8001",
+    "L1=L1+1",
+    "G22 A8001 H2",
+    "G22 P10 Q20",
 ]
 TRAUB_EDITS = [
-    "G0 X100 Z50", "G1 X30 F0,2", "G1 U-2", "L1=12", "L3=L1+L2", "G1 X=L2 Z-8", "G22 A8001", "M9", "G97 S1000 M3",
-    "G1 Z-20", "G2 X40 Z-20 R10", "G71 P10 Q20 I0.5 K0.1 D3 F0.3", "", "G1 X", "G7", "(Kommentar)", "G1 A180",
-    "N10 G46", "N20 G40", "N10 G1 X30",
+    "G0 X100 Z50",
+    "G1 X30 F0,2",
+    "G1 U-2",
+    "L1=12",
+    "L3=L1+L2",
+    "G1 X=L2 Z-8",
+    "G22 A8001",
+    "M9",
+    "G97 S1000 M3",
+    "G1 Z-20",
+    "G2 X40 Z-20 R10",
+    "G71 P10 Q20 I0.5 K0.1 D3 F0.3",
+    "",
+    "G1 X",
+    "G7",
+    "(Kommentar)",
+    "G1 A180",
+    "N10 G46",
+    "N20 G40",
+    "N10 G1 X30",
 ]
 
 
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(st.lists(st.sampled_from(TRAUB_EDITS), max_size=8), st.integers(1, 3),
-       st.lists(edits(TRAUB_EDITS), min_size=1, max_size=6))
+@given(
+    st.lists(st.sampled_from(TRAUB_EDITS), max_size=8),
+    st.integers(1, 3),
+    st.lists(edits(TRAUB_EDITS), min_size=1, max_size=6),
+)
 def test_traub_cycles_subprograms_and_l_parameters_incremental_equal_full_runs(
-        extra: list[str], copies: int, steps: list[Any]) -> None:
+    extra: list[str], copies: int, steps: list[Any]
+) -> None:
     body = [x for _ in range(copies) for x in TRAUB_BODY] + extra
     check_sequence(["%", "O 4711", *body, "M30", "%", *TRAUB_SUB], steps, "traub-tx8d", SMALL)
     check_sequence(["%", "O 4711", *body, "M30", "%", *TRAUB_SUB], steps, "traub-tx8d", RunSetup())
@@ -299,6 +472,8 @@ def test_typing_in_a_long_traub_program_takes_over_the_previous_run() -> None:
     docs.append(docs[-1][:300] + docs[-1][301:])
     for doc in docs:
         text = "\n".join(doc) + "\n"
-        assert live_json(text, "traub-tx8d", RunSetup(), memo) == live_json(text, "traub-tx8d", RunSetup(), None)
+        assert live_json(text, "traub-tx8d", RunSetup(), memo) == live_json(
+            text, "traub-tx8d", RunSetup(), None
+        )
     assert STATS["full"] == before["full"]
     assert STATS["incremental"] - before["incremental"] >= len(docs) - 2

@@ -43,10 +43,14 @@ def moves(program: str, dialect: str = "sinumerik-iso", setup: RunSetup | None =
 
 # -- 1. comments in parentheses -------------------------------------------------------------------------------
 
+
 @pytest.mark.parametrize("dialect", ["sinumerik-iso", "beckhoff"])
 def test_comments_in_parentheses_keep_the_block_and_its_motion(dialect: str) -> None:
-    tp = run("T1(16 MARO)\n(ganze Zeile: Kommentar)\nS1000 M3\nG0 X0 Y0 Z2\nG01 X40 Y0 F500 (Kontur)\n"
-             "G01 Y30 (Kontur innen)\nM30\n", dialect)
+    tp = run(
+        "T1(16 MARO)\n(ganze Zeile: Kommentar)\nS1000 M3\nG0 X0 Y0 Z2\nG01 X40 Y0 F500 (Kontur)\n"
+        "G01 Y30 (Kontur innen)\nM30\n",
+        dialect,
+    )
     assert tp.diagnostics == []
     assert [m.end for m in tp.moves[-2:]] == [(40, 0, 2), (40, 30, 2)] and tp.moves[-1].feed == 500
     assert [c.tool for c in tp.tool_changes] == [1]  # T1(16 MARO) is a tool call
@@ -54,7 +58,9 @@ def test_comments_in_parentheses_keep_the_block_and_its_motion(dialect: str) -> 
 
 def test_beckhoff_modal_radius_programmed_alone_with_a_comment() -> None:
     # Beckhoff's manual: "N20 G02 R=50 (In this block still no motion)", the next arc uses R50
-    tp = run(READY + "N20 G02 R=50 (In this block still no motion)\nN30 G02 X100\nN40 G02 X0 Y0\nM30\n", "beckhoff")
+    tp = run(
+        READY + "N20 G02 R=50 (In this block still no motion)\nN30 G02 X100\nN40 G02 X0 Y0\nM30\n", "beckhoff"
+    )
     assert errors(tp) == []
     first, second = tp.moves[-2:]
     assert first.end == (100, 0, 0) and first.center == pytest.approx((50, 0, 0)) and first.radius == 50
@@ -63,14 +69,19 @@ def test_beckhoff_modal_radius_programmed_alone_with_a_comment() -> None:
 
 # -- 2. arcs the DIN/ISO way -----------------------------------------------------------------------------------
 
+
 def test_an_omitted_end_axis_is_the_current_position_under_g90() -> None:
     arc = moves(READY + "G01 X0 Y0\nG02 X100 R50\nM30\n")[-1]
-    assert arc.end == (100, 0, 0) and arc.center == pytest.approx((50, 0, 0)) and arc.angle == pytest.approx(180)
+    assert (
+        arc.end == (100, 0, 0) and arc.center == pytest.approx((50, 0, 0)) and arc.angle == pytest.approx(180)
+    )
 
 
 def test_a_full_circle_with_i_only_is_correct_on_beckhoff() -> None:
     arc = moves(READY + "G02 I10\nM30\n", "beckhoff")[-1]
-    assert arc.end == (0, 0, 0) and arc.center == pytest.approx((10, 0, 0)) and arc.angle == pytest.approx(360)
+    assert (
+        arc.end == (0, 0, 0) and arc.center == pytest.approx((10, 0, 0)) and arc.angle == pytest.approx(360)
+    )
 
 
 def test_incremental_arc_with_omitted_y_and_j() -> None:
@@ -96,14 +107,18 @@ def test_pal_keeps_its_own_solver_for_omitted_words() -> None:
 
 # -- 3. helices keep the modal plane ---------------------------------------------------------------------------
 
+
 def test_a_cam_helix_with_the_plane_axis_omitted_stays_in_g17() -> None:
-    helix = moves(READY + "G17 G0 X1.413 Y0\nG3 X-1.413 Z-0.5 I-1.413 J0\nG3 X1.413 Z-1 I1.413 J0\nM30\n")[-2:]
+    helix = moves(READY + "G17 G0 X1.413 Y0\nG3 X-1.413 Z-0.5 I-1.413 J0\nG3 X1.413 Z-1 I1.413 J0\nM30\n")[
+        -2:
+    ]
     assert [m.plane for m in helix] == ["G17", "G17"]
     assert helix[0].center == pytest.approx((0, 0, 0)) and helix[0].end == pytest.approx((-1.413, 0, -0.5))
     assert helix[1].end == pytest.approx((1.413, 0, -1)) and helix[1].angle == pytest.approx(180)
 
 
 # -- 4. D: the tool offset -------------------------------------------------------------------------------------
+
 
 def test_d_selects_the_radius_of_the_tool_and_d0_none() -> None:
     with_d1 = moves(READY + "G41 G1 X10 Y10 D1\nG1 X30\nG40 G0 X50\nM30\n")
@@ -119,6 +134,7 @@ def test_beckhoff_t_with_d_is_a_tool_call_not_an_unknown_address() -> None:
 
 
 # -- 5. the ISO milling vocabulary -----------------------------------------------------------------------------
+
 
 def test_an_inch_program_is_converted_to_mm() -> None:
     assert moves("G20\nT1 M6\nS1000 M3\nG0 X1. Y2. Z0.1\nM30\n")[-1].end == pytest.approx((25.4, 50.8, 2.54))
@@ -152,11 +168,14 @@ def test_peck_drilling_g83_expands_into_tagged_pecks() -> None:
 
 def test_g81_returns_to_r_under_g99_and_to_the_initial_level_under_g98() -> None:
     tp = run(READY + "G0 Z20\nG99 G81 X20 Y20 Z-3 R2 F150\nX80\nG98 X20\nG80\nM30\n", "sinumerik-iso")
-    retracts = [m.end for m in tp.moves if m.cycle is not None and m.kind == "rapid" and m.start[2] < m.end[2]]
+    retracts = [
+        m.end for m in tp.moves if m.cycle is not None and m.kind == "rapid" and m.start[2] < m.end[2]
+    ]
     assert errors(tp) == [] and [z for _, _, z in retracts] == pytest.approx([2, 2, 20])
 
 
 # -- 7. one rule: not modelled yet = reported once, the rest of the block runs ---------------------------------
+
 
 def test_g43_with_h_keeps_the_z_move_and_m8() -> None:
     approach, cut = moves(READY + "G0 Z50\nG43 H1 Z-4 M8\nG1 X10\nM30\n")[-2:]
@@ -168,21 +187,28 @@ def test_g54_with_positioning_and_spindle_start() -> None:
     assert tp.diagnostics == [] and tp.moves[-2].end[:2] == (-75, -75) and tp.moves[-1].spindle == 500
 
 
-@pytest.mark.parametrize("dialect,block,what", [
-    ("sinumerik-iso", "G68 X0 Y0 R45", "G68"),
-    ("beckhoff", "#HSC ON", "#HSC ON"),
-    ("beckhoff", "V.P.ABC = 1", "V.P.ABC"),
-])
-def test_a_code_not_modelled_is_reported_once_as_not_supported_and_the_rest_runs(dialect: str, block: str,
-                                                                                 what: str) -> None:
+@pytest.mark.parametrize(
+    "dialect,block,what",
+    [
+        ("sinumerik-iso", "G68 X0 Y0 R45", "G68"),
+        ("beckhoff", "#HSC ON", "#HSC ON"),
+        ("beckhoff", "V.P.ABC = 1", "V.P.ABC"),
+    ],
+)
+def test_a_code_not_modelled_is_reported_once_as_not_supported_and_the_rest_runs(
+    dialect: str, block: str, what: str
+) -> None:
     tp = run(READY + block + "\nG1 X10 F100\nM30\n", dialect)
     (note,) = tp.diagnostics
-    assert note.code == f"{DIALECTS[dialect].code_prefix}-W1901" and note.span.line == 4 and what in note.message
+    assert (
+        note.code == f"{DIALECTS[dialect].code_prefix}-W1901" and note.span.line == 4 and what in note.message
+    )
     assert "wird noch nicht unterstützt" in note.message and "unbekannt" not in note.message
     assert tp.moves[-1].end == pytest.approx((10, 0, 0))
 
 
 # -- 8. Beckhoff's own words for its chamfers and roundings ----------------------------------------------------
+
 
 def test_g301_before_any_motion_names_the_missing_preceding_motion() -> None:
     tp = run("N10 G301 I20\nN20 G1 X10 Y0 F100\nM30\n", "beckhoff")
@@ -204,6 +230,7 @@ def test_after_an_error_that_stops_decoding_no_m30_warning() -> None:
 
 
 # -- the corpus ------------------------------------------------------------------------------------------------
+
 
 def render(path: Path) -> str:
     dialect = FOLDER_DIALECT[path.parent.name]
@@ -230,7 +257,9 @@ def test_a_corpus_program_runs_without_a_false_error(path: Path) -> None:
     assert actual == expected.read_text(encoding="utf-8")
 
 
-@pytest.mark.parametrize("dialect,section", [("sinumerik-iso", "## SINUMERIK 808D ISO"), ("beckhoff", "## Beckhoff TwinCAT")])
+@pytest.mark.parametrize(
+    "dialect,section", [("sinumerik-iso", "## SINUMERIK 808D ISO"), ("beckhoff", "## Beckhoff TwinCAT")]
+)
 def test_docs_name_every_code_not_supported_yet(dialect: str, section: str) -> None:
     doc = (Path(__file__).parents[1] / "docs" / "dialects.md").read_text(encoding="utf-8")
     text = doc.split(section, 1)[1].split("\n## ", 1)[0]
@@ -238,4 +267,7 @@ def test_docs_name_every_code_not_supported_yet(dialect: str, section: str) -> N
     listed = text.split("**Not supported yet**", 1)[1]
     planned = [c.name for c in DIALECTS[dialect].table.codes.values() if c.support == Support.PLANNED]
     spans = {f"G{n}" for n in range(80, 90)} if dialect == "beckhoff" else set()  # written "G80–G89"
-    assert planned and [c for c in planned if c not in spans and not re.search(rf"\b{re.escape(c)}\b", listed)] == []
+    assert (
+        planned
+        and [c for c in planned if c not in spans and not re.search(rf"\b{re.escape(c)}\b", listed)] == []
+    )

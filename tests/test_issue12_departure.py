@@ -25,7 +25,9 @@ def go(departure: str, rest: str = "N70 G0 X100\nN80 M30\n") -> Toolpath:
     return tp
 
 
-def on_line(tp: Toolpath, line: int) -> list[tuple[str, tuple[float, float, float], tuple[float, float, float]]]:
+def on_line(
+    tp: Toolpath, line: int
+) -> list[tuple[str, tuple[float, float, float], tuple[float, float, float]]]:
     return [(m.kind, m.start, m.end) for m in tp.moves if m.line == line]
 
 
@@ -48,14 +50,17 @@ def test_examiner_g48_next_move_starts_at_quarter_circle_end() -> None:
     assert on_line(tp, 7) == [("rapid", pytest.approx((-15, 40, 50)), pytest.approx((100, 40, 50)))]
 
 
-@pytest.mark.parametrize("departure,end", [
-    ("N60 G40 G46 D10", (-5, 40, -3)),  # neither Z nor W: stays at the contour's height
-    ("N60 G40 G46 D10 Z2", (-5, 40, 2)),  # Z only
-    ("N60 G40 G46 D10 W50", (-5, 40, 50)),  # W only
-    ("N60 G40 G48 R10", (-15, 40, -3)),
-    ("N60 G40 G48 R10 Z5", (-15, 40, 5)),
-    ("N60 G40 G48 R10 W40", (-15, 40, 40)),
-])
+@pytest.mark.parametrize(
+    "departure,end",
+    [
+        ("N60 G40 G46 D10", (-5, 40, -3)),  # neither Z nor W: stays at the contour's height
+        ("N60 G40 G46 D10 Z2", (-5, 40, 2)),  # Z only
+        ("N60 G40 G46 D10 W50", (-5, 40, 50)),  # W only
+        ("N60 G40 G48 R10", (-15, 40, -3)),
+        ("N60 G40 G48 R10 Z5", (-15, 40, 5)),
+        ("N60 G40 G48 R10 W40", (-15, 40, 40)),
+    ],
+)
 def test_final_position_is_the_departure_end(departure: str, end: tuple[float, float, float]) -> None:
     tp = go(departure, "N70 M30\n")
     assert tp.final_position == pytest.approx(end)
@@ -77,8 +82,10 @@ def test_incremental_move_after_departure_counts_from_its_end() -> None:
 def test_departure_after_an_arc_leaves_along_the_arc_tangent() -> None:
     # G42 on the arc from (0, 0) to (10, 10) about (10, 0), clockwise: end tangent (1, 0) at (10, 10);
     # the tool (r5) is right of it, centre (10, 5); G46 D10 ends at (20, 5)
-    text = ("N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X-20 Y-20 Z-3\nN40 G42 G45 X0 Y0 D8\n"
-            "N50 G2 X10 Y10 I10 J0\nN60 G40 G46 D10 W20\nN70 G0 X50\nN80 M30\n")
+    text = (
+        "N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X-20 Y-20 Z-3\nN40 G42 G45 X0 Y0 D8\n"
+        "N50 G2 X10 Y10 I10 J0\nN60 G40 G46 D10 W20\nN70 G0 X50\nN80 M30\n"
+    )
     tp = run(text, setup=SETUP)
     assert errors(tp) == []
     assert on_line(tp, 7) == [("rapid", pytest.approx((20, 5, 20)), pytest.approx((50, 5, 20)))]
@@ -86,8 +93,10 @@ def test_departure_after_an_arc_leaves_along_the_arc_tangent() -> None:
 
 def test_departure_under_a_zero_shift() -> None:
     # the same contour shifted by G59 XA100 YA50: every point moves by (100, 50)
-    text = ("N10 T1 TC1 M6\nN20 S1000 F200 M3\nN25 G59 XA100 YA50\nN30 G0 X-20 Y-20 Z-3\nN40 G41 G45 X0 Y0 D8\n"
-            "N50 G1 Y30\nN60 G40 G46 D10 Z2 W50\nN70 G0 X10\nN80 M30\n")
+    text = (
+        "N10 T1 TC1 M6\nN20 S1000 F200 M3\nN25 G59 XA100 YA50\nN30 G0 X-20 Y-20 Z-3\nN40 G41 G45 X0 Y0 D8\n"
+        "N50 G1 Y30\nN60 G40 G46 D10 Z2 W50\nN70 G0 X10\nN80 M30\n"
+    )
     tp = run(text, setup=SETUP)
     assert errors(tp) == []
     assert on_line(tp, 8) == [("rapid", pytest.approx((95, 90, 50)), pytest.approx((110, 90, 50)))]
@@ -99,7 +108,9 @@ def test_seed_linear_departure_programmed_end_and_tool_centre() -> None:
     assert errors(tp) == []
     dep = next(m for m in tp.moves if m.line == 9)
     assert dep.end[:2] == pytest.approx((64.551, 61.581), abs=TOL)
-    assert dep.programmed_end is not None and dep.programmed_end[:2] == pytest.approx((54.589, 62.452), abs=TOL)
+    assert dep.programmed_end is not None and dep.programmed_end[:2] == pytest.approx(
+        (54.589, 62.452), abs=TOL
+    )
     data = next(m for m in toolpath_json(tp)["moves"] if m["line"] == 9)
     assert data["programmed_end"][:2] == pytest.approx([54.589, 62.452], abs=TOL)
     # N90 goes from the departure's end, not from the last contour point
@@ -114,15 +125,19 @@ def test_seed_quarter_circle_departure_programmed_end() -> None:
     assert errors(tp) == []
     dep = next(m for m in tp.moves if m.line == 9)
     assert dep.end[:2] == pytest.approx((77.003, 60.491), abs=TOL)  # DECISIONS.md ruling 1
-    assert dep.programmed_end is not None and dep.programmed_end[:2] == pytest.approx((77.875, 70.453), abs=TOL)
+    assert dep.programmed_end is not None and dep.programmed_end[:2] == pytest.approx(
+        (77.875, 70.453), abs=TOL
+    )
     last = next(m for m in tp.moves if m.line == 10)
     assert last.start == pytest.approx((77.003, 60.491, -3), abs=TOL)
 
 
 def test_approach_with_w_and_no_z_continues_at_w() -> None:
     # G45 rises to W2 and has no Z: the contour that follows runs at Z2, not down a slope to Z-3
-    text = ("N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X-20 Y-20 Z-3\nN40 G41 G45 X0 Y0 D8 W2\n"
-            "N50 G1 Y30\nN60 G40 G46 D10\nN70 M30\n")
+    text = (
+        "N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X-20 Y-20 Z-3\nN40 G41 G45 X0 Y0 D8 W2\n"
+        "N50 G1 Y30\nN60 G40 G46 D10\nN70 M30\n"
+    )
     tp = run(text, setup=SETUP)
     assert errors(tp) == []
     contour = next(m for m in tp.moves if m.line == 5)
@@ -133,8 +148,10 @@ def test_approach_with_w_and_no_z_continues_at_w() -> None:
 def test_departure_without_active_compensation_still_goes_to_z_and_w() -> None:
     text = "N10 T1 TC1 M6\nN20 S1000 F200 M3\nN30 G0 X0 Y0 Z-3\nN40 G1 Y30\nN50 G40 G46 D10 Z2 W50\nN60 M30\n"
     tp = run(text, setup=SETUP)
-    assert [(m.kind, m.end) for m in tp.moves if m.line == 5] == [("feed", pytest.approx((0, 30, 2))),
-                                                                  ("rapid", pytest.approx((0, 30, 50)))]
+    assert [(m.kind, m.end) for m in tp.moves if m.line == 5] == [
+        ("feed", pytest.approx((0, 30, 2))),
+        ("rapid", pytest.approx((0, 30, 50))),
+    ]
     assert tp.final_position == pytest.approx((0, 30, 50))
 
 
@@ -148,13 +165,16 @@ def test_iso_dialects_after_g40_start_from_the_programmed_point(dialect: str) ->
     assert tp.final_position == pytest.approx((100, 40, -3))
 
 
-
-@pytest.mark.parametrize("frame,arc_end,next_end", [
-    ("N25 G66 Y\n", (15, 40, -3), (-100, 40, 50)),  # X mirrored: the quarter circle turns the other way
-    ("N25 G58 AR90\n", (-40, -15, -3), (-40, 100, 50)),  # rotated by 90°: (x, y) → (−y, x)
-])
-def test_quarter_circle_departure_under_mirroring_and_rotation(frame: str, arc_end: tuple[float, float, float],
-                                                               next_end: tuple[float, float, float]) -> None:
+@pytest.mark.parametrize(
+    "frame,arc_end,next_end",
+    [
+        ("N25 G66 Y\n", (15, 40, -3), (-100, 40, 50)),  # X mirrored: the quarter circle turns the other way
+        ("N25 G58 AR90\n", (-40, -15, -3), (-40, 100, 50)),  # rotated by 90°: (x, y) → (−y, x)
+    ],
+)
+def test_quarter_circle_departure_under_mirroring_and_rotation(
+    frame: str, arc_end: tuple[float, float, float], next_end: tuple[float, float, float]
+) -> None:
     text = HEAD.replace("N30 ", frame + "N30 ") + "N60 G40 G48 R10 Z2 W50\nN70 G0 X100\nN80 M30\n"
     tp = run(text, setup=SETUP)
     assert errors(tp) == []

@@ -26,16 +26,20 @@ def test_examiner_section_ending_with_a_call_runs_twice_then_m30() -> None:
 
 
 def test_section_ending_with_a_call_run_twice_by_h() -> None:
-    text = (READY + "N30 G0 X0 Y0 Z2\nN40 G22 L400 H2\nN50 G23 N40 N40 H1\nN60 M30\n"
-            "%L400\nN1 G91\nN2 G1 X5\nN3 G90\nN4 M17\n")
+    text = (
+        READY + "N30 G0 X0 Y0 Z2\nN40 G22 L400 H2\nN50 G23 N40 N40 H1\nN60 M30\n"
+        "%L400\nN1 G91\nN2 G1 X5\nN3 G90\nN4 M17\n"
+    )
     tp = run(text)
     assert codes(tp) == []
     assert xs(tp, 9) == [(0, 5), (5, 10), (10, 15), (15, 20)]  # (1 + 1 repetition) × H2
 
 
 def test_section_ending_with_a_call_of_a_subprogram_without_m17() -> None:
-    text = (READY + "N30 G0 X0 Y0 Z2\nN40 G22 L400\nN50 G23 N40 N40 H2\nN60 M30\n"
-            "%L400\nN1 G91\nN2 G1 X5\nN3 G90\n")
+    text = (
+        READY + "N30 G0 X0 Y0 Z2\nN40 G22 L400\nN50 G23 N40 N40 H2\nN60 M30\n"
+        "%L400\nN1 G91\nN2 G1 X5\nN3 G90\n"
+    )
     tp = run(text)
     assert [c for c, _ in codes(tp)] == ["PAL-E409"]  # once, though it happens three times
     assert xs(tp, 9) == [(0, 5), (5, 10), (10, 15)]  # once plus two repetitions
@@ -43,8 +47,10 @@ def test_section_ending_with_a_call_of_a_subprogram_without_m17() -> None:
 
 def test_section_ending_with_a_call_inside_the_section() -> None:
     # the call in the middle already worked; it must keep working
-    text = (READY + "N30 G0 X0 Y0 Z2\nN40 G22 L400\nN45 G1 Y10\nN46 G0 Y0\nN50 G23 N40 N46 H1\nN60 M30\n"
-            "%L400\nN1 G91\nN2 G1 X5\nN3 G90\nN4 M17\n")
+    text = (
+        READY + "N30 G0 X0 Y0 Z2\nN40 G22 L400\nN45 G1 Y10\nN46 G0 Y0\nN50 G23 N40 N46 H1\nN60 M30\n"
+        "%L400\nN1 G91\nN2 G1 X5\nN3 G90\nN4 M17\n"
+    )
     tp = run(text)
     assert codes(tp) == []
     assert xs(tp, 11) == [(0, 5), (5, 10)]
@@ -66,10 +72,11 @@ def test_section_ending_with_a_call_of_a_missing_subprogram_still_ends() -> None
 
 
 def test_section_in_a_subprogram_ending_with_a_call() -> None:
-    text = (READY + "N30 G0 X0 Y0 Z2\nN40 G22 L300\nN60 M30\n"
-            "%L300\nN1 G22 L400\nN2 G23 N1 N1 H1\nN3 M17\n"
-            "%L400\nN1 G91\nN2 G1 X5\nN3 G90\nN4 M17\n")
+    text = (
+        READY + "N30 G0 X0 Y0 Z2\nN40 G22 L300\nN60 M30\n"
+        "%L300\nN1 G22 L400\nN2 G23 N1 N1 H1\nN3 M17\n"
+        "%L400\nN1 G91\nN2 G1 X5\nN3 G90\nN4 M17\n"
+    )
     tp = run(text)
     assert codes(tp) == []
     assert xs(tp, 12) == [(0, 5), (5, 10)]
-

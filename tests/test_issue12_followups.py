@@ -34,21 +34,32 @@ def test_examiner_missing_feed_reported_once_then_one_note() -> None:
     assert follows(tp) == [("PAL-E301", 7, None), ("PAL-I301", 8, 7)]
     first, note = tp.diagnostics
     assert first.severity is Severity.ERROR and note.severity is Severity.INFO
-    assert note.message == ("Vorschubbewegung mit Vorschub F0 auch in 2 weiteren Sätzen: Zeile 8, 9 "
-                            "(Folgefehler von Zeile 7).")
-    assert note.message_en == "Feed move with feed F0 also in 2 more blocks: line 8, 9 (follows from the error in line 7)."
+    assert note.message == (
+        "Vorschubbewegung mit Vorschub F0 auch in 2 weiteren Sätzen: Zeile 8, 9 (Folgefehler von Zeile 7)."
+    )
+    assert (
+        note.message_en
+        == "Feed move with feed F0 also in 2 more blocks: line 8, 9 (follows from the error in line 7)."
+    )
 
 
 def test_a_dropped_technology_block_names_the_missing_feed_and_spindle_as_follow_ups() -> None:
     tp = SeedReader.run("pal-05-g2-kreisbogen.nc", {"N20": "N20 S1200 F1,5 M3"})
-    assert follows(tp) == [("PAL-E010", 3, None), ("PAL-E301", 7, 3), ("PAL-E302", 7, 3),
-                           ("PAL-I301", 8, 3), ("PAL-I301", 8, 3)]
+    assert follows(tp) == [
+        ("PAL-E010", 3, None),
+        ("PAL-E301", 7, 3),
+        ("PAL-E302", 7, 3),
+        ("PAL-I301", 8, 3),
+        ("PAL-I301", 8, 3),
+    ]
 
 
 def test_an_error_after_the_position_is_known_again_is_its_own() -> None:
     # N65 moves to an absolute X and Y: the wrong arc in N70 is the program's own error, not a follow-up
-    tp = SeedReader.run("pal-05-g2-kreisbogen.nc", {"N60": "N60 G1 Y23,6\nN65 G1 X70 Y23.6",
-                                                   "N70": "N70 G2 X56.4 Y10 I-20 J9"})
+    tp = SeedReader.run(
+        "pal-05-g2-kreisbogen.nc",
+        {"N60": "N60 G1 Y23,6\nN65 G1 X70 Y23.6", "N70": "N70 G2 X56.4 Y10 I-20 J9"},
+    )
     assert [(c, n, f) for c, n, f in follows(tp) if c == "PAL-E202"] == [("PAL-E202", 9, None)]
 
 
@@ -77,7 +88,9 @@ def test_one_missing_feed_in_a_loop_is_one_error() -> None:
 def test_no_tool_and_stopped_spindle_fold_the_same_way() -> None:
     tp = run("N20 F100\nN30 G0 X0 Y0 Z2\nN40 G1 X5\nN50 G1 Y5\nN60 G1 X0\nN70 M30\n")
     assert follows(tp) == [("PAL-E303", 3, None), ("PAL-I301", 4, 3)]
-    assert tp.diagnostics[1].message.startswith("Vorschubbewegung ohne Werkzeug auch in 2 weiteren Sätzen: Zeile 4, 5")
+    assert tp.diagnostics[1].message.startswith(
+        "Vorschubbewegung ohne Werkzeug auch in 2 weiteren Sätzen: Zeile 4, 5"
+    )
 
 
 def test_a_correct_program_has_no_follow_ups() -> None:

@@ -50,8 +50,15 @@ def test_kustomization_lists_every_manifest() -> None:
 
 def test_the_pieces_fit() -> None:
     kinds = {d["kind"] for d in documents()}
-    assert {"Deployment", "Service", "Ingress", "Job", "Secret", "PodDisruptionBudget",
-            "HorizontalPodAutoscaler"} <= kinds
+    assert {
+        "Deployment",
+        "Service",
+        "Ingress",
+        "Job",
+        "Secret",
+        "PodDisruptionBudget",
+        "HorizontalPodAutoscaler",
+    } <= kinds
     deployment = one("Deployment")
     pod = deployment["spec"]["template"]
     labels = pod["metadata"]["labels"]
@@ -66,6 +73,7 @@ def test_the_pieces_fit() -> None:
     for name in ("DATABASE_URL", "REDIS_URL", "PALTRAINER_SECRET_KEY"):
         ref = env[name]["valueFrom"]["secretKeyRef"]
         assert ref["name"] == "paltrainer" and ref["key"] in secret["stringData"], name
+
     def selects(d: dict[str, Any]) -> dict[str, str]:
         return d["spec"]["selector"].get("matchLabels", d["spec"]["selector"])  # type: ignore[no-any-return]
 
@@ -80,8 +88,11 @@ def test_the_pieces_fit() -> None:
 
 def test_the_3d_view_sticks_and_everything_has_tls() -> None:
     ingresses = {d["metadata"]["name"]: d for d in documents() if d["kind"] == "Ingress"}
-    sticky = [i for i in ingresses.values() if i["metadata"]["annotations"].get(
-        "nginx.ingress.kubernetes.io/affinity") == "cookie"]
+    sticky = [
+        i
+        for i in ingresses.values()
+        if i["metadata"]["annotations"].get("nginx.ingress.kubernetes.io/affinity") == "cookie"
+    ]
     assert len(sticky) == 1
     paths = {p["path"] for rule in sticky[0]["spec"]["rules"] for p in rule["http"]["paths"]}
     assert paths == {"/viz/", "/api/v1/viz"}
@@ -112,6 +123,8 @@ def test_forwarded_addresses_are_trusted_from_the_ingress_only() -> None:
     assert peer["namespaceSelector"]["matchLabels"] == {"kubernetes.io/metadata.name": "ingress-nginx"}
     assert peer["podSelector"]["matchLabels"]["app.kubernetes.io/name"] == "ingress-nginx"
     container_ports = {p["name"]: p["containerPort"] for p in app["ports"]}
-    assert [(p["protocol"], container_ports.get(p["port"], p["port"])) for p in rule["ports"]] == [("TCP", 8000)]
+    assert [(p["protocol"], container_ports.get(p["port"], p["port"])) for p in rule["ports"]] == [
+        ("TCP", 8000)
+    ]
     # the Ingress objects are served by that controller
     assert {i["spec"]["ingressClassName"] for i in documents() if i["kind"] == "Ingress"} == {"nginx"}

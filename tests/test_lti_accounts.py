@@ -72,7 +72,9 @@ def me(client: TestClient, token: str) -> dict[str, Any]:
     return dict(client.get("/api/v1/me", headers={"Authorization": f"Bearer {token}"}).json())
 
 
-def test_an_account_made_before_the_first_launch_is_not_taken_over(client: TestClient, platform: Platform) -> None:
+def test_an_account_made_before_the_first_launch_is_not_taken_over(
+    client: TestClient, platform: Platform
+) -> None:
     # an instructor of this PAL Trainer made an account with the name the platform's teacher would get
     # (before this release the API allowed it; the name is refused now, see below)
     victim = "moodle-user-4711"
@@ -94,10 +96,18 @@ def test_an_account_made_before_the_first_launch_is_not_taken_over(client: TestC
         link = s.scalars(select(LtiUser).where(LtiUser.sub == victim)).one()
         assert link.user_id != planted.id
         course = s.scalars(select(LtiContext.course_id).where(LtiContext.context_id == "course-hijack")).one()
-        assert s.scalars(select(CourseMember).where(CourseMember.course_id == course,
-                                                    CourseMember.user_id == planted.id)).first() is None
+        assert (
+            s.scalars(
+                select(CourseMember).where(
+                    CourseMember.course_id == course, CourseMember.user_id == planted.id
+                )
+            ).first()
+            is None
+        )
     # the next launch of the same person finds the account made for them
-    again = me(client, session(client, launch(client, platform, sub=victim, roles=INSTRUCTOR, **ctx))["token"])
+    again = me(
+        client, session(client, launch(client, platform, sub=victim, roles=INSTRUCTOR, **ctx))["token"]
+    )
     assert again["username"] == launched["username"]
 
 
@@ -114,8 +124,9 @@ def test_local_accounts_cannot_take_a_platform_name(client: TestClient, platform
             assert r.status_code == 422, r.text
             assert "Konten aus Lernplattformen vorbehalten" in r.json()["error"]["message"]
     # "lti" without a digit after it is an ordinary name
-    r = client.post("/api/v1/users", json={"username": "lti-fan", "password": PASSWORD},
-                    headers=admin_headers(client))
+    r = client.post(
+        "/api/v1/users", json={"username": "lti-fan", "password": PASSWORD}, headers=admin_headers(client)
+    )
     assert r.status_code == 201, r.text
     with db(client) as s:
         assert repo.user_by_name(s, name) is None
@@ -127,16 +138,22 @@ def test_class_lists_cannot_take_a_platform_name(client: TestClient, platform: P
     csv = f"name;password\nanna-k;{PASSWORD}\n{name};{PASSWORD}\n".encode()
     r = client.post("/api/v1/users/import", content=csv, headers={**headers, "Content-Type": "text/csv"})
     assert r.status_code == 422 and r.json()["error"]["code"] == "CLASS_LIST_INVALID", r.text
-    course = client.post("/api/v1/courses", json={"name": "Klasse ohne Plattform"}, headers=headers).json()["id"]
-    r = client.post(f"/api/v1/courses/{course}/members/import", content=csv,
-                    headers={**headers, "Content-Type": "text/csv"})
+    course = client.post("/api/v1/courses", json={"name": "Klasse ohne Plattform"}, headers=headers).json()[
+        "id"
+    ]
+    r = client.post(
+        f"/api/v1/courses/{course}/members/import",
+        content=csv,
+        headers={**headers, "Content-Type": "text/csv"},
+    )
     assert r.status_code == 422 and r.json()["error"]["code"] == "CLASS_LIST_INVALID", r.text
     with db(client) as s:
         assert repo.user_by_name(s, name) is None and repo.user_by_name(s, "anna-k") is None
 
 
-def test_the_admin_commands_refuse_a_platform_name(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
-                                                   capsys: pytest.CaptureFixture[str]) -> None:
+def test_the_admin_commands_refuse_a_platform_name(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
     monkeypatch.setenv("PALTRAINER_DATA_DIR", str(tmp_path / "data"))
     monkeypatch.delenv("DATABASE_URL", raising=False)
     assert main(["admin", "create-user", "lti1-0123456789abcdef", "--password", PASSWORD]) == 2

@@ -44,13 +44,26 @@ class World:
     user_id: int
     exercise_id: int
 
-    def submit(self, score: int | None, max_score: int = 10, exercise_id: int | None = None,
-               assignment_id: int | None = None, held: bool = False) -> Submission:
+    def submit(
+        self,
+        score: int | None,
+        max_score: int = 10,
+        exercise_id: int | None = None,
+        assignment_id: int | None = None,
+        held: bool = False,
+    ) -> Submission:
         grading = None if score is None else {"score": score, "max_score": max_score, "criteria": []}
         with self.database.session() as db:
-            sub = Submission(exercise_id=exercise_id or self.exercise_id, user_id=self.user_id, program="N10 M30\n",
-                             dialect="pal-mill", result={}, grading=grading, assignment_id=assignment_id,
-                             held=held)
+            sub = Submission(
+                exercise_id=exercise_id or self.exercise_id,
+                user_id=self.user_id,
+                program="N10 M30\n",
+                dialect="pal-mill",
+                result={},
+                grading=grading,
+                assignment_id=assignment_id,
+                held=held,
+            )
             db.add(sub)
             db.commit()
             return sub
@@ -83,8 +96,11 @@ def own_postgres_schema(name: str) -> str:
 
 
 def build(tmp: Path, backend: str) -> World:
-    settings = (make_settings(tmp, "sqlite", database_url=own_postgres_schema("lti_ags"))
-                if backend == "postgresql" else make_settings(tmp, backend))
+    settings = (
+        make_settings(tmp, "sqlite", database_url=own_postgres_schema("lti_ags"))
+        if backend == "postgresql"
+        else make_settings(tmp, backend)
+    )
     keys.configure(settings)
     database = Database(settings)
     migrate(database.engine)
@@ -93,8 +109,14 @@ def build(tmp: Path, backend: str) -> World:
     base = f"http://127.0.0.1:{port}"
     with database.session() as db:
         state.tool_jwks = keys.jwks(db)  # entered by hand in the platform: these tests run no tool server
-        platform = LtiPlatform(issuer=base, client_id=CLIENT_ID, auth_login_url=f"{base}/auth",
-                               token_url=f"{base}/token", jwks_url=f"{base}/jwks", name="Moodle")
+        platform = LtiPlatform(
+            issuer=base,
+            client_id=CLIENT_ID,
+            auth_login_url=f"{base}/auth",
+            token_url=f"{base}/token",
+            jwks_url=f"{base}/jwks",
+            name="Moodle",
+        )
         user = User(username="anna", password_hash="-", role="student")
         exercise = Exercise(slug="pal-nuten", title_de="Nuten", dialect="pal-mill")
         db.add_all([platform, user, exercise])
@@ -102,13 +124,21 @@ def build(tmp: Path, backend: str) -> World:
         context = LtiContext(platform_id=platform.id, context_id="course-42", title="FT-2A")
         db.add_all([context, LtiUser(platform_id=platform.id, sub="moodle-user-7", user_id=user.id)])
         db.flush()
-        link = LtiResourceLink(platform_id=platform.id, context_pk=context.id, resource_link_id="link-1",
-                               exercise_slug="pal-nuten", lineitem_url=f"{base}/lineitems/li-1/lineitem",
-                               lineitems_url=f"{base}/lineitems", ags_scopes=[ags.SCORE_SCOPE])
+        link = LtiResourceLink(
+            platform_id=platform.id,
+            context_pk=context.id,
+            resource_link_id="link-1",
+            exercise_slug="pal-nuten",
+            lineitem_url=f"{base}/lineitems/li-1/lineitem",
+            lineitems_url=f"{base}/lineitems",
+            ags_scopes=[ags.SCORE_SCOPE],
+        )
         db.add(link)
         db.commit()
         ids = (link.id, user.id, exercise.id)
-    return World(settings, database, state, Served(platform_app(base, "http://127.0.0.1:9", state), port), *ids)
+    return World(
+        settings, database, state, Served(platform_app(base, "http://127.0.0.1:9", state), port), *ids
+    )
 
 
 @pytest.fixture(params=BACKENDS)
@@ -128,16 +158,23 @@ def utc(value: datetime) -> datetime:
 
 def test_score_json_and_url() -> None:
     row = LtiScore(lti_sub="u-7", score_given=85.0, timestamp=datetime(2026, 11, 22, 9, 30, tzinfo=UTC))
-    assert ags.score_json(row) == {"userId": "u-7", "scoreGiven": 85.0, "scoreMaximum": 100.0,
-                                   "activityProgress": "Completed", "gradingProgress": "FullyGraded",
-                                   "timestamp": "2026-11-22T09:30:00.000+00:00"}
+    assert ags.score_json(row) == {
+        "userId": "u-7",
+        "scoreGiven": 85.0,
+        "scoreMaximum": 100.0,
+        "activityProgress": "Completed",
+        "gradingProgress": "FullyGraded",
+        "timestamp": "2026-11-22T09:30:00.000+00:00",
+    }
     row.score_given = None  # handed in, not gradable here: the platform's teacher grades it
     body = ags.score_json(row)
     assert (body["activityProgress"], body["gradingProgress"]) == ("Submitted", "Pending")
     assert "scoreGiven" not in body
     # Moodle's line items carry their type in the query: /scores goes on the path
-    assert (ags.scores_url("https://moodle.example/mod/lti/services.php/2/lineitems/5/lineitem?type_id=3")
-            == "https://moodle.example/mod/lti/services.php/2/lineitems/5/lineitem/scores?type_id=3")
+    assert (
+        ags.scores_url("https://moodle.example/mod/lti/services.php/2/lineitems/5/lineitem?type_id=3")
+        == "https://moodle.example/mod/lti/services.php/2/lineitems/5/lineitem/scores?type_id=3"
+    )
 
 
 def test_backoff_schedule() -> None:
@@ -153,7 +190,8 @@ def test_score_arrives_at_the_platform_with_a_client_credentials_token(world: Wo
     assert world.enqueue(sub) is not None
     assert world.drain(datetime.now(UTC)) == 1
     assert [(item, s["userId"], s["scoreGiven"], s["scoreMaximum"]) for item, s in world.state.scores] == [
-        ("li-1", "moodle-user-7", 70.0, 100)]
+        ("li-1", "moodle-user-7", 70.0, 100)
+    ]
     row = world.rows()[0]
     assert (row.state, row.attempts, row.last_error) == ("sent", 1, None)
     # the token is kept until it expires: a second score asks the platform for none
@@ -224,8 +262,9 @@ def test_a_newer_score_carries_the_best_and_supersedes_the_waiting_one(world: Wo
     assert [r.state for r in world.rows()] == ["superseded", "pending"]
     world.platform.start()
     world.drain(datetime.now(UTC))
-    assert [(s["scoreGiven"], s["activityProgress"], s["gradingProgress"]) for _, s in world.state.scores] == [
-        (90.0, "Completed", "FullyGraded")]
+    assert [
+        (s["scoreGiven"], s["activityProgress"], s["gradingProgress"]) for _, s in world.state.scores
+    ] == [(90.0, "Completed", "FullyGraded")]
 
 
 def test_no_score_lost_across_a_server_restart(tmp_path: Path) -> None:
@@ -259,19 +298,43 @@ def test_an_assignment_link_gets_the_mean_of_its_exercises(world: World) -> None
         second = Exercise(slug="pal-taschen", title_de="Taschen", dialect="pal-mill")
         db.add_all([course, second])
         db.flush()
-        a = Assignment(course_id=course.id, title="Woche 3", exercises=["pal-nuten", "pal-taschen"], mode="practice",
-                       late="accept", opens_at=now - timedelta(hours=1), deadline=now + timedelta(days=1), settings={})
+        a = Assignment(
+            course_id=course.id,
+            title="Woche 3",
+            exercises=["pal-nuten", "pal-taschen"],
+            mode="practice",
+            late="accept",
+            opens_at=now - timedelta(hours=1),
+            deadline=now + timedelta(days=1),
+            settings={},
+        )
         db.add(a)
         db.flush()
-        link = LtiResourceLink(platform_id=first.platform_id, context_pk=first.context_pk, resource_link_id="link-2",
-                               assignment_id=a.id, lineitem_url=first.lineitem_url.replace("li-1", "li-2"),
-                               ags_scopes=[ags.SCORE_SCOPE])
+        link = LtiResourceLink(
+            platform_id=first.platform_id,
+            context_pk=first.context_pk,
+            resource_link_id="link-2",
+            assignment_id=a.id,
+            lineitem_url=first.lineitem_url.replace("li-1", "li-2"),
+            ags_scopes=[ags.SCORE_SCOPE],
+        )
         db.add(link)
         db.flush()
         lti_user = db.scalars(select(LtiUser)).one()
-        db.add(LtiLaunch(platform_id=first.platform_id, deployment_id="1", message_type="LtiResourceLinkRequest",
-                         user_id=world.user_id, lti_user_pk=lti_user.id, resource_link_pk=link.id,
-                         exercise_slug="pal-nuten", role="learner", ticket_hash="x" * 64, ticket_expires_at=now))
+        db.add(
+            LtiLaunch(
+                platform_id=first.platform_id,
+                deployment_id="1",
+                message_type="LtiResourceLinkRequest",
+                user_id=world.user_id,
+                lti_user_pk=lti_user.id,
+                resource_link_pk=link.id,
+                exercise_slug="pal-nuten",
+                role="learner",
+                ticket_hash="x" * 64,
+                ticket_expires_at=now,
+            )
+        )
         db.commit()
         ids = (a.id, second.id)
     world.platform.start()
@@ -283,7 +346,9 @@ def test_an_assignment_link_gets_the_mean_of_its_exercises(world: World) -> None
             ags.after_graded(db, stored)
         world.drain(datetime.now(UTC))
     assert [(item, s["scoreGiven"], s["activityProgress"]) for item, s in world.state.scores] == [
-        ("li-2", 40.0, "InProgress"), ("li-2", 90.0, "Completed")]
+        ("li-2", 40.0, "InProgress"),
+        ("li-2", 90.0, "Completed"),
+    ]
 
 
 def test_a_platform_that_does_not_answer_costs_one_attempt_per_round(world: World) -> None:
@@ -305,7 +370,9 @@ def test_a_platform_that_does_not_answer_costs_one_attempt_per_round(world: Worl
     world.platform.start()
     assert world.drain(t0 + timedelta(minutes=1)) == 2
     assert sorted((s["userId"], s["scoreGiven"]) for _, s in world.state.scores) == [
-        ("moodle-user-7", 70.0), ("moodle-user-8", 90.0)]
+        ("moodle-user-7", 70.0),
+        ("moodle-user-8", 90.0),
+    ]
 
 
 def test_an_exam_score_waits_for_the_release_and_shows_in_no_other_score(world: World) -> None:
@@ -331,18 +398,39 @@ def test_a_submission_through_an_api_key_is_not_passed_back_for_the_key_owner(wo
         link = db.get(LtiResourceLink, world.link_id)
         user = db.get(User, world.user_id)
         assert link is not None and user is not None
-        key = ApiKey(name="lms", prefix="pt_test1", key_hash="-", scopes=["submissions:write"], owner_id=user.id)
+        key = ApiKey(
+            name="lms", prefix="pt_test1", key_hash="-", scopes=["submissions:write"], owner_id=user.id
+        )
         db.add(key)
-        db.add(LtiLaunch(platform_id=link.platform_id, deployment_id="1", message_type="LtiResourceLinkRequest",
-                         user_id=user.id, lti_user_pk=db.scalars(select(LtiUser)).one().id, resource_link_pk=link.id,
-                         exercise_slug="pal-nuten", role="learner", ticket_hash="y" * 64,
-                         ticket_expires_at=datetime.now(UTC)))
+        db.add(
+            LtiLaunch(
+                platform_id=link.platform_id,
+                deployment_id="1",
+                message_type="LtiResourceLinkRequest",
+                user_id=user.id,
+                lti_user_pk=db.scalars(select(LtiUser)).one().id,
+                resource_link_pk=link.id,
+                exercise_slug="pal-nuten",
+                role="learner",
+                ticket_hash="y" * 64,
+                ticket_expires_at=datetime.now(UTC),
+            )
+        )
         db.commit()
         for api_key_id in (key.id, None):
-            sub = Submission(exercise_id=world.exercise_id, user_id=user.id, api_key_id=api_key_id,
-                             external_user="azubi-17" if api_key_id else None, program="N10 M30\n",
-                             dialect="pal-mill", result={}, grading={"score": 3, "max_score": 10, "criteria": []})
+            sub = Submission(
+                exercise_id=world.exercise_id,
+                user_id=user.id,
+                api_key_id=api_key_id,
+                external_user="azubi-17" if api_key_id else None,
+                program="N10 M30\n",
+                dialect="pal-mill",
+                result={},
+                grading={"score": 3, "max_score": 10, "criteria": []},
+            )
             db.add(sub)
             db.commit()
             ags.after_graded(db, sub)
-    assert [(r.lti_sub, r.score_given) for r in world.rows()] == [("moodle-user-7", 30.0)]  # the user's own only
+    assert [(r.lti_sub, r.score_given) for r in world.rows()] == [
+        ("moodle-user-7", 30.0)
+    ]  # the user's own only

@@ -63,7 +63,9 @@ class Setup:
             r = browser.get(f"{self.platform.url}/start", params={"user": user, **params})
             assert r.status_code == 302 and r.headers["location"].startswith(f"{self.tool.url}/lti/login?")
             r = browser.get(r.headers["location"])  # the tool: state and nonce, on to the platform
-            assert r.status_code == 302 and r.headers["location"].startswith(f"{self.platform.url}/auth?"), r.text
+            assert r.status_code == 302 and r.headers["location"].startswith(f"{self.platform.url}/auth?"), (
+                r.text
+            )
             r = browser.get(r.headers["location"])  # the platform signs the id_token
             assert r.status_code == 200, r.text
             return browser.post(form_action(r.text), data=form_fields(r.text))
@@ -92,8 +94,10 @@ def form_action(page: str) -> str:
 
 
 def form_fields(page: str) -> dict[str, str]:
-    return {unescape(n): unescape(v) for n, v in re.findall(r'<input type="hidden" name="([^"]+)" value="([^"]*)"',
-                                                             page)}
+    return {
+        unescape(n): unescape(v)
+        for n, v in re.findall(r'<input type="hidden" name="([^"]+)" value="([^"]*)"', page)
+    }
 
 
 def bearer(token: str) -> dict[str, str]:
@@ -119,9 +123,11 @@ def setup(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Setup]:
     app = create_app(make_settings(tmp, "sqlite", workers=1))
     tool = Served(app, tool_port).start()
     state = PlatformState.new()
-    state.members = [Member("moodle-teacher-1", "Frau Lehmann", "lehmann@schule.example", [INSTRUCTOR]),
-                     Member("moodle-student-2", "Anna Azubi", "anna@schule.example", [LEARNER]),
-                     Member("moodle-student-3", "Carla Ceran", "carla@schule.example", [LEARNER])]
+    state.members = [
+        Member("moodle-teacher-1", "Frau Lehmann", "lehmann@schule.example", [INSTRUCTOR]),
+        Member("moodle-student-2", "Anna Azubi", "anna@schule.example", [LEARNER]),
+        Member("moodle-student-3", "Carla Ceran", "carla@schule.example", [LEARNER]),
+    ]
     platform = Served(platform_app(platform_url, tool_url, state), platform_port).start()
     slug = builtin_exercise(SimpleNamespace(app=app))
     s = Setup(tool, platform, state, app, slug, {})
@@ -136,9 +142,15 @@ def setup(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Setup]:
 
 
 def test_1_registration_of_the_platform(setup: Setup) -> None:
-    body = {"issuer": setup.platform.url, "client_id": CLIENT_ID, "auth_login_url": f"{setup.platform.url}/auth",
-            "token_url": f"{setup.platform.url}/token", "jwks_url": f"{setup.platform.url}/jwks",
-            "deployment_ids": [DEPLOYMENT_ID], "name": "Moodle der Berufsschule"}
+    body = {
+        "issuer": setup.platform.url,
+        "client_id": CLIENT_ID,
+        "auth_login_url": f"{setup.platform.url}/auth",
+        "token_url": f"{setup.platform.url}/token",
+        "jwks_url": f"{setup.platform.url}/jwks",
+        "deployment_ids": [DEPLOYMENT_ID],
+        "name": "Moodle der Berufsschule",
+    }
     with setup.api() as api:
         r = api.post("/api/v1/admin/lti/platforms", json=body, headers=setup.admin)
         assert r.status_code == 201, r.text
@@ -161,10 +173,17 @@ def test_3_learner_submits_and_the_score_arrives_at_the_platform(setup: Setup) -
     assert s["role"] == "learner"
     with setup.api() as api:
         # a learner's launch grants no instructor rights
-        assert api.get("/api/v1/lti/scores", params={"course": setup.course_id()},
-                       headers=bearer(s["token"])).status_code == 403
-        r = api.post("/api/v1/submissions", json={"exercise": setup.slug, "program": reference_of()},
-                     headers=bearer(s["token"]))
+        assert (
+            api.get(
+                "/api/v1/lti/scores", params={"course": setup.course_id()}, headers=bearer(s["token"])
+            ).status_code
+            == 403
+        )
+        r = api.post(
+            "/api/v1/submissions",
+            json={"exercise": setup.slug, "program": reference_of()},
+            headers=bearer(s["token"]),
+        )
         assert r.status_code == 201, r.text
         assert r.json()["grading"]["score"] == r.json()["grading"]["max_score"]
     wait_for(lambda: len(setup.state.scores) == 1)
@@ -174,11 +193,14 @@ def test_3_learner_submits_and_the_score_arrives_at_the_platform(setup: Setup) -
     assert (score["activityProgress"], score["gradingProgress"]) == ("Completed", "FullyGraded")
     teacher = setup.session("moodle-teacher-1", exercise=setup.slug, link="link-1", lineitem="li-1")
     with setup.api() as api:
-        status = api.get("/api/v1/lti/scores", params={"course": setup.course_id()}, headers=bearer(teacher["token"]))
+        status = api.get(
+            "/api/v1/lti/scores", params={"course": setup.course_id()}, headers=bearer(teacher["token"])
+        )
     assert status.status_code == 200
     rows = status.json()["scores"]
     assert [(x["submission"], x["state"], x["score"], x["exercise"], x["name"]) for x in rows] == [
-        (r.json()["id"], "sent", 100.0, setup.slug, "Anna Azubi")]
+        (r.json()["id"], "sent", 100.0, setup.slug, "Anna Azubi")
+    ]
     assert status.json()["counts"]["sent"] == 1
 
 
@@ -186,8 +208,11 @@ def test_4_platform_down_during_passback_then_up_the_score_arrives_once(setup: S
     s = setup.session("moodle-student-2", exercise=setup.slug, link="link-1", lineitem="li-1")
     setup.platform.stop()  # Moodle is down
     with setup.api() as api:
-        r = api.post("/api/v1/submissions", json={"exercise": setup.slug, "program": reference_of()},
-                     headers=bearer(s["token"]))
+        r = api.post(
+            "/api/v1/submissions",
+            json={"exercise": setup.slug, "program": reference_of()},
+            headers=bearer(s["token"]),
+        )
         assert r.status_code == 201, r.text
 
         def failed_once() -> bool:
@@ -196,8 +221,11 @@ def test_4_platform_down_during_passback_then_up_the_score_arrives_once(setup: S
             return bool(mine) and mine[0]["state"] == "pending" and mine[0]["attempts"] >= 1
 
         wait_for(failed_once)
-        row = next(x for x in api.get("/api/v1/lti/scores", headers=setup.admin).json()["scores"]
-                   if x["submission"] == r.json()["id"])
+        row = next(
+            x
+            for x in api.get("/api/v1/lti/scores", headers=setup.admin).json()["scores"]
+            if x["submission"] == r.json()["id"]
+        )
         assert "unreachable" in row["last_error"]
     assert len(setup.state.scores) == 1
     setup.platform.start()  # Moodle is back, with what it had
@@ -241,8 +269,9 @@ def test_7_roster_pulled_with_nrps(setup: Setup) -> None:
     with setup.api() as api:
         linked = api.get(f"/api/v1/courses/{course}/lti", headers=teacher)
         assert linked.status_code == 200
-        assert linked.json() == [{"platform": "Moodle der Berufsschule", "context": "Fertigungstechnik 2A",
-                                  "roster": True}]
+        assert linked.json() == [
+            {"platform": "Moodle der Berufsschule", "context": "Fertigungstechnik 2A", "roster": True}
+        ]
         assert api.get(f"/api/v1/courses/{course}/lti", headers=learner).status_code == 403
         assert api.post(url).status_code == 401
         assert api.post(url, headers=learner).status_code == 403
@@ -252,8 +281,10 @@ def test_7_roster_pulled_with_nrps(setup: Setup) -> None:
         out = r.json()
         assert (out["members"], out["created"], out["students"], out["instructors"]) == (3, 1, 2, 1)
         assert {u["name"]: (u["role"], u["created"]) for u in out["users"]} == {
-            "Frau Lehmann": ("instructor", False), "Anna Azubi": ("student", False),
-            "Carla Ceran": ("student", True)}
+            "Frau Lehmann": ("instructor", False),
+            "Anna Azubi": ("student", False),
+            "Carla Ceran": ("student", True),
+        }
         members = api.get(f"/api/v1/courses/{course}/members", headers=teacher).json()
         assert sorted(m["role"] for m in members) == ["instructor", "student", "student"]
         again = api.post(url, headers=setup.admin)  # admins too; a second pull makes nobody twice
@@ -292,11 +323,15 @@ def test_9_a_link_without_a_grade_item_gets_one_made_once(setup: Setup) -> None:
     before = len(setup.state.scores)
     with setup.api() as api:
         for _ in range(2):
-            r = api.post("/api/v1/submissions", json={"exercise": setup.slug, "program": reference_of()},
-                         headers=bearer(s["token"]))
+            r = api.post(
+                "/api/v1/submissions",
+                json={"exercise": setup.slug, "program": reference_of()},
+                headers=bearer(s["token"]),
+            )
             assert r.status_code == 201, r.text
             count = len(setup.state.scores)
             wait_for(lambda count=count: len(setup.state.scores) == count + 1)
     assert [(i["resourceLinkId"], i["scoreMaximum"], i["resourceId"]) for i in setup.state.lineitems] == [
-        ("link-3", 100, setup.slug)]
+        ("link-3", 100, setup.slug)
+    ]
     assert [item for item, _ in setup.state.scores[before:]] == ["made-1", "made-1"]

@@ -56,12 +56,15 @@ def _open(client: TestClient, response) -> dict:  # type: ignore[no-untyped-def]
 
 def _user(client: TestClient, sub: str, iss: str = "https://lms.example.test") -> tuple[User, LtiUser]:
     with client.app.state.db.session() as db:  # type: ignore[attr-defined]
-        row = db.execute(select(User, LtiUser).join(LtiUser, LtiUser.user_id == User.id)
-                         .where(LtiUser.sub == sub)).one()
+        row = db.execute(
+            select(User, LtiUser).join(LtiUser, LtiUser.user_id == User.id).where(LtiUser.sub == sub)
+        ).one()
         return row[0], row[1]
 
 
-def test_instructor_launch_makes_user_course_and_lands_on_the_exercise(client: TestClient, platform: Platform) -> None:
+def test_instructor_launch_makes_user_course_and_lands_on_the_exercise(
+    client: TestClient, platform: Platform
+) -> None:
     session = _open(client, launch(client, platform, sub="teacher-1", roles=INSTRUCTOR, name="Frau Lehrer"))
     assert session["next"] == f"/lti/exercise/{SLUG}?p=1"
     assert session["role"] == "instructor"
@@ -69,7 +72,9 @@ def test_instructor_launch_makes_user_course_and_lands_on_the_exercise(client: T
     assert user.role == "instructor" and lti_user.name == "Frau Lehrer"
     with client.app.state.db.session() as db:  # type: ignore[attr-defined]
         ctx = db.scalars(select(LtiContext).where(LtiContext.context_id == "course-7")).one()
-        assert ctx.course_id is not None and ctx.memberships_url == "https://lms.example.test/nrps/7/memberships"
+        assert (
+            ctx.course_id is not None and ctx.memberships_url == "https://lms.example.test/nrps/7/memberships"
+        )
         member = db.scalars(select(CourseMember).where(CourseMember.user_id == user.id)).one()
         assert (member.course_id, member.role) == (ctx.course_id, "instructor")
         link = db.scalars(select(LtiResourceLink).where(LtiResourceLink.resource_link_id == "link-1")).one()
@@ -86,8 +91,9 @@ def test_instructor_launch_makes_user_course_and_lands_on_the_exercise(client: T
     assert me.status_code == 200 and me.json()["role"] == "instructor"
 
 
-def test_learner_launch_joins_the_course_as_student_and_keeps_the_link(client: TestClient,
-                                                                        platform: Platform) -> None:
+def test_learner_launch_joins_the_course_as_student_and_keeps_the_link(
+    client: TestClient, platform: Platform
+) -> None:
     launch(client, platform, sub="teacher-2", roles=INSTRUCTOR)  # the course exists
     session = _open(client, launch(client, platform, sub="pupil-1", roles=LEARNER))
     assert session["role"] == "learner" and session["next"].startswith(f"/lti/exercise/{SLUG}")
@@ -119,22 +125,36 @@ def test_launch_without_exercise_explains_itself(client: TestClient, platform: P
 
 
 def test_login_redirects_to_the_registered_auth_url_only(client: TestClient, platform: Platform) -> None:
-    r = client.post("/lti/login", data={"iss": platform.issuer, "login_hint": "1", "client_id": platform.client_id,
-                                        "target_link_uri": "http://127.0.0.1/lti/launch",
-                                        "redirect_uri": "https://evil.example/steal"}, follow_redirects=False)
+    r = client.post(
+        "/lti/login",
+        data={
+            "iss": platform.issuer,
+            "login_hint": "1",
+            "client_id": platform.client_id,
+            "target_link_uri": "http://127.0.0.1/lti/launch",
+            "redirect_uri": "https://evil.example/steal",
+        },
+        follow_redirects=False,
+    )
     assert r.status_code == 302 and r.headers["location"].startswith(platform.auth_url + "?")
     assert "evil.example" not in r.headers["location"]
     state, nonce = login(client, platform)
     assert state != nonce and len(state) > 30
 
 
-def test_deep_linking_returns_signed_response_with_the_chosen_exercises(client: TestClient,
-                                                                          platform: Platform) -> None:
-    dl = {LTI + "message_type": "LtiDeepLinkingRequest",
-          "https://purl.imsglobal.org/spec/lti-dl/claim/deep_linking_settings": {
-              "deep_link_return_url": "https://lms.example.test/mod/lti/contentitem_return.php",
-              "accept_types": ["ltiResourceLink"], "accept_presentation_document_targets": ["iframe"],
-              "accept_multiple": True, "data": "opaque-42"}}
+def test_deep_linking_returns_signed_response_with_the_chosen_exercises(
+    client: TestClient, platform: Platform
+) -> None:
+    dl = {
+        LTI + "message_type": "LtiDeepLinkingRequest",
+        "https://purl.imsglobal.org/spec/lti-dl/claim/deep_linking_settings": {
+            "deep_link_return_url": "https://lms.example.test/mod/lti/contentitem_return.php",
+            "accept_types": ["ltiResourceLink"],
+            "accept_presentation_document_targets": ["iframe"],
+            "accept_multiple": True,
+            "data": "opaque-42",
+        },
+    }
     r = launch(client, platform, sub="teacher-3", roles=INSTRUCTOR, **dl)
     assert r.status_code == 200 and "Aufgaben für den Kurs auswählen" in r.text
     assert "frame-ancestors 'self' https://lms.example.test" in r.headers["content-security-policy"]
@@ -145,7 +165,7 @@ def test_deep_linking_returns_signed_response_with_the_chosen_exercises(client: 
     answer = client.post("/lti/deep-link", data={"ticket": ticket, "exercise": chosen})
     assert answer.status_code == 200, answer.text
     assert 'action="https://lms.example.test/mod/lti/contentitem_return.php"' in answer.text
-    assert "<script src=\"/lti/static/autosubmit.js\"" in answer.text and "<script>" not in answer.text
+    assert '<script src="/lti/static/autosubmit.js"' in answer.text and "<script>" not in answer.text
     assert "form-action 'self' https://lms.example.test" in answer.headers["content-security-policy"]
     token = unescape(re.search(r'name="JWT" value="([^"]+)"', answer.text).group(1))  # type: ignore[union-attr]
     # verify with our published JWKS, as the platform does
@@ -188,25 +208,41 @@ def test_admin_lists_platforms_and_rotates_keys(client: TestClient, platform: Pl
     assert client.get("/api/v1/admin/lti/platforms").status_code == 401
 
 
-def test_assignment_link_opens_its_first_exercise_only_in_its_own_course(client: TestClient,
-                                                                         platform: Platform) -> None:
+def test_assignment_link_opens_its_first_exercise_only_in_its_own_course(
+    client: TestClient, platform: Platform
+) -> None:
     ctx = {LTI + "context": {"id": "course-asg", "title": "Klasse mit Aufgabenstellung"}}
     teacher = _open(client, launch(client, platform, sub="teacher-asg", roles=INSTRUCTOR, **ctx))
     headers = {"Authorization": f"Bearer {teacher['token']}"}
     with client.app.state.db.session() as db:  # type: ignore[attr-defined]
-        course_id = db.scalars(select(LtiContext.course_id).where(LtiContext.context_id == "course-asg")).one()
-    body = {"title": "Übung Konturen", "exercises": ["pal-02-g1-rn-radius", SLUG], "mode": "practice",
-            "opens_at": "2026-01-01T08:00:00Z", "deadline": "2099-01-01T08:00:00Z"}
+        course_id = db.scalars(
+            select(LtiContext.course_id).where(LtiContext.context_id == "course-asg")
+        ).one()
+    body = {
+        "title": "Übung Konturen",
+        "exercises": ["pal-02-g1-rn-radius", SLUG],
+        "mode": "practice",
+        "opens_at": "2026-01-01T08:00:00Z",
+        "deadline": "2099-01-01T08:00:00Z",
+    }
     r = client.post(f"/api/v1/courses/{course_id}/assignments", json=body, headers=headers)
     assert r.status_code == 201, r.text
     assignment = r.json()["id"]
-    custom = {LTI + "custom": {"assignment": str(assignment)},
-              LTI + "resource_link": {"id": "link-asg", "title": "Übung"}}
+    custom = {
+        LTI + "custom": {"assignment": str(assignment)},
+        LTI + "resource_link": {"id": "link-asg", "title": "Übung"},
+    }
     pupil = _open(client, launch(client, platform, sub="pupil-asg", roles=LEARNER, **ctx, **custom))
     assert pupil["next"].startswith("/lti/exercise/pal-02-g1-rn-radius?")
     # the same assignment id from another platform course opens nothing
     other = {LTI + "context": {"id": "course-other", "title": "Andere Klasse"}}
     launch(client, platform, sub="teacher-other", roles=INSTRUCTOR, **other)
-    r = launch(client, platform, sub="pupil-other", roles=LEARNER, **other,
-               **{**custom, LTI + "resource_link": {"id": "link-asg-2"}})
+    r = launch(
+        client,
+        platform,
+        sub="pupil-other",
+        roles=LEARNER,
+        **other,
+        **{**custom, LTI + "resource_link": {"id": "link-asg-2"}},
+    )
     assert r.status_code == 200 and "keiner Aufgabe zugeordnet" in r.text

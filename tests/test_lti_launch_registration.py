@@ -26,18 +26,28 @@ ISSUER = "https://moodle.example.test"
 @pytest.fixture(scope="module")
 def client(tmp_path_factory: pytest.TempPathFactory) -> Iterator[TestClient]:
     tmp = tmp_path_factory.mktemp("lti-registration")
-    settings = Settings(data_dir=tmp / "data", secret_key="lti-registration-secret-of-32-bytes-or-more",
-                        workers=1, load_exercises=False)
+    settings = Settings(
+        data_dir=tmp / "data",
+        secret_key="lti-registration-secret-of-32-bytes-or-more",
+        workers=1,
+        load_exercises=False,
+    )
     with TestClient(create_app(settings), base_url="http://127.0.0.1") as c:
         yield c
 
 
 def _moodle(seen: list[httpx.Request]) -> httpx.MockTransport:
-    config = {"issuer": ISSUER, "authorization_endpoint": f"{ISSUER}/mod/lti/auth.php",
-              "token_endpoint": f"{ISSUER}/mod/lti/token.php", "jwks_uri": f"{ISSUER}/mod/lti/certs.php",
-              "registration_endpoint": f"{ISSUER}/mod/lti/openid-registration.php",
-              "https://purl.imsglobal.org/spec/lti-platform-configuration": {"product_family_code": "moodle",
-                                                                              "version": "4.3"}}
+    config = {
+        "issuer": ISSUER,
+        "authorization_endpoint": f"{ISSUER}/mod/lti/auth.php",
+        "token_endpoint": f"{ISSUER}/mod/lti/token.php",
+        "jwks_uri": f"{ISSUER}/mod/lti/certs.php",
+        "registration_endpoint": f"{ISSUER}/mod/lti/openid-registration.php",
+        "https://purl.imsglobal.org/spec/lti-platform-configuration": {
+            "product_family_code": "moodle",
+            "version": "4.3",
+        },
+    }
 
     def handler(request: httpx.Request) -> httpx.Response:
         seen.append(request)
@@ -46,9 +56,14 @@ def _moodle(seen: list[httpx.Request]) -> httpx.MockTransport:
         if request.url.path == "/mod/lti/openid-registration.php" and request.method == "POST":
             if request.headers.get("authorization") != "Bearer reg-token-1":
                 return httpx.Response(401)
-            return httpx.Response(200, json={"client_id": "moodle-client-9", **json.loads(request.content),
-                                             "https://purl.imsglobal.org/spec/lti-tool-configuration": {
-                                                 "deployment_id": "5"}})
+            return httpx.Response(
+                200,
+                json={
+                    "client_id": "moodle-client-9",
+                    **json.loads(request.content),
+                    "https://purl.imsglobal.org/spec/lti-tool-configuration": {"deployment_id": "5"},
+                },
+            )
         return httpx.Response(404)
 
     return httpx.MockTransport(handler)
@@ -57,8 +72,10 @@ def _moodle(seen: list[httpx.Request]) -> httpx.MockTransport:
 def test_dynamic_registration_needs_our_code_and_stores_the_platform(client: TestClient) -> None:
     seen: list[httpx.Request] = []
     client.app.state.lti_transport = _moodle(seen)  # type: ignore[attr-defined]
-    params = {"openid_configuration": f"{ISSUER}/mod/lti/openid-configuration.php",
-              "registration_token": "reg-token-1"}
+    params = {
+        "openid_configuration": f"{ISSUER}/mod/lti/openid-configuration.php",
+        "registration_token": "reg-token-1",
+    }
     refused = client.get("/lti/register", params=params)
     assert refused.status_code == 403 and 'data-code="LTI_REGISTRATION_CODE"' in refused.text
     assert seen == []  # nothing was fetched for a request without our code
@@ -85,7 +102,10 @@ def test_a_registration_url_registers_one_platform(client: TestClient) -> None:
     client.app.state.lti_transport = _moodle(seen)  # type: ignore[attr-defined]
     url = client.post("/api/v1/admin/lti/registration-url", headers=admin_headers(client)).json()["url"]
     path = url.removeprefix("http://127.0.0.1")
-    params = {"openid_configuration": f"{ISSUER}/mod/lti/openid-configuration.php", "registration_token": "reg-token-1"}
+    params = {
+        "openid_configuration": f"{ISSUER}/mod/lti/openid-configuration.php",
+        "registration_token": "reg-token-1",
+    }
     # opened without a platform's request (an admin trying the link): refused, and the URL still works
     r = client.get(path)
     assert r.status_code == 400 and 'data-code="LTI_REGISTRATION_INCOMPLETE"' in r.text
@@ -115,8 +135,13 @@ def test_dynamic_registration_refuses_a_configuration_of_another_site(client: Te
 
 
 def test_admin_registration_validates_urls(client: TestClient) -> None:
-    body = {"issuer": "https://x.example", "client_id": "c", "auth_login_url": "javascript:alert(1)",
-            "token_url": "https://x.example/t", "jwks_url": "https://x.example/k"}
+    body = {
+        "issuer": "https://x.example",
+        "client_id": "c",
+        "auth_login_url": "javascript:alert(1)",
+        "token_url": "https://x.example/t",
+        "jwks_url": "https://x.example/k",
+    }
     r = client.post("/api/v1/admin/lti/platforms", json=body, headers=admin_headers(client))
     assert r.status_code == 422 and r.json()["error"]["code"] == "VALIDATION"
     # the issuer is an https URL too (LTI 1.3 core 5.1.2): it names the origin allowed to frame our pages
@@ -136,14 +161,27 @@ def test_private_keys_are_stored_encrypted(client: TestClient) -> None:
         assert "d" not in row.public_jwk  # only the public half is published
 
 
-def test_cli_registers_platforms_and_rotates_keys(tmp_path: Path, monkeypatch: pytest.MonkeyPatch,
-                                                  capsys: pytest.CaptureFixture[str]) -> None:
+def test_cli_registers_platforms_and_rotates_keys(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
     monkeypatch.setenv("PALTRAINER_DATA_DIR", str(tmp_path / "data"))
     monkeypatch.delenv("DATABASE_URL", raising=False)
-    args = ["admin", "lti-register", "--issuer", "https://ilias.example.test", "--client-id", "ilias-1",
-            "--auth-url", "https://ilias.example.test/Services/LTI/auth.php",
-            "--token-url", "https://ilias.example.test/Services/LTI/token.php",
-            "--jwks-url", "https://ilias.example.test/Services/LTI/certs.php", "--deployment", "1"]
+    args = [
+        "admin",
+        "lti-register",
+        "--issuer",
+        "https://ilias.example.test",
+        "--client-id",
+        "ilias-1",
+        "--auth-url",
+        "https://ilias.example.test/Services/LTI/auth.php",
+        "--token-url",
+        "https://ilias.example.test/Services/LTI/token.php",
+        "--jwks-url",
+        "https://ilias.example.test/Services/LTI/certs.php",
+        "--deployment",
+        "1",
+    ]
     assert main(args) == 0
     assert main([*args[:-1], "2"]) == 0  # again: the deployment is added, the platform stays one
     assert main(["admin", "lti-platforms"]) == 0

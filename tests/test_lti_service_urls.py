@@ -90,24 +90,38 @@ def test_a_score_is_not_posted_to_a_line_item_off_the_platform(world: World, int
     assert internal.requests == []
     assert world.state.scores == [] and world.state.token_requests == 0
     assert (row.state, row.attempts) == ("pending", 1)
-    assert row.last_error == ("Die Adresse (Notenübertragung) gehört nicht zur registrierten Lernplattform; nichts "
-                              "gesendet. / The address (score service) is not on the registered platform; nothing "
-                              "sent.")
+    assert row.last_error == (
+        "Die Adresse (Notenübertragung) gehört nicht zur registrierten Lernplattform; nichts "
+        "gesendet. / The address (score service) is not on the registered platform; nothing "
+        "sent."
+    )
 
 
 def test_no_line_item_is_looked_up_or_made_off_the_platform(world: World, internal: Internal) -> None:
     world.platform.start()
-    set_link(world, lineitem_url=None, lineitems_url=f"{internal.url}/lineitems",
-             ags_scopes=[ags.SCORE_SCOPE, ags.LINEITEM_SCOPE])
+    set_link(
+        world,
+        lineitem_url=None,
+        lineitems_url=f"{internal.url}/lineitems",
+        ags_scopes=[ags.SCORE_SCOPE, ags.LINEITEM_SCOPE],
+    )
     row = passback(world)
     assert internal.requests == []
     assert SECRET not in (row.last_error or "") and "registrierten Lernplattform" in (row.last_error or "")
 
 
-def test_a_line_item_the_platform_names_off_its_origin_gets_no_score(world: World, internal: Internal) -> None:
+def test_a_line_item_the_platform_names_off_its_origin_gets_no_score(
+    world: World, internal: Internal
+) -> None:
     world.platform.start()
-    world.state.lineitems.append({"id": f"{internal.url}/x/lineitem", "resourceLinkId": "link-1",
-                                  "scoreMaximum": 100, "label": "Nuten"})
+    world.state.lineitems.append(
+        {
+            "id": f"{internal.url}/x/lineitem",
+            "resourceLinkId": "link-1",
+            "scoreMaximum": 100,
+            "label": "Nuten",
+        }
+    )
     set_link(world, lineitem_url=None, ags_scopes=[ags.SCORE_SCOPE, ags.LINEITEM_SCOPE])
     row = passback(world)
     assert internal.requests == []
@@ -122,8 +136,10 @@ def test_the_instructor_reads_our_message_not_the_platform_answer(world: World) 
     world.platform.start()
     set_link(world, lineitem_url=f"{world.platform.url}/lineitems/li-1/lineitem-gone")
     row = passback(world)
-    assert row.last_error == ("Die Lernplattform hat die Anfrage abgelehnt (Notenübertragung, HTTP 404). / "
-                              "The learning platform refused the request (score service, HTTP 404).")
+    assert row.last_error == (
+        "Die Lernplattform hat die Anfrage abgelehnt (Notenübertragung, HTTP 404). / "
+        "The learning platform refused the request (score service, HTTP 404)."
+    )
 
 
 def roster_course(world: World, memberships_url: str) -> int:
@@ -163,7 +179,11 @@ def test_a_roster_pull_does_not_tell_a_closed_port_from_an_open_one(world: World
         db.scalars(select(LtiContext)).one().memberships_url = f"{world.platform.url}/nothing-here"
         db.commit()
     opened = pull(world, course)
-    assert (closed.status, closed.message, closed.message_en) == (opened.status, opened.message, opened.message_en)
+    assert (closed.status, closed.message, closed.message_en) == (
+        opened.status,
+        opened.message,
+        opened.message_en,
+    )
     assert "Teilnehmerliste ließ sich nicht abrufen" in opened.message
 
 
@@ -181,42 +201,80 @@ def platform(client: TestClient) -> Platform:
     return registered_platform(client)
 
 
-OFF = ["http://127.0.0.1:6379/ags", "https://lms.example.test@127.0.0.1/ags", "http://lms.example.test/ags",
-       "https://lms.example.test:8443/ags", "https://metadata.internal/ags", "https://lms.example.test\\@10.0.0.1/ags"]
+OFF = [
+    "http://127.0.0.1:6379/ags",
+    "https://lms.example.test@127.0.0.1/ags",
+    "http://lms.example.test/ags",
+    "https://lms.example.test:8443/ags",
+    "https://metadata.internal/ags",
+    "https://lms.example.test\\@10.0.0.1/ags",
+]
 
 
 @pytest.mark.parametrize("n", range(len(OFF)), ids=OFF)
-def test_a_launch_keeps_no_service_url_off_the_platform(client: TestClient, platform: Platform, n: int) -> None:
+def test_a_launch_keeps_no_service_url_off_the_platform(
+    client: TestClient, platform: Platform, n: int
+) -> None:
     url, ctx = OFF[n], f"course-off-{n}"
-    claims = {LTI + "context": {"id": ctx, "title": "Fachklasse"},
-              LTI + "resource_link": {"id": f"link-{ctx}"},
-              AGS: {"scope": [ags.SCORE_SCOPE, ags.LINEITEM_SCOPE], "lineitem": f"{url}/1/lineitem",
-                    "lineitems": url},
-              NRPS: {"context_memberships_url": f"{url}/memberships", "service_versions": ["2.0"]}}
+    claims = {
+        LTI + "context": {"id": ctx, "title": "Fachklasse"},
+        LTI + "resource_link": {"id": f"link-{ctx}"},
+        AGS: {
+            "scope": [ags.SCORE_SCOPE, ags.LINEITEM_SCOPE],
+            "lineitem": f"{url}/1/lineitem",
+            "lineitems": url,
+        },
+        NRPS: {"context_memberships_url": f"{url}/memberships", "service_versions": ["2.0"]},
+    }
     assert launch(client, platform, sub="teacher-ssrf", roles=INSTRUCTOR, **claims).status_code == 303
     with client.app.state.db.session() as db:  # type: ignore[attr-defined]
-        link = db.scalars(select(LtiResourceLink).where(LtiResourceLink.resource_link_id == f"link-{ctx}")).one()
+        link = db.scalars(
+            select(LtiResourceLink).where(LtiResourceLink.resource_link_id == f"link-{ctx}")
+        ).one()
         context = db.scalars(select(LtiContext).where(LtiContext.context_id == ctx)).one()
         assert (link.lineitem_url, link.lineitems_url, context.memberships_url) == (None, None, None)
 
 
 def test_service_urls_on_the_registered_origins() -> None:
-    https = LtiPlatform(issuer="https://moodle.schule.de", auth_login_url="https://moodle.schule.de/mod/lti/auth.php",
-                        token_url="https://sso.schule.de/token", jwks_url="https://moodle.schule.de/mod/lti/certs.php")
-    ok = ["https://moodle.schule.de/mod/lti/services.php/2/lineitems", "https://MOODLE.schule.de:443/x",
-          "https://sso.schule.de/lineitems"]
-    bad = ["http://moodle.schule.de/mod/lti/services.php", "https://moodle.schule.de:8443/x",
-           "https://moodle.schule.de.evil.example/x", "https://user@moodle.schule.de/x", "ftp://moodle.schule.de/x",
-           "https://moodle.schule.de\\@evil.example/x", "//moodle.schule.de/x", "/mod/lti/services.php", "",
-           "http://127.0.0.1:8000/x"]
+    https = LtiPlatform(
+        issuer="https://moodle.schule.de",
+        auth_login_url="https://moodle.schule.de/mod/lti/auth.php",
+        token_url="https://sso.schule.de/token",
+        jwks_url="https://moodle.schule.de/mod/lti/certs.php",
+    )
+    ok = [
+        "https://moodle.schule.de/mod/lti/services.php/2/lineitems",
+        "https://MOODLE.schule.de:443/x",
+        "https://sso.schule.de/lineitems",
+    ]
+    bad = [
+        "http://moodle.schule.de/mod/lti/services.php",
+        "https://moodle.schule.de:8443/x",
+        "https://moodle.schule.de.evil.example/x",
+        "https://user@moodle.schule.de/x",
+        "ftp://moodle.schule.de/x",
+        "https://moodle.schule.de\\@evil.example/x",
+        "//moodle.schule.de/x",
+        "/mod/lti/services.php",
+        "",
+        "http://127.0.0.1:8000/x",
+    ]
     assert [u for u in ok if not registration.service_url_ok(https, u)] == []
     assert [u for u in bad if registration.service_url_ok(https, u)] == []
     # http only where the platform itself is registered on loopback http (local trials, these tests)
-    local = LtiPlatform(issuer="http://127.0.0.1:8080", auth_login_url="http://127.0.0.1:8080/auth",
-                        token_url="http://127.0.0.1:8080/token", jwks_url="http://127.0.0.1:8080/jwks")
+    local = LtiPlatform(
+        issuer="http://127.0.0.1:8080",
+        auth_login_url="http://127.0.0.1:8080/auth",
+        token_url="http://127.0.0.1:8080/token",
+        jwks_url="http://127.0.0.1:8080/jwks",
+    )
     assert registration.service_url_ok(local, "http://127.0.0.1:8080/lineitems")
     assert not registration.service_url_ok(local, "http://127.0.0.1:8081/lineitems")
     assert not registration.service_url_ok(local, "http://localhost:8080/lineitems")
-    lan = LtiPlatform(issuer="http://10.0.0.5", auth_login_url="http://10.0.0.5/auth", token_url="http://10.0.0.5/t",
-                      jwks_url="http://10.0.0.5/k")
+    lan = LtiPlatform(
+        issuer="http://10.0.0.5",
+        auth_login_url="http://10.0.0.5/auth",
+        token_url="http://10.0.0.5/t",
+        jwks_url="http://10.0.0.5/k",
+    )
     assert not registration.service_url_ok(lan, "http://10.0.0.5/lineitems")

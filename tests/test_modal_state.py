@@ -10,12 +10,34 @@ from core.pipeline import run
 def test_switch_on_state() -> None:
     tp = run("M30")
     state, _ = tp.state_at(0)
-    assert {g: state.active(g) for g in ("motion", "plane", "compensation", "zero_offset", "units",
-                                         "dimensions", "feed_mode", "spindle_mode", "spindle", "coolant",
-                                         "workpiece_change")} == {
-        "motion": "G1", "plane": "G17", "compensation": "G40", "zero_offset": "G54", "units": "G71",
-        "dimensions": "G90", "feed_mode": "G94", "spindle_mode": "G97", "spindle": "M5", "coolant": "M9",
-        "workpiece_change": "M60"}
+    assert {
+        g: state.active(g)
+        for g in (
+            "motion",
+            "plane",
+            "compensation",
+            "zero_offset",
+            "units",
+            "dimensions",
+            "feed_mode",
+            "spindle_mode",
+            "spindle",
+            "coolant",
+            "workpiece_change",
+        )
+    } == {
+        "motion": "G1",
+        "plane": "G17",
+        "compensation": "G40",
+        "zero_offset": "G54",
+        "units": "G71",
+        "dimensions": "G90",
+        "feed_mode": "G94",
+        "spindle_mode": "G97",
+        "spindle": "M5",
+        "coolant": "M9",
+        "workpiece_change": "M60",
+    }
     assert (state.feed, state.speed, state.tool) == (0, 0, None)
 
 
@@ -28,7 +50,13 @@ def test_what_is_active_at_line_n() -> None:
     assert (s5.active("motion"), s5.active("dimensions")) == ("G1", "G91")
     assert p5 == (0, 0, -2)
     s6, _ = tp.state_at(6)
-    assert (s6.active("dimensions"), s6.active("coolant"), s6.feed, s6.speed, s6.tool) == ("G90", "M8", 150, 1200, 1)
+    assert (s6.active("dimensions"), s6.active("coolant"), s6.feed, s6.speed, s6.tool) == (
+        "G90",
+        "M8",
+        150,
+        1200,
+        1,
+    )
 
 
 def test_feed_and_speed_act_at_block_start() -> None:

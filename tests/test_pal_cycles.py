@@ -35,11 +35,15 @@ def ends(moves: list[Move], kind: str | None = None) -> list[tuple[float, float,
 
 def plunges(moves: list[Move]) -> list[tuple[float, float]]:
     """(x, y) of each feed move straight down: where the holes are."""
-    return [(round(m.end[0], 3), round(m.end[1], 3)) for m in moves
-            if m.kind == "feed" and m.end[2] < m.start[2] and m.start[:2] == m.end[:2]]
+    return [
+        (round(m.end[0], 3), round(m.end[1], 3))
+        for m in moves
+        if m.kind == "feed" and m.end[2] < m.start[2] and m.start[:2] == m.end[:2]
+    ]
 
 
 # -- the definition/call model ------------------------------------------------------------------------------------
+
 
 def test_a_definition_moves_nothing_and_the_call_drills_there() -> None:
     tp = go("N40 G81 ZI-10 V2")
@@ -53,8 +57,14 @@ def test_a_definition_moves_nothing_and_the_call_drills_there() -> None:
     assert {m.line for m in moves} == {5}  # the calling block
     assert {m.cycle_definition for m in moves} == {4}  # the defining block
     assert {m.cycle for m in moves} == {("G81", 1, 1)}
-    assert moves[2].to_json()["cycle"] == {"code": "G81", "pass": 1, "of": 1, "defined_in_line": 4,
-                                         "point": 1, "points": 1}
+    assert moves[2].to_json()["cycle"] == {
+        "code": "G81",
+        "pass": 1,
+        "of": 1,
+        "defined_in_line": 4,
+        "point": 1,
+        "points": 1,
+    }
 
 
 def test_a_call_without_a_definition_is_an_error_and_moves_nothing() -> None:
@@ -68,8 +78,19 @@ def test_retraction_to_w_between_points_and_up_first_when_below() -> None:
     # the tool stands in the material at Z-1: first up to the retraction height W20, then across
     tp = go("N40 G0 Z2\nN41 G1 Z-1\nN50 G81 ZI-10 V2 W20\nN60 G79 X10 Y0 Z0\nN70 G79 X30 Y0 Z-5")
     moves = cycle_moves(tp)
-    assert ends(moves) == [(0, 0, 20), (10, 0, 20), (10, 0, 2), (10, 0, -10), (10, 0, 2), (10, 0, 20),
-                           (30, 0, 20), (30, 0, -3), (30, 0, -15), (30, 0, -3), (30, 0, 20)]
+    assert ends(moves) == [
+        (0, 0, 20),
+        (10, 0, 20),
+        (10, 0, 2),
+        (10, 0, -10),
+        (10, 0, 2),
+        (10, 0, 20),
+        (30, 0, 20),
+        (30, 0, -3),
+        (30, 0, -15),
+        (30, 0, -3),
+        (30, 0, 20),
+    ]
 
 
 def test_a_call_without_z_takes_the_surface_z0_and_za_is_absolute() -> None:
@@ -80,7 +101,12 @@ def test_a_call_without_z_takes_the_surface_z0_and_za_is_absolute() -> None:
 def test_the_definition_stays_until_replaced() -> None:
     tp = go("N40 G81 ZI-5 V2\nN50 G79 X10 Y0 Z0\nN60 G85 ZI-8 V2 E50\nN70 G79 X20 Y0 Z0\nN80 G79 X30 Y0 Z0")
     assert [(m.cycle[0] if m.cycle else None, m.line) for m in tp.moves if m.kind == "feed"] == [
-        ("G81", 5), ("G85", 7), ("G85", 7), ("G85", 8), ("G85", 8)]
+        ("G81", 5),
+        ("G85", 7),
+        ("G85", 7),
+        ("G85", 8),
+        ("G85", 8),
+    ]
 
 
 def test_g76_points_on_a_line() -> None:
@@ -88,12 +114,18 @@ def test_g76_points_on_a_line() -> None:
     assert plunges(moves) == [(10, 20), (18.66, 25), (27.321, 30)]
 
 
-@pytest.mark.parametrize("words,points", [
-    ("IA50 JA40 R20 AN45 AI90 O3", [(64.142, 54.142), (35.858, 54.142), (35.858, 25.858)]),
-    ("IA50 JA40 R20 AN0 AP180 O3", [(70, 40), (50, 60), (30, 40)]),  # evenly to the last at AP
-    ("IA50 JA40 R20 AN0 O4", [(70, 40), (50, 60), (30, 40), (50, 20)]),  # neither AI nor AP: the full circle
-    ("I10 J0 R5 AN90 AI180 O2", [(10, 5), (10, -5)]),  # I/J: the centre relative to the current point
-])
+@pytest.mark.parametrize(
+    "words,points",
+    [
+        ("IA50 JA40 R20 AN45 AI90 O3", [(64.142, 54.142), (35.858, 54.142), (35.858, 25.858)]),
+        ("IA50 JA40 R20 AN0 AP180 O3", [(70, 40), (50, 60), (30, 40)]),  # evenly to the last at AP
+        (
+            "IA50 JA40 R20 AN0 O4",
+            [(70, 40), (50, 60), (30, 40), (50, 20)],
+        ),  # neither AI nor AP: the full circle
+        ("I10 J0 R5 AN90 AI180 O2", [(10, 5), (10, -5)]),  # I/J: the centre relative to the current point
+    ],
+)
 def test_g77_points_on_a_pitch_circle(words: str, points: list[tuple[float, float]]) -> None:
     moves = cycle_moves(go(f"N40 G81 ZI-5 V2\nN50 G77 {words} Z0"))
     assert plunges(moves) == [(pytest.approx(x, abs=1e-3), pytest.approx(y, abs=1e-3)) for x, y in points]
@@ -110,6 +142,7 @@ def test_calls_in_a_shifted_frame_land_in_workpiece_coordinates() -> None:
 
 
 # -- drilling cycles ------------------------------------------------------------------------------------------------
+
 
 def test_g82_steps_with_da_dr_dm() -> None:
     # first step DA6, then D5 less 1 per step but not below DM2: 6, 4, 3, 2, 2, 2, then the last 1 mm to Z-20;
@@ -151,8 +184,9 @@ def test_g84_left_hand_and_its_warnings() -> None:
     down, up = [m for m in cycle_moves(tp) if m.kind == "feed"]
     assert (down.spindle_direction, up.spindle_direction, down.feed) == ("ccw", "cw", pytest.approx(750))
     assert ("PAL-W607", 4) in codes(go("N40 G84 ZI-15 F1.3 M3 V3\nN50 G79 X0 Y0 Z0"))
-    stopped = run("N10 T1 TC1 M6\nN20 S500 F100\nN30 G84 ZI-10 F1 M3 V2\nN35 M5\nN40 G79 X0 Y0 Z0\nM30",
-                  setup=SETUP)
+    stopped = run(
+        "N10 T1 TC1 M6\nN20 S500 F100\nN30 G84 ZI-10 F1 M3 V2\nN35 M5\nN40 G79 X0 Y0 Z0\nM30", setup=SETUP
+    )
     assert ("PAL-W606", 5) in codes(stopped)
     assert ("PAL-E102", 4) in codes(go("N40 G84 ZI-15 F1.5 V3"))  # M3/M4 missing
 
@@ -165,12 +199,17 @@ def test_g85_out_at_e_and_g86_spindle_stop_and_retraction() -> None:
     assert [m.spindle for m in moves[1:]] == [1000, 0, 0, 0]
 
 
-@pytest.mark.parametrize("v,arcs,last", [
-    # hole R10, tool radius 5: the centre on radius 5 about X0 Y0; helix from the safety height V down to Z-10
-    (2, [(5, 0, -2), (5, 0, -6), (5, 0, -10)], (5, 0, -10)),  # 12 mm at pitch 4: three whole turns
-    (1, [(5, 0, -3), (5, 0, -7), (0, -5, -10)], (0, -5, -10)),  # 11 mm: two turns and three quarters
-])
-def test_g87_helix_end_points(v: float, arcs: list[tuple[float, float, float]], last: tuple[float, float, float]) -> None:
+@pytest.mark.parametrize(
+    "v,arcs,last",
+    [
+        # hole R10, tool radius 5: the centre on radius 5 about X0 Y0; helix from the safety height V down to Z-10
+        (2, [(5, 0, -2), (5, 0, -6), (5, 0, -10)], (5, 0, -10)),  # 12 mm at pitch 4: three whole turns
+        (1, [(5, 0, -3), (5, 0, -7), (0, -5, -10)], (0, -5, -10)),  # 11 mm: two turns and three quarters
+    ],
+)
+def test_g87_helix_end_points(
+    v: float, arcs: list[tuple[float, float, float]], last: tuple[float, float, float]
+) -> None:
     moves = cycle_moves(go(f"N40 G87 ZI-10 R10 D4 V{v}\nN50 G79 X0 Y0 Z0"))
     helix = [m for m in moves if m.kind == "arc"]
     assert [tuple(round(c, 3) + 0.0 for c in m.end) for m in helix[:-1]] == arcs
@@ -184,24 +223,34 @@ def test_g87_helix_end_points(v: float, arcs: list[tuple[float, float, float]], 
 def test_g87_tool_not_smaller_than_the_hole_is_an_error() -> None:
     tp = go("N40 G87 ZI-10 R5 D2 V2\nN50 G79 X0 Y0 Z0")
     assert codes(tp) == [("PAL-E602", 5)]
-    assert tp.diagnostics[0].message == "G87: das Werkzeug T1 (Ø10 mm) ist zu groß für die Bohrung Ø10 mm." and cycle_moves(tp) == []
+    assert (
+        tp.diagnostics[0].message == "G87: das Werkzeug T1 (Ø10 mm) ist zu groß für die Bohrung Ø10 mm."
+        and cycle_moves(tp) == []
+    )
 
 
 # -- diagnostics of definitions and calls ---------------------------------------------------------------------------
 
-@pytest.mark.parametrize("program,expected", [
-    ("N40 G81 ZI-10", ("PAL-E102", 4)),  # V missing
-    ("N40 G81 V2", ("PAL-E102", 4)),  # ZA/ZI missing
-    ("N40 G81 ZA-10 ZI-10 V2", ("PAL-E107", 4)),  # both
-    ("N40 G82 ZI-10 D0 V2", ("PAL-E213", 4)),  # D ≤ 0
-    ("N40 G81 ZI5 V2", ("PAL-E603", 4)),  # the bottom above the surface
-    ("N40 G81 ZA5 V2\nN50 G79 X0 Y0 Z0", ("PAL-E603", 5)),  # ZA above the call's surface
-    ("N40 G41 G0 X10 Y10\nN50 G81 ZI-5 V2", ("PAL-E608", 5)),  # a definition under compensation
-    ("N40 G81 ZI-5 V2\nN45 G41 G0 X10 Y10\nN50 G79 X0 Y0 Z0", ("PAL-E608", 6)),  # a call under compensation
-    ("N40 G81 ZI-5 V2\nN50 G77 IA0 JA0 R10 O0", ("PAL-E611", 5)),  # no points
-    ("N40 G81 ZI-5 V2\nN50 G76 X0 Y0 D0.001 O100000", ("PAL-E610", 5)),  # beyond the run's limits
-    ("N40 G82 ZI-100 D5 DM0.0001 DR5 V2\nN50 G79 X0 Y0 Z0", ("PAL-E610", 5)),
-])
+
+@pytest.mark.parametrize(
+    "program,expected",
+    [
+        ("N40 G81 ZI-10", ("PAL-E102", 4)),  # V missing
+        ("N40 G81 V2", ("PAL-E102", 4)),  # ZA/ZI missing
+        ("N40 G81 ZA-10 ZI-10 V2", ("PAL-E107", 4)),  # both
+        ("N40 G82 ZI-10 D0 V2", ("PAL-E213", 4)),  # D ≤ 0
+        ("N40 G81 ZI5 V2", ("PAL-E603", 4)),  # the bottom above the surface
+        ("N40 G81 ZA5 V2\nN50 G79 X0 Y0 Z0", ("PAL-E603", 5)),  # ZA above the call's surface
+        ("N40 G41 G0 X10 Y10\nN50 G81 ZI-5 V2", ("PAL-E608", 5)),  # a definition under compensation
+        (
+            "N40 G81 ZI-5 V2\nN45 G41 G0 X10 Y10\nN50 G79 X0 Y0 Z0",
+            ("PAL-E608", 6),
+        ),  # a call under compensation
+        ("N40 G81 ZI-5 V2\nN50 G77 IA0 JA0 R10 O0", ("PAL-E611", 5)),  # no points
+        ("N40 G81 ZI-5 V2\nN50 G76 X0 Y0 D0.001 O100000", ("PAL-E610", 5)),  # beyond the run's limits
+        ("N40 G82 ZI-100 D5 DM0.0001 DR5 V2\nN50 G79 X0 Y0 Z0", ("PAL-E610", 5)),
+    ],
+)
 def test_cycle_diagnostics(program: str, expected: tuple[str, int]) -> None:
     tp = go(program)
     assert expected in codes(tp)
@@ -228,15 +277,22 @@ def test_the_still_unsupported_forms_say_so_once() -> None:
 
 
 def test_bad_words_never_crash() -> None:
-    for block in ("G72 ZI-5 LP-4 BP3 D1 V2", "G73 ZI-5 R0 D1 V2", "G87 ZI-5 R8 D0.00001 V2",
-                  "G75 ZI-2 BP8 RP2 AN0 AO0 D1 V2", "G74 ZI-2 LP5 BP10 D1 V2", "G72 ZI-5 LP40 BP30 D1 V2 H3",
-                  "G72 ZI-5 LP40 BP30 D1 V2 DB0"):
+    for block in (
+        "G72 ZI-5 LP-4 BP3 D1 V2",
+        "G73 ZI-5 R0 D1 V2",
+        "G87 ZI-5 R8 D0.00001 V2",
+        "G75 ZI-2 BP8 RP2 AN0 AO0 D1 V2",
+        "G74 ZI-2 LP5 BP10 D1 V2",
+        "G72 ZI-5 LP40 BP30 D1 V2 H3",
+        "G72 ZI-5 LP40 BP30 D1 V2 DB0",
+    ):
         tp = go(f"N40 {block}\nN50 G79 X0 Y0 Z0")
         assert tp.diagnostics, block
         assert math.isfinite(sum(m.end[2] for m in tp.moves))
 
 
 # -- help and docs ----------------------------------------------------------------------------------------------------
+
 
 def test_hover_help_of_every_cycle_says_reconstructed_and_its_example_runs() -> None:
     from core.dialects.pal_mill import TABLE
@@ -252,8 +308,10 @@ def test_hover_help_of_every_cycle_says_reconstructed_and_its_example_runs() -> 
         assert all(TABLE.addresses[a].unit == "mm" for a in ("V", "LP", "BP", "AK", "AL", "DA", "DM", "VB"))
         definition = code.example if name in DEFINITIONS else "N40 G81 ZI-5 V2"
         call = code.example if name in CALLS else "N60 G79 X50 Y40 Z0"
-        tp = run("N10 T1 TC1 M6\nN20 S500 F100 M3\nN30 G0 X0 Y0 Z50\n" + definition + "\n" + call + "\nN99 M30",
-                 setup=RunSetup(tools=ToolTable({1: Tool(1, "end_mill", 6.0, cutting_length=40.0)})))
+        tp = run(
+            "N10 T1 TC1 M6\nN20 S500 F100 M3\nN30 G0 X0 Y0 Z50\n" + definition + "\n" + call + "\nN99 M30",
+            setup=RunSetup(tools=ToolTable({1: Tool(1, "end_mill", 6.0, cutting_length=40.0)})),
+        )
         assert codes(tp) == [], name
         assert cycle_moves(tp), name
 
@@ -265,7 +323,9 @@ def test_docs_list_every_reconstructed_choice() -> None:
 
     doc = (Path(__file__).parents[1] / "docs" / "pal-milling.md").read_text(encoding="utf-8")
     assert "## Zyklen" in doc and "Nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in doc
-    assert reconstructed_markdown() in doc, "docs/pal-milling.md: paste core.interpreter.pal_cycles.reconstructed_markdown()"
+    assert reconstructed_markdown() in doc, (
+        "docs/pal-milling.md: paste core.interpreter.pal_cycles.reconstructed_markdown()"
+    )
 
 
 def test_a_call_after_a_rejected_definition_is_its_follow_up() -> None:
@@ -277,7 +337,6 @@ def test_a_call_after_a_rejected_definition_is_its_follow_up() -> None:
     assert go("N50 G79 X10 Y0 Z0").diagnostics[0].follows_from is None
 
 
-
 def test_a_rejected_definition_replaces_the_earlier_one() -> None:
     # the pocket of line 4 is not milled again at line 7: the drilling cycle of line 6 (V missing) replaced it
     tp = go("N40 G73 ZI-6 R12 D3 V2 W5\nN50 G79 X75 Y40 Z0\nN60 G81 ZI-3 W5\nN70 G79 X30 Y70 Z0")
@@ -285,12 +344,21 @@ def test_a_rejected_definition_replaces_the_earlier_one() -> None:
     assert [m for m in tp.moves if m.line == 7] == [] and any(m.line == 5 for m in tp.moves)
 
 
-@pytest.mark.parametrize("program,expected", [
-    ("N40 G72 ZI-90000 LP40 BP30 D0.001 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # levels, refused before they are made
-    ("N40 G72 ZI-2 LP90000 BP90000 DB1 D2 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # rings
-    ("N40 G83 ZI-90000 D0.001 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # steps
-    ("N40 G82 ZI-40 D0.2 V2\nN50 G77 IA0 JA0 R50 O400", "PAL-E017"),  # 400 holes of 200 steps: too many moves
-])
+@pytest.mark.parametrize(
+    "program,expected",
+    [
+        (
+            "N40 G72 ZI-90000 LP40 BP30 D0.001 V2\nN50 G79 X0 Y0 Z0",
+            "PAL-E610",
+        ),  # levels, refused before they are made
+        ("N40 G72 ZI-2 LP90000 BP90000 DB1 D2 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # rings
+        ("N40 G83 ZI-90000 D0.001 V2\nN50 G79 X0 Y0 Z0", "PAL-E610"),  # steps
+        (
+            "N40 G82 ZI-40 D0.2 V2\nN50 G77 IA0 JA0 R50 O400",
+            "PAL-E017",
+        ),  # 400 holes of 200 steps: too many moves
+    ],
+)
 def test_huge_cycles_are_refused_quickly(program: str, expected: str) -> None:
     # refused before any of their moves is made: the work is bounded by counting, not by the clock
     tp = go(program)
@@ -302,8 +370,10 @@ def _words() -> dict[str, tuple[list[str], list[tuple[str, ...]]]]:
     from core.dialects.pal_mill import TABLE
     from core.interpreter.pal_cycles import CALLS, DEFINITIONS
 
-    return {name: (sorted(TABLE.codes[name].words), list(TABLE.codes[name].help_mandatory()))
-            for name in sorted(DEFINITIONS | CALLS)}
+    return {
+        name: (sorted(TABLE.codes[name].words), list(TABLE.codes[name].help_mandatory()))
+        for name in sorted(DEFINITIONS | CALLS)
+    }
 
 
 WORDS = _words()
@@ -318,10 +388,14 @@ def test_any_cycle_and_call_with_any_values_never_crashes(data: st.DataObject) -
     defs = [n for n in WORDS if n not in ("G76", "G77", "G78", "G79")]
     code = data.draw(st.sampled_from(defs))
     call = data.draw(st.sampled_from(["G76", "G77", "G78", "G79"]))
-    value = st.one_of(st.integers(1, 60), st.integers(-60, 60), st.sampled_from([0, 0.001, 1, 2, 4, 14, 90, 100, 360]))
-    def_words, call_words = ([data.draw(st.sampled_from(group)) for group in WORDS[name][1]]
-                             + data.draw(st.lists(st.sampled_from(WORDS[name][0]), max_size=5, unique=True))
-                             for name in (code, call))
+    value = st.one_of(
+        st.integers(1, 60), st.integers(-60, 60), st.sampled_from([0, 0.001, 1, 2, 4, 14, 90, 100, 360])
+    )
+    def_words, call_words = (
+        [data.draw(st.sampled_from(group)) for group in WORDS[name][1]]
+        + data.draw(st.lists(st.sampled_from(WORDS[name][0]), max_size=5, unique=True))
+        for name in (code, call)
+    )
     def_words, call_words = list(dict.fromkeys(def_words)), list(dict.fromkeys(call_words))
     depth = st.integers(-30, 0)
     block = " ".join(f"{w}{data.draw(depth if w in ('ZI', 'ZA') else value)}" for w in def_words)
@@ -344,12 +418,20 @@ def test_hover_help_of_the_cycle_words_says_reconstructed() -> None:
         address = TABLE.addresses[a]
         assert "nach der PAL-Syntax rekonstruiert (nicht aus der Vorlage)" in address.rule_de, a
         assert address.help_en and "reconstructed" in address.rule_en, a
-    assert (TABLE.addresses["DB"].unit, TABLE.addresses["AN"].unit, TABLE.addresses["LP"].unit) == ("%", "°", "mm")
+    assert (TABLE.addresses["DB"].unit, TABLE.addresses["AN"].unit, TABLE.addresses["LP"].unit) == (
+        "%",
+        "°",
+        "mm",
+    )
 
 
 def test_the_help_of_a_cycle_word_says_how_certain_its_meaning_is() -> None:
     addresses = DIALECTS["pal-mill"].table.addresses
-    assert addresses["LP"].rule_de.startswith("Zyklenwort, Bedeutung sicher (H); nach der PAL-Syntax rekonstruiert")
+    assert addresses["LP"].rule_de.startswith(
+        "Zyklenwort, Bedeutung sicher (H); nach der PAL-Syntax rekonstruiert"
+    )
     assert addresses["DR"].rule_de.startswith("Zyklenwort, Bedeutung unsicher (L)")
-    assert addresses["VB"].rule_en.startswith("cycle word, meaning likely (M); reconstructed from the PAL syntax")
+    assert addresses["VB"].rule_en.startswith(
+        "cycle word, meaning likely (M); reconstructed from the PAL syntax"
+    )
     assert addresses["LP"].unit == "mm" and addresses["DB"].unit == "%"

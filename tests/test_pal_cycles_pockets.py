@@ -46,6 +46,7 @@ def extent(moves: list[Move]) -> tuple[float, float, float, float]:
 
 # -- G72 rectangular pocket -----------------------------------------------------------------------------------------
 
+
 def test_g72_levels_spread_evenly_when_d_does_not_divide_the_depth() -> None:
     tp = go("N40 G72 ZI-5 LP40 BP30 RN8 D2 V2\nN50 G79 X50 Y40 Z0")
     assert codes(tp) == []
@@ -100,7 +101,9 @@ def test_g72_conventional_milling_and_helical_plunge() -> None:
 def test_g72_diagnostics() -> None:
     tp = go("N40 G72 ZI-2 LP40 BP8 D2 V2\nN50 G79 X50 Y40 Z0")
     assert codes(tp) == [("PAL-E602", 5)]
-    assert tp.diagnostics[0].message.endswith("(Ø10 mm) ist zu groß für die Tasche mit der kleineren Seite 8 mm.")
+    assert tp.diagnostics[0].message.endswith(
+        "(Ø10 mm) ist zu groß für die Tasche mit der kleineren Seite 8 mm."
+    )
     assert codes(go("N40 G72 ZI-2 LP40 BP30 RN3 D2 V2\nN50 G79 X50 Y40 Z0")) == [("PAL-W609", 5)]
     assert codes(go("N40 G72 ZI-2 LP40 BP30 AK11 D2 V2\nN50 G79 X50 Y40 Z0")) == [("PAL-E605", 5)]
     assert codes(go("N40 G72 ZI-2 LP40 BP30 AL2 D2 V2\nN50 G79 X50 Y40 Z0")) == [("PAL-E605", 5)]
@@ -110,6 +113,7 @@ def test_g72_diagnostics() -> None:
 
 
 # -- G73, G74, G75 --------------------------------------------------------------------------------------------------
+
 
 def test_g73_circular_pocket() -> None:
     tp = go("N40 G73 ZI-3 R18 D1.5 V2\nN50 G79 X50 Y40 Z0")
@@ -150,11 +154,14 @@ def test_g75_arc_slot() -> None:
 
 # -- the property: any G72 that fits stays in its outline and removes the nominal pocket --------------------------
 
+
 @st.composite
 def pockets(draw: st.DrawFn) -> tuple[float, float, float, float, float, float]:
     lp = draw(st.integers(24, 160)) / 4  # 6 … 40 mm
     bp = draw(st.integers(24, 120)) / 4
-    diameter = draw(st.integers(6, min(int(min(lp, bp) * 4), 64))) / 4  # 1.5 … 16 mm, no wider than the pocket
+    diameter = (
+        draw(st.integers(6, min(int(min(lp, bp) * 4), 64))) / 4
+    )  # 1.5 … 16 mm, no wider than the pocket
     rn = draw(st.floats(diameter / 2, min(lp, bp) / 2))
     depth = draw(st.integers(2, 40)) / 4
     d = draw(st.integers(2, 24)) / 4
@@ -166,7 +173,9 @@ def pockets(draw: st.DrawFn) -> tuple[float, float, float, float, float, float]:
 def test_g72_stays_in_its_outline_and_removes_the_nominal_volume(case: tuple[float, ...]) -> None:
     lp, bp, rn, depth, d, diameter = case
     rt = diameter / 2
-    tp = go(f"N40 G72 ZI-{depth:g} LP{lp:g} BP{bp:g} RN{max(rn, rt):g} D{d:g} V2\nN50 G79 X50 Y40 Z0", diameter)
+    tp = go(
+        f"N40 G72 ZI-{depth:g} LP{lp:g} BP{bp:g} RN{max(rn, rt):g} D{d:g} V2\nN50 G79 X50 Y40 Z0", diameter
+    )
     assert [c for c, _ in codes(tp)] == []
     rn = max(rn, rt)
     a, b, rc = lp / 2 - rt, bp / 2 - rt, rn - rt  # the outline shrunk by the tool radius
@@ -185,10 +194,13 @@ def test_g72_stays_in_its_outline_and_removes_the_nominal_volume(case: tuple[flo
 
 # -- the drilled part ---------------------------------------------------------------------------------------------
 
+
 def test_holes_on_a_pitch_circle_remove_their_nominal_volume() -> None:
     drill = ToolTable({1: Tool(1, "twist_drill", 8.0, point_angle=118.0, cutting_length=40.0)})
-    text = ("N10 T1 TC1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z50\nN40 G83 ZI-12 D5 V2\n"
-            "N50 G77 IA50 JA40 R25 AN45 O4 Z0\nN60 G0 Z100 M30\n")
+    text = (
+        "N10 T1 TC1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z50\nN40 G83 ZI-12 D5 V2\n"
+        "N50 G77 IA50 JA40 R25 AN45 O4 Z0\nN60 G0 Z100 M30\n"
+    )
     tp = run(text, setup=RunSetup(tools=drill))
     assert codes(tp) == []
     cone = 4 / math.tan(math.radians(59))

@@ -30,7 +30,12 @@ def test_words_with_spans_and_block_number() -> None:
     assert diags == []
     assert block.number == 70
     assert [(w.address, w.value) for w in block.words] == [
-        ("G", 2), ("X", 56.4), ("Y", 10), ("I", -20), ("J", 6.4)]
+        ("G", 2),
+        ("X", 56.4),
+        ("Y", 10),
+        ("I", -20),
+        ("J", 6.4),
+    ]
     x = block.words[1]
     assert (x.span.line, x.span.column, x.span.end_column) == (1, 8, 13)
 
@@ -40,7 +45,9 @@ def test_two_letter_addresses_match_longest_first() -> None:
     assert [w.address for w in block.words] == ["G", "XI", "YA", "RN", "TC", "AS", "IA"]
 
 
-@pytest.mark.parametrize("text,value", [("G01", 1), ("T01", 1), ("X+5", 5), ("X-.5", -0.5), ("X5.", 5), ("X007.50", 7.5)])
+@pytest.mark.parametrize(
+    "text,value", [("G01", 1), ("T01", 1), ("X+5", 5), ("X-.5", -0.5), ("X5.", 5), ("X007.50", 7.5)]
+)
 def test_numbers_with_leading_zeros_and_signs(text: str, value: float) -> None:
     block, diags = parse(text)
     assert diags == [] and block.words[0].value == value
@@ -73,8 +80,18 @@ def test_value_less_flags_for_mirroring() -> None:
 
 @pytest.mark.parametrize(
     "line",
-    ["N10 G1 X-3.5 Y+.5 ; c", "G01X10Y20", "N120 G0 X250 Y150 Z250 M30", "/1 N5 M3", "T1 TC1 M6",
-     "N70 G2 X56.4 Y10 I-20 J6.4 F150", "  G1   X1  ", "", "; only a comment", "X 10"],
+    [
+        "N10 G1 X-3.5 Y+.5 ; c",
+        "G01X10Y20",
+        "N120 G0 X250 Y150 Z250 M30",
+        "/1 N5 M3",
+        "T1 TC1 M6",
+        "N70 G2 X56.4 Y10 I-20 J6.4 F150",
+        "  G1   X1  ",
+        "",
+        "; only a comment",
+        "X 10",
+    ],
 )
 def test_fast_path_and_grammar_agree(line: str) -> None:
     fast, diags = parse(line)

@@ -42,8 +42,14 @@ def _exercise(slug: str, folder: str = "pal-mill"):  # type: ignore[no-untyped-d
     return load_exercise(ROOT / "exercises" / folder / f"{slug}.yaml")
 
 
-def _mill(text: str, stock: Stock = STOCK, tools=None, lang: str = "de",  # type: ignore[no-untyped-def]
-          limits: PictureLimits | None = None, resolution: float = 0.25):
+def _mill(
+    text: str,
+    stock: Stock = STOCK,
+    tools=None,
+    lang: str = "de",  # type: ignore[no-untyped-def]
+    limits: PictureLimits | None = None,
+    resolution: float = 0.25,
+):
     setup = RunSetup(tools=tools) if tools is not None else RunSetup()
     toolpath = run(text, "pal-mill", setup)
     result = simulate(toolpath, stock, setup.tools, resolution)
@@ -53,8 +59,9 @@ def _mill(text: str, stock: Stock = STOCK, tools=None, lang: str = "de",  # type
 def _reference(slug: str, lang: str = "de"):  # type: ignore[no-untyped-def]
     ex = _exercise(slug)
     tools = ex.tool_table()
-    setup = RunSetup(tools=tools, zero_offsets=tuple(ex.zero_offsets.items()),
-                     subprograms=tuple(ex.subprograms.items()))
+    setup = RunSetup(
+        tools=tools, zero_offsets=tuple(ex.zero_offsets.items()), subprograms=tuple(ex.subprograms.items())
+    )
     toolpath = run(ex.reference, ex.dialect, setup)
     stock = ex.stock.stock()
     return mill_picture(toolpath, simulate(toolpath, stock, tools, 0.25).heightmap, stock, lang)
@@ -100,9 +107,9 @@ def _png_pixels(root: ET.Element) -> np.ndarray:
     width, height = struct.unpack(">II", data[16:24])
     raw, pos = b"", 8
     while pos < len(data):
-        length = struct.unpack(">I", data[pos:pos + 4])[0]
-        if data[pos + 4:pos + 8] == b"IDAT":
-            raw += data[pos + 8:pos + 8 + length]
+        length = struct.unpack(">I", data[pos : pos + 4])[0]
+        if data[pos + 4 : pos + 8] == b"IDAT":
+            raw += data[pos + 8 : pos + 8 + length]
         pos += 12 + length
     rows = np.frombuffer(zlib.decompress(raw), dtype=np.uint8).reshape(height, 1 + 3 * width)
     return rows[:, 1:].reshape(height, width, 3)
@@ -122,7 +129,9 @@ def test_plan_view_of_a_milling_exercise() -> None:
     x, y = _to_px(info, 0, 70)
     box = outline[0]
     assert abs(float(box.get("x")) - x) < 0.02 and abs(float(box.get("y")) - y) < 0.02
-    assert abs(float(box.get("width")) - 80 * scale) < 0.02 and abs(float(box.get("height")) - 70 * scale) < 0.02
+    assert (
+        abs(float(box.get("width")) - 80 * scale) < 0.02 and abs(float(box.get("height")) - 70 * scale) < 0.02
+    )
     # the depth raster fills the stock's outline
     image = next(root.iter(f"{SVG}image"))
     assert image.get("width") == box.get("width") and image.get("height") == box.get("height")
@@ -151,12 +160,27 @@ def test_plan_view_of_a_milling_exercise() -> None:
     # the retract to X250 Y150 leaves the picture: where to is written at its edge
     assert any("→ X250 Y150 Z250" in t for t in texts)
     # axes with coordinates, the zero symbol at the zero, the legend
-    for label in ("X", "Y", "20", "40", "60", "80", "Eilgang", "Vorschub (Werkzeugmitte)", "programmierte Kontur",
-                  "Werkstücknullpunkt", "Raster 0,25 mm"):
+    for label in (
+        "X",
+        "Y",
+        "20",
+        "40",
+        "60",
+        "80",
+        "Eilgang",
+        "Vorschub (Werkzeugmitte)",
+        "programmierte Kontur",
+        "Werkstücknullpunkt",
+        "Raster 0,25 mm",
+    ):
         assert label in texts, label
     zero = _to_px(info, 0, 0)
-    assert any(abs(float(c.get("cx")) - zero[0]) < 0.02 and abs(float(c.get("cy")) - zero[1]) < 0.02
-               and c.get("stroke") == "#262a31" for c in root.iter(f"{SVG}circle"))
+    assert any(
+        abs(float(c.get("cx")) - zero[0]) < 0.02
+        and abs(float(c.get("cy")) - zero[1]) < 0.02
+        and c.get("stroke") == "#262a31"
+        for c in root.iter(f"{SVG}circle")
+    )
 
 
 @pytest.mark.parametrize(("slug", "sweep"), [("pal-05-g2-kreisbogen", "0"), ("pal-06-g3-kreisbogen", "1")])
@@ -195,8 +219,10 @@ def test_blocks_an_error_kept_from_running_are_marked() -> None:
     # the marker stands where the tool was when line 6 was skipped (after N50 at X15 Y-15, from the G41 move)
     _, position = toolpath.state_at(6)
     x, y = _to_px(picture.info, position[0], position[1])
-    assert any(c.get("stroke") == ERROR and abs(float(c.get("cx")) - x) < 0.05 and abs(float(c.get("cy")) - y) < 0.05
-               for c in root.iter(f"{SVG}circle"))
+    assert any(
+        c.get("stroke") == ERROR and abs(float(c.get("cx")) - x) < 0.05 and abs(float(c.get("cy")) - y) < 0.05
+        for c in root.iter(f"{SVG}circle")
+    )
     # a program without errors has no marker
     clean = _parse(mill_picture(run(ex.reference, "pal-mill", setup), None, stock).svg)
     assert not [c for c in clean.iter(f"{SVG}circle") if c.get("stroke") == ERROR]
@@ -226,7 +252,9 @@ def test_english_and_nothing_undefined() -> None:
     for label in ("Depth Z in mm", "Rapid", "Feed (tool centre)", "Workpiece zero", "raster 0.25 mm"):
         assert label in texts, label
     for svg in (picture.svg, _reference("pal-14-g42-innenkontur").svg):
-        assert not re.search(r"\b(NaN|None|null|undefined|inf)\b", svg.split("base64,")[0] + svg.split('"/>', 1)[-1])
+        assert not re.search(
+            r"\b(NaN|None|null|undefined|inf)\b", svg.split("base64,")[0] + svg.split('"/>', 1)[-1]
+        )
 
 
 def test_empty_program_shows_the_stock() -> None:
@@ -249,8 +277,10 @@ def test_depth_levels_and_helpers() -> None:
 def test_turning_drawing_view() -> None:
     """A Ø40 bar turned to Ø30 over 20 mm: the upper half cut open and hatched, the path above the axis, the
     X axis as diameters."""
-    text = ("%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X30 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
-            "N60 G1 X42\nN80 G0 X100 Z100\nN90 M30\n")
+    text = (
+        "%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X30 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
+        "N60 G1 X42\nN80 G0 X100 Z100\nN90 M30\n"
+    )
     toolpath = run(text, "traub-tx8d", RunSetup(tools=DEFAULT_LATHE_TOOLS))
     blank = Blank(40.0, 60.0)
     profile = simulate_turning(toolpath, blank, DEFAULT_LATHE_TOOLS, 0.1).profile

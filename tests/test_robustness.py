@@ -68,11 +68,19 @@ def test_a_memo_gives_the_same_result_as_a_fresh_run() -> None:
 
     base = (Path(__file__).with_name("seeds") / "pal-15-g45-g46.nc").read_text(encoding="utf-8").splitlines()
     memo = Memo()
-    edits = [base, base[:6] + ["N55 G1 X20 RN3"] + base[6:], [*base[:3], "N35 G91 G0 X1", *base[3:]],
-             [line.replace("RN10", "RN12") for line in base], base[:-1], base]
+    edits = [
+        base,
+        base[:6] + ["N55 G1 X20 RN3"] + base[6:],
+        [*base[:3], "N35 G91 G0 X1", *base[3:]],
+        [line.replace("RN10", "RN12") for line in base],
+        base[:-1],
+        base,
+    ]
     for lines in edits:
         text = "\n".join(lines)
         fresh, memoised = run(text), run(text, memo=memo)
-        assert [m.to_json() for m in memoised.moves if isinstance(m, Move)] == [m.to_json() for m in fresh.moves]
+        assert [m.to_json() for m in memoised.moves if isinstance(m, Move)] == [
+            m.to_json() for m in fresh.moves
+        ]
         assert [d.to_json() for d in memoised.diagnostics] == [d.to_json() for d in fresh.diagnostics]
     assert len(memo.lines) == len(base)

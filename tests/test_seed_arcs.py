@@ -58,7 +58,9 @@ def test_g2_example_as_printed_runs_with_compensation(seed: type[SeedReader]) ->
     assert errors(tp) == []
     arcs = [m for m in tp.moves if m.kind == "arc"]
     # the contour arc R21 becomes R21 + 12.5 about the same centre (tool left, outside of the arc)
-    (contour,) = [a for a in arcs if a.line == 8 and a.center is not None and a.center[:2] == pytest.approx((50, 30))]
+    (contour,) = [
+        a for a in arcs if a.line == 8 and a.center is not None and a.center[:2] == pytest.approx((50, 30))
+    ]
     assert contour.radius == pytest.approx(33.499, abs=TOL)
     assert contour.programmed_end == pytest.approx((56.4, 10, -2), abs=TOL)
     assert tp.final_position == (250, 150, 250)

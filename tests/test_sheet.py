@@ -32,8 +32,9 @@ def _pdf_available() -> bool:
     return True
 
 
-needs_pdf = pytest.mark.skipif(not _pdf_available(),
-                               reason="WeasyPrint or Pango missing (bash .ci/run installs them)")
+needs_pdf = pytest.mark.skipif(
+    not _pdf_available(), reason="WeasyPrint or Pango missing (bash .ci/run installs them)"
+)
 
 
 @cache
@@ -112,8 +113,11 @@ def test_picture_of_the_task_page(tmp_path: Path) -> None:
     pdf = tmp_path / "sheet.pdf"
     pdf.write_bytes(pal13_pdf("de"))
     SHOTS.mkdir(parents=True, exist_ok=True)
-    subprocess.run(["pdftoppm", "-png", "-r", "100", "-f", "1", "-l", "2", str(pdf), str(tmp_path / "page")],
-                   check=True, timeout=60)
+    subprocess.run(
+        ["pdftoppm", "-png", "-r", "100", "-f", "1", "-l", "2", str(pdf), str(tmp_path / "page")],
+        check=True,
+        timeout=60,
+    )
     for k, name in ((1, "sheet-pal-13-task.png"), (2, "sheet-pal-13-form.png")):
         shot = next(tmp_path.glob(f"page-*{k}.png"))
         shutil.copy(shot, SHOTS / name)
@@ -138,8 +142,9 @@ def test_form_has_25_rows_of_13_columns_and_the_task_is_escaped() -> None:
     assert re.findall(r"<th>([^<]*)</th>", form) == columns
 
 
-def test_without_weasyprint_it_says_what_is_missing(monkeypatch: pytest.MonkeyPatch, tmp_path: Path,
-                                                    capsys: pytest.CaptureFixture[str]) -> None:
+def test_without_weasyprint_it_says_what_is_missing(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     def no_pango() -> None:
         raise OSError("cannot load library 'libpango-1.0-0': libpango-1.0-0: cannot open shared object file")
 

@@ -41,12 +41,37 @@ def visible_text(page: str) -> str:
 
 def test_every_cutting_data_entry_of_a_turning_tool_is_printed() -> None:
     header, t4, t5 = tool_table(task_sheet_html([exercise("traub-10-schruppen-g71-g88")], "de"))
-    assert header == ["Werkzeug", "Art", "Schneidplatte", "Ø / R (mm)", "V / S", "F (mm/U)", "E (mm/U)",
-                      "Drehrichtung"]
-    assert t4 == ["T4", "Schruppmeißel D R0,8", "D (55°)", "R0,8, Lage P1", "V 160 m/min (G96)", "0,35", "0,12", "M4"]
+    assert header == [
+        "Werkzeug",
+        "Art",
+        "Schneidplatte",
+        "Ø / R (mm)",
+        "V / S",
+        "F (mm/U)",
+        "E (mm/U)",
+        "Drehrichtung",
+    ]
+    assert t4 == [
+        "T4",
+        "Schruppmeißel D R0,8",
+        "D (55°)",
+        "R0,8, Lage P1",
+        "V 160 m/min (G96)",
+        "0,35",
+        "0,12",
+        "M4",
+    ]
     # the finishing tool: F 0,15 and F 0,1 on the cone, E 0,1 at the chamfer
-    assert t5 == ["T5", "Schlichtmeißel V R0,4", "V (35°)", "R0,4, Lage P1", "V 200 m/min (G96)", "0,15 / 0,1", "0,1",
-                  "M4"]
+    assert t5 == [
+        "T5",
+        "Schlichtmeißel V R0,4",
+        "V (35°)",
+        "R0,4, Lage P1",
+        "V 200 m/min (G96)",
+        "0,15 / 0,1",
+        "0,1",
+        "M4",
+    ]
 
 
 def test_speed_under_g97_drills_and_english() -> None:
@@ -93,12 +118,19 @@ def _pdf() -> bool:
     return shutil.which("pdftotext") is not None
 
 
-@pytest.mark.skipif(not _pdf(), reason="WeasyPrint, Pango or poppler-utils missing (bash .ci/run installs them)")
+@pytest.mark.skipif(
+    not _pdf(), reason="WeasyPrint, Pango or poppler-utils missing (bash .ci/run installs them)"
+)
 def test_the_printed_pdf_has_both_feeds(tmp_path: Path) -> None:
     pdf = tmp_path / "tx30.pdf"
     pdf.write_bytes(task_sheet_pdf([exercise("traub-10-schruppen-g71-g88")], "de"))
-    text = subprocess.run(["pdftotext", "-layout", "-f", "1", "-l", "1", str(pdf), "-"], capture_output=True,
-                          text=True, check=True, timeout=60).stdout
+    text = subprocess.run(
+        ["pdftotext", "-layout", "-f", "1", "-l", "1", str(pdf), "-"],
+        capture_output=True,
+        text=True,
+        check=True,
+        timeout=60,
+    ).stdout
     row = next(line for line in text.splitlines() if line.strip().startswith("T4"))
     assert re.search(r"0,35\s+0,12\s+M4", row), row
     assert "V 160 m/min (G96)" in row and "D (55°)" in row

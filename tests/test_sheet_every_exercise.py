@@ -32,7 +32,9 @@ def test_the_sheet_has_no_raw_markdown_and_no_placeholder(exercise: Exercise, la
     assert "**" not in text and "`" not in text, "raw Markdown on the sheet"
     assert not re.search(r"^\s*- \S", text, flags=re.MULTILINE), "a Markdown list printed as text"
     found = PLACEHOLDER.search(text)
-    assert found is None, f"»{found.group(0)}« printed: …{text[max(0, found.start() - 60):found.end() + 60]}…"
+    assert found is None, (
+        f"»{found.group(0)}« printed: …{text[max(0, found.start() - 60) : found.end() + 60]}…"
+    )
 
 
 def test_there_are_turning_and_milling_exercises_among_them() -> None:
@@ -52,6 +54,8 @@ def test_the_printed_pdf_of_every_exercise_has_no_placeholder_and_no_markdown() 
     assert len(reader.pages) >= 2 * len(EXERCISES)  # a task page and a program form each
     assert "**" not in text
     found = PLACEHOLDER.search(text)
-    assert found is None, f"»{found.group(0)}« printed: …{text[max(0, found.start() - 60):found.end() + 60]}…"
+    assert found is None, (
+        f"»{found.group(0)}« printed: …{text[max(0, found.start() - 60) : found.end() + 60]}…"
+    )
     for e in EXERCISES:
         assert e.title.get("de").split(" – ")[0] in text

@@ -17,7 +17,9 @@ PAL_STOCK = Stock(0, 0, -30, 80, 70, 0)  # 80 × 70 × 30, origin at the lower l
 READY = "N10 T1 TC1 M6\nN20 S1200 F150 M3\n"  # lines 1-2: tool 1 in, spindle on, feed set
 
 
-def sim(program: str, tools: ToolTable = DEFAULT_SIM_TOOLS, stock: Stock = PAL_STOCK, **kw: object) -> SimResult:
+def sim(
+    program: str, tools: ToolTable = DEFAULT_SIM_TOOLS, stock: Stock = PAL_STOCK, **kw: object
+) -> SimResult:
     tp = run(program, setup=RunSetup(tools=tools))
     return simulate(tp, stock, tools, **kw)  # type: ignore[arg-type]
 
@@ -125,12 +127,15 @@ def test_plunge_with_a_non_centre_cutting_end_mill() -> None:
     assert slot_drill.events == []
 
 
-@pytest.mark.parametrize("program,code,line", [
-    ("T1 TC1 M6\nF100\nG0 X40 Y35 Z2\nG1 Z-3\nM30", "SIM-E006", 4),  # spindle never started
-    ("F100 S100 M3\nG0 X40 Y35 Z2\nG1 Z-3\nM30", "SIM-E007", 3),  # no tool in the spindle
-    ("T1 M6\nS1000 M3\nG0 X40 Y35 Z2\nG1 Z-3\nM30", "SIM-E008", 4),  # feed 0
-    (READY + "G0 X-20 Y35 Z2\nG1 Z-31\nG0 Z50\nM30", "SIM-E005", 4),  # below the base: into the table
-])
+@pytest.mark.parametrize(
+    "program,code,line",
+    [
+        ("T1 TC1 M6\nF100\nG0 X40 Y35 Z2\nG1 Z-3\nM30", "SIM-E006", 4),  # spindle never started
+        ("F100 S100 M3\nG0 X40 Y35 Z2\nG1 Z-3\nM30", "SIM-E007", 3),  # no tool in the spindle
+        ("T1 M6\nS1000 M3\nG0 X40 Y35 Z2\nG1 Z-3\nM30", "SIM-E008", 4),  # feed 0
+        (READY + "G0 X-20 Y35 Z2\nG1 Z-31\nG0 Z50\nM30", "SIM-E005", 4),  # below the base: into the table
+    ],
+)
 def test_technology_and_table_events(program: str, code: str, line: int) -> None:
     assert (code, line) in events(sim(program))
 
@@ -235,11 +240,19 @@ def test_every_simulation_code_is_in_the_catalogue_with_both_languages() -> None
 
 def test_simulation_json_shape() -> None:
     data = simulation_json(sim(READY + "G0 X40 Y35 Z2\nG0 Z-5\nG0 Z50\nM30"))
-    assert {"removed_volume_mm3", "remaining_volume_mm3", "cycle_time_s", "resolution_mm", "events"} <= set(data)
+    assert {"removed_volume_mm3", "remaining_volume_mm3", "cycle_time_s", "resolution_mm", "events"} <= set(
+        data
+    )
     assert data["resolution_mm"] == 0.1
-    assert data["events"] == [{"code": "SIM-E001", "severity": "error", "line": 4,
-                               "message": data["events"][0]["message"],
-                               "message_en": data["events"][0]["message_en"]}]
+    assert data["events"] == [
+        {
+            "code": "SIM-E001",
+            "severity": "error",
+            "line": 4,
+            "message": data["events"][0]["message"],
+            "message_en": data["events"][0]["message_en"],
+        }
+    ]
     assert data["removed_volume_mm3"] + data["remaining_volume_mm3"] == pytest.approx(80 * 70 * 30)
 
 
@@ -262,8 +275,9 @@ def test_arc_in_the_plane_g18_cuts_a_half_cylinder_groove() -> None:
     from core.pipeline import run as run_program
     from core.sim import Stock, simulate
 
-    tp = run_program("T2 M6\nS1000 F100 M3\nG0 X30 Y35 Z5\nG1 Z0\nG18 G02 Z0 X50 K0 I10\nG0 Z50\nM30",
-                     "sinumerik-iso")
+    tp = run_program(
+        "T2 M6\nS1000 F100 M3\nG0 X30 Y35 Z5\nG1 Z0\nG18 G02 Z0 X50 K0 I10\nG0 Z50\nM30", "sinumerik-iso"
+    )
     assert [d.code for d in tp.diagnostics if d.severity.value == "error"] == []
     result = simulate(tp, Stock(0, 0, -30, 80, 70, 0), resolution=0.2)
     # the flat Ø6 end of the tool sweeps the half circle below Z0: depth at X40 is the radius 10

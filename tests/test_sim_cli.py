@@ -34,8 +34,9 @@ def test_simulate_json(program: Path, capsys: pytest.CaptureFixture[str]) -> Non
     assert data["resolution_mm"] == 0.1 and data["events"] == [] and data["cycle_time_s"] > 0
 
 
-def test_simulate_reports_a_rapid_collision_with_exit_code_1(tmp_path: Path,
-                                                             capsys: pytest.CaptureFixture[str]) -> None:
+def test_simulate_reports_a_rapid_collision_with_exit_code_1(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     path = tmp_path / "crash.nc"
     path.write_text("T1 TC1 M6\nS1200 F150 M3\nG0 X40 Y35 Z2\nG0 Z-5\nG0 Z50\nM30\n", encoding="utf-8")
     code = main(["simulate", str(path), "--json", "--resolution", "0.5"])
@@ -45,35 +46,66 @@ def test_simulate_reports_a_rapid_collision_with_exit_code_1(tmp_path: Path,
     assert data["resolution_mm"] == 0.5
 
 
-def test_simulate_tool_option_and_tool_table(program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_simulate_tool_option_and_tool_table(
+    program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     assert main(["simulate", str(program), "--tool", "1=10", "--json"]) == 0
     smaller = _json(capsys)["removed_volume_mm3"]
     assert smaller < 2800  # a Ø10 tool on the same centre line leaves most of the steps
     tools = tmp_path / "tools.yaml"
-    tools.write_text("tools:\n  - {number: 1, kind: end_mill, diameter: 25, cutting_length: 1}\n", encoding="utf-8")
+    tools.write_text(
+        "tools:\n  - {number: 1, kind: end_mill, diameter: 25, cutting_length: 1}\n", encoding="utf-8"
+    )
     assert main(["simulate", str(program), "--tools", str(tools), "--json"]) == 1
     assert "SIM-E003" in [e["code"] for e in _json(capsys)["events"]]  # type: ignore[attr-defined]
 
 
-def test_simulate_writes_stl_and_png(program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_simulate_writes_stl_and_png(
+    program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     stl, png = tmp_path / "out.stl", tmp_path / "out.png"
-    assert main(["simulate", str(program), "--resolution", "1", "--stl", str(stl), "--png", str(png),
-                 "--max-triangles", "5000"]) == 0
+    assert (
+        main(
+            [
+                "simulate",
+                str(program),
+                "--resolution",
+                "1",
+                "--stl",
+                str(stl),
+                "--png",
+                str(png),
+                "--max-triangles",
+                "5000",
+            ]
+        )
+        == 0
+    )
     assert "2800" in capsys.readouterr().out.replace(",", "")
     data = stl.read_bytes()
     assert 0 < int.from_bytes(data[80:84], "little") <= 5000
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.mark.parametrize("args", [
-    ["--stock", "0,0,-30:80,70"], ["--stock", "0,0,0:80,70,0"], ["--resolution", "0"],
-    ["--tools", "/nonexistent/tools.yaml"], ["--expect-tool", "1"],
-])
-def test_simulate_usage_errors_exit_2(program: Path, args: list[str], capsys: pytest.CaptureFixture[str]) -> None:
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--stock", "0,0,-30:80,70"],
+        ["--stock", "0,0,0:80,70,0"],
+        ["--resolution", "0"],
+        ["--tools", "/nonexistent/tools.yaml"],
+        ["--expect-tool", "1"],
+    ],
+)
+def test_simulate_usage_errors_exit_2(
+    program: Path, args: list[str], capsys: pytest.CaptureFixture[str]
+) -> None:
     assert main(["simulate", str(program), *args]) == 2
 
 
-def test_simulate_bad_tool_table_exit_2(program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+def test_simulate_bad_tool_table_exit_2(
+    program: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     tools = tmp_path / "tools.yaml"
     tools.write_text("tools:\n  - {number: 1, kind: hammer, diameter: 25}\n", encoding="utf-8")
     assert main(["simulate", str(program), "--tools", str(tools)]) == 2

@@ -39,7 +39,9 @@ def _volume(vertices: np.ndarray, triangles: np.ndarray) -> float:
 def test_mesh_is_closed_outward_and_holds_the_remaining_volume() -> None:
     result = simulate(run(POCKET), STOCK, resolution=0.5)
     v, f = surface_mesh(result.heightmap, 10**7)
-    edges = Counter((int(a), int(b)) for tri in f for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])))
+    edges = Counter(
+        (int(a), int(b)) for tri in f for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))
+    )
     assert all(edges[(b, a)] == 1 for (a, b), n in edges.items() if n == 1)  # every edge once each way
     assert all(n == 1 for n in edges.values())
     # vertices sit on cell centres, so the hole's rim is a little soft; the volume still matches
@@ -83,10 +85,12 @@ def _png_pixels(data: bytes) -> np.ndarray:
     assert data[:8] == b"\x89PNG\r\n\x1a\n"
     pos, chunks = 8, {}
     while pos < len(data):
-        (length,) = struct.unpack(">I", data[pos:pos + 4])
-        kind = data[pos + 4:pos + 8]
-        chunks[kind] = chunks.get(kind, b"") + data[pos + 8:pos + 8 + length]
-        assert struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])[0] == zlib.crc32(kind + data[pos + 8:pos + 8 + length])
+        (length,) = struct.unpack(">I", data[pos : pos + 4])
+        kind = data[pos + 4 : pos + 8]
+        chunks[kind] = chunks.get(kind, b"") + data[pos + 8 : pos + 8 + length]
+        assert struct.unpack(">I", data[pos + 8 + length : pos + 12 + length])[0] == zlib.crc32(
+            kind + data[pos + 8 : pos + 8 + length]
+        )
         pos += 12 + length
     w, h = struct.unpack(">II", chunks[b"IHDR"][:8])
     raw = np.frombuffer(zlib.decompress(chunks[b"IDAT"]), dtype=np.uint8).reshape(h, w + 1)
@@ -138,19 +142,25 @@ def test_tool_table_round_trip_with_offsets() -> None:
     assert parse_tool_table(tool_table_yaml(table)) == table
 
 
-@pytest.mark.parametrize("text,fragment", [
-    ("tools: [{number: 1, kind: end_mill}]", "diameter"),
-    ("tools: [{number: 1, kind: drill, diameter: 5}]", "kind"),
-    ("tools: [{number: 1, kind: end_mill, diameter: 5, colour: red}]", "colour"),
-    ("tools: [{number: 1, kind: end_mill, diameter: 5}, {number: 1, kind: end_mill, diameter: 6}]", "T1"),
-    ("tools: [{number: 1, kind: end_mill, diameter: 5, cutting_length: 20, overall_length: 10}]", "overall_length"),
-    ("tools: [{number: 1, kind: torus, diameter: 5}]", "corner_radius"),
-    ("tools: [{number: 1, kind: end_mill, diameter: 5, tc: {10: {radius: 2, length: 50}}}]", "TC10"),
-    ("tools: [{number: 1, kind: end_mill, diameter: -5}]", "diameter"),
-    ("tools: [1, 2]", "Eintrag 1"),
-    ("[a", "YAML"),
-    ("tool: []", "tools"),
-])
+@pytest.mark.parametrize(
+    "text,fragment",
+    [
+        ("tools: [{number: 1, kind: end_mill}]", "diameter"),
+        ("tools: [{number: 1, kind: drill, diameter: 5}]", "kind"),
+        ("tools: [{number: 1, kind: end_mill, diameter: 5, colour: red}]", "colour"),
+        ("tools: [{number: 1, kind: end_mill, diameter: 5}, {number: 1, kind: end_mill, diameter: 6}]", "T1"),
+        (
+            "tools: [{number: 1, kind: end_mill, diameter: 5, cutting_length: 20, overall_length: 10}]",
+            "overall_length",
+        ),
+        ("tools: [{number: 1, kind: torus, diameter: 5}]", "corner_radius"),
+        ("tools: [{number: 1, kind: end_mill, diameter: 5, tc: {10: {radius: 2, length: 50}}}]", "TC10"),
+        ("tools: [{number: 1, kind: end_mill, diameter: -5}]", "diameter"),
+        ("tools: [1, 2]", "Eintrag 1"),
+        ("[a", "YAML"),
+        ("tool: []", "tools"),
+    ],
+)
 def test_bad_tool_tables_say_what_is_wrong(text: str, fragment: str) -> None:
     with pytest.raises(ToolTableError) as err:
         parse_tool_table(text)
@@ -159,6 +169,8 @@ def test_bad_tool_tables_say_what_is_wrong(text: str, fragment: str) -> None:
 
 def test_tool_table_reaches_the_interpreter_and_the_simulation() -> None:
     table = parse_tool_table("tools: [{number: 9, kind: ball_nose, diameter: 10, cutting_length: 20}]")
-    tp = run("T9 TC1 M6\nS1200 F150 M3\nG0 X-10 Y35 Z2\nG1 Z-5\nG1 X90\nG0 Z50\nM30", setup=RunSetup(tools=table))
+    tp = run(
+        "T9 TC1 M6\nS1200 F150 M3\nG0 X-10 Y35 Z2\nG1 Z-5\nG1 X90\nG0 Z50\nM30", setup=RunSetup(tools=table)
+    )
     assert not [d for d in tp.diagnostics if d.severity.value == "error"]
     assert simulate(tp, STOCK, table).removed_volume == pytest.approx(math.pi * 25 / 2 * 80, rel=0.01)

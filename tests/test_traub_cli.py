@@ -19,7 +19,9 @@ def write(path: Path, text: str) -> str:
 
 
 def test_run_json_gives_x_as_a_radius(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["run", str(SEEDS / "tx-09-absolut-inkremental.nc"), "--dialect", "traub-tx8d", "--json"]) == 0
+    assert (
+        main(["run", str(SEEDS / "tx-09-absolut-inkremental.nc"), "--dialect", "traub-tx8d", "--json"]) == 0
+    )
     moves = json.loads(capsys.readouterr().out)["moves"]
     assert moves[2]["end"] == [30.0, 0.0, -55.0]  # X60 Z-55
     assert moves[2]["plane"] == "G18"
@@ -31,8 +33,9 @@ def test_run_trace_writes_x_as_a_diameter(capsys: pytest.CaptureFixture[str]) ->
     assert out[-1] == "7 feed X0 Z2 -> X0 Z-20 F0.1 S800"
 
 
-def test_skip_blocks_default_per_dialect_and_explicit_switches(tmp_path: Path,
-                                                               capsys: pytest.CaptureFixture[str]) -> None:
+def test_skip_blocks_default_per_dialect_and_explicit_switches(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
     path = str(SEEDS / "tx-47-ausblendsatz.nc")
     counts = {}
     for flag in ([], ["--skip-blocks"], ["--no-skip-blocks"]):
@@ -72,7 +75,9 @@ def test_missing_program_without_library(tmp_path: Path, capsys: pytest.CaptureF
 def test_nose_option_reaches_the_tool_table(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     from core.cli import _parser, setup_from_args
 
-    args = _parser().parse_args(["run", "x.nc", "--dialect", "traub-tx8d", "--nose", "3=0.4:2", "--nose", "5=0.8:3"])
+    args = _parser().parse_args(
+        ["run", "x.nc", "--dialect", "traub-tx8d", "--nose", "3=0.4:2", "--nose", "5=0.8:3"]
+    )
     tools = setup_from_args(args).tools
     assert (tools.get(3).nose_radius, tools.get(3).quadrant) == (0.4, 2)  # type: ignore[union-attr]
     assert (tools.get(5).nose_radius, tools.get(5).quadrant) == (0.8, 3)  # type: ignore[union-attr]

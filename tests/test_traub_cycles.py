@@ -125,7 +125,10 @@ def test_tx30_g71_passes_at_start_minus_depth_spread_evenly_and_g88_follows_the_
     assert falling, "G88: the falling cone X65 → X38 is roughed with the reduced feed E0.12"
     assert min(xz(m.end)[1] for m in falling) < -45
     assert all(m.kind == "rapid" for m in tp.moves if m.line == 5 and m not in cuts(tp, 5))
-    assert xz(tp.moves[[m.line for m in tp.moves].index(6) - 1].end) == (100.0, 2.0)  # back at the start point
+    assert xz(tp.moves[[m.line for m in tp.moves].index(6) - 1].end) == (
+        100.0,
+        2.0,
+    )  # back at the start point
 
 
 def test_tx31_g71_inside_with_g89_skips_the_undercut() -> None:
@@ -135,7 +138,10 @@ def test_tx31_g71_inside_with_g89_skips_the_undercut() -> None:
     first, last = first_of_pass(tp, 5, 1), first_of_pass(tp, 5, 13)
     assert xz(first[0].start) == (36.846, 2.0) and xz(first[0].end) == (36.846, -74.95)
     assert [xz(m.end) for m in first[1:]] == [(30.0, -74.95)]  # up the face Z-75 + K to the start X30
-    assert (xz(last[0].start), xz(last[0].end)) == ((119.0, 2.0), (119.0, 0.05))  # along X120 − 2·I to the face
+    assert (xz(last[0].start), xz(last[0].end)) == (
+        (119.0, 2.0),
+        (119.0, 0.05),
+    )  # along X120 − 2·I to the face
     # the undercut U0.3 A150 at Z-62…-62.52 (X60…X60.6) is never entered
     assert not [m for m in cuts(tp, 5) if 2 * m.end[0] > 59.5 and m.end[2] < -62.0]
 
@@ -181,7 +187,9 @@ def test_tx33_contour_in_a_subprogram_and_the_two_contours_coincide() -> None:
     assert (xz(last[0].start), xz(last[0].end)) == ((30.0, -39.95), (83.4, -39.95))  # along the face to R0.6
     finishing = {xz(m.end) for m in tp.moves if 10 <= m.line <= 20}
     rough = traub(O520_ALONE)
-    corners = [xz(m.end) for m in rough.moves if m.kind != "rapid"][:-1]  # without X150, where finishing starts
+    corners = [xz(m.end) for m in rough.moves if m.kind != "rapid"][
+        :-1
+    ]  # without X150, where finishing starts
     assert (88.183, -25.0) in corners and (85.6, -37.52) in corners
     assert set(corners) <= finishing | {xz(m.start) for m in tp.moves if 10 <= m.line <= 20}
 
@@ -198,7 +206,9 @@ def test_tx35_g74_interrupted_uninterrupted_face_groove_and_drilling() -> None:
     after = [m for m in tp.moves if m.line == 14 and m.kind == "rapid"]
     first_return = next(m for m in after if m.cycle is not None and m.cycle[1] == 1 and m.end[2] > m.start[2])
     assert xz(first_return.end)[0] == 54.667  # D-0.3: no lift on the first cut
-    second_return = next(m for m in after if m.cycle is not None and m.cycle[1] == 2 and m.end[2] > m.start[2])
+    second_return = next(
+        m for m in after if m.cycle is not None and m.cycle[1] == 2 and m.end[2] > m.start[2]
+    )
     assert xz(second_return.end)[0] == pytest.approx(47.333 + 0.6, abs=TOL)
     assert [xz(m.end) for m in cuts(tp, 19)] == [(0.0, -8.0), (0.0, -18.0), (0.0, -28.0), (0.0, -38.0)]
 
@@ -227,7 +237,9 @@ def test_tx38_g84_rapid_distance_first_and_further_depths() -> None:
     cycle = [m for m in tp.moves if m.line == 9]
     assert cycle[0].kind == "rapid" and xz(cycle[0].end) == (0.0, -14.0)
     assert [xz(m.end)[1] for m in cuts(tp, 9)] == [-27.0, -37.0, -47.0, -52.0]
-    assert len([d for d in tp.dwells if d.span.line == 9]) == 4 + 3  # Q after each depth, R after each retraction
+    assert (
+        len([d for d in tp.dwells if d.span.line == 9]) == 4 + 3
+    )  # Q after each depth, R after each retraction
 
 
 def test_tx39_g33_pitch_is_modal() -> None:
@@ -263,7 +275,10 @@ def test_tx41_g78_with_g81_splits_the_last_infeed() -> None:
 def test_tx42_g82_taps_in_and_back_out_with_the_spindle_reversed() -> None:
     tp = seed("tx-42-g82.nc")
     taps = [m for m in tp.moves if m.line == 3]
-    assert [(xz(m.end), m.thread, m.pitch) for m in taps] == [((0.0, -10.0), True, 1.0), ((0.0, 3.0), True, 1.0)]
+    assert [(xz(m.end), m.thread, m.pitch) for m in taps] == [
+        ((0.0, -10.0), True, 1.0),
+        ((0.0, 3.0), True, 1.0),
+    ]
     assert taps[0].spindle_direction == "cw" and taps[1].spindle_direction == "ccw"
 
 
@@ -286,31 +301,53 @@ N20 G1 X60
 """
 
 
-@pytest.mark.parametrize(("case", "program", "expected"), [
-    ("depth zero", READY + "G0 X60 Z2\nG71 P10 Q20 D0 F0.3\n" + CONTOUR + "M30", ("TX-E402", 3)),
-    ("no contour blocks", READY + "G0 X60 Z2\nG71 P10 Q30 D2 F0.3\n" + CONTOUR + "M30", ("TX-E304", 3)),
-    ("falling and undercut with G88", READY + "G0 X60 Z2\nG88\nG71 P10 Q20 D2 F0.3\n"
-     "N10 G0 X20 Z0.5\nG1 Z-20 F0.2\nG1 X40\nG1 Z-10\nN20 G1 X60\nM30", ("TX-E404", 4)),
-    ("contour ends outside the blank", READY + "G0 X50 Z2\nG71 P10 Q20 D2 F0.3\n" + CONTOUR + "M30",
-     ("TX-W405", 3)),
-    ("too many passes", READY + "G0 X60 Z2\nG71 P10 Q20 D0.01 F0.3\n" + CONTOUR + "M30", ("TX-E406", 3)),
-    ("missing pitch", READY + "G0 X30 Z4\nG33 Z-20\nM30", ("TX-E407", 3)),
-    ("thread deeper than the start allows", READY + "G0 X33.5 Z4\nG76 X33.1 Z-29 K0.92 H8 F1.5\nM30",
-     ("TX-E408", 3)),
-    ("G74 drilling with I", READY + "G0 X0 Z2\nG74 Z-38 I2 K10 F0.1\nM30", ("TX-E411", 3)),
-    ("G75 cross drilling with K", READY + "G0 X62 Z-25\nG75 U-21 I15 K2 F0.1\nM30", ("TX-E411", 3)),
-    ("chip breaking beyond the move budget", READY + "G0 X60 Z1\nG74 X20 Z-400 I1 K0.001 F0.2\nM30",
-     ("TX-E406", 3)),
-    ("start point unknown after an open train point", READY + "G0 X40 Z2\nG1 A180 F0.2\nG71 P10 Q20 D2\nM30",
-     ("TX-E401", 4)),
-    ("no contour named", READY + "G0 X40 Z2\nG71 D2 F0.2\nM30", ("TX-E409", 3)),
-    ("contour with an error", READY + "G0 X60 Z2\nG71 P10 Q20 D2 F0.3\nN10 G0 X20 Z0.5\nG2 X40 Z-20\n"
-     "N20 G1 X60\nM30", ("TX-E410", 3)),
-    ("G81 without G77/G78/G79", READY + "G0 X30 Z2\nG81 U-0.2 H3\nM30", ("TX-E414", 3)),
-    ("taper beyond 45°", READY + "G0 X40 Z4\nG76 X33.1 Z-29 J50 K0.9 H4 F1.5\nM30", ("TX-E416", 3)),
-    ("G76 with I", READY + "G0 X40 Z4\nG76 X33.1 Z-29 I1 K0.9 H4 F1.5\nM30", ("TX-E412", 3)),
-    ("tapping without the spindle", "G97 S300 T505 M5\nG0 X0 Z3\nG82 Z-10 F1\nM30", ("TX-E417", 3)),
-])
+@pytest.mark.parametrize(
+    ("case", "program", "expected"),
+    [
+        ("depth zero", READY + "G0 X60 Z2\nG71 P10 Q20 D0 F0.3\n" + CONTOUR + "M30", ("TX-E402", 3)),
+        ("no contour blocks", READY + "G0 X60 Z2\nG71 P10 Q30 D2 F0.3\n" + CONTOUR + "M30", ("TX-E304", 3)),
+        (
+            "falling and undercut with G88",
+            READY + "G0 X60 Z2\nG88\nG71 P10 Q20 D2 F0.3\n"
+            "N10 G0 X20 Z0.5\nG1 Z-20 F0.2\nG1 X40\nG1 Z-10\nN20 G1 X60\nM30",
+            ("TX-E404", 4),
+        ),
+        (
+            "contour ends outside the blank",
+            READY + "G0 X50 Z2\nG71 P10 Q20 D2 F0.3\n" + CONTOUR + "M30",
+            ("TX-W405", 3),
+        ),
+        ("too many passes", READY + "G0 X60 Z2\nG71 P10 Q20 D0.01 F0.3\n" + CONTOUR + "M30", ("TX-E406", 3)),
+        ("missing pitch", READY + "G0 X30 Z4\nG33 Z-20\nM30", ("TX-E407", 3)),
+        (
+            "thread deeper than the start allows",
+            READY + "G0 X33.5 Z4\nG76 X33.1 Z-29 K0.92 H8 F1.5\nM30",
+            ("TX-E408", 3),
+        ),
+        ("G74 drilling with I", READY + "G0 X0 Z2\nG74 Z-38 I2 K10 F0.1\nM30", ("TX-E411", 3)),
+        ("G75 cross drilling with K", READY + "G0 X62 Z-25\nG75 U-21 I15 K2 F0.1\nM30", ("TX-E411", 3)),
+        (
+            "chip breaking beyond the move budget",
+            READY + "G0 X60 Z1\nG74 X20 Z-400 I1 K0.001 F0.2\nM30",
+            ("TX-E406", 3),
+        ),
+        (
+            "start point unknown after an open train point",
+            READY + "G0 X40 Z2\nG1 A180 F0.2\nG71 P10 Q20 D2\nM30",
+            ("TX-E401", 4),
+        ),
+        ("no contour named", READY + "G0 X40 Z2\nG71 D2 F0.2\nM30", ("TX-E409", 3)),
+        (
+            "contour with an error",
+            READY + "G0 X60 Z2\nG71 P10 Q20 D2 F0.3\nN10 G0 X20 Z0.5\nG2 X40 Z-20\nN20 G1 X60\nM30",
+            ("TX-E410", 3),
+        ),
+        ("G81 without G77/G78/G79", READY + "G0 X30 Z2\nG81 U-0.2 H3\nM30", ("TX-E414", 3)),
+        ("taper beyond 45°", READY + "G0 X40 Z4\nG76 X33.1 Z-29 J50 K0.9 H4 F1.5\nM30", ("TX-E416", 3)),
+        ("G76 with I", READY + "G0 X40 Z4\nG76 X33.1 Z-29 I1 K0.9 H4 F1.5\nM30", ("TX-E412", 3)),
+        ("tapping without the spindle", "G97 S300 T505 M5\nG0 X0 Z3\nG82 Z-10 F1\nM30", ("TX-E417", 3)),
+    ],
+)
 def test_cycle_diagnostics(case: str, program: str, expected: tuple[str, int]) -> None:
     assert expected in codes(traub(program)), case
 
@@ -323,7 +360,9 @@ def test_stock_smaller_than_the_depth_is_one_pass_with_a_warning() -> None:
 def test_too_many_passes_reports_the_limit() -> None:
     tp = traub(READY + "G0 X60 Z2\nG71 P10 Q20 D0.01 F0.3\n" + CONTOUR + "M30")
     d = next(x for x in tp.diagnostics if x.code == "TX-E406")
-    assert "2000" in d.message and "500" in d.message  # 20 mm radial at D0.01 and not [m for m in tp.moves if m.line == 3]
+    assert (
+        "2000" in d.message and "500" in d.message
+    )  # 20 mm radial at D0.01 and not [m for m in tp.moves if m.line == 3]
 
 
 # -- properties of the roughing passes ---------------------------------------------------------------
@@ -356,19 +395,27 @@ def staircase(draw: st.DrawFn) -> list[tuple[float, float]]:
     return pts
 
 
-def _program(code: str, pts: list[tuple[float, float]], start: tuple[float, float], depth: float,
-             allowance: tuple[float, float]) -> str:
+def _program(
+    code: str,
+    pts: list[tuple[float, float]],
+    start: tuple[float, float],
+    depth: float,
+    allowance: tuple[float, float],
+) -> str:
     blocks = [f"N10 G0 X{2 * pts[0][0]:.4f} Z{pts[0][1]:.4f}"]
     blocks += [f"G1 X{2 * x:.4f} Z{z:.4f}" for x, z in pts[1:]]
     blocks[-1] = "N20 " + blocks[-1]
-    return (READY + f"G0 X{2 * start[0]:.4f} Z{start[1]:.4f}\nG89\n{code} P10 Q20 I{allowance[0]:.3f} "
-            f"K{allowance[1]:.3f} D{depth:.3f} F0.3\n" + "\n".join(blocks) + "\nM30\n")
+    return (
+        READY + f"G0 X{2 * start[0]:.4f} Z{start[1]:.4f}\nG89\n{code} P10 Q20 I{allowance[0]:.3f} "
+        f"K{allowance[1]:.3f} D{depth:.3f} F0.3\n" + "\n".join(blocks) + "\nM30\n"
+    )
 
 
 @settings(max_examples=40, deadline=None)
 @given(staircase(), st.floats(0.5, 4), st.floats(0, 0.4), st.floats(0, 0.3))
 def test_g71_passes_stay_outside_contour_plus_allowance_and_inside_the_blank(
-        pts: list[tuple[float, float]], depth: float, ai: float, ak: float) -> None:
+    pts: list[tuple[float, float]], depth: float, ai: float, ak: float
+) -> None:
     start = (pts[-1][0], pts[0][1] + 2)  # the blank: up to the highest step, in front of the face
     pts = [(round(x, 3), round(z, 3)) for x, z in pts]
     depth, ai, ak = round(depth, 3), round(ai, 3), round(ak, 3)
@@ -390,10 +437,17 @@ def test_g71_passes_stay_outside_contour_plus_allowance_and_inside_the_blank(
 
 
 @settings(max_examples=40, deadline=None)
-@given(st.floats(20, 60), st.floats(5, 19), st.floats(-40, -5), st.floats(0.5, 6), st.floats(4, 30),
-       st.sampled_from(["G74", "G75"]))
-def test_g74_g75_passes_stay_in_the_rectangle(x0: float, x1: float, z1: float, depth: float, every: float,
-                                              code: str) -> None:
+@given(
+    st.floats(20, 60),
+    st.floats(5, 19),
+    st.floats(-40, -5),
+    st.floats(0.5, 6),
+    st.floats(4, 30),
+    st.sampled_from(["G74", "G75"]),
+)
+def test_g74_g75_passes_stay_in_the_rectangle(
+    x0: float, x1: float, z1: float, depth: float, every: float, code: str
+) -> None:
     words = f"I{depth:.3f} K{every:.3f}" if code == "G74" else f"I{every:.3f} K{depth:.3f}"
     tp = traub(READY + f"G0 X{2 * x0:.3f} Z1\n{code} X{2 * x1:.3f} Z{z1:.3f} {words} D0.5 F0.2\nM30")
     assert not [d for d in tp.diagnostics if d.severity.value == "error"], tp.diagnostics
@@ -416,8 +470,9 @@ def test_a_cycle_as_the_first_motion_starts_at_the_tool_change_point() -> None:
 def test_the_benchmark_cycles_program_runs_clean_and_quickly() -> None:
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("bench_interpreter", Path(__file__).parents[1] / "bench" /
-                                                  "interpreter.py")
+    spec = importlib.util.spec_from_file_location(
+        "bench_interpreter", Path(__file__).parents[1] / "bench" / "interpreter.py"
+    )
     assert spec is not None and spec.loader is not None
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)
@@ -430,22 +485,52 @@ def test_the_benchmark_cycles_program_runs_clean_and_quickly() -> None:
 
 # -- robustness and coverage -------------------------------------------------------------------------
 
-_CONTOURS = ("N10 G0 X20 Z0.5\nG1 Z-20 F0.2\nG2 X40 Z-30 R10\nG1 Z-40\nG1 X30 Z-50\nN20 G1 X60\n",
-             "N10 G0 X150 Z-40\nG1 X100 F0.2\nG1 Z-20\nG3 X60 Z0 R20\nN20 G1 X10\n")
+_CONTOURS = (
+    "N10 G0 X20 Z0.5\nG1 Z-20 F0.2\nG2 X40 Z-30 R10\nG1 Z-40\nG1 X30 Z-50\nN20 G1 X60\n",
+    "N10 G0 X150 Z-40\nG1 X100 F0.2\nG1 Z-20\nG3 X60 Z0 R20\nN20 G1 X10\n",
+)
 
 
 @settings(max_examples=150, deadline=None)
-@given(st.sampled_from(sorted({"G70", "G71", "G72", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83",
-                               "G84", "G86", "G33"})),
-       st.dictionaries(st.sampled_from("XZUWIKDHPQAJFER"), st.sampled_from([0, -1, 1, 0.001, 2.5, 10, 20, 50, 1e4]),
-                       max_size=7),
-       st.sampled_from(["", "G88\n", "G89\n", "G78 X19.5 Z-34 F4\n"]), st.sampled_from([(0, 2), (40, 2), (200, -10)]),
-       st.sampled_from(_CONTOURS))
-def test_any_cycle_words_give_diagnostics_never_an_exception(code: str, words: dict[str, float], before: str,
-                                                            start: tuple[int, int], contour: str) -> None:
+@given(
+    st.sampled_from(
+        sorted(
+            {
+                "G70",
+                "G71",
+                "G72",
+                "G74",
+                "G75",
+                "G76",
+                "G77",
+                "G78",
+                "G79",
+                "G81",
+                "G82",
+                "G83",
+                "G84",
+                "G86",
+                "G33",
+            }
+        )
+    ),
+    st.dictionaries(
+        st.sampled_from("XZUWIKDHPQAJFER"),
+        st.sampled_from([0, -1, 1, 0.001, 2.5, 10, 20, 50, 1e4]),
+        max_size=7,
+    ),
+    st.sampled_from(["", "G88\n", "G89\n", "G78 X19.5 Z-34 F4\n"]),
+    st.sampled_from([(0, 2), (40, 2), (200, -10)]),
+    st.sampled_from(_CONTOURS),
+)
+def test_any_cycle_words_give_diagnostics_never_an_exception(
+    code: str, words: dict[str, float], before: str, start: tuple[int, int], contour: str
+) -> None:
     text = " ".join(f"{a}{v:g}" for a, v in words.items())
-    program = (f"G97 S800 T101 M3\nG0 X{start[0]} Z{start[1]}\n{before}{code} {text}\n{contour}M30\n%\nO520\n"
-               "G0 X10 Z0\nG1 X50 Z-10 F0.2\nM99\n%\n")
+    program = (
+        f"G97 S800 T101 M3\nG0 X{start[0]} Z{start[1]}\n{before}{code} {text}\n{contour}M30\n%\nO520\n"
+        "G0 X10 Z0\nG1 X50 Z-10 F0.2\nM99\n%\n"
+    )
     tp = traub(program)
     for m in tp.moves:
         assert m.to_json()["line"] >= 1
@@ -462,10 +547,15 @@ def _removed(feeds: list[Move], x: float, z: float) -> bool:
 
 
 @settings(max_examples=30, deadline=None)
-@given(st.lists(st.tuples(st.floats(2, 15), st.floats(0.5, 8)), min_size=1, max_size=4), st.floats(0.7, 4),
-       st.floats(0, 0.4), st.sampled_from(["G88", "G89"]))
-def test_g71_on_a_shaft_leaves_no_more_than_the_allowance(steps: list[tuple[float, float]], depth: float,
-                                                          allowance: float, falling: str) -> None:
+@given(
+    st.lists(st.tuples(st.floats(2, 15), st.floats(0.5, 8)), min_size=1, max_size=4),
+    st.floats(0.7, 4),
+    st.floats(0, 0.4),
+    st.sampled_from(["G88", "G89"]),
+)
+def test_g71_on_a_shaft_leaves_no_more_than_the_allowance(
+    steps: list[tuple[float, float]], depth: float, allowance: float, falling: str
+) -> None:
     """A shaft of cylinders and shoulders: after roughing, every point of the blank above the contour plus the
     allowance has been under a cut (checked on a 0.25 mm grid): each pass runs on along a step that lies between
     its level and the one before, so no step of the staircase stays for the finishing tool (TX-30's Ø65)."""
@@ -480,8 +570,12 @@ def test_g71_on_a_shaft_leaves_no_more_than_the_allowance(steps: list[tuple[floa
     blocks = [f"N10 G0 X{2 * pts[0][0]:g} Z{pts[0][1]:g}"] + [f"G1 X{2 * a:g} Z{b:g}" for a, b in pts[1:]]
     blocks[-1] = "N20 " + blocks[-1]
     start = (x, 1.0)
-    tp = traub(READY + f"G0 X{2 * start[0]:g} Z1\n{falling}\nG71 P10 Q20 I{allowance:g} D{depth:g} F0.3\n"
-               + "\n".join(blocks) + "\nM30\n")
+    tp = traub(
+        READY
+        + f"G0 X{2 * start[0]:g} Z1\n{falling}\nG71 P10 Q20 I{allowance:g} D{depth:g} F0.3\n"
+        + "\n".join(blocks)
+        + "\nM30\n"
+    )
     assert not [d for d in tp.diagnostics if d.severity.value == "error"]
     feeds = cuts(tp, 4)
     gz = 1.0
@@ -500,10 +594,14 @@ def test_g71_on_a_shaft_leaves_no_more_than_the_allowance(steps: list[tuple[floa
 
 
 @settings(max_examples=30, deadline=None)
-@given(st.lists(st.tuples(st.floats(2, 15), st.floats(0.5, 6)), min_size=1, max_size=4), st.floats(0.7, 4),
-       st.floats(0, 0.4))
-def test_g72_passes_never_cut_below_the_contour_plus_allowance(steps: list[tuple[float, float]], depth: float,
-                                                               allowance: float) -> None:
+@given(
+    st.lists(st.tuples(st.floats(2, 15), st.floats(0.5, 6)), min_size=1, max_size=4),
+    st.floats(0.7, 4),
+    st.floats(0, 0.4),
+)
+def test_g72_passes_never_cut_below_the_contour_plus_allowance(
+    steps: list[tuple[float, float]], depth: float, allowance: float
+) -> None:
     """A facing contour of shoulders stepping towards the axis: no pass ends beyond the contour + K, none feeds
     outside the blank."""
     x, z = 40.0, -30.0
@@ -516,8 +614,12 @@ def test_g72_passes_never_cut_below_the_contour_plus_allowance(steps: list[tuple
     depth, allowance = round(depth, 3), round(allowance, 3)
     blocks = [f"N10 G0 X{2 * pts[0][0]:g} Z{pts[0][1]:g}"] + [f"G1 X{2 * a:g} Z{b:g}" for a, b in pts[1:]]
     blocks[-1] = "N20 " + blocks[-1]
-    tp = traub(READY + f"G0 X{2 * 41:g} Z1\nG72 P10 Q20 K{allowance:g} D{depth:g} F0.3\n" + "\n".join(blocks)
-               + "\nM30\n")
+    tp = traub(
+        READY
+        + f"G0 X{2 * 41:g} Z1\nG72 P10 Q20 K{allowance:g} D{depth:g} F0.3\n"
+        + "\n".join(blocks)
+        + "\nM30\n"
+    )
     assert not [d for d in tp.diagnostics if d.severity.value == "error"]
     for m in cuts(tp, 3):
         level, end_x = m.end[2], m.end[0]
@@ -536,8 +638,14 @@ def test_cycle_moves_under_g96_turn_at_the_speed_of_their_diameter() -> None:
 
 def test_many_roughing_cycles_meet_the_run_budget() -> None:
     steps = "\n".join(f"G1 X{20 + 0.01 * k:.2f} Z{-0.05 * (k + 1):.2f}" for k in range(1000))
-    program = (READY + "G0 X80 Z2\n" + "G71 P10 Q20 I50 D1 F0.3\n" * 700 + "M30\nN10 G0 X20 Z0\n" + steps
-               + "\nN20 G1 X60\n")
+    program = (
+        READY
+        + "G0 X80 Z2\n"
+        + "G71 P10 Q20 I50 D1 F0.3\n" * 700
+        + "M30\nN10 G0 X20 Z0\n"
+        + steps
+        + "\nN20 G1 X60\n"
+    )
     tp = traub(program)
     assert "TX-E420" in {d.code for d in tp.diagnostics}
 
@@ -568,21 +676,28 @@ def humps(draw: st.DrawFn) -> list[tuple[float, float]]:
 
 @settings(max_examples=40, deadline=None)
 @given(humps(), st.floats(0.7, 4), st.floats(0, 0.4))
-def test_g88_passes_never_feed_below_the_contour_plus_allowance(pts: list[tuple[float, float]], depth: float,
-                                                                 allowance: float) -> None:
+def test_g88_passes_never_feed_below_the_contour_plus_allowance(
+    pts: list[tuple[float, float]], depth: float, allowance: float
+) -> None:
     depth, allowance = round(depth, 3), round(allowance, 3)
     top = max(x for x, _ in pts) + 1
     blocks = [f"N10 G0 X{2 * pts[0][0]:g} Z{pts[0][1]:g}"] + [f"G1 X{2 * a:g} Z{b:g}" for a, b in pts[1:]]
     blocks.append(f"N20 G1 X{2 * top:g}")
-    tp = traub(READY + f"G0 X{2 * top:g} Z1\nG88\nG71 P10 Q20 I{allowance:g} D{depth:g} F0.3 E0.1\n"
-               + "\n".join(blocks) + "\nM30\n")
+    tp = traub(
+        READY
+        + f"G0 X{2 * top:g} Z1\nG88\nG71 P10 Q20 I{allowance:g} D{depth:g} F0.3 E0.1\n"
+        + "\n".join(blocks)
+        + "\nM30\n"
+    )
     assert not [d for d in tp.diagnostics if d.severity.value == "error"], blocks
     shifted = [(x + allowance, z) for x, z in pts]
     for m in cuts(tp, 4):
         for p in (m.start, m.end, tuple((a + b) / 2 for a, b in zip(m.start, m.end, strict=True))):
             x, z = p[0], p[2]
             assert x <= top + 1e-6 and z <= 1 + 1e-6, blocks
-            if shifted[-1][1] - 1e-6 <= z < shifted[0][1] - 1e-6:  # in front of the contour's start: the blank
+            if (
+                shifted[-1][1] - 1e-6 <= z < shifted[0][1] - 1e-6
+            ):  # in front of the contour's start: the blank
                 assert x >= _boundary(shifted, z) - 1e-5, (p, blocks)
 
 
@@ -590,7 +705,8 @@ def test_g88_passes_never_feed_below_the_contour_plus_allowance(pts: list[tuple[
 
 TX30_TOOLS = parse_tool_table(
     "tools: [{number: 4, kind: turning, diameter: 1.6, nose_radius: 0.8, quadrant: 1, insert: D},"
-    " {number: 5, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 1, insert: V}]")
+    " {number: 5, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 1, insert: V}]"
+)
 
 
 def _tx30_part(z: float) -> float:
@@ -618,8 +734,9 @@ def _tx30_part(z: float) -> float:
 
 def _excess(tp: Toolpath, tools: ToolTable, zones: list[tuple[float, float]]) -> tuple[float, float]:
     """The largest radial excess over the allowance I0.5 after TX-30's cycle (line 5), and where (Z)."""
-    rough = simulate_turning(tp.until_move(sum(1 for m in tp.moves if m.line <= 5)), Blank(100, 160, chuck_length=30),
-                             tools, 0.05)
+    rough = simulate_turning(
+        tp.until_move(sum(1 for m in tp.moves if m.line <= 5)), Blank(100, 160, chuck_length=30), tools, 0.05
+    )
     assert [(e.code, e.span.line) for e in rough.events if e.severity.value == "error"] == []
     worst = (-math.inf, 0.0)
     for z, r in zip(rough.profile.zs, rough.profile.outer, strict=True):
@@ -644,7 +761,9 @@ def test_tx30_g71_g88_with_d4_roughs_every_step_down_to_the_allowance() -> None:
     # the whole contour along the path itself (a sharp insert: the nose radius of the roughing tool leaves its
     # own small rest on chamfers and roundings, as any uncompensated path does)
     sharp = ToolTable({4: turning_tool(4, 0.0, 1)})
-    worst = _excess(run(seed_text("tx-30-g71-g88.nc"), "traub-tx8d", RunSetup(tools=sharp)), sharp, [(-123, 0.5)])
+    worst = _excess(
+        run(seed_text("tx-30-g71-g88.nc"), "traub-tx8d", RunSetup(tools=sharp)), sharp, [(-123, 0.5)]
+    )
     assert worst[0] <= 0.01, f"{worst[0]:.3f} mm more than the allowance at Z{worst[1]:.2f}"
 
 
@@ -652,9 +771,14 @@ def test_g71_last_pass_below_an_approach_chamfer_runs_on_the_contour() -> None:
     """TX-17 (exercise traub-02): the contour starts in front of the face (X16 Z2, chamfer to X20 Z0), so the
     lowest level X17 meets it at the start point. That pass runs on the contour from there (the chamfer, Ø20 +
     2·I to the arc) instead of being dropped and leaving Ø20 at the level of the pass before (X23.05)."""
-    tp = traub(READY + "G0 X64 Z2\nG71 P10 Q20 I0.5 K0.1 D3 F0.3\nM30\nN10 G46\nG0 X16 Z2\nG1 X20 Z0 F0.15\n"
-               "G1 Z-15\nG2 X40 Z-25 R10\nG1 Z-40\nG3 X60 Z-50 R10\nG1 Z-75\nG1 X64 Z-77\nN20 G40\n")
+    tp = traub(
+        READY + "G0 X64 Z2\nG71 P10 Q20 I0.5 K0.1 D3 F0.3\nM30\nN10 G46\nG0 X16 Z2\nG1 X20 Z0 F0.15\n"
+        "G1 Z-15\nG2 X40 Z-25 R10\nG1 Z-40\nG3 X60 Z-50 R10\nG1 Z-75\nG1 X64 Z-77\nN20 G40\n"
+    )
     assert passes(tp, 3) == 8
     last = first_of_pass(tp, 3, 8)
-    assert [(xz(m.start), xz(m.end)) for m in last[:2]] == [((17.2, 2.0), (21.0, 0.1)), ((21.0, 0.1), (21.0, -14.9))]
+    assert [(xz(m.start), xz(m.end)) for m in last[:2]] == [
+        ((17.2, 2.0), (21.0, 0.1)),
+        ((21.0, 0.1), (21.0, -14.9)),
+    ]
     assert xz(last[-1].end) == (23.05, -19.295)  # up the R10 arc to the level of pass 7

@@ -19,8 +19,11 @@ CASES = [
     ("T9 after G53", READY + "G0 X40 Z2\nG53 X400 Z500\nG1 X30\nM30", ("TX-E102", 7)),
     ("T8 G26 while SRK is on", READY + "G46\nG0 X40 Z2\nG26\nM30", ("TX-E103", 7)),
     ("T1 other G function while G46 is on", READY + "G46\nG0 X40 Z2\nG59 Z10\nM30", ("TX-E103", 7)),
-    ("T6 fewer than 3 motions in 5 blocks under SRK",
-     READY + "G46\nG0 X40 Z2\nG1 Z-10\nM8\nF0.1\nS200\nG1 Z-20\nG40\nM30", ("TX-E113", 10)),
+    (
+        "T6 fewer than 3 motions in 5 blocks under SRK",
+        READY + "G46\nG0 X40 Z2\nG1 Z-10\nM8\nF0.1\nS200\nG1 Z-20\nG40\nM30",
+        ("TX-E113", 10),
+    ),
     ("T17 four M words", "G96 V200 T0101 M4 M8 M41 M48\nM30", ("TX-E104", 1)),
     ("T18 M30 not alone", READY + "G0 X40 Z2 M30", ("TX-E105", 5)),
     ("T18 M00 not alone", READY + "M0 M8\nM30", ("TX-E105", 5)),
@@ -57,8 +60,11 @@ CASES = [
     ("subprogram number range", "G22 A520\nM30\n%\nO520\nG0 X40 Z2\nM99\n%", ("TX-W103", 4)),
     ("missing M30", "G0 X40 Z2", ("TX-W1102", 1)),
     ("T indexing to another station in G00", READY + "G0 X40 Z2\nG0 X80 Z50 T0404\nM30", ("TX-W108", 6)),
-    ("T27 L assigned after the call", "L1 = 50\nG22 A8000\nL1 = 70\nM30\n%\nO8000\nG0 X L1 Z2\nM99\n%",
-     ("TX-W107", 3)),
+    (
+        "T27 L assigned after the call",
+        "L1 = 50\nG22 A8000\nL1 = 70\nM30\n%\nO8000\nG0 X L1 Z2\nM99\n%",
+        ("TX-W107", 3),
+    ),
     ("decimal point and comma mixed up", "G1 X1,2.3\nM30", ("TX-E1002", 1)),
 ]
 
@@ -99,8 +105,10 @@ def test_diagnostic_in_a_subprogram_points_at_its_line() -> None:
 
 
 def test_section_of_another_program_with_a_p_q() -> None:
-    text = ("G97 S500 T0101 M3\nG22 A8000 P20 Q30\nM30\n%\nO8000\nN10 G0 X90 Z2\nN20 G0 X40 Z2\n"
-            "N30 G1 Z-10 F0.2\nN40 G0 X80\nM99\n%")
+    text = (
+        "G97 S500 T0101 M3\nG22 A8000 P20 Q30\nM30\n%\nO8000\nN10 G0 X90 Z2\nN20 G0 X40 Z2\n"
+        "N30 G1 Z-10 F0.2\nN40 G0 X80\nM99\n%"
+    )
     tp = run(text, "traub-tx8d")
     assert codes(tp) == []
     assert [(round(m.end[0] * 2, 3), round(m.end[2], 3)) for m in tp.moves] == [(40.0, 2.0), (40.0, -10.0)]
@@ -123,7 +131,6 @@ def test_a_new_value_for_the_next_call_is_no_late_assignment() -> None:
 
 def test_t_in_g00_for_the_second_edge_is_fine() -> None:
     assert codes(run(READY + "G0 X40 Z2\nG0 X80 Z50 T2121\nM30", "traub-tx8d")) == []
-
 
 
 def test_a_t_word_in_the_g26_block_calls_the_tool_at_the_change_point() -> None:

@@ -67,8 +67,13 @@ def test_example_gives_exactly_its_diagnostics(name: str) -> None:
 
 def test_every_traub_seed_file_is_covered() -> None:
     mine = {p.name for p in SEEDS.glob("tx-*.nc")} - set(EXPECTED)
-    theirs = {p for p in mine if p[:5] in {"tx-17", "tx-21", "tx-22", "tx-23", "tx-24", "tx-25", "tx-27", "tx-28",
-                                           "tx-48"} | {f"tx-{n}" for n in range(29, 43)}}  # cycles: test_traub_cycles
+    theirs = {
+        p
+        for p in mine
+        if p[:5]
+        in {"tx-17", "tx-21", "tx-22", "tx-23", "tx-24", "tx-25", "tx-27", "tx-28", "tx-48"}
+        | {f"tx-{n}" for n in range(29, 43)}
+    }  # cycles: test_traub_cycles
     assert mine == theirs
 
 
@@ -162,7 +167,8 @@ def test_tx10_t_words_give_station_and_offset() -> None:
 def test_tx11_m06_needs_a_tool_call_in_its_block() -> None:
     assert [(c.tool) for c in traub("tx-11-ersatzwerkzeuge.nc").tool_changes] == [3, 4, 5]
     assert codes(run("M06\nM30", "traub-tx8d")) == [("TX-E105", 1)] or ("TX-E106", 1) in codes(
-        run("M06\nM30", "traub-tx8d"))
+        run("M06\nM30", "traub-tx8d")
+    )
     assert ("TX-E106", 1) in codes(run("G96 V200 M4 M13\nM30", "traub-tx8d"))
 
 
@@ -224,8 +230,10 @@ def test_tx20_lines_given_by_angle_a() -> None:
 def test_tx26_dwell_half_a_second_where_the_tool_stands() -> None:
     tp = traub("tx-26-verweilzeit.nc")
     assert [d.seconds for d in tp.dwells] == [0.5, 0.5]
-    assert [(round(d.position[0] * 2, 3), round(d.position[2], 3)) for d in tp.dwells] == [(0.0, -30.0),
-                                                                                           (40.0, -15.0)]
+    assert [(round(d.position[0] * 2, 3), round(d.position[2], 3)) for d in tp.dwells] == [
+        (0.0, -30.0),
+        (40.0, -15.0),
+    ]
 
 
 def test_tx26_dwell_out_of_range() -> None:
@@ -233,15 +241,21 @@ def test_tx26_dwell_out_of_range() -> None:
 
 
 def _geometry(tp: Toolpath) -> list[tuple[str, tuple[float, ...], tuple[float, ...]]]:
-    return [(m.kind, tuple(round(v, 6) for v in m.start), tuple(round(v, 6) for v in m.end)) for m in tp.moves]
+    return [
+        (m.kind, tuple(round(v, 6) for v in m.start), tuple(round(v, 6) for v in m.end)) for m in tp.moves
+    ]
 
 
 def test_tx43_subprogram_centres_and_drills() -> None:
     tp = traub("tx-43-g22-unterprogramm.nc")
-    feeds = [(e, m.spindle) for e, m in zip(ends(tp), tp.moves, strict=True) if m.kind == "feed" and not m.thread]
+    feeds = [
+        (e, m.spindle) for e, m in zip(ends(tp), tp.moves, strict=True) if m.kind == "feed" and not m.thread
+    ]
     assert feeds == [((0.0, -6.0), 1000), ((0.0, -25.0), 1000)]
     taps = [(e, m.pitch, m.spindle_direction) for e, m in zip(ends(tp), tp.moves, strict=True) if m.thread]
-    assert [t[0][1] for t in taps] == [-15.0, taps[1][0][1]] and taps[0][1] == 0.9  # G82: in, and out reversed
+    assert [t[0][1] for t in taps] == [-15.0, taps[1][0][1]] and taps[0][
+        1
+    ] == 0.9  # G82: in, and out reversed
     assert taps[0][2] != taps[1][2]
     assert [c.tool for c in tp.tool_changes] == [3, 4, 5]
     assert ends(tp)[-1] == (460.0, 435.0)  # G27: Z first, then X to the change point X460 Z585 (G59 Z150)
@@ -279,7 +293,9 @@ def test_tx49_parameters_assigned_before_the_call_and_computed_in_brackets() -> 
 def test_tool_table_yaml_carries_the_nose_data() -> None:
     from core.sim.tooltable import parse_tool_table, tool_table_yaml
 
-    table = parse_tool_table("tools:\n  - {number: 3, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 3}\n")
+    table = parse_tool_table(
+        "tools:\n  - {number: 3, kind: turning, diameter: 0.8, nose_radius: 0.4, quadrant: 3}\n"
+    )
     tool = table.tools[3]
     assert (tool.nose_radius, tool.quadrant, tool.name) == (0.4, 3, "Drehmeißel Ø0.8")
     assert parse_tool_table(tool_table_yaml(table)) == table
@@ -288,8 +304,9 @@ def test_tool_table_yaml_carries_the_nose_data() -> None:
 def test_the_benchmark_turning_program_runs_clean() -> None:
     import importlib.util
 
-    spec = importlib.util.spec_from_file_location("bench_interpreter", Path(__file__).parents[1] / "bench" /
-                                                  "interpreter.py")
+    spec = importlib.util.spec_from_file_location(
+        "bench_interpreter", Path(__file__).parents[1] / "bench" / "interpreter.py"
+    )
     assert spec is not None and spec.loader is not None
     bench = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(bench)

@@ -16,17 +16,20 @@ def words(line: str) -> list[tuple[str, float | None]]:
     return [(w.address, w.value) for w in block.words]
 
 
-@pytest.mark.parametrize(("written", "plain"), [
-    ("G 96 V 200 T 0303 M 04", "G96 V200 T303 M4"),
-    ("G 1 Z - 30", "G1 Z-30"),  # TX-27, second copy
-    ("G 0 X - 1,6 Z 1", "G0 X-1.6 Z1"),
-    ("G 1 X 40 D 2 F 0,2 E 0,1", "G1 X40 D2 F0.2 E0.1"),
-    ("N2 T02 02", "N2 T0202"),
-    ("B 06 3500", "B063500"),
-    ("G01 Z-106 F 0,2", "G1 Z-106 F.2"),
-    ("G 4 X0.5 (0,5 sek. Verweilzeit)", "G4 X0.5"),
-    ("G1 X5 (Mitte) Z3", "G1 X5 Z3"),
-])
+@pytest.mark.parametrize(
+    ("written", "plain"),
+    [
+        ("G 96 V 200 T 0303 M 04", "G96 V200 T303 M4"),
+        ("G 1 Z - 30", "G1 Z-30"),  # TX-27, second copy
+        ("G 0 X - 1,6 Z 1", "G0 X-1.6 Z1"),
+        ("G 1 X 40 D 2 F 0,2 E 0,1", "G1 X40 D2 F0.2 E0.1"),
+        ("N2 T02 02", "N2 T0202"),
+        ("B 06 3500", "B063500"),
+        ("G01 Z-106 F 0,2", "G1 Z-106 F.2"),
+        ("G 4 X0.5 (0,5 sek. Verweilzeit)", "G4 X0.5"),
+        ("G1 X5 (Mitte) Z3", "G1 X5 Z3"),
+    ],
+)
 def test_written_like_the_manual_reads_like_the_plain_spelling(written: str, plain: str) -> None:
     assert words(written) == words(plain)
 
@@ -42,8 +45,10 @@ def test_program_lines_and_comments() -> None:
 
 
 def test_parameters_in_brackets_and_as_bare_values() -> None:
-    text = ("L 1 = 20\nL2 = [L 1 + 5]\nL3 = [[L1 - L2] * 2]\nG97 S500 T0101 M3\nG0 X L2 Z-[L2/2]\n"
-            "G1 Z-L1 F[L3 * -0.01]\nM30")
+    text = (
+        "L 1 = 20\nL2 = [L 1 + 5]\nL3 = [[L1 - L2] * 2]\nG97 S500 T0101 M3\nG0 X L2 Z-[L2/2]\n"
+        "G1 Z-L1 F[L3 * -0.01]\nM30"
+    )
     tp = run(text, "traub-tx8d")
     assert codes(tp) == []
     assert tp.params == {1: 20, 2: 25, 3: -10}

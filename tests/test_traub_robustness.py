@@ -13,11 +13,81 @@ from core.limits import DEFAULT_LIMITS, Limits, work_ceiling
 from core.pipeline import run
 from tests.conftest import codes
 
-TOKENS = ["G0", "G1", "G2", "G3", "G4", "G9", "G22", "G24", "G26", "G28", "G40", "G41", "G46", "G53", "G59",
-          "G71", "G92", "G96", "G97", "G201", "M3", "M4", "M8", "M30", "M99", "M6", "M13", "M31", "X", "U",
-          "Z", "W", "A", "R", "P", "Q", "I", "K", "D", "C", "H", "F", "E", "S", "V", "T", "B", "L1", "L2",
-          "N10", "N20", "O8000", "%", "/", "(", ")", "[", "]", "=", "-", "+", "*", "0", "5", "12,5", "-30",
-          "0.4", "1000", " ", " ", "\n", "\n", "\n"]
+TOKENS = [
+    "G0",
+    "G1",
+    "G2",
+    "G3",
+    "G4",
+    "G9",
+    "G22",
+    "G24",
+    "G26",
+    "G28",
+    "G40",
+    "G41",
+    "G46",
+    "G53",
+    "G59",
+    "G71",
+    "G92",
+    "G96",
+    "G97",
+    "G201",
+    "M3",
+    "M4",
+    "M8",
+    "M30",
+    "M99",
+    "M6",
+    "M13",
+    "M31",
+    "X",
+    "U",
+    "Z",
+    "W",
+    "A",
+    "R",
+    "P",
+    "Q",
+    "I",
+    "K",
+    "D",
+    "C",
+    "H",
+    "F",
+    "E",
+    "S",
+    "V",
+    "T",
+    "B",
+    "L1",
+    "L2",
+    "N10",
+    "N20",
+    "O8000",
+    "%",
+    "/",
+    "(",
+    ")",
+    "[",
+    "]",
+    "=",
+    "-",
+    "+",
+    "*",
+    "0",
+    "5",
+    "12,5",
+    "-30",
+    "0.4",
+    "1000",
+    " ",
+    " ",
+    "\n",
+    "\n",
+    "\n",
+]
 
 
 @settings(max_examples=200, deadline=None)
@@ -53,12 +123,16 @@ def test_huge_values_are_reported_not_computed() -> None:
     assert any(c == "TX-E1015" for c, _ in codes(tp))
 
 
-@pytest.mark.parametrize("program", [
-    "G97 S500 T0101 M3\nN10 G0 X40 Z2\nN20 G1 Z-5 F0.1\nG22 P10 Q20 H9999\nM30",
-    "G22 A8000 H9999\nM30\n%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\nG201 \nM99\n%\n%\nO9801\nG0 X40 Z2\nG0 X50\nM99\n%",
-    "L1 = 1\nN10 L1 = [" + "+".join(["L1*2"] * 40) + "]\nN20 G22 P10 Q10 H9999\nM30",
-    "N10 F0.1\nN20 G22 P10 Q10 H9999\nN30 G22 P10 Q20 H9999\nM30",
-], ids=["section-moves", "nested-macros", "arithmetic", "blocks-without-motion"])
+@pytest.mark.parametrize(
+    "program",
+    [
+        "G97 S500 T0101 M3\nN10 G0 X40 Z2\nN20 G1 Z-5 F0.1\nG22 P10 Q20 H9999\nM30",
+        "G22 A8000 H9999\nM30\n%\nO8000\nG22 A8001 H9999\nM99\n%\n%\nO8001\nG201 \nM99\n%\n%\nO9801\nG0 X40 Z2\nG0 X50\nM99\n%",
+        "L1 = 1\nN10 L1 = [" + "+".join(["L1*2"] * 40) + "]\nN20 G22 P10 Q10 H9999\nM30",
+        "N10 F0.1\nN20 G22 P10 Q10 H9999\nN30 G22 P10 Q20 H9999\nM30",
+    ],
+    ids=["section-moves", "nested-macros", "arithmetic", "blocks-without-motion"],
+)
 def test_small_programs_finish_within_the_work_budget(program: str) -> None:
     assert len(program) < 300
     tp = run(program, "traub-tx8d")

@@ -39,12 +39,26 @@ WORD = re.compile(r"([A-Z])\s*(-?\s*[\d.,]+)")
 
 
 def _template(line: int, feed: float) -> Move:
-    return Move(kind="feed", start=(0.0, 0.0, 0.0), end=(0.0, 0.0, 0.0), feed=feed, feed_unit="mm/rev",
-                spindle=1000.0, spindle_direction="cw", coolant=True, tool=1, span=Span(line, 1, line, 40))
+    return Move(
+        kind="feed",
+        start=(0.0, 0.0, 0.0),
+        end=(0.0, 0.0, 0.0),
+        feed=feed,
+        feed_unit="mm/rev",
+        spindle=1000.0,
+        spindle_direction="cw",
+        coolant=True,
+        tool=1,
+        span=Span(line, 1, line, 40),
+    )
 
 
-def items_of(program: str, start: XZ = (50.0, 10.0), radius: float = 0.4, quadrant: int = 1,
-             ) -> list[TurnItem | SrkSwitch]:
+def items_of(
+    program: str,
+    start: XZ = (50.0, 10.0),
+    radius: float = 0.4,
+    quadrant: int = 1,
+) -> list[TurnItem | SrkSwitch]:
     """The items the executor hands over for `program` (one block a line), from tool tip `start`."""
     out: list[TurnItem | SrkSwitch] = []
     pos: XZ | None = start
@@ -79,12 +93,23 @@ def items_of(program: str, start: XZ = (50.0, 10.0), radius: float = 0.4, quadra
             z = pos[1] + dz if dz is not None else z
             dx = dz = None
         item = TurnItem(
-            template=_template(n, feed), code=motion, start=pos, x=x, z=z, dx=dx, dz=dz,  # type: ignore[arg-type]
-            a=words.get("A"), radius=words.get("R") if arc else None,
+            template=_template(n, feed),
+            code=motion,
+            start=pos,
+            x=x,
+            z=z,
+            dx=dx,
+            dz=dz,  # type: ignore[arg-type]
+            a=words.get("A"),
+            radius=words.get("R") if arc else None,
             centre=(words["P"] / 2, words["Q"]) if "P" in words and "Q" in words else None,
-            centre_offset=(words.get("I", 0.0), words.get("K", 0.0)) if "I" in words or "K" in words else None,
-            h=int(words["H"]) if "H" in words else None, transition=transition,
-            nose=Nose(mode, radius, quadrant))  # type: ignore[arg-type]
+            centre_offset=(words.get("I", 0.0), words.get("K", 0.0))
+            if "I" in words or "K" in words
+            else None,
+            h=int(words["H"]) if "H" in words else None,
+            transition=transition,
+            nose=Nose(mode, radius, quadrant),
+        )  # type: ignore[arg-type]
         out.append(item)
         pos = known_end(pos, item)
     return out
@@ -111,6 +136,7 @@ def approx(*pts: tuple[float, float]) -> list[object]:
 
 
 # -- TX-17…TX-20: single blocks -----------------------------------------------------------------
+
 
 def test_tx17_overview_contour_arcs_seen_from_plus_y() -> None:
     moves, d = run("G0 X20 Z2 M8\nG1 Z-15 F0.2\nG2 X40 Z-25 R10\nG1 Z-40\nG3 X60 Z-50 R10\nG1 Z-75")
@@ -155,6 +181,7 @@ def test_angle_a_with_z_and_known_start() -> None:
 
 # -- TX-21: contour trains of lines -------------------------------------------------------------
 
+
 def test_tx21_second_example_unknown_point_from_the_closing_block() -> None:
     moves, d = run("G0 X40 Z1 M8\nG1 Z-25 F0.2\nG1 X20 A210 F0.1\nG1 A180 F0.2\nG1 X60 Z-85 A-45")
     assert d == []
@@ -191,6 +218,7 @@ def test_train_closing_a_may_be_given_either_way_round() -> None:
 
 
 # -- TX-22: transition elements -----------------------------------------------------------------
+
 
 def test_tx22_face_chamfer_d_is_the_width_along_z() -> None:
     moves, d = run("G0 X0 Z1 M8\nG1 Z0 F0.2\nG1 X40 D0.5 E0.1\nG1 Z-30")
@@ -272,13 +300,18 @@ def test_transition_too_large_for_its_neighbours() -> None:
 
 # -- TX-23 / TX-48: three ways to give an arc ---------------------------------------------------
 
+
 @pytest.mark.parametrize("arc", ["G2 X50 Z-35 R10", "G2 X50 Z-35 P50 Q-25", "G2 X50 Z-35 I10 K0"])
 def test_tx23_g2_three_equivalent_forms(arc: str) -> None:
     moves, d = run(f"G0 X30 Z1 M8\nG1 Z-25 F0.2\n{arc}\nG1 Z-55")
     assert d == []
     m = moves[2]
-    assert (m.direction, m.center, m.radius, m.angle) == ("cw", pytest.approx((25, 0, -25)), pytest.approx(10),
-                                                          pytest.approx(90))
+    assert (m.direction, m.center, m.radius, m.angle) == (
+        "cw",
+        pytest.approx((25, 0, -25)),
+        pytest.approx(10),
+        pytest.approx(90),
+    )
     assert ends(moves)[2:] == approx((50, -35), (50, -55))
 
 
@@ -308,6 +341,7 @@ def test_arc_end_point_not_on_the_circle_of_its_centre() -> None:
 
 
 # -- TX-24 / TX-25 / TX-48: trains with arcs ----------------------------------------------------
+
 
 def test_tx24_h0_h1_rank_by_distance_from_the_known_point() -> None:
     # assumption (DECISIONS 22): the arc starts at X0 Z0, so it has radius 28 about X0 Z-28;
@@ -379,7 +413,9 @@ def test_tx25_arc_chamfer_and_rounding_to_line() -> None:
     rd, d2 = run("G0 X0 Z0\nG3 P0 Q-28 C3 H1 F0.2\nG1 X40 Z-27 A0")
     assert d2 == []
     assert rd[2].kind == "arc" and rd[2].radius == pytest.approx(3) and rd[2].line == 2
-    assert rd[2].center is not None and rd[2].center[0] == pytest.approx(20 + 3)  # left of the line X40, tangent
+    assert rd[2].center is not None and rd[2].center[0] == pytest.approx(
+        20 + 3
+    )  # left of the line X40, tangent
 
 
 def test_tx25_arc_arc_tangential() -> None:
@@ -401,6 +437,7 @@ def test_arc_arc_with_equal_senses_is_an_error() -> None:
 
 
 # -- TX-27 / TX-28: nose-radius compensation ----------------------------------------------------
+
 
 def test_tx27_selection_rapid_ends_on_the_equidistant() -> None:
     moves, d = run("G46\nG0 X40 Z1\nG1 Z-30 F0.2", radius=0.4, quadrant=1)
@@ -428,8 +465,9 @@ def test_tx27_selection_with_chamfer() -> None:
 
 
 def test_tx27_selection_below_the_axis_and_tangential_arc() -> None:
-    moves, d = run("G 46\nG 0 X - 1,6 Z 1\nG 1 Z 0 F 0,2\nG 1 X 0\nG 3 R 30\nG 1 X 30 Z - 30 A 0",
-                   radius=0.4, quadrant=1)
+    moves, d = run(
+        "G 46\nG 0 X - 1,6 Z 1\nG 1 Z 0 F 0,2\nG 1 X 0\nG 3 R 30\nG 1 X 30 Z - 30 A 0", radius=0.4, quadrant=1
+    )
     assert d == []
     s = (0.4 * math.sin(math.radians(30)), 0.4 * math.cos(math.radians(30)))
     assert [m.end for m in moves] == [
@@ -440,8 +478,9 @@ def test_tx27_selection_below_the_axis_and_tangential_arc() -> None:
         pytest.approx((15.4, 0, -25.981), abs=TOL),  # the arc R30 + 0.4 to the tangent point
         pytest.approx((15.4, 0, -30)),
     ]
-    assert moves[4].radius == pytest.approx(30.4) and moves[4].programmed_end == pytest.approx((15, 0, -25.981),
-                                                                                              abs=TOL)
+    assert moves[4].radius == pytest.approx(30.4) and moves[4].programmed_end == pytest.approx(
+        (15, 0, -25.981), abs=TOL
+    )
 
 
 def test_tx27_first_feed_shorter_than_the_nose_radius() -> None:
@@ -460,8 +499,9 @@ def test_g46_needs_the_quadrant() -> None:
     assert codes(d) == [("TX-E212", 1)]
 
 
-@pytest.mark.parametrize(("quadrant", "code", "x"), [(1, "G46", 20.4), (4, "G46", 19.6), (0, "G42", 20.4),
-                                                     (0, "G41", 19.6)])
+@pytest.mark.parametrize(
+    ("quadrant", "code", "x"), [(1, "G46", 20.4), (4, "G46", 19.6), (0, "G42", 20.4), (0, "G41", 19.6)]
+)
 def test_side_from_quadrant_or_g41_g42(quadrant: int, code: str, x: float) -> None:
     # travel −Z: an outside tool (P1) and G42 (tool right of the travel) stay above, a boring bar (P4) and G41 below
     moves, d = run(f"{code}\nG0 X40 Z1\nG1 Z-30 F0.2", radius=0.4, quadrant=quadrant)
@@ -517,8 +557,11 @@ def test_inside_arc_smaller_than_the_nose_radius() -> None:
 
 def test_inside_fillet_smaller_than_the_nose_radius_is_suppressed() -> None:
     # a fillet R0.2 at a shoulder with nose R0.4: the nose leaves its own radius in the corner
-    moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG2 X40.4 Z-10.2 R0.2\nG1 X50\nG1 Z-30\nG0 X54 A180\nG40",
-                   radius=0.4, quadrant=1)
+    moves, d = run(
+        "G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG2 X40.4 Z-10.2 R0.2\nG1 X50\nG1 Z-30\nG0 X54 A180\nG40",
+        radius=0.4,
+        quadrant=1,
+    )
     assert codes(d) == [("TX-W220", 4)]
     assert [m.end for m in moves if m.line == 3] == [pytest.approx((20.4, 0, -9.8))]  # equidistants meet
     assert all(m.line != 4 for m in moves)
@@ -527,28 +570,44 @@ def test_inside_fillet_smaller_than_the_nose_radius_is_suppressed() -> None:
 def test_groove_narrower_than_the_nose_is_suppressed() -> None:
     # a groove 0.5 mm wide and 1 mm deep: the nose R0.4 (Ø0.8) cannot enter; its three blocks are
     # suppressed (Satzausblendung, a warning) and the nose passes over at X40 + 2 × 0.4
-    moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-10.5\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
-                   radius=0.4, quadrant=1)
+    moves, d = run(
+        "G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-10.5\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
+        radius=0.4,
+        quadrant=1,
+    )
     assert sorted(codes(d)) == [("TX-W220", 4), ("TX-W220", 5), ("TX-W220", 6)]
-    assert [(m.line, m.end) for m in moves[1:3]] == [(3, pytest.approx((20.4, 0, -10))),
-                                                      (7, pytest.approx((20.4, 0, -30)))]
+    assert [(m.line, m.end) for m in moves[1:3]] == [
+        (3, pytest.approx((20.4, 0, -10))),
+        (7, pytest.approx((20.4, 0, -30))),
+    ]
 
 
 def test_groove_wider_than_the_nose_is_machined() -> None:
-    moves, d = run("G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-12\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
-                   radius=0.4, quadrant=1)
+    moves, d = run(
+        "G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 X38\nG1 Z-12\nG1 X40\nG1 Z-30\nG0 X44 A180\nG40",
+        radius=0.4,
+        quadrant=1,
+    )
     # the plunge down the groove's right wall is outside the 180° cutting range of P1 (the back of the nose)
     assert codes(d) == [("TX-W225", 4)]
-    assert [m.end for m in moves if m.line == 5] == [pytest.approx((19.4, 0, -11.6))]  # floor between the walls
+    assert [m.end for m in moves if m.line == 5] == [
+        pytest.approx((19.4, 0, -11.6))
+    ]  # floor between the walls
 
 
-@pytest.mark.parametrize(("step", "corner", "end"), [
-    ("X40.2", (20.1, -10), (20.5, 0, -10)),  # up 0.1: the nose rolls over the step's outer corner
-    ("X39.8", (20.0, -10), (20.3, 0, -10 - math.sqrt(0.4 ** 2 - 0.3 ** 2))),  # down 0.1: round the edge
-])
-def test_step_smaller_than_the_nose_radius(step: str, corner: tuple[float, float],
-                                           end: tuple[float, float, float]) -> None:
-    moves, d = run(f"G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 {step}\nG1 Z-20\nG0 X54 A180\nG40", radius=0.4, quadrant=1)
+@pytest.mark.parametrize(
+    ("step", "corner", "end"),
+    [
+        ("X40.2", (20.1, -10), (20.5, 0, -10)),  # up 0.1: the nose rolls over the step's outer corner
+        ("X39.8", (20.0, -10), (20.3, 0, -10 - math.sqrt(0.4**2 - 0.3**2))),  # down 0.1: round the edge
+    ],
+)
+def test_step_smaller_than_the_nose_radius(
+    step: str, corner: tuple[float, float], end: tuple[float, float, float]
+) -> None:
+    moves, d = run(
+        f"G46\nG0 X40 Z1\nG1 Z-10 F0.2\nG1 {step}\nG1 Z-20\nG0 X54 A180\nG40", radius=0.4, quadrant=1
+    )
     assert codes(d) == [("TX-W220", 4)]
     roll = [m for m in moves if m.kind == "arc"]
     assert len(roll) == 1 and roll[0].center == pytest.approx((corner[0], 0, corner[1]))
@@ -616,6 +675,7 @@ def test_no_srk_without_nose_radius_keeps_the_tip_path() -> None:
 
 
 # -- properties -----------------------------------------------------------------------------------
+
 
 def _dist_to(m: Move, p: tuple[float, float]) -> float:
     """Distance from plane point p (z, x) to the programmed element of the tip path move m."""
@@ -695,10 +755,18 @@ def _xz(z: float, x: float) -> str:
 
 
 @settings(max_examples=80, deadline=None)
-@given(st.tuples(st.floats(-20, 20), st.floats(0, 40)), st.floats(5, 30), st.floats(0, 360), st.floats(5, 30),
-       st.floats(0, 360), st.sampled_from(["", "D", "D-", "R"]), st.floats(0.05, 0.3))
-def test_property_train_equals_its_explicit_coordinates(s: tuple[float, float], l1: float, a1: float, l2: float,
-                                                        a2: float, kind: str, frac: float) -> None:
+@given(
+    st.tuples(st.floats(-20, 20), st.floats(0, 40)),
+    st.floats(5, 30),
+    st.floats(0, 360),
+    st.floats(5, 30),
+    st.floats(0, 360),
+    st.sampled_from(["", "D", "D-", "R"]),
+    st.floats(0.05, 0.3),
+)
+def test_property_train_equals_its_explicit_coordinates(
+    s: tuple[float, float], l1: float, a1: float, l2: float, a2: float, kind: str, frac: float
+) -> None:
     turn = abs(math.sin(math.radians(a2 - a1)))
     if turn < 0.2:
         return  # nearly parallel lines: the train is ill-conditioned
@@ -767,8 +835,16 @@ def test_pipeline_example_without_nose_data_runs_on_the_tool_tip(name: str) -> N
 def test_pipeline_tx17_arcs() -> None:
     moves = traub("tx-17-g0-g1-g2-g3.nc")
     g2, g3 = by_line(moves, 6)[0], by_line(moves, 8)[0]
-    assert (g2.direction, g2.center, g2.end) == ("cw", pytest.approx((20, 0, -15)), pytest.approx((20, 0, -25)))
-    assert (g3.direction, g3.center, g3.end) == ("ccw", pytest.approx((20, 0, -50)), pytest.approx((30, 0, -50)))
+    assert (g2.direction, g2.center, g2.end) == (
+        "cw",
+        pytest.approx((20, 0, -15)),
+        pytest.approx((20, 0, -25)),
+    )
+    assert (g3.direction, g3.center, g3.end) == (
+        "ccw",
+        pytest.approx((20, 0, -50)),
+        pytest.approx((30, 0, -50)),
+    )
 
 
 def test_pipeline_tx21_train() -> None:
@@ -795,7 +871,11 @@ def test_pipeline_tx23_three_forms_give_the_same_arc() -> None:
     arcs = [m for m in moves if m.kind == "arc"]
     assert len(arcs) == 6
     for arc in arcs[:3]:
-        assert (arc.direction, arc.center, arc.end) == ("cw", pytest.approx((25, 0, -25)), pytest.approx((25, 0, -35)))
+        assert (arc.direction, arc.center, arc.end) == (
+            "cw",
+            pytest.approx((25, 0, -25)),
+            pytest.approx((25, 0, -35)),
+        )
     for arc in arcs[3:]:
         assert (arc.direction, arc.center) == ("ccw", pytest.approx((15, 0, -35)))
 
@@ -869,8 +949,9 @@ def any_blocks(draw: st.DrawFn) -> str:
 
 @settings(max_examples=300, deadline=None)
 @given(any_blocks(), st.sampled_from([0.0, 0.4, 2.0]), st.integers(0, 4))
-def test_property_any_blocks_give_moves_or_diagnostics_never_an_exception(program: str, radius: float,
-                                                                          quadrant: int) -> None:
+def test_property_any_blocks_give_moves_or_diagnostics_never_an_exception(
+    program: str, radius: float, quadrant: int
+) -> None:
     moves, _ = run(program, radius=radius, quadrant=quadrant)
     for m in moves:
         assert all(math.isfinite(v) for v in m.start + m.end)
@@ -913,4 +994,6 @@ def test_pipeline_json_of_a_compensated_arc() -> None:
     assert arc["kind"] == "arc" and arc["direction"] == "ccw" and arc["plane"] == "G18"
     assert arc["end"] == pytest.approx([15.4, 0, -25.980762], abs=1e-6)
     assert arc["programmed_end"] == pytest.approx([15, 0, -25.980762], abs=1e-6)
-    assert arc["center"] == pytest.approx([-15, 0, -25.980762], abs=1e-6) and arc["radius"] == pytest.approx(30.4)
+    assert arc["center"] == pytest.approx([-15, 0, -25.980762], abs=1e-6) and arc["radius"] == pytest.approx(
+        30.4
+    )

@@ -23,13 +23,14 @@ from tests.conftest import codes
 
 MB = 5_000_000
 
-CIRCLES = ("N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G2 X0 Y0 I50000 J0\nN50 G29 N40\nN60 M30\n")
-SEVEN_LINES = ("N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G1 X10\nN50 G1 X0\nN60 G29 N40\n"
-               "N70 M30\n")
+CIRCLES = "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G2 X0 Y0 I50000 J0\nN50 G29 N40\nN60 M30\n"
+SEVEN_LINES = "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G1 X10\nN50 G1 X0\nN60 G29 N40\nN70 M30\n"
 # compensated contour with roundings in an endless loop: each pass costs the contour stage ~0.5 ms
-CONTOUR_LOOP = ("N10 T1 TC1 M6\nN20 F250 S2000 M3\nN30 G0 X-10 Y-50 Z2\nN40 G41 G1 X15 Y-15\n"
-                "N60 G1 X15 Y75 RN5\nN70 G1 X55 Y75 RN-2\nN80 G1 X55 Y-15 RN3\nN85 G1 X15 Y-15\n"
-                "N90 G29 N60\nN100 M30\n")
+CONTOUR_LOOP = (
+    "N10 T1 TC1 M6\nN20 F250 S2000 M3\nN30 G0 X-10 Y-50 Z2\nN40 G41 G1 X15 Y-15\n"
+    "N60 G1 X15 Y75 RN5\nN70 G1 X55 Y75 RN-2\nN80 G1 X55 Y-15 RN3\nN85 G1 X15 Y-15\n"
+    "N90 G29 N60\nN100 M30\n"
+)
 # one long block of parameter arithmetic in an endless loop
 ARITHMETIC_LOOP = "N10 P1=" + "+".join(["P1*2"] * 40) + "\nN20 G29 N10\nN30 M30\n"
 # every pass reports a warning for each unassigned parameter it reads
@@ -44,24 +45,32 @@ def json_size(data: Any) -> int:
     return len(json.dumps(data, ensure_ascii=False).encode())
 
 
-@pytest.mark.parametrize("program", [CIRCLES, SEVEN_LINES, CONTOUR_LOOP, ARITHMETIC_LOOP, WARNING_LOOP],
-                         ids=["circles", "seven-lines", "contour-loop", "arithmetic-loop", "warning-loop"])
+@pytest.mark.parametrize(
+    "program",
+    [CIRCLES, SEVEN_LINES, CONTOUR_LOOP, ARITHMETIC_LOOP, WARNING_LOOP],
+    ids=["circles", "seven-lines", "contour-loop", "arithmetic-loop", "warning-loop"],
+)
 def test_audit_programs_end_at_a_budget_with_answers_under_5_mb(program: str) -> None:
     assert len(program) < 300
     tp = run(program)
     assert within_budget(tp)
     assert any(d.code in ("PAL-E013", "PAL-E016", "PAL-E017") for d in tp.diagnostics)
     answer = toolpath_json(tp)
-    assert len(answer["moves"]) + len(answer["dwells"]) + len(answer["tool_changes"]) <= \
-        DEFAULT_LIMITS.max_answer_commands
+    assert (
+        len(answer["moves"]) + len(answer["dwells"]) + len(answer["tool_changes"])
+        <= DEFAULT_LIMITS.max_answer_commands
+    )
     assert json_size(answer) < MB
 
 
 SERVER_CHARS = 200_000  # the server's largest program (PALTRAINER_MAX_PROGRAM_CHARS)
 
 
-@pytest.mark.parametrize("line", ["#", "X1,5", "Q1", "G1 X1\nX2"], ids=["bad-character", "decimal-comma",
-                                                                    "unknown-address", "short-moves"])
+@pytest.mark.parametrize(
+    "line",
+    ["#", "X1,5", "Q1", "G1 X1\nX2"],
+    ids=["bad-character", "decimal-comma", "unknown-address", "short-moves"],
+)
 def test_the_largest_program_the_server_takes_reads_only_max_blocks_lines(line: str) -> None:
     # the lines beyond max_blocks are not read (PAL-E006): a syntax error costs ~10 µs a line
     text = "T1 M6\nS100 F100 M3\n" + (line + "\n") * (SERVER_CHARS // (len(line) + 1) - 10)
@@ -98,8 +107,10 @@ def test_warnings_count_against_the_evaluation_budget() -> None:
 
 
 def test_a_program_within_the_budgets_is_unchanged() -> None:
-    tp = run("N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G1 X10\nN50 G1 X0\nN60 G23 N40 N50 H200\n"
-             "N70 M30\n")
+    tp = run(
+        "N10 T1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G1 X10\nN50 G1 X0\nN60 G23 N40 N50 H200\n"
+        "N70 M30\n"
+    )
     assert codes(tp) == [] and len(tp.moves) == 1 + 2 + 400
 
 
@@ -126,8 +137,11 @@ def test_summary_keeps_the_toolpath_for_simulation_and_grading() -> None:
 def test_deeply_called_moves_still_give_an_answer_under_5_mb() -> None:
     # every move carries the call stack of 8 nested subprograms: the largest a move's JSON gets
     subs = "".join(f"%L{n}\nN10 G22 L{n + 1}\nN20 M17\n" for n in range(1, 8))
-    text = ("N10 T1 M6\nN20 S1000 F100 M3\nN30 G22 L1\nN40 M30\n" + subs
-            + "%L8\nN10 G1 X10\nN20 G1 X0\nN30 G29 N10\nN40 M17\n")
+    text = (
+        "N10 T1 M6\nN20 S1000 F100 M3\nN30 G22 L1\nN40 M30\n"
+        + subs
+        + "%L8\nN10 G1 X10\nN20 G1 X0\nN30 G29 N10\nN40 M17\n"
+    )
     answer = toolpath_json(run(text))
     assert len(answer["moves"]) + len(answer["tool_changes"]) == DEFAULT_LIMITS.max_answer_commands
     assert len(answer["moves"][-1]["call_stack"]) == 8
@@ -187,5 +201,7 @@ def test_grading_looks_at_a_bounded_number_of_chords_per_arc() -> None:
     from core.grading import grade
 
     exercise = builtin_exercises()["pal-01-g1-gerade"]
-    result = grade(exercise, CIRCLES)  # 5,000 circles of 2,000 chords each above the part (bench/limits.py: time)
+    result = grade(
+        exercise, CIRCLES
+    )  # 5,000 circles of 2,000 chords each above the part (bench/limits.py: time)
     assert result.score < result.max_score

@@ -94,9 +94,13 @@ class CodeTable:
     # the arc end-point check: start and end radius may differ by max(RunSetup.arc_tolerance, factor × radius)
     arc_tolerance_factor: float = 0.0
     centre_correction: bool = False  # Beckhoff G165: the centre is moved onto the arc within limits
-    modal_radius: bool = False  # Beckhoff: R is kept for the next arcs (R alone in a G02/G03 block: no motion)
+    modal_radius: bool = (
+        False  # Beckhoff: R is kept for the next arcs (R alone in a G02/G03 block: no motion)
+    )
     program_prefix: str = "L"  # subprograms: L<n> (PAL, `%L<n>` headers) or O<n> (ISO, `O<n>` lines)
-    unsupported_prefixes: tuple[str, ...] = ()  # words of the control the product does not model (#HSC, V.P.X)
+    unsupported_prefixes: tuple[
+        str, ...
+    ] = ()  # words of the control the product does not model (#HSC, V.P.X)
     group_of: dict[str, str] = field(init=False)
     technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
     pairs: dict[str, tuple[tuple[str, str], ...]] = field(init=False)  # code → (group, member) it switches
@@ -105,8 +109,14 @@ class CodeTable:
         group_of = {m: g.name for g in self.groups for m in g.members}
         object.__setattr__(self, "group_of", group_of)
         object.__setattr__(self, "technology_words", self.always_allowed | self.tool_words)
-        object.__setattr__(self, "pairs", {name: tuple((group_of[m], m) for m in self.activates(code))
-                                           for name, code in self.codes.items()})
+        object.__setattr__(
+            self,
+            "pairs",
+            {
+                name: tuple((group_of[m], m) for m in self.activates(code))
+                for name, code in self.codes.items()
+            },
+        )
 
     def activates(self, code: Code) -> tuple[str, ...]:
         """The modal group members that `code` switches on."""

@@ -25,26 +25,36 @@ def code_order(code: Code) -> tuple[str, int]:
 
 
 def table_markdown(title: str, table: CodeTable) -> str:
-    lines = [f"## {title}", "", "| Code | Bedeutung | Pflicht (je eine) | Optional | Beispiel | Merkregel |",
-             "|---|---|---|---|---|---|"]
+    lines = [
+        f"## {title}",
+        "",
+        "| Code | Bedeutung | Pflicht (je eine) | Optional | Beispiel | Merkregel |",
+        "|---|---|---|---|---|---|",
+    ]
     for c in sorted(table.codes.values(), key=code_order):
         need = "; ".join(" / ".join(_with_unit(a, table.addresses) for a in g) for g in c.help_mandatory())
         opt = ", ".join(_with_unit(a, table.addresses) for a in c.help_optional())
         planned = "" if c.support.value == "yes" else " (noch nicht unterstützt)"
         example = f"`{c.example}`" if c.example else ""
-        lines.append(f"| {c.name} | {_cell(c.help_de)}{planned} | {need} | {opt} | {example} | {_cell(c.rule_de)} |")
+        lines.append(
+            f"| {c.name} | {_cell(c.help_de)}{planned} | {need} | {opt} | {example} | {_cell(c.rule_de)} |"
+        )
     lines += ["", "| Adresse | Bedeutung | Einheit | Merkregel |", "|---|---|---|---|"]
-    lines += [f"| {a.name} | {_cell(a.help_de)} | {a.unit} | {_cell(a.rule_de)} |" for a in table.addresses.values()]
+    lines += [
+        f"| {a.name} | {_cell(a.help_de)} | {a.unit} | {_cell(a.rule_de)} |" for a in table.addresses.values()
+    ]
     return "\n".join(lines) + "\n"
 
 
 def codes_markdown() -> str:
     from core.pipeline import DIALECTS  # here: the pipeline imports the tables of this package
 
-    head = ("# G- und M-Codes der Dialekte\n\nGenerated from the code tables in `core/dialects/` "
-            "(`python -m core.dialects.help > docs/codes.md`); the editor's hover help and completion show the "
-            "same entries (`GET /api/v1/dialects/{name}`). Units are those of the addresses; a code's "
-            "mandatory column lists groups of which one address each is needed.\n\n")
+    head = (
+        "# G- und M-Codes der Dialekte\n\nGenerated from the code tables in `core/dialects/` "
+        "(`python -m core.dialects.help > docs/codes.md`); the editor's hover help and completion show the "
+        "same entries (`GET /api/v1/dialects/{name}`). Units are those of the addresses; a code's "
+        "mandatory column lists groups of which one address each is needed.\n\n"
+    )
     return head + "\n".join(table_markdown(d.title_de, d.table) for d in DIALECTS.values())
 
 

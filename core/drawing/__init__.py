@@ -123,6 +123,7 @@ def _layout(stock: Stock, below: float, left: float) -> Layout:
 
 # ---- the views -------------------------------------------------------------------------------------------
 
+
 def _levels(hm: HeightMap, floors: list[float]) -> list[float]:
     """The heights the part's edges lie between: the base (outside), the programmed floors, the top."""
     heights = sorted({round(z, 6) for z in [hm.base - 1.0, hm.top] + floors})
@@ -183,10 +184,16 @@ def _zero_symbol(svg: Svg, c: tuple[float, float], r: float = 2.5) -> None:
     """The workpiece zero: a circle with two opposite quarters filled (DIN EN ISO 22768 style)."""
     svg.circle(c, r, width=THIN, fill="#fff")
     x, y = c
-    svg.path(f"M{num(x)} {num(y)} L{num(x + r)} {num(y)} A{num(r)} {num(r)} 0 0 0 {num(x)} {num(y - r)} Z",
-             width=0.1, fill="#000")
-    svg.path(f"M{num(x)} {num(y)} L{num(x - r)} {num(y)} A{num(r)} {num(r)} 0 0 0 {num(x)} {num(y + r)} Z",
-             width=0.1, fill="#000")
+    svg.path(
+        f"M{num(x)} {num(y)} L{num(x + r)} {num(y)} A{num(r)} {num(r)} 0 0 0 {num(x)} {num(y - r)} Z",
+        width=0.1,
+        fill="#000",
+    )
+    svg.path(
+        f"M{num(x)} {num(y)} L{num(x - r)} {num(y)} A{num(r)} {num(r)} 0 0 0 {num(x)} {num(y + r)} Z",
+        width=0.1,
+        fill="#000",
+    )
     svg.take((x - r, y - r, x + r, y + r))
 
 
@@ -217,8 +224,10 @@ def _ordinate_texts(pts: list[tuple[float, float]], numbers: Numbers) -> tuple[f
     """How long the longest X and Y ordinate texts are (paper mm): the room the layout keeps for them."""
     xs = distinct([p[0] for p in pts])
     ys = distinct([p[1] for p in pts])
-    return (max((_length(numbers.dimension(x)) for x in xs), default=0.0),
-            max((_length(numbers.dimension(y)) for y in ys), default=0.0))
+    return (
+        max((_length(numbers.dimension(x)) for x in xs), default=0.0),
+        max((_length(numbers.dimension(y)) for y in ys), default=0.0),
+    )
 
 
 def _ordinates(svg: Svg, L: Layout, pts: list[tuple[float, float]], numbers: Numbers) -> None:
@@ -275,7 +284,9 @@ def _size(svg: Svg, L: Layout, numbers: Numbers) -> None:
     svg.arrow((x0, row), (x1, row))
     svg.arrow((x1, row), (x0, row))
     width = numbers.text(st.x1 - st.x0)
-    svg.text(((x0 + x1) / 2, row - 1.0), width, anchor="middle", kind="size", value=numbers.nominal(st.x1 - st.x0))
+    svg.text(
+        ((x0 + x1) / 2, row - 1.0), width, anchor="middle", kind="size", value=numbers.nominal(st.x1 - st.x0)
+    )
     column = x1 + HEIGHT_GAP
     for y in (y0, y1):
         svg.line((x1 + 1.0, y), (column + 1.5, y), width=THIN)
@@ -300,8 +311,16 @@ def _rotate(d: tuple[float, float], degrees: float) -> tuple[float, float]:
     return (d[0] * math.cos(a) - d[1] * math.sin(a), d[0] * math.sin(a) + d[1] * math.cos(a))
 
 
-def _leader(svg: Svg, at: tuple[float, float], direction: tuple[float, float], text: str, kind: str, raw: str,
-            length: float = 7.0, zone: tuple[float, float] | None = None) -> None:
+def _leader(
+    svg: Svg,
+    at: tuple[float, float],
+    direction: tuple[float, float],
+    text: str,
+    kind: str,
+    raw: str,
+    length: float = 7.0,
+    zone: tuple[float, float] | None = None,
+) -> None:
     """A leader from `at` (arrow on the element) outwards, the text at its end: the first of the directions
     near `direction` and lengths where the text covers no other text and the leader crosses none (not into the
     ordinates left of and below the view, `zone`)."""
@@ -324,8 +343,12 @@ def _leader(svg: Svg, at: tuple[float, float], direction: tuple[float, float], t
         anchor = "start" if right else "end"
         place = (shoulder[0] + (0.8 if right else -0.8), shoulder[1] + 1.2)
         box = text_box(place, text, anchor=anchor)
-        good = svg.free(box) and svg.clear(at, end) and svg.clear(end, shoulder) and \
-            (zone is None or not (box[0] < zone[0] or box[3] > zone[1]))
+        good = (
+            svg.free(box)
+            and svg.clear(at, end)
+            and svg.clear(end, shoulder)
+            and (zone is None or not (box[0] < zone[0] or box[3] > zone[1]))
+        )
         choices.append((not good, len(choices), end, shoulder, anchor, place))
         if good:
             break
@@ -343,8 +366,9 @@ def _outward(L: Layout, p: tuple[float, float]) -> tuple[float, float]:
     return d if math.hypot(*d) > 1e-9 else (1.0, -1.0)
 
 
-def _aligned(svg: Svg, L: Layout, a: tuple[float, float], b: tuple[float, float], text: str, kind: str,
-             raw: str) -> None:
+def _aligned(
+    svg: Svg, L: Layout, a: tuple[float, float], b: tuple[float, float], text: str, kind: str, raw: str
+) -> None:
     """A length along an inclined edge a–b (paper mm): a dimension line parallel to it on the side away from
     the blank's centre, its text parallel to the line (reading from below or from the right)."""
     mid = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
@@ -369,8 +393,11 @@ def _aligned(svg: Svg, L: Layout, a: tuple[float, float], b: tuple[float, float]
         if svg.free(text_box(at, text, anchor="middle", rotate=angle)):
             break
     for p, q in ((a, pa), (b, pb)):
-        svg.line((p[0] + normal[0] * 1.0, p[1] + normal[1] * 1.0), (q[0] + normal[0] * 1.5, q[1] + normal[1] * 1.5),
-                 width=THIN)
+        svg.line(
+            (p[0] + normal[0] * 1.0, p[1] + normal[1] * 1.0),
+            (q[0] + normal[0] * 1.5, q[1] + normal[1] * 1.5),
+            width=THIN,
+        )
     svg.line(pa, pb, width=THIN)
     svg.arrow(pa, pb)
     svg.arrow(pb, pa)
@@ -392,7 +419,10 @@ def _angle_text(svg: Svg, L: Layout, e: Element, text: str, raw: str) -> None:
     for side in (1.0, -1.0):
         for along in (0.0, 5.0, -5.0, 10.0, -10.0):
             for off in (4.0, 7.0):
-                at = (pm[0] + side * u[0] * off + t[0] * along, pm[1] + side * u[1] * off + t[1] * along + 1.2)
+                at = (
+                    pm[0] + side * u[0] * off + t[0] * along,
+                    pm[1] + side * u[1] * off + t[1] * along + 1.2,
+                )
                 first = first or at
                 if svg.free(text_box(at, text, anchor="middle")):
                     svg.text(at, text, anchor="middle", kind="angle", value=raw)
@@ -433,8 +463,15 @@ def _annotations(svg: Svg, L: Layout, feats: list[Feature], numbers: Numbers) ->
                     continue
                 done_radii.add(key)
                 pm, pc = L.top(*mid), L.top(*e.center)
-                _leader(svg, pm, (pm[0] - pc[0], pm[1] - pc[1]), f"R{numbers.text(e.radius)}", "r",
-                        numbers.nominal(e.radius), zone=zone)
+                _leader(
+                    svg,
+                    pm,
+                    (pm[0] - pc[0], pm[1] - pc[1]),
+                    f"R{numbers.text(e.radius)}",
+                    "r",
+                    numbers.nominal(e.radius),
+                    zone=zone,
+                )
                 if k not in corners:  # a rounded corner is dimensioned to the corner, not to the centre
                     cx, cy = pc
                     svg.line((cx - 2.5, cy), (cx + 2.5, cy), width=0.18)
@@ -444,11 +481,25 @@ def _annotations(svg: Svg, L: Layout, feats: list[Feature], numbers: Numbers) ->
                 leg = chamfer_leg(f.elements[k - 1], e, f.elements[k + 1])
                 if leg is not None and on_stock(mid, st):
                     if numbers.stated(leg) or not numbers.stated(e.length()):
-                        _leader(svg, L.top(*mid), _outward(L, L.top(*mid)), f"{numbers.text(leg)}×45°", "chamfer",
-                                numbers.nominal(leg), zone=zone)
+                        _leader(
+                            svg,
+                            L.top(*mid),
+                            _outward(L, L.top(*mid)),
+                            f"{numbers.text(leg)}×45°",
+                            "chamfer",
+                            numbers.nominal(leg),
+                            zone=zone,
+                        )
                     else:  # the program gives the chamfer's length (#CHF), not its leg: that length and 45°
-                        _aligned(svg, L, L.top(*e.start), L.top(*e.end), numbers.text(e.length()), "chamfer",
-                                 numbers.nominal(e.length()))
+                        _aligned(
+                            svg,
+                            L,
+                            L.top(*e.start),
+                            L.top(*e.end),
+                            numbers.text(e.length()),
+                            "chamfer",
+                            numbers.nominal(e.length()),
+                        )
                         _angle_text(svg, L, e, "45°", "45")
                     continue
             angle = line_angle(e)
@@ -462,23 +513,38 @@ def _annotations(svg: Svg, L: Layout, feats: list[Feature], numbers: Numbers) ->
             n = math.hypot(*d) or 1.0
             on_arc = L.top(centre[0] + d[0] / n * r, centre[1] + d[1] / n * r)
             pc = L.top(*centre)
-            _leader(svg, on_arc, (pc[0] - on_arc[0], pc[1] - on_arc[1]) if n > r else (on_arc[0] - pc[0], on_arc[1] - pc[1]),
-                    f"{len(inside)}× R{numbers.text(r)}" if len(inside) > 1 else f"R{numbers.text(r)}", "r",
-                    numbers.nominal(r), length=5.0)
+            _leader(
+                svg,
+                on_arc,
+                (pc[0] - on_arc[0], pc[1] - on_arc[1]) if n > r else (on_arc[0] - pc[0], on_arc[1] - pc[1]),
+                f"{len(inside)}× R{numbers.text(r)}" if len(inside) > 1 else f"R{numbers.text(r)}",
+                "r",
+                numbers.nominal(r),
+                length=5.0,
+            )
 
 
-def _callouts(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole], numbers: Numbers,
-              extra: list[tuple[float, str, str, tuple[float, float]]] | None = None) -> None:
+def _callouts(
+    svg: Svg,
+    L: Layout,
+    feats: list[Feature],
+    bores: list[Hole],
+    numbers: Numbers,
+    extra: list[tuple[float, str, str, tuple[float, float]]] | None = None,
+) -> None:
     """One callout per kind of feature (depth, and width for slots; diameter and depth for holes), in a column
     right of the top view, each at the height of what it names or below, where its leader crosses no text."""
     st = L.stock
     labels = LABELS[numbers.lang]
-    items: list[tuple[float, str, str, tuple[float, float]]] = []  # (workpiece y, text, raw depth, paper point)
+    items: list[
+        tuple[float, str, str, tuple[float, float]]
+    ] = []  # (workpiece y, text, raw depth, paper point)
     kinds: dict[tuple[float, float, bool], list[Feature]] = {}
     for f in feats:
         if any(visible(e, st) for e in f.elements):
-            kinds.setdefault((round(st.z1 - f.z, 6), 0.0 if f.compensated else f.tool_diameter, f.compensated),
-                             []).append(f)
+            kinds.setdefault(
+                (round(st.z1 - f.z, 6), 0.0 if f.compensated else f.tool_diameter, f.compensated), []
+            ).append(f)
     for (depth, width, _), group in kinds.items():
         text = f"{labels['depth']} {numbers.text(depth)}"
         if width > 0:
@@ -490,8 +556,11 @@ def _callouts(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole], numb
             continue
         e = max(shown, key=lambda x: (x.midpoint()[0], x.length()))
         # a line's point a third along it (its middle may carry its angle), an arc's middle
-        at = e.midpoint() if e.is_arc else (e.start[0] + (e.end[0] - e.start[0]) / 3,
-                                            e.start[1] + (e.end[1] - e.start[1]) / 3)
+        at = (
+            e.midpoint()
+            if e.is_arc
+            else (e.start[0] + (e.end[0] - e.start[0]) / 3, e.start[1] + (e.end[1] - e.start[1]) / 3)
+        )
         if not on_stock(at, st):
             at = e.midpoint()
         items.append((at[1], text, numbers.nominal(depth), L.top(*at)))
@@ -506,8 +575,14 @@ def _callouts(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole], numb
             text = f"{len(alike)}× {text}"
         hole = max(alike, key=lambda h: (h.x, h.y))
         px, py = L.top(hole.x, hole.y)
-        items.append((hole.y, text, numbers.nominal(depth), (px + diameter / 2 * L.s * math.sqrt(0.5),
-                                                       py - diameter / 2 * L.s * math.sqrt(0.5))))
+        items.append(
+            (
+                hole.y,
+                text,
+                numbers.nominal(depth),
+                (px + diameter / 2 * L.s * math.sqrt(0.5), py - diameter / 2 * L.s * math.sqrt(0.5)),
+            )
+        )
     items += extra or []
     column = L.top(st.x1, 0)[0] + COLUMN
     previous = -math.inf
@@ -541,6 +616,7 @@ def _centre_lines(svg: Svg, L: Layout, feats: list[Feature], bores: list[Hole]) 
 
 # ---- what the PAL cycles made (core/drawing/cycles.py) ------------------------------------------------------
 
+
 def _on(p: Pocket, u: float, v: float) -> tuple[float, float]:
     """A point of the pocket's own frame (u along LP, v along BP, from its centre) in the part, turned by AR."""
     a = math.radians(p.angle)
@@ -551,8 +627,14 @@ def _polar(c: tuple[float, float], r: float, degrees: float) -> tuple[float, flo
     return (c[0] + r * math.cos(math.radians(degrees)), c[1] + r * math.sin(math.radians(degrees)))
 
 
-def _cross_lines(svg: Svg, L: Layout, a: tuple[float, float], b: tuple[float, float], c: tuple[float, float],
-                 d: tuple[float, float]) -> None:
+def _cross_lines(
+    svg: Svg,
+    L: Layout,
+    a: tuple[float, float],
+    b: tuple[float, float],
+    c: tuple[float, float],
+    d: tuple[float, float],
+) -> None:
     """Two centre lines (dash-dot) a–b and c–d (part coordinates), reaching 2 mm beyond on paper."""
     for p, q in ((a, b), (c, d)):
         pa, pb = L.top(*p), L.top(*q)
@@ -572,8 +654,11 @@ def _cycle_lines(svg: Svg, L: Layout, made: Cycles) -> None:
             e0, e1 = L.top(*s0), L.top(*s1)
             flag = 0 if p.sweep > 0 else 1
             large = 1 if abs(p.sweep) > 180 else 0
-            svg.path(f"M{num(e0[0])} {num(e0[1])} A{num(r)} {num(r)} 0 {large} {flag} {num(e1[0])} {num(e1[1])}",
-                     width=0.18, dash="centre")
+            svg.path(
+                f"M{num(e0[0])} {num(e0[1])} A{num(r)} {num(r)} 0 {large} {flag} {num(e1[0])} {num(e1[1])}",
+                width=0.18,
+                dash="centre",
+            )
             for q in (s0, s1):
                 svg.line(L.top(*c), L.top(*q), width=0.18, dash="centre")
             continue
@@ -585,8 +670,12 @@ def _cycle_lines(svg: Svg, L: Layout, made: Cycles) -> None:
             continue
         c = L.top(*t.centre)
         r = t.radius * L.s
-        svg.path(f"M{num(c[0] + r)} {num(c[1])} A{num(r)} {num(r)} 0 1 1 {num(c[0] - r)} {num(c[1])} "
-                 f"A{num(r)} {num(r)} 0 1 1 {num(c[0] + r)} {num(c[1])}", width=0.18, dash="centre")
+        svg.path(
+            f"M{num(c[0] + r)} {num(c[1])} A{num(r)} {num(r)} 0 1 1 {num(c[0] - r)} {num(c[1])} "
+            f"A{num(r)} {num(r)} 0 1 1 {num(c[0] + r)} {num(c[1])}",
+            width=0.18,
+            dash="centre",
+        )
         reach = 2.5
         svg.line((c[0] - reach, c[1]), (c[0] + reach, c[1]), width=0.18)
         svg.line((c[0], c[1] - reach), (c[0], c[1] + reach), width=0.18)
@@ -597,8 +686,9 @@ def _cycle_lines(svg: Svg, L: Layout, made: Cycles) -> None:
             svg.path(f"M{num(cx + r)} {num(cy)} A{num(r)} {num(r)} 0 1 0 {num(cx)} {num(cy + r)}", width=THIN)
 
 
-def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
-                 numbers: Numbers) -> list[tuple[float, str, str, tuple[float, float]]]:
+def _cycle_marks(
+    svg: Svg, L: Layout, made: Cycles, numbers: Numbers
+) -> list[tuple[float, str, str, tuple[float, float]]]:
     """The radii, angles and spacings of what the cycles made; their callouts (size and depth) for the column
     right of the view."""
     st = L.stock
@@ -612,22 +702,44 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
         turned = f", {t(p.angle)}°" if abs(p.angle) > 1e-9 and p.code != "G75" else ""
         if p.code == "G72":
             text = f"{t(p.length)} × {t(p.width)}{turned}, {tail}"
-            spots = [_on(p, p.length / 2, 0), _on(p, 0, p.width / 2), _on(p, -p.length / 2, 0), _on(p, 0, -p.width / 2)]
+            spots = [
+                _on(p, p.length / 2, 0),
+                _on(p, 0, p.width / 2),
+                _on(p, -p.length / 2, 0),
+                _on(p, 0, -p.width / 2),
+            ]
             if p.radius > 0:
                 k = p.radius * (1 - math.sqrt(0.5))
                 corner, pc = L.top(*_on(p, p.length / 2 - k, p.width / 2 - k)), L.top(p.x, p.y)
-                _leader(svg, corner, (corner[0] - pc[0], corner[1] - pc[1]), f"R{t(p.radius)}", "r",
-                        numbers.nominal(p.radius), zone=zone)
+                _leader(
+                    svg,
+                    corner,
+                    (corner[0] - pc[0], corner[1] - pc[1]),
+                    f"R{t(p.radius)}",
+                    "r",
+                    numbers.nominal(p.radius),
+                    zone=zone,
+                )
         elif p.code == "G73":
             text = f"Ø{t(p.length)}, {tail}"
-            spots = [_on(p, p.radius * math.sqrt(0.5), p.radius * math.sqrt(0.5)), _on(p, -p.radius, 0),
-                     _on(p, 0, -p.radius)]
+            spots = [
+                _on(p, p.radius * math.sqrt(0.5), p.radius * math.sqrt(0.5)),
+                _on(p, -p.radius, 0),
+                _on(p, 0, -p.radius),
+            ]
         elif p.code == "G74":
             text = f"{t(p.length)} × {t(p.width)}{turned}, {tail}"
             spots = [_on(p, 0, p.width / 2), _on(p, 0, -p.width / 2)]
             end = L.top(*_on(p, p.length / 2, 0))
-            _leader(svg, end, (end[0] - L.top(p.x, p.y)[0], end[1] - L.top(p.x, p.y)[1]), f"R{t(p.radius)}",
-                    "r", numbers.nominal(p.radius), zone=zone)
+            _leader(
+                svg,
+                end,
+                (end[0] - L.top(p.x, p.y)[0], end[1] - L.top(p.x, p.y)[1]),
+                f"R{t(p.radius)}",
+                "r",
+                numbers.nominal(p.radius),
+                zone=zone,
+            )
         else:
             c = (p.x, p.y)
             mid = p.start + p.sweep / 2
@@ -635,9 +747,18 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
             spots = [_polar(c, p.arc_radius + p.width / 2, mid), _polar(c, p.arc_radius - p.width / 2, mid)]
             on_line = L.top(*_polar(c, p.arc_radius, p.start + p.sweep / 3))
             pc = L.top(*c)
-            _leader(svg, on_line, (on_line[0] - pc[0], on_line[1] - pc[1]), f"R{t(p.arc_radius)}", "r",
-                    numbers.nominal(p.arc_radius), zone=zone)
-            _angle_label(svg, L, c, p.arc_radius * 0.45, p.start / 2, f"{t(p.start)}°", numbers.nominal(p.start))
+            _leader(
+                svg,
+                on_line,
+                (on_line[0] - pc[0], on_line[1] - pc[1]),
+                f"R{t(p.arc_radius)}",
+                "r",
+                numbers.nominal(p.arc_radius),
+                zone=zone,
+            )
+            _angle_label(
+                svg, L, c, p.arc_radius * 0.45, p.start / 2, f"{t(p.start)}°", numbers.nominal(p.start)
+            )
             _angle_label(svg, L, c, p.arc_radius * 0.45, mid, f"{t(p.sweep)}°", numbers.nominal(p.sweep))
             if abs(p.start) > 1e-9:  # the angle's other leg: the X direction through the centre
                 svg.line(L.top(*c), L.top(*_polar(c, p.arc_radius, 0.0)), width=0.18, dash="centre")
@@ -650,33 +771,54 @@ def _cycle_marks(svg: Svg, L: Layout, made: Cycles,
             pc = L.top(*c)
             mid = pattern.start + pattern.step / 2
             on_circle = L.top(*_polar(c, pattern.radius, mid + pattern.step))
-            _leader(svg, on_circle, (on_circle[0] - pc[0], on_circle[1] - pc[1]),
-                    labels["pitch_circle"].format(d=t(2 * pattern.radius)), "diameter",
-                    numbers.nominal(2 * pattern.radius), zone=zone)
-            first, second = pattern.points[0], pattern.points[1] if len(pattern.points) > 1 else pattern.points[0]
+            _leader(
+                svg,
+                on_circle,
+                (on_circle[0] - pc[0], on_circle[1] - pc[1]),
+                labels["pitch_circle"].format(d=t(2 * pattern.radius)),
+                "diameter",
+                numbers.nominal(2 * pattern.radius),
+                zone=zone,
+            )
+            first, second = (
+                pattern.points[0],
+                pattern.points[1] if len(pattern.points) > 1 else pattern.points[0],
+            )
             for q in (first, second):
                 svg.line(pc, L.top(*q), width=0.18, dash="centre")
             svg.line(pc, L.top(*_polar(c, pattern.radius, 0.0)), width=0.18, dash="centre")
-            _angle_label(svg, L, c, pattern.radius * 0.55, pattern.start / 2, f"{t(pattern.start)}°",
-                         numbers.nominal(pattern.start))
-            _angle_label(svg, L, c, pattern.radius * 0.55, mid, f"{t(pattern.step)}°",
-                         numbers.nominal(pattern.step))
+            _angle_label(
+                svg,
+                L,
+                c,
+                pattern.radius * 0.55,
+                pattern.start / 2,
+                f"{t(pattern.start)}°",
+                numbers.nominal(pattern.start),
+            )
+            _angle_label(
+                svg, L, c, pattern.radius * 0.55, mid, f"{t(pattern.step)}°", numbers.nominal(pattern.step)
+            )
         elif pattern.code == "G76" and len(pattern.points) > 2:  # two holes: their ordinates say it
             a, b = L.top(*pattern.points[0]), L.top(*pattern.points[1])
             _aligned(svg, L, a, b, t(pattern.step), "spacing", numbers.nominal(pattern.step))
     return items
 
 
-def _angle_label(svg: Svg, L: Layout, c: tuple[float, float], r: float, degrees: float, text: str,
-                 raw: str) -> None:
+def _angle_label(
+    svg: Svg, L: Layout, c: tuple[float, float], r: float, degrees: float, text: str, raw: str
+) -> None:
     """An angle's text inside its legs at the centre c, a little further out where it would cover a text."""
-    spots = [(px, py + 1.2) for px, py in (L.top(*_polar(c, r * k, degrees)) for k in (1.0, 1.3, 0.75, 1.6, 0.5))]
+    spots = [
+        (px, py + 1.2) for px, py in (L.top(*_polar(c, r * k, degrees)) for k in (1.0, 1.3, 0.75, 1.6, 0.5))
+    ]
     at = next((q for q in spots if svg.free(text_box(q, text, anchor="middle"))), spots[0])
     svg.text(at, text, anchor="middle", kind="angle", value=raw)
 
 
-def _coordinate_table(svg: Svg, pts: list[tuple[float, float]], L: Layout, numbers: Numbers,
-                      at: tuple[float, float]) -> None:
+def _coordinate_table(
+    svg: Svg, pts: list[tuple[float, float]], L: Layout, numbers: Numbers, at: tuple[float, float]
+) -> None:
     """The fallback: numbered points in the view and their X/Y in a table."""
     unique: list[tuple[float, float]] = []
     for p in pts:
@@ -696,8 +838,12 @@ def _coordinate_table(svg: Svg, pts: list[tuple[float, float]], L: Layout, numbe
         svg.text(spot, str(i), size=2.5, anchor=anchor)
         ry = y + 4.5 * i
         svg.text((x, ry), f"P{i}", size=3.0)
-        svg.text((x + 22, ry), numbers.dimension(p[0]), size=3.0, anchor="end", kind="x", value=numbers.raw(p[0]))
-        svg.text((x + 42, ry), numbers.dimension(p[1]), size=3.0, anchor="end", kind="y", value=numbers.raw(p[1]))
+        svg.text(
+            (x + 22, ry), numbers.dimension(p[0]), size=3.0, anchor="end", kind="x", value=numbers.raw(p[0])
+        )
+        svg.text(
+            (x + 42, ry), numbers.dimension(p[1]), size=3.0, anchor="end", kind="y", value=numbers.raw(p[1])
+        )
 
 
 def _section_row(hm: HeightMap, floors: list[float]) -> int:
@@ -727,8 +873,15 @@ def _cut_line(svg: Svg, L: Layout, y: float) -> None:
         svg.text((end - sign * 1.5, a[1] - 1.5), "A", anchor="middle", size=3.5)
 
 
-def _section(svg: Svg, L: Layout, hm: HeightMap, j: int, floors: list[float], numbers: Numbers,
-             bores: list[Hole] | None = None) -> None:
+def _section(
+    svg: Svg,
+    L: Layout,
+    hm: HeightMap,
+    j: int,
+    floors: list[float],
+    numbers: Numbers,
+    bores: list[Hole] | None = None,
+) -> None:
     """Section A–A along X through row j of the height map, its Z ordinates right of it (with the depth of the
     holes the section cuts through: a drill's tip lies between the cells)."""
     st, g = L.stock, hm.grid
@@ -773,33 +926,50 @@ def part_drawing(exercise: Exercise, lang: str = "de") -> str:
     result = execute(exercise, exercise.reference)
     hm = result.sim.heightmap
     tools = exercise.tool_table()
-    made = cycles(exercise.reference, exercise.dialect, result.toolpath.moves, tools,
-                  exercise_tool_names(exercise), lang)
+    made = cycles(
+        exercise.reference,
+        exercise.dialect,
+        result.toolpath.moves,
+        tools,
+        exercise_tool_names(exercise),
+        lang,
+    )
     moves = [m for m in result.toolpath.moves if id(m) not in made.handled]
     feats = features(moves, stock, tools)
     bores = holes(moves, stock, tools) + [b for b in made.holes if on_stock((b.x, b.y), stock)]
-    floors = sorted({round(f.z, 6) for f in feats if f.z > stock.z0 - 1e-6}
-                    | {round(b.z, 6) for b in bores if b.z > stock.z0 - 1e-6}
-                    | {round(p.z, 6) for p in made.pockets if p.z > stock.z0 - 1e-6})
+    floors = sorted(
+        {round(f.z, 6) for f in feats if f.z > stock.z0 - 1e-6}
+        | {round(b.z, 6) for b in bores if b.z > stock.z0 - 1e-6}
+        | {round(p.z, 6) for p in made.pockets if p.z > stock.z0 - 1e-6}
+    )
     on_circle = {(round(x, 6), round(y, 6)) for t in made.patterns if t.code == "G77" for x, y in t.points}
-    pts = [p for f in feats for p in points(f, stock)] + \
-        [(b.x, b.y) for b in bores if (round(b.x, 6), round(b.y, 6)) not in on_circle] + \
-        [(p.x, p.y) for p in made.pockets if on_stock((p.x, p.y), stock)] + \
-        [t.centre for t in made.patterns if t.code == "G77" and on_stock(t.centre, stock)]
+    pts = (
+        [p for f in feats for p in points(f, stock)]
+        + [(b.x, b.y) for b in bores if (round(b.x, 6), round(b.y, 6)) not in on_circle]
+        + [(p.x, p.y) for p in made.pockets if on_stock((p.x, p.y), stock)]
+        + [t.centre for t in made.patterns if t.code == "G77" and on_stock(t.centre, stock)]
+    )
     if on_stock((0.0, 0.0), stock):
         pts.append((0.0, 0.0))
     free = _free_form(hm, floors, bores + made.drilled)
-    too_many = len(distinct([p[0] for p in pts])) > MAX_ORDINATES or len(distinct([p[1] for p in pts])) > MAX_ORDINATES
+    too_many = (
+        len(distinct([p[0] for p in pts])) > MAX_ORDINATES
+        or len(distinct([p[1] for p in pts])) > MAX_ORDINATES
+    )
     table = free or too_many
     L = _layout(stock, *((0.0, 0.0) if table else _ordinate_texts(pts, numbers)))
     svg = Svg(*SHEET)
-    svg.defs.append('<pattern id="hatch" width="2" height="2" patternUnits="userSpaceOnUse" '
-                    'patternTransform="rotate(45)"><line x1="0" y1="0" x2="0" y2="2" stroke="#000" '
-                    'stroke-width="0.18"/></pattern>')
+    svg.defs.append(
+        '<pattern id="hatch" width="2" height="2" patternUnits="userSpaceOnUse" '
+        'patternTransform="rotate(45)"><line x1="0" y1="0" x2="0" y2="2" stroke="#000" '
+        'stroke-width="0.18"/></pattern>'
+    )
     bx0, by0 = L.top(stock.x0, stock.y1)
     bx1, by1 = L.top(stock.x1, stock.y0)
-    svg.defs.append(f'<clipPath id="blank"><rect x="{num(bx0)}" y="{num(by0)}" width="{num(bx1 - bx0)}" '
-                    f'height="{num(by1 - by0)}"/></clipPath>')
+    svg.defs.append(
+        f'<clipPath id="blank"><rect x="{num(bx0)}" y="{num(by0)}" width="{num(bx1 - bx0)}" '
+        f'height="{num(by1 - by0)}"/></clipPath>'
+    )
     frame(svg)
     title_block(svg, exercise, L.s, lang)
     svg.take((SHEET[0] - MARGIN - TITLE_BLOCK[0], SHEET[1] - MARGIN - TITLE_BLOCK[1], SHEET[0], SHEET[1]))

@@ -16,8 +16,9 @@ from core.grading.cli import exercise_named
 
 
 def register(subparsers: Any, common: argparse.ArgumentParser) -> None:
-    p = subparsers.add_parser("drawing", help="Bemaßte Zeichnung einer Aufgabe als SVG / "
-                                              "dimensioned drawing of an exercise as SVG")
+    p = subparsers.add_parser(
+        "drawing", help="Bemaßte Zeichnung einer Aufgabe als SVG / dimensioned drawing of an exercise as SVG"
+    )
     p.add_argument("exercise", help="Aufgaben-ID oder Aufgabendatei (YAML) / exercise id or file")
     p.add_argument("--out", help="SVG-Datei (ohne: Standardausgabe) / SVG file (default: standard output)")
     p.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache / language")
@@ -32,5 +33,7 @@ def _drawing(args: argparse.Namespace) -> int:
     try:
         Path(args.out).write_text(svg, encoding="utf-8")
     except OSError as err:
-        raise UsageError(f"»{args.out}« kann nicht geschrieben werden: {err.strerror} / cannot write") from None
+        raise UsageError(
+            f"»{args.out}« kann nicht geschrieben werden: {err.strerror} / cannot write"
+        ) from None
     return EXIT_OK

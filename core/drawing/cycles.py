@@ -84,8 +84,23 @@ def _rot(d: tuple[float, float], degrees: float) -> tuple[float, float]:
 
 
 # ISO metric coarse threads (DIN 13-1): nominal diameter → pitch; a tap with another pitch cuts a fine thread
-COARSE = {1.6: 0.35, 2.0: 0.4, 2.5: 0.45, 3.0: 0.5, 4.0: 0.7, 5.0: 0.8, 6.0: 1.0, 8.0: 1.25, 10.0: 1.5, 12.0: 1.75,
-          14.0: 2.0, 16.0: 2.0, 20.0: 2.5, 24.0: 3.0, 30.0: 3.5}
+COARSE = {
+    1.6: 0.35,
+    2.0: 0.4,
+    2.5: 0.45,
+    3.0: 0.5,
+    4.0: 0.7,
+    5.0: 0.8,
+    6.0: 1.0,
+    8.0: 1.25,
+    10.0: 1.5,
+    12.0: 1.75,
+    14.0: 2.0,
+    16.0: 2.0,
+    20.0: 2.5,
+    24.0: 3.0,
+    30.0: 3.5,
+}
 
 
 def _number(v: float, lang: str) -> str:
@@ -105,7 +120,9 @@ def thread_name(name: str, diameter: float, pitch: float | None = None, lang: st
     return out
 
 
-def _pocket(code: str, df: dict[str, float], call: dict[str, float], moves: list[Move], line: int) -> Pocket | None:
+def _pocket(
+    code: str, df: dict[str, float], call: dict[str, float], moves: list[Move], line: int
+) -> Pocket | None:
     cut = [m for m in moves if m.kind in ("feed", "arc")]
     if not cut:
         return None
@@ -132,7 +149,9 @@ def _pocket(code: str, df: dict[str, float], call: dict[str, float], moves: list
         return Pocket(code, x, y, z, df["LP"], df["BP"], df["BP"] / 2, ar, line=line)
     if code == "G75" and "BP" in df and "RP" in df and "AN" in df and ("AO" in df or "AP" in df):
         sweep = df["AO"] if "AO" in df else df["AP"] - df["AN"]
-        return Pocket(code, x, y, z, 0.0, df["BP"], df["BP"] / 2, ar, df["RP"], df["AN"] + ar, sweep, line=line)
+        return Pocket(
+            code, x, y, z, 0.0, df["BP"], df["BP"] / 2, ar, df["RP"], df["AN"] + ar, sweep, line=line
+        )
     return None
 
 
@@ -141,7 +160,11 @@ def _plunge_points(moves: list[Move]) -> list[tuple[float, float, float]]:
     bore milled on a helix (G87): the helix's centre."""
     out: dict[tuple[float, float], float] = {}
     for m in moves:
-        if m.kind == "feed" and math.dist(_xy(m), (m.start[0], m.start[1])) < EPS and m.end[2] < m.start[2] - EPS:
+        if (
+            m.kind == "feed"
+            and math.dist(_xy(m), (m.start[0], m.start[1])) < EPS
+            and m.end[2] < m.start[2] - EPS
+        ):
             key = (round(m.end[0], 6), round(m.end[1], 6))
             out[key] = min(out.get(key, math.inf), m.end[2])
         elif m.kind == "arc" and m.center is not None and m.cycle is not None and m.cycle[0] == "G87":
@@ -163,8 +186,14 @@ def _pattern(code: str, call: dict[str, float], points: list[tuple[float, float,
     return None
 
 
-def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
-           names: dict[int, str] | None = None, lang: str = "de") -> Cycles:
+def cycles(
+    text: str,
+    dialect: str,
+    moves: list[Move],
+    tools: ToolTable,
+    names: dict[int, str] | None = None,
+    lang: str = "de",
+) -> Cycles:
     """The pockets, holes and hole patterns the PAL cycles of the reference `text` made (its `moves`); `names`:
     the tools the exercise names (a tap's thread size is read from its name)."""
     out = Cycles([], [], [], set(), [])
@@ -182,8 +211,14 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
     patterns: dict[tuple[tuple[float, float], ...], Pattern] = {}
     for (definition, line, code), group in calls.items():
         df, call = _words(blocks.get(definition)), _words(blocks.get(line))
-        call_code = next((f"G{int(w.value)}" for w in (blocks[line].words if line in blocks else ())
-                          if w.address.upper() == "G" and w.value is not None and 76 <= w.value <= 79), "")
+        call_code = next(
+            (
+                f"G{int(w.value)}"
+                for w in (blocks[line].words if line in blocks else ())
+                if w.address.upper() == "G" and w.value is not None and 76 <= w.value <= 79
+            ),
+            "",
+        )
         if code in POCKETS:
             # a pocket called at one point (G79); one called on a line or circle of points stays drawn from its moves
             pocket = _pocket(code, df, call, group, definition) if call_code == "G79" else None
@@ -199,10 +234,14 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
             for x, y, z in points:
                 if tool is not None:
                     out.drilled.append(Hole(x, y, z, size or tool.diameter, tool.number, line))
-                drilled.setdefault((round(x, 6), round(y, 6)), []).append((code, group[0], z, df.get("F"), size))
+                drilled.setdefault((round(x, 6), round(y, 6)), []).append(
+                    (code, group[0], z, df.get("F"), size)
+                )
             pattern = _pattern(call_code, call, points)
             if pattern is not None:
-                patterns.setdefault(tuple(sorted((round(p[0], 6), round(p[1], 6)) for p in pattern.points)), pattern)
+                patterns.setdefault(
+                    tuple(sorted((round(p[0], 6), round(p[1], 6)) for p in pattern.points)), pattern
+                )
         out.handled.update(id(m) for m in group)
     for (x, y), ops in drilled.items():
         out.holes.append(_finished(x, y, ops, tools, names or {}, lang))
@@ -210,14 +249,28 @@ def cycles(text: str, dialect: str, moves: list[Move], tools: ToolTable,
     return out
 
 
-def _finished(x: float, y: float, ops: list[tuple[str, Move, float, float | None, float | None]], tools: ToolTable, names: dict[int, str],
-              lang: str) -> Hole:
+def _finished(
+    x: float,
+    y: float,
+    ops: list[tuple[str, Move, float, float | None, float | None]],
+    tools: ToolTable,
+    names: dict[int, str],
+    lang: str,
+) -> Hole:
     """The hole the operations at one point leave: the thread where one is tapped, else the deepest drilling
     that is no centring (a spot drill's only where nothing else drills there)."""
     for code, m, z, pitch, _ in ops:
         tool = tools.get(m.tool) if m.tool is not None else None
         if code == "G84" and tool is not None:
-            return Hole(x, y, z, tool.diameter, m.tool, m.span.line, thread_name(names.get(tool.number, ""), tool.diameter, pitch, lang))
+            return Hole(
+                x,
+                y,
+                z,
+                tool.diameter,
+                m.tool,
+                m.span.line,
+                thread_name(names.get(tool.number, ""), tool.diameter, pitch, lang),
+            )
     drills = [o for o in ops if _kind(tools, o[1].tool) not in ("spot_drill", None)]
     _, m, z, _, size = min(drills or ops, key=lambda o: o[2])
     tool = tools.get(m.tool) if m.tool is not None else None

@@ -20,8 +20,9 @@ from core.tools import ToolTable
 EPS = 1e-6
 
 
-def start_and_sweep(start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float],
-                    cw: bool) -> tuple[float, float]:
+def start_and_sweep(
+    start: tuple[float, float], end: tuple[float, float], centre: tuple[float, float], cw: bool
+) -> tuple[float, float]:
     """An arc's start angle and signed sweep (radians, counter-clockwise positive); end = start is a full circle.
     Milled (x, y) and turned (z, r) drawings both use it."""
     a0 = math.atan2(start[1] - centre[1], start[0] - centre[0])
@@ -33,6 +34,8 @@ def start_and_sweep(start: tuple[float, float], end: tuple[float, float], centre
         while sweep <= EPS:
             sweep += 2 * math.pi
     return a0, sweep
+
+
 POINT_TOLERANCE = 1e-3  # mm; values closer than this are one dimension
 
 
@@ -97,8 +100,12 @@ def _xy(p: Vec3) -> tuple[float, float]:
 
 
 def _in_plane_cut(m: Move, top: float) -> bool:
-    return (m.kind in ("feed", "arc") and m.plane == "G17" and abs(m.start[2] - m.end[2]) < EPS
-            and m.end[2] < top - EPS)
+    return (
+        m.kind in ("feed", "arc")
+        and m.plane == "G17"
+        and abs(m.start[2] - m.end[2]) < EPS
+        and m.end[2] < top - EPS
+    )
 
 
 def features(moves: list[Move], stock: Stock, tools: ToolTable) -> list[Feature]:
@@ -113,8 +120,12 @@ def features(moves: list[Move], stock: Stock, tools: ToolTable) -> list[Feature]
             z = m.end[2]
             if current is None or abs(current.z - z) > EPS or current.tool != m.tool:
                 tool = tools.get(m.tool) if m.tool is not None else None
-                current = Feature(z=z, tool=m.tool, tool_diameter=tool.diameter if tool is not None else 0.0,
-                                  compensated=False)
+                current = Feature(
+                    z=z,
+                    tool=m.tool,
+                    tool_diameter=tool.diameter if tool is not None else 0.0,
+                    compensated=False,
+                )
                 out.append(current)
             if m.programmed_end is not None and math.dist(_xy(m.programmed_end), _xy(m.end)) > EPS:
                 current.compensated = True
@@ -123,8 +134,11 @@ def features(moves: list[Move], stock: Stock, tools: ToolTable) -> list[Feature]
             # an arc the compensation inserts at an outside corner has no programmed length: not an element,
             # but the corner stays sharp (no tool radius is left there)
             if math.dist(start, programmed) > EPS or (center is not None and radius > EPS):
-                current.elements.append(Element(start, programmed, center, radius, m.direction, m.span.line,
-                                                _xy(m.start), _xy(m.end)))
+                current.elements.append(
+                    Element(
+                        start, programmed, center, radius, m.direction, m.span.line, _xy(m.start), _xy(m.end)
+                    )
+                )
         else:
             current = None
         previous_programmed = programmed
@@ -165,12 +179,14 @@ def _tangent(a: Element, b: Element) -> bool:
 
 # ---- what is dimensioned -------------------------------------------------------------------------------
 
+
 def on_stock(p: tuple[float, float], stock: Stock, margin: float = POINT_TOLERANCE) -> bool:
     return stock.x0 - margin <= p[0] <= stock.x1 + margin and stock.y0 - margin <= p[1] <= stock.y1 + margin
 
 
-def clip_line(a: tuple[float, float], b: tuple[float, float],
-              box: tuple[float, float, float, float]) -> tuple[float, float] | None:
+def clip_line(
+    a: tuple[float, float], b: tuple[float, float], box: tuple[float, float, float, float]
+) -> tuple[float, float] | None:
     """The part of the line a→b (as parameters 0…1) inside box = (u0, u1, v0, v1) (Liang–Barsky); None: outside.
     Milled (x, y) and turned (z, r) drawings both use it."""
     (x0, y0), (x1, y1) = a, b
@@ -200,13 +216,22 @@ def visible(e: Element, stock: Stock) -> bool:
         return _clip_parameters(e, stock) is not None
     a0, sweep = e.angles()
     n = max(8, int(abs(sweep) / math.radians(5)))
-    return any(on_stock((e.center[0] + e.radius * math.cos(a0 + sweep * k / n),
-                         e.center[1] + e.radius * math.sin(a0 + sweep * k / n)), stock, -POINT_TOLERANCE)
-               for k in range(n + 1))
+    return any(
+        on_stock(
+            (
+                e.center[0] + e.radius * math.cos(a0 + sweep * k / n),
+                e.center[1] + e.radius * math.sin(a0 + sweep * k / n),
+            ),
+            stock,
+            -POINT_TOLERANCE,
+        )
+        for k in range(n + 1)
+    )
 
 
-def _cross(p: tuple[float, float], u: tuple[float, float], q: tuple[float, float],
-           v: tuple[float, float]) -> tuple[float, float] | None:
+def _cross(
+    p: tuple[float, float], u: tuple[float, float], q: tuple[float, float], v: tuple[float, float]
+) -> tuple[float, float] | None:
     """Where the lines p + s·u and q + t·v meet (None: parallel)."""
     den = u[0] * v[1] - u[1] * v[0]
     if abs(den) < 1e-9:
@@ -290,9 +315,13 @@ def holes(moves: list[Move], stock: Stock, tools: ToolTable) -> list[Hole]:
     starts a pocket or contour), the deepest per position and tool, in program order."""
     found: dict[tuple[float, float, int | None], Hole] = {}
     for i, m in enumerate(moves):
-        if m.kind != "feed" or math.dist(_xy(m.start), _xy(m.end)) > EPS or m.end[2] >= min(m.start[2], stock.z1) - EPS:
+        if (
+            m.kind != "feed"
+            or math.dist(_xy(m.start), _xy(m.end)) > EPS
+            or m.end[2] >= min(m.start[2], stock.z1) - EPS
+        ):
             continue
-        after = next((n for n in moves[i + 1:] if math.dist(n.start, n.end) > EPS), None)
+        after = next((n for n in moves[i + 1 :] if math.dist(n.start, n.end) > EPS), None)
         if after is not None and _in_plane_cut(after, stock.z1):
             continue
         if after is not None and after.end[2] < m.end[2] - EPS:

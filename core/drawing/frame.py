@@ -26,20 +26,56 @@ SCALES = (10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01)
 TEXT = 3.5  # mm, dimension text height
 SPACING = 4.5  # mm between neighbouring ordinate texts
 
-KIND_NAMES_EN = {"end_mill": "end mill", "slot_drill": "slot drill", "ball_nose": "ball-nose mill",
-                 "torus": "torus mill", "twist_drill": "twist drill", "spot_drill": "spot drill"}
+KIND_NAMES_EN = {
+    "end_mill": "end mill",
+    "slot_drill": "slot drill",
+    "ball_nose": "ball-nose mill",
+    "torus": "torus mill",
+    "twist_drill": "twist drill",
+    "spot_drill": "spot drill",
+}
 
 LABELS = {
-    "de": {"blank": "Rohteil", "scale": "Maßstab", "tools": "Werkzeuge", "zero": "Nullpunkt", "section": "Schnitt",
-           "depth": "Tiefe", "slot": "Nut {w} breit", "table": "Koordinaten", "point": "Punkt", "units": "Maße in mm",
-           "top": "Draufsicht", "exercise": "Aufgabe", "title": "Benennung", "centre": "M",
-           "half": "Halbschnitt", "groove": "Einstich {w} breit", "thread_depth": "Gewindetiefe {d}",
-           "pitch_circle": "TK Ø{d}"},
-    "en": {"blank": "Blank", "scale": "Scale", "tools": "Tools", "zero": "Zero", "section": "Section",
-           "depth": "depth", "slot": "slot {w} wide", "table": "Coordinates", "point": "Point", "units": "Dimensions in mm",
-           "top": "Top view", "exercise": "Exercise", "title": "Title", "centre": "C",
-           "half": "Half section", "groove": "groove {w} wide", "thread_depth": "thread depth {d}",
-           "pitch_circle": "PCD Ø{d}"},
+    "de": {
+        "blank": "Rohteil",
+        "scale": "Maßstab",
+        "tools": "Werkzeuge",
+        "zero": "Nullpunkt",
+        "section": "Schnitt",
+        "depth": "Tiefe",
+        "slot": "Nut {w} breit",
+        "table": "Koordinaten",
+        "point": "Punkt",
+        "units": "Maße in mm",
+        "top": "Draufsicht",
+        "exercise": "Aufgabe",
+        "title": "Benennung",
+        "centre": "M",
+        "half": "Halbschnitt",
+        "groove": "Einstich {w} breit",
+        "thread_depth": "Gewindetiefe {d}",
+        "pitch_circle": "TK Ø{d}",
+    },
+    "en": {
+        "blank": "Blank",
+        "scale": "Scale",
+        "tools": "Tools",
+        "zero": "Zero",
+        "section": "Section",
+        "depth": "depth",
+        "slot": "slot {w} wide",
+        "table": "Coordinates",
+        "point": "Point",
+        "units": "Dimensions in mm",
+        "top": "Top view",
+        "exercise": "Exercise",
+        "title": "Title",
+        "centre": "C",
+        "half": "Half section",
+        "groove": "groove {w} wide",
+        "thread_depth": "thread depth {d}",
+        "pitch_circle": "PCD Ø{d}",
+    },
 }
 
 
@@ -52,7 +88,9 @@ def value(v: float, lang: str, decimals: int = 3) -> str:
 
 
 # the addresses whose numbers are no geometry: block numbers, feeds, speeds, tools, functions, jumps, parameters
-_NOT_GEOMETRY = frozenset({"N", "F", "S", "T", "TC", "M", "G", "E", "H", "L", "O", "P", "Q", "V", "FRC", "#FRC"})
+_NOT_GEOMETRY = frozenset(
+    {"N", "F", "S", "T", "TC", "M", "G", "E", "H", "L", "O", "P", "Q", "V", "FRC", "#FRC"}
+)
 _WORD = re.compile(r"(?<![A-Za-z#_])(#?[A-Za-z]+)\s*=?\s*[-+]?(\d*)\.(\d+)")
 _COMMENT = re.compile(r"\([^)\n]*\)|;[^\n]*")
 MIN_DECIMALS, MAX_DECIMALS = 2, 3
@@ -162,14 +200,20 @@ def mark_views(svg: Svg, *parts: Box, margin: float = 4.0) -> None:
     boxes = [b for b in svg.taken if not (b[0] >= tx - 1.0 and b[1] >= ty - 1.0)] + list(parts)
     if not boxes:
         return
-    svg.views = (max(0.0, min(b[0] for b in boxes) - margin), max(0.0, min(b[1] for b in boxes) - margin),
-                 min(SHEET[0], max(b[2] for b in boxes) + margin), min(SHEET[1], max(b[3] for b in boxes) + margin))
+    svg.views = (
+        max(0.0, min(b[0] for b in boxes) - margin),
+        max(0.0, min(b[1] for b in boxes) - margin),
+        min(SHEET[0], max(b[2] for b in boxes) + margin),
+        min(SHEET[1], max(b[3] for b in boxes) + margin),
+    )
 
 
 def frame(svg: Svg) -> None:
     """The sheet's border, MARGIN inside the paper's edge."""
-    svg.path(f"M{num(MARGIN)} {num(MARGIN)} H{num(SHEET[0] - MARGIN)} V{num(SHEET[1] - MARGIN)} H{num(MARGIN)} Z",
-             width=THICK)
+    svg.path(
+        f"M{num(MARGIN)} {num(MARGIN)} H{num(SHEET[0] - MARGIN)} V{num(SHEET[1] - MARGIN)} H{num(MARGIN)} Z",
+        width=THICK,
+    )
 
 
 def exercise_tool_names(exercise: Exercise) -> dict[int, str]:
@@ -211,9 +255,15 @@ def title_block(svg: Svg, exercise: Exercise, scale: float, lang: str) -> None:
     else:
         blank = f"{value(st.x1 - st.x0, lang)} × {value(st.y1 - st.y0, lang)} × {value(st.z1 - st.z0, lang)}"
     blank += f" · {labels['scale']} {scale_text(scale)} · {labels['units']}"
-    rows = [(labels["title"], exercise.title.get(lang)), (labels["blank"], blank),
-            (labels["tools"], ", ".join(tools)), (labels["zero"], exercise.stock.zero.get(lang))]
+    rows = [
+        (labels["title"], exercise.title.get(lang)),
+        (labels["blank"], blank),
+        (labels["tools"], ", ".join(tools)),
+        (labels["zero"], exercise.stock.zero.get(lang)),
+    ]
     for k, (label, text) in enumerate(rows):
         svg.text((x + 1.5, y + k * h / 4 + 5.2), label, size=2.5)
         _cell(svg, x + 30, y + k * h / 4, w - 31.5, h / 4, text, bold=k == 0)
-    svg.text((x + w, y + h + 4.0), f"PAL Trainer · {labels['exercise']} {exercise.id}", size=2.5, anchor="end")
+    svg.text(
+        (x + w, y + h + 4.0), f"PAL Trainer · {labels['exercise']} {exercise.id}", size=2.5, anchor="end"
+    )

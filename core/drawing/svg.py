@@ -27,12 +27,23 @@ def num(v: float) -> str:
     return "0" if s in ("-0", "") else s
 
 
-def text_box(at: tuple[float, float], content: str, size: float = 3.5, anchor: str = "start", rotate: float = 0.0,
-             weight: str | None = None) -> Box:
+def text_box(
+    at: tuple[float, float],
+    content: str,
+    size: float = 3.5,
+    anchor: str = "start",
+    rotate: float = 0.0,
+    weight: str | None = None,
+) -> Box:
     """The paper box a text takes (estimated from its length and height), turned as the text is."""
     width = len(content) * (BOLD if weight == "bold" else CHAR) * size
     x0 = {"start": 0.0, "middle": -width / 2, "end": -width}[anchor]
-    corners = [(x0, -ASCENT * size), (x0 + width, -ASCENT * size), (x0, DESCENT * size), (x0 + width, DESCENT * size)]
+    corners = [
+        (x0, -ASCENT * size),
+        (x0 + width, -ASCENT * size),
+        (x0, DESCENT * size),
+        (x0 + width, DESCENT * size),
+    ]
     a = math.radians(rotate)
     c, s = math.cos(a), math.sin(a)
     xs = [at[0] + u * c - v * s for u, v in corners]
@@ -82,8 +93,11 @@ class Svg:
     def free(self, box: Box, gap: float = 0.6) -> bool:
         """Whether `box` covers no text (nor anything marked taken or kept) and stays on the sheet."""
         inside = box[0] >= 0 and box[1] >= 0 and box[2] <= self.width and box[3] <= self.height
-        return inside and not any(overlaps(box, b, gap) for b in self.taken) and \
-            not any(overlaps(box, b, 0.3) for b in self.kept)
+        return (
+            inside
+            and not any(overlaps(box, b, gap) for b in self.taken)
+            and not any(overlaps(box, b, 0.3) for b in self.kept)
+        )
 
     def keep(self, a: tuple[float, float], b: tuple[float, float]) -> None:
         """A line no text may lie on (a dimension or extension line; a leader may cross it)."""
@@ -106,22 +120,43 @@ class Svg:
         return " ".join(out)
 
     def _stroke(self, width: float, dash: str, colour: str = "#000") -> dict[str, str | float | None]:
-        return {"stroke": colour, "stroke_width": width, "fill": "none", "stroke_dasharray": DASH[dash],
-                "stroke_linecap": "round", "stroke_linejoin": "round"}
+        return {
+            "stroke": colour,
+            "stroke_width": width,
+            "fill": "none",
+            "stroke_dasharray": DASH[dash],
+            "stroke_linecap": "round",
+            "stroke_linejoin": "round",
+        }
 
-    def line(self, a: tuple[float, float], b: tuple[float, float], width: float = THIN, dash: str = "solid",
-             **extra: str) -> None:
+    def line(
+        self,
+        a: tuple[float, float],
+        b: tuple[float, float],
+        width: float = THIN,
+        dash: str = "solid",
+        **extra: str,
+    ) -> None:
         attrs = {"x1": a[0], "y1": a[1], "x2": b[0], "y2": b[1], **self._stroke(width, dash), **extra}
         self.items.append(f"<line {self._attrs(attrs)}/>")
 
-    def path(self, d: str, width: float = THIN, dash: str = "solid", fill: str | None = None, **extra: str) -> None:
+    def path(
+        self, d: str, width: float = THIN, dash: str = "solid", fill: str | None = None, **extra: str
+    ) -> None:
         attrs = {"d": d, **self._stroke(width, dash), **extra}
         if fill is not None:
             attrs["fill"] = fill
         self.items.append(f"<path {self._attrs(attrs)}/>")
 
-    def polyline(self, pts: Iterable[tuple[float, float]], width: float = THICK, dash: str = "solid",
-                 closed: bool = False, fill: str | None = None, **extra: str) -> None:
+    def polyline(
+        self,
+        pts: Iterable[tuple[float, float]],
+        width: float = THICK,
+        dash: str = "solid",
+        closed: bool = False,
+        fill: str | None = None,
+        **extra: str,
+    ) -> None:
         pts = list(pts)
         if len(pts) < 2:
             return
@@ -129,14 +164,30 @@ class Svg:
         self.path(d, width, dash, fill, **extra)
 
     def circle(self, c: tuple[float, float], r: float, width: float = THIN, fill: str = "none") -> None:
-        self.items.append(f"<circle {self._attrs({'cx': c[0], 'cy': c[1], 'r': r, 'stroke': '#000', 'stroke_width': width, 'fill': fill})}/>")
+        self.items.append(
+            f"<circle {self._attrs({'cx': c[0], 'cy': c[1], 'r': r, 'stroke': '#000', 'stroke_width': width, 'fill': fill})}/>"
+        )
 
-    def text(self, at: tuple[float, float], content: str, size: float = 3.5, anchor: str = "start",
-             rotate: float = 0.0, weight: str | None = None, kind: str | None = None, value: str | None = None,
-             baseline: str | None = None) -> None:
+    def text(
+        self,
+        at: tuple[float, float],
+        content: str,
+        size: float = 3.5,
+        anchor: str = "start",
+        rotate: float = 0.0,
+        weight: str | None = None,
+        kind: str | None = None,
+        value: str | None = None,
+        baseline: str | None = None,
+    ) -> None:
         attrs: dict[str, str | float | None] = {
-            "x": at[0], "y": at[1], "font_size": size, "font_family": FONT, "text_anchor": anchor,
-            "font_weight": weight, "dominant_baseline": baseline,
+            "x": at[0],
+            "y": at[1],
+            "font_size": size,
+            "font_family": FONT,
+            "text_anchor": anchor,
+            "font_weight": weight,
+            "dominant_baseline": baseline,
             "transform": f"rotate({num(rotate)} {num(at[0])} {num(at[1])})" if rotate else None,
         }
         if kind is not None:
@@ -161,9 +212,14 @@ class Svg:
 
     def document(self, title: str) -> str:
         views = f' data-views="{" ".join(num(v) for v in self.views)}"' if self.views is not None else ""
-        head = (f'<svg xmlns="http://www.w3.org/2000/svg" width="{num(self.width)}mm" height="{num(self.height)}mm" '
-                f'viewBox="0 0 {num(self.width)} {num(self.height)}"{views}>')
+        head = (
+            f'<svg xmlns="http://www.w3.org/2000/svg" width="{num(self.width)}mm" height="{num(self.height)}mm" '
+            f'viewBox="0 0 {num(self.width)} {num(self.height)}"{views}>'
+        )
         defs = f"<defs>{''.join(self.defs)}</defs>" if self.defs else ""
         background = f'<rect x="0" y="0" width="{num(self.width)}" height="{num(self.height)}" fill="#fff"/>'
-        return (f'<?xml version="1.0" encoding="UTF-8"?>\n{head}<title>{escape(title)}</title>{defs}{background}'
-                + "\n".join(self.items) + "</svg>\n")
+        return (
+            f'<?xml version="1.0" encoding="UTF-8"?>\n{head}<title>{escape(title)}</title>{defs}{background}'
+            + "\n".join(self.items)
+            + "</svg>\n"
+        )

@@ -39,9 +39,11 @@ ROW_GAP = 9.0  # mm from the part's top to the running dimensions' line
 TEXT = 3.5
 EDGE_WINDOW, EDGE_STEP, EDGE_MERGE = 0.6, 0.05, 1.0  # mm: how an edge of the outline is found (_edges)
 EDGE_ANGLE = math.radians(35)
-HATCH = ('<pattern id="hatch" width="2.5" height="2.5" patternUnits="userSpaceOnUse" '
-         'patternTransform="rotate(45)"><line x1="0" y1="0" x2="0" y2="2.5" stroke="#000" '
-         'stroke-width="0.18"/></pattern>')
+HATCH = (
+    '<pattern id="hatch" width="2.5" height="2.5" patternUnits="userSpaceOnUse" '
+    'patternTransform="rotate(45)"><line x1="0" y1="0" x2="0" y2="2.5" stroke="#000" '
+    'stroke-width="0.18"/></pattern>'
+)
 
 
 def _width(text: str, size: float = TEXT) -> float:
@@ -95,7 +97,10 @@ def _layout(part: TurnedPart, rows: int, length: float, numbers: Numbers) -> Lay
         if width + left_room + right_room > SHEET[0] - MARGIN:
             continue
         centred = left_room + (SHEET[0] - MARGIN - right_room - left_room - width) / 2 + width
-        for right, floor in ((centred, title_top - 2.0), (min(centred, title_left - right_room), SHEET[1] - MARGIN)):
+        for right, floor in (
+            (centred, title_top - 2.0),
+            (min(centred, title_left - right_room), SHEET[1] - MARGIN),
+        ):
             if right - width < left_room or (floor > title_top and right > title_left - right_room):
                 continue
             spare = floor - (MARGIN + 3.0) - above - height - below
@@ -108,6 +113,7 @@ def _layout(part: TurnedPart, rows: int, length: float, numbers: Numbers) -> Lay
 
 
 # ---- the part ---------------------------------------------------------------------------------------------
+
 
 def _edges(outline: list[P]) -> list[float]:
     """The Z of the outline's edges: where its direction over EDGE_WINDOW mm before and after a point differs
@@ -123,8 +129,8 @@ def _edges(outline: list[P]) -> list[float]:
     t = np.arange(0.0, along[-1], EDGE_STEP)
     z, r = np.interp(t, along, pts[:, 0]), np.interp(t, along, pts[:, 1])
     k = max(1, round(EDGE_WINDOW / EDGE_STEP))
-    before = np.stack([z[k:-k] - z[:-2 * k], r[k:-k] - r[:-2 * k]], axis=1)
-    after = np.stack([z[2 * k:] - z[k:-k], r[2 * k:] - r[k:-k]], axis=1)
+    before = np.stack([z[k:-k] - z[: -2 * k], r[k:-k] - r[: -2 * k]], axis=1)
+    after = np.stack([z[2 * k :] - z[k:-k], r[2 * k :] - r[k:-k]], axis=1)
     cos = (before * after).sum(axis=1) / np.maximum(np.hypot(*before.T) * np.hypot(*after.T), 1e-12)
     turn = np.arccos(np.clip(cos, -1.0, 1.0))
     out: list[float] = []
@@ -145,7 +151,11 @@ def _edges(outline: list[P]) -> list[float]:
 
 def _drawn_loops(part: TurnedPart, length: float) -> list[list[P]]:
     k = int(np.searchsorted(part.zs, -length))
-    return loops(part.outer[k:], part.inner[k:], float(part.zs[k]) - part.dz / 2, part.dz) if k < len(part.zs) else []
+    return (
+        loops(part.outer[k:], part.inner[k:], float(part.zs[k]) - part.dz / 2, part.dz)
+        if k < len(part.zs)
+        else []
+    )
 
 
 def _break(svg: Svg, L: Layout, z: float, r: float) -> None:
@@ -179,13 +189,14 @@ def _part(svg: Svg, L: Layout, part: TurnedPart) -> list[tuple[float, float]]:
         # the loop is: front face top, outside towards -Z, back face, bore towards +Z; split it where r is the
         # outside (first half of the points up to the minimum Z) and the bore
         k = min(range(n), key=lambda i: (loop[i][0], -loop[i][1]))
-        outside = loop[:k + 1]
-        bore = loop[k + 1:]
+        outside = loop[: k + 1]
+        bore = loop[k + 1 :]
         svg.polyline([L.at(z, -r) for z, r in outside], width=THICK)
         front, back = outside[0], outside[-1]
-        ends = [(front[0], front[1])] + ([(back[0], back[1])] if cut is None or back[0] > cut + part.dz else [])
-        for z, reach in ends + [
-                (z, part.silhouette(z, 2 * SAME + 0.06)) for z in _edges(outside)]:
+        ends = [(front[0], front[1])] + (
+            [(back[0], back[1])] if cut is None or back[0] > cut + part.dz else []
+        )
+        for z, reach in ends + [(z, part.silhouette(z, 2 * SAME + 0.06)) for z in _edges(outside)]:
             svg.line(L.at(z, 0.0), L.at(z, -reach), width=THICK)
             lines.append((L.at(z, 0.0)[0], reach * L.s))
         for z in _edges(bore):
@@ -221,12 +232,15 @@ def _blank(svg: Svg, L: Layout, part: TurnedPart) -> None:
     svg.path(f"M{num(x0)} {num(y0)} H{num(x1)} V{num(y1)}{close}", width=THIN, dash="phantom")
     if b.bore > 0:
         for sign in (1.0, -1.0):
-            svg.line(L.at(-L.length, sign * b.bore / 2), L.at(0.0, sign * b.bore / 2), width=THIN, dash="phantom")
+            svg.line(
+                L.at(-L.length, sign * b.bore / 2), L.at(0.0, sign * b.bore / 2), width=THIN, dash="phantom"
+            )
     # the centre line, a little beyond the part
     svg.line((x0 - 5.0, L.axis), (x1 + 8.0, L.axis), width=THIN, dash="centre")
 
 
 # ---- dimensions -------------------------------------------------------------------------------------------
+
 
 @dataclass
 class _Diameter:
@@ -269,24 +283,50 @@ def _diameters(part: TurnedPart, L: Layout, numbers: Numbers) -> list[_Diameter]
             continue
         za, zb = sorted((e.a[0], e.b[0]))
         za, zb = max(za, -part.blank.length), min(zb, 0.0)
-        if any(abs(d.r - e.a[1]) < SAME and d.inside == inside and d.lo <= L.at(zb, 0)[0] and
-               L.at(za, 0)[0] <= d.hi for d in out):
+        if any(
+            abs(d.r - e.a[1]) < SAME
+            and d.inside == inside
+            and d.lo <= L.at(zb, 0)[0]
+            and L.at(za, 0)[0] <= d.hi
+            for d in out
+        ):
             continue  # one line per cylinder (a thread on it has its own)
-        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], e.a[1], _diameter(2 * e.a[1], numbers), "d",
-                             numbers.raw(2 * e.a[1]), inside))
+        out.append(
+            _Diameter(
+                L.at(za, 0)[0],
+                L.at(zb, 0)[0],
+                e.a[1],
+                _diameter(2 * e.a[1], numbers),
+                "d",
+                numbers.raw(2 * e.a[1]),
+                inside,
+            )
+        )
         shown[inside].append(e.a[1])
     for (z, r), inside in points(part):
         if r < SAME or any(abs(r - v) < SAME for v in shown[inside]):
             continue
         shown[inside].append(r)
         za, zb = _same_radius(part, z, r, inside, L.length)
-        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], r, _diameter(2 * r, numbers), "d", numbers.raw(2 * r),
-                             inside))
+        out.append(
+            _Diameter(
+                L.at(za, 0)[0], L.at(zb, 0)[0], r, _diameter(2 * r, numbers), "d", numbers.raw(2 * r), inside
+            )
+        )
     for z_lo, z_hi, r in part.grooves:
         if not any(abs(r - v) < SAME for v in shown[False]):
             shown[False].append(r)
-            out.append(_Diameter(L.at(z_lo, 0)[0], L.at(z_hi, 0)[0], r, _diameter(2 * r, numbers), "d",
-                                 numbers.raw(2 * r), False))
+            out.append(
+                _Diameter(
+                    L.at(z_lo, 0)[0],
+                    L.at(z_hi, 0)[0],
+                    r,
+                    _diameter(2 * r, numbers),
+                    "d",
+                    numbers.raw(2 * r),
+                    False,
+                )
+            )
     # the part's outer size (and a tube's bore) where the program leaves the blank's: its diameter from the blank
     for inside, r in ((False, part.blank.diameter / 2), (True, part.blank.bore / 2)):
         if r < SAME or any(abs(r - v) < SAME for v in shown[inside]):
@@ -296,8 +336,11 @@ def _diameters(part: TurnedPart, L: Layout, numbers: Numbers) -> list[_Diameter]
             continue
         k = int(np.flatnonzero(same)[-1])  # the blank's surface nearest the face: its whole run from there
         za, zb = _same_radius(part, float(part.zs[k]), r, inside, L.length)
-        out.append(_Diameter(L.at(za, 0)[0], L.at(zb, 0)[0], r, f"Ø{numbers.text(2 * r)}", "d", numbers.raw(2 * r),
-                             inside))
+        out.append(
+            _Diameter(
+                L.at(za, 0)[0], L.at(zb, 0)[0], r, f"Ø{numbers.text(2 * r)}", "d", numbers.raw(2 * r), inside
+            )
+        )
     return out
 
 
@@ -327,8 +370,9 @@ def _touches(part: TurnedPart, d: _Diameter, z: float) -> bool:
     return abs(found - d.r) < 0.05 or (d.lo == d.hi)
 
 
-def _diameter_lines(svg: Svg, L: Layout, part: TurnedPart, dims: list[_Diameter],
-                    view_lines: list[tuple[float, float]]) -> list[Box]:
+def _diameter_lines(
+    svg: Svg, L: Layout, part: TurnedPart, dims: list[_Diameter], view_lines: list[tuple[float, float]]
+) -> list[Box]:
     """Each diameter across the axis with two arrows; its text along the line beside it, in the view half
     for the outside, in the bore for a bore (across the axis where the bore is narrow). Line and text go
     where they cross no edge of the view, no other dimension line and no other text (the line anywhere on
@@ -346,16 +390,25 @@ def _diameter_lines(svg: Svg, L: Layout, part: TurnedPart, dims: list[_Diameter]
         walls = [(b[0] + b[2]) / 2 for b in edges + lines]
         mid = _candidates(d)[0]
         # first where the line stands clear of the view's edges and other lines, nearest the middle
-        for x in sorted(_candidates(d), key=lambda x: (min((abs(x - w) for w in walls), default=99.0) < CLEAR,
-                                                       abs(x - mid))):
+        for x in sorted(
+            _candidates(d),
+            key=lambda x: (min((abs(x - w) for w in walls), default=99.0) < CLEAR, abs(x - mid)),
+        ):
             line = (x - 1.0, top, x + 1.0, low)
             if not _free(line, edges + lines + texts) or not _touches(part, d, (x - L.right) / L.s):
                 continue
             z = (x - L.right) / L.s
             half = d.r * L.s - 2.0
             if d.inside:  # in the view half, in the bore, or across the axis
-                centres = [c for c, room in ((L.axis + d.r * L.s / 2, half), (L.axis - d.r * L.s / 2, half),
-                                             (L.axis, 2 * half + 2.0)) if length <= room]
+                centres = [
+                    c
+                    for c, room in (
+                        (L.axis + d.r * L.s / 2, half),
+                        (L.axis - d.r * L.s / 2, half),
+                        (L.axis, 2 * half + 2.0),
+                    )
+                    if length <= room
+                ]
             else:
                 room = part.silhouette(z, 0.01) * L.s - 2.0
                 centres = [L.axis + (room + 2.0) / 2] if length <= room else []
@@ -421,18 +474,29 @@ def _callouts(part: TurnedPart, numbers: Numbers) -> list[tuple[P, bool, str, st
         if e.centre is not None and whole:
             out.append((mid, inside, f"R{numbers.text(e.radius)}", "r", numbers.nominal(e.radius)))
         elif i in chamfers:
-            out.append((mid, inside, f"{numbers.text(chamfers[i])}×45°", "chamfer", numbers.nominal(chamfers[i])))
+            out.append(
+                (mid, inside, f"{numbers.text(chamfers[i])}×45°", "chamfer", numbers.nominal(chamfers[i]))
+            )
         elif whole and not e.cylinder and not e.face and not e.drilled and e.centre is None:
             angle = math.degrees(math.atan2(abs(e.b[1] - e.a[1]), abs(e.b[0] - e.a[0])))
             out.append((mid, inside, f"{numbers.text(angle)}°", "angle", numbers.nominal(angle)))
     for z_lo, z_hi, r in part.grooves:
         w = z_hi - z_lo
-        out.append((((z_lo + z_hi) / 2, r), False, labels["groove"].format(w=numbers.text(w)), "groove",
-                    numbers.nominal(w)))
+        out.append(
+            (
+                ((z_lo + z_hi) / 2, r),
+                False,
+                labels["groove"].format(w=numbers.text(w)),
+                "groove",
+                numbers.nominal(w),
+            )
+        )
     return out
 
 
-def _beside(svg: Svg, L: Layout, at: tuple[float, float], text: str, kind: str, raw: str, taken: list[Box]) -> bool:
+def _beside(
+    svg: Svg, L: Layout, at: tuple[float, float], text: str, kind: str, raw: str, taken: list[Box]
+) -> bool:
     """A bore's callout right of the face: the leader into the bore, then along it out of the part. False
     where there is no room there."""
     px, py = at
@@ -458,8 +522,11 @@ def _draw_callouts(svg: Svg, L: Layout, part: TurnedPart, numbers: Numbers, take
     items = sorted(_callouts(part, numbers), key=lambda c: L.at(*c[0])[0])
     first_row = L.bottom + 8.0
     tx, ty = SHEET[0] - MARGIN - TITLE_BLOCK[0], SHEET[1] - MARGIN - TITLE_BLOCK[1]
-    taken = taken + [(tx - 2.0, ty - 2.0, SHEET[0], SHEET[1]), (0.0, SHEET[1] - MARGIN - 1.0, SHEET[0], SHEET[1]),
-                     (SHEET[0] - MARGIN - 1.0, 0.0, SHEET[0], SHEET[1])]
+    taken = taken + [
+        (tx - 2.0, ty - 2.0, SHEET[0], SHEET[1]),
+        (0.0, SHEET[1] - MARGIN - 1.0, SHEET[0], SHEET[1]),
+        (SHEET[0] - MARGIN - 1.0, 0.0, SHEET[0], SHEET[1]),
+    ]
     for (z, r), inside, text, kind, raw in items:
         px, py = L.at(z, r if inside else -r)
         width = _width(text) + 0.5

@@ -32,9 +32,13 @@ EPS = 1e-6
 ROUGHING = frozenset({"G70", "G71", "G72"})  # their passes are no contour (the finishing cut is)
 SAME = 1e-3  # mm: values closer than this are one dimension
 SAMPLES = 48  # points per element checked against the part's surface
-ON_PART = 0.5  # the share of an element's points on the surface that makes it the part's (a groove may cut it)
+ON_PART = (
+    0.5  # the share of an element's points on the surface that makes it the part's (a groove may cut it)
+)
 PROBES = (1.0, 3.0)  # mm beyond an element's end where the outline is looked for (edge or not)
-OUTLINE_TOLERANCE = 0.005  # mm: the profile's outline simplified within this (drawn far finer than a line width)
+OUTLINE_TOLERANCE = (
+    0.005  # mm: the profile's outline simplified within this (drawn far finer than a line width)
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -145,10 +149,14 @@ class TurnedPart:
 
 # ---- the part ---------------------------------------------------------------------------------------------
 
+
 def _setup(exercise: Exercise) -> tuple[RunSetup, ToolTable]:
     tools = exercise.tool_table() if exercise.tools else DEFAULT_LATHE_TOOLS
-    return RunSetup(tools=tools, zero_offsets=tuple(exercise.zero_offsets.items()),
-                    subprograms=tuple(exercise.subprograms.items())), tools
+    return RunSetup(
+        tools=tools,
+        zero_offsets=tuple(exercise.zero_offsets.items()),
+        subprograms=tuple(exercise.subprograms.items()),
+    ), tools
 
 
 def _without_threads(toolpath: Toolpath) -> Toolpath:
@@ -156,9 +164,14 @@ def _without_threads(toolpath: Toolpath) -> Toolpath:
     and lift, which would cut the thread's run-out into the part the drawing shows at its nominal size)."""
     blocks = {(m.span.line, m.call_stack) for m in toolpath.moves if m.thread}
     plain = copy.copy(toolpath)
-    plain.commands = [c for c in toolpath.commands
-                      if not (isinstance(c, Move) and (c.thread or (c.cycle is not None and (c.span.line, c.call_stack)
-                                                                   in blocks)))]
+    plain.commands = [
+        c
+        for c in toolpath.commands
+        if not (
+            isinstance(c, Move)
+            and (c.thread or (c.cycle is not None and (c.span.line, c.call_stack) in blocks))
+        )
+    ]
     return plain
 
 
@@ -177,7 +190,7 @@ def _simplify(points: list[P], tolerance: float) -> list[P]:
         a, b = pts[i], pts[j]
         d = b - a
         n = math.hypot(*d)
-        rel = pts[i + 1:j] - a
+        rel = pts[i + 1 : j] - a
         dist = np.abs(d[0] * rel[:, 1] - d[1] * rel[:, 0]) / n if n > EPS else np.hypot(rel[:, 0], rel[:, 1])
         k = int(np.argmax(dist))
         if dist[k] > tolerance:
@@ -186,7 +199,9 @@ def _simplify(points: list[P], tolerance: float) -> list[P]:
     return [(float(z), float(r)) for z, r in pts[keep]]
 
 
-def loops(outer: npt.NDArray[np.float64], inner: npt.NDArray[np.float64], z0: float, dz: float) -> list[list[P]]:
+def loops(
+    outer: npt.NDArray[np.float64], inner: npt.NDArray[np.float64], z0: float, dz: float
+) -> list[list[P]]:
     """The closed outline (z, r) of each solid of a profile whose sample k covers z0 + k·dz … z0 + (k+1)·dz
     (separate solids where a cut goes right through): front face, outside, back face, bore."""
     outer = np.clip(outer, 0, None)
@@ -197,10 +212,13 @@ def loops(outer: npt.NDArray[np.float64], inner: npt.NDArray[np.float64], z0: fl
     out = []
     for a, b in zip(edges[::2], edges[1::2], strict=True):
         lo, hi = z0 + a * dz, z0 + b * dz
-        top = [(hi, float(outer[b - 1]))] + [(float(z), float(r)) for z, r in zip(zs[a:b][::-1], outer[a:b][::-1],
-                                                                                    strict=True)]
+        top = [(hi, float(outer[b - 1]))] + [
+            (float(z), float(r)) for z, r in zip(zs[a:b][::-1], outer[a:b][::-1], strict=True)
+        ]
         top += [(lo, float(outer[a]))]
-        bore = [(lo, float(inner[a]))] + [(float(z), float(r)) for z, r in zip(zs[a:b], inner[a:b], strict=True)]
+        bore = [(lo, float(inner[a]))] + [
+            (float(z), float(r)) for z, r in zip(zs[a:b], inner[a:b], strict=True)
+        ]
         bore += [(hi, float(inner[b - 1]))]
         out.append(_simplify(top, OUTLINE_TOLERANCE) + _simplify(bore, OUTLINE_TOLERANCE))
     return out
@@ -214,7 +232,7 @@ def _distance(points: npt.NDArray[np.float64], loops: list[list[P]]) -> npt.NDAr
     a = np.array([s[0] for s in segs])
     b = np.array([s[1] for s in segs])
     d = b - a
-    n2 = np.maximum((d ** 2).sum(axis=1), 1e-18)
+    n2 = np.maximum((d**2).sum(axis=1), 1e-18)
     rel = points[:, None, :] - a[None, :, :]
     t = np.clip((rel * d[None]).sum(axis=2) / n2[None], 0.0, 1.0)
     nearest = a[None] + t[..., None] * d[None]
@@ -223,6 +241,7 @@ def _distance(points: npt.NDArray[np.float64], loops: list[list[P]]) -> npt.NDAr
 
 
 # ---- the programmed elements ---------------------------------------------------------------------------
+
 
 def _elements(toolpath: Toolpath, tools: ToolTable) -> list[Seg]:
     """The programmed lines and arcs of the cutting moves (not threads), in program order; a drill's bore as
@@ -235,7 +254,12 @@ def _elements(toolpath: Toolpath, tools: ToolTable) -> list[Seg]:
         end = (pe[2], pe[0])
         start = previous if previous is not None else (m.start[2], m.start[0])
         previous = end
-        if m.kind == "rapid" or m.thread or m.plane != "G18" or (m.cycle is not None and m.cycle[0] in ROUGHING):
+        if (
+            m.kind == "rapid"
+            or m.thread
+            or m.plane != "G18"
+            or (m.cycle is not None and m.cycle[0] in ROUGHING)
+        ):
             continue
         compensated = m.programmed_end is not None and math.dist(m.programmed_end, m.end) > EPS
         tool = tools.get(m.tool) if m.tool is not None else None
@@ -249,17 +273,33 @@ def _elements(toolpath: Toolpath, tools: ToolTable) -> list[Seg]:
             centre = (m.center[2], m.center[0])
             radius = math.dist(start, centre)
             if radius > EPS and math.dist(start, end) > EPS:
-                out.append(Seg(start, end, centre, radius, m.direction == "cw", m.span.line, m.tool,
-                               compensated=compensated))
+                out.append(
+                    Seg(
+                        start,
+                        end,
+                        centre,
+                        radius,
+                        m.direction == "cw",
+                        m.span.line,
+                        m.tool,
+                        compensated=compensated,
+                    )
+                )
         elif math.dist(start, end) > EPS:
             out.append(Seg(start, end, line=m.span.line, tool=m.tool, compensated=compensated))
     for tip, _, tool, line in drilled.values():
         r = tool.diameter / 2
-        angle = tool.point_angle or (118.0 if tool.kind == "twist_drill" else 90.0 if tool.kind == "spot_drill" else 180.0)
+        angle = tool.point_angle or (
+            118.0 if tool.kind == "twist_drill" else 90.0 if tool.kind == "spot_drill" else 180.0
+        )
         h = r / math.tan(math.radians(angle / 2)) if angle < 179.9 else 0.0
         if h < -tip - EPS:  # the cylinder from the face to where the point begins
-            out.append(Seg((0.0, r), (tip + h, r), line=line, tool=tool.number, dims=(True, False), drilled=True))
-        out.append(Seg((tip + h, r), (tip, 0.0), line=line, tool=tool.number, dims=(False, True), drilled=True))
+            out.append(
+                Seg((0.0, r), (tip + h, r), line=line, tool=tool.number, dims=(True, False), drilled=True)
+            )
+        out.append(
+            Seg((tip + h, r), (tip, 0.0), line=line, tool=tool.number, dims=(False, True), drilled=True)
+        )
     return out
 
 
@@ -270,8 +310,12 @@ def _clip(e: Seg, blank: Blank) -> tuple[float, float] | None:
     if e.centre is None:
         return clip_line(e.a, e.b, box)
     ts = np.linspace(0.0, 1.0, 201)
-    inside = [float(t) for t in ts if box[0] - SAME <= e.point(float(t))[0] <= box[1] + SAME
-              and box[2] - SAME <= e.point(float(t))[1] <= box[3] + SAME]
+    inside = [
+        float(t)
+        for t in ts
+        if box[0] - SAME <= e.point(float(t))[0] <= box[1] + SAME
+        and box[2] - SAME <= e.point(float(t))[1] <= box[3] + SAME
+    ]
     return (inside[0], inside[-1]) if len(inside) >= 2 else None
 
 
@@ -295,7 +339,9 @@ def _corner(part: TurnedPart, p: P, beyond: P, tol: float) -> bool:
     of a face or cylinder makes no edge there; an inside corner's nose radius is less than 1 mm)."""
     for d in PROBES:
         q = np.array([[p[0] + d * beyond[0], p[1] + d * beyond[1]]])
-        if not (-part.blank.length - SAME <= q[0, 0] <= SAME and 0.0 <= q[0, 1] <= part.blank.diameter / 2 + SAME):
+        if not (
+            -part.blank.length - SAME <= q[0, 0] <= SAME and 0.0 <= q[0, 1] <= part.blank.diameter / 2 + SAME
+        ):
             return True
         if _distance(q, part.loops)[0] > tol:
             return True
@@ -325,12 +371,28 @@ def _on_surface(part: TurnedPart, elements: list[Seg], tools: ToolTable, dz: flo
         # face, G0 X26 Z0.5 / G1 X30 D1.5: on the part it is the chamfer from the face)
         whole = bool(near[middle].all()) and (t0 < EPS or abs(a[0]) < SAME) and t1 > 1 - EPS
         u, v = e.direction(False), e.direction(True)
-        dims = (e.dims[0] and t0 < EPS and bool(dist[0] <= reach) and _corner(part, a, (-u[0], -u[1]), tol),
-                e.dims[1] and t1 > 1 - EPS and bool(dist[-1] <= reach) and _corner(part, b, v, tol))
+        dims = (
+            e.dims[0] and t0 < EPS and bool(dist[0] <= reach) and _corner(part, a, (-u[0], -u[1]), tol),
+            e.dims[1] and t1 > 1 - EPS and bool(dist[-1] <= reach) and _corner(part, b, v, tol),
+        )
         mid = e.point((t0 + t1) / 2)
-        inside = e.drilled or abs(mid[1] - part.radius_at(mid[0], True)) < abs(mid[1] - part.radius_at(mid[0]))
-        part.surface.append(Seg(e.a if t0 < EPS else a, e.b if t1 > 1 - EPS else b, e.centre, e.radius, e.cw,
-                                e.line, e.tool, dims, e.drilled, e.compensated))
+        inside = e.drilled or abs(mid[1] - part.radius_at(mid[0], True)) < abs(
+            mid[1] - part.radius_at(mid[0])
+        )
+        part.surface.append(
+            Seg(
+                e.a if t0 < EPS else a,
+                e.b if t1 > 1 - EPS else b,
+                e.centre,
+                e.radius,
+                e.cw,
+                e.line,
+                e.tool,
+                dims,
+                e.drilled,
+                e.compensated,
+            )
+        )
         part.whole.append(whole)
         part.inside.append(inside)
 
@@ -408,8 +470,12 @@ def _threads(toolpath: Toolpath, tools: ToolTable, part: TurnedPart) -> None:
 def _programmed_radius(part: TurnedPart, z: float, measured: float) -> float:
     """The programmed radius of the cylinder at z (a turned diameter, else the blank's) the profile shows."""
     for e, inside in zip(part.surface, part.inside, strict=True):
-        if e.cylinder and not inside and min(e.a[0], e.b[0]) - SAME <= z <= max(e.a[0], e.b[0]) + SAME \
-                and abs(e.a[1] - measured) < 0.05:
+        if (
+            e.cylinder
+            and not inside
+            and min(e.a[0], e.b[0]) - SAME <= z <= max(e.a[0], e.b[0]) + SAME
+            and abs(e.a[1] - measured) < 0.05
+        ):
             return e.a[1]
     if abs(measured - part.blank.diameter / 2) < 0.05:
         return part.blank.diameter / 2
@@ -439,7 +505,7 @@ def _grooves(toolpath: Toolpath, tools: ToolTable, part: TurnedPart, dz: float) 
             k -= 1
         if k == 0:
             continue
-        depth = float(o[k:m + 1].min())
+        depth = float(o[k : m + 1].min())
         # both walls steep (faces, not tapers): half the depth or more within one sample
         if o[k - 1] - o[k] < 0.5 * (top - depth) or o[m + 1] - o[m] < 0.5 * (top - depth):
             continue
@@ -494,8 +560,14 @@ def turned_part(exercise: Exercise) -> TurnedPart:
     blank = exercise.blank.blank()
     result = simulate_turning(_without_threads(toolpath), blank, tools, exercise.resolution)
     profile = result.profile
-    part = TurnedPart(blank, loops(profile.outer, profile.inner, profile.z0, profile.dz),
-                      np.clip(profile.outer, 0, None), np.clip(profile.inner, 0, None), profile.zs, profile.dz)
+    part = TurnedPart(
+        blank,
+        loops(profile.outer, profile.inner, profile.z0, profile.dz),
+        np.clip(profile.outer, 0, None),
+        np.clip(profile.inner, 0, None),
+        profile.zs,
+        profile.dz,
+    )
     for m in toolpath.moves:
         for p in (m.programmed_end or m.end, m.start) + ((m.center,) if m.center is not None else ()):
             part.known_r.add(round(p[0], 3))

@@ -21,8 +21,14 @@ HATCH_PITCH = 7  # pixels between the 45° hatching lines
 MARGIN = 0.07  # of the picture on every side
 
 
-def half_section_image(outer: npt.NDArray[np.float64], inner: npt.NDArray[np.float64], z0: float, dz: float,
-                       blank: Blank, size: tuple[int, int] = (480, 320)) -> npt.NDArray[np.uint8]:
+def half_section_image(
+    outer: npt.NDArray[np.float64],
+    inner: npt.NDArray[np.float64],
+    z0: float,
+    dz: float,
+    blank: Blank,
+    size: tuple[int, int] = (480, 320),
+) -> npt.NDArray[np.uint8]:
     """The picture (height × width × 3) of a revolved profile: sample k covers z0 + k·dz … z0 + (k+1)·dz with
     material between inner[k] and outer[k] (radii, mm)."""
     width, height = size

@@ -111,7 +111,9 @@ def arc_solutions(  # noqa: C901
     elif ex is not None and ey is not None and phi is not None:
         chord = math.dist(start, (ex, ey))
         s = math.sin(math.radians(ao or 0) / 2)
-        centres = centres_from_radius(start, (ex, ey), chord / (2 * s)) if abs(s) > EPS and chord > EPS else []
+        centres = (
+            centres_from_radius(start, (ex, ey), chord / (2 * s)) if abs(s) > EPS and chord > EPS else []
+        )
     elif phi is not None and (cx is not None or cy is not None) and (ex is not None or ey is not None):
         c_phi, s_phi = math.cos(math.radians(phi)), math.sin(math.radians(phi))
         if cx is not None and ex is not None and abs(s_phi) > EPS:
@@ -154,7 +156,9 @@ def arc_solutions(  # noqa: C901
             ok = ok and (cx is None or abs(c[0] - cx) <= tol) and (cy is None or abs(c[1] - cy) <= tol)
             ok = ok and (r is None or abs(radius - r) <= tol)
             if ok and ao is not None:
-                ok = abs(sweep(start, e, c, clockwise) - ao) <= 1e-4 or (ao >= 360 - 1e-9 and math.dist(start, e) < 1e-6)
+                ok = abs(sweep(start, e, c, clockwise) - ao) <= 1e-4 or (
+                    ao >= 360 - 1e-9 and math.dist(start, e) < 1e-6
+                )
             if ok and all(math.dist(c, c2) > 1e-7 or math.dist(e, e2) > 1e-7 for c2, e2 in solutions):
                 solutions.append((c, e))
     return solutions

@@ -16,8 +16,8 @@ def simplified(z: npt.NDArray[np.float64], r: npt.NDArray[np.float64], tol: floa
         a, b = stack.pop()
         if b - a < 2:
             continue
-        t = (z[a + 1:b] - z[a]) / max(z[b] - z[a], 1e-12)
-        err = np.abs(r[a + 1:b] - (r[a] + t * (r[b] - r[a])))
+        t = (z[a + 1 : b] - z[a]) / max(z[b] - z[a], 1e-12)
+        err = np.abs(r[a + 1 : b] - (r[a] + t * (r[b] - r[a])))
         k = int(np.argmax(err))
         if err[k] > tol:
             keep[a + 1 + k] = True

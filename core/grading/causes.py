@@ -39,7 +39,9 @@ class Element:
     center: Point | None
     cw: bool
     depth: float  # milling: Z of the element; turning: 0
-    offset: float  # the tool centre's distance from the programmed element, > 0 left of the direction of travel
+    offset: (
+        float  # the tool centre's distance from the programmed element, > 0 left of the direction of travel
+    )
     ramp: bool  # the offset builds up along the element (the first move after G41/G42)
     line: int  # the block's line in the program file (the calling line for a library subprogram)
     tool: int | None
@@ -71,7 +73,12 @@ class Cause:
     reference: int | None = None  # the index of the reference element concerned
 
     def to_json(self) -> dict[str, Any]:
-        return {"code": self.code, "line": self.line or None, "message": self.message, "message_en": self.message_en}
+        return {
+            "code": self.code,
+            "line": self.line or None,
+            "message": self.message,
+            "message_en": self.message_en,
+        }
 
 
 @dataclass(slots=True)
@@ -135,30 +142,60 @@ def elements(tp: Toolpath, cutting: list[int], lathe: bool) -> list[Element]:
             continue
         if math.dist(p_start, p_end) <= SAME and m.kind != "arc":
             if not lathe and m.end[2] < m.start[2] - SAME:  # a plunge: a hole, or the start of a slot
-                out.append(Element("plunge", p_end, p_end, None, False, m.end[2], 0.0, False, file_line(m), m.tool,
-                                   (k,)))
+                out.append(
+                    Element(
+                        "plunge", p_end, p_end, None, False, m.end[2], 0.0, False, file_line(m), m.tool, (k,)
+                    )
+                )
             continue  # no programmed extent in the plane: an infeed
         arc = m.kind == "arc" and m.center is not None
-        if arc and math.dist(p_start, p_end) <= SAME and out and out[-1].moves[-1] == k - 1 and \
-                out[-1].line == file_line(m):
+        if (
+            arc
+            and math.dist(p_start, p_end) <= SAME
+            and out
+            and out[-1].moves[-1] == k - 1
+            and out[-1].line == file_line(m)
+        ):
             last = out[-1]  # the arc about an outer corner under compensation: part of the element before
-            out[-1] = Element(last.kind, last.start, last.end, last.center, last.cw, last.depth, last.offset,
-                              last.ramp, last.line, last.tool, last.moves + (k,), last.joint)
+            out[-1] = Element(
+                last.kind,
+                last.start,
+                last.end,
+                last.center,
+                last.cw,
+                last.depth,
+                last.offset,
+                last.ramp,
+                last.line,
+                last.tool,
+                last.moves + (k,),
+                last.joint,
+            )
             continue
         center = _uv(m.center, lathe) if arc and m.center is not None else None
         cw = m.direction == "cw"
         kind: Literal["line", "arc"] = "arc" if arc else "line"
         pts = m.points(0.05, max_chords=64)
-        mid = _uv(pts[len(pts) // 2], lathe) if kind == "arc" else _uv(
-            tuple((a + b) / 2 for a, b in zip(m.start, m.end, strict=True)), lathe)  # type: ignore[arg-type]
+        mid = (
+            _uv(pts[len(pts) // 2], lathe)
+            if kind == "arc"
+            else _uv(tuple((a + b) / 2 for a, b in zip(m.start, m.end, strict=True)), lathe)  # type: ignore[arg-type]
+        )
         off = _offset_at(kind, p_start, p_end, center, cw, mid)
         off_a = _offset_at(kind, p_start, p_end, center, cw, _uv(m.start, lathe))
         off_b = _offset_at(kind, p_start, p_end, center, cw, _uv(m.end, lathe))
         ramp = abs(off_a - off_b) > max(0.05, 0.25 * max(abs(off_a), abs(off_b)))
         depth = 0.0 if lathe else min(m.start[2], m.end[2]) if kind == "line" else m.end[2]
-        joint = bool(out) and out[-1].kind != "plunge" and out[-1].moves[-1] == k - 1 \
-            and file_line(tp.moves[k - 1]) == file_line(m) and math.dist(out[-1].end, p_start) <= SAME
-        element = Element(kind, p_start, p_end, center, cw, depth, off, ramp, file_line(m), m.tool, (k,), joint)
+        joint = (
+            bool(out)
+            and out[-1].kind != "plunge"
+            and out[-1].moves[-1] == k - 1
+            and file_line(tp.moves[k - 1]) == file_line(m)
+            and math.dist(out[-1].end, p_start) <= SAME
+        )
+        element = Element(
+            kind, p_start, p_end, center, cw, depth, off, ramp, file_line(m), m.tool, (k,), joint
+        )
         merged = _merge(out[-1], element) if out and out[-1].moves[-1] == k - 1 else None
         if merged is not None:
             out[-1] = merged
@@ -171,22 +208,52 @@ def elements(tp: Toolpath, cutting: list[int], lathe: bool) -> list[Element]:
 
 def _merge(a: Element, b: Element) -> Element | None:
     """One element of two that continue each other (collinear lines, arcs of one circle), else None."""
-    if (a.kind != b.kind or a.kind == "plunge" or b.joint or math.dist(a.end, b.start) > SAME
-            or abs(a.depth - b.depth) > SAME
-            or abs(a.offset - b.offset) > SAME or a.tool != b.tool or a.ramp or b.ramp):
+    if (
+        a.kind != b.kind
+        or a.kind == "plunge"
+        or b.joint
+        or math.dist(a.end, b.start) > SAME
+        or abs(a.depth - b.depth) > SAME
+        or abs(a.offset - b.offset) > SAME
+        or a.tool != b.tool
+        or a.ramp
+        or b.ramp
+    ):
         return None
     if a.kind == "line":
         da = (a.end[0] - a.start[0], a.end[1] - a.start[1])
         db = (b.end[0] - b.start[0], b.end[1] - b.start[1])
         na, nb = math.hypot(*da), math.hypot(*db)
-        if na < 1e-9 or nb < 1e-9 or abs(da[0] * db[1] - da[1] * db[0]) > 1e-6 * na * nb or \
-                da[0] * db[0] + da[1] * db[1] <= 0:
+        if (
+            na < 1e-9
+            or nb < 1e-9
+            or abs(da[0] * db[1] - da[1] * db[0]) > 1e-6 * na * nb
+            or da[0] * db[0] + da[1] * db[1] <= 0
+        ):
             return None
-    elif a.center is None or b.center is None or math.dist(a.center, b.center) > SAME or a.cw != b.cw or \
-            abs(a.radius - b.radius) > SAME or math.dist(b.end, a.start) <= SAME:
+    elif (
+        a.center is None
+        or b.center is None
+        or math.dist(a.center, b.center) > SAME
+        or a.cw != b.cw
+        or abs(a.radius - b.radius) > SAME
+        or math.dist(b.end, a.start) <= SAME
+    ):
         return None  # not one circle, or the two would close it
-    return Element(a.kind, a.start, b.end, a.center, a.cw, a.depth, a.offset, False, a.line, a.tool,
-                   a.moves + b.moves, a.joint)
+    return Element(
+        a.kind,
+        a.start,
+        b.end,
+        a.center,
+        a.cw,
+        a.depth,
+        a.offset,
+        False,
+        a.line,
+        a.tool,
+        a.moves + b.moves,
+        a.joint,
+    )
 
 
 def same(a: Element, b: Element) -> bool:
@@ -251,8 +318,15 @@ def _side_code(offset: float, lathe: bool) -> str:
     return "G41" if offset > 0 else "G42"
 
 
-def compare(ref_tp: Toolpath, ref_cut: list[int], sub_tp: Toolpath, sub_cut: list[int], lathe: bool,
-            tool_radius: dict[int | None, float], program: str = "") -> Comparison:
+def compare(
+    ref_tp: Toolpath,
+    ref_cut: list[int],
+    sub_tp: Toolpath,
+    sub_cut: list[int],
+    lathe: bool,
+    tool_radius: dict[int | None, float],
+    program: str = "",
+) -> Comparison:
     """The reference's and the submission's elements aligned, and the causes of their differences in the order of
     their likelihood (a missing compensation before the arc it also spoils)."""
     ref, sub = elements(ref_tp, ref_cut, lathe), elements(sub_tp, sub_cut, lathe)
@@ -262,13 +336,24 @@ def compare(ref_tp: Toolpath, ref_cut: list[int], sub_tp: Toolpath, sub_cut: lis
     def add(c: Cause) -> None:
         found.setdefault(c.code, c)
 
-    comp_name, comp_en = ("die Schneidenradiuskompensation (SRK)", "nose-radius compensation (SRC)") if lathe else \
-        ("die Fräserradiuskorrektur", "cutter radius compensation")
-    warned = [d for d in sub_tp.diagnostics if catalogue_code(d.code) == APPROACH_WARNING and d.source is None]
+    comp_name, comp_en = (
+        ("die Schneidenradiuskompensation (SRK)", "nose-radius compensation (SRC)")
+        if lathe
+        else ("die Fräserradiuskorrektur", "cutter radius compensation")
+    )
+    warned = [
+        d for d in sub_tp.diagnostics if catalogue_code(d.code) == APPROACH_WARNING and d.source is None
+    ]
     if warned:
         d = warned[0]
-        add(Cause("approach", d.span.line, f"Zeile {d.span.line}: {d.message.split(':')[0]}.",
-                  f"Line {d.span.line}: {d.message_en.split(':')[0]}."))
+        add(
+            Cause(
+                "approach",
+                d.span.line,
+                f"Zeile {d.span.line}: {d.message.split(':')[0]}.",
+                f"Line {d.span.line}: {d.message_en.split(':')[0]}.",
+            )
+        )
     warned_lines = {d.span.line for d in warned}
     for ri, si in cmp.pairs:
         r, s = ref[ri], sub[si]
@@ -279,71 +364,133 @@ def compare(ref_tp: Toolpath, ref_cut: list[int], sub_tp: Toolpath, sub_cut: lis
             if s.ramp and abs(abs(r.offset) - abs(s.offset)) > 0.2 * abs(r.offset):
                 what = "SRK" if lathe else "Fräserradiuskorrektur"
                 what_en = "nose-radius compensation" if lathe else "cutter radius compensation"
-                add(Cause("approach", s.line, f"Zeile {s.line}: Die {what} wird ohne Anfahrbewegung angewählt – "
-                          f"dieser Satz ist schon ein Konturelement ({describe(r, lathe)}).",
-                          f"Line {s.line}: the {what_en} is selected without an approach move – this block is "
-                          f"already a contour element ({describe(r, lathe, 'en')}).", ri))
+                add(
+                    Cause(
+                        "approach",
+                        s.line,
+                        f"Zeile {s.line}: Die {what} wird ohne Anfahrbewegung angewählt – "
+                        f"dieser Satz ist schon ein Konturelement ({describe(r, lathe)}).",
+                        f"Line {s.line}: the {what_en} is selected without an approach move – this block is "
+                        f"already a contour element ({describe(r, lathe, 'en')}).",
+                        ri,
+                    )
+                )
             elif abs(s.offset) < 0.25 * abs(r.offset):
                 line = _selection_line(sub_tp, sub, si, lathe)
                 if lathe:
-                    add(Cause("compensation_missing", line,
-                              f"Die Schneidenradiuskompensation (SRK) fehlt: ohne G46 fährt die theoretische "
-                              f"Schneidenspitze die Kontur, und an Fasen, Kegeln, Radien und Schultern weicht das "
-                              f"Drehteil um bis zu den Schneidenradius {mm(abs(r.offset))} ab (G46 vor Zeile {line}).",
-                              f"Nose-radius compensation (SRC) is missing: without G46 the theoretical tool tip follows "
-                              f"the contour, and on chamfers, tapers, radii and shoulders the part is off by up to the "
-                              f"nose radius {mm(abs(r.offset), 'en')} (G46 before line {line}).", ri))
+                    add(
+                        Cause(
+                            "compensation_missing",
+                            line,
+                            f"Die Schneidenradiuskompensation (SRK) fehlt: ohne G46 fährt die theoretische "
+                            f"Schneidenspitze die Kontur, und an Fasen, Kegeln, Radien und Schultern weicht das "
+                            f"Drehteil um bis zu den Schneidenradius {mm(abs(r.offset))} ab (G46 vor Zeile {line}).",
+                            f"Nose-radius compensation (SRC) is missing: without G46 the theoretical tool tip follows "
+                            f"the contour, and on chamfers, tapers, radii and shoulders the part is off by up to the "
+                            f"nose radius {mm(abs(r.offset), 'en')} (G46 before line {line}).",
+                            ri,
+                        )
+                    )
                 else:
                     code = _side_code(r.offset, lathe)
-                    add(Cause("compensation_missing", line,
-                              f"Die Fräserradiuskorrektur fehlt: die Werkzeugmitte fährt auf der programmierten "
-                              f"Kontur, {mm(abs(r.offset))} zu weit ins Werkstück ({code} in Zeile {line}).",
-                              f"Cutter radius compensation is missing: the tool centre travels on the programmed "
-                              f"contour, {mm(abs(r.offset), 'en')} too far into the part ({code} in line {line}).", ri))
+                    add(
+                        Cause(
+                            "compensation_missing",
+                            line,
+                            f"Die Fräserradiuskorrektur fehlt: die Werkzeugmitte fährt auf der programmierten "
+                            f"Kontur, {mm(abs(r.offset))} zu weit ins Werkstück ({code} in Zeile {line}).",
+                            f"Cutter radius compensation is missing: the tool centre travels on the programmed "
+                            f"contour, {mm(abs(r.offset), 'en')} too far into the part ({code} in line {line}).",
+                            ri,
+                        )
+                    )
             elif r.offset * s.offset < 0:
-                line = _code_line(sub_tp, s.line, _side_code(s.offset, lathe)) or _selection_line(sub_tp, sub, si, lathe)
+                line = _code_line(sub_tp, s.line, _side_code(s.offset, lathe)) or _selection_line(
+                    sub_tp, sub, si, lathe
+                )
                 want, got = _side_code(r.offset, lathe), _side_code(s.offset, lathe)
-                add(Cause("compensation_side", line,
-                          f"Zeile {line}: {comp_name[0].upper()}{comp_name[1:]} liegt auf der falschen Seite der "
-                          f"Kontur ({got} statt {want}).",
-                          f"Line {line}: {comp_en} is on the wrong side of the contour ({got} instead of {want}).", ri))
+                add(
+                    Cause(
+                        "compensation_side",
+                        line,
+                        f"Zeile {line}: {comp_name[0].upper()}{comp_name[1:]} liegt auf der falschen Seite der "
+                        f"Kontur ({got} statt {want}).",
+                        f"Line {line}: {comp_en} is on the wrong side of the contour ({got} instead of {want}).",
+                        ri,
+                    )
+                )
             elif abs(abs(s.offset) - abs(r.offset)) > 0.02:
                 add(_tool_cause(sub_tp, s, r, tool_radius, lathe, abs(s.offset), abs(r.offset)))
         elif abs(s.offset) > 0.5 * max(tool_radius.get(s.tool, 0.0), 0.01) and not lathe:
             line = _selection_line(sub_tp, sub, si, lathe)
-            add(Cause("compensation_extra", line,
-                      f"Zeile {line}: Die Aufgabe fährt diese Bahn mit der Werkzeugmitte; die Fräserradiuskorrektur "
-                      f"({_side_code(s.offset, lathe)}) versetzt sie um {mm(abs(s.offset))}.",
-                      f"Line {line}: the task runs this path with the tool centre; cutter radius compensation "
-                      f"({_side_code(s.offset, lathe)}) shifts it by {mm(abs(s.offset), 'en')}.", ri))
+            add(
+                Cause(
+                    "compensation_extra",
+                    line,
+                    f"Zeile {line}: Die Aufgabe fährt diese Bahn mit der Werkzeugmitte; die Fräserradiuskorrektur "
+                    f"({_side_code(s.offset, lathe)}) versetzt sie um {mm(abs(s.offset))}.",
+                    f"Line {line}: the task runs this path with the tool centre; cutter radius compensation "
+                    f"({_side_code(s.offset, lathe)}) shifts it by {mm(abs(s.offset), 'en')}.",
+                    ri,
+                )
+            )
         if s.tool != r.tool:
             add(_tool_cause(sub_tp, s, r, tool_radius, lathe, None, None))
         if not lathe and abs(s.depth - r.depth) > 0.02:
             line = _depth_line(sub_tp, s)
             deeper = s.depth < r.depth
-            add(Cause("depth", line,
-                      f"Zeile {line}: Tiefe Z{word(s.depth)} statt Z{word(r.depth)} – {mm(abs(s.depth - r.depth))} "
-                      f"zu {'tief' if deeper else 'hoch'}.",
-                      f"Line {line}: depth Z{word(s.depth)} instead of Z{word(r.depth)} – "
-                      f"{mm(abs(s.depth - r.depth), 'en')} too {'deep' if deeper else 'high'}.", ri))
+            add(
+                Cause(
+                    "depth",
+                    line,
+                    f"Zeile {line}: Tiefe Z{word(s.depth)} statt Z{word(r.depth)} – {mm(abs(s.depth - r.depth))} "
+                    f"zu {'tief' if deeper else 'hoch'}.",
+                    f"Line {line}: depth Z{word(s.depth)} instead of Z{word(r.depth)} – "
+                    f"{mm(abs(s.depth - r.depth), 'en')} too {'deep' if deeper else 'high'}.",
+                    ri,
+                )
+            )
     for cause in _gaps(cmp, lathe, program):
         add(cause)
-    order = ["approach", "compensation_missing", "compensation_side", "compensation_extra", "tool", "depth",
-             "arc_direction", "arc_radius", "arc_end", "end_point", "element_kind", "element_missing",
-             "element_extra"]
+    order = [
+        "approach",
+        "compensation_missing",
+        "compensation_side",
+        "compensation_extra",
+        "tool",
+        "depth",
+        "arc_direction",
+        "arc_radius",
+        "arc_end",
+        "end_point",
+        "element_kind",
+        "element_missing",
+        "element_extra",
+    ]
     cmp.causes = [found[c] for c in order if c in found]
     return cmp
 
 
-def _tool_cause(tp: Toolpath, s: Element, r: Element, tool_radius: dict[int | None, float], lathe: bool,
-                have: float | None, want: float | None) -> Cause:
+def _tool_cause(
+    tp: Toolpath,
+    s: Element,
+    r: Element,
+    tool_radius: dict[int | None, float],
+    lathe: bool,
+    have: float | None,
+    want: float | None,
+) -> Cause:
     line = _tool_change_line(tp, s) or s.line
     rs, rr = tool_radius.get(s.tool, 0.0), tool_radius.get(r.tool, 0.0)
     if s.tool == r.tool and have is not None and want is not None:
-        return Cause("tool", line, f"Zeile {line}: Die Werkzeugmitte liegt {mm(have)} statt {mm(want)} neben der "
-                     f"Kontur – Werkzeugradius oder Korrekturwert (TR) stimmt nicht.",
-                     f"Line {line}: the tool centre runs {mm(have, 'en')} instead of {mm(want, 'en')} beside the "
-                     f"contour – the tool radius or the correction (TR) is wrong.")
+        return Cause(
+            "tool",
+            line,
+            f"Zeile {line}: Die Werkzeugmitte liegt {mm(have)} statt {mm(want)} neben der "
+            f"Kontur – Werkzeugradius oder Korrekturwert (TR) stimmt nicht.",
+            f"Line {line}: the tool centre runs {mm(have, 'en')} instead of {mm(want, 'en')} beside the "
+            f"contour – the tool radius or the correction (TR) is wrong.",
+        )
     size = "Schneidenradius" if lathe else "Ø"
     size_en = "nose radius" if lathe else "Ø"
 
@@ -354,8 +501,12 @@ def _tool_cause(tp: Toolpath, s: Element, r: Element, tool_radius: dict[int | No
         num = de(value) if lang == "de" else en(value)
         return f"T{t} ({size if lang == 'de' else size_en} {num} mm)" if lathe else f"T{t} (Ø{num} mm)"
 
-    return Cause("tool", line, f"Zeile {line}: Werkzeug {desc(s.tool, rs, 'de')} statt {desc(r.tool, rr, 'de')}.",
-                 f"Line {line}: tool {desc(s.tool, rs, 'en')} instead of {desc(r.tool, rr, 'en')}.")
+    return Cause(
+        "tool",
+        line,
+        f"Zeile {line}: Werkzeug {desc(s.tool, rs, 'de')} statt {desc(r.tool, rr, 'de')}.",
+        f"Line {line}: tool {desc(s.tool, rs, 'en')} instead of {desc(r.tool, rr, 'en')}.",
+    )
 
 
 def _tool_change_line(tp: Toolpath, s: Element) -> int | None:
@@ -435,9 +586,18 @@ def _gaps(cmp: Comparison, lathe: bool, program: str = "") -> list[Cause]:
         if joints and len(rs) > len(ss):
             r = ref[joints[0]]
             line = sub[ss[0]].line if ss else sub[s0].line if s0 >= 0 else 0
-            at, at_en = (f"Zeile {line}: ", f"Line {line}: ") if line else ("", "")  # 0: no block of the submission
-            out.append(Cause("element_missing", line, f"{at}Es fehlt das Übergangselement {describe(r, lathe)}.",
-                             f"{at_en}The transition element {describe(r, lathe, 'en')} is missing.", joints[0]))
+            at, at_en = (
+                (f"Zeile {line}: ", f"Line {line}: ") if line else ("", "")
+            )  # 0: no block of the submission
+            out.append(
+                Cause(
+                    "element_missing",
+                    line,
+                    f"{at}Es fehlt das Übergangselement {describe(r, lathe)}.",
+                    f"{at_en}The transition element {describe(r, lathe, 'en')} is missing.",
+                    joints[0],
+                )
+            )
             continue
         if rs and ss:
             cylinder = _diameter(ref, sub, rs, ss) if lathe else None
@@ -459,7 +619,9 @@ def _gaps(cmp: Comparison, lathe: bool, program: str = "") -> list[Cause]:
                 where_en = f" – the repeat in line {loop} runs too few times"
             if len(rs) > 1:
                 text = f"Es fehlen {len(rs)} Konturelemente ab {describe(r, lathe)}{where}."
-                text_en = f"{len(rs)} contour elements from {describe(r, lathe, 'en')} on are missing{where_en}."
+                text_en = (
+                    f"{len(rs)} contour elements from {describe(r, lathe, 'en')} on are missing{where_en}."
+                )
             else:
                 text = f"Es fehlt das Konturelement {describe(r, lathe)}{where}."
                 text_en = f"The contour element {describe(r, lathe, 'en')} is missing{where_en}."
@@ -469,15 +631,27 @@ def _gaps(cmp: Comparison, lathe: bool, program: str = "") -> list[Cause]:
             repeated = {sub[x].line for x in range(ss[0])} >= {sub[x].line for x in ss}
             loop = _loop_line(program) if repeated else None
             if loop is not None:  # made by a repeat of the submission: a repeat or loop too many
-                out.append(Cause("element_extra", loop, f"Zeile {loop}: Die Wiederholung läuft zu oft – das "
-                                 f"Konturelement {describe(s, lathe)} gehört nicht zur Kontur der Zeichnung.",
-                                 f"Line {loop}: the repeat runs too many times – the contour element "
-                                 f"{describe(s, lathe, 'en')} is not part of the drawing's contour."))
+                out.append(
+                    Cause(
+                        "element_extra",
+                        loop,
+                        f"Zeile {loop}: Die Wiederholung läuft zu oft – das "
+                        f"Konturelement {describe(s, lathe)} gehört nicht zur Kontur der Zeichnung.",
+                        f"Line {loop}: the repeat runs too many times – the contour element "
+                        f"{describe(s, lathe, 'en')} is not part of the drawing's contour.",
+                    )
+                )
                 continue
-            out.append(Cause("element_extra", s.line, f"Zeile {s.line}: Das Konturelement {describe(s, lathe)} "
-                             f"gehört nicht zur Kontur der Zeichnung.",
-                             f"Line {s.line}: the contour element {describe(s, lathe, 'en')} is not part of the "
-                             f"drawing's contour."))
+            out.append(
+                Cause(
+                    "element_extra",
+                    s.line,
+                    f"Zeile {s.line}: Das Konturelement {describe(s, lathe)} "
+                    f"gehört nicht zur Kontur der Zeichnung.",
+                    f"Line {s.line}: the contour element {describe(s, lathe, 'en')} is not part of the "
+                    f"drawing's contour.",
+                )
+            )
     return out
 
 
@@ -492,10 +666,15 @@ def _diameter(ref: list[Element], sub: list[Element], rs: list[int], ss: list[in
             continue
         before = sub[si - 1] if si > 0 and math.dist(sub[si - 1].end, s.start) <= SAME else None
         line = before.line if before is not None else s.line
-        return Cause("end_point", line, f"Zeile {line}: Ø{word(2 * s.start[1])} statt Ø{word(2 * r.start[1])} "
-                     f"(der Zylinder Z{word(r.start[0])} … Z{word(r.end[0])}).",
-                     f"Line {line}: Ø{word(2 * s.start[1])} instead of Ø{word(2 * r.start[1])} (the cylinder "
-                     f"Z{word(r.start[0])} … Z{word(r.end[0])}).", ri)
+        return Cause(
+            "end_point",
+            line,
+            f"Zeile {line}: Ø{word(2 * s.start[1])} statt Ø{word(2 * r.start[1])} "
+            f"(der Zylinder Z{word(r.start[0])} … Z{word(r.end[0])}).",
+            f"Line {line}: Ø{word(2 * s.start[1])} instead of Ø{word(2 * r.start[1])} (the cylinder "
+            f"Z{word(r.start[0])} … Z{word(r.end[0])}).",
+            ri,
+        )
     return None
 
 
@@ -508,41 +687,80 @@ def _replaced(r: Element, s: Element, lathe: bool, ri: int) -> Cause:
     starts = math.dist(r.start, s.start) <= SAME
     ends = math.dist(r.end, s.end) <= SAME
     if r.kind == "arc" and s.kind == "arc":
-        if s.cw != r.cw and (ends or (r.center is not None and s.center is not None
-                                      and math.dist(r.center, s.center) <= SAME)):
-            return Cause("arc_direction", line,
-                         f"Zeile {line}: Der Kreisbogen läuft in die falsche Richtung – {'G2' if s.cw else 'G3'} "
-                         f"statt {'G2' if r.cw else 'G3'} ({'im' if r.cw else 'gegen den'} Uhrzeigersinn).",
-                         f"Line {line}: the arc runs the wrong way – {'G2' if s.cw else 'G3'} instead of "
-                         f"{'G2' if r.cw else 'G3'} ({'clockwise' if r.cw else 'counter-clockwise'}).", ri)
+        if s.cw != r.cw and (
+            ends or (r.center is not None and s.center is not None and math.dist(r.center, s.center) <= SAME)
+        ):
+            return Cause(
+                "arc_direction",
+                line,
+                f"Zeile {line}: Der Kreisbogen läuft in die falsche Richtung – {'G2' if s.cw else 'G3'} "
+                f"statt {'G2' if r.cw else 'G3'} ({'im' if r.cw else 'gegen den'} Uhrzeigersinn).",
+                f"Line {line}: the arc runs the wrong way – {'G2' if s.cw else 'G3'} instead of "
+                f"{'G2' if r.cw else 'G3'} ({'clockwise' if r.cw else 'counter-clockwise'}).",
+                ri,
+            )
         if s.cw == r.cw and abs(s.radius - r.radius) > SAME:
             what, what_en = ("Rundung", "rounding") if r.joint else ("Kreisbogen mit Radius", "arc of radius")
-            return Cause("arc_radius", line, f"Zeile {line}: {what} R{word(s.radius, 2)} statt R{word(r.radius, 2)}.",
-                         f"Line {line}: {what_en} R{word(s.radius, 2)} instead of R{word(r.radius, 2)}.", ri)
+            return Cause(
+                "arc_radius",
+                line,
+                f"Zeile {line}: {what} R{word(s.radius, 2)} statt R{word(r.radius, 2)}.",
+                f"Line {line}: {what_en} R{word(s.radius, 2)} instead of R{word(r.radius, 2)}.",
+                ri,
+            )
         if starts:
-            return Cause("arc_end", line, f"Zeile {line}: Der Kreisbogen endet bei {_pt(s.end, lathe)} statt bei "
-                         f"{_pt(r.end, lathe)}.", f"Line {line}: the arc ends at {_pt(s.end, lathe)} instead of "
-                         f"{_pt(r.end, lathe)}.", ri)
+            return Cause(
+                "arc_end",
+                line,
+                f"Zeile {line}: Der Kreisbogen endet bei {_pt(s.end, lathe)} statt bei {_pt(r.end, lathe)}.",
+                f"Line {line}: the arc ends at {_pt(s.end, lathe)} instead of {_pt(r.end, lathe)}.",
+                ri,
+            )
     if r.kind != s.kind and starts:
         kinds = ("Gerade", "Kreisbogen") if s.kind == "line" else ("Kreisbogen", "Gerade")
         kinds_en = ("a line", "an arc") if s.kind == "line" else ("an arc", "a line")
-        return Cause("element_kind", line, f"Zeile {line}: {kinds[0]} statt {kinds[1]} ({describe(r, lathe)}).",
-                     f"Line {line}: {kinds_en[0]} instead of {kinds_en[1]} ({describe(r, lathe, 'en')}).", ri)
+        return Cause(
+            "element_kind",
+            line,
+            f"Zeile {line}: {kinds[0]} statt {kinds[1]} ({describe(r, lathe)}).",
+            f"Line {line}: {kinds_en[0]} instead of {kinds_en[1]} ({describe(r, lathe, 'en')}).",
+            ri,
+        )
     if lathe:
         dz, dx = abs(s.end[0] - r.end[0]), abs(s.end[1] - r.end[1])
         if dx > SAME and dz <= SAME:
-            return Cause("end_point", line, f"Zeile {line}: Ø{word(2 * s.end[1])} statt Ø{word(2 * r.end[1])}.",
-                         f"Line {line}: Ø{word(2 * s.end[1])} instead of Ø{word(2 * r.end[1])}.", ri)
+            return Cause(
+                "end_point",
+                line,
+                f"Zeile {line}: Ø{word(2 * s.end[1])} statt Ø{word(2 * r.end[1])}.",
+                f"Line {line}: Ø{word(2 * s.end[1])} instead of Ø{word(2 * r.end[1])}.",
+                ri,
+            )
         if dz > SAME and dx <= SAME:
-            return Cause("end_point", line, f"Zeile {line}: endet bei Z{word(s.end[0])} statt bei Z{word(r.end[0])}.",
-                         f"Line {line}: ends at Z{word(s.end[0])} instead of Z{word(r.end[0])}.", ri)
+            return Cause(
+                "end_point",
+                line,
+                f"Zeile {line}: endet bei Z{word(s.end[0])} statt bei Z{word(r.end[0])}.",
+                f"Line {line}: ends at Z{word(s.end[0])} instead of Z{word(r.end[0])}.",
+                ri,
+            )
     if ends and not starts:
-        return Cause("end_point", line, f"Zeile {line}: Das Konturelement beginnt bei {_pt(s.start, lathe)} statt bei "
-                     f"{_pt(r.start, lathe)}.", f"Line {line}: the contour element starts at {_pt(s.start, lathe)} "
-                     f"instead of {_pt(r.start, lathe)}.", ri)
-    return Cause("end_point", line, f"Zeile {line}: Das Konturelement endet bei {_pt(s.end, lathe)} statt bei "
-                 f"{_pt(r.end, lathe)}.", f"Line {line}: the contour element ends at {_pt(s.end, lathe)} instead "
-                 f"of {_pt(r.end, lathe)}.", ri)
+        return Cause(
+            "end_point",
+            line,
+            f"Zeile {line}: Das Konturelement beginnt bei {_pt(s.start, lathe)} statt bei "
+            f"{_pt(r.start, lathe)}.",
+            f"Line {line}: the contour element starts at {_pt(s.start, lathe)} "
+            f"instead of {_pt(r.start, lathe)}.",
+            ri,
+        )
+    return Cause(
+        "end_point",
+        line,
+        f"Zeile {line}: Das Konturelement endet bei {_pt(s.end, lathe)} statt bei {_pt(r.end, lathe)}.",
+        f"Line {line}: the contour element ends at {_pt(s.end, lathe)} instead of {_pt(r.end, lathe)}.",
+        ri,
+    )
 
 
 def distance(e: Element, p: Point) -> float:

@@ -26,10 +26,17 @@ def register_grade(subparsers: Any, common: argparse.ArgumentParser) -> None:
     p = subparsers.add_parser("grade", help="Ein Programm gegen eine Aufgabe bewerten / grade a program")
     p.add_argument("exercise", help="Aufgaben-ID oder Aufgabendatei (YAML) / exercise id or file")
     p.add_argument("program", nargs="?", help="NC-Programm / NC program")
-    p.add_argument("--reference", action="store_true",
-                   help="die Musterlösung der Aufgabe bewerten / grade the exercise's own reference")
-    p.add_argument("--view", choices=("instructor", "student"), default="instructor",
-                   help="student: verdeckte Kriterien weglassen / leave out hidden criteria")
+    p.add_argument(
+        "--reference",
+        action="store_true",
+        help="die Musterlösung der Aufgabe bewerten / grade the exercise's own reference",
+    )
+    p.add_argument(
+        "--view",
+        choices=("instructor", "student"),
+        default="instructor",
+        help="student: verdeckte Kriterien weglassen / leave out hidden criteria",
+    )
     p.add_argument("--json", action="store_true", help="Ausgabe als JSON / output as JSON")
     p.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache / language")
     p.set_defaults(handler=_grade)
@@ -38,9 +45,24 @@ def register_grade(subparsers: Any, common: argparse.ArgumentParser) -> None:
 def _list(args: argparse.Namespace) -> int:
     exercises = _builtin()
     if args.json:
-        print(json.dumps({"exercises": [{"id": e.id, "title": e.title.de, "title_en": e.title.en,
-                                         "dialect": e.dialect, "kind": e.kind} for e in exercises.values()]},
-                         ensure_ascii=False, indent=1))
+        print(
+            json.dumps(
+                {
+                    "exercises": [
+                        {
+                            "id": e.id,
+                            "title": e.title.de,
+                            "title_en": e.title.en,
+                            "dialect": e.dialect,
+                            "kind": e.kind,
+                        }
+                        for e in exercises.values()
+                    ]
+                },
+                ensure_ascii=False,
+                indent=1,
+            )
+        )
     else:
         for e in exercises.values():
             print(f"{e.id:32s} {e.dialect:14s} {e.title.de}")
@@ -61,7 +83,9 @@ def exercise_named(name: str) -> Exercise:
         try:
             return load_exercise(path)
         except OSError as err:
-            raise UsageError(f"Aufgabe »{name}« kann nicht gelesen werden: {err.strerror} / cannot read") from None
+            raise UsageError(
+                f"Aufgabe »{name}« kann nicht gelesen werden: {err.strerror} / cannot read"
+            ) from None
         except ExerciseError as err:
             raise UsageError(str(err)) from None
     found = _builtin().get(name)

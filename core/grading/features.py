@@ -51,12 +51,20 @@ class Feature:
     too_much: bool = True  # the largest deviation is material removed (else material left standing)
     where: str = ""  # the place of the largest deviation, as address words ("X61.2 Y19.8", "Z-30.5")
     line: int | None = None  # the submission's line there
-    detail: str = ""  # turning: what deviates, said for the feature ("Ø39 statt Ø40"); empty: from the fields above
+    detail: str = (
+        ""  # turning: what deviates, said for the feature ("Ø39 statt Ø40"); empty: from the fields above
+    )
     detail_en: str = ""
 
     def to_json(self) -> dict[str, Any]:
-        return {"kind": self.kind, "name": self.name, "name_en": self.name_en, "ok": self.ok,
-                "deviation": round(self.deviation, 3), "line": self.line}
+        return {
+            "kind": self.kind,
+            "name": self.name,
+            "name_en": self.name_en,
+            "ok": self.ok,
+            "deviation": round(self.deviation, 3),
+            "line": self.line,
+        }
 
 
 def share(points: int, kept: int, total: int) -> int:
@@ -77,7 +85,9 @@ class Shape:
     element: int | None  # index into the reference's elements
 
 
-def milled_features(tp: Toolpath, cutting: list[int], radius: dict[int | None, float]) -> tuple[list[Shape], list[float]]:
+def milled_features(
+    tp: Toolpath, cutting: list[int], radius: dict[int | None, float]
+) -> tuple[list[Shape], list[float]]:
     """The reference's features (contour elements, and plunges no element's cut covers: holes) and its floor
     depths. A shape's `element` is its index in the reference's elements (core.grading.causes.elements)."""
     elems = elements(tp, cutting, lathe=False)
@@ -98,9 +108,15 @@ def milled_features(tp: Toolpath, cutting: list[int], radius: dict[int | None, f
             if members[0] == n:
                 de, en = POCKETS[code]
                 moves = tuple(k for m in members for k in elems[m].moves)
-                shapes.append(Shape(Feature("pocket", f"{de} (Zeile {e.line})", f"{en} (line {e.line})"),
-                                    _path(tp, moves), radius.get(e.tool, 0.0), min(elems[m].depth for m in members),
-                                    n))
+                shapes.append(
+                    Shape(
+                        Feature("pocket", f"{de} (Zeile {e.line})", f"{en} (line {e.line})"),
+                        _path(tp, moves),
+                        radius.get(e.tool, 0.0),
+                        min(elems[m].depth for m in members),
+                        n,
+                    )
+                )
             continue
         r = radius.get(e.tool, 0.0)
         before = [x for x in elems[:n] if x.kind != "plunge"]
@@ -119,14 +135,25 @@ def milled_features(tp: Toolpath, cutting: list[int], radius: dict[int | None, f
         if any(s.depth <= e.depth + LEVEL and float(_distance(p, s.path)[0]) <= s.radius for s in shapes):
             continue  # the plunge at the start of a slot: the slot's feature
         at = f"X{word(e.end[0])} Y{word(e.end[1])}"
-        shapes.append(Shape(Feature("hole", f"Bohrung/Eintauchstelle {at}", f"hole/plunge {at}"),
-                            _point_path(e.end[0], e.end[1]), radius.get(e.tool, 0.0), e.depth, n))
+        shapes.append(
+            Shape(
+                Feature("hole", f"Bohrung/Eintauchstelle {at}", f"hole/plunge {at}"),
+                _point_path(e.end[0], e.end[1]),
+                radius.get(e.tool, 0.0),
+                e.depth,
+                n,
+            )
+        )
     levels = sorted({round(s.depth / LEVEL) * LEVEL for s in shapes})
     return shapes, levels
 
 
-POCKETS = {"G72": ("Rechtecktasche", "rectangular pocket"), "G73": ("Kreistasche", "circular pocket"),
-           "G74": ("Nut", "slot"), "G75": ("Kreisbogennut", "arc slot")}
+POCKETS = {
+    "G72": ("Rechtecktasche", "rectangular pocket"),
+    "G73": ("Kreistasche", "circular pocket"),
+    "G74": ("Nut", "slot"),
+    "G75": ("Kreisbogennut", "arc slot"),
+}
 
 
 def _pocket_cycle(tp: Toolpath, e: Element) -> str | None:
@@ -141,10 +168,12 @@ def _names(kind: str, e: Element) -> tuple[str, str]:
     text, text_en = describe(e, False), describe(e, False, "en")
     if e.joint:  # "Rundung R20 X50 Y10 → X70 Y30" says it already
         return text, text_en
-    return {"contour": (f"Kontur {text}", f"contour {text_en}"),
-            "path": (f"Bahn {text}", f"path {text_en}"),
-            "rounding": (f"Rundung {text}", f"rounding {text_en}"),
-            "chamfer": (f"Fase {text}", f"chamfer {text_en}")}[kind]
+    return {
+        "contour": (f"Kontur {text}", f"contour {text_en}"),
+        "path": (f"Bahn {text}", f"path {text_en}"),
+        "rounding": (f"Rundung {text}", f"rounding {text_en}"),
+        "chamfer": (f"Fase {text}", f"chamfer {text_en}"),
+    }[kind]
 
 
 @dataclass(frozen=True, slots=True)
@@ -190,8 +219,10 @@ def _distance(p: Array, path: CentrePath) -> Array:
         d = np.hypot(rx, ry)
         turn = (np.arctan2(ry, rx) - a0) * (1.0 if sweep > 0 else -1.0)
         inside = np.mod(turn, 2 * math.pi) <= abs(sweep) + 1e-9
-        ends = np.minimum(np.hypot(rx - r * math.cos(a0), ry - r * math.sin(a0)),
-                          np.hypot(rx - r * math.cos(a0 + sweep), ry - r * math.sin(a0 + sweep)))
+        ends = np.minimum(
+            np.hypot(rx - r * math.cos(a0), ry - r * math.sin(a0)),
+            np.hypot(rx - r * math.cos(a0 + sweep), ry - r * math.sin(a0 + sweep)),
+        )
         np.minimum(best, np.where(inside, np.abs(d - r), ends), out=best)
     return best
 
@@ -213,8 +244,9 @@ class Cutter:
     feature: int | None
 
 
-def cutters(tp: Toolpath, elems: list[Element], radius: dict[int | None, float],
-            counterpart: dict[int, int]) -> list[Cutter]:
+def cutters(
+    tp: Toolpath, elems: list[Element], radius: dict[int | None, float], counterpart: dict[int, int]
+) -> list[Cutter]:
     """The submission's elements as cutters; `counterpart` maps a submission element to a reference feature."""
     out = []
     for n, e in enumerate(elems):
@@ -222,8 +254,17 @@ def cutters(tp: Toolpath, elems: list[Element], radius: dict[int | None, float],
     return out
 
 
-def judge_milled(shapes: list[Shape], levels: list[float], ref: HeightMap, sub: HeightMap, over: Array,
-                 left: Array, tol: float, line_at: Any, cut_by: list[Cutter] | None = None) -> Judged:
+def judge_milled(
+    shapes: list[Shape],
+    levels: list[float],
+    ref: HeightMap,
+    sub: HeightMap,
+    over: Array,
+    left: Array,
+    tol: float,
+    line_at: Any,
+    cut_by: list[Cutter] | None = None,
+) -> Judged:
     """Every deviating cell put down to one feature; each feature kept or lost (see the module's text).
     `line_at(x, y, over)` names the submission's block at a place (or None). A cell cut too much beside the
     contour belongs to the reference feature that the submission's element cutting it stands for (`cut_by`), if
@@ -273,7 +314,9 @@ def judge_milled(shapes: list[Shape], levels: list[float], ref: HeightMap, sub: 
             gap[side] = edge[np.arange(len(pick)), pick]
         elif floors and side.any():
             lv = np.array(levels)
-            owner[side] = n_f + np.argmin(np.abs(np.minimum(hr[side], hs[side])[:, None] - lv[None, :]), axis=1)
+            owner[side] = n_f + np.argmin(
+                np.abs(np.minimum(hr[side], hs[side])[:, None] - lv[None, :]), axis=1
+            )
             gap[side] = amount[side]
         for f in range(n_f + len(floors)):
             mine = owner == f
@@ -296,8 +339,19 @@ def judge_milled(shapes: list[Shape], levels: list[float], ref: HeightMap, sub: 
             continue
         wx, wy, much, sideways = worst_at[f]
         line = line_at(wx, wy, much) if volume[f] > 0 else None
-        out.append(Feature(feat.kind, feat.name, feat.name_en, False, worst[f], sideways, much,
-                           f"X{word(wx, 1)} Y{word(wy, 1)}", line))
+        out.append(
+            Feature(
+                feat.kind,
+                feat.name,
+                feat.name_en,
+                False,
+                worst[f],
+                sideways,
+                much,
+                f"X{word(wx, 1)} Y{word(wy, 1)}",
+                line,
+            )
+        )
     return Judged(out, sum(1 for f in out if f.ok))
 
 
@@ -325,7 +379,7 @@ def deviation_text(f: Feature, lang: str = "de") -> str:
     if f.detail:
         return f"{name}: {f.detail if lang == 'de' else f.detail_en}{where}"
     if f.deviation <= 0:
-        return (f"{name}: nirgends maßhaltig gefertigt" if lang == "de" else f"{name}: nowhere made to size")
+        return f"{name}: nirgends maßhaltig gefertigt" if lang == "de" else f"{name}: nowhere made to size"
     if f.sideways:
         if lang == "de":
             what = "zu viel abgetragen" if f.too_much else "Material stehen gelassen"

@@ -32,9 +32,11 @@ def set_where(program: str, line: int, addresses: str, value: float | None = Non
     lines = program.splitlines()
     for n in range(min(line, len(lines)), 0, -1):
         text = _COMMENT.sub("", lines[n - 1]).upper()
-        found = [(mt.group(1), mt.group(2)) for mt in
-                 re.finditer(r"(?<![A-Z])([A-Z])\s*=?\s*([+-]?(?:\d+\.?\d*|\.\d+))", text)
-                 if mt.group(1) in addresses]
+        found = [
+            (mt.group(1), mt.group(2))
+            for mt in re.finditer(r"(?<![A-Z])([A-Z])\s*=?\s*([+-]?(?:\d+\.?\d*|\.\d+))", text)
+            if mt.group(1) in addresses
+        ]
         for address, raw in reversed(found):
             try:
                 number = float(raw)
@@ -63,9 +65,13 @@ def direction_fault(m: Move, want: str | None, program: str, line: int) -> tuple
         return None
     names = {"M3": ("Rechtslauf", "clockwise"), "M4": ("Linkslauf", "counter-clockwise")}
     where = spindle_set_where(program, line)
-    at, at_en = (f" (gesetzt in Zeile {where})", f" (set in line {where})") if where and where != line else ("", "")
-    return (f"Spindel {have} ({names[have][0]}){at} statt {want} ({names[want][0]}) für T{m.tool}.",
-            f"spindle {have} ({names[have][1]}){at_en} instead of {want} ({names[want][1]}) for T{m.tool}.")
+    at, at_en = (
+        (f" (gesetzt in Zeile {where})", f" (set in line {where})") if where and where != line else ("", "")
+    )
+    return (
+        f"Spindel {have} ({names[have][0]}){at} statt {want} ({names[want][0]}) für T{m.tool}.",
+        f"spindle {have} ({names[have][1]}){at_en} instead of {want} ({names[want][1]}) for T{m.tool}.",
+    )
 
 
 def in_effect(program: str, line: int, value: float, addresses: str = "F") -> tuple[str, str, int | None]:

@@ -50,8 +50,11 @@ def execute_turning(exercise: Exercise, text: str) -> Turned:
     """`text` run and turned on the exercise's blank with its tools (the grader's view of a lathe exercise)."""
     assert exercise.blank is not None, "a turning exercise has a blank"
     tools = exercise.tool_table() if exercise.tools else DEFAULT_LATHE_TOOLS
-    setup = RunSetup(tools=tools, zero_offsets=tuple(exercise.zero_offsets.items()),
-                     subprograms=tuple(exercise.subprograms.items()))
+    setup = RunSetup(
+        tools=tools,
+        zero_offsets=tuple(exercise.zero_offsets.items()),
+        subprograms=tuple(exercise.subprograms.items()),
+    )
     toolpath = run_program(text, exercise.dialect, setup)
     return Turned(toolpath, simulate_turning(toolpath, exercise.blank.blank(), tools, exercise.resolution))
 
@@ -75,7 +78,7 @@ def _neighbourhood(a: Array, reach: int) -> tuple[Array, Array]:
     n = len(a)
     lowest, highest = a.copy(), a.copy()
     for k in range(-reach, reach + 1):
-        window = padded[reach + k:reach + k + n]
+        window = padded[reach + k : reach + k + n]
         np.minimum(lowest, window, out=lowest)
         np.maximum(highest, window, out=highest)
     return lowest, highest
@@ -93,12 +96,17 @@ def compare_profiles(ref: RevolvedProfile, sub: RevolvedProfile, tol: float) -> 
     over_inner = np.clip(s_in - hi_in - tol, 0.0, None)
     left_inner = np.clip(lo_in - tol - s_in, 0.0, None)
     ring = math.pi * ref.dz
-    over = ring * (np.where(over_outer > 0, np.clip(r_out ** 2 - np.maximum(s_out, r_in) ** 2, 0, None), 0.0)
-                   + np.where(over_inner > 0, np.clip(np.minimum(s_in, r_out) ** 2 - r_in ** 2, 0, None), 0.0))
-    left = ring * (np.where(left_outer > 0, np.clip(s_out ** 2 - np.maximum(r_out, s_in) ** 2, 0, None), 0.0)
-                   + np.where(left_inner > 0, np.clip(np.minimum(r_in, s_out) ** 2 - s_in ** 2, 0, None), 0.0))
-    return ProfileDeviation(sub, over_outer, left_outer, over_inner, left_inner, float(over.sum()),
-                            float(left.sum()))
+    over = ring * (
+        np.where(over_outer > 0, np.clip(r_out**2 - np.maximum(s_out, r_in) ** 2, 0, None), 0.0)
+        + np.where(over_inner > 0, np.clip(np.minimum(s_in, r_out) ** 2 - r_in**2, 0, None), 0.0)
+    )
+    left = ring * (
+        np.where(left_outer > 0, np.clip(s_out**2 - np.maximum(r_out, s_in) ** 2, 0, None), 0.0)
+        + np.where(left_inner > 0, np.clip(np.minimum(r_in, s_out) ** 2 - s_in**2, 0, None), 0.0)
+    )
+    return ProfileDeviation(
+        sub, over_outer, left_outer, over_inner, left_inner, float(over.sum()), float(left.sum())
+    )
 
 
 def turned_deviation(exercise: Exercise, program: str) -> ProfileDeviation:
@@ -150,14 +158,21 @@ class Face:
     after: int
 
 
-JUMP = 0.5  # mm: a radius step between two samples larger than this (and than thrice the step before) is a face
+JUMP = (
+    0.5  # mm: a radius step between two samples larger than this (and than thrice the step before) is a face
+)
 FLAT = 0.05  # |dr/dz| below this: a diameter
 BEND = 0.004  # change of dr/dz from one sample to the next above this: a curve (a radius up to ~25 mm at 0.05 mm)
 FILLET = 1.0  # mm: a curved stretch this short next to a face is the nose's fillet of the face
 
 
-def profile_runs(r: Array, cut: npt.NDArray[np.int64], empty: npt.NDArray[np.bool_], dz: float,  # noqa: C901
-                 blank_r: float) -> tuple[list[Run], list[Face]]:
+def profile_runs(  # noqa: C901
+    r: Array,
+    cut: npt.NDArray[np.int64],
+    empty: npt.NDArray[np.bool_],
+    dz: float,
+    blank_r: float,
+) -> tuple[list[Run], list[Face]]:
     """The reference's profile (one side: outer or inner radius per sample) cut into runs and faces.
 
     A face is a step between two samples larger than JUMP that does not continue a steepening curve (the end
@@ -242,8 +257,12 @@ def profile_runs(r: Array, cut: npt.NDArray[np.int64], empty: npt.NDArray[np.boo
     for k in faces_at:
         before_i = next((i for i, x in enumerate(out) if x.k0 <= k - 1 < x.k1), None)
         after_i = next((i for i, x in enumerate(out) if x.k0 <= k < x.k1), None)
-        if before_i is not None and after_i is not None and before_i != after_i and \
-                (out[before_i].kind not in ("blank", "empty") or out[after_i].kind not in ("blank", "empty")):
+        if (
+            before_i is not None
+            and after_i is not None
+            and before_i != after_i
+            and (out[before_i].kind not in ("blank", "empty") or out[after_i].kind not in ("blank", "empty"))
+        ):
             faces.append(Face(k, before_i, after_i))
     return out, faces
 
@@ -271,7 +290,7 @@ def _fitted(r: Array, dz: float, k0: int, k1: int) -> list[Run]:
     for part in parts:  # neighbours of one kind that one fit covers together
         if out and out[-1].kind == part.kind:
             zz = np.arange(out[-1].k0, part.k1, dtype=np.float64) * dz
-            vv = r[out[-1].k0:part.k1]
+            vv = r[out[-1].k0 : part.k1]
             gap = _line_gap(zz, vv) if part.kind == "taper" else _circle_gap(zz, vv)
             if gap <= (LINE_FIT if part.kind == "taper" else ARC_FIT):
                 out[-1] = Run(part.kind, out[-1].k0, part.k1)
@@ -329,8 +348,8 @@ def _run_names(run: Run, r: Array, zs: Array, inside: bool) -> tuple[str, str]:
     z_hi, z_lo = float(zs[run.k1 - 1]) + dz / 2, float(zs[run.k0]) - dz / 2
     span = f"Z{word(z_hi, 2)} … Z{word(z_lo, 2)}"
     bore, bore_en = ("Bohrung ", "bore ") if inside else ("", "")
-    v = r[run.k0:run.k1]
-    z = zs[run.k0:run.k1]
+    v = r[run.k0 : run.k1]
+    z = zs[run.k0 : run.k1]
     if run.kind == "diameter":
         d = _d(float(np.median(v)))
         return f"{bore}{d} ({span})", f"{bore_en}{d} ({span})"
@@ -381,8 +400,9 @@ def _blocks(bad: npt.NDArray[np.bool_], k0: int, k1: int) -> list[tuple[int, int
     return out
 
 
-def turned_geometry(ref: Turned, sub: Turned, tol: float,
-                    name_line: Callable[[float, float], int | None] | None = None) -> TurnedVerdict:
+def turned_geometry(
+    ref: Turned, sub: Turned, tol: float, name_line: Callable[[float, float], int | None] | None = None
+) -> TurnedVerdict:
     """The turned part feature by feature: each diameter, taper, radius and face (shoulder, the front) of the
     reference, outside and in the bore. A sample off the band belongs to the stretch it lies in; a stretch is lost
     when half of it or more is off, or when what is off lies in its middle; a deviation that only reaches in from
@@ -432,8 +452,12 @@ def turned_geometry(ref: Turned, sub: Turned, tol: float,
                         continue
                     # a deviation reaching in from the neighbour's side (no face between): the neighbour's
                     near = ri - 1 if start and not end else ri + 1 if end and not start else None
-                    if near is not None and 0 <= near < len(runs) and runs[near].kind not in ("blank", "empty") \
-                            and _blocks(bad, runs[near].k0, runs[near].k1):
+                    if (
+                        near is not None
+                        and 0 <= near < len(runs)
+                        and runs[near].kind not in ("blank", "empty")
+                        and _blocks(bad, runs[near].k0, runs[near].k1)
+                    ):
                         target = near
                 if target is not None:
                     run_lost.setdefault(target, []).append((a, b))
@@ -441,17 +465,47 @@ def turned_geometry(ref: Turned, sub: Turned, tol: float,
             if run.kind in ("blank", "empty"):
                 continue
             name, name_en = _run_names(run, r_ref, zs, inside)
-            features.append(_lathe_feature(run.kind, name, name_en, run_lost.get(ri), r_ref, r_sub, over, zs, sub,
-                                           inside, None, name_line))
+            features.append(
+                _lathe_feature(
+                    run.kind,
+                    name,
+                    name_en,
+                    run_lost.get(ri),
+                    r_ref,
+                    r_sub,
+                    over,
+                    zs,
+                    sub,
+                    inside,
+                    None,
+                    name_line,
+                )
+            )
         for fi, face in enumerate(faces):
             name, name_en = _face_names(face, runs, r_ref, zs, inside)
-            features.append(_lathe_feature("face", name, name_en, face_lost.get(fi), r_ref, r_sub, over, zs, sub,
-                                           inside, face, name_line))
+            features.append(
+                _lathe_feature(
+                    "face",
+                    name,
+                    name_en,
+                    face_lost.get(fi),
+                    r_ref,
+                    r_sub,
+                    over,
+                    zs,
+                    sub,
+                    inside,
+                    face,
+                    name_line,
+                )
+            )
     passed = not gouge and not left
     if not passed and all(f.ok for f in features) and features:
         # off the band beyond the allowance but nowhere enough for one feature: the largest stretch is lost
         features = _worst_lost(features, dev, rp, sp, zs, sub, name_line)
-    return TurnedVerdict(passed, features, dev.over_volume if gouge else 0.0, dev.left_volume if left else 0.0)
+    return TurnedVerdict(
+        passed, features, dev.over_volume if gouge else 0.0, dev.left_volume if left else 0.0
+    )
 
 
 def _nearest_machined(runs: list[Run], ri: int) -> int | None:
@@ -465,9 +519,20 @@ def _nearest_machined(runs: list[Run], ri: int) -> int | None:
     return best[1] if best else None
 
 
-def _lathe_feature(kind: str, name: str, name_en: str, blocks: list[tuple[int, int]] | None, r_ref: Array,
-                   r_sub: Array, over: Array, zs: Array, sub: Turned, inside: bool, face: Face | None = None,
-                   name_line: Callable[[float, float], int | None] | None = None) -> Feature:
+def _lathe_feature(
+    kind: str,
+    name: str,
+    name_en: str,
+    blocks: list[tuple[int, int]] | None,
+    r_ref: Array,
+    r_sub: Array,
+    over: Array,
+    zs: Array,
+    sub: Turned,
+    inside: bool,
+    face: Face | None = None,
+    name_line: Callable[[float, float], int | None] | None = None,
+) -> Feature:
     if not blocks:
         return Feature(kind, name, name_en)
     ks = np.concatenate([np.arange(a, b) for a, b in blocks])
@@ -494,12 +559,27 @@ def _lathe_feature(kind: str, name: str, name_en: str, blocks: list[tuple[int, i
             detail_en = f"lies at Z{word(moved, 2)} instead of Z{word(z_face, 2)} (moved {mm(extent, 'en')})"
         return Feature(kind, name, name_en, False, extent, False, too_much, "", line, detail, detail_en)
     have, want = float(r_sub[k]), float(r_ref[k])
-    detail = f"{_d(have)} statt {_d(want)} ({mm(abs(have - want))} {'zu viel' if too_much else 'zu wenig'} " \
-             f"abgetragen)"
-    detail_en = f"{_d(have)} instead of {_d(want)} ({mm(abs(have - want), 'en')} too " \
-                f"{'much' if too_much else 'little'} removed)"
-    return Feature(kind, name, name_en, False, abs(have - want), False, too_much, f"Z{word(z, 2)}", line, detail,
-                   detail_en)
+    detail = (
+        f"{_d(have)} statt {_d(want)} ({mm(abs(have - want))} {'zu viel' if too_much else 'zu wenig'} "
+        f"abgetragen)"
+    )
+    detail_en = (
+        f"{_d(have)} instead of {_d(want)} ({mm(abs(have - want), 'en')} too "
+        f"{'much' if too_much else 'little'} removed)"
+    )
+    return Feature(
+        kind,
+        name,
+        name_en,
+        False,
+        abs(have - want),
+        False,
+        too_much,
+        f"Z{word(z, 2)}",
+        line,
+        detail,
+        detail_en,
+    )
 
 
 def _face_in(r_sub: Array, r_ref: Array, k: int, blocks: list[tuple[int, int]]) -> int | None:
@@ -526,15 +606,24 @@ def _line_for(sub: Turned, k: int, z: float, r: float, over: bool, inside: bool)
     return line_near(sub.toolpath, z, r, NAME_REACH, False)
 
 
-def _worst_lost(features: list[Feature], dev: ProfileDeviation, rp: RevolvedProfile, sp: RevolvedProfile, zs: Array,
-                sub: Turned, name_line: Callable[[float, float], int | None] | None = None) -> list[Feature]:
+def _worst_lost(
+    features: list[Feature],
+    dev: ProfileDeviation,
+    rp: RevolvedProfile,
+    sp: RevolvedProfile,
+    zs: Array,
+    sub: Turned,
+    name_line: Callable[[float, float], int | None] | None = None,
+) -> list[Feature]:
     """When the deviation is spread too thin for any one feature, the feature at its largest point is lost."""
     amount = np.maximum.reduce([dev.over_outer, dev.left_outer, dev.over_inner, dev.left_inner])
     k = int(np.argmax(amount))
     z = float(zs[k])
     best = min(range(len(features)), key=lambda i: _feature_gap(features[i].name, z))
     f = features[best]
-    inside = float(max(dev.over_inner[k], dev.left_inner[k])) > float(max(dev.over_outer[k], dev.left_outer[k]))
+    inside = float(max(dev.over_inner[k], dev.left_inner[k])) > float(
+        max(dev.over_outer[k], dev.left_outer[k])
+    )
     have = float((sp.inner if inside else sp.outer)[k])
     want = float((rp.inner if inside else rp.outer)[k])
     too_much = float((dev.over_inner if inside else dev.over_outer)[k]) > 0
@@ -543,9 +632,20 @@ def _worst_lost(features: list[Feature], dev: ProfileDeviation, rp: RevolvedProf
         line = name_line(z, want) or line
     detail = f"{_d(have)} statt {_d(want)}"
     detail_en = f"{_d(have)} instead of {_d(want)}"
-    lost = Feature(f.kind, f.name, f.name_en, False, abs(have - want), False, too_much, f"Z{word(z, 2)}", line, detail,
-                   detail_en)
-    return features[:best] + [lost] + features[best + 1:]
+    lost = Feature(
+        f.kind,
+        f.name,
+        f.name_en,
+        False,
+        abs(have - want),
+        False,
+        too_much,
+        f"Z{word(z, 2)}",
+        line,
+        detail,
+        detail_en,
+    )
+    return features[:best] + [lost] + features[best + 1 :]
 
 
 def _feature_gap(name: str, z: float) -> float:
@@ -570,8 +670,11 @@ def may_cut_turning(m: Move, ex: Exercise) -> bool:
         return False
     margin = 2.0  # mm: a nose radius and the cut it leaves
     pts = m.points(0.1, max_chords=ARC_CHORDS)
-    return (min(p[2] for p in pts) < margin and max(p[2] for p in pts) > -ex.blank.length - margin
-            and min(abs(p[0]) for p in pts) < ex.blank.diameter / 2 + margin)
+    return (
+        min(p[2] for p in pts) < margin
+        and max(p[2] for p in pts) > -ex.blank.length - margin
+        and min(abs(p[0]) for p in pts) < ex.blank.diameter / 2 + margin
+    )
 
 
 def _speed_ok(m: Move, d: CuttingData, tol: float, top: float) -> bool:
@@ -589,8 +692,9 @@ def _fail(m: Move, code: str, de: str, en: str, more: list[int] | None = None) -
     return False, f"Zeile {line}: {de}", f"Line {line}: {en}", [line] + (more or []), code
 
 
-def turning_technology(ex: Exercise, moves: list[Move], tol: float, program: str = "",
-                       reference: Toolpath | None = None) -> Verdict:
+def turning_technology(
+    ex: Exercise, moves: list[Move], tol: float, program: str = "", reference: Toolpath | None = None
+) -> Verdict:
     """Tool, spindle direction, V or S, and F per revolution (G95) of the feed moves that can cut, against the
     cutting data. A tool may have several entries (roughing and finishing feeds): a move passes when it matches
     one. A thread move's F is its pitch: only its speed is checked. A wrong value is named with the word in
@@ -598,8 +702,11 @@ def turning_technology(ex: Exercise, moves: list[Move], tol: float, program: str
     if not ex.cutting_data:
         return True, "Keine Schnittdaten vorgegeben.", "No cutting data prescribed.", [], ""
     top = {t: max(m.spindle for m in moves if m.tool == t) for t in {m.tool for m in moves}}
-    direction = spindle_wanted(ex, reference) if reference is not None else \
-        {d.tool: d.spindle for d in ex.cutting_data if d.spindle is not None}
+    direction = (
+        spindle_wanted(ex, reference)
+        if reference is not None
+        else {d.tool: d.spindle for d in ex.cutting_data if d.spindle is not None}
+    )
     first_of_cycle: dict[tuple[int, str], Move] = {}
     for m in moves:
         if m.cycle is not None:
@@ -610,11 +717,18 @@ def turning_technology(ex: Exercise, moves: list[Move], tol: float, program: str
             return _fail(m, "no_tool", "kein Werkzeug eingewechselt.", "no tool loaded.")
         data = [d for d in ex.cutting_data if d.tool == m.tool]
         if not data:
-            return _fail(m, "tool", f"Werkzeug T{m.tool} ist in der Aufgabe nicht vorgesehen.",
-                         f"tool T{m.tool} is not the one the task prescribes.")
+            return _fail(
+                m,
+                "tool",
+                f"Werkzeug T{m.tool} ist in der Aufgabe nicht vorgesehen.",
+                f"tool T{m.tool} is not the one the task prescribes.",
+            )
         # a cycle's moves after its first may turn the spindle back (G82 taps out reversed)
-        fault = None if m.cycle is not None and m is not first_of_cycle.get((m.line, m.cycle[0]), m) else \
-            direction_fault(m, direction.get(m.tool), program, line)
+        fault = (
+            None
+            if m.cycle is not None and m is not first_of_cycle.get((m.line, m.cycle[0]), m)
+            else direction_fault(m, direction.get(m.tool), program, line)
+        )
         if fault is not None:
             where = spindle_set_where(program, line)
             return _fail(m, "spindle_direction", fault[0], fault[1], [where] if where else [])
@@ -627,14 +741,22 @@ def turning_technology(ex: Exercise, moves: list[Move], tol: float, program: str
             d = data[0]
             if d.speed is not None:
                 have, have_en, at = in_effect(program, line, m.spindle, "S")
-                return _fail(m, "speed", f"{have} statt S{word(d.speed)} für T{m.tool}.",
-                             f"{have_en} instead of S{word(d.speed)} for T{m.tool}.", [at] if at else [])
+                return _fail(
+                    m,
+                    "speed",
+                    f"{have} statt S{word(d.speed)} für T{m.tool}.",
+                    f"{have_en} instead of S{word(d.speed)} for T{m.tool}.",
+                    [at] if at else [],
+                )
             r = abs((m.programmed_end if m.programmed_end is not None else m.end)[0])
             v = 2 * math.pi * r * m.spindle / 1000
             assert d.cutting_speed is not None
-            return _fail(m, "cutting_speed", f"Schnittgeschwindigkeit {de_num(v, 0)} m/min statt V{word(d.cutting_speed)} für "
-                         f"T{m.tool}.", f"cutting speed {en_num(v, 0)} m/min instead of V{word(d.cutting_speed)} for "
-                         f"T{m.tool}.")
+            return _fail(
+                m,
+                "cutting_speed",
+                f"Schnittgeschwindigkeit {de_num(v, 0)} m/min statt V{word(d.cutting_speed)} für T{m.tool}.",
+                f"cutting speed {en_num(v, 0)} m/min instead of V{word(d.cutting_speed)} for T{m.tool}.",
+            )
         if m.thread:
             continue
         feeds = [d.feed for d in data if _speed_ok(m, d, tol, top[m.tool])]
@@ -644,10 +766,25 @@ def turning_technology(ex: Exercise, moves: list[Move], tol: float, program: str
             have, have_en, at = in_effect(program, line, m.feed, "FE")
             more = [at] if at else []
             if have.startswith("F"):
-                return _fail(m, "feed", f"{have} statt {want} mm pro Umdrehung für T{m.tool}.",
-                             f"{have_en} instead of {want_en} mm per revolution for T{m.tool}.", more)
-            return _fail(m, "feed", f"Vorschub {de_num(m.feed, 3)} mm/U statt {want} für T{m.tool} – hier gilt {have}.",
-                         f"feed {en_num(m.feed, 3)} mm/rev instead of {want_en} for T{m.tool} – {have_en} is in "
-                         f"effect here.", more)
-    return (True, "Werkzeug, Drehrichtung, Schnittgeschwindigkeit bzw. Drehzahl und Vorschub wie vorgegeben.",
-            "Tool, spindle direction, cutting speed or spindle speed, and feed as prescribed.", [], "")
+                return _fail(
+                    m,
+                    "feed",
+                    f"{have} statt {want} mm pro Umdrehung für T{m.tool}.",
+                    f"{have_en} instead of {want_en} mm per revolution for T{m.tool}.",
+                    more,
+                )
+            return _fail(
+                m,
+                "feed",
+                f"Vorschub {de_num(m.feed, 3)} mm/U statt {want} für T{m.tool} – hier gilt {have}.",
+                f"feed {en_num(m.feed, 3)} mm/rev instead of {want_en} for T{m.tool} – {have_en} is in "
+                f"effect here.",
+                more,
+            )
+    return (
+        True,
+        "Werkzeug, Drehrichtung, Schnittgeschwindigkeit bzw. Drehzahl und Vorschub wie vorgegeben.",
+        "Tool, spindle direction, cutting speed or spindle speed, and feed as prescribed.",
+        [],
+        "",
+    )

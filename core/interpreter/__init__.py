@@ -38,8 +38,16 @@ from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
 
 
 class BlockExecutor(Protocol):
-    def __call__(self, setup: RunSetup, state: ModalState, position: Vec3, block: Block,
-                 params: dict[int, float], *, cache: dict[Any, Any] | None = None) -> BlockOutcome: ...
+    def __call__(
+        self,
+        setup: RunSetup,
+        state: ModalState,
+        position: Vec3,
+        block: Block,
+        params: dict[int, float],
+        *,
+        cache: dict[Any, Any] | None = None,
+    ) -> BlockOutcome: ...
 
 
 class BlockOutcome(Protocol):
@@ -97,11 +105,15 @@ def split_units(program: Program, prefix: str = "L") -> tuple[Unit, dict[int, Un
     """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header (PAL) or
     an `O<n>` line (ISO: the O line before the main program's first block is its own number)."""
     pattern = _SUB_HEADER[prefix]
-    headers = [i for i, b in enumerate(program.blocks) if b.header is not None and pattern.fullmatch(b.header)]
+    headers = [
+        i for i, b in enumerate(program.blocks) if b.header is not None and pattern.fullmatch(b.header)
+    ]
     subs: dict[int, Unit] = {}
     if headers and prefix == "O":
-        first = next((i for i, b in enumerate(program.blocks) if b.ok and not b.is_empty and b.header is None),
-                     len(program.blocks))
+        first = next(
+            (i for i, b in enumerate(program.blocks) if b.ok and not b.is_empty and b.header is None),
+            len(program.blocks),
+        )
         headers = [i for i in headers if i > first]
     if not headers:
         return Unit(None, None, program.blocks), subs
@@ -138,18 +150,29 @@ class _Repeat:
 
 
 def _call_points(calls: list[_Call]) -> tuple[CallPoint, ...]:
-    return tuple((c.unit.key, c.unit.first + c.return_index, c.callee.key, c.remaining, c.line, c.source)
-                 for c in calls)
+    return tuple(
+        (c.unit.key, c.unit.first + c.return_index, c.callee.key, c.remaining, c.line, c.source)
+        for c in calls
+    )
 
 
 def _repeat_points(repeats: list[_Repeat]) -> tuple[RepeatPoint, ...]:
-    return tuple((r.unit.key, r.unit.first + r.start, r.unit.first + r.end, r.remaining,
-                  r.unit.first + r.return_index) for r in repeats)
+    return tuple(
+        (r.unit.key, r.unit.first + r.start, r.unit.first + r.end, r.remaining, r.unit.first + r.return_index)
+        for r in repeats
+    )
 
 
-def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup: RunSetup,  # noqa: C901
-              diagnostics: list[Diagnostic] | None = None, library: dict[int, Program] | None = None,
-              readings: dict[Any, Any] | None = None, keep: Keep | None = None) -> Toolpath:
+def interpret(  # noqa: C901
+    program: Program,
+    table: CodeTable,
+    execute: BlockExecutor,
+    setup: RunSetup,
+    diagnostics: list[Diagnostic] | None = None,
+    library: dict[int, Program] | None = None,
+    readings: dict[Any, Any] | None = None,
+    keep: Keep | None = None,
+) -> Toolpath:
     """Execute the program from its first block, following calls, repeats and jumps; never raises on user input.
 
     `readings` is the executor's reading of blocks kept from an earlier run of the same blocks (see
@@ -212,17 +235,24 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             state, position = cp.state, cp.position
             params.update(cp.params)
             params_now = cp.params
-            calls = [_Call(units[u], r - units[u].first, units[c], n, ln, src) for u, r, c, n, ln, src in cp.calls]
-            repeats = [_Repeat(units[u], a - units[u].first, b - units[u].first, n, r - units[u].first)
-                       for u, a, b, n, r in cp.repeats]
+            calls = [
+                _Call(units[u], r - units[u].first, units[c], n, ln, src) for u, r, c, n, ln, src in cp.calls
+            ]
+            repeats = [
+                _Repeat(units[u], a - units[u].first, b - units[u].first, n, r - units[u].first)
+                for u, a, b, n, r in cp.repeats
+            ]
             follow.unknown = cp.unknown
             for _, where, unknown in trace.at_log:
                 follow.at.setdefault(where, unknown)
             budget.executed, budget.steps, budget.moves = old.executed[k], old.steps[k], old.moves[k]
-            planned = old.items[:old.planned[k]]
+            planned = old.items[: old.planned[k]]
             # (a subprogram without blocks names its header line, which may lie after the change)
-            diags.extend(old.loop_diags[:old.diags[k]] if lines.delta == 0 else
-                         [lines.diagnostic(d) for d in old.loop_diags[:old.diags[k]]])
+            diags.extend(
+                old.loop_diags[: old.diags[k]]
+                if lines.delta == 0
+                else [lines.diagnostic(d) for d in old.loop_diags[: old.diags[k]]]
+            )
             last_line, last_set = _last_main(old, k)
             # the state after each line as of step k: lines are met once (the previous run's last setting of
             # a line is its only one before k, if it is before k) or else step by step
@@ -268,16 +298,39 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
             continue
         block = unit.blocks[index]
         if trace is not None:
-            cp = Checkpoint(unit.key, block.line, state, position, params_now,
-                            _call_points(calls) if calls else (), _repeat_points(repeats) if repeats else (),
-                            follow.unknown)
+            cp = Checkpoint(
+                unit.key,
+                block.line,
+                state,
+                position,
+                params_now,
+                _call_points(calls) if calls else (),
+                _repeat_points(repeats) if repeats else (),
+                follow.unknown,
+            )
             if meet:
                 was = lines.back(block.line, unit.source)
                 candidates = meet.get(unit.key, was) if was is not None else None
                 if candidates and old is not None:
-                    done = _take_over(old, trace, candidates, cp, lines, step, budget, planned, diags,
-                                      n_initial, follow, states, positions, set_at, last_line, last_set,
-                                      shifted)
+                    done = _take_over(
+                        old,
+                        trace,
+                        candidates,
+                        cp,
+                        lines,
+                        step,
+                        budget,
+                        planned,
+                        diags,
+                        n_initial,
+                        follow,
+                        states,
+                        positions,
+                        set_at,
+                        last_line,
+                        last_set,
+                        shifted,
+                    )
                     if done is not None:
                         STATS["to_end"] -= 1
                         STATS["incremental"] += 1
@@ -321,8 +374,14 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 trace.at_log.append((step - 1, (unit.source, block.line), follow.unknown))
             if block.assignments:
                 params_now = dict(params)
-        follow.ran(block, unit.source, out.diagnostics, getattr(out, "executed", True), out.position != position,
-                   out.state.active("dimensions") != "G91")
+        follow.ran(
+            block,
+            unit.source,
+            out.diagnostics,
+            getattr(out, "executed", True),
+            out.position != position,
+            out.state.active("dimensions") != "G91",
+        )
         budget.reported(len(out.diagnostics))
         spent = budget.made(sum(type(c) is Planned for c in out.commands), block)
         if spent is not None:
@@ -388,7 +447,9 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                 continue
         index = section_end(unit, here, index)
         if out.sub_end:
-            if not calls and prefix == "O":  # M99 in the main program: the control starts it again, without end
+            if (
+                not calls and prefix == "O"
+            ):  # M99 in the main program: the control starts it again, without end
                 report(diag("ISO-W306", block.span))
                 ended = True
                 break
@@ -401,16 +462,23 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
                     index = 0
                 else:
                     calls.pop()
-                    unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
+                    unit, index = (
+                        frame.unit,
+                        section_end(frame.unit, frame.return_index - 1, frame.return_index),
+                    )
             continue
-        if getattr(out, "stopped", False):  # an error that stops decoding: nothing after it runs, no M30 needed
+        if getattr(
+            out, "stopped", False
+        ):  # an error that stops decoding: nothing after it runs, no M30 needed
             ended = True
             break
         if out.ended:
             if calls:
                 report(diag(flow["PAL-E403"], block.span, number=unit.number))
             ended = True
-            rest = next((b for b in unit.blocks[index:] if b.ok and not b.is_empty and b.header is None), None)
+            rest = next(
+                (b for b in unit.blocks[index:] if b.ok and not b.is_empty and b.header is None), None
+            )
             if unit is main and rest is not None:
                 diags.append(diag("PAL-W101", rest.span))
             break
@@ -423,7 +491,9 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
         trace.ended, trace.counters = ended, budget.counters
     if keep is not None:
         keep.trace, keep.kind, keep.shifted = trace, kind, shifted
-    truncated = any(d.code == "PAL-E006" for d in diags)  # lines beyond the limit were not read: M30 may be there
+    truncated = any(
+        d.code == "PAL-E006" for d in diags
+    )  # lines beyond the limit were not read: M30 may be there
     if not ended and not truncated and program.has_content:  # a rejected program needs no second word
         line = last_line or 1
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
@@ -453,7 +523,7 @@ def interpret(program: Program, table: CodeTable, execute: BlockExecutor, setup:
     follow.finish(diags)
     if len(diags) > limits.max_diagnostics:
         cut = diags[limits.max_diagnostics - 1]
-        del diags[limits.max_diagnostics - 1:]
+        del diags[limits.max_diagnostics - 1 :]
         diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
     result.final_position = position
     return result
@@ -463,8 +533,13 @@ main_key: UnitKey = (None, None)
 # the program flow's diagnostics in the words of each kind of program: PAL's L<n> … M17, ISO's O<n> … M99
 _FLOW_CODES = {
     "L": {c: c for c in ("PAL-E401", "PAL-E403", "PAL-E404", "PAL-E405", "PAL-E409")},
-    "O": {"PAL-E401": "ISO-E301", "PAL-E403": "ISO-E304", "PAL-E404": "ISO-E303", "PAL-E405": "ISO-E302",
-          "PAL-E409": "ISO-E305"},
+    "O": {
+        "PAL-E401": "ISO-E301",
+        "PAL-E403": "ISO-E304",
+        "PAL-E404": "ISO-E303",
+        "PAL-E405": "ISO-E302",
+        "PAL-E409": "ISO-E305",
+    },
 }
 
 
@@ -499,13 +574,22 @@ class Meeting:
         return self.library.get((key, line), found)
 
 
-def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, ...], units: dict[UnitKey, Unit],
-            ) -> tuple[int, LineMap, Meeting, Checkpoint | None] | None:
+def _resume(
+    old: Trace,
+    trace: Trace,
+    blocks: list[Block],
+    identity: tuple[Any, ...],
+    units: dict[UnitKey, Unit],
+) -> tuple[int, LineMap, Meeting, Checkpoint | None] | None:
     """Where this run starts from the previous run's checkpoints: (step, line map, the previous run's steps
     it may meet again, the checkpoint or None for the program start); None: a full run. Fills `trace` with
     the steps before the start."""
-    if (not old.checkpoints or old.setup[1] is not identity[1] or old.setup[2] is not identity[2]
-            or old.setup[0] != identity[0]):
+    if (
+        not old.checkpoints
+        or old.setup[1] is not identity[1]
+        or old.setup[2] is not identity[2]
+        or old.setup[0] != identity[0]
+    ):
         return None
     first, old_end, new_end = changed_lines(old.blocks, blocks)
     if not structure_kept(old.blocks, blocks, first, old_end, new_end, old.labels):
@@ -541,7 +625,7 @@ def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, 
         start = lines.checkpoint(cps[r])
         kept = cps[:r] if lines.delta == 0 else [lines.checkpoint(cp) for cp in cps[:r]]
         if lines.delta != 0:
-            for d in old.loop_diags[:old.diags[r]]:
+            for d in old.loop_diags[: old.diags[r]]:
                 lines.diagnostic(d)  # the run maps them once it starts
     except Unmappable:
         return None
@@ -551,8 +635,9 @@ def _resume(old: Trace, trace: Trace, blocks: list[Block], identity: tuple[Any, 
     trace.executed, trace.steps, trace.moves = old.executed[:r], old.steps[:r], old.moves[:r]
     trace.planned, trace.diags, trace.sets = old.planned[:r], old.diags[:r], old.sets[:r]
     trace.where = old.where[:r]
-    trace.at_log = [(st, (src, lines.line(ln, src)), lines.unknown(unk)) for st, (src, ln), unk in old.at_log
-                    if st < r]
+    trace.at_log = [
+        (st, (src, lines.line(ln, src)), lines.unknown(unk)) for st, (src, ln), unk in old.at_log if st < r
+    ]
     trace.labels = old.labels
     return r, lines, meet, start
 
@@ -569,10 +654,25 @@ def _last_main(old: Trace, k: int) -> tuple[int, int]:
     return 0, -1
 
 
-def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint, lines: LineMap, step: int,
-               budget: Budget, planned: list[Item], diags: list[Diagnostic], n_initial: int, follow: FollowUps,
-               states: list[ModalState | None], positions: list[Vec3 | None], set_at: list[int], last_line: int,
-               last_set: int, shifted: dict[int, Move]) -> tuple[ModalState, Vec3, bool, int, int] | None:
+def _take_over(
+    old: Trace,
+    trace: Trace,
+    candidates: list[int],
+    now: Checkpoint,
+    lines: LineMap,
+    step: int,
+    budget: Budget,
+    planned: list[Item],
+    diags: list[Diagnostic],
+    n_initial: int,
+    follow: FollowUps,
+    states: list[ModalState | None],
+    positions: list[Vec3 | None],
+    set_at: list[int],
+    last_line: int,
+    last_set: int,
+    shifted: dict[int, Move],
+) -> tuple[ModalState, Vec3, bool, int, int] | None:
     """If the run, about to take step `step` in state `now`, is where the previous run was at one of its
     steps `candidates`, append the rest of the previous run (its lines mapped) to this one's lists and trace
     and answer (state, position, ended, last line, the step that set it) at the end; else None."""
@@ -584,21 +684,28 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
             if then != now:
                 continue
             shift = lines.delta != 0
-            items = old.items[old.planned[j]:]
-            found = old.loop_diags[old.diags[j]:]
+            items = old.items[old.planned[j] :]
+            found = old.loop_diags[old.diags[j] :]
             cps = old.checkpoints[j:]
             was = items
             if shift:
                 items = [lines.item(x) for x in items]
                 found = [lines.diagnostic(x) for x in found]
                 cps = [lines.checkpoint(x) for x in cps]
-            at_log = [(st - j + step, (src, lines.line(ln, src)), lines.unknown(unk))
-                      for st, (src, ln), unk in old.at_log if st >= j]
+            at_log = [
+                (st - j + step, (src, lines.line(ln, src)), lines.unknown(unk))
+                for st, (src, ln), unk in old.at_log
+                if st >= j
+            ]
             unknown = lines.unknown(old.unknown)
             final_line = lines.line(old.final_line) if old.final_set >= j else last_line
         except Unmappable:
             continue
-        d_e, d_s, d_m = budget.executed - old.executed[j], budget.steps - old.steps[j], budget.moves - old.moves[j]
+        d_e, d_s, d_m = (
+            budget.executed - old.executed[j],
+            budget.steps - old.steps[j],
+            budget.moves - old.moves[j],
+        )
         d_p, d_d = len(planned) - old.planned[j], len(diags) - n_initial - old.diags[j]
         if shift:  # (only now: an id kept from a candidate given up could name another object later)
             for a, b in zip(was, items, strict=True):
@@ -622,9 +729,13 @@ def _take_over(old: Trace, trace: Trace, candidates: list[int], now: Checkpoint,
         budget.executed, budget.steps, budget.moves = e + d_e, s + d_s, m + d_m
         if len(trace.checkpoints) + len(cps) <= MAX_STEPS:
             trace.checkpoints.extend(cps)
-            for mine, theirs, d in ((trace.executed, old.executed, d_e), (trace.steps, old.steps, d_s),
-                                    (trace.moves, old.moves, d_m), (trace.planned, old.planned, d_p),
-                                    (trace.diags, old.diags, d_d)):
+            for mine, theirs, d in (
+                (trace.executed, old.executed, d_e),
+                (trace.steps, old.steps, d_s),
+                (trace.moves, old.moves, d_m),
+                (trace.planned, old.planned, d_p),
+                (trace.diags, old.diags, d_d),
+            ):
                 mine.extend(theirs[j:] if d == 0 else array("q", [x + d for x in theirs[j:]]))
             trace.sets.extend(old.sets[j:])
             if delta == 0:

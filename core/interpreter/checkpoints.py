@@ -40,10 +40,14 @@ from core.toolpath import Dwell, Move, ToolChange, Vec3
 UnitKey = tuple[str | None, int | None]  # (source, subprogram number): None, None is the main program
 # a call in progress: caller, the line it returns to, callee, runs still to come, calling line, caller's source
 CallPoint = tuple[UnitKey, int, UnitKey, int, int, str | None]
-RepeatPoint = tuple[UnitKey, int, int, int, int]  # a G23 section: unit, start line, end line, remaining, return line
+RepeatPoint = tuple[
+    UnitKey, int, int, int, int
+]  # a G23 section: unit, start line, end line, remaining, return line
 
 STATS: Counter[str] = Counter()  # "full", "incremental" (met the previous run), "to_end" (restarted, ran on)
-MAX_STEPS = 10_000  # a run that meets more blocks keeps no trace (memory: ~150 bytes a step); the next runs in full
+MAX_STEPS = (
+    10_000  # a run that meets more blocks keeps no trace (memory: ~150 bytes a step); the next runs in full
+)
 
 
 class Checkpoint(NamedTuple):
@@ -104,9 +108,11 @@ class Trace:
             return (executed, steps, moves) == (self.executed[j], self.steps[j], self.moves[j])
         lim = self.limits
         e, s, m = self.counters
-        return (e + executed - self.executed[j] <= lim.max_executed_blocks
-                and s + steps - self.steps[j] <= lim.max_evaluation_steps
-                and m + moves - self.moves[j] <= lim.max_moves)
+        return (
+            e + executed - self.executed[j] <= lim.max_executed_blocks
+            and s + steps - self.steps[j] <= lim.max_evaluation_steps
+            and m + moves - self.moves[j] <= lim.max_moves
+        )
 
 
 class Unmappable(Exception):
@@ -162,9 +168,13 @@ class LineMap:
 
     def checkpoint(self, cp: Checkpoint) -> Checkpoint:
         """`cp` in the new numbering (Unmappable where it names a changed line)."""
-        calls = tuple((u, self.after(r, u[0]), c, n, self.line(ln, src), src) for u, r, c, n, ln, src in cp.calls)
-        repeats = tuple((u, self.line(s, u[0]), self.line(e, u[0]), n, self.after(r, u[0]))
-                        for u, s, e, n, r in cp.repeats)
+        calls = tuple(
+            (u, self.after(r, u[0]), c, n, self.line(ln, src), src) for u, r, c, n, ln, src in cp.calls
+        )
+        repeats = tuple(
+            (u, self.line(s, u[0]), self.line(e, u[0]), n, self.after(r, u[0]))
+            for u, s, e, n, r in cp.repeats
+        )
         unknown = self.unknown(cp.unknown)
         line = self.line(cp.line, cp.unit[0])
         if line == cp.line and calls == cp.calls and repeats == cp.repeats and unknown is cp.unknown:
@@ -206,19 +216,21 @@ def changed_lines(old: list[Block], new: list[Block]) -> tuple[int, int, int]:
     while a < limit and (old[a] is new[a] or old[a].text == new[a].text):
         a += 1
     b = 0
-    while b < limit - a and (old[n_old - 1 - b] is new[n_new - 1 - b]
-                             or old[n_old - 1 - b].text == new[n_new - 1 - b].text):
+    while b < limit - a and (
+        old[n_old - 1 - b] is new[n_new - 1 - b] or old[n_old - 1 - b].text == new[n_new - 1 - b].text
+    ):
         b += 1
     return a + 1, n_old - b + 1, n_new - b + 1
 
 
-def structure_kept(old: list[Block], new: list[Block], first: int, old_end: int, new_end: int,
-                   labels: bool) -> bool:
+def structure_kept(
+    old: list[Block], new: list[Block], first: int, old_end: int, new_end: int, labels: bool
+) -> bool:
     """Whether the units (`%L` headers) and, when the run resolved block numbers, the numbers in the
     changed lines are the same: then every call, jump and repeat outside them goes where it went. The line
     before the change counts as changed: a unit starting after it starts with the change."""
     lo = max(1, first - 1)
-    was, now = old[lo - 1:old_end - 1], new[lo - 1:new_end - 1]
+    was, now = old[lo - 1 : old_end - 1], new[lo - 1 : new_end - 1]
     if any(b.header is not None for b in was) or any(b.header is not None for b in now):
         return False
     return not labels or [b.number for b in was] == [b.number for b in now]

@@ -61,11 +61,14 @@ class Departure:
     w: float | None
     z: float | None
     tangent: tuple[float, float] | None = None  # end tangent of the last contour element; None: no departure
-    programmed: Vec3 | None = None  # the end of the programmed departure (the contour's, not the tool centre's)
+    programmed: Vec3 | None = (
+        None  # the end of the programmed departure (the contour's, not the tool centre's)
+    )
 
 
-def departure_ends(code: str, last: tuple[float, float], tangent: tuple[float, float], side: int, radius: float,
-                   size: float) -> tuple[tuple[float, float], tuple[float, float]]:
+def departure_ends(
+    code: str, last: tuple[float, float], tangent: tuple[float, float], side: int, radius: float, size: float
+) -> tuple[tuple[float, float], tuple[float, float]]:
     """Where the tool centre and the programmed contour end after G46/G48 from the contour point `last`.
 
     The tool centre starts `radius` beside `last` on the compensation side (`side` +1 left, -1 right)
@@ -118,22 +121,44 @@ Command = Move | Dwell | ToolChange
 
 def element_of(m: Move) -> Element:
     if m.kind == "arc" and m.center is not None:
-        return Arc((m.start[0], m.start[1]), (m.end[0], m.end[1]), (m.center[0], m.center[1]), m.direction == "cw",
-                   full=(m.angle or 0) >= 360 - 1e-9)
+        return Arc(
+            (m.start[0], m.start[1]),
+            (m.end[0], m.end[1]),
+            (m.center[0], m.center[1]),
+            m.direction == "cw",
+            full=(m.angle or 0) >= 360 - 1e-9,
+        )
     return Line((m.start[0], m.start[1]), (m.end[0], m.end[1]))
 
 
-def move_of(template: Move, e: Element, z0: float, z1: float, programmed: Vec3 | None = None,
-            kind: str | None = None, feed: float | None = None) -> Move:
+def move_of(
+    template: Move,
+    e: Element,
+    z0: float,
+    z1: float,
+    programmed: Vec3 | None = None,
+    kind: str | None = None,
+    feed: float | None = None,
+) -> Move:
     """`template`'s technology and block with the geometry of `e` from Z `z0` to `z1`."""
     start, end = (e.a[0], e.a[1], z0), (e.b[0], e.b[1], z1)
     fields: dict[str, object] = {"start": start, "end": end, "programmed_end": programmed}
     if isinstance(e, Arc):
-        fields.update(kind="arc", center=(e.c[0], e.c[1], z0), direction="cw" if e.cw else "ccw",
-                      radius=e.radius, angle=e.angle)
+        fields.update(
+            kind="arc",
+            center=(e.c[0], e.c[1], z0),
+            direction="cw" if e.cw else "ccw",
+            radius=e.radius,
+            angle=e.angle,
+        )
     else:
-        fields.update(kind=kind if kind is not None else ("rapid" if template.kind == "rapid" else "feed"),
-                      center=None, direction=None, radius=None, angle=None)
+        fields.update(
+            kind=kind if kind is not None else ("rapid" if template.kind == "rapid" else "feed"),
+            center=None,
+            direction=None,
+            radius=None,
+            angle=None,
+        )
     if feed is not None:
         fields["feed"] = feed
     return dataclasses.replace(template, **fields)  # type: ignore[arg-type]
@@ -144,6 +169,7 @@ def _z_at(m: Move) -> tuple[float, float]:
 
 
 # -- stage 1: transition elements RN ---------------------------------------------------------
+
 
 @dataclass(frozen=True, slots=True)
 class Blend:
@@ -171,11 +197,20 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
             before = out[prev]
             assert isinstance(before, Planned)
             if before.blend_span is not None:  # Beckhoff's error 20701: no motion block since the last one
-                d.append(diag("BK-E504", item.span, element=item.raw, line=item.span.line, first=before.rn_raw,
-                              first_line=before.blend_span.line))
+                d.append(
+                    diag(
+                        "BK-E504",
+                        item.span,
+                        element=item.raw,
+                        line=item.span.line,
+                        first=before.rn_raw,
+                        first_line=before.blend_span.line,
+                    )
+                )
                 continue
-            out[prev] = dataclasses.replace(before, rn=item.size, rn_raw=item.raw, rn_feed=item.feed,
-                                            rapid_ok=True, blend_span=item.span)
+            out[prev] = dataclasses.replace(
+                before, rn=item.size, rn_raw=item.raw, rn_feed=item.feed, rapid_ok=True, blend_span=item.span
+            )
             continue
         out.append(item)
     i = 0
@@ -189,8 +224,12 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
             j += 1
         nxt = out[j] if j < len(out) else None
         where = p.blend_span or p.move.span
-        if (not isinstance(nxt, Planned) or not nxt.in_plane or nxt.side != p.side
-                or not (nxt.is_contour or p.rapid_ok)):
+        if (
+            not isinstance(nxt, Planned)
+            or not nxt.in_plane
+            or nxt.side != p.side
+            or not (nxt.is_contour or p.rapid_ok)
+        ):
             if p.rn_raw.startswith("RN"):
                 d.append(diag("PAL-E209", where, line=where.line))
             else:  # Beckhoff's G301/G302, #CHR, #CHF, #RND
@@ -211,27 +250,46 @@ def insert_transitions(items: list[Item], d: list[Diagnostic]) -> list[Item]:
                 continue
             why, why_en = "es ist zu groß für die Nachbarelemente", "it is too large for its neighbours"
         elif not _in_plane(first_move):
-            why, why_en = f"der Satz davor liegt nicht in der Ebene {plane}", f"the block before is not in plane {plane}"
+            why, why_en = (
+                f"der Satz davor liegt nicht in der Ebene {plane}",
+                f"the block before is not in plane {plane}",
+            )
         elif p.rn > 0:
             t = rounding(e1, e2, p.rn)
         else:
             width = -p.rn
             if p.chamfer_by_length:  # the chamfer's own length → its legs along the elements
-                cos_half = math.cos(math.acos(max(-1.0, min(1.0, dot(end_tangent(e1), start_tangent(e2))))) / 2)
+                cos_half = math.cos(
+                    math.acos(max(-1.0, min(1.0, dot(end_tangent(e1), start_tangent(e2))))) / 2
+                )
                 width = width / (2 * cos_half) if cos_half > 1e-9 else math.inf
             t = chamfer(e1, e2, width)
         if t is None:
             if _in_plane(first_move) and turn(e1, e2) == 0.0:
-                why, why_en = "die Elemente gehen tangential ineinander über", "the elements meet tangentially"
+                why, why_en = (
+                    "die Elemente gehen tangential ineinander über",
+                    "the elements meet tangentially",
+                )
             elif _in_plane(first_move):
                 why, why_en = "es ist zu groß für die Nachbarelemente", "it is too large for its neighbours"
-            d.append(diag("PAL-E208", where, element=p.rn_raw, first=p.move.span.line,
-                          second=nxt.move.span.line, reason=why, reason_en=why_en))
+            d.append(
+                diag(
+                    "PAL-E208",
+                    where,
+                    element=p.rn_raw,
+                    first=p.move.span.line,
+                    second=nxt.move.span.line,
+                    reason=why,
+                    reason_en=why_en,
+                )
+            )
             i += 1
             continue
         z0, z1 = _z_at(first_move)
         feed = p.rn_feed if p.rn_feed is not None else p.move.feed
-        first = dataclasses.replace(p, move=from_plane_move(move_of(first_move, t.first, z0, z1), plane), rn=0.0)
+        first = dataclasses.replace(
+            p, move=from_plane_move(move_of(first_move, t.first, z0, z1), plane), rn=0.0
+        )
         inserted_move = move_of(first_move, t.inserted, z1, z1, feed=feed)
         if p.blend_span is not None:
             inserted_move = dataclasses.replace(inserted_move, span=p.blend_span)
@@ -255,7 +313,9 @@ def _chamfer_in_space(p: Planned, nxt: Planned) -> tuple[Planned, Planned, Plann
     t2 = tuple((b[k] - corner[k]) / len2 for k in range(3))
     width = -p.rn
     if p.chamfer_by_length:
-        cos_half = math.cos(math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(t1, t2, strict=True))))) / 2)
+        cos_half = math.cos(
+            math.acos(max(-1.0, min(1.0, sum(x * y for x, y in zip(t1, t2, strict=True))))) / 2
+        )
         width = width / (2 * cos_half) if cos_half > 1e-9 else math.inf
     if width >= len1 - 1e-6 or width >= len2 - 1e-6:
         return None
@@ -263,9 +323,11 @@ def _chamfer_in_space(p: Planned, nxt: Planned) -> tuple[Planned, Planned, Plann
     p2: Vec3 = (corner[0] + width * t2[0], corner[1] + width * t2[1], corner[2] + width * t2[2])
     feed = p.rn_feed if p.rn_feed is not None else p.move.feed
     inserted = dataclasses.replace(p.move, start=p1, end=p2, feed=feed, span=p.blend_span or p.move.span)
-    return (dataclasses.replace(p, move=dataclasses.replace(p.move, end=p1), rn=0.0),
-            dataclasses.replace(p, move=inserted, rn=0.0),
-            dataclasses.replace(nxt, move=dataclasses.replace(nxt.move, start=p2)))
+    return (
+        dataclasses.replace(p, move=dataclasses.replace(p.move, end=p1), rn=0.0),
+        dataclasses.replace(p, move=inserted, rn=0.0),
+        dataclasses.replace(nxt, move=dataclasses.replace(nxt.move, start=p2)),
+    )
 
 
 def _in_plane(m: Move) -> bool:
@@ -287,11 +349,17 @@ def _map_move(m: Move, plane: str, f: Callable[[Vec3, str], Vec3]) -> Move:
     if plane == "G17":
         return m
     return dataclasses.replace(
-        m, start=f(m.start, plane), end=f(m.end, plane), center=None if m.center is None else f(m.center, plane),
-        programmed_end=None if m.programmed_end is None else f(m.programmed_end, plane), plane=plane)
+        m,
+        start=f(m.start, plane),
+        end=f(m.end, plane),
+        center=None if m.center is None else f(m.center, plane),
+        programmed_end=None if m.programmed_end is None else f(m.programmed_end, plane),
+        plane=plane,
+    )
 
 
 # -- stage 2: cutter radius compensation -----------------------------------------------------
+
 
 def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Command]:  # noqa: C901
     """Turn the programmed contour into the tool-centre path (G41/G42, G45–G48, G40)."""
@@ -302,7 +370,7 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
     order = {k: n for n, (k, _) in enumerate(planned)}
 
     def next_in_plane(k: int, side: int) -> Planned | None:
-        for _, q in planned[order[k] + 1:]:
+        for _, q in planned[order[k] + 1 :]:
             if q.side != side:
                 return None
             if q.in_plane:
@@ -366,11 +434,28 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
                 target = add((m.end[0], m.end[1]), left(t), r)
                 end = (target[0], target[1], m.end[2])
                 if _without_approach(m, start, target, t, r, following(k, p.side)):
-                    d.append(diag("PAL-W222", m.span, command="G41" if p.side > 0 else "G42",
-                                  tool_radius=p.radius, tool_radius_de=_fmt_de(p.radius)))
-                out.append(dataclasses.replace(m, kind="rapid" if m.kind == "rapid" else "feed", start=start, end=end,
-                                               center=None, direction=None, radius=None, angle=None,
-                                               programmed_end=m.end))
+                    d.append(
+                        diag(
+                            "PAL-W222",
+                            m.span,
+                            command="G41" if p.side > 0 else "G42",
+                            tool_radius=p.radius,
+                            tool_radius_de=_fmt_de(p.radius),
+                        )
+                    )
+                out.append(
+                    dataclasses.replace(
+                        m,
+                        kind="rapid" if m.kind == "rapid" else "feed",
+                        start=start,
+                        end=end,
+                        center=None,
+                        direction=None,
+                        radius=None,
+                        angle=None,
+                        programmed_end=m.end,
+                    )
+                )
                 pos = end
             continue
         # a contour element under compensation
@@ -379,9 +464,16 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
         if o is None:
             if isinstance(e, Arc):
                 smaller = e.radius < p.radius - 1e-9  # equal is not smaller: the offset arc vanishes
-                d.append(diag("PAL-E214", m.span, radius=round(e.radius, 4), tool_radius=p.radius,
-                              relation="kleiner als" if smaller else "nicht größer als",
-                              relation_en="smaller than" if smaller else "not larger than"))
+                d.append(
+                    diag(
+                        "PAL-E214",
+                        m.span,
+                        radius=round(e.radius, 4),
+                        tool_radius=p.radius,
+                        relation="kleiner als" if smaller else "nicht größer als",
+                        relation_en="smaller than" if smaller else "not larger than",
+                    )
+                )
             else:
                 d.append(diag("PAL-E215", m.span, tool_radius=p.radius))
             pos = m.end
@@ -397,8 +489,15 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
                 if side_turn * p.side > 0:  # inside corner: end where the two offsets meet
                     x = nearest([q for q in intersections(o, o2)], e.b)
                     if x is None or math.dist(x, e.b) > 10 * abs(r) + 1e-6:
-                        d.append(diag("PAL-E217", m.span, tool_radius=p.radius, first=m.span.line,
-                                      second=nxt.move.span.line))
+                        d.append(
+                            diag(
+                                "PAL-E217",
+                                m.span,
+                                tool_radius=p.radius,
+                                first=m.span.line,
+                                second=nxt.move.span.line,
+                            )
+                        )
                     else:
                         o = with_end(o, x)
                 elif side_turn != 0.0 or _reverses(e, e2):  # outside corner: an arc about the corner
@@ -420,8 +519,14 @@ ALONG = math.sin(math.radians(20))  # a first move this close to the contour's d
 CROSSING = 1 / 8  # a tool centre this close to the contour (in cutter radii) has the cutter across it
 
 
-def _without_approach(m: Move, start: Vec3, target: tuple[float, float], t: tuple[float, float], r: float,
-                      contour: list[Element]) -> bool:
+def _without_approach(
+    m: Move,
+    start: Vec3,
+    target: tuple[float, float],
+    t: tuple[float, float],
+    r: float,
+    contour: list[Element],
+) -> bool:
     """Whether the first move after G41/G42 (from the tool centre `start` to `target`, beside the contour's first
     point; `r` the signed radius, > 0 left) is no approach but already lies on the contour (PAL-W222).
 
@@ -515,16 +620,50 @@ def _approach(p: Planned, start: Vec3, first: Element, r: float, out: list[Comma
     pos: Vec3 = (approach_start[0], approach_start[1], z)
     kind: MoveKind = "rapid" if m.kind == "rapid" else "feed"
     if pos != start:
-        out.append(dataclasses.replace(m, kind=kind, start=start, end=pos, center=None, direction=None,
-                                       radius=None, angle=None, programmed_end=None))
+        out.append(
+            dataclasses.replace(
+                m,
+                kind=kind,
+                start=start,
+                end=pos,
+                center=None,
+                direction=None,
+                radius=None,
+                angle=None,
+                programmed_end=None,
+            )
+        )
     if a.w is not None and a.w != z:
-        out.append(dataclasses.replace(m, kind="rapid", start=pos, end=(pos[0], pos[1], a.w), center=None,
-                                       direction=None, radius=None, angle=None, programmed_end=None))
+        out.append(
+            dataclasses.replace(
+                m,
+                kind="rapid",
+                start=pos,
+                end=(pos[0], pos[1], a.w),
+                center=None,
+                direction=None,
+                radius=None,
+                angle=None,
+                programmed_end=None,
+            )
+        )
         pos = (pos[0], pos[1], a.w)
     if a.z is not None and a.z != pos[2]:
         feed = a.plunge_feed if a.plunge_feed is not None else m.feed
-        out.append(dataclasses.replace(m, kind="feed", start=pos, end=(pos[0], pos[1], a.z), center=None,
-                                       direction=None, radius=None, angle=None, feed=feed, programmed_end=None))
+        out.append(
+            dataclasses.replace(
+                m,
+                kind="feed",
+                start=pos,
+                end=(pos[0], pos[1], a.z),
+                center=None,
+                direction=None,
+                radius=None,
+                angle=None,
+                feed=feed,
+                programmed_end=None,
+            )
+        )
         pos = (pos[0], pos[1], a.z)
     feed_move = dataclasses.replace(m, kind="feed")
     out.append(move_of(feed_move, element, pos[2], pos[2], programmed=(p1[0], p1[1], pos[2])))
@@ -547,23 +686,48 @@ def _depart(p: Planned, start: Vec3, side: int, out: list[Command]) -> Vec3:
             centre = add(here, left(t), side * dep.size)
             element = Arc(here, add(centre, t, dep.size), centre, cw=side < 0)
         programmed = None if dep.programmed is None else (dep.programmed[0], dep.programmed[1], start[2])
-        out.append(move_of(dataclasses.replace(m, kind="feed"), element, start[2], start[2], programmed=programmed))
+        out.append(
+            move_of(dataclasses.replace(m, kind="feed"), element, start[2], start[2], programmed=programmed)
+        )
         pos = (element.b[0], element.b[1], start[2])
     if dep.z is not None and dep.z != pos[2]:
-        out.append(dataclasses.replace(m, kind="feed", start=pos, end=(pos[0], pos[1], dep.z), center=None,
-                                       direction=None, radius=None, angle=None, programmed_end=None))
+        out.append(
+            dataclasses.replace(
+                m,
+                kind="feed",
+                start=pos,
+                end=(pos[0], pos[1], dep.z),
+                center=None,
+                direction=None,
+                radius=None,
+                angle=None,
+                programmed_end=None,
+            )
+        )
         pos = (pos[0], pos[1], dep.z)
     if dep.w is not None and dep.w != pos[2]:
-        out.append(dataclasses.replace(m, kind="rapid", start=pos, end=(pos[0], pos[1], dep.w), center=None,
-                                       direction=None, radius=None, angle=None, programmed_end=None))
+        out.append(
+            dataclasses.replace(
+                m,
+                kind="rapid",
+                start=pos,
+                end=(pos[0], pos[1], dep.w),
+                center=None,
+                direction=None,
+                radius=None,
+                angle=None,
+                programmed_end=None,
+            )
+        )
         pos = (pos[0], pos[1], dep.w)
     return pos
 
 
 def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
     """Both stages in order: transitions on the programmed contour, then compensation in each plane."""
-    if not any(isinstance(p, Blend) or (isinstance(p, Planned) and (p.rn or p.side or p.departure))
-               for p in items):
+    if not any(
+        isinstance(p, Blend) or (isinstance(p, Planned) and (p.rn or p.side or p.departure)) for p in items
+    ):
         return [p.move if isinstance(p, Planned) else p for p in items if not isinstance(p, Blend)]
     contour = insert_transitions(items, d)
     out: list[Command] = []
@@ -572,9 +736,13 @@ def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
     for item in contour + [None]:
         if item is None or (isinstance(item, Planned) and item.move.plane != plane):
             if segment:  # compensation runs in the plane of its moves; a plane change ends a segment
-                mapped = [dataclasses.replace(q, move=to_plane_move(q.move, plane)) if isinstance(q, Planned)
-                          else q for q in segment]
-                out += [from_plane_move(c, plane) if isinstance(c, Move) else c for c in compensate(mapped, d)]
+                mapped = [
+                    dataclasses.replace(q, move=to_plane_move(q.move, plane)) if isinstance(q, Planned) else q
+                    for q in segment
+                ]
+                out += [
+                    from_plane_move(c, plane) if isinstance(c, Move) else c for c in compensate(mapped, d)
+                ]
             segment = []
             if item is None:
                 break
@@ -582,5 +750,3 @@ def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
         if not isinstance(item, Blend):
             segment.append(item)
     return out
-
-

@@ -21,15 +21,24 @@ Spindle = Literal["on", "off", "reverse"]
 class CyclePath:
     """Collects the moves and dwells of one cycle block or call (program coordinates) from `start`."""
 
-    def __init__(self, code: str, template: Move, span: Span, start: Vec3, steps: int = 1,
-                 definition: int | None = None) -> None:
+    def __init__(
+        self,
+        code: str,
+        template: Move,
+        span: Span,
+        start: Vec3,
+        steps: int = 1,
+        definition: int | None = None,
+    ) -> None:
         self.code, self.template, self.span, self.definition = code, template, span, definition
         self.items: list[Move | Dwell] = []
         self.pos: Vec3 = start
         self.step, self.steps = 1, steps
         self.point: tuple[int, int] | None = None  # PAL calls: (point k, of n) the moves now belong to
 
-    def go(self, kind: MoveKind, to: Vec3, spindle: Spindle = "on", feed: float | None = None, **arc: object) -> None:
+    def go(
+        self, kind: MoveKind, to: Vec3, spindle: Spindle = "on", feed: float | None = None, **arc: object
+    ) -> None:
         """A move to `to` (nothing when it is already there, unless an arc's data make it a full circle)."""
         if math.dist(to, self.pos) < EPS and not arc:
             return
@@ -39,11 +48,22 @@ class CyclePath:
             speed, direction = 0.0, None
         elif spindle == "reverse" and direction is not None:
             direction = "ccw" if direction == "cw" else "cw"
-        self.items.append(dataclasses.replace(
-            t, kind=kind, start=self.pos, end=to, spindle=speed, spindle_direction=direction,
-            exact_stop=kind == "rapid", feed=t.feed if feed is None else feed,
-            cycle=(self.code, self.step, self.steps), cycle_definition=self.definition, cycle_point=self.point,
-            **arc))  # type: ignore[arg-type]
+        self.items.append(
+            dataclasses.replace(
+                t,
+                kind=kind,
+                start=self.pos,
+                end=to,
+                spindle=speed,
+                spindle_direction=direction,
+                exact_stop=kind == "rapid",
+                feed=t.feed if feed is None else feed,
+                cycle=(self.code, self.step, self.steps),
+                cycle_definition=self.definition,
+                cycle_point=self.point,
+                **arc,  # type: ignore[arg-type]
+            )
+        )
         self.pos = to
 
     def dwell(self, seconds: float) -> None:

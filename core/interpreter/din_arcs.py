@@ -43,9 +43,17 @@ class ArcRules:
     correction: bool = False  # Beckhoff G165: move the centre onto the arc instead (within its limits)
 
 
-def din_arc(start: Point, end: Point, centre: Point | None, radius_word: Word | None, radius: float | None,
-            clockwise: bool, rules: ArcRules, span: Span, d: list[Diagnostic],
-            ) -> tuple[Point, Point, float] | None:
+def din_arc(
+    start: Point,
+    end: Point,
+    centre: Point | None,
+    radius_word: Word | None,
+    radius: float | None,
+    clockwise: bool,
+    rules: ArcRules,
+    span: Span,
+    d: list[Diagnostic],
+) -> tuple[Point, Point, float] | None:
     """Centre, end and radius of an arc from `start` to `end` (complete: omitted axes already filled in) about
     `centre` (omitted offsets already 0) or with `radius` (signed as written; `radius_word` the R word, None for
     Beckhoff's kept radius); None after an error diagnostic."""
@@ -61,7 +69,9 @@ def din_arc(start: Point, end: Point, centre: Point | None, radius_word: Word | 
             return centre, end, r_s
         if rules.correction:
             return _corrected(start, end, centre, r_s, r_e, span, d)
-        d.append(diag("PAL-E202", span, r_start=round(r_s, 4), r_end=round(r_e, 4), tolerance=round(allowed, 4)))
+        d.append(
+            diag("PAL-E202", span, r_start=round(r_s, 4), r_end=round(r_e, 4), tolerance=round(allowed, 4))
+        )
         return None
     assert radius is not None
     where = radius_word.span if radius_word is not None else span
@@ -74,16 +84,23 @@ def din_arc(start: Point, end: Point, centre: Point | None, radius_word: Word | 
         size = chord / 2  # a radius rounded down by the program: the half circle
     candidates = centres_from_radius(start, end, size)
     if not candidates:
-        d.append(diag("PAL-E201", where, reason=f"Radius {size:g} mm ist kleiner als die halbe Sehne {chord / 2:.3f} mm",
-                      reason_en=f"radius {size:g} mm is less than half the chord {chord / 2:.3f} mm"))
+        d.append(
+            diag(
+                "PAL-E201",
+                where,
+                reason=f"Radius {size:g} mm ist kleiner als die halbe Sehne {chord / 2:.3f} mm",
+                reason_en=f"radius {size:g} mm is less than half the chord {chord / 2:.3f} mm",
+            )
+        )
         return None
     longer = radius < 0
     c = (max if longer else min)(candidates, key=lambda p: sweep(start, end, p, clockwise))
     return c, end, size
 
 
-def _corrected(start: Point, end: Point, centre: Point, r_s: float, r_e: float, span: Span,
-               d: list[Diagnostic]) -> tuple[Point, Point, float] | None:
+def _corrected(
+    start: Point, end: Point, centre: Point, r_s: float, r_e: float, span: Span, d: list[Diagnostic]
+) -> tuple[Point, Point, float] | None:
     """Beckhoff G165: the nearest centre on the perpendicular bisector of start and end, if it moves little enough."""
     dx, dy = end[0] - start[0], end[1] - start[1]
     mid = ((start[0] + end[0]) / 2, (start[1] + end[1]) / 2)
@@ -94,8 +111,16 @@ def _corrected(start: Point, end: Point, centre: Point, r_s: float, r_e: float, 
     radius = math.dist(start, moved)
     limit = min(BECKHOFF_SHIFT, BECKHOFF_SHIFT_FACTOR * radius)
     if shift > limit:
-        d.append(diag("BK-E203", span, shift=round(shift, 4), limit=round(limit, 4), r_start=round(r_s, 4),
-                      r_end=round(r_e, 4)))
+        d.append(
+            diag(
+                "BK-E203",
+                span,
+                shift=round(shift, 4),
+                limit=round(limit, 4),
+                r_start=round(r_s, 4),
+                r_end=round(r_e, 4),
+            )
+        )
         return None
     d.append(diag("BK-W202", span, shift=round(shift, 4), r_start=round(r_s, 4), r_end=round(r_e, 4)))
     return moved, end, radius

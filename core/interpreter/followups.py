@@ -22,9 +22,17 @@ _AXES = {"X": "X", "XI": "X", "XA": "X", "Y": "Y", "YI": "Y", "YA": "Y", "Z": "Z
 _ABSOLUTE = frozenset({"XA", "YA", "ZA"})
 _PLANE_WORDS = frozenset({"RP", "AP", "AI", "AS", "D"})  # end points in the plane without X/Y (polar, D/AS)
 _SPINDLE_ON = frozenset({3, 4, 13, 14})
-_DEPENDS = {"position": ("X", "Y"), "feed": ("F",), "speed": ("S",), "spindle": ("M3",), "tool": ("T",),
-            "cycle": ("cycle",)}
-_CYCLE_DEFINITIONS = frozenset({72, 73, 74, 75, 81, 82, 83, 84, 85, 86, 87})  # PAL: G72–G75, G81–G87 define a cycle
+_DEPENDS = {
+    "position": ("X", "Y"),
+    "feed": ("F",),
+    "speed": ("S",),
+    "spindle": ("M3",),
+    "tool": ("T",),
+    "cycle": ("cycle",),
+}
+_CYCLE_DEFINITIONS = frozenset(
+    {72, 73, 74, 75, 81, 82, 83, 84, 85, 86, 87}
+)  # PAL: G72–G75, G81–G87 define a cycle
 _RAW_WORD = re.compile(r"([A-Z]+)\s*=?\s*([-+]?\d*)")
 # what the note says the later blocks also are, for each repeated finding
 _REPEATED_WHAT = {
@@ -75,8 +83,15 @@ class FollowUps:
         if lost:  # a new dict: the notes in `at` share the old one
             self.unknown = {**self.unknown, **dict.fromkeys(lost, block.line)}
 
-    def ran(self, block: Block, source: str | None, diagnostics: list[Diagnostic], executed: bool, moved: bool,
-            absolute: bool) -> None:
+    def ran(
+        self,
+        block: Block,
+        source: str | None,
+        diagnostics: list[Diagnostic],
+        executed: bool,
+        moved: bool,
+        absolute: bool,
+    ) -> None:
         """`block` was executed (`executed` False: it stopped at an error before doing anything)."""
         before = self.unknown
         if before:

@@ -57,7 +57,9 @@ class Frame:
         a = math.radians(self.rotation)
         wx, wy = dx * math.cos(a) - dy * math.sin(a), dx * math.sin(a) + dy * math.cos(a)
         s = self.shift
-        return dataclasses.replace(self, shift=(s[0] + wx, s[1] + wy, s[2] + dz), rotation=self.rotation + rotate)
+        return dataclasses.replace(
+            self, shift=(s[0] + wx, s[1] + wy, s[2] + dz), rotation=self.rotation + rotate
+        )
 
     def map_move(self, m: Move) -> Move:
         """`m`, written in this frame, in workpiece coordinates."""

@@ -52,8 +52,13 @@ DWELLING = frozenset({"G74", "G76", "G82", "G84", "G88", "G89"})
 
 def update(data: DrillData, values: dict[str, float]) -> DrillData:
     """The cycle data after a block that programs some of Z, R, Q, P."""
-    return dataclasses.replace(data, z=values.get("Z", data.z), r=values.get("R", data.r), q=values.get("Q", data.q),
-                               p=values.get("P", data.p))
+    return dataclasses.replace(
+        data,
+        z=values.get("Z", data.z),
+        r=values.get("R", data.r),
+        q=values.get("Q", data.q),
+        p=values.get("P", data.p),
+    )
 
 
 def drills(values: dict[str, float]) -> bool:
@@ -61,20 +66,35 @@ def drills(values: dict[str, float]) -> bool:
     return any(a in values for a in ("X", "Y", "Z", "R"))
 
 
-def holes(code: str, data: DrillData, here: Vec3, values: dict[str, float], words: dict[str, list[Word]],
-          incremental: bool, to_initial: bool, template: Move, setup: RunSetup, span: Span,
-          d: list[Diagnostic]) -> tuple[list[Move | Dwell], Vec3] | None:
+def holes(
+    code: str,
+    data: DrillData,
+    here: Vec3,
+    values: dict[str, float],
+    words: dict[str, list[Word]],
+    incremental: bool,
+    to_initial: bool,
+    template: Move,
+    setup: RunSetup,
+    span: Span,
+    d: list[Diagnostic],
+) -> tuple[list[Move | Dwell], Vec3] | None:
     """The moves and dwells of the holes of one cycle block from `here` (program coordinates, plane G17) and
     where the tool ends; None after an error (nothing moves). `template` carries the block's technology."""
     if data.z is None or data.r is None:
-        missing = ("R", "die R-Ebene", "the R plane") if data.r is None else ("Z", "der Bohrungsgrund",
-                                                                               "the bottom of the hole")
+        missing = (
+            ("R", "die R-Ebene", "the R plane")
+            if data.r is None
+            else ("Z", "der Bohrungsgrund", "the bottom of the hole")
+        )
         d.append(diag("ISO-E401", span, code=code, address=missing[0], what=missing[1], what_en=missing[2]))
         return None
     q = data.q
     if code in PECKING:
         if q is None:
-            d.append(diag("ISO-E401", span, code=code, address="Q", what="die Zustellung", what_en="the infeed"))
+            d.append(
+                diag("ISO-E401", span, code=code, address="Q", what="die Zustellung", what_en="the infeed")
+            )
             return None
         if q <= 0:
             w = words.get("Q")
@@ -84,12 +104,30 @@ def holes(code: str, data: DrillData, here: Vec3, values: dict[str, float], word
     r_level = initial + data.r if incremental else data.r
     bottom = r_level + data.z if incremental else data.z
     if code == "G87" and bottom <= r_level + EPS:
-        d.append(diag("ISO-E402", span, code=code, bottom=round(bottom, 4), r=round(r_level, 4), relation="unter",
-                      relation_en="below"))
+        d.append(
+            diag(
+                "ISO-E402",
+                span,
+                code=code,
+                bottom=round(bottom, 4),
+                r=round(r_level, 4),
+                relation="unter",
+                relation_en="below",
+            )
+        )
         return None
     if code != "G87" and bottom >= r_level - EPS:
-        d.append(diag("ISO-E402", span, code=code, bottom=round(bottom, 4), r=round(r_level, 4), relation="über",
-                      relation_en="above"))
+        d.append(
+            diag(
+                "ISO-E402",
+                span,
+                code=code,
+                bottom=round(bottom, 4),
+                r=round(r_level, 4),
+                relation="über",
+                relation_en="above",
+            )
+        )
         return None
     repeats = int(values.get("K", values.get("L", 1)))
     if repeats <= 0:
@@ -107,7 +145,9 @@ def holes(code: str, data: DrillData, here: Vec3, values: dict[str, float], word
             x, y = here[0] + values.get("X", 0.0) * (i + 1), here[1] + values.get("Y", 0.0) * (i + 1)
         else:
             x, y = values.get("X", here[0]), values.get("Y", here[1])
-        pos = out.hole(pos, x, y, r_level, bottom, ret, initial, q or 0.0, (data.p or 0.0) / 1000, setup.peck_retract)
+        pos = out.hole(
+            pos, x, y, r_level, bottom, ret, initial, q or 0.0, (data.p or 0.0) / 1000, setup.peck_retract
+        )
     if code == "G88":
         d.append(diag("ISO-I406", span))
     return out.items, pos
@@ -119,8 +159,19 @@ class _Holes(CyclePath):
     def __init__(self, code: str, template: Move, span: Span, steps: int) -> None:
         super().__init__(code, template, span, template.start, steps)
 
-    def hole(self, pos: Vec3, x: float, y: float, r: float, bottom: float, ret: float, initial: float, q: float,
-             dwell: float, d: float) -> Vec3:
+    def hole(
+        self,
+        pos: Vec3,
+        x: float,
+        y: float,
+        r: float,
+        bottom: float,
+        ret: float,
+        initial: float,
+        q: float,
+        dwell: float,
+        d: float,
+    ) -> Vec3:
         code = self.code
         self.pos, self.step = pos, 1
         self.go("rapid", (x, y, pos[2]))

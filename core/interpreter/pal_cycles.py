@@ -53,53 +53,132 @@ class Choice:
 # the hover help and the docs follow.
 RECONSTRUCTED: dict[str, Choice] = {
     "surface": Choice(0.0, "Aufruf ohne Z: Werkstückoberfläche Z 0", "a call without Z: surface Z 0", "M"),
-    "W": Choice(0.0, "W unter der Sicherheitshöhe: Rückzug auf Oberfläche + V", "W below the safety height: "
-                "retraction to surface + V"),
-    "VB": Choice(1.0, "G82/G83: Rückzug VB nach jedem Bohrschritt 1 mm", "G82/G83: retraction VB after each step 1 mm",
-                 "M"),
-    "DR": Choice(0.0, "G82/G83: Verringerung DR je Bohrschritt 0 mm (Schritt k ≥ 2: D − (k − 1) · DR)",
-                 "G82/G83: reduction DR per step 0 mm (step k ≥ 2: D − (k − 1) · DR)"),
-    "DM": Choice(1.0, "G82/G83: kleinster Bohrschritt DM 1 mm, höchstens D",
-                 "G82/G83: smallest step DM 1 mm, at most D"),
-    "G86_side": Choice(-1.0, "G86: Abheben um DR in −X-Richtung (Standard DR 0)",
-                       "G86: retraction by DR towards −X (default DR 0)"),
-    "G87_start": Choice(0.0, "G87: die Schraubenlinie beginnt in Sicherheitshöhe, gegen den Uhrzeigersinn",
-                        "G87: the helix starts at the safety height, counter-clockwise"),
-    "G77_spacing": Choice(360.0, "G77 ohne AI und AP: O Punkte gleichmäßig auf dem Vollkreis",
-                          "G77 without AI and AP: O points evenly on the full circle"),
-    "EP": Choice(0, "EP0: Bezugspunkt Mitte (Standard); EP1: linke untere Ecke (G72) bzw. Mittelpunkt des "
-                    "Anfangsbogens (G74, G75)",
-                 "EP0: reference point centre (default); EP1: lower left corner (G72) or centre of the start arc "
-                 "(G74, G75)"),
-    "DB": Choice(80.0, "DB: Bahnüberdeckung 80 % des Fräserdurchmessers", "DB: path overlap 80 % of the tool diameter"),
-    "H": Choice(1, "H1 Schruppen (Standard, lässt AK/AL stehen), H4 Schlichten (Boden in einer Ebene, Wände in "
-                   "Ebenen von D), H14 Schruppen und Schlichten",
-                "H1 roughing (default, leaves AK/AL), H4 finishing (bottom in one level, walls in levels of D), "
-                "H14 roughing then finishing"),
-    "O": Choice(1, "O1 senkrechtes Eintauchen (Standard), O2 Eintauchen auf einer Schraubenlinie (eine Umdrehung je "
-                   "Ebene)",
-                "O1 vertical plunge (default), O2 helical plunge (one turn per level)"),
-    "O2_radius": Choice(0.5, "O2: Radius der Schraubenlinie das 0,5-Fache des Fräserradius",
-                        "O2: helix radius 0.5 times the tool radius"),
-    "Q": Choice(1, "Q1 Gleichlauf (Standard, gegen den Uhrzeigersinn um die Tasche), Q2 Gegenlauf",
-                "Q1 climb milling (default, counter-clockwise round the pocket), Q2 conventional"),
-    "RZ": Choice(0.0, "G73 mit RZ (Zapfenradius): Zapfenfräsen, noch nicht unterstützt",
-                 "G73 with RZ (boss radius): boss milling, not supported yet"),
-    "E": Choice(0.0, "E (Eintauchvorschub): Standard der Vorschub F", "E (plunge feed): default the feed F", "M"),
-    "RN": Choice(0.0, "RN (Eckenradius G72): Standard der Werkzeugradius; kleiner: Warnung, Werkzeugradius",
-                 "RN (corner radius G72): default the tool radius; smaller: a warning, the tool radius", "M"),
+    "W": Choice(
+        0.0,
+        "W unter der Sicherheitshöhe: Rückzug auf Oberfläche + V",
+        "W below the safety height: retraction to surface + V",
+    ),
+    "VB": Choice(
+        1.0,
+        "G82/G83: Rückzug VB nach jedem Bohrschritt 1 mm",
+        "G82/G83: retraction VB after each step 1 mm",
+        "M",
+    ),
+    "DR": Choice(
+        0.0,
+        "G82/G83: Verringerung DR je Bohrschritt 0 mm (Schritt k ≥ 2: D − (k − 1) · DR)",
+        "G82/G83: reduction DR per step 0 mm (step k ≥ 2: D − (k − 1) · DR)",
+    ),
+    "DM": Choice(
+        1.0,
+        "G82/G83: kleinster Bohrschritt DM 1 mm, höchstens D",
+        "G82/G83: smallest step DM 1 mm, at most D",
+    ),
+    "G86_side": Choice(
+        -1.0,
+        "G86: Abheben um DR in −X-Richtung (Standard DR 0)",
+        "G86: retraction by DR towards −X (default DR 0)",
+    ),
+    "G87_start": Choice(
+        0.0,
+        "G87: die Schraubenlinie beginnt in Sicherheitshöhe, gegen den Uhrzeigersinn",
+        "G87: the helix starts at the safety height, counter-clockwise",
+    ),
+    "G77_spacing": Choice(
+        360.0,
+        "G77 ohne AI und AP: O Punkte gleichmäßig auf dem Vollkreis",
+        "G77 without AI and AP: O points evenly on the full circle",
+    ),
+    "EP": Choice(
+        0,
+        "EP0: Bezugspunkt Mitte (Standard); EP1: linke untere Ecke (G72) bzw. Mittelpunkt des "
+        "Anfangsbogens (G74, G75)",
+        "EP0: reference point centre (default); EP1: lower left corner (G72) or centre of the start arc "
+        "(G74, G75)",
+    ),
+    "DB": Choice(
+        80.0, "DB: Bahnüberdeckung 80 % des Fräserdurchmessers", "DB: path overlap 80 % of the tool diameter"
+    ),
+    "H": Choice(
+        1,
+        "H1 Schruppen (Standard, lässt AK/AL stehen), H4 Schlichten (Boden in einer Ebene, Wände in "
+        "Ebenen von D), H14 Schruppen und Schlichten",
+        "H1 roughing (default, leaves AK/AL), H4 finishing (bottom in one level, walls in levels of D), "
+        "H14 roughing then finishing",
+    ),
+    "O": Choice(
+        1,
+        "O1 senkrechtes Eintauchen (Standard), O2 Eintauchen auf einer Schraubenlinie (eine Umdrehung je "
+        "Ebene)",
+        "O1 vertical plunge (default), O2 helical plunge (one turn per level)",
+    ),
+    "O2_radius": Choice(
+        0.5,
+        "O2: Radius der Schraubenlinie das 0,5-Fache des Fräserradius",
+        "O2: helix radius 0.5 times the tool radius",
+    ),
+    "Q": Choice(
+        1,
+        "Q1 Gleichlauf (Standard, gegen den Uhrzeigersinn um die Tasche), Q2 Gegenlauf",
+        "Q1 climb milling (default, counter-clockwise round the pocket), Q2 conventional",
+    ),
+    "RZ": Choice(
+        0.0,
+        "G73 mit RZ (Zapfenradius): Zapfenfräsen, noch nicht unterstützt",
+        "G73 with RZ (boss radius): boss milling, not supported yet",
+    ),
+    "E": Choice(
+        0.0, "E (Eintauchvorschub): Standard der Vorschub F", "E (plunge feed): default the feed F", "M"
+    ),
+    "RN": Choice(
+        0.0,
+        "RN (Eckenradius G72): Standard der Werkzeugradius; kleiner: Warnung, Werkzeugradius",
+        "RN (corner radius G72): default the tool radius; smaller: a warning, the tool radius",
+        "M",
+    ),
 }
 
 # the pitches of ISO metric threads, coarse (DIN 13-1) and fine: G84 warns on any other F
-STANDARD_PITCHES = frozenset({0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5, 0.6, 0.7, 0.75, 0.8, 1.0, 1.25, 1.5, 1.75, 2.0,
-                              2.5, 3.0, 3.5, 4.0, 4.5, 5.0, 5.5, 6.0})
+STANDARD_PITCHES = frozenset(
+    {
+        0.2,
+        0.25,
+        0.3,
+        0.35,
+        0.4,
+        0.45,
+        0.5,
+        0.6,
+        0.7,
+        0.75,
+        0.8,
+        1.0,
+        1.25,
+        1.5,
+        1.75,
+        2.0,
+        2.5,
+        3.0,
+        3.5,
+        4.0,
+        4.5,
+        5.0,
+        5.5,
+        6.0,
+    }
+)
 
 DRILLING = ("G81", "G82", "G83", "G84", "G85", "G86", "G87")
 MILLING = ("G72", "G73", "G74", "G75")
 DEFINITIONS = frozenset(DRILLING + MILLING)
 CALLS = frozenset({"G76", "G77", "G78", "G79"})
 # the values each choice word may take
-_CHOICES = {"H": ((1, 4, 14), "1, 4, 14"), "O": ((1, 2), "1, 2"), "Q": ((1, 2), "1, 2"), "EP": ((0, 1), "0, 1")}
+_CHOICES = {
+    "H": ((1, 4, 14), "1, 4, 14"),
+    "O": ((1, 2), "1, 2"),
+    "Q": ((1, 2), "1, 2"),
+    "EP": ((0, 1), "0, 1"),
+}
 
 
 @dataclass(frozen=True, slots=True)
@@ -129,8 +208,15 @@ def _en(value: float) -> str:
     return _de(value).replace(",", ".")
 
 
-def check_block(name: str, span: Span, words: dict[str, list[Word]], values: dict[str, float], state: ModalState,
-                ms: list[str], d: list[Diagnostic]) -> None:
+def check_block(
+    name: str,
+    span: Span,
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    state: ModalState,
+    ms: list[str],
+    d: list[Diagnostic],
+) -> None:
     """What the code table cannot say about a cycle or call block: the compensation, the choice words, the
     allowances, the sign of ZI, counts."""
     compensation = state.codes.get("compensation")
@@ -138,17 +224,44 @@ def check_block(name: str, span: Span, words: dict[str, list[Word]], values: dic
         d.append(diag("PAL-E608", span, command=name, compensation=compensation))
     for a, (allowed, text) in _CHOICES.items():
         if a in values and name in DEFINITIONS and values[a] not in allowed:
-            d.append(diag("PAL-E611", words[a][0].span, address=a, raw=words[a][0].raw, command=name, allowed=text,
-                          allowed_en=text))
+            d.append(
+                diag(
+                    "PAL-E611",
+                    words[a][0].span,
+                    address=a,
+                    raw=words[a][0].raw,
+                    command=name,
+                    allowed=text,
+                    allowed_en=text,
+                )
+            )
     if "DB" in values and not 0 < values["DB"] <= 100:
-        d.append(diag("PAL-E611", words["DB"][0].span, address="DB", raw=words["DB"][0].raw, command=name,
-                      allowed="größer 0 bis 100 (%)", allowed_en="above 0 up to 100 (%)"))
+        d.append(
+            diag(
+                "PAL-E611",
+                words["DB"][0].span,
+                address="DB",
+                raw=words["DB"][0].raw,
+                command=name,
+                allowed="größer 0 bis 100 (%)",
+                allowed_en="above 0 up to 100 (%)",
+            )
+        )
     for a in ("AK", "AL"):
         if a in values and values[a] < 0:
             d.append(diag("PAL-E604", words[a][0].span, address=a, raw=words[a][0].raw))
     if name in DEFINITIONS and "ZI" in values and values["ZI"] >= 0:
-        d.append(diag("PAL-E603", words["ZI"][0].span, command=name, bottom=_de(values["ZI"]), surface="0",
-                      bottom_en=_en(values["ZI"]), surface_en="0"))
+        d.append(
+            diag(
+                "PAL-E603",
+                words["ZI"][0].span,
+                command=name,
+                bottom=_de(values["ZI"]),
+                surface="0",
+                bottom_en=_en(values["ZI"]),
+                surface_en="0",
+            )
+        )
     for a in ("R", "RP", "BP", "LP", "DA", "DM", "RN"):
         if a in values and values[a] <= 0:
             d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
@@ -163,8 +276,17 @@ def check_block(name: str, span: Span, words: dict[str, list[Word]], values: dic
         elif round(values["F"], 4) not in STANDARD_PITCHES:
             d.append(diag("PAL-W607", words["F"][0].span, pitch=words["F"][0].raw))
     if name in ("G76", "G77") and "O" in values and values["O"] < 1:
-        d.append(diag("PAL-E611", words["O"][0].span, address="O", raw=words["O"][0].raw, command=name,
-                      allowed="Anzahl der Punkte, mindestens 1", allowed_en="the number of points, at least 1"))
+        d.append(
+            diag(
+                "PAL-E611",
+                words["O"][0].span,
+                address="O",
+                raw=words["O"][0].raw,
+                command=name,
+                allowed="Anzahl der Punkte, mindestens 1",
+                allowed_en="the number of points, at least 1",
+            )
+        )
 
 
 def define(name: str, values: dict[str, float], line: int, state: ModalState, ms: list[str]) -> Definition:
@@ -176,8 +298,15 @@ def define(name: str, values: dict[str, float], line: int, state: ModalState, ms
     return Definition(name, kept, line, values.get("F"), direction)
 
 
-def _points(name: str, here: Vec3, values: dict[str, float], incremental: bool, span: Span,
-            d: list[Diagnostic], limit: int) -> list[tuple[float, float, float]] | None:
+def _points(
+    name: str,
+    here: Vec3,
+    values: dict[str, float],
+    incremental: bool,
+    span: Span,
+    d: list[Diagnostic],
+    limit: int,
+) -> list[tuple[float, float, float]] | None:
     """The call's points (x, y, surface z) in program coordinates."""
     if "Z" in values:
         surface = values["Z"]
@@ -225,8 +354,14 @@ def _points(name: str, here: Vec3, values: dict[str, float], incremental: bool, 
     else:
         step = RECONSTRUCTED["G77_spacing"].value / count
     r = values["R"]
-    return [(cx + r * math.cos(math.radians(first + k * step)), cy + r * math.sin(math.radians(first + k * step)),
-             surface) for k in range(count)]
+    return [
+        (
+            cx + r * math.cos(math.radians(first + k * step)),
+            cy + r * math.sin(math.radians(first + k * step)),
+            surface,
+        )
+        for k in range(count)
+    ]
 
 
 class _Path(CyclePath):
@@ -250,8 +385,15 @@ class _Path(CyclePath):
             sweep = 360.0 if full or math.dist((s[0], s[1]), (to[0], to[1])) < 1e-7 else sweep
         if sweep < 1e-7:
             return
-        self.go("arc", to, feed=feed, center=(centre[0], centre[1], s[2]), direction="ccw" if ccw else "cw",
-                radius=r, angle=sweep)
+        self.go(
+            "arc",
+            to,
+            feed=feed,
+            center=(centre[0], centre[1], s[2]),
+            direction="ccw" if ccw else "cw",
+            radius=r,
+            angle=sweep,
+        )
 
 
 @dataclass(frozen=True, slots=True)
@@ -300,16 +442,28 @@ class Shape:
             p0, p1 = self._at(self.t0, self.radius), self._at(self.t1, self.radius)
             start = self._at(self.t1, self.radius + t)
             inner = self.radius - t
-            return start, [Seg(self._at(self.t1, inner), p1, True), Seg(self._at(self.t0, inner), (0.0, 0.0), False)
-                           if inner > 1e-6 else Seg(self._at(self.t0, inner)),
-                           Seg(self._at(self.t0, self.radius + t), p0, True),
-                           Seg(start, (0.0, 0.0), True)]
+            return start, [
+                Seg(self._at(self.t1, inner), p1, True),
+                Seg(self._at(self.t0, inner), (0.0, 0.0), False)
+                if inner > 1e-6
+                else Seg(self._at(self.t0, inner)),
+                Seg(self._at(self.t0, self.radius + t), p0, True),
+                Seg(start, (0.0, 0.0), True),
+            ]
         a = self.a
         if self.kind in ("circle", "slot"):
             start = (a + t, 0.0)
-            return start, [s for s in (Seg((a, t), (a, 0.0)), Seg((-a, t)) if a > EPS else None,
-                                       Seg((-a, -t), (-a, 0.0)), Seg((a, -t)) if a > EPS else None,
-                                       Seg(start, (a, 0.0))) if s is not None]
+            return start, [
+                s
+                for s in (
+                    Seg((a, t), (a, 0.0)),
+                    Seg((-a, t)) if a > EPS else None,
+                    Seg((-a, -t), (-a, 0.0)),
+                    Seg((a, -t)) if a > EPS else None,
+                    Seg(start, (a, 0.0)),
+                )
+                if s is not None
+            ]
         # rect: half sizes (a + t, t), corner radius of the inward offset of the outermost ring
         hx, hy, r = a + t, t, max(self.rc - (self.reach - t), 0.0)
         start = (hx, 0.0)
@@ -361,8 +515,16 @@ def _tool_radius(setup: RunSetup, state: ModalState) -> float:
     return tool.offset(state.tc).radius + state.tr if tool is not None else 0.0
 
 
-def call(setup: RunSetup, state: ModalState, here: Vec3, name: str, values: dict[str, float], template: Move,
-         span: Span, d: list[Diagnostic]) -> tuple[list[Move | Dwell], Vec3] | None:
+def call(
+    setup: RunSetup,
+    state: ModalState,
+    here: Vec3,
+    name: str,
+    values: dict[str, float],
+    template: Move,
+    span: Span,
+    d: list[Diagnostic],
+) -> tuple[list[Move | Dwell], Vec3] | None:
     """The moves of a call block from `here` (program coordinates) and where the tool ends; None after an error."""
     definition = state.pal_cycle
     if definition is None:
@@ -400,7 +562,9 @@ def call(setup: RunSetup, state: ModalState, here: Vec3, name: str, values: dict
         if not plan.run(path, x, y, surface, rotation):
             return None
         path.go("rapid", (path.pos[0], path.pos[1], retract))
-        for i in range(first, len(path.items)):  # the positioning belongs to the first step, as the steps now know
+        for i in range(
+            first, len(path.items)
+        ):  # the positioning belongs to the first step, as the steps now know
             item = path.items[i]
             if isinstance(item, Move) and item.cycle is not None and item.cycle[2] != path.steps:
                 path.items[i] = dataclasses.replace(item, cycle=(code, item.cycle[1], path.steps))
@@ -410,12 +574,29 @@ def call(setup: RunSetup, state: ModalState, here: Vec3, name: str, values: dict
 class _Planner:
     """The motion of one definition at one point."""
 
-    def __init__(self, definition: Definition, template: Move, span: Span, rt: float, limit: int, state: ModalState,
-                 d: list[Diagnostic]) -> None:
+    def __init__(
+        self,
+        definition: Definition,
+        template: Move,
+        span: Span,
+        rt: float,
+        limit: int,
+        state: ModalState,
+        d: list[Diagnostic],
+    ) -> None:
         self.df, self.template, self.span, self.rt, self.limit, self.state, self.d = (
-            definition, template, span, rt, limit, state, d)
+            definition,
+            template,
+            span,
+            rt,
+            limit,
+            state,
+            d,
+        )
         self.shape: Shape | None = None
-        self.passes = 1  # at one point: the levels × rings of a pocket, the steps of a deep hole, the turns of G87
+        self.passes = (
+            1  # at one point: the levels × rings of a pocket, the steps of a deep hole, the turns of G87
+        )
         self.depths: list[float] = []  # G82/G83: the depths the steps reach, from the surface
         self.nominal: Shape | None = None  # the shape to size (AK 0): finishing
         self.swap = False  # the shape's long axis is X: a pocket taller than wide is turned by 90°
@@ -434,8 +615,17 @@ class _Planner:
         df, d, span, code = self.df, self.d, self.span, self.df.code
         bottom = self.bottom(surface)
         if bottom >= surface - EPS:
-            d.append(diag("PAL-E603", span, command=code, bottom=_de(bottom), surface=_de(surface),
-                          bottom_en=_en(bottom), surface_en=_en(surface)))
+            d.append(
+                diag(
+                    "PAL-E603",
+                    span,
+                    command=code,
+                    bottom=_de(bottom),
+                    surface=_de(surface),
+                    bottom_en=_en(bottom),
+                    surface_en=_en(surface),
+                )
+            )
             return False
         depth = surface - bottom
         if code == "G87":
@@ -458,8 +648,20 @@ class _Planner:
             return True
         ak, al = self.value("AK"), self.value("AL")
         if al >= depth - EPS and self.df.has("AL"):
-            d.append(diag("PAL-E605", span, command=code, address="AL", value=_de(al), value_en=_en(al),
-                          what="die Tiefe", what_en="the depth", limit=_de(depth), limit_en=_en(depth)))
+            d.append(
+                diag(
+                    "PAL-E605",
+                    span,
+                    command=code,
+                    address="AL",
+                    value=_de(al),
+                    value_en=_en(al),
+                    what="die Tiefe",
+                    what_en="the depth",
+                    limit=_de(depth),
+                    limit_en=_en(depth),
+                )
+            )
             return False
         rt = self.rt
         if code == "G72":
@@ -471,11 +673,19 @@ class _Planner:
                 rn = rt
             small = min(lp, bp)
             if 2 * rt > small + EPS:
-                return self._too_large("die Tasche mit der kleineren Seite ", "the pocket with the shorter side ", small)
+                return self._too_large(
+                    "die Tasche mit der kleineren Seite ", "the pocket with the shorter side ", small
+                )
             if rn > small / 2 + EPS:
-                d.append(diag("PAL-E612", span, command=code,
-                              reason=f"der Eckenradius RN {_de(rn)} mm ist größer als die halbe Taschenbreite",
-                              reason_en=f"the corner radius RN {_en(rn)} mm is larger than half the pocket's width"))
+                d.append(
+                    diag(
+                        "PAL-E612",
+                        span,
+                        command=code,
+                        reason=f"der Eckenradius RN {_de(rn)} mm ist größer als die halbe Taschenbreite",
+                        reason_en=f"the corner radius RN {_en(rn)} mm is larger than half the pocket's width",
+                    )
+                )
                 return False
             reach = small / 2 - rt - ak
             if reach < -EPS:
@@ -496,9 +706,15 @@ class _Planner:
         elif code == "G74":
             lp, bp = self.value("LP"), self.value("BP")
             if lp < bp - EPS:
-                d.append(diag("PAL-E612", span, command=code,
-                              reason=f"die Länge LP {_de(lp)} mm ist kleiner als die Breite BP {_de(bp)} mm",
-                              reason_en=f"the length LP {_en(lp)} mm is less than the width BP {_en(bp)} mm"))
+                d.append(
+                    diag(
+                        "PAL-E612",
+                        span,
+                        command=code,
+                        reason=f"die Länge LP {_de(lp)} mm ist kleiner als die Breite BP {_de(bp)} mm",
+                        reason_en=f"the length LP {_en(lp)} mm is less than the width BP {_en(bp)} mm",
+                    )
+                )
                 return False
             if 2 * rt > bp + EPS:
                 return self._too_large("die Nut der Breite ", "the slot of width ", bp)
@@ -512,10 +728,17 @@ class _Planner:
             an = self.value("AN")
             sweep = self.value("AO") if df.has("AO") else self.value("AP") - an
             if rp < bp / 2 - EPS or abs(sweep) < 1e-6 or abs(sweep) >= 360 - 1e-6:
-                reason = (("der Radius RP ist kleiner als die halbe Nutbreite",
-                           "the radius RP is less than half the slot's width") if rp < bp / 2 - EPS else
-                          ("der Öffnungswinkel muss zwischen 0° und 360° liegen",
-                           "the opening angle must lie between 0° and 360°"))
+                reason = (
+                    (
+                        "der Radius RP ist kleiner als die halbe Nutbreite",
+                        "the radius RP is less than half the slot's width",
+                    )
+                    if rp < bp / 2 - EPS
+                    else (
+                        "der Öffnungswinkel muss zwischen 0° und 360° liegen",
+                        "the opening angle must lie between 0° and 360°",
+                    )
+                )
                 d.append(diag("PAL-E612", span, command=code, reason=reason[0], reason_en=reason[1]))
                 return False
             if 2 * rt > bp + EPS:
@@ -529,7 +752,9 @@ class _Planner:
         step = max(self.value("DB", RECONSTRUCTED["DB"].value) / 100 * 2 * rt, 1e-3)
         rings = _count(self.shape.reach, step, 1e-6) + 1
         h, infeed = int(self.value("H", RECONSTRUCTED["H"].value)), self.value("D")
-        levels = (_count(depth - al, infeed) if h in (1, 14) else 0) + (_count(depth, infeed) if h in (4, 14) else 0)
+        levels = (_count(depth - al, infeed) if h in (1, 14) else 0) + (
+            _count(depth, infeed) if h in (4, 14) else 0
+        )
         self.passes = rings * max(levels, 1)
         if rings * max(levels, 1) > self.limit:
             d.append(diag("PAL-E610", span, command=code, count=rings * levels, limit=self.limit))
@@ -539,15 +764,37 @@ class _Planner:
 
     def _too_large(self, what: str, what_en: str, size: float) -> bool:
         tool = self.state.tool
-        self.d.append(diag("PAL-E602", self.span, command=self.df.code, tool=tool, tool_d=_de(2 * self.rt),
-                           tool_d_en=_en(2 * self.rt), what=what, what_en=what_en, size=_de(size), size_en=_en(size)))
+        self.d.append(
+            diag(
+                "PAL-E602",
+                self.span,
+                command=self.df.code,
+                tool=tool,
+                tool_d=_de(2 * self.rt),
+                tool_d_en=_en(2 * self.rt),
+                what=what,
+                what_en=what_en,
+                size=_de(size),
+                size_en=_en(size),
+            )
+        )
         return False
 
     def _allowance(self, ak: float, most: float) -> bool:
-        self.d.append(diag("PAL-E605", self.span, command=self.df.code, address="AK", value=_de(ak), value_en=_en(ak),
-                           what="die halbe Breite abzüglich des Fräserradius",
-                           what_en="half the width less the tool radius",
-                           limit=_de(max(most, 0.0)), limit_en=_en(max(most, 0.0))))
+        self.d.append(
+            diag(
+                "PAL-E605",
+                self.span,
+                command=self.df.code,
+                address="AK",
+                value=_de(ak),
+                value_en=_en(ak),
+                what="die halbe Breite abzüglich des Fräserradius",
+                what_en="half the width less the tool radius",
+                limit=_de(max(most, 0.0)),
+                limit_en=_en(max(most, 0.0)),
+            )
+        )
         return False
 
     def _plan_levels(self, surface: float, bottom: float) -> list[tuple[float, str]]:
@@ -650,8 +897,14 @@ class _Planner:
         speed = path.template.spindle or self.state.speed
         feed = pitch * speed if pitch * speed > 0 else path.template.feed
         direction = self.df.direction or path.template.spindle_direction
-        path.template = dataclasses.replace(path.template, feed=feed, feed_unit="mm/min", spindle_direction=direction,
-                                            thread=True, pitch=pitch)
+        path.template = dataclasses.replace(
+            path.template,
+            feed=feed,
+            feed_unit="mm/min",
+            spindle_direction=direction,
+            thread=True,
+            pitch=pitch,
+        )
         path.go("feed", (x, y, bottom))
         path.go("feed", (x, y, safety), "reverse")
 
@@ -674,8 +927,9 @@ class _Planner:
         path.go("feed", (x, y, bottom))
         path.go("rapid", (x, y, safety))
 
-    def _pocket(self, path: _Path, x: float, y: float, surface: float, bottom: float, safety: float,
-                rotation: float) -> None:
+    def _pocket(
+        self, path: _Path, x: float, y: float, surface: float, bottom: float, safety: float, rotation: float
+    ) -> None:
         shape = self.shape
         assert shape is not None
         to_program = self._map(x, y, rotation)
@@ -724,8 +978,9 @@ class _Planner:
         path.go("rapid", (path.pos[0], path.pos[1], safety))
 
 
-def steps(depth: float, infeed: float, first: float | None, reduce: float, smallest: float | None,
-          limit: int) -> list[float] | None:
+def steps(
+    depth: float, infeed: float, first: float | None, reduce: float, smallest: float | None, limit: int
+) -> list[float] | None:
     """The depths (from the surface) reached by the steps of G82/G83: the first DA (default D), then
     D − (k − 1) · DR but not below DM (default RECONSTRUCTED, at most D); the last one ends at the bottom.
     None: more than `limit` steps."""

@@ -49,12 +49,19 @@ class Outcome:
     flow: tuple[str, int, int] | None = None  # ("call", L, H) for G22, ("jump", N, 0) for a G29 taken
     repeat: tuple[int, int, int] | None = None  # G23: start N, end N, count H
     executed: bool = True  # False: an error stopped the block before it did anything
-    stopped: bool = False  # an error that stops decoding (Beckhoff's first G301/G302 without I): the run ends here
+    stopped: bool = (
+        False  # an error that stops decoding (Beckhoff's first G301/G302 without I): the run ends here
+    )
 
 
 def execute_block(  # noqa: C901
-    setup: RunSetup, state: ModalState, position: Vec3, block: Block, params: dict[int, float],
-    table: CodeTable = TABLE, cache: dict[Any, Any] | None = None,
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    block: Block,
+    params: dict[int, float],
+    table: CodeTable = TABLE,
+    cache: dict[Any, Any] | None = None,
 ) -> Outcome:
     """Execute `block` from `state` at `position`. `params` (P1…P999) is updated only on success."""
     out = Outcome(state, position)
@@ -77,14 +84,21 @@ def execute_block(  # noqa: C901
     # -- read the words: everything that depends on the block alone (cached for loops) ---------
     codes = state.codes
     if cache is None:
-        reading = _read(block, table, setup, new_params, codes.get("motion"), codes.get("plane"), codes.get("cycle"))
+        reading = _read(
+            block, table, setup, new_params, codes.get("motion"), codes.get("plane"), codes.get("cycle")
+        )
     else:
         # the entry holds its block: while it is kept, no other block can have the block's id
         key = (id(block), codes.get("motion"), codes.get("plane"), codes.get("cycle"))
         hit: tuple[Block, Reading] | None = cache.get(key)
         cached = hit[1] if hit is not None and hit[0] is block else None
-        reading = cached if cached is not None else _read(block, table, setup, new_params, codes.get("motion"),
-                                                          codes.get("plane"), codes.get("cycle"))
+        reading = (
+            cached
+            if cached is not None
+            else _read(
+                block, table, setup, new_params, codes.get("motion"), codes.get("plane"), codes.get("cycle")
+            )
+        )
         if cached is None and reading.cacheable:
             cache[key] = (block, reading)
     d.extend(reading.diagnostics)
@@ -106,14 +120,27 @@ def execute_block(  # noqa: C901
                 d.append(diag("PAL-E216", words[a][0].span, address=a))
     if owner is not None and owner.name in _CHECKED_OWNERS:
         _check_owner(owner, owner_word or gs[0][0], in_block, words, values, state, d)
-    pal_cycle = owner is not None and not table.din and (owner.name in pal_cycles.DEFINITIONS
-                                                         or owner.name in pal_cycles.CALLS)
+    pal_cycle = (
+        owner is not None
+        and not table.din
+        and (owner.name in pal_cycles.DEFINITIONS or owner.name in pal_cycles.CALLS)
+    )
     if pal_cycle and owner is not None:
         if owner.name == "G73" and "RZ" in values:  # the boss form (Zapfen)
-            d.append(_not_supported(words["RZ"][0].span, "Zapfenfräsen mit G73 (RZ)", "Boss milling with G73 (RZ)",
-                                    True))
-        pal_cycles.check_block(owner.name, owner_word.span if owner_word else span, words, values, state,
-                               [c.name for _, c in ms], d)
+            d.append(
+                _not_supported(
+                    words["RZ"][0].span, "Zapfenfräsen mit G73 (RZ)", "Boss milling with G73 (RZ)", True
+                )
+            )
+        pal_cycles.check_block(
+            owner.name,
+            owner_word.span if owner_word else span,
+            words,
+            values,
+            state,
+            [c.name for _, c in ms],
+            d,
+        )
 
     if d and any(x.severity is Severity.ERROR for x in d):
         out.executed = False
@@ -124,7 +151,9 @@ def execute_block(  # noqa: C901
 
     # -- what is not implemented yet -------------------------------------------------------
     for w, code in reading.planned:
-        if code.support is Support.PLANNED and not table.din:  # (DIN: a warning of the reading, the block runs)
+        if (
+            code.support is Support.PLANNED and not table.din
+        ):  # (DIN: a warning of the reading, the block runs)
             skips = code.owns_block
             d.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
             if skips:
@@ -135,7 +164,9 @@ def execute_block(  # noqa: C901
     codes = state.codes
     changes = {g: m for g, m in reading.activations if codes.get(g) != m}
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
-    if "F" in values and not (pal_cycle and owner is not None and owner.name == "G84"):  # (G84: F is the pitch)
+    if "F" in values and not (
+        pal_cycle and owner is not None and owner.name == "G84"
+    ):  # (G84: F is the pitch)
         feed = values["F"]
     if "S" in values:
         speed = values["S"]
@@ -153,10 +184,31 @@ def execute_block(  # noqa: C901
         tc = int(values["D"])  # the tool offset D: its radius (D0: none)
     if changes:
         codes = {**codes, **changes}
-    if (codes is not state.codes or feed != state.feed or speed != state.speed or tool != state.tool
-            or tc != state.tc or tr != state.tr or tl != state.tl):
-        state = ModalState(codes, feed, speed, tool, tc, tr, tl, state.pole, state.frame, state.blend,
-                           state.tangent, state.arc_radius, state.drill, state.pal_cycle)
+    if (
+        codes is not state.codes
+        or feed != state.feed
+        or speed != state.speed
+        or tool != state.tool
+        or tc != state.tc
+        or tr != state.tr
+        or tl != state.tl
+    ):
+        state = ModalState(
+            codes,
+            feed,
+            speed,
+            tool,
+            tc,
+            tr,
+            tl,
+            state.pole,
+            state.frame,
+            state.blend,
+            state.tangent,
+            state.arc_radius,
+            state.drill,
+            state.pal_cycle,
+        )
     if table.din:
         state = _din_modes(state)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
@@ -190,12 +242,15 @@ def execute_block(  # noqa: C901
     elif reading.cycle is not None:
         position, state = _drill(setup, state, position, reading.cycle, values, words, span, out.commands, d)
     elif pal_cycle and owner is not None and owner.name in pal_cycles.DEFINITIONS:
-        state = dataclasses.replace(state, pal_cycle=pal_cycles.define(owner.name, values, block.line, state,
-                                                                       [c.name for _, c in ms]))
+        state = dataclasses.replace(
+            state, pal_cycle=pal_cycles.define(owner.name, values, block.line, state, [c.name for _, c in ms])
+        )
     elif pal_cycle and owner is not None:
         position = _cycle_call(setup, state, position, owner.name, values, span, out.commands, d)
     elif owner is not None and owner.name in ("G45", "G47"):
-        planned = _approach(setup, state, state.frame.to_program(position), owner.name, words, values, span, d)
+        planned = _approach(
+            setup, state, state.frame.to_program(position), owner.name, words, values, span, d
+        )
         planned.move = state.frame.map_move(planned.move)
         planned.side = -planned.side if state.frame.flips else planned.side
         out.commands.append(planned)
@@ -211,23 +266,58 @@ def execute_block(  # noqa: C901
         frame = state.frame
         here = position if frame.identity else frame.to_program(position)
         if table.din and motion.name in ("G2", "G3"):
-            move, radius = _din_motion(setup, state, here, motion.name, words, values, span, exact, arc_plane,
-                                       reading.alt_plane, table, d)
+            move, radius = _din_motion(
+                setup,
+                state,
+                here,
+                motion.name,
+                words,
+                values,
+                span,
+                exact,
+                arc_plane,
+                reading.alt_plane,
+                table,
+                d,
+            )
             pole = None
             if radius is not None and table.modal_radius and radius != state.arc_radius:
                 state = dataclasses.replace(state, arc_radius=radius)
         else:
-            move, pole = _motion(setup, state, here, motion.name, words, values, span, exact, arc_plane,
-                                 table.strict_technology, d, table.din)
+            move, pole = _motion(
+                setup,
+                state,
+                here,
+                motion.name,
+                words,
+                values,
+                span,
+                exact,
+                arc_plane,
+                table.strict_technology,
+                d,
+                table.din,
+            )
         if pole is not None and pole != state.pole:
             state = dataclasses.replace(state, pole=pole)
         if move is not None:
             move = frame.map_move(move)
             side, radius = _compensation(setup, state)
             rn, element, by_length = _transition(values, words)
-            out.commands.append(Planned(move, rn, element, values.get("E") or values.get("#FRC"),
-                                        -side if frame.flips else side, radius, None, None, by_length,
-                                        "RN" not in values))
+            out.commands.append(
+                Planned(
+                    move,
+                    rn,
+                    element,
+                    values.get("E") or values.get("#FRC"),
+                    -side if frame.flips else side,
+                    radius,
+                    None,
+                    None,
+                    by_length,
+                    "RN" not in values,
+                )
+            )
             position = move.end
             if side and (move.kind == "arc" or move.start[:2] != move.end[:2]):
                 state = dataclasses.replace(state, tangent=end_tangent_of(move))
@@ -239,23 +329,40 @@ def execute_block(  # noqa: C901
         else:
             state = dataclasses.replace(state, blend=size)
             element = f"{owner.name} I{size:g}"
-            out.commands.append(Blend(size if owner.name == "G302" else -size, element,
-                                      values.get("#FRC", state.feed), span))
+            out.commands.append(
+                Blend(size if owner.name == "G302" else -size, element, values.get("#FRC", state.feed), span)
+            )
     elif owner is not None and owner.name == "G22":
         out.flow = ("call", int(values["L"]), int(values.get("H", 1)))
     elif owner is not None and owner.name == "G23":
         first_n, last_n = (int(n.value or 0) for n in words["N"])
         out.repeat = (first_n, last_n, int(values.get("H", 1)))
-    elif (owner is not None and owner.name == "G29"
-          and ("P" not in words or _compare(new_params, words["P"], int(values["O"])))):
+    elif (
+        owner is not None
+        and owner.name == "G29"
+        and ("P" not in words or _compare(new_params, words["P"], int(values["O"])))
+    ):
         out.flow = ("jump", int(values["N"]), 0)
 
     # -- block end: M5, M9, M30 ---------------------------------------------------------------
     ends = reading.ends
     if ends:
-        state = ModalState({**state.codes, **ends}, state.feed, state.speed, state.tool, state.tc, state.tr, state.tl,
-                           state.pole, state.frame, state.blend, state.tangent, state.arc_radius, state.drill,
-                           state.pal_cycle)
+        state = ModalState(
+            {**state.codes, **ends},
+            state.feed,
+            state.speed,
+            state.tool,
+            state.tc,
+            state.tr,
+            state.tl,
+            state.pole,
+            state.frame,
+            state.blend,
+            state.tangent,
+            state.arc_radius,
+            state.drill,
+            state.pal_cycle,
+        )
     for w, code in ms:
         if code.name in ("M30", "M2"):
             out.ended = True
@@ -275,8 +382,15 @@ _SPELLINGS = frozenset({"XI", "YI", "ZI", "XA", "YA", "ZA"})
 _CHECKED_OWNERS = frozenset({"G23", "G29", "G45", "G46", "G47", "G48", "G58", "G59"})
 
 
-def _check_owner(owner: Code, owner_word: Word, in_block: frozenset[str], words: dict[str, list[Word]],
-                 values: dict[str, float], state: ModalState, d: list[Diagnostic]) -> None:
+def _check_owner(
+    owner: Code,
+    owner_word: Word,
+    in_block: frozenset[str],
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    state: ModalState,
+    d: list[Diagnostic],
+) -> None:
     """The rules of the block-owning codes that a table of allowed words cannot say."""
     name, span = owner.name, owner_word.span
     needed = {"G45": ("G41", "G42"), "G47": ("G41", "G42"), "G46": ("G40",), "G48": ("G40",)}.get(name)
@@ -322,12 +436,23 @@ class Reading:
     ends: dict[str, str]  # modal group → code switched at the block end (M5, M9)
     moves: bool  # it has words of geometry  # no parameter expression: the same block always reads the same
     cycle: Code | None = None  # ISO: the drilling cycle that makes a hole in this block
-    alt_plane: str | None = None  # DIN: the plane of the end-point axes, for an R arc impossible in `arc_plane`
-    dropped: tuple[str, ...] = ()  # DIN: the data words of a code not supported yet, which stay without effect
+    alt_plane: str | None = (
+        None  # DIN: the plane of the end-point axes, for an R arc impossible in `arc_plane`
+    )
+    dropped: tuple[
+        str, ...
+    ] = ()  # DIN: the data words of a code not supported yet, which stay without effect
 
 
-def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int, float], modal_motion: str | None,  # noqa: C901
-          modal_plane: str | None, modal_cycle: str | None = None) -> Reading:
+def _read(  # noqa: C901
+    block: Block,
+    table: CodeTable,
+    setup: RunSetup,
+    new_params: dict[int, float],
+    modal_motion: str | None,
+    modal_plane: str | None,
+    modal_cycle: str | None = None,
+) -> Reading:
     """Sort and check the words of `block` (`modal_motion`/`modal_plane`/`modal_cycle`: what is active before it)."""
     d: list[Diagnostic] = []
     # -- sort the words ----------------------------------------------------------------------
@@ -341,16 +466,23 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     code_diags: list[Diagnostic] = []  # about the G and M words themselves
     unknown: list[Word] = []  # words of addresses the dialect does not have
     bare_dwell = any(w.address == "" for w in block.words) and any(
-        w.address == "G" and w.value == 4 for w in block.words)
+        w.address == "G" and w.value == 4 for w in block.words
+    )
     for w in block.words:
         a = w.address
         if a == "" and bare_dwell:  # Beckhoff: G04 3.0 is G04 X3.0
             w = w._replace(address="X")
             a = "X"
         elif a == "":
-            d.append(Diagnostic("PAL-E007", Severity.ERROR, w.span,
-                                diag("PAL-E007", w.span, token=w.raw, expected="eine Adresse").message,
-                                diag("PAL-E007", w.span, token=w.raw, expected="an address").message_en))
+            d.append(
+                Diagnostic(
+                    "PAL-E007",
+                    Severity.ERROR,
+                    w.span,
+                    diag("PAL-E007", w.span, token=w.raw, expected="eine Adresse").message,
+                    diag("PAL-E007", w.span, token=w.raw, expected="an address").message_en,
+                )
+            )
             continue
         if a == "G" or a == "M":
             code = _code_word(w, table, code_diags)
@@ -389,21 +521,44 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     dropped: tuple[str, ...] = ()
     if unmodelled is not None and table.din and not any(x.code == "PAL-E105" for x in code_diags):
         # DIN/ISO: the code's data (every address but the technology) stay without effect, the rest of the block runs
-        dropped = tuple(sorted({a for a in words if a not in table.technology_words}
-                               | {w.address for w in unknown}))
+        dropped = tuple(
+            sorted({a for a in words if a not in table.technology_words} | {w.address for w in unknown})
+        )
         words = {a: ws for a, ws in words.items() if a not in dropped}
         values = {a: v for a, v in values.items() if a not in dropped}
         flags = [w for w in flags if w.address not in dropped]
         gs = [(w, c) for w, c in gs if c is not unmodelled[1]]
         unknown = []
         d = [x for x in d if x.span.column not in {w.column for w in block.words if w.address in dropped}]
-        code_diags.append(_not_supported_din(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en,
-                                             dropped))
+        code_diags.append(
+            _not_supported_din(
+                unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, dropped
+            )
+        )
     elif unmodelled is not None or any(x.code == "PAL-E105" for x in code_diags):
-        only = ([_not_supported(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, True)]
-                if unmodelled is not None else code_diags)
-        return Reading(gs, [], {}, {}, None, None, None, None, "G17", only, not has_expr,
-                       frozenset(c.name for _, c in gs), [], [], {}, False)
+        only = (
+            [_not_supported(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, True)]
+            if unmodelled is not None
+            else code_diags
+        )
+        return Reading(
+            gs,
+            [],
+            {},
+            {},
+            None,
+            None,
+            None,
+            None,
+            "G17",
+            only,
+            not has_expr,
+            frozenset(c.name for _, c in gs),
+            [],
+            [],
+            {},
+            False,
+        )
     d[:0] = code_diags + [diag("PAL-E003", w.address_span, address=w.address) for w in unknown]
 
     # -- G codes: count, groups, the code that owns the block -------------------------------
@@ -418,14 +573,30 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             if g in seen_groups:
                 first = seen_groups[g]
                 label = table.group(g)
-                d.append(diag("PAL-E103", w.span, first=str(first), second=str(w), group=label.label_de,
-                              group_en=label.label_en))
+                d.append(
+                    diag(
+                        "PAL-E103",
+                        w.span,
+                        first=str(first),
+                        second=str(w),
+                        group=label.label_de,
+                        group_en=label.label_en,
+                    )
+                )
             seen_groups[g] = w
     for w, code in gs:
         if code.owns_block:
             if owner is not None and owner.group != code.group or (owner is not None and code.group is None):
-                d.append(diag("PAL-E103", w.span, first=str(owner_word), second=str(w), group="Satzfunktion",
-                              group_en="block function"))
+                d.append(
+                    diag(
+                        "PAL-E103",
+                        w.span,
+                        first=str(owner_word),
+                        second=str(w),
+                        group="Satzfunktion",
+                        group_en="block function",
+                    )
+                )
             owner, owner_word = code, w
 
     # -- which addresses the block may hold -----------------------------------------------
@@ -434,8 +605,14 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
     extra = frozenset().union(*(c.words for _, c in gs + ms if not c.owns_block))
     names = frozenset(c.name for _, c in gs)
     cycle: Code | None = owner if owner is not None and owner.group == "cycle" else None
-    if (cycle is None and owner is None and modal_cycle not in (None, "G80") and "G80" not in names
-            and names.isdisjoint(_HOMING) and not words.keys() <= table.technology_words | extra):
+    if (
+        cycle is None
+        and owner is None
+        and modal_cycle not in (None, "G80")
+        and "G80" not in names
+        and names.isdisjoint(_HOMING)
+        and not words.keys() <= table.technology_words | extra
+    ):
         cycle = table.codes[modal_cycle]  # a block in cycle mode: the next hole
     if cycle is not None:
         allowed = cycle.words | extra
@@ -458,7 +635,9 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             if len(ws) > 1 and a not in refused and a not in twice:
                 d.append(diag("PAL-E106", ws[1].span, address=a))
     for w in flags:
-        if w.address not in refused and not (table.addresses[w.address].flag and owner and owner.name == "G66"):
+        if w.address not in refused and not (
+            table.addresses[w.address].flag and owner and owner.name == "G66"
+        ):
             d.append(diag("PAL-E111", w.span, address=w.address))
     if alone and len(gs) + len(ms) > 1:
         other = next(w for w, c in gs + ms if c is not owner)
@@ -493,8 +672,15 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
         pw = PLANE_WORDS[arc_plane]
         for a in _CENTRE_WORDS - pw.centre_words:
             if a in words:
-                d.append(diag("PAL-E204", words[a][0].span, address=a, plane=arc_plane,
-                              centre="/".join(w for w in pw.centre_words if w in table.addresses)))
+                d.append(
+                    diag(
+                        "PAL-E204",
+                        words[a][0].span,
+                        address=a,
+                        plane=arc_plane,
+                        centre="/".join(w for w in pw.centre_words if w in table.addresses),
+                    )
+                )
     if table.din:
         _check_din(table, gs, ms, words, values, cycle, d)
     else:
@@ -502,7 +688,12 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             for a in ("D", "AO"):
                 if a in values and values[a] <= 0:
                     d.append(diag("PAL-E213", words[a][0].span, address=a, raw=words[a][0].raw))
-        if "H" in values and motion is not None and motion.name in ("G1", "G2", "G3") and values["H"] not in (1, 2):
+        if (
+            "H" in values
+            and motion is not None
+            and motion.name in ("G1", "G2", "G3")
+            and values["H"] not in (1, 2)
+        ):
             d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
     if "G70" in names and not table.din:
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
@@ -519,11 +710,34 @@ def _read(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int,
             planned.append((w, c))
             if table.din:
                 d.append(_not_supported_din(w.span, c.feature_de, c.feature_en, ()))
-    if motion is not None and owner is motion and "cycle" in table.group_of.values() and \
-            all(g != "cycle" for g, _ in activations):
+    if (
+        motion is not None
+        and owner is motion
+        and "cycle" in table.group_of.values()
+        and all(g != "cycle" for g, _ in activations)
+    ):
         activations.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
-    return Reading(gs, ms, words, values, owner, owner_word, motion, new_tool, arc_plane, d, not has_expr, names,
-                   planned, activations, ends, not words.keys().isdisjoint(_GEOMETRY_WORDS), cycle, alt_plane, dropped)
+    return Reading(
+        gs,
+        ms,
+        words,
+        values,
+        owner,
+        owner_word,
+        motion,
+        new_tool,
+        arc_plane,
+        d,
+        not has_expr,
+        names,
+        planned,
+        activations,
+        ends,
+        not words.keys().isdisjoint(_GEOMETRY_WORDS),
+        cycle,
+        alt_plane,
+        dropped,
+    )
 
 
 def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
@@ -532,8 +746,14 @@ def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
     return (a == b, a != b, a > b, a < b)[op - 1]
 
 
-def _frame(setup: RunSetup, frame: Frame, zero: str | None, owner: Code | None, words: dict[str, list[Word]],
-           values: dict[str, float]) -> Frame:
+def _frame(
+    setup: RunSetup,
+    frame: Frame,
+    zero: str | None,
+    owner: Code | None,
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+) -> Frame:
     """The frame after this block's G53–G59, G50 and G66 (in that order)."""
     if zero is not None:
         # a zero point (G54–G57) or machine coordinates (G53) cancels shifts, rotations and mirroring
@@ -547,10 +767,13 @@ def _frame(setup: RunSetup, frame: Frame, zero: str | None, owner: Code | None, 
         return Frame(base=frame.base)
     if owner.name == "G58":
         rp, ap = values.get("RP", 0.0), math.radians(values.get("AP", 0.0))
-        return frame.shifted(rp * math.cos(ap), rp * math.sin(ap), values.get("ZA", 0.0), values.get("AR", 0.0))
+        return frame.shifted(
+            rp * math.cos(ap), rp * math.sin(ap), values.get("ZA", 0.0), values.get("AR", 0.0)
+        )
     if owner.name == "G59":
-        return frame.shifted(values.get("XA", 0.0), values.get("YA", 0.0), values.get("ZA", 0.0),
-                             values.get("AR", 0.0))
+        return frame.shifted(
+            values.get("XA", 0.0), values.get("YA", 0.0), values.get("ZA", 0.0), values.get("AR", 0.0)
+        )
     if owner.name == "G66":
         # G66 X mirrors about the X axis: Y changes sign; G66 Y: X changes sign; G66 alone: off
         return dataclasses.replace(frame, mirror_x="Y" in words, mirror_y="X" in words)
@@ -568,8 +791,11 @@ def _in_range(value: float, address: str, span: Span, setup: RunSetup, d: list[D
 def _code_word(w: Word, table: CodeTable, d: list[Diagnostic]) -> Code | None:
     """The code table entry of a G or M word, or None after a diagnostic."""
     if w.value is None or w.expr is not None:
-        d.append(diag("PAL-E111", w.span, address=w.address) if w.expr is None
-                 else diag("PAL-E115", w.span, address=w.address))
+        d.append(
+            diag("PAL-E111", w.span, address=w.address)
+            if w.expr is None
+            else diag("PAL-E115", w.span, address=w.address)
+        )
         return None
     if not 0 <= w.value <= 9999 or w.value != int(w.value):
         decimal = f"{w.address}{w.value:g}"  # ISO: G50.1, G54.1
@@ -598,8 +824,13 @@ def _not_supported(span: Span, de: str, en: str, skips: bool) -> Diagnostic:
     return diag("PAL-E901", span, feature=de, feature_en=en, effect=effect_de, effect_en=effect_en)
 
 
-def _target(state: ModalState, position: Vec3, values: dict[str, float],
-            words: dict[str, list[Word]], d: list[Diagnostic]) -> Vec3:
+def _target(
+    state: ModalState,
+    position: Vec3,
+    values: dict[str, float],
+    words: dict[str, list[Word]],
+    d: list[Diagnostic],
+) -> Vec3:
     """The end point from X/XI/XA, Y/YI/YA, Z/ZI/ZA under G90 or G91."""
     incremental = state.active("dimensions") == "G91"
     out = list(position)
@@ -609,19 +840,36 @@ def _target(state: ModalState, position: Vec3, values: dict[str, float],
         elif inc in values:
             out[i] = position[i] + values[inc]
             if incremental:
-                d.append(diag("PAL-I101", words[inc][0].span, address=inc, mode="G91",
-                              meaning="Kettenmaß"))
+                d.append(diag("PAL-I101", words[inc][0].span, address=inc, mode="G91", meaning="Kettenmaß"))
         elif absolute in values:
             out[i] = values[absolute]
             if not incremental:
-                d.append(diag("PAL-I101", words[absolute][0].span, address=absolute, mode="G90",
-                              meaning="Absolutmaß"))
+                d.append(
+                    diag(
+                        "PAL-I101",
+                        words[absolute][0].span,
+                        address=absolute,
+                        mode="G90",
+                        meaning="Absolutmaß",
+                    )
+                )
     return (out[0], out[1], out[2])
 
 
-def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
-            values: dict[str, float], span: Span, exact: bool, arc_plane: str, strict: bool,
-            d: list[Diagnostic], din: bool = False) -> tuple[Move | None, tuple[float, float] | None]:
+def _motion(
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    name: str,
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    span: Span,
+    exact: bool,
+    arc_plane: str,
+    strict: bool,
+    d: list[Diagnostic],
+    din: bool = False,
+) -> tuple[Move | None, tuple[float, float] | None]:
     """The programmed move of a motion block, and the pole it programs (G10–G13)."""
     end = _target(state, position, values, words, d)
     spindle_code = state.active("spindle")
@@ -660,9 +908,20 @@ def _motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words
     end = from_plane((arc_end[0], arc_end[1], e_uvw[2]), arc_plane)
     angle = sweep((s_uvw[0], s_uvw[1]), arc_end, centre, clockwise)
     _check_cutting(state, spindle_on, span, d, strict)
-    return _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
-                 center=from_plane((centre[0], centre[1], s_uvw[2]), arc_plane),
-                 direction="cw" if clockwise else "ccw", radius=radius, angle=angle, plane=arc_plane), pole
+    return _move(
+        state,
+        "arc",
+        position,
+        end,
+        span,
+        spindle_code,
+        exact_stop=exact,
+        center=from_plane((centre[0], centre[1], s_uvw[2]), arc_plane),
+        direction="cw" if clockwise else "ccw",
+        radius=radius,
+        angle=angle,
+        plane=arc_plane,
+    ), pole
 
 
 def _pole(state: ModalState, position: Vec3, values: dict[str, float]) -> tuple[float, float]:
@@ -672,8 +931,15 @@ def _pole(state: ModalState, position: Vec3, values: dict[str, float]) -> tuple[
     return (px, py)
 
 
-def _polar_end(position: Vec3, end: Vec3, pole: tuple[float, float], name: str, values: dict[str, float],
-               span: Span, d: list[Diagnostic]) -> Vec3 | None:
+def _polar_end(
+    position: Vec3,
+    end: Vec3,
+    pole: tuple[float, float],
+    name: str,
+    values: dict[str, float],
+    span: Span,
+    d: list[Diagnostic],
+) -> Vec3 | None:
     start_angle = math.degrees(math.atan2(position[1] - pole[1], position[0] - pole[0]))
     angle = values["AP"] if "AP" in values else start_angle + values.get("AI", 0.0)
     if name in ("G10", "G11"):
@@ -687,8 +953,14 @@ def _polar_end(position: Vec3, end: Vec3, pole: tuple[float, float], name: str, 
     return (pole[0] + radius * math.cos(a), pole[1] + radius * math.sin(a), end[2])
 
 
-def _line_end(position: Vec3, end: Vec3, values: dict[str, float], words: dict[str, list[Word]], span: Span,
-              d: list[Diagnostic]) -> Vec3 | None:
+def _line_end(
+    position: Vec3,
+    end: Vec3,
+    values: dict[str, float],
+    words: dict[str, list[Word]],
+    span: Span,
+    d: list[Diagnostic],
+) -> Vec3 | None:
     """G1 end point from two of X, Y, D (length in the plane), AS (angle to +X); H picks one of two."""
     has_x = any(a in words for a in _AXES[0])
     has_y = any(a in words for a in _AXES[1])
@@ -708,14 +980,26 @@ def _line_end(position: Vec3, end: Vec3, values: dict[str, float], words: dict[s
             ex, ey = sx + values["D"] * ca, sy + values["D"] * sa
         elif has_x:
             if abs(ca) < 1e-9:
-                d.append(diag("PAL-E210", span, reason="die Gerade mit AS verläuft parallel zur Y-Achse",
-                              reason_en="the line with AS runs parallel to the Y axis"))
+                d.append(
+                    diag(
+                        "PAL-E210",
+                        span,
+                        reason="die Gerade mit AS verläuft parallel zur Y-Achse",
+                        reason_en="the line with AS runs parallel to the Y axis",
+                    )
+                )
                 return None
             ey = sy + (ex - sx) * sa / ca
         else:
             if abs(sa) < 1e-9:
-                d.append(diag("PAL-E210", span, reason="die Gerade mit AS verläuft parallel zur X-Achse",
-                              reason_en="the line with AS runs parallel to the X axis"))
+                d.append(
+                    diag(
+                        "PAL-E210",
+                        span,
+                        reason="die Gerade mit AS verläuft parallel zur X-Achse",
+                        reason_en="the line with AS runs parallel to the X axis",
+                    )
+                )
                 return None
             ex = sx + (ey - sy) * ca / sa
     else:
@@ -723,16 +1007,28 @@ def _line_end(position: Vec3, end: Vec3, values: dict[str, float], words: dict[s
         if has_x:
             h2 = length * length - (ex - sx) ** 2
             if h2 < -1e-9:
-                d.append(diag("PAL-E210", span, reason=f"D{length:g} ist kürzer als der X-Weg {abs(ex - sx):g}",
-                              reason_en=f"D{length:g} is shorter than the X distance {abs(ex - sx):g}"))
+                d.append(
+                    diag(
+                        "PAL-E210",
+                        span,
+                        reason=f"D{length:g} ist kürzer als der X-Weg {abs(ex - sx):g}",
+                        reason_en=f"D{length:g} is shorter than the X distance {abs(ex - sx):g}",
+                    )
+                )
                 return None
             h = math.sqrt(max(h2, 0.0))
             candidates = [(ex, sy + h), (ex, sy - h)]
         else:
             h2 = length * length - (ey - sy) ** 2
             if h2 < -1e-9:
-                d.append(diag("PAL-E210", span, reason=f"D{length:g} ist kürzer als der Y-Weg {abs(ey - sy):g}",
-                              reason_en=f"D{length:g} is shorter than the Y distance {abs(ey - sy):g}"))
+                d.append(
+                    diag(
+                        "PAL-E210",
+                        span,
+                        reason=f"D{length:g} ist kürzer als der Y-Weg {abs(ey - sy):g}",
+                        reason_en=f"D{length:g} is shorter than the Y distance {abs(ey - sy):g}",
+                    )
+                )
                 return None
             h = math.sqrt(max(h2, 0.0))
             candidates = [(sx + h, ey), (sx - h, ey)]
@@ -742,20 +1038,45 @@ def _line_end(position: Vec3, end: Vec3, values: dict[str, float], words: dict[s
     return (ex, ey, end[2])
 
 
-def _move(state: ModalState, kind: MoveKind, start: Vec3, end: Vec3, span: Span, spindle_code: str | None,
-          exact_stop: bool, center: Vec3 | None = None, direction: Literal["cw", "ccw"] | None = None,
-          radius: float | None = None, angle: float | None = None, plane: str | None = None) -> Move:
+def _move(
+    state: ModalState,
+    kind: MoveKind,
+    start: Vec3,
+    end: Vec3,
+    span: Span,
+    spindle_code: str | None,
+    exact_stop: bool,
+    center: Vec3 | None = None,
+    direction: Literal["cw", "ccw"] | None = None,
+    radius: float | None = None,
+    angle: float | None = None,
+    plane: str | None = None,
+) -> Move:
     """A move carrying the technology active in `state`."""
     spindle_on = spindle_code == "M3" or spindle_code == "M4"
-    return Move(kind, start, end, state.feed, "mm/rev" if state.active("feed_mode") == "G95" else "mm/min",
-                state.speed if spindle_on else 0.0,
-                ("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
-                state.active("coolant") in ("M7", "M8"), state.tool, span, center, direction, radius, angle, exact_stop,
-                plane or state.codes.get("plane") or "G17")
+    return Move(
+        kind,
+        start,
+        end,
+        state.feed,
+        "mm/rev" if state.active("feed_mode") == "G95" else "mm/min",
+        state.speed if spindle_on else 0.0,
+        ("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
+        state.active("coolant") in ("M7", "M8"),
+        state.tool,
+        span,
+        center,
+        direction,
+        radius,
+        angle,
+        exact_stop,
+        plane or state.codes.get("plane") or "G17",
+    )
 
 
-def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diagnostic],
-                   strict: bool = True) -> None:
+def _check_cutting(
+    state: ModalState, spindle_on: bool, span: Span, d: list[Diagnostic], strict: bool = True
+) -> None:
     """Feed 0 is always an error; a cut with no tool or a stopped spindle is one in PAL, a warning elsewhere."""
     if state.feed == 0:
         d.append(diag("PAL-E301", span))
@@ -766,9 +1087,18 @@ def _check_cutting(state: ModalState, spindle_on: bool, span: Span, d: list[Diag
         d.append(diag("PAL-E302", span, severity))
 
 
-def _arc(setup: RunSetup, position: Vec3, end: Vec3, pw: PlaneWords, values: dict[str, float],
-         words: dict[str, list[Word]], clockwise: bool, name: str, span: Span,
-         d: list[Diagnostic]) -> tuple[tuple[float, float], tuple[float, float], float] | None:
+def _arc(
+    setup: RunSetup,
+    position: Vec3,
+    end: Vec3,
+    pw: PlaneWords,
+    values: dict[str, float],
+    words: dict[str, list[Word]],
+    clockwise: bool,
+    name: str,
+    span: Span,
+    d: list[Diagnostic],
+) -> tuple[tuple[float, float], tuple[float, float], float] | None:
     """Centre, end and radius, in plane coordinates (u, v), of a G2/G3 arc from any three of the plane's two
     end-point axes, its two centre coordinates (incremental or absolute), R and AO; a fourth must agree.
 
@@ -802,8 +1132,9 @@ def _arc(setup: RunSetup, position: Vec3, end: Vec3, pw: PlaneWords, values: dic
             d.append(diag("PAL-E202", span, r_start=round(r_s, 4), r_end=round(r_e, 4), tolerance=tol))
             return None
         return (cx, cy), (end[0], end[1]), r_s
-    solutions = arc_solutions(s, clockwise, end[0] if has_x else None, end[1] if has_y else None, cx, cy,
-                              radius, ao, tol)
+    solutions = arc_solutions(
+        s, clockwise, end[0] if has_x else None, end[1] if has_y else None, cx, cy, radius, ao, tol
+    )
     if given >= 4 or full_circle:
         if len(solutions) == 1:
             c, e = solutions[0]
@@ -812,18 +1143,36 @@ def _arc(setup: RunSetup, position: Vec3, end: Vec3, pw: PlaneWords, values: dic
             r_s, r_e = math.dist(s, (cx, cy)), math.dist((end[0], end[1]), (cx, cy))
             d.append(diag("PAL-E202", span, r_start=round(r_s, 4), r_end=round(r_e, 4), tolerance=tol))
         else:
-            d.append(diag("PAL-E202", span, r_start=round(radius or math.dist(s, (cx or s[0], cy or s[1])), 4),
-                          r_end="?", tolerance=tol))
+            d.append(
+                diag(
+                    "PAL-E202",
+                    span,
+                    r_start=round(radius or math.dist(s, (cx or s[0], cy or s[1])), 4),
+                    r_end="?",
+                    tolerance=tol,
+                )
+            )
         return None
     if not solutions:
         if radius is not None and has_x and has_y:
             chord = math.dist(s, (end[0], end[1]))
-            d.append(diag("PAL-E201", r_word.span if r_word else span,
-                          reason=f"Radius {radius:g} mm ist kleiner als die halbe Sehne {chord / 2:.3f} mm",
-                          reason_en=f"radius {radius:g} mm is less than half the chord {chord / 2:.3f} mm"))
+            d.append(
+                diag(
+                    "PAL-E201",
+                    r_word.span if r_word else span,
+                    reason=f"Radius {radius:g} mm ist kleiner als die halbe Sehne {chord / 2:.3f} mm",
+                    reason_en=f"radius {radius:g} mm is less than half the chord {chord / 2:.3f} mm",
+                )
+            )
         else:
-            d.append(diag("PAL-E201", span, reason="die angegebenen Adressen passen zu keinem Kreisbogen",
-                          reason_en="the given addresses fit no arc"))
+            d.append(
+                diag(
+                    "PAL-E201",
+                    span,
+                    reason="die angegebenen Adressen passen zu keinem Kreisbogen",
+                    reason_en="the given addresses fit no arc",
+                )
+            )
         return None
     # The sign of R written out wins over O; R+ (or O1) is the shorter arc, R- (or O2) the longer.
     if r_word is not None and r_word.raw[:1] in "+-":
@@ -879,8 +1228,14 @@ def _centre(values: dict[str, float], words: tuple[str, str], start: float) -> f
 
 
 # the words that ask for a transition at the end of a motion block: (sign, chamfer by length)
-_TRANSITION_WORDS = {"RN": (1.0, False), "G302": (1.0, False), "#RND": (1.0, False), "G301": (-1.0, False),
-                     "#CHR": (-1.0, False), "#CHF": (-1.0, True)}
+_TRANSITION_WORDS = {
+    "RN": (1.0, False),
+    "G302": (1.0, False),
+    "#RND": (1.0, False),
+    "G301": (-1.0, False),
+    "#CHR": (-1.0, False),
+    "#CHF": (-1.0, True),
+}
 
 
 def _transition(values: dict[str, float], words: dict[str, list[Word]]) -> tuple[float, str, bool]:
@@ -904,26 +1259,55 @@ def _compensation(setup: RunSetup, state: ModalState) -> tuple[int, float]:
     return side, (tool.offset(state.tc).radius + state.tr) if tool is not None and side else 0.0
 
 
-def _approach(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
-              values: dict[str, float], span: Span, d: list[Diagnostic]) -> Planned:
+def _approach(
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    name: str,
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    span: Span,
+    d: list[Diagnostic],
+) -> Planned:
     """G45/G47 (with G41/G42) to the first contour point, in program coordinates."""
     end = _target(state, position, values, words, d)
     z = end[2] if any(a in values for a in _AXES[2]) else None
     w = values.get("W")
     if z is None and w is not None:  # the tool rises or sinks to W and stays there
         end = (end[0], end[1], w)
-    move = _move(state, "feed" if state.active("motion") != "G0" else "rapid", position, end, span,
-                 state.active("spindle"), exact_stop=False)
+    move = _move(
+        state,
+        "feed" if state.active("motion") != "G0" else "rapid",
+        position,
+        end,
+        span,
+        state.active("spindle"),
+        exact_stop=False,
+    )
     side, radius = _compensation(setup, state)
     oz = state.frame.origin[2]
     size = values["D"] if name == "G45" else values["R"]
-    return Planned(move, side=side, radius=radius,
-                   approach=Approach(name, size, None if w is None else w + oz, values.get("E"),
-                                     None if z is None else z + oz))
+    return Planned(
+        move,
+        side=side,
+        radius=radius,
+        approach=Approach(
+            name, size, None if w is None else w + oz, values.get("E"), None if z is None else z + oz
+        ),
+    )
 
 
-def _departure(setup: RunSetup, before: ModalState, state: ModalState, position: Vec3, name: str,
-               words: dict[str, list[Word]], values: dict[str, float], span: Span, d: list[Diagnostic]) -> Planned:
+def _departure(
+    setup: RunSetup,
+    before: ModalState,
+    state: ModalState,
+    position: Vec3,
+    name: str,
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    span: Span,
+    d: list[Diagnostic],
+) -> Planned:
     """G46/G48 (with G40) off the last contour point: the move from `position` (the contour point, workpiece
     frame) to where the tool centre ends, at the height Z, then W, of the block."""
     frame = state.frame
@@ -940,9 +1324,18 @@ def _departure(setup: RunSetup, before: ModalState, state: ModalState, position:
         tool_end, programmed = (position[0], position[1]), (position[0], position[1])
     else:
         tool_end, programmed = departure_ends(name, (position[0], position[1]), tangent, side, radius, size)
-    move = _move(state, "feed", position, (tool_end[0], tool_end[1], height), span, state.active("spindle"),
-                 exact_stop=False)
-    return Planned(move, departure=Departure(name, size, w, z, tangent, (programmed[0], programmed[1], position[2])))
+    move = _move(
+        state,
+        "feed",
+        position,
+        (tool_end[0], tool_end[1], height),
+        span,
+        state.active("spindle"),
+        exact_stop=False,
+    )
+    return Planned(
+        move, departure=Departure(name, size, w, z, tangent, (programmed[0], programmed[1], position[2]))
+    )
 
 
 # -- DIN 66025 / ISO (SINUMERIK ISO, Beckhoff): what PAL does not have ------------------------------------------
@@ -965,13 +1358,22 @@ def _not_supported_din(span: Span, de: str, en: str, dropped: tuple[str, ...]) -
         effect_de = f"seine Angaben ({listed}) bleiben ohne Wirkung, der Rest des Satzes wird ausgeführt."
         effect_en = f"its data ({listed}) have no effect, the rest of the block is executed."
     else:
-        effect_de, effect_en = "der Satz wird ohne diese Funktion ausgeführt.", "the block is executed without it."
+        effect_de, effect_en = (
+            "der Satz wird ohne diese Funktion ausgeführt.",
+            "the block is executed without it.",
+        )
     return diag("PAL-W901", span, feature=de, feature_en=en, effect=effect_de, effect_en=effect_en)
 
 
-def _check_din(table: CodeTable, gs: list[tuple[Word, Code]], ms: list[tuple[Word, Code]],
-               words: dict[str, list[Word]], values: dict[str, float], cycle: Code | None,
-               d: list[Diagnostic]) -> None:
+def _check_din(
+    table: CodeTable,
+    gs: list[tuple[Word, Code]],
+    ms: list[tuple[Word, Code]],
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    cycle: Code | None,
+    d: list[Diagnostic],
+) -> None:
     """The rules of the DIN/ISO words that a table of allowed words cannot say."""
     for a in _DIN_NON_NEGATIVE:
         if a in values and values[a] < 0:
@@ -980,7 +1382,11 @@ def _check_din(table: CodeTable, gs: list[tuple[Word, Code]], ms: list[tuple[Wor
         for a in ("K", "L"):
             if a in values and values[a] != int(values[a]):
                 d.append(diag("PAL-E108", words[a][0].span, address=a, raw=words[a][0].raw))
-    if any(c.name == "M98" for _, c in ms) and "P" in values and (values["P"] != int(values["P"]) or values["P"] < 1):
+    if (
+        any(c.name == "M98" for _, c in ms)
+        and "P" in values
+        and (values["P"] != int(values["P"]) or values["P"] < 1)
+    ):
         d.append(diag("PAL-E108", words["P"][0].span, address="P (Programmnummer)", raw=words["P"][0].raw))
 
 
@@ -992,7 +1398,9 @@ def _din_arc_plane(plane: str, words: dict[str, list[Word]]) -> tuple[str, str |
     in G17, G17 Z.. X.. K.. I.. an arc in G18). An arc with R (its centre words then have no effect) leaves the
     plane only where R is impossible in it (decided with the geometry, core.interpreter.pal_mill._din_motion)."""
     axes = frozenset(i for i, spellings in enumerate(_AXES) if any(a in words for a in spellings))
-    named = next((name for name, (i, j, _) in AXES.items() if axes == {i, j}), None) if len(axes) == 2 else None
+    named = (
+        next((name for name, (i, j, _) in AXES.items() if axes == {i, j}), None) if len(axes) == 2 else None
+    )
     centre = frozenset(a for a in ("I", "J", "K") if a in words and "R" not in words)  # (with R: no centre)
     if not centre:
         return plane, named if named != plane else None
@@ -1006,9 +1414,20 @@ def _din_arc_plane(plane: str, words: dict[str, list[Word]]) -> tuple[str, str |
     return plane, None
 
 
-def _din_motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, words: dict[str, list[Word]],
-                values: dict[str, float], span: Span, exact: bool, arc_plane: str, alt_plane: str | None,
-                table: CodeTable, d: list[Diagnostic]) -> tuple[Move | None, float | None]:
+def _din_motion(
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    name: str,
+    words: dict[str, list[Word]],
+    values: dict[str, float],
+    span: Span,
+    exact: bool,
+    arc_plane: str,
+    alt_plane: str | None,
+    table: CodeTable,
+    d: list[Diagnostic],
+) -> tuple[Move | None, float | None]:
     """A G02/G03 block of a DIN dialect: the arc, and the radius it programs (Beckhoff keeps it for the next arcs)."""
     end = _target(state, position, values, words, d)
     clockwise = name == "G2"
@@ -1026,12 +1445,19 @@ def _din_motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, w
         pw = PLANE_WORDS[arc_plane]
         d.append(diag("DIN-E203", span, command=name, centre="/".join(pw.cu[:1] + pw.cv[:1])))
         return None, None
-    if (table.modal_radius and r_word is not None and not has_centre
-            and not any(a in words for spellings in _AXES for a in spellings)):
+    if (
+        table.modal_radius
+        and r_word is not None
+        and not has_centre
+        and not any(a in words for spellings in _AXES for a in spellings)
+    ):
         return None, radius  # Beckhoff: R alone programs the radius of the next arcs, no motion yet
     if has_centre:
-        rules = (din_arcs.beckhoff_rules(state.codes.get("centre_correction") != "G164", setup.arc_tolerance)
-                 if table.centre_correction else din_arcs.ArcRules(setup.arc_tolerance, table.arc_tolerance_factor))
+        rules = (
+            din_arcs.beckhoff_rules(state.codes.get("centre_correction") != "G164", setup.arc_tolerance)
+            if table.centre_correction
+            else din_arcs.ArcRules(setup.arc_tolerance, table.arc_tolerance_factor)
+        )
     else:
         rules = din_arcs.ArcRules(setup.arc_tolerance, table.arc_tolerance_factor)
     absolute = state.codes.get("centre_mode") == "G161"
@@ -1050,8 +1476,9 @@ def _din_motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, w
             else:
                 centre = (s_uvw[0] + cu, s_uvw[1] + cv)
         tried: list[Diagnostic] = []
-        solved = din_arcs.din_arc((s_uvw[0], s_uvw[1]), (e_uvw[0], e_uvw[1]), centre, r_word, radius, clockwise,
-                                  rules, span, tried)
+        solved = din_arcs.din_arc(
+            (s_uvw[0], s_uvw[1]), (e_uvw[0], e_uvw[1]), centre, r_word, radius, clockwise, rules, span, tried
+        )
         attempts.append((plane, solved, tried, s_uvw, e_uvw))
         if solved is not None:
             break
@@ -1065,9 +1492,20 @@ def _din_motion(setup: RunSetup, state: ModalState, position: Vec3, name: str, w
     angle = sweep((s_uvw[0], s_uvw[1]), arc_end, centre_uv, clockwise)
     spindle_code = state.active("spindle")
     _check_cutting(state, spindle_code in ("M3", "M4"), span, d, table.strict_technology)
-    move = _move(state, "arc", position, end, span, spindle_code, exact_stop=exact,
-                 center=from_plane((centre_uv[0], centre_uv[1], s_uvw[2]), arc_plane),
-                 direction="cw" if clockwise else "ccw", radius=r, angle=angle, plane=arc_plane)
+    move = _move(
+        state,
+        "arc",
+        position,
+        end,
+        span,
+        spindle_code,
+        exact_stop=exact,
+        center=from_plane((centre_uv[0], centre_uv[1], s_uvw[2]), arc_plane),
+        direction="cw" if clockwise else "ccw",
+        radius=r,
+        angle=angle,
+        plane=arc_plane,
+    )
     return move, radius if radius is not None and not has_centre else state.arc_radius
 
 
@@ -1078,9 +1516,17 @@ def _din_modes(state: ModalState) -> ModalState:
     return state
 
 
-def _drill(setup: RunSetup, state: ModalState, position: Vec3, cycle: Code, values: dict[str, float],
-           words: dict[str, list[Word]], span: Span, commands: list[Command], d: list[Diagnostic],
-           ) -> tuple[Vec3, ModalState]:
+def _drill(
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    cycle: Code,
+    values: dict[str, float],
+    words: dict[str, list[Word]],
+    span: Span,
+    commands: list[Command],
+    d: list[Diagnostic],
+) -> tuple[Vec3, ModalState]:
     """A block in cycle mode: the cycle's data, and the holes when it programs X, Y, Z or R."""
     frame = state.frame
     here = position if frame.identity else frame.to_program(position)
@@ -1091,8 +1537,14 @@ def _drill(setup: RunSetup, state: ModalState, position: Vec3, cycle: Code, valu
     if not iso_cycles.drills(values):
         return position, state
     if state.codes.get("plane", "G17") != "G17":
-        d.append(_not_supported_din(span, f"Bohrzyklus {cycle.name} in der Ebene {state.codes.get('plane')}",
-                                    f"Drilling cycle {cycle.name} in the plane {state.codes.get('plane')}", ()))
+        d.append(
+            _not_supported_din(
+                span,
+                f"Bohrzyklus {cycle.name} in der Ebene {state.codes.get('plane')}",
+                f"Drilling cycle {cycle.name} in the plane {state.codes.get('plane')}",
+                (),
+            )
+        )
         return position, state
     spindle_code = state.active("spindle")
     template = _move(state, "feed", here, here, span, spindle_code, exact_stop=False)
@@ -1100,8 +1552,19 @@ def _drill(setup: RunSetup, state: ModalState, position: Vec3, cycle: Code, valu
     compensation = state.codes.get("compensation")
     if compensation in ("G41", "G42"):
         d.append(diag("ISO-W405", span, code=cycle.name, compensation=compensation))
-    made = iso_cycles.holes(cycle.name, data, here, values, words, state.active("dimensions") == "G91",
-                            state.codes.get("cycle_return") != "G99", template, setup, span, d)
+    made = iso_cycles.holes(
+        cycle.name,
+        data,
+        here,
+        values,
+        words,
+        state.active("dimensions") == "G91",
+        state.codes.get("cycle_return") != "G99",
+        template,
+        setup,
+        span,
+        d,
+    )
     if made is None:
         return position, state
     items, end = made
@@ -1113,8 +1576,16 @@ def _drill(setup: RunSetup, state: ModalState, position: Vec3, cycle: Code, valu
     return frame.to_workpiece(end), state
 
 
-def _cycle_call(setup: RunSetup, state: ModalState, position: Vec3, name: str, values: dict[str, float], span: Span,
-                commands: list[Command], d: list[Diagnostic]) -> Vec3:
+def _cycle_call(
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    name: str,
+    values: dict[str, float],
+    span: Span,
+    commands: list[Command],
+    d: list[Diagnostic],
+) -> Vec3:
     """A PAL cycle call G76–G79: the active definition at the call's points (core.interpreter.pal_cycles)."""
     frame = state.frame
     here = position if frame.identity else frame.to_program(position)
@@ -1144,8 +1615,17 @@ def _cycle_call(setup: RunSetup, state: ModalState, position: Vec3, name: str, v
     return frame.to_workpiece(end)
 
 
-def _home(setup: RunSetup, state: ModalState, position: Vec3, values: dict[str, float], words: dict[str, list[Word]],
-          g28: bool, span: Span, commands: list[Command], d: list[Diagnostic]) -> Vec3:
+def _home(
+    setup: RunSetup,
+    state: ModalState,
+    position: Vec3,
+    values: dict[str, float],
+    words: dict[str, list[Word]],
+    g28: bool,
+    span: Span,
+    commands: list[Command],
+    d: list[Diagnostic],
+) -> Vec3:
     """ISO G28 (rapid to the intermediate point, then to the reference point) or G53 (rapid to machine
     coordinates, counted from the reference point), the programmed axes only."""
     frame = state.frame
@@ -1158,7 +1638,9 @@ def _home(setup: RunSetup, state: ModalState, position: Vec3, values: dict[str, 
         last = points[-1]
         points.append(_axes_from(last, {i: ref[i] for i in range(3) if _AXES[i][0] in values}))
     else:
-        points.append(_axes_from(position, {i: ref[i] + values[_AXES[i][0]] for i in range(3) if _AXES[i][0] in values}))
+        points.append(
+            _axes_from(position, {i: ref[i] + values[_AXES[i][0]] for i in range(3) if _AXES[i][0] in values})
+        )
     for p in points:
         if p != position:
             commands.append(Planned(_move(state, "rapid", position, p, span, spindle_code, exact_stop=True)))
@@ -1171,8 +1653,9 @@ def _axes_from(p: Vec3, new: dict[int, float]) -> Vec3:
     return (new.get(0, p[0]), new.get(1, p[1]), new.get(2, p[2]))
 
 
-def _subprogram_call(values: dict[str, float], words: dict[str, list[Word]], w: Word,
-                     d: list[Diagnostic]) -> tuple[str, int, int] | None:
+def _subprogram_call(
+    values: dict[str, float], words: dict[str, list[Word]], w: Word, d: list[Diagnostic]
+) -> tuple[str, int, int] | None:
     """M98 P…: the program (the last four digits of P) and the number of runs (the digits before them, or L)."""
     if "P" not in values:
         return None

@@ -14,8 +14,9 @@ from core.syntax.blocks import Expr, Neg, Num, ParamRef, Span
 Resolve = Callable[[ParamRef, Span], "float | None"]  # a dialect's own reading of a parameter reference
 
 
-def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic],
-             resolve: Resolve | None = None) -> float | None:
+def evaluate(
+    expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic], resolve: Resolve | None = None
+) -> float | None:
     """The value of `expr`, or None after an error diagnostic. Parameter references are PAL's P1…P999 unless
     `resolve` reads them (the TRAUB dialect's L parameters)."""
     if isinstance(expr, Num):

@@ -51,7 +51,9 @@ class ModalState:
     tangent: tuple[float, float] | None = None
     arc_radius: float | None = None  # Beckhoff: the R of the last arc, kept for the next ones (modal radius)
     drill: DrillData | None = None  # ISO: the data of the active drilling cycle (None under G80)
-    pal_cycle: Definition | None = None  # PAL milling: the cycle defined last (G72–G75, G81–G87), which G76–G79 call
+    pal_cycle: Definition | None = (
+        None  # PAL milling: the cycle defined last (G72–G75, G81–G87), which G76–G79 call
+    )
 
     def active(self, group: str) -> str | None:
         """The active code of `group`, e.g. active("motion") == "G1"."""
@@ -62,10 +64,22 @@ class ModalState:
         return self.codes.get("spindle") in ("M3", "M4")
 
     def to_json(self) -> dict[str, object]:
-        return {"codes": dict(self.codes), "feed": self.feed, "speed": self.speed, "tool": self.tool,
-                "tc": self.tc, "tr": self.tr, "tl": self.tl, "pole": list(self.pole),
-                "frame": {"origin": list(self.frame.origin), "rotation": self.frame.rotation,
-                          "mirror_x": self.frame.mirror_x, "mirror_y": self.frame.mirror_y}}
+        return {
+            "codes": dict(self.codes),
+            "feed": self.feed,
+            "speed": self.speed,
+            "tool": self.tool,
+            "tc": self.tc,
+            "tr": self.tr,
+            "tl": self.tl,
+            "pole": list(self.pole),
+            "frame": {
+                "origin": list(self.frame.origin),
+                "rotation": self.frame.rotation,
+                "mirror_x": self.frame.mirror_x,
+                "mirror_y": self.frame.mirror_y,
+            },
+        }
 
 
 def switch_on_state(table: CodeTable) -> ModalState:

@@ -51,7 +51,9 @@ WORK = 300_000  # passes × contour points of one roughing cycle: beyond it the 
 RUN_WORK = 1_000_000  # the same for all roughing cycles of a run (a program of many cycles): TX-E420
 
 # the cycle codes this module executes (G33 is the modal thread motion)
-CODES = frozenset({"G70", "G71", "G72", "G86", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"})
+CODES = frozenset(
+    {"G70", "G71", "G72", "G86", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"}
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,7 +73,9 @@ class CycleState:
     pitch: float | None = None
     repeatable: tuple[str, XZ, XZ, float, float, float | None] | None = None  # code, start, end, I, K, pitch
     work: int = 0  # contour points × passes of the run's roughing cycles so far (RUN_WORK)
-    contours: dict[object, list[tuple[XZ, int]]] = field(default_factory=dict)  # contours read (no parameters)
+    contours: dict[object, list[tuple[XZ, int]]] = field(
+        default_factory=dict
+    )  # contours read (no parameters)
     in_contour: bool = False  # a run that only reads a P/Q contour: cycles inside it are not expanded
     setup: CycleSetup = field(default_factory=CycleSetup)
 
@@ -92,8 +96,15 @@ class _Out:
     def _v(self, p: XZ) -> tuple[float, float, float]:
         return (p[0] - self.ref[0], 0.0, p[1] - self.ref[1])
 
-    def move(self, kind: MoveKind, to: XZ, n: int, feed: float | None = None, pitch: float | None = None,
-             reverse: bool = False) -> None:
+    def move(
+        self,
+        kind: MoveKind,
+        to: XZ,
+        n: int,
+        feed: float | None = None,
+        pitch: float | None = None,
+        reverse: bool = False,
+    ) -> None:
         if abs(to[0] - self.pos[0]) < 1e-9 and abs(to[1] - self.pos[1]) < 1e-9:
             return
         t = self.template
@@ -102,10 +113,25 @@ class _Out:
             direction = "ccw" if direction == "cw" else "cw"
         # under G96 the speed follows the radius, as for the contour moves (at the end of the move)
         spindle = self.run.turn.spindle_at(to[0]) if t.spindle else 0.0
-        self.items.append(Move(kind, self._v(self.pos), self._v(to), t.feed if feed is None else feed,
-                               "mm/rev" if pitch is not None else t.feed_unit, spindle, direction, t.coolant, t.tool,
-                               self.span, exact_stop=kind == "rapid", plane="G18", cycle=(self.code, n, self.passes),
-                               thread=pitch is not None, pitch=pitch))
+        self.items.append(
+            Move(
+                kind,
+                self._v(self.pos),
+                self._v(to),
+                t.feed if feed is None else feed,
+                "mm/rev" if pitch is not None else t.feed_unit,
+                spindle,
+                direction,
+                t.coolant,
+                t.tool,
+                self.span,
+                exact_stop=kind == "rapid",
+                plane="G18",
+                cycle=(self.code, n, self.passes),
+                thread=pitch is not None,
+                pitch=pitch,
+            )
+        )
         self.pos = to
 
     def rapid(self, to: XZ, n: int) -> None:
@@ -132,8 +158,9 @@ def _equal(total: float, depth: float) -> int:
     return max(1, math.ceil(total / depth - 1e-9))
 
 
-def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], values: dict[str, float],
-            out: Outcome) -> None:
+def execute(
+    run: TurnRun, block: Block, code: str, words: dict[str, Word], values: dict[str, float], out: Outcome
+) -> None:
     """Expand the cycle `code` of `block` into `out.items`; the tool ends where the cycle leaves it."""
     d = out.diagnostics
     span = block.span
@@ -145,8 +172,10 @@ def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], value
         d.append(diag("TX-E401", span, code=code))
         return
     o = _Out(run, code, span, start)
-    word = next((w for w in block.words if w.address == "G" and w.value is not None and f"G{int(w.value)}" == code),
-                None)
+    word = next(
+        (w for w in block.words if w.address == "G" and w.value is not None and f"G{int(w.value)}" == code),
+        None,
+    )
     cspan = word.span if word is not None else span
     limit = run.setup.limits.max_cycle_passes
     if code == "G33":
@@ -159,8 +188,18 @@ def execute(run: TurnRun, block: Block, code: str, words: dict[str, Word], value
             d.append(diag("TX-W418", words["J"].span))
         contour = _contour(run, block, code, values, d, cspan)
         if contour is not None:
-            _rough_contour(o, code, contour, values, words, run.turn.codes.get("falling") == "G88", state.setup,
-                           limit, d, cspan)
+            _rough_contour(
+                o,
+                code,
+                contour,
+                values,
+                words,
+                run.turn.codes.get("falling") == "G88",
+                state.setup,
+                limit,
+                d,
+                cspan,
+            )
     elif code in ("G74", "G75"):
         _rough_rect(run, o, code, values, words, state.setup, limit, d, cspan)
     elif code in ("G83", "G84"):
@@ -187,8 +226,9 @@ def _unit_of(run: TurnRun, block: Block) -> Unit | None:
     return None
 
 
-def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d: list[Diagnostic],
-             span: Span) -> list[tuple[XZ, int]] | None:
+def _contour(
+    run: TurnRun, block: Block, code: str, values: dict[str, float], d: list[Diagnostic], span: Span
+) -> list[tuple[XZ, int]] | None:
     """The finished contour as points (machine x radius, z) with the line of the block that made each, resolved
     by a copy of the run that executes the contour blocks (forward references and subprograms included)."""
     from core.interpreter import turn_contour
@@ -215,12 +255,19 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
         if j < i:
             d.append(diag("TX-E305", span, start=first, end=last))
             return None
-        blocks = unit.blocks[i:j + 1]
+        blocks = unit.blocks[i : j + 1]
     # the same contour read again from the same state gives the same points (a cycle repeated by G22)
     plain = all(w.expr is None for b in blocks for w in b.words) and all(not b.assignments for b in blocks)
     if unit.source is None and blocks:  # the lines it reads (checkpoints: core/interpreter/traub_trace.py)
         run.read.append((unit.line, INF_LINE) if "A" in values else (blocks[0].line - 1, blocks[-1].line))
-    key = (unit.source, blocks[0].line if blocks else 0, len(blocks), run.position, run.reference, run.turn.zero())
+    key = (
+        unit.source,
+        blocks[0].line if blocks else 0,
+        len(blocks),
+        run.position,
+        run.reference,
+        run.turn.zero(),
+    )
     if plain and key in run.cycles.contours:
         return run.cycles.contours[key]
     run.cycles.work += 20 * len(blocks)  # reading a contour block costs about as much as twenty pass points
@@ -253,7 +300,9 @@ def _contour(run: TurnRun, block: Block, code: str, values: dict[str, float], d:
         return None
     ref = run._ref()
     first_move = moves[k]
-    points: list[tuple[XZ, int]] = [((first_move.start[0] + ref[0], first_move.start[2] + ref[1]), first_move.line)]
+    points: list[tuple[XZ, int]] = [
+        ((first_move.start[0] + ref[0], first_move.start[2] + ref[1]), first_move.line)
+    ]
     for m in moves[k:]:
         for p in m.points(CHORD, MAX_CHORDS)[1:]:
             points.append(((p[0] + ref[0], p[2] + ref[1]), m.line))
@@ -274,8 +323,9 @@ def _walls(poly: list[tuple[float, float]]) -> dict[float, float]:
     return walls
 
 
-def _free(poly: list[tuple[float, float]], level: float, v_start: float,
-          walls: dict[float, float]) -> list[tuple[float, float]]:
+def _free(
+    poly: list[tuple[float, float]], level: float, v_start: float, walls: dict[float, float]
+) -> list[tuple[float, float]]:
     """The stretches (v_high, v_low) of v ≤ v_start where the boundary u(v) lies below `level`; `poly` runs with
     v non-increasing, before its first point everything is free, after its last point nothing."""
     spans: list[tuple[float, float]] = [(math.inf, poly[0][1])]
@@ -301,8 +351,9 @@ def _free(poly: list[tuple[float, float]], level: float, v_start: float,
     return [(hi, lo) for hi, lo in clipped if hi - lo > 1e-9]
 
 
-def _reach(poly: list[tuple[float, float]], level: float, v_start: float,
-           ahead: list[float]) -> tuple[float, float] | None:
+def _reach(
+    poly: list[tuple[float, float]], level: float, v_start: float, ahead: list[float]
+) -> tuple[float, float] | None:
     """G89: the one stretch a pass at `level` cuts from v_start until it meets the contour anywhere (falling and
     undercut sections behind that point stay uncut). `ahead[k]`: the highest v of poly[k:]."""
     end = poly[-1][1]
@@ -330,10 +381,18 @@ def _u_at(poly: list[tuple[float, float]], v: float) -> list[float]:
     return found
 
 
-def _entry(poly: list[tuple[float, float]], level: float, upper: float, v_in: float) -> list[tuple[float, float]]:
+def _entry(
+    poly: list[tuple[float, float]], level: float, upper: float, v_in: float
+) -> list[tuple[float, float]]:
     """The falling flank into a pocket, from the lower of `upper` and the crest before it down to (level, v_in)."""
-    k = next((i for i, ((u0, v0), (u1, v1)) in enumerate(itertools.pairwise(poly))
-              if v0 - v1 > 1e-12 and v1 - 1e-9 <= v_in <= v0 + 1e-9 and u1 < u0), None)
+    k = next(
+        (
+            i
+            for i, ((u0, v0), (u1, v1)) in enumerate(itertools.pairwise(poly))
+            if v0 - v1 > 1e-12 and v1 - 1e-9 <= v_in <= v0 + 1e-9 and u1 < u0
+        ),
+        None,
+    )
     if k is None:
         return [(level, v_in)]
     path = [(level, v_in)]
@@ -352,8 +411,9 @@ def _entry(poly: list[tuple[float, float]], level: float, upper: float, v_in: fl
     return path[::-1]
 
 
-def _band(poly: list[tuple[float, float]], level: float, upper: float,
-          v_start: float) -> list[list[tuple[float, float]]]:
+def _band(
+    poly: list[tuple[float, float]], level: float, upper: float, v_start: float
+) -> list[list[tuple[float, float]]]:
     """G88: the runs of one pass between `level` and the previous pass at `upper`. The tool stays at the lower of
     the level and the contour wherever the contour lies below `upper`: along the level where the contour is
     lower, on the contour (up a shoulder, over a step, down a falling flank) where it lies between the two, so
@@ -375,8 +435,17 @@ def _band(poly: list[tuple[float, float]], level: float, upper: float,
         if v0 > v_start + 1e-9:  # clip to the blank's side of the start point
             t = (v0 - v_start) / (v0 - v1)
             u0, v0 = u0 + (u1 - u0) * t, v_start
-        cuts = sorted({0.0, 1.0, *((b - u0) / (u1 - u0) for b in (level, upper)
-                                   if abs(u1 - u0) > 1e-12 and 0 < (b - u0) / (u1 - u0) < 1)})
+        cuts = sorted(
+            {
+                0.0,
+                1.0,
+                *(
+                    (b - u0) / (u1 - u0)
+                    for b in (level, upper)
+                    if abs(u1 - u0) > 1e-12 and 0 < (b - u0) / (u1 - u0) < 1
+                ),
+            }
+        )
         for t0, t1 in itertools.pairwise(cuts):
             a = (u0 + (u1 - u0) * t0, v0 + (v1 - v0) * t0)
             b = (u0 + (u1 - u0) * t1, v0 + (v1 - v0) * t1)
@@ -410,7 +479,9 @@ def _straight(path: list[tuple[float, float]]) -> list[tuple[float, float]]:
     return out
 
 
-def _climb(poly: list[tuple[float, float]], level: float, upper: float, v_end: float) -> list[tuple[float, float]]:
+def _climb(
+    poly: list[tuple[float, float]], level: float, upper: float, v_end: float
+) -> list[tuple[float, float]]:
     """G89: from where a pass meets the contour at (level, v_end), along the rising contour up to the previous
     pass at `upper` (a shoulder, a step, a rising cone); it stops at a crest (the falling section behind it is
     skipped) and at an undercut. The path starts with (level, v_end)."""
@@ -427,7 +498,7 @@ def _climb(poly: list[tuple[float, float]], level: float, upper: float, v_end: f
             break
     else:
         return path
-    for u, v in poly[k + 1:]:
+    for u, v in poly[k + 1 :]:
         pu, pv = path[-1]
         if u < pu - 1e-9 or v > pv + 1e-9:
             break
@@ -439,9 +510,18 @@ def _climb(poly: list[tuple[float, float]], level: float, upper: float, v_end: f
     return _straight(path)
 
 
-def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: dict[str, float],
-                   words: dict[str, Word], follow: bool, setup: CycleSetup, limit: int, d: list[Diagnostic],
-                   span: Span) -> None:
+def _rough_contour(
+    o: _Out,
+    code: str,
+    contour: list[tuple[XZ, int]],
+    values: dict[str, float],
+    words: dict[str, Word],
+    follow: bool,
+    setup: CycleSetup,
+    limit: int,
+    d: list[Diagnostic],
+    span: Span,
+) -> None:
     depth = values.get("D")
     if depth is None or depth <= 0:
         w = words.get("D")
@@ -470,7 +550,9 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
     if raw[0][0][1] < raw[-1][0][1]:
         raw.reverse()
     for (a, _), (b, line) in itertools.pairwise(raw):
-        if follow and b[1] > a[1] + 1e-6:  # G89 passes stop where they meet the contour: undercuts are skipped
+        if (
+            follow and b[1] > a[1] + 1e-6
+        ):  # G89 passes stop where they meet the contour: undercuts are skipped
             d.append(diag("TX-E404", span, code=code, second=line))
             return
     u_s, v_s = norm(start)
@@ -514,14 +596,17 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
         level = u_s - i * step if i < n else bottom
         upper = level + step
         spans = _free(poly, level, v_s, walls) if follow else []
-        main = (spans[0] if spans and spans[0][0] >= v_s - 1e-9 else None) if follow else _reach(poly, level, v_s,
-                                                                                                    ahead)
+        main = (
+            (spans[0] if spans and spans[0][0] >= v_s - 1e-9 else None)
+            if follow
+            else _reach(poly, level, v_s, ahead)
+        )
         if main is not None:
             o.rapid(back(level, v_s), i)
             o.feed(back(level, main[1]), i)
             o.rapid(back(level + lift, main[1]), i)
         top = level + lift
-        for hi, lo in (spans[1:] if follow else []):
+        for hi, lo in spans[1:] if follow else []:
             path = _entry(poly, level, upper, hi)
             top = u_s + lift
             o.rapid(back(top, sv * o.pos[cut_axis]), i)
@@ -537,9 +622,21 @@ def _rough_contour(o: _Out, code: str, contour: list[tuple[XZ, int]], values: di
     o.rapid(start, n)
 
 
-def _follow_passes(o: _Out, poly: list[tuple[float, float]], n: int, u_s: float, v_s: float, step: float,
-                   bottom: float, lift: float, reduced: float | None, falling: bool, ahead: list[float],
-                   norm: Callable[[XZ], tuple[float, float]], back: Callable[[float, float], XZ]) -> None:
+def _follow_passes(
+    o: _Out,
+    poly: list[tuple[float, float]],
+    n: int,
+    u_s: float,
+    v_s: float,
+    step: float,
+    bottom: float,
+    lift: float,
+    reduced: float | None,
+    falling: bool,
+    ahead: list[float],
+    norm: Callable[[XZ], tuple[float, float]],
+    back: Callable[[float, float], XZ],
+) -> None:
     """G71/G72: n passes at equal levels; each runs along its level and then on the contour up to the level of the
     pass before, so that after the last one only the allowance is left (G88: also down the falling flanks)."""
     start = o.pos
@@ -598,8 +695,9 @@ def _cut_line(o: _Out, a: XZ, b: XZ, axis: int, every: float | None, back_off: f
             o.rapid((q[0], q[1]), n)
 
 
-def _few_pieces(run: TurnRun, length: float, every: float | None, passes: int, code: str, d: list[Diagnostic],
-                span: Span) -> bool:
+def _few_pieces(
+    run: TurnRun, length: float, every: float | None, passes: int, code: str, d: list[Diagnostic], span: Span
+) -> bool:
     """Chip breaking every `every` mm makes pieces; more than the run's move budget is refused before any is made."""
     pieces = passes * (_equal(length, every) if every is not None and every > 0 else 1)
     if 2 * pieces > run.setup.limits.max_moves:
@@ -608,8 +706,17 @@ def _few_pieces(run: TurnRun, length: float, every: float | None, passes: int, c
     return True
 
 
-def _rough_rect(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: dict[str, Word],
-                setup: CycleSetup, limit: int, d: list[Diagnostic], span: Span) -> None:
+def _rough_rect(
+    run: TurnRun,
+    o: _Out,
+    code: str,
+    values: dict[str, float],
+    words: dict[str, Word],
+    setup: CycleSetup,
+    limit: int,
+    d: list[Diagnostic],
+    span: Span,
+) -> None:
     start = o.pos
     x, z = _target(run, values, start)
     # G74: levels in X (depth I), cut along Z (chip breaking K); G75 the other way round
@@ -637,7 +744,9 @@ def _rough_rect(run: TurnRun, o: _Out, code: str, values: dict[str, float], word
     total = abs(level_end - start[level_axis])
     if depth is None or depth <= 0:
         w = words.get(depth_addr)
-        d.append(diag("TX-E402", w.span if w else span, code=code, address=depth_addr, value=f"{depth or 0:g}"))
+        d.append(
+            diag("TX-E402", w.span if w else span, code=code, address=depth_addr, value=f"{depth or 0:g}")
+        )
         return
     if total <= 1e-9:
         d.append(diag("TX-W413", span, code=code))
@@ -671,8 +780,17 @@ def _rough_rect(run: TurnRun, o: _Out, code: str, values: dict[str, float], word
 # -- G83 / G84 deep-hole drilling -----------------------------------------------------------------
 
 
-def _drill(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: dict[str, Word],
-           setup: CycleSetup, limit: int, d: list[Diagnostic], span: Span) -> None:
+def _drill(
+    run: TurnRun,
+    o: _Out,
+    code: str,
+    values: dict[str, float],
+    words: dict[str, Word],
+    setup: CycleSetup,
+    limit: int,
+    d: list[Diagnostic],
+    span: Span,
+) -> None:
     start = o.pos
     x, z = _target(run, values, start)
     axis, end = (1, z) if z is not None else (0, x)
@@ -702,7 +820,9 @@ def _drill(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: di
         if h > limit:
             d.append(diag("TX-E406", span, code=code, count=h + 1, limit=limit))
             return
-        depths = [first] + ([first + (total - first) * k / h for k in range(1, h + 1)] if total - first > 1e-9 else [])
+        depths = [first] + (
+            [first + (total - first) * k / h for k in range(1, h + 1)] if total - first > 1e-9 else []
+        )
         safety = setup.safety
     else:
         rapid_to = max(0.0, values.get("D", 0.0))
@@ -740,7 +860,9 @@ def _drill(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: di
 # -- threads --------------------------------------------------------------------------------------
 
 
-def _pitch(run: TurnRun, values: dict[str, float], d: list[Diagnostic], span: Span, code: str) -> float | None:
+def _pitch(
+    run: TurnRun, values: dict[str, float], d: list[Diagnostic], span: Span, code: str
+) -> float | None:
     state = run.cycles
     p = values.get("F", values.get("E"))
     if p is None:
@@ -752,8 +874,9 @@ def _pitch(run: TurnRun, values: dict[str, float], d: list[Diagnostic], span: Sp
     return p
 
 
-def _g33(run: TurnRun, o: _Out, values: dict[str, float], words: dict[str, Word], d: list[Diagnostic],
-         span: Span) -> None:
+def _g33(
+    run: TurnRun, o: _Out, values: dict[str, float], words: dict[str, Word], d: list[Diagnostic], span: Span
+) -> None:
     pitch = _pitch(run, values, d, span, "G33")
     if pitch is None:
         return
@@ -762,8 +885,16 @@ def _g33(run: TurnRun, o: _Out, values: dict[str, float], words: dict[str, Word]
     o.move("feed", (o.pos[0] if x is None else x, o.pos[1] if z is None else z), 1, pitch, pitch)
 
 
-def _thread_cycle(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: dict[str, Word], limit: int,
-                  d: list[Diagnostic], span: Span) -> None:
+def _thread_cycle(
+    run: TurnRun,
+    o: _Out,
+    code: str,
+    values: dict[str, float],
+    words: dict[str, Word],
+    limit: int,
+    d: list[Diagnostic],
+    span: Span,
+) -> None:
     start = o.pos
     x, z = _target(run, values, start)
     if code == "G82":
@@ -822,15 +953,18 @@ def _thread_cycle(run: TurnRun, o: _Out, code: str, values: dict[str, float], wo
     length = abs(end_b - start_b)
     root_start = end_a - math.tan(math.radians(j)) * length * (1.0 if outer else -1.0)
     crest = max(end_a, root_start) + k if outer else min(end_a, root_start) - k
-    if (outer and start_a < crest - 1e-9) or (not outer and (start_a > crest + 1e-9
-                                                             or (ia == 0 and crest < -1e-9))):
+    if (outer and start_a < crest - 1e-9) or (
+        not outer and (start_a > crest + 1e-9 or (ia == 0 and crest < -1e-9))
+    ):
         d.append(diag("TX-E408", span, code=code, depth=f"{k:g}", diameter=f"{2 * start[0]:g}"))
         return
     depths = [k] if h == 1 else [(k - last) * math.sqrt(i / (h - 1)) for i in range(1, h)] + [k]
     flank = math.tan(math.radians(values.get("A", 0.0)))
     o.passes = h
     for i, depth in enumerate(depths, 1):
-        shift = s * depth * flank  # infeed along the flank: the pass starts and ends that much nearer the start
+        shift = (
+            s * depth * flank
+        )  # infeed along the flank: the pass starts and ends that much nearer the start
         bs, be = start_b + shift, end_b + shift
         rest = side * (k - depth)
         o.rapid(at(start_a, bs), i)
@@ -843,8 +977,9 @@ def _thread_cycle(run: TurnRun, o: _Out, code: str, values: dict[str, float], wo
 # -- G77 / G79 chamfer passes, G78 special-thread pass, G81 repeats ------------------------------------
 
 
-def _chamfer_pass(o: _Out, code: str, start: XZ, end: XZ, i_val: float, k_val: float, pitch: float | None,
-                  n: int) -> None:
+def _chamfer_pass(
+    o: _Out, code: str, start: XZ, end: XZ, i_val: float, k_val: float, pitch: float | None, n: int
+) -> None:
     """One pass of G77/G78/G79 from `start` to the target `end` and back to `start`."""
     outer = start[0] >= end[0]
     s = 1.0 if end[1] <= start[1] else -1.0
@@ -871,8 +1006,16 @@ def _chamfer_pass(o: _Out, code: str, start: XZ, end: XZ, i_val: float, k_val: f
     o.rapid(start, n)
 
 
-def _chamfer(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: dict[str, Word], limit: int,
-             d: list[Diagnostic], span: Span) -> None:
+def _chamfer(
+    run: TurnRun,
+    o: _Out,
+    code: str,
+    values: dict[str, float],
+    words: dict[str, Word],
+    limit: int,
+    d: list[Diagnostic],
+    span: Span,
+) -> None:
     state = run.cycles
     start = o.pos
     if code != "G81":
@@ -892,8 +1035,9 @@ def _chamfer(run: TurnRun, o: _Out, code: str, values: dict[str, float], words: 
         return
     h = int(values.get("H", 0))
     if h < 1:
-        d.append(diag("TX-E402", words["H"].span if "H" in words else span, code=code, address="H",
-                      value=f"{h:g}"))
+        d.append(
+            diag("TX-E402", words["H"].span if "H" in words else span, code=code, address="H", value=f"{h:g}")
+        )
         return
     if h > limit:
         d.append(diag("TX-E406", span, code=code, count=h, limit=limit))

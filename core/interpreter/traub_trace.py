@@ -26,7 +26,9 @@ from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 INF = 1 << 40  # "to the end of the file" in a touched line range
 
-Key = tuple[str | None, int | None]  # a program of the run: (source, number); (None, None) is the main program
+Key = tuple[
+    str | None, int | None
+]  # a program of the run: (source, number); (None, None) is the main program
 # a call in progress: caller, calling line, callee, first line, last line (None: up to M99), runs to come
 FramePoint = tuple[Key, int, Key, int, int | None, int]
 
@@ -53,7 +55,9 @@ class TurnTrace:
     counters: list[tuple[int, int, int]] = field(default_factory=list)  # per step: executed, steps, moves
     n_items: list[int] = field(default_factory=list)
     n_diags: list[int] = field(default_factory=list)
-    lasts: list[tuple[int, int]] = field(default_factory=list)  # per step: last main line, the step that set it
+    lasts: list[tuple[int, int]] = field(
+        default_factory=list
+    )  # per step: last main line, the step that set it
     library: bytearray = field(default_factory=bytearray)  # per step: the block is a library program's
     sets: list[tuple[int, ModalState, Vec3] | None] = field(default_factory=list)  # per step: line state set
     # (step, lo, hi, arrival): the step met lines lo < line ≤ hi (arrival: on its way to its block)
@@ -74,8 +78,11 @@ class TurnTrace:
             return now == self.counters[j]
         e, s, m = self.end_counters
         je, js, jm = self.counters[j]
-        return (e + now[0] - je <= limits.max_executed_blocks and s + now[1] - js <= limits.max_evaluation_steps
-                and m + now[2] - jm <= limits.max_moves)
+        return (
+            e + now[0] - je <= limits.max_executed_blocks
+            and s + now[1] - js <= limits.max_evaluation_steps
+            and m + now[2] - jm <= limits.max_moves
+        )
 
 
 def touches(lo: int, hi: int, first: int, end: int) -> bool:
@@ -91,12 +98,14 @@ def map_point(lm: LineMap, p: TurnPoint, shift_run: Any) -> TurnPoint:
         return p
     if lm.delta == 0:  # the same lines; only whether it names a changed one
         first, end = lm.first, lm.end
-        if (p.unit[0] is None and first <= p.line < end) or (p.end is not None and p.unit[0] is None
-                                                             and first <= p.end < end):
+        if (p.unit[0] is None and first <= p.line < end) or (
+            p.end is not None and p.unit[0] is None and first <= p.end < end
+        ):
             raise Unmappable
         for u, c, k, s, e, _ in p.calls:
-            if (u[0] is None and first <= c < end) or (k[0] is None and (first <= s < end or (
-                    e is not None and first <= e < end))):
+            if (u[0] is None and first <= c < end) or (
+                k[0] is None and (first <= s < end or (e is not None and first <= e < end))
+            ):
                 raise Unmappable
         shift_run(lm, p.run)
         return p
@@ -104,10 +113,17 @@ def map_point(lm: LineMap, p: TurnPoint, shift_run: Any) -> TurnPoint:
     def ln(line: int, source: str | None) -> int:
         return line if line < 0 else lm.line(line, source)
 
-    calls = tuple((u, ln(c, u[0]), k, ln(s, k[0]), None if e is None else ln(e, k[0]), n)
-                  for u, c, k, s, e, n in p.calls)
-    return TurnPoint(p.unit, ln(p.line, p.unit[0]), None if p.end is None else ln(p.end, p.unit[0]), calls,
-                     shift_run(lm, p.run))
+    calls = tuple(
+        (u, ln(c, u[0]), k, ln(s, k[0]), None if e is None else ln(e, k[0]), n)
+        for u, c, k, s, e, n in p.calls
+    )
+    return TurnPoint(
+        p.unit,
+        ln(p.line, p.unit[0]),
+        None if p.end is None else ln(p.end, p.unit[0]),
+        calls,
+        shift_run(lm, p.run),
+    )
 
 
 def map_item(lm: LineMap, item: turn_contour.Item, library: bool) -> turn_contour.Item:
@@ -154,12 +170,18 @@ def map_contours(lm: LineMap, contours: dict[Any, Any], done: dict[int, dict[Any
     if found is None:
         found = done[id(contours)] = {
             (k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]): [(p, lm.line(ln, k[0])) for p, ln in v]
-            for k, v in contours.items()}
+            for k, v in contours.items()
+        }
     return found
 
 
-def carry_contours(lm: LineMap, base: dict[Any, Any], now: dict[Any, Any], later: dict[Any, Any],
-                   done: dict[int, dict[Any, Any]]) -> dict[Any, Any]:
+def carry_contours(
+    lm: LineMap,
+    base: dict[Any, Any],
+    now: dict[Any, Any],
+    later: dict[Any, Any],
+    done: dict[int, dict[Any, Any]],
+) -> dict[Any, Any]:
     """The cache of the previous run at a later step (`later`, which grew from `base` where this run met it
     with `now`) as this run has it there: `now` and what the previous run added, in the new numbering."""
     if later is base:
@@ -169,5 +191,7 @@ def carry_contours(lm: LineMap, base: dict[Any, Any], now: dict[Any, Any], later
         found = done[id(later)] = dict(now)
         for k, v in later.items():
             if k not in base:
-                found[(k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:])] = [(p, lm.line(ln, k[0])) for p, ln in v]
+                found[(k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:])] = [
+                    (p, lm.line(ln, k[0])) for p, ln in v
+                ]
     return found

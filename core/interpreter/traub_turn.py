@@ -55,8 +55,27 @@ MAX_SPINDLE = 6000.0  # 1/min: the machine's highest speed when no G92 limits it
 _MUST_STAND_ALONE = frozenset({"M0", "M1", "M30", "M99", "M10", "M11", "M17", "M18"})  # L1170
 _WITH_T_ONLY = frozenset({"M6", "M13"})
 # G functions allowed while SRK is on (L2544–2566), besides the SRK codes themselves
-_SRK_ALLOWED = frozenset({"G0", "G1", "G2", "G3", "G4", "G9", "G22", "G40", "G41", "G42", "G46", "G77", "G79",
-                          "G94", "G95", "G96", "G97"})
+_SRK_ALLOWED = frozenset(
+    {
+        "G0",
+        "G1",
+        "G2",
+        "G3",
+        "G4",
+        "G9",
+        "G22",
+        "G40",
+        "G41",
+        "G42",
+        "G46",
+        "G77",
+        "G79",
+        "G94",
+        "G95",
+        "G96",
+        "G97",
+    }
+)
 _CHANGE_POINT = frozenset({"G24", "G25", "G26", "G27", "G28", "G53"})
 _GEOMETRY = frozenset({"X", "U", "Z", "W", "A", "R", "P", "Q", "I", "K", "D", "C", "H"})
 _SPEED_CODES = frozenset({"G92", "G96", "G97"})
@@ -177,10 +196,12 @@ def _l_valid(n: int) -> bool:
     return 1 <= n <= 48 or 101 <= n <= 148
 
 
-def evaluate(expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic],
-             reads: set[int] | None = None) -> float | None:
+def evaluate(
+    expr: Expr, params: dict[int, float], line: int, d: list[Diagnostic], reads: set[int] | None = None
+) -> float | None:
     """The value of an L-parameter expression, or None after an error (DECISIONS §21); `reads` collects
     the numbers of the parameters it reads. The arithmetic is PAL's (core/interpreter/params.py)."""
+
     def resolve(ref: ParamRef, span: Span) -> float | None:
         if not _l_valid(ref.number):
             d.append(diag("TX-E110", span, number=ref.number))
@@ -219,8 +240,14 @@ class _Reading:
     owner_word: Word | None
 
 
-def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None = None,  # noqa: C901
-          limit: float = 1e9, modal_motion: str = "G1") -> _Reading:
+def _read(  # noqa: C901
+    block: Block,
+    params: dict[int, float],
+    d: list[Diagnostic],
+    reads: set[int] | None = None,
+    limit: float = 1e9,
+    modal_motion: str = "G1",
+) -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
@@ -272,16 +299,32 @@ def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: se
         if code.group is not None and code.group != "program_end":
             if code.group in seen:
                 label = TABLE.group(code.group)
-                d.append(diag("PAL-E103", w.span, first=str(seen[code.group]), second=str(w), group=label.label_de,
-                              group_en=label.label_en))
+                d.append(
+                    diag(
+                        "PAL-E103",
+                        w.span,
+                        first=str(seen[code.group]),
+                        second=str(w),
+                        group=label.label_de,
+                        group_en=label.label_en,
+                    )
+                )
             seen[code.group] = w
     owner: Code | None = None
     owner_word: Word | None = None
     for w, code in gs:
         if code.owns_block:
             if owner is not None and not (owner.group == "motion" and code.group == "motion"):
-                d.append(diag("PAL-E103", w.span, first=str(owner_word), second=str(w), group="Satzfunktion",
-                              group_en="block function"))
+                d.append(
+                    diag(
+                        "PAL-E103",
+                        w.span,
+                        first=str(owner_word),
+                        second=str(w),
+                        group="Satzfunktion",
+                        group_en="block function",
+                    )
+                )
             owner, owner_word = code, w
     # which addresses the block may hold
     speed_code = next((c for _, c in gs if c.name in _SPEED_CODES), None)
@@ -297,8 +340,13 @@ def _read(block: Block, params: dict[int, float], d: list[Diagnostic], reads: se
         allowed = TABLE.codes[modal_motion].words | TABLE.always_allowed  # a motion of the modal code
     for a, w in words.items():
         if a not in allowed:
-            command = (str(owner_word) if owner_word is not None else speed_code.name if speed_code is not None
-                       else f"{modal_motion} (modal)")
+            command = (
+                str(owner_word)
+                if owner_word is not None
+                else speed_code.name
+                if speed_code is not None
+                else f"{modal_motion} (modal)"
+            )
             d.append(diag("PAL-E101", w.span, address=a, command=command))
     for w, code in gs:
         for one_of in code.required:
@@ -366,8 +414,14 @@ class TurnRun:
         t = self.turn
         speed = t.spindle_at(self.last_known[0]) if t.spindle_on else t.speed
         last = self._state
-        if (last is None or last.codes is not t.codes or last.feed != t.feed or last.speed != speed
-                or last.tool != t.tool or last.tc != t.offset):
+        if (
+            last is None
+            or last.codes is not t.codes
+            or last.feed != t.feed
+            or last.speed != speed
+            or last.tool != t.tool
+            or last.tc != t.offset
+        ):
             last = self._state = ModalState(t.codes, t.feed, speed, t.tool, t.offset)
         return last
 
@@ -389,9 +443,20 @@ class TurnRun:
         pos: Vec3 = self._out(p)
         spindle_code = t.codes.get("spindle")
         on = spindle_code in ("M3", "M4")
-        return Move(kind, pos, pos, t.feed, "mm/rev" if t.codes.get("feed_mode") == "G95" else "mm/min",  # type: ignore[arg-type]
-                    t.spindle_at(p[0]) if on else 0.0, ("cw" if spindle_code == "M3" else "ccw") if on else None,
-                    t.codes.get("coolant") in ("M7", "M8"), t.tool, span, exact_stop=exact, plane="G18")
+        return Move(
+            kind,  # type: ignore[arg-type]
+            pos,
+            pos,
+            t.feed,
+            "mm/rev" if t.codes.get("feed_mode") == "G95" else "mm/min",
+            t.spindle_at(p[0]) if on else 0.0,
+            ("cw" if spindle_code == "M3" else "ccw") if on else None,
+            t.codes.get("coolant") in ("M7", "M8"),
+            t.tool,
+            span,
+            exact_stop=exact,
+            plane="G18",
+        )
 
     def _nose_for(self, mode: str) -> Nose:
         tool = self.setup.tools.get(self.turn.tool) if self.turn.tool is not None else None
@@ -463,14 +528,26 @@ class TurnRun:
         for w, c in gs + ms:
             if c.support is Support.PLANNED:
                 skips = c.owns_block
-                d.append(diag("PAL-E901", w.span, feature=c.feature_de, feature_en=c.feature_en,
-                              effect="der Satz wird nicht ausgeführt." if skips else
-                              "der Satz wird ohne diese Funktion ausgeführt.",
-                              effect_en="the block is not executed." if skips else "the block is executed without it."))
+                d.append(
+                    diag(
+                        "PAL-E901",
+                        w.span,
+                        feature=c.feature_de,
+                        feature_en=c.feature_en,
+                        effect="der Satz wird nicht ausgeführt."
+                        if skips
+                        else "der Satz wird ohne diese Funktion ausgeführt.",
+                        effect_en="the block is not executed."
+                        if skips
+                        else "the block is executed without it.",
+                    )
+                )
                 if skips:
                     return out
         self.params = params
-        if reads:  # what a called program read: an assignment of another value afterwards comes too late (T27)
+        if (
+            reads
+        ):  # what a called program read: an assignment of another value afterwards comes too late (T27)
             for n in reads:
                 if n in params:
                     self.callee_reads[n] = (params[n], self.program or "")
@@ -518,8 +595,14 @@ class TurnRun:
         if "T" in values:
             value = int(values["T"])
             station = value // 100
-            if (motion is not None and motion.name == "G0" and moving and t.tool is not None and station != t.tool
-                    and abs(station - t.tool) != 20):  # in G00 only the grooving tool's second edge (L1505)
+            if (
+                motion is not None
+                and motion.name == "G0"
+                and moving
+                and t.tool is not None
+                and station != t.tool
+                and abs(station - t.tool) != 20
+            ):  # in G00 only the grooving tool's second edge (L1505)
                 d.append(diag("TX-W108", words["T"].span, tool=f"T{station:02d}", current=f"T{t.tool:02d}"))
             t.tool = value // 100 or None
             t.offset = value % 100
@@ -538,8 +621,11 @@ class TurnRun:
                 out.items.append(SrkSwitch(c.name, w.span, self.nose))  # type: ignore[arg-type]
 
         # -- the motion, dwell, change point or call --------------------------------------------
-        cycle = "G33" if moving and motion is not None and motion.name == "G33" else (
-            owner.name if owner is not None and owner.name in traub_cycles.CODES else None)
+        cycle = (
+            "G33"
+            if moving and motion is not None and motion.name == "G33"
+            else (owner.name if owner is not None and owner.name in traub_cycles.CODES else None)
+        )
         if cycle is not None:  # cycles and threads: core.interpreter.traub_cycles
             traub_cycles.execute(self, block, cycle, words, values, out)
             t.first_after_t = False
@@ -557,8 +643,12 @@ class TurnRun:
             if "T" in values:
                 out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
         elif owner is not None and owner.name == "G22":
-            out.call = (int(values["A"]) if "A" in values else None, int(values["P"]) if "P" in values else None,
-                         int(values["Q"]) if "Q" in values else None, int(values.get("H", 1)))
+            out.call = (
+                int(values["A"]) if "A" in values else None,
+                int(values["P"]) if "P" in values else None,
+                int(values["Q"]) if "Q" in values else None,
+                int(values.get("H", 1)),
+            )
         elif owner is not None and 201 <= int(owner.name[1:]) <= 299:
             out.call = (9600 + int(owner.name[1:]), None, None, 1)
 
@@ -588,7 +678,9 @@ class TurnRun:
             self.early.add(id(item))
         return item
 
-    def _motion(self, code: str, words: dict[str, Word], values: dict[str, float], span: Span, out: Outcome) -> None:
+    def _motion(
+        self, code: str, words: dict[str, Word], values: dict[str, float], span: Span, out: Outcome
+    ) -> None:
         t = self.turn
         rx, rz = self._ref()
         zx, zz = t.zero()
@@ -606,15 +698,20 @@ class TurnRun:
         transition: TransitionSpec | None = None
         if "D" in values and values["D"] != 0:
             w = words["D"]
-            transition = TransitionSpec("chamfer" if values["D"] > 0 else "chamfer_length", abs(values["D"]), str(w),
-                                        t.transition_feed)
+            transition = TransitionSpec(
+                "chamfer" if values["D"] > 0 else "chamfer_length",
+                abs(values["D"]),
+                str(w),
+                t.transition_feed,
+            )
         elif not is_arc and "R" in values:
             transition = TransitionSpec("rounding", abs(values["R"]), str(words["R"]), t.transition_feed)
         elif is_arc and "C" in values:
             transition = TransitionSpec("rounding", abs(values["C"]), str(words["C"]), t.transition_feed)
         if code == "G9" and transition is not None:
-            out.diagnostics.append(diag("TX-W104", words["D" if "D" in words else "R"].span,
-                                        address=transition.raw))
+            out.diagnostics.append(
+                diag("TX-W104", words["D" if "D" in words else "R"].span, address=transition.raw)
+            )
         if code != "G0":
             if t.feed == 0:
                 out.diagnostics.append(diag("PAL-E301", span))
@@ -623,23 +720,38 @@ class TurnRun:
                 out.diagnostics.append(diag("TX-W106", span))
             elif not t.spindle_on and not t.driven_on:  # a driven tool cuts with the main spindle at rest
                 out.diagnostics.append(diag("PAL-E302", span, Severity.WARNING))
-        if (t.codes.get("spindle_mode") == "G96" and t.spindle_on and t.limit is None and x is not None
-                and x + rx <= 1e-9):
+        if (
+            t.codes.get("spindle_mode") == "G96"
+            and t.spindle_on
+            and t.limit is None
+            and x is not None
+            and x + rx <= 1e-9
+        ):
             out.diagnostics.append(diag("TX-W105", span, limit=f"{MAX_SPINDLE:g} 1/min"))
         kind = "rapid" if code == "G0" else "arc" if is_arc else "feed"
         template = self._template(kind, span, exact=code in ("G0", "G9"))
         item = TurnItem(
-            template, code, start, x, z, dx, dz,  # type: ignore[arg-type]
+            template,
+            code,  # type: ignore[arg-type]
+            start,
+            x,
+            z,
+            dx,
+            dz,
             a=values.get("A"),
             radius=abs(values["R"]) if is_arc and "R" in values else None,
-            centre=(values["P"] / 2 + zx, values["Q"] + zz) if is_arc and "P" in values and "Q" in values else None,
-            centre_offset=(values.get("I", 0.0), values.get("K", 0.0)) if is_arc and ("I" in values or "K" in values)
+            centre=(values["P"] / 2 + zx, values["Q"] + zz)
+            if is_arc and "P" in values and "Q" in values
+            else None,
+            centre_offset=(values.get("I", 0.0), values.get("K", 0.0))
+            if is_arc and ("I" in values or "K" in values)
             else None,
             h=int(values["H"]) if "H" in values else None,
             transition=transition,
             nose=self.nose,
             spindle_at=_constant_cutting_speed(t.cutting_speed, t.limit, rx)
-            if t.codes.get("spindle_mode") == "G96" and t.spindle_on else None,
+            if t.codes.get("spindle_mode") == "G96" and t.spindle_on
+            else None,
         )
         out.items.append(item)
         end = self._known_end(start, item, has_axis=bool(words.keys() & {"X", "U", "Z", "W"}))
@@ -651,7 +763,10 @@ class TurnRun:
         """Where the block ends, when the block alone fixes it; None for an unknown train point."""
         if item.a is None and has_axis:
             if start is not None:
-                return (item.x if item.x is not None else start[0], item.z if item.z is not None else start[1])
+                return (
+                    item.x if item.x is not None else start[0],
+                    item.z if item.z is not None else start[1],
+                )
             if item.x is not None and item.z is not None:
                 return (item.x, item.z)
             return None
@@ -659,8 +774,9 @@ class TurnRun:
             return None
         return turn_contour.known_end(start, item)
 
-    def _change_point(self, name: str, words: dict[str, Word], values: dict[str, float], span: Span,
-                      out: Outcome) -> None:
+    def _change_point(
+        self, name: str, words: dict[str, Word], values: dict[str, float], span: Span, out: Outcome
+    ) -> None:
         """G24–G27 to the tool-change point, G28 (via X/Z) to the reference point, G53 in machine coordinates."""
         t = self.turn
         tcp = self.setup.tool_change_point
@@ -715,21 +831,31 @@ def resolve(items: list[Item], diagnostics: list[Diagnostic]) -> list[turn_conto
 
 def _to_workpiece(c: turn_contour.Command, dx: float, dz: float) -> turn_contour.Command:
     """`c` moved from machine coordinates into the workpiece frame whose zero is (dx, dz)."""
+
     def shift(p: Vec3) -> Vec3:
         return (p[0] - dx, p[1], p[2] - dz)
 
     if isinstance(c, Move):
-        return dataclasses.replace(c, start=shift(c.start), end=shift(c.end),
-                                   center=None if c.center is None else shift(c.center),
-                                   programmed_end=None if c.programmed_end is None else shift(c.programmed_end))
+        return dataclasses.replace(
+            c,
+            start=shift(c.start),
+            end=shift(c.end),
+            center=None if c.center is None else shift(c.center),
+            programmed_end=None if c.programmed_end is None else shift(c.programmed_end),
+        )
     return dataclasses.replace(c, position=shift(c.position))
 
 
 # -- the run: programs, calls, sections --------------------------------------------------------
 
 
-def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic] | None = None,  # noqa: C901
-                library: dict[int, Program] | None = None, keep: Keep | None = None) -> Toolpath:
+def run_program(  # noqa: C901
+    program: Program,
+    setup: RunSetup,
+    diagnostics: list[Diagnostic] | None = None,
+    library: dict[int, Program] | None = None,
+    keep: Keep | None = None,
+) -> Toolpath:
     """Execute a TRAUB program from its first block; never raises on user input.
 
     `keep` holds the checkpoints of the previous run of the same document (core/interpreter/traub_trace.py):
@@ -788,7 +914,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
                 budget.executed, budget.steps, budget.moves = old.counters[r]
                 for s in range(r):
                     lib = bool(old.library[s])
-                    for it in old.items[old.n_items[s]:old.n_items[s + 1]]:
+                    for it in old.items[old.n_items[s] : old.n_items[s + 1]]:
                         new = map_item(lm, it, lib)
                         items.append(new)
                         if id(it) in old.early:
@@ -797,7 +923,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
                     if was_set is not None:
                         at = lm.line(was_set[0] + 1) - 1
                         states[at], positions[at] = was_set[1], was_set[2]
-                diags.extend(map_diagnostic(lm, x) for x in old.loop_diags[:old.n_diags[r]])
+                diags.extend(map_diagnostic(lm, x) for x in old.loop_diags[: old.n_diags[r]])
                 last_line = lm.line(old.lasts[r][0]) if old.lasts[r][0] else 0
                 last_set = old.lasts[r][1]
                 came_from = None
@@ -845,14 +971,33 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
                 scan = block.line - 1 if came_from is None else came_from
                 if scan < block.line:
                     trace.touches.append((step, scan, block.line, True))
-            cp = TurnPoint((unit.source, None if unit is main else unit.number), block.line,
-                           None if end_index is None else unit.blocks[end_index].line,
-                           tuple(_frame_point(c, main) for c in calls), snapshot(run))
+            cp = TurnPoint(
+                (unit.source, None if unit is main else unit.number),
+                block.line,
+                None if end_index is None else unit.blocks[end_index].line,
+                tuple(_frame_point(c, main) for c in calls),
+                snapshot(run),
+            )
             if meet and old is not None:
                 candidates = meet.get((cp.unit, cp.line))
                 if candidates:
-                    done = _take_over(old, trace, candidates, cp, lm, step, budget, run, items, diags, states,
-                                      positions, limits, n_initial, (last_line, last_set))
+                    done = _take_over(
+                        old,
+                        trace,
+                        candidates,
+                        cp,
+                        lm,
+                        step,
+                        budget,
+                        run,
+                        items,
+                        diags,
+                        states,
+                        positions,
+                        limits,
+                        n_initial,
+                        (last_line, last_set),
+                    )
                     if done is not None:
                         STATS["to_end"] -= 1
                         STATS["incremental"] += 1
@@ -905,7 +1050,8 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             for k, it in enumerate(out.items):
                 if isinstance(it, TurnItem):
                     out.items[k] = dataclasses.replace(
-                        it, template=dataclasses.replace(it.template, source=unit.source, call_stack=stack))
+                        it, template=dataclasses.replace(it.template, source=unit.source, call_stack=stack)
+                    )
                 elif isinstance(it, Move):
                     out.items[k] = dataclasses.replace(it, source=unit.source, call_stack=stack)
         items.extend(out.items)
@@ -971,7 +1117,10 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
             break
     if trace is not None and keep is not None:
         trace.items, trace.loop_diags, trace.early = items, diags[n_initial:], set(run.early)
-        trace.final, trace.final_contours = TurnPoint((None, None), 0, None, (), snapshot(run)), run.cycles.contours
+        trace.final, trace.final_contours = (
+            TurnPoint((None, None), 0, None, (), snapshot(run)),
+            run.cycles.contours,
+        )
         trace.ended, trace.end_counters, trace.last = ended, budget.counters, (last_line, last_set)
         trace.spent = any(x.code in ("PAL-E013", "PAL-E016", "PAL-E017") for x in trace.loop_diags)
     if keep is not None:
@@ -1011,7 +1160,7 @@ def run_program(program: Program, setup: RunSetup, diagnostics: list[Diagnostic]
     _dedupe(diags)
     if len(diags) > limits.max_diagnostics:
         cut = diags[limits.max_diagnostics - 1]
-        del diags[limits.max_diagnostics - 1:]
+        del diags[limits.max_diagnostics - 1 :]
         diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
     return result
 
@@ -1024,9 +1173,24 @@ MAX_TRACE = 10_000  # a run that meets more blocks keeps no trace; the next runs
 def snapshot(run: TurnRun) -> tuple[Any, ...]:
     """What of the run's state the rest of the run depends on (the contour cache apart: `_take_over`)."""
     c = run.cycles
-    return (dataclasses.replace(run.turn), run.position, run.last_known, dict(run.params), run.nose, run.reference,
-            run.program, tuple(run.srk_window), run.srk_reported, dict(run.callee_reads), dict(run.late),
-            c.pitch, c.repeatable, c.work, c.in_contour, len(c.contours))
+    return (
+        dataclasses.replace(run.turn),
+        run.position,
+        run.last_known,
+        dict(run.params),
+        run.nose,
+        run.reference,
+        run.program,
+        tuple(run.srk_window),
+        run.srk_reported,
+        dict(run.callee_reads),
+        dict(run.late),
+        c.pitch,
+        c.repeatable,
+        c.work,
+        c.in_contour,
+        len(c.contours),
+    )
 
 
 def _shift_run(lm: LineMap, snap: tuple[Any, ...]) -> tuple[Any, ...]:
@@ -1036,10 +1200,31 @@ def _shift_run(lm: LineMap, snap: tuple[Any, ...]) -> tuple[Any, ...]:
 
 
 def _restore(run: TurnRun, snap: tuple[Any, ...], contours: dict[Any, Any]) -> None:
-    (turn, run.position, run.last_known, params, run.nose, run.reference, run.program, window, run.srk_reported,
-     reads, late, pitch, repeatable, work, in_contour, _) = snap
+    (
+        turn,
+        run.position,
+        run.last_known,
+        params,
+        run.nose,
+        run.reference,
+        run.program,
+        window,
+        run.srk_reported,
+        reads,
+        late,
+        pitch,
+        repeatable,
+        work,
+        in_contour,
+        _,
+    ) = snap
     run.turn = dataclasses.replace(turn)
-    run.params, run.callee_reads, run.late, run.srk_window = dict(params), dict(reads), dict(late), list(window)
+    run.params, run.callee_reads, run.late, run.srk_window = (
+        dict(params),
+        dict(reads),
+        dict(late),
+        list(window),
+    )
     run.cycles.pitch, run.cycles.repeatable, run.cycles.work = pitch, repeatable, work
     run.cycles.in_contour, run.cycles.contours = in_contour, dict(contours)
     run._state = None
@@ -1051,9 +1236,14 @@ def _key(u: Unit, main: Unit) -> Key:
 
 def _frame_point(c: _Frame, main: Unit) -> FramePoint:
     callee = c.callee.blocks
-    return (_key(c.unit, main), c.line, _key(c.callee, main),
-            callee[c.start].line if c.start < len(callee) else -1,
-            None if c.end is None else callee[c.end].line, c.remaining)
+    return (
+        _key(c.unit, main),
+        c.line,
+        _key(c.callee, main),
+        callee[c.start].line if c.start < len(callee) else -1,
+        None if c.end is None else callee[c.end].line,
+        c.remaining,
+    )
 
 
 def _index(u: Unit, line: int) -> int:
@@ -1071,8 +1261,17 @@ def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, int | None,
     calls = []
     for u, c, k, s, e, n in cp.calls:
         caller, callee = keys[u], keys[k]
-        calls.append(_Frame(caller, _index(caller, c) + 1, callee, _index(callee, s),
-                            None if e is None else _index(callee, e), n, c))
+        calls.append(
+            _Frame(
+                caller,
+                _index(caller, c) + 1,
+                callee,
+                _index(callee, s),
+                None if e is None else _index(callee, e),
+                n,
+                c,
+            )
+        )
     return unit, _index(unit, cp.line), None if cp.end is None else _index(unit, cp.end), calls
 
 
@@ -1080,8 +1279,13 @@ def _map_touch(lm: LineMap, lo: int, hi: int) -> tuple[int, int]:
     return (lo if lo <= 0 else lm.line(lo + 1) - 1), (hi if hi >= INF else lm.line(hi))
 
 
-def _resume(old: TurnTrace, trace: TurnTrace, blocks: list[Block], setup: RunSetup, keys: dict[Key, Unit],
-            ) -> tuple[int, LineMap, dict[tuple[Key, int], list[int]], TurnPoint | None] | None:
+def _resume(
+    old: TurnTrace,
+    trace: TurnTrace,
+    blocks: list[Block],
+    setup: RunSetup,
+    keys: dict[Key, Unit],
+) -> tuple[int, LineMap, dict[tuple[Key, int], list[int]], TurnPoint | None] | None:
     """Where this run starts from the previous run's checkpoints: (step, line map, the previous run's steps it
     may meet by program and line, the checkpoint or None for the start); None: a full run. Fills `trace` with
     the steps before the start."""
@@ -1089,12 +1293,13 @@ def _resume(old: TurnTrace, trace: TurnTrace, blocks: list[Block], setup: RunSet
         return None
     first, old_end, new_end = changed_lines(old.blocks, blocks)
     lo = max(1, first - 1)
-    was, now = old.blocks[lo - 1:old_end - 1], blocks[lo - 1:new_end - 1]
+    was, now = old.blocks[lo - 1 : old_end - 1], blocks[lo - 1 : new_end - 1]
     for b in (*was, *now):  # programs and block numbers as they were: calls, sections and contours the same
         if b.header is not None or (b.ok and _program_number(b) is not None):
             return None
     if [b.number for b in was if b.ok and b.number is not None] != [
-            b.number for b in now if b.ok and b.number is not None]:
+        b.number for b in now if b.ok and b.number is not None
+    ]:
         return None
     lm = LineMap(first, old_end, new_end - old_end)
     try:  # an O block starts a program unless it heads the main program: what the change may decide
@@ -1129,9 +1334,10 @@ def _resume(old: TurnTrace, trace: TurnTrace, blocks: list[Block], setup: RunSet
             cp = map_point(lm, old.points[r], _shift_run)
             _place(cp, keys)
             trace.points = [map_point(lm, p, _shift_run) for p in old.points[:r]]
-            trace.touches = [(s, *_map_touch(lm, a, b), arr) for s, a, b, arr in old.touches
-                             if s < r or (s == r and arr)]
-            for d in old.loop_diags[:old.n_diags[r]]:
+            trace.touches = [
+                (s, *_map_touch(lm, a, b), arr) for s, a, b, arr in old.touches if s < r or (s == r and arr)
+            ]
+            for d in old.loop_diags[: old.n_diags[r]]:
                 map_diagnostic(lm, d)
             trace.contours = [map_contours(lm, c, done) for c in old.contours[:r]]
             map_contours(lm, old.contours[r], done)
@@ -1146,10 +1352,23 @@ def _resume(old: TurnTrace, trace: TurnTrace, blocks: list[Block], setup: RunSet
     return r, lm, meet, cp
 
 
-def _take_over(old: TurnTrace, trace: TurnTrace, candidates: list[int], now: TurnPoint, lm: LineMap, step: int,
-               budget: Budget, run: TurnRun, items: list[Item], diags: list[Diagnostic],
-               states: list[ModalState | None], positions: list[Vec3 | None], limits: Any, n_initial: int,
-               current: tuple[int, int]) -> tuple[bool, tuple[int, int] | None] | None:
+def _take_over(
+    old: TurnTrace,
+    trace: TurnTrace,
+    candidates: list[int],
+    now: TurnPoint,
+    lm: LineMap,
+    step: int,
+    budget: Budget,
+    run: TurnRun,
+    items: list[Item],
+    diags: list[Diagnostic],
+    states: list[ModalState | None],
+    positions: list[Vec3 | None],
+    limits: Any,
+    n_initial: int,
+    current: tuple[int, int],
+) -> tuple[bool, tuple[int, int] | None] | None:
     """If the run, about to take step `step` at `now`, is where the previous run was at one of its steps
     `candidates`, append the rest of the previous run (its lines mapped) and answer (ended, the last main line
     and its step if the rest set it); else None."""
@@ -1161,8 +1380,9 @@ def _take_over(old: TurnTrace, trace: TurnTrace, candidates: list[int], now: Tur
             if map_point(lm, old.points[j], _shift_run) != now:
                 continue
             then = old.contours[j]
-            if then is not contours and {(k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]) for k in then} != set(
-                    contours):
+            if then is not contours and {
+                (k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]) for k in then
+            } != set(contours):
                 continue
             assert old.final is not None
             final = _shift_run(lm, old.final.run)
@@ -1171,20 +1391,23 @@ def _take_over(old: TurnTrace, trace: TurnTrace, candidates: list[int], now: Tur
             for s in range(j, len(old.points)):
                 lib = bool(old.library[s])
                 stop = old.n_items[s + 1] if s + 1 < len(old.points) else len(old.items)
-                for it in old.items[old.n_items[s]:stop]:
+                for it in old.items[old.n_items[s] : stop]:
                     new = map_item(lm, it, lib)
                     new_items.append(new)
                     if id(it) in old.early:
                         early.append(id(new))
-            found = [map_diagnostic(lm, d) for d in old.loop_diags[old.n_diags[j]:]]
+            found = [map_diagnostic(lm, d) for d in old.loop_diags[old.n_diags[j] :]]
             done: dict[int, dict[Any, Any]] = {}
             base = old.contours[j]
             cache = [carry_contours(lm, base, contours, c, done) for c in old.contours[j:]]
             final_contours = carry_contours(lm, base, contours, old.final_contours, done)
             sets = [None if x is None else (lm.line(x[0] + 1) - 1, x[1], x[2]) for x in old.sets[j:]]
             points = [map_point(lm, p, _shift_run) for p in old.points[j:]]
-            touched = [(s - j + step, *_map_touch(lm, a, b), arr) for s, a, b, arr in old.touches
-                       if s > j or (s == j and not arr)]
+            touched = [
+                (s - j + step, *_map_touch(lm, a, b), arr)
+                for s, a, b, arr in old.touches
+                if s > j or (s == j and not arr)
+            ]
             lasts = [(lm.line(a) if a else 0, b - j + step) if b >= j else current for a, b in old.lasts[j:]]
             last = (lm.line(old.last[0]), old.last[1] - j + step) if old.last[1] >= j else None
         except Unmappable:

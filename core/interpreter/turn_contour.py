@@ -208,6 +208,7 @@ def resolve(items: Sequence[Item], diagnostics: list[Diagnostic]) -> list[Comman
 
 # -- small helpers ------------------------------------------------------------------------------
 
+
 def _pt(xz: XZ) -> Point:
     return (xz[1], xz[0])
 
@@ -247,14 +248,26 @@ def _end_point(item: TurnItem, s: Point | None, d: list[Diagnostic]) -> Point | 
         if programmed_x:
             assert x is not None
             if abs(u[1]) < 1e-9:
-                d.append(diag("TX-E201", item.span, reason=f"die Gerade mit A{_num(item.a)} erreicht X{_num(2 * x)} "
-                              "nie", reason_en=f"the line at A{_num(item.a)} never reaches X{_num(2 * x)}"))
+                d.append(
+                    diag(
+                        "TX-E201",
+                        item.span,
+                        reason=f"die Gerade mit A{_num(item.a)} erreicht X{_num(2 * x)} nie",
+                        reason_en=f"the line at A{_num(item.a)} never reaches X{_num(2 * x)}",
+                    )
+                )
                 return None
             return (s[0] + (x - s[1]) * u[0] / u[1], x)
         assert z is not None
         if abs(u[0]) < 1e-9:
-            d.append(diag("TX-E201", item.span, reason=f"die Gerade mit A{_num(item.a)} erreicht Z{_num(z)} nie",
-                          reason_en=f"the line at A{_num(item.a)} never reaches Z{_num(z)}"))
+            d.append(
+                diag(
+                    "TX-E201",
+                    item.span,
+                    reason=f"die Gerade mit A{_num(item.a)} erreicht Z{_num(z)} nie",
+                    reason_en=f"the line at A{_num(item.a)} never reaches Z{_num(z)}",
+                )
+            )
             return None
         return (z, s[1] + (z - s[0]) * u[1] / u[0])
     if s is not None:
@@ -305,6 +318,7 @@ def _arc_known(item: TurnItem, s: Point, e: Point, d: list[Diagnostic]) -> Arc |
 
 # -- stage 1: the programmed contour, with the trains solved ------------------------------------
 
+
 @dataclass(slots=True)
 class _Seg:
     """One element of the programmed contour (plane points) and the block it belongs to."""
@@ -353,7 +367,9 @@ def _geometry(items: Sequence[Item], d: list[Diagnostic]) -> Seq:
                 # X, Z and A after a known point: A says nothing new, but it must agree (either way round)
                 off = _angle_diff(angle_of((e[0] - s[0], e[1] - s[1])), it.a)
                 if min(abs(off), 180 - abs(off)) > 0.01:
-                    d.append(diag("TX-W227", it.span, angle=it.a, direction=angle_of((e[0] - s[0], e[1] - s[1]))))
+                    d.append(
+                        diag("TX-W227", it.span, angle=it.a, direction=angle_of((e[0] - s[0], e[1] - s[1])))
+                    )
             out.append(_Seg(it, elem if elem is not None else Line(s, e)))
             pos = e
             i += 1
@@ -377,7 +393,15 @@ def _geometry(items: Sequence[Item], d: list[Diagnostic]) -> Seq:
             continue
         for q in between:
             if isinstance(q, SrkSwitch):  # the open point would be compensated with two different states
-                d.append(diag("TX-E226", q.span, code=q.code, where="im Geometriezug", where_en="inside a contour train"))
+                d.append(
+                    diag(
+                        "TX-E226",
+                        q.span,
+                        code=q.code,
+                        where="im Geometriezug",
+                        where_en="inside a contour train",
+                    )
+                )
         pair = _solve_pair(it, s, nxt, d)
         e_end = _pt_or_none(nxt)
         if pair is not None:
@@ -435,7 +459,9 @@ def _pick(points: list[Point], known: Point, arc: TurnItem, n: TurnItem, d: list
     return ranked[min(h or 0, len(ranked) - 1)]
 
 
-def _line_arc(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]) -> tuple[Element, Element] | None:
+def _line_arc(
+    k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]
+) -> tuple[Element, Element] | None:
     assert k.a is not None
     u = _dir(k.a)
     cw = n.code == "G2"
@@ -462,8 +488,12 @@ def _line_arc(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic])
             if best is None or arc.angle < best[0]:
                 best = (arc.angle, Line(s, p), arc)
     if best is None:
-        _no_solution(n, d, f"kein Kreisbogen R{_num(r)} schließt tangential an die Gerade an",
-                     f"no arc R{_num(r)} joins the line tangentially")
+        _no_solution(
+            n,
+            d,
+            f"kein Kreisbogen R{_num(r)} schließt tangential an die Gerade an",
+            f"no arc R{_num(r)} joins the line tangentially",
+        )
         return None
     if best[0] >= 180 - 1e-6:
         d.append(diag("TX-E203", n.span))
@@ -471,7 +501,9 @@ def _line_arc(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic])
     return best[1], best[2]
 
 
-def _arc_line(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]) -> tuple[Element, Element] | None:
+def _arc_line(
+    k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]
+) -> tuple[Element, Element] | None:
     assert n.a is not None
     u = _dir(n.a)
     cw = k.code == "G2"
@@ -497,8 +529,12 @@ def _arc_line(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic])
             if best is None or arc.angle < best[0]:
                 best = (arc.angle, arc, Line(p, e))
     if best is None:
-        _no_solution(n, d, f"kein Kreisbogen R{_num(r)} geht tangential in die Gerade über",
-                     f"no arc R{_num(r)} runs tangentially into the line")
+        _no_solution(
+            n,
+            d,
+            f"kein Kreisbogen R{_num(r)} geht tangential in die Gerade über",
+            f"no arc R{_num(r)} runs tangentially into the line",
+        )
         return None
     if best[0] >= 180 - 1e-6:
         d.append(diag("TX-E203", k.span))
@@ -506,7 +542,9 @@ def _arc_line(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic])
     return best[1], best[2]
 
 
-def _arc_arc(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]) -> tuple[Element, Element] | None:
+def _arc_arc(
+    k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]
+) -> tuple[Element, Element] | None:
     cw1, cw2 = k.code == "G2", n.code == "G2"
     if cw1 == cw2:
         d.append(diag("TX-E209", n.span))
@@ -540,6 +578,7 @@ def _arc_arc(k: TurnItem, s: Point, n: TurnItem, e: Point, d: list[Diagnostic]) 
 
 # -- stage 2: transition elements D, D-, R, C ---------------------------------------------------
 
+
 def _next_motion(seq: Seq, i: int, skip: tuple[type, ...] = (SrkSwitch,)) -> int | None:
     """Index of the next contour segment after i that moves, skipping `skip` items; None if another
     command comes first or the sequence ends."""
@@ -571,30 +610,51 @@ def _transitions(seq: Seq, d: list[Diagnostic]) -> Seq:
             i += 1
             continue
         assert j is not None
-        for q in out[i + 1:j]:
+        for q in out[i + 1 : j]:
             if isinstance(q, SrkSwitch):
-                d.append(diag("TX-E226", q.span, code=q.code, where=f"zwischen dem Übergangselement {spec.raw} und "
-                              "seinem Folgesatz", where_en=f"between the transition element {spec.raw} and its "
-                              "next block"))
+                d.append(
+                    diag(
+                        "TX-E226",
+                        q.span,
+                        code=q.code,
+                        where=f"zwischen dem Übergangselement {spec.raw} und seinem Folgesatz",
+                        where_en=f"between the transition element {spec.raw} and its next block",
+                    )
+                )
         if spec.kind == "rounding":
             t = rounding(seg.e, nxt.e, spec.size)
         else:
             width = spec.size
-            t = _chamfer_by_length(seg.e, nxt.e, width) if spec.kind == "chamfer_length" else chamfer(
-                seg.e, nxt.e, width)
+            t = (
+                _chamfer_by_length(seg.e, nxt.e, width)
+                if spec.kind == "chamfer_length"
+                else chamfer(seg.e, nxt.e, width)
+            )
         if t is None:
             if turn(seg.e, nxt.e) == 0.0:
-                why, why_en = "die Elemente gehen tangential ineinander über", "the elements meet tangentially"
+                why, why_en = (
+                    "die Elemente gehen tangential ineinander über",
+                    "the elements meet tangentially",
+                )
             else:
                 why, why_en = "es ist zu groß für die Nachbarelemente", "it is too large for its neighbours"
-            d.append(diag("TX-E211", seg.item.span, element=spec.raw, second=nxt.item.span.line,
-                          reason=why, reason_en=why_en))
+            d.append(
+                diag(
+                    "TX-E211",
+                    seg.item.span,
+                    element=spec.raw,
+                    second=nxt.item.span.line,
+                    reason=why,
+                    reason_en=why_en,
+                )
+            )
             i += 1
             continue
         k = _next_motion(out, j, (SrkSwitch, Dwell))
         after = out[k] if k is not None else None
-        deselects = nxt.item.nose.active and not (isinstance(after, _Seg) and not after.rapid
-                                                  and after.item.nose.mode == nxt.item.nose.mode)
+        deselects = nxt.item.nose.active and not (
+            isinstance(after, _Seg) and not after.rapid and after.item.nose.mode == nxt.item.nose.mode
+        )
         need = spec.size + W_MIN_TRANSITION + seg.item.nose.radius
         if not deselects and nxt.e.length < need - 1e-9:  # before deselection L2673 applies instead
             d.append(diag("TX-E223", nxt.item.span, length=nxt.e.length, need=need, element=spec.raw))
@@ -608,6 +668,7 @@ def _transitions(seq: Seq, d: list[Diagnostic]) -> Seq:
 def _chamfer_by_length(e1: Element, e2: Element, length: float) -> Transition | None:
     """D−: the chamfer with equal legs whose own length is `length` (legs found by bisection, since
     on an arc a leg is a chord)."""
+
     def chord(w: float) -> float | None:
         t = chamfer(e1, e2, w)
         return None if t is None else t.inserted.length
@@ -644,7 +705,7 @@ def _chamfer_by_length(e1: Element, e2: Element, length: float) -> Transition | 
 def _last_of_block(seq: Seq, i: int) -> bool:
     seg = seq[i]
     assert isinstance(seg, _Seg)
-    return not any(isinstance(q, _Seg) and q.item is seg.item for q in seq[i + 1:i + 3])
+    return not any(isinstance(q, _Seg) and q.item is seg.item for q in seq[i + 1 : i + 3])
 
 
 # -- stage 3: nose-radius compensation ----------------------------------------------------------
@@ -655,13 +716,20 @@ QUADRANT: dict[int, Point] = {1: (1.0, 1.0), 2: (-1.0, 1.0), 3: (-1.0, -1.0), 4:
 def _move(seg: _Seg, e: Element, programmed: Point, feed: float | None = None) -> Move:
     """The block's template with the geometry of `e` (plane points) and the contour point `programmed`."""
     t = seg.item.template
-    fields: dict[str, object] = {"start": _vec(e.a), "end": _vec(e.b), "programmed_end": _vec(programmed),
-                                 "plane": "G18"}
+    fields: dict[str, object] = {
+        "start": _vec(e.a),
+        "end": _vec(e.b),
+        "programmed_end": _vec(programmed),
+        "plane": "G18",
+    }
     if isinstance(e, Arc):
-        fields.update(kind="arc", center=_vec(e.c), direction="cw" if e.cw else "ccw", radius=e.radius,
-                      angle=e.angle)
+        fields.update(
+            kind="arc", center=_vec(e.c), direction="cw" if e.cw else "ccw", radius=e.radius, angle=e.angle
+        )
     else:
-        fields.update(kind="rapid" if seg.rapid else "feed", center=None, direction=None, radius=None, angle=None)
+        fields.update(
+            kind="rapid" if seg.rapid else "feed", center=None, direction=None, radius=None, angle=None
+        )
     if seg.inserted:
         spec = seg.item.transition
         feed = spec.feed if spec is not None and spec.feed is not None else t.feed
@@ -753,8 +821,14 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:  # noqa: C901
         selecting = False
         o = offset(seg.e, r)
         if o is None:
-            d.append(diag("TX-E214", seg.item.span, radius=seg.e.radius if isinstance(seg.e, Arc) else 0.0,
-                          nose=nose.radius))
+            d.append(
+                diag(
+                    "TX-E214",
+                    seg.item.span,
+                    radius=seg.e.radius if isinstance(seg.e, Arc) else 0.0,
+                    nose=nose.radius,
+                )
+            )
             out += _plain(seg, start)
             pos = seg.e.b
             continue
@@ -781,8 +855,11 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:  # noqa: C901
                     d.append(diag("TX-E215", seg.item.span, nose=nose.radius, second=nxt.item.span.line))
                 else:
                     o = with_end(o, x)
-            elif o2 is not None and math.dist(o.b, o2.a) > 1e-6 and (
-                    bend != 0.0 or dot(end_tangent(seg.e), start_tangent(nxt.e)) < 0):
+            elif (
+                o2 is not None
+                and math.dist(o.b, o2.a) > 1e-6
+                and (bend != 0.0 or dot(end_tangent(seg.e), start_tangent(nxt.e)) < 0)
+            ):
                 corner = Arc(o.b, o2.a, seg.e.b, cw=bend < 0 if bend != 0.0 else side > 0)
         elif isinstance(nxt, _Seg) and follows:
             # a rapid under SRK ends the compensation on this block: A there names the direction of
@@ -798,15 +875,24 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:  # noqa: C901
                 if x is not None:
                     o = with_end(o, x)
                     if a is None:
-                        d.append(diag("TX-W217", seg.item.span, length=math.dist(x, add(seg.e.b, left(
-                            end_tangent(seg.e)), r)), second=nxt.item.span.line))
+                        d.append(
+                            diag(
+                                "TX-W217",
+                                seg.item.span,
+                                length=math.dist(x, add(seg.e.b, left(end_tangent(seg.e)), r)),
+                                second=nxt.item.span.line,
+                            )
+                        )
             _check_deselect(seg, nose, d)
         elif nxt is not None or _switch_follows(seq, i):
             # G40 straight after a feed block: the block itself deselects (TX-28 case 1)
             d.append(diag("TX-W218", seg.item.span))
             _check_deselect(seg, nose, d)
-            if isinstance(seg.e, Line) and abs(seg.e.a[0] - seg.e.b[0]) < 1e-9 and \
-                    seg.e.length < 2 * nose.radius - 1e-9:  # deselection in X needs 2 × R (L2676)
+            if (
+                isinstance(seg.e, Line)
+                and abs(seg.e.a[0] - seg.e.b[0]) < 1e-9
+                and seg.e.length < 2 * nose.radius - 1e-9
+            ):  # deselection in X needs 2 × R (L2676)
                 d.append(diag("TX-E224", seg.item.span, length=seg.e.length, need=2 * nose.radius))
             if isinstance(o, Line):
                 o = Line(start, seg.e.b)
@@ -871,7 +957,11 @@ def _suppress(seq: Seq, i: int, r: float, d: list[Diagnostic]) -> None:
             before, after = run[m - 1].e, run[m + 1].e
             o1, o2 = offset(before, r), offset(after, r)
             facing = dot(end_tangent(before), start_tangent(after)) < -1e-9  # the walls of a narrow groove
-            if o1 is None or o2 is None or (not facing and _gap_joint(o1, o2, before.b, after.a, abs(r)) is None):
+            if (
+                o1 is None
+                or o2 is None
+                or (not facing and _gap_joint(o1, o2, before.b, after.a, abs(r)) is None)
+            ):
                 m += 1  # the neighbours' equidistants do not meet either: the block stays (TX-W220 below)
                 continue
             seg = run.pop(m)
@@ -882,7 +972,7 @@ def _suppress(seq: Seq, i: int, r: float, d: list[Diagnostic]) -> None:
 
 def _switch_follows(seq: Seq, i: int) -> bool:
     """Whether G40 (or another SRK code) is programmed after seq[i] before any further motion."""
-    for q in seq[i + 1:]:
+    for q in seq[i + 1 :]:
         if isinstance(q, SrkSwitch):
             return True
         if not isinstance(q, Dwell):
@@ -899,8 +989,14 @@ def _against_quadrant(e: Element, side: int, quadrant: int) -> bool:
     return any(dot(left(t), q) * side < -1e-6 for t in (start_tangent(e), end_tangent(e)))
 
 
-def _small_step(seq: Seq, seg: _Seg, j: int, o: Element, r: float, mode: str,
-                ) -> tuple[Element, Element] | None:
+def _small_step(
+    seq: Seq,
+    seg: _Seg,
+    j: int,
+    o: Element,
+    r: float,
+    mode: str,
+) -> tuple[Element, Element] | None:
     """A line `nxt` too short for the nose between an inside and an outside corner (or the reverse): the
     equidistant `o` of `seg` and an arc about the step's outer corner that reaches the equidistant of the
     element after the step. None when `nxt` (= seq[j]) is no such step."""
@@ -927,7 +1023,9 @@ def _small_step(seq: Seq, seg: _Seg, j: int, o: Element, r: float, mode: str,
             return None
         x = min(hits, key=lambda p: math.dist(p, o.a))
         return with_end(o, x), Arc(x, o3.a, c, cw=r > 0)
-    if first < 0 and second > 0:  # outside, then inside: roll round the step's start onto the next equidistant
+    if (
+        first < 0 and second > 0
+    ):  # outside, then inside: roll round the step's start onto the next equidistant
         c = nxt.e.a
         hits = _circle_hits(o3, c, radius)
         if not hits:
@@ -967,8 +1065,12 @@ def _gap_joint(o1: Element, o2: Element, a: Point, b: Point, radius: float) -> P
     x = nearest(intersections(o1, o2), mid)
     if x is not None and math.dist(x, mid) <= 10 * radius + math.dist(a, b) + 1e-6:
         return x
-    if isinstance(o1, Line) and isinstance(o2, Line) and abs(cross(
-            unit((o1.b[0] - o1.a[0], o1.b[1] - o1.a[1])), (o2.a[0] - o1.a[0], o2.a[1] - o1.a[1]))) < 1e-6:
+    if (
+        isinstance(o1, Line)
+        and isinstance(o2, Line)
+        and abs(cross(unit((o1.b[0] - o1.a[0], o1.b[1] - o1.a[1])), (o2.a[0] - o1.a[0], o2.a[1] - o1.a[1])))
+        < 1e-6
+    ):
         return o1.b  # collinear: the path runs straight on
     return None
 

@@ -38,31 +38,93 @@ DRAWING_CROP = (MARGIN - 0.5, MARGIN - 0.5, SHEET[0] - 2 * MARGIN + 1.0, SHEET[1
 DEBIAN_PACKAGES = "libpango-1.0-0 libpangoft2-1.0-0 libharfbuzz-subset0 fonts-dejavu-core"
 
 # the programming form's columns: heading (the same in both languages but the last), width in mm (190 in all)
-FORM_COLUMNS = (("N", 10), ("G", 10), ("X", 14), ("Y", 14), ("Z", 13), ("I", 12), ("J", 12), ("K / R", 12),
-                ("F", 11), ("S", 11), ("T", 8), ("M", 9), ("", 54))
+FORM_COLUMNS = (
+    ("N", 10),
+    ("G", 10),
+    ("X", 14),
+    ("Y", 14),
+    ("Z", 13),
+    ("I", 12),
+    ("J", 12),
+    ("K / R", 12),
+    ("F", 11),
+    ("S", 11),
+    ("T", 8),
+    ("M", 9),
+    ("", 54),
+)
 
 LABELS = {
-    "de": {"sheet": "Aufgabenblatt", "form": "Programmierblatt", "name": "Name:", "date": "Datum:",
-           "exercise": "Aufgabe", "data": "Rohteil, Werkzeuge und Schnittdaten", "tools_only": "Werkzeuge und Schnittdaten",
-           "tool": "Werkzeug", "kind": "Art", "diameter": "Ø (mm)", "speed": "S (1/min)", "feed": "F (mm/min)",
-           "insert": "Schneidplatte", "size": "Ø / R (mm)", "cut": "V / S", "feed_rev": "F (mm/U)",
-           "reduced": "E (mm/U)", "spindle": "Drehrichtung", "position": "Lage", "groove": "Einstechplatte",
-           "thread": "Gewindeplatte", "v": "V {v} m/min (G96)", "s": "S {s} 1/min (G97)",
-           "remark": "Bemerkung", "start": "Ausgangsprogramm", "drawing": "Bemaßte Zeichnung des Fertigteils",
-           "caption": "Zeichnung verkleinert gedruckt (etwa {p} %); es gelten die eingetragenen Maße in mm.",
-           "form_page": "Programmierblatt {k} von {n}", "page": "Seite", "of": "von",
-           "write": "Programm schreiben", "complete": "Programm ergänzen", "fix": "Fehler finden"},
-    "en": {"sheet": "Task sheet", "form": "Programming form", "name": "Name:", "date": "Date:",
-           "exercise": "Exercise", "data": "Blank, tools and cutting data", "tools_only": "Tools and cutting data",
-           "tool": "Tool", "kind": "Kind", "diameter": "Ø (mm)", "speed": "S (rpm)", "feed": "F (mm/min)",
-           "insert": "Insert", "size": "Ø / R (mm)", "cut": "V / S", "feed_rev": "F (mm/rev)",
-           "reduced": "E (mm/rev)", "spindle": "Spindle", "position": "quadrant", "groove": "grooving insert",
-           "thread": "threading insert", "v": "V {v} m/min (G96)", "s": "S {s} rpm (G97)",
-           "remark": "Remark", "start": "Start program",
-           "drawing": "Dimensioned drawing of the finished part",
-           "caption": "Drawing printed reduced (about {p} %); the dimensions given in mm apply.",
-           "form_page": "programming form {k} of {n}", "page": "Page", "of": "of",
-           "write": "Write the program", "complete": "Complete the program", "fix": "Find the mistake"},
+    "de": {
+        "sheet": "Aufgabenblatt",
+        "form": "Programmierblatt",
+        "name": "Name:",
+        "date": "Datum:",
+        "exercise": "Aufgabe",
+        "data": "Rohteil, Werkzeuge und Schnittdaten",
+        "tools_only": "Werkzeuge und Schnittdaten",
+        "tool": "Werkzeug",
+        "kind": "Art",
+        "diameter": "Ø (mm)",
+        "speed": "S (1/min)",
+        "feed": "F (mm/min)",
+        "insert": "Schneidplatte",
+        "size": "Ø / R (mm)",
+        "cut": "V / S",
+        "feed_rev": "F (mm/U)",
+        "reduced": "E (mm/U)",
+        "spindle": "Drehrichtung",
+        "position": "Lage",
+        "groove": "Einstechplatte",
+        "thread": "Gewindeplatte",
+        "v": "V {v} m/min (G96)",
+        "s": "S {s} 1/min (G97)",
+        "remark": "Bemerkung",
+        "start": "Ausgangsprogramm",
+        "drawing": "Bemaßte Zeichnung des Fertigteils",
+        "caption": "Zeichnung verkleinert gedruckt (etwa {p} %); es gelten die eingetragenen Maße in mm.",
+        "form_page": "Programmierblatt {k} von {n}",
+        "page": "Seite",
+        "of": "von",
+        "write": "Programm schreiben",
+        "complete": "Programm ergänzen",
+        "fix": "Fehler finden",
+    },
+    "en": {
+        "sheet": "Task sheet",
+        "form": "Programming form",
+        "name": "Name:",
+        "date": "Date:",
+        "exercise": "Exercise",
+        "data": "Blank, tools and cutting data",
+        "tools_only": "Tools and cutting data",
+        "tool": "Tool",
+        "kind": "Kind",
+        "diameter": "Ø (mm)",
+        "speed": "S (rpm)",
+        "feed": "F (mm/min)",
+        "insert": "Insert",
+        "size": "Ø / R (mm)",
+        "cut": "V / S",
+        "feed_rev": "F (mm/rev)",
+        "reduced": "E (mm/rev)",
+        "spindle": "Spindle",
+        "position": "quadrant",
+        "groove": "grooving insert",
+        "thread": "threading insert",
+        "v": "V {v} m/min (G96)",
+        "s": "S {s} rpm (G97)",
+        "remark": "Remark",
+        "start": "Start program",
+        "drawing": "Dimensioned drawing of the finished part",
+        "caption": "Drawing printed reduced (about {p} %); the dimensions given in mm apply.",
+        "form_page": "programming form {k} of {n}",
+        "page": "Page",
+        "of": "of",
+        "write": "Write the program",
+        "complete": "Complete the program",
+        "fix": "Find the mistake",
+    },
 }
 INSERT_ANGLES = {"C": 80, "D": 55, "V": 35}  # the rhombic inserts' corner angle (docs/tools.md)
 
@@ -87,13 +149,17 @@ def pdf_engine() -> Any:
     try:
         return _import_weasyprint()
     except ImportError:
-        raise SheetUnavailable("WeasyPrint ist nicht installiert (pip install weasyprint).",
-                               "WeasyPrint is not installed (pip install weasyprint).") from None
+        raise SheetUnavailable(
+            "WeasyPrint ist nicht installiert (pip install weasyprint).",
+            "WeasyPrint is not installed (pip install weasyprint).",
+        ) from None
     except OSError as err:  # cffi could not load Pango, GObject or HarfBuzz
         reason = str(err).strip().splitlines()[0] if str(err).strip() else type(err).__name__
         install = f"Debian: apt-get install {DEBIAN_PACKAGES}"
-        raise SheetUnavailable(f"WeasyPrint findet seine Systembibliotheken nicht ({install}): {reason}",
-                               f"WeasyPrint cannot load its system libraries ({install}): {reason}") from None
+        raise SheetUnavailable(
+            f"WeasyPrint findet seine Systembibliotheken nicht ({install}): {reason}",
+            f"WeasyPrint cannot load its system libraries ({install}): {reason}",
+        ) from None
 
 
 @cache
@@ -108,8 +174,12 @@ def _e(text: str) -> str:
 def _cropped(svg: str) -> str:
     """The drawing without the white margin around its frame (the page has its own)."""
     x, y, w, h = DRAWING_CROP
-    return re.sub(r'width="[^"]*mm" height="[^"]*mm" viewBox="[^"]*"',
-                  f'width="{w:g}mm" height="{h:g}mm" viewBox="{x:g} {y:g} {w:g} {h:g}"', svg, count=1)
+    return re.sub(
+        r'width="[^"]*mm" height="[^"]*mm" viewBox="[^"]*"',
+        f'width="{w:g}mm" height="{h:g}mm" viewBox="{x:g} {y:g} {w:g} {h:g}"',
+        svg,
+        count=1,
+    )
 
 
 def _svg_uri(svg: str) -> str:
@@ -122,12 +192,17 @@ def _joined(values: list[str]) -> str:
     return " / ".join(seen) if seen else "–"
 
 
-def _programmed_feeds(exercise: Exercise) -> tuple[dict[int, set[float]], dict[int, set[float]], dict[int, str]]:
+def _programmed_feeds(
+    exercise: Exercise,
+) -> tuple[dict[int, set[float]], dict[int, set[float]], dict[int, str]]:
     """Per tool, the feeds the reference writes as F and as E (the reduced feed of a transition or a falling
     contour), and the spindle direction it turns the tool in (M3/M4): what tells an E from an F in the cutting
     data and fills in a direction the data leave open."""
-    setup = RunSetup(tools=exercise.tool_table(), zero_offsets=tuple(exercise.zero_offsets.items()),
-                     subprograms=tuple(exercise.subprograms.items()))
+    setup = RunSetup(
+        tools=exercise.tool_table(),
+        zero_offsets=tuple(exercise.zero_offsets.items()),
+        subprograms=tuple(exercise.subprograms.items()),
+    )
     toolpath = run(exercise.reference, exercise.dialect, setup)
     program, _ = parse(exercise.reference, exercise.dialect, setup)
     f_words: dict[int, set[float]] = {}
@@ -140,7 +215,9 @@ def _programmed_feeds(exercise: Exercise) -> tuple[dict[int, set[float]], dict[i
             continue
         for word in block.words:
             if word.value is not None and word.address in ("F", "E"):
-                (f_words if word.address == "F" else e_words).setdefault(tool, set()).add(round(word.value, 6))
+                (f_words if word.address == "F" else e_words).setdefault(tool, set()).add(
+                    round(word.value, 6)
+                )
     spindle: dict[int, str] = {}
     for m in toolpath.moves:
         if m.tool is not None and m.spindle_direction is not None and m.tool not in spindle:
@@ -185,7 +262,9 @@ def _tool_rows(exercise: Exercise, lang: str) -> tuple[list[str], list[list[str]
     gives for it (several allowed values side by side). Turning: the insert, its nose radius and quadrant,
     V (G96) or S (G97), F and the reduced feed E in mm/U, the spindle direction."""
     labels = LABELS[lang]
-    kinds = KIND_NAMES_DE | LATHE_KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN | {"turning": "turning tool"}
+    kinds = (
+        KIND_NAMES_DE | LATHE_KIND_NAMES_DE if lang == "de" else KIND_NAMES_EN | {"turning": "turning tool"}
+    )
     table = exercise.tool_table()
     entries: dict[int, list[CuttingData]] = {}
     for c in exercise.cutting_data:
@@ -212,19 +291,45 @@ def _tool_rows(exercise: Exercise, lang: str) -> tuple[list[str], list[list[str]
                     size += f", {labels['position']} P{tool.quadrant}"
             else:
                 size = f"Ø{value(tool.diameter, lang)}" if tool is not None and tool.diameter else "–"
-            speeds = [labels["v"].format(v=value(c.cutting_speed, lang)) if c.cutting_speed
-                      else labels["s"].format(s=value(c.speed, lang)) if c.speed else "" for c in cuts]
+            speeds = [
+                labels["v"].format(v=value(c.cutting_speed, lang))
+                if c.cutting_speed
+                else labels["s"].format(s=value(c.speed, lang))
+                if c.speed
+                else ""
+                for c in cuts
+            ]
             spindle = [c.spindle or turning.get(number, "") for c in cuts] or [turning.get(number, "")]
-            rows.append([f"T{number}", kind[:1].upper() + kind[1:], _insert(tool, lang) if tool is not None else "–", size, _joined(speeds),
-                         _joined(feeds), _joined(reduced), _joined(spindle)])
+            rows.append(
+                [
+                    f"T{number}",
+                    kind[:1].upper() + kind[1:],
+                    _insert(tool, lang) if tool is not None else "–",
+                    size,
+                    _joined(speeds),
+                    _joined(feeds),
+                    _joined(reduced),
+                    _joined(spindle),
+                ]
+            )
         else:
             size = value(tool.diameter, lang) if tool is not None and tool.diameter else "–"
             spindle = [c.spindle or turning.get(number, "") for c in cuts] or [turning.get(number, "")]
-            rows.append([f"T{number}", kind[:1].upper() + kind[1:], size,
-                         _joined([value(c.speed, lang) for c in cuts if c.speed]),
-                         _joined([value(c.feed, lang) for c in cuts]), _joined(spindle)])
-    columns = (["tool", "kind", "insert", "size", "cut", "feed_rev", "reduced", "spindle"] if exercise.lathe
-               else ["tool", "kind", "diameter", "speed", "feed", "spindle"])
+            rows.append(
+                [
+                    f"T{number}",
+                    kind[:1].upper() + kind[1:],
+                    size,
+                    _joined([value(c.speed, lang) for c in cuts if c.speed]),
+                    _joined([value(c.feed, lang) for c in cuts]),
+                    _joined(spindle),
+                ]
+            )
+    columns = (
+        ["tool", "kind", "insert", "size", "cut", "feed_rev", "reduced", "spindle"]
+        if exercise.lathe
+        else ["tool", "kind", "diameter", "speed", "feed", "spindle"]
+    )
     return [labels[c] for c in columns], rows
 
 
@@ -233,28 +338,51 @@ def _task_page(exercise: Exercise, lang: str, drawing: str | None = None) -> str
     labels = LABELS[lang]
     headings, rows = _tool_rows(exercise, lang)
     left = 2  # the tool and its kind are text; the other columns are values
-    head = "".join(f'<th class="num">{_e(h)}</th>' if n >= left else f"<th>{_e(h)}</th>" for n, h in enumerate(headings))
-    body = ["      <tr>" + "".join(f'<td class="num">{_e(c)}</td>' if k >= left else f"<td>{_e(c)}</td>"
-                                    for k, c in enumerate(row)) + "</tr>" for row in rows]
+    head = "".join(
+        f'<th class="num">{_e(h)}</th>' if n >= left else f"<th>{_e(h)}</th>" for n, h in enumerate(headings)
+    )
+    body = [
+        "      <tr>"
+        + "".join(
+            f'<td class="num">{_e(c)}</td>' if k >= left else f"<td>{_e(c)}</td>" for k, c in enumerate(row)
+        )
+        + "</tr>"
+        for row in rows
+    ]
     start = ""
     if exercise.kind != "write" and exercise.start_program:
-        start = (f'  <div class="start">\n    <h2>{_e(labels["start"])}</h2>\n'
-                 f"    <pre>{_e(exercise.start_program.rstrip())}</pre>\n  </div>")
+        start = (
+            f'  <div class="start">\n    <h2>{_e(labels["start"])}</h2>\n'
+            f"    <pre>{_e(exercise.start_program.rstrip())}</pre>\n  </div>"
+        )
     percent = round(190.0 * (0.78 if start else 1.0) / DRAWING_CROP[2] * 100)
     stock = exercise.stock.model_dump(mode="json")
     blank = exercise.blank.model_dump(mode="json") if exercise.blank is not None else None
     task = exercise.task.get(lang)
     stated = states_blank(task, stock, blank)  # the text says it already: the data line gives only the zero
-    data_line = zero_text(stock, blank, lang) if stated else f"{blank_text(stock, blank, lang)} · {zero_text(stock, blank, lang)}"
+    data_line = (
+        zero_text(stock, blank, lang)
+        if stated
+        else f"{blank_text(stock, blank, lang)} · {zero_text(stock, blank, lang)}"
+    )
     return _template("task.html").substitute(
-        sheet_label=_e(labels["sheet"]), name_label=_e(labels["name"]), date_label=_e(labels["date"]),
+        sheet_label=_e(labels["sheet"]),
+        name_label=_e(labels["name"]),
+        date_label=_e(labels["date"]),
         title=_e(exercise.title.get(lang)),
         meta=_e(f"{labels['exercise']} {exercise.id} · {labels[exercise.kind]}"),
         task=task_html(task),  # safe HTML (core/sheet/tasktext.py): what the exercise page shows
-        drawing=drawing or _svg_uri(_cropped(part_drawing(exercise, lang))), drawing_alt=_e(labels["drawing"]),
-        caption=_e(labels["caption"].format(p=percent)), data_label=_e(labels["tools_only" if stated else "data"]),
-        blank=_e(data_line), tool_headings=head, tool_rows="\n".join(body), start=start,
-        variant=" with-start" if start else "", lathe=" lathe" if exercise.lathe else "")
+        drawing=drawing or _svg_uri(_cropped(part_drawing(exercise, lang))),
+        drawing_alt=_e(labels["drawing"]),
+        caption=_e(labels["caption"].format(p=percent)),
+        data_label=_e(labels["tools_only" if stated else "data"]),
+        blank=_e(data_line),
+        tool_headings=head,
+        tool_rows="\n".join(body),
+        start=start,
+        variant=" with-start" if start else "",
+        lathe=" lathe" if exercise.lathe else "",
+    )
 
 
 def form_pages(exercise: Exercise) -> int:
@@ -269,13 +397,22 @@ def _form_page(exercise: Exercise, lang: str, k: int, n: int) -> str:
     headings = "".join(f"<th>{_e(h or labels['remark'])}</th>" for h, _ in FORM_COLUMNS)
     row = "      <tr>" + "<td></td>" * len(FORM_COLUMNS) + "</tr>"
     return _template("form.html").substitute(
-        form_label=_e(labels["form"]), name_label=_e(labels["name"]), date_label=_e(labels["date"]),
-        title=_e(exercise.title.get(lang)), exercise_label=_e(labels["exercise"]), id=_e(exercise.id),
-        form_page=_e(labels["form_page"].format(k=k, n=n)), columns=columns, headings=headings,
-        rows="\n".join([row] * FORM_ROWS))
+        form_label=_e(labels["form"]),
+        name_label=_e(labels["name"]),
+        date_label=_e(labels["date"]),
+        title=_e(exercise.title.get(lang)),
+        exercise_label=_e(labels["exercise"]),
+        id=_e(exercise.id),
+        form_page=_e(labels["form_page"].format(k=k, n=n)),
+        columns=columns,
+        headings=headings,
+        rows="\n".join([row] * FORM_ROWS),
+    )
 
 
-def task_sheet_html(exercises: Sequence[Exercise], lang: str = "de", drawings: Mapping[str, str] | None = None) -> str:
+def task_sheet_html(
+    exercises: Sequence[Exercise], lang: str = "de", drawings: Mapping[str, str] | None = None
+) -> str:
     """The task sheets of the exercises as one HTML document with its print stylesheet (the PDF's source);
     `drawings`: per exercise id an author's own drawing (an image as data URI) printed instead of the generated one."""
     lang = "en" if lang == "en" else "de"
@@ -290,12 +427,15 @@ def task_sheet_html(exercises: Sequence[Exercise], lang: str = "de", drawings: M
     first = exercises[0]
     title = first.title.get(lang) if len(exercises) == 1 else f"{labels['sheet']} ({len(exercises)})"
     footer = f"PAL Trainer · {labels['exercise']} {first.id}" if len(exercises) == 1 else "PAL Trainer"
-    css = _template("sheet.css").substitute(footer=footer.replace('"', "'"), page_word=labels["page"],
-                                            of_word=labels["of"])
+    css = _template("sheet.css").substitute(
+        footer=footer.replace('"', "'"), page_word=labels["page"], of_word=labels["of"]
+    )
     return _template("sheet.html").substitute(lang=lang, title=_e(title), css=css, sheets="\n".join(sheets))
 
 
-def task_sheet_pdf(exercises: Sequence[Exercise], lang: str = "de", drawings: Mapping[str, str] | None = None) -> bytes:
+def task_sheet_pdf(
+    exercises: Sequence[Exercise], lang: str = "de", drawings: Mapping[str, str] | None = None
+) -> bytes:
     """The task sheets of the exercises as one PDF (A4): per exercise its task page, then its form pages."""
     engine = pdf_engine()
     document = task_sheet_html(exercises, lang, drawings)
@@ -314,8 +454,9 @@ def merge_pdfs(parts: Sequence[bytes]) -> bytes:
     try:
         from pypdf import PdfReader, PdfWriter
     except ImportError:
-        raise SheetUnavailable("pypdf ist nicht installiert (pip install pypdf).",
-                               "pypdf is not installed (pip install pypdf).") from None
+        raise SheetUnavailable(
+            "pypdf ist nicht installiert (pip install pypdf).", "pypdf is not installed (pip install pypdf)."
+        ) from None
     writer = PdfWriter()
     for part in parts:
         writer.append(PdfReader(io.BytesIO(part)))

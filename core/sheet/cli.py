@@ -15,10 +15,16 @@ from core.sheet import SheetUnavailable, task_sheet_pdf
 
 
 def register(subparsers: Any, common: argparse.ArgumentParser) -> None:
-    p = subparsers.add_parser("sheet", help="Aufgabenblatt mit Zeichnung und Programmierblatt als PDF / "
-                                            "task sheet with drawing and programming form as PDF")
-    p.add_argument("exercise", nargs="+",
-                   help="Aufgaben-ID oder Aufgabendatei (YAML), auch mehrere / exercise ids or files")
+    p = subparsers.add_parser(
+        "sheet",
+        help="Aufgabenblatt mit Zeichnung und Programmierblatt als PDF / "
+        "task sheet with drawing and programming form as PDF",
+    )
+    p.add_argument(
+        "exercise",
+        nargs="+",
+        help="Aufgaben-ID oder Aufgabendatei (YAML), auch mehrere / exercise ids or files",
+    )
     p.add_argument("--out", required=True, help="PDF-Datei / PDF file")
     p.add_argument("--lang", choices=("de", "en"), default="de", help="Sprache / language")
     p.set_defaults(handler=_sheet)

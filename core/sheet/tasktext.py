@@ -24,12 +24,25 @@ RULES = ["list", "emphasis", "backticks", "link", "escape", "entity", "newline"]
 SAFE_LINK = re.compile(r"^https://[^\s<>\"']+$", re.IGNORECASE)
 
 LABELS = {
-    "de": {"blank": "Rohteil", "bar": "Stange", "tube": "Rohr", "chuck": "{c} mm im Futter",
-           "zero": "Werkstücknullpunkt"},
-    "en": {"blank": "Blank", "bar": "bar", "tube": "tube", "chuck": "{c} mm in the chuck", "zero": "Workpiece zero"},
+    "de": {
+        "blank": "Rohteil",
+        "bar": "Stange",
+        "tube": "Rohr",
+        "chuck": "{c} mm im Futter",
+        "zero": "Werkstücknullpunkt",
+    },
+    "en": {
+        "blank": "Blank",
+        "bar": "bar",
+        "tube": "tube",
+        "chuck": "{c} mm in the chuck",
+        "zero": "Workpiece zero",
+    },
 }
-ZERO = {"mill": {"de": "linke untere Ecke der Oberseite", "en": "lower left corner of the top face"},
-        "lathe": {"de": "Drehmitte auf der Stirnfläche (Z0)", "en": "centre of the front face (Z0)"}}
+ZERO = {
+    "mill": {"de": "linke untere Ecke der Oberseite", "en": "lower left corner of the top face"},
+    "lathe": {"de": "Drehmitte auf der Stirnfläche (Z0)", "en": "centre of the front face (Z0)"},
+}
 
 
 def _markdown() -> MarkdownIt:
@@ -57,6 +70,7 @@ def task_html(markdown: str) -> str:
 
 # ---- the blank --------------------------------------------------------------------------------------------
 
+
 def _number(v: Any) -> float | None:
     try:
         f = float(v)
@@ -65,11 +79,16 @@ def _number(v: Any) -> float | None:
     return f if math.isfinite(f) else None
 
 
-def _sizes(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None) -> tuple[str, list[float]] | None:
+def _sizes(
+    stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None
+) -> tuple[str, list[float]] | None:
     """("bar" | "tube" | "box", the blank's sizes: Ø and length; Ø, bore Ø and length; X, Y and Z)."""
     if blank:
-        d, i, length = _number(blank.get("diameter")), _number(blank.get("inner_diameter")) or 0.0, \
-            _number(blank.get("length"))
+        d, i, length = (
+            _number(blank.get("diameter")),
+            _number(blank.get("inner_diameter")) or 0.0,
+            _number(blank.get("length")),
+        )
         if d and length:
             return ("tube", [d, i, length]) if i > 0 else ("bar", [d, length])
     if stock:
@@ -78,8 +97,10 @@ def _sizes(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None) -> 
             ends = [_number(b) for b in hi]
             starts = [_number(a) for a in lo]
             if all(v is not None for v in ends + starts):
-                return "box", [round(b - a, 6) for a, b in zip(starts, ends, strict=True)  # type: ignore[operator]
-                               ]
+                return "box", [
+                    round(b - a, 6)  # type: ignore[operator]
+                    for a, b in zip(starts, ends, strict=True)
+                ]
     return None
 
 
@@ -96,7 +117,7 @@ def blank_size(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None,
 
 
 def blank_text(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None, lang: str) -> str:
-    """"Rohteil: Stange Ø100 × 160 mm, 30 mm im Futter" / "Blank: 80 × 70 × 30 mm": the page's and the sheet's
+    """ "Rohteil: Stange Ø100 × 160 mm, 30 mm im Futter" / "Blank: 80 × 70 × 30 mm": the page's and the sheet's
     line for the blank; "" where the exercise has none."""
     lang = "en" if lang == "en" else "de"
     labels = LABELS[lang]
@@ -104,8 +125,11 @@ def blank_text(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None,
     if found is None:
         return ""
     kind = found[0]
-    text = f"{labels['blank']}: " + (f"{labels[kind]} " if kind != "box" else "") + \
-        f"{blank_size(stock, blank, lang)} mm"
+    text = (
+        f"{labels['blank']}: "
+        + (f"{labels[kind]} " if kind != "box" else "")
+        + f"{blank_size(stock, blank, lang)} mm"
+    )
     chuck = _number((blank or {}).get("chuck_length"))
     if kind != "box" and chuck:
         text += ", " + labels["chuck"].format(c=value(chuck, lang))
@@ -113,7 +137,7 @@ def blank_text(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None,
 
 
 def zero_text(stock: Mapping[str, Any] | None, blank: Mapping[str, Any] | None, lang: str) -> str:
-    """"Werkstücknullpunkt: Drehmitte auf der Stirnfläche (Z0)": where the exercise puts the workpiece zero."""
+    """ "Werkstücknullpunkt: Drehmitte auf der Stirnfläche (Z0)": where the exercise puts the workpiece zero."""
     lang = "en" if lang == "en" else "de"
     source = blank if blank else stock
     zero = (source or {}).get("zero")

@@ -24,9 +24,14 @@ from core.sim.turning import DEFAULT_LATHE_TOOLS, DEFAULT_TURNING_RESOLUTION, Bl
 from core.tools import ToolTable
 
 DEFAULT_BLANK = "bar:60,100"  # turning: a bar Ø60 × 100, the last 30 mm in the chuck
-DEFAULT_STOCK = "0,0,-30:80,70,0"  # the PAL examples' 80 × 70 × 30 block, origin at the top's lower left corner
-_LABEL = {Severity.ERROR: ("Fehler", "error"), Severity.WARNING: ("Warnung", "warning"),
-          Severity.INFO: ("Hinweis", "info")}
+DEFAULT_STOCK = (
+    "0,0,-30:80,70,0"  # the PAL examples' 80 × 70 × 30 block, origin at the top's lower left corner
+)
+_LABEL = {
+    Severity.ERROR: ("Fehler", "error"),
+    Severity.WARNING: ("Warnung", "warning"),
+    Severity.INFO: ("Hinweis", "info"),
+}
 
 
 def _stock(text: str) -> Stock:
@@ -36,12 +41,19 @@ def _stock(text: str) -> Stock:
         q = [float(v) for v in b.split(",")]
         if len(p) != 3 or len(q) != 3:
             raise ValueError
-        return Stock(min(p[0], q[0]), min(p[1], q[1]), min(p[2], q[2]),
-                     max(p[0], q[0]), max(p[1], q[1]), max(p[2], q[2]))
+        return Stock(
+            min(p[0], q[0]),
+            min(p[1], q[1]),
+            min(p[2], q[2]),
+            max(p[0], q[0]),
+            max(p[1], q[1]),
+            max(p[2], q[2]),
+        )
     except ValueError:
         raise argparse.ArgumentTypeError(
             f"»{text}«: erwartet X0,Y0,Z0:X1,Y1,Z1 mit Länge, Breite und Höhe > 0, z. B. {DEFAULT_STOCK} "
-            "/ expected two corners X0,Y0,Z0:X1,Y1,Z1") from None
+            "/ expected two corners X0,Y0,Z0:X1,Y1,Z1"
+        ) from None
 
 
 def _blank(text: str) -> Blank:
@@ -60,7 +72,8 @@ def _blank(text: str) -> Blank:
         raise argparse.ArgumentTypeError(
             f"»{text}«: erwartet bar:D,L[,C[,J]] oder tube:D,d,L[,C[,J]] (Durchmesser, Bohrung, Länge, Spannlänge, "
             f"Backendurchmesser in mm, Bohrung < Durchmesser < Backendurchmesser, Spannlänge < Länge), "
-            f"z. B. {DEFAULT_BLANK} / expected bar:D,L[,C[,J]] or tube:D,d,L[,C[,J]]") from None
+            f"z. B. {DEFAULT_BLANK} / expected bar:D,L[,C[,J]] or tube:D,d,L[,C[,J]]"
+        ) from None
 
 
 def _resolution(text: str) -> float:
@@ -83,24 +96,61 @@ def _expected(text: str) -> tuple[int, float]:
 
 def register(subparsers: Any, common: argparse.ArgumentParser) -> None:
     """Add `simulate` to the `paltrainer` command line."""
-    p = subparsers.add_parser("simulate", parents=[common],
-                              help="Zerspanung simulieren: Rohteil, Kollisionen, Laufzeit / simulate the machining")
-    p.add_argument("--stock", type=_stock, default=_stock(DEFAULT_STOCK), metavar="X0,Y0,Z0:X1,Y1,Z1",
-                   help=f"Rohteil als zwei Ecken in Werkstückkoordinaten (Standard {DEFAULT_STOCK})")
-    p.add_argument("--blank", type=_blank, default=None, metavar="bar:D,L[,C[,J]]|tube:D,d,L[,C[,J]]",
-                   help=(f"Drehen: Rohteil Stange oder Rohr mit Spannlänge C im Futter und Backendurchmesser J "
-                         f"(Standard {DEFAULT_BLANK}) / turning: the bar or tube, its clamping length and the jaws' "
-                         "diameter"))
+    p = subparsers.add_parser(
+        "simulate",
+        parents=[common],
+        help="Zerspanung simulieren: Rohteil, Kollisionen, Laufzeit / simulate the machining",
+    )
+    p.add_argument(
+        "--stock",
+        type=_stock,
+        default=_stock(DEFAULT_STOCK),
+        metavar="X0,Y0,Z0:X1,Y1,Z1",
+        help=f"Rohteil als zwei Ecken in Werkstückkoordinaten (Standard {DEFAULT_STOCK})",
+    )
+    p.add_argument(
+        "--blank",
+        type=_blank,
+        default=None,
+        metavar="bar:D,L[,C[,J]]|tube:D,d,L[,C[,J]]",
+        help=(
+            f"Drehen: Rohteil Stange oder Rohr mit Spannlänge C im Futter und Backendurchmesser J "
+            f"(Standard {DEFAULT_BLANK}) / turning: the bar or tube, its clamping length and the jaws' "
+            "diameter"
+        ),
+    )
     p.add_argument("--tools", metavar="YAML", help="Werkzeugtabelle (YAML, docs/tools.md) / tool table")
-    p.add_argument("--resolution", type=_resolution, default=None, metavar="MM",
-                   help=(f"Rasterweite in mm (Standard {DEFAULT_RESOLUTION}; Drehen: Abstand in Z, Standard "
-                         f"{DEFAULT_TURNING_RESOLUTION}) / cell size"))
-    p.add_argument("--expect-tool", type=_expected, action="append", default=[], metavar="N=D",
-                   help="die Aufgabe sieht für TN den Durchmesser D vor / the exercise expects TN of diameter D")
-    p.add_argument("--stl", metavar="FILE", help="Rohteil als binäre STL schreiben / write the stock as binary STL")
-    p.add_argument("--png", metavar="FILE", help="Tiefenbild von oben schreiben / write a top-view depth image")
-    p.add_argument("--max-triangles", type=int, default=500_000, metavar="N",
-                   help="höchstens N Dreiecke in der STL (Standard 500000)")
+    p.add_argument(
+        "--resolution",
+        type=_resolution,
+        default=None,
+        metavar="MM",
+        help=(
+            f"Rasterweite in mm (Standard {DEFAULT_RESOLUTION}; Drehen: Abstand in Z, Standard "
+            f"{DEFAULT_TURNING_RESOLUTION}) / cell size"
+        ),
+    )
+    p.add_argument(
+        "--expect-tool",
+        type=_expected,
+        action="append",
+        default=[],
+        metavar="N=D",
+        help="die Aufgabe sieht für TN den Durchmesser D vor / the exercise expects TN of diameter D",
+    )
+    p.add_argument(
+        "--stl", metavar="FILE", help="Rohteil als binäre STL schreiben / write the stock as binary STL"
+    )
+    p.add_argument(
+        "--png", metavar="FILE", help="Tiefenbild von oben schreiben / write a top-view depth image"
+    )
+    p.add_argument(
+        "--max-triangles",
+        type=int,
+        default=500_000,
+        metavar="N",
+        help="höchstens N Dreiecke in der STL (Standard 500000)",
+    )
     p.set_defaults(handler=handle)
 
 
@@ -108,7 +158,9 @@ def _write(path: str, data: bytes) -> None:
     try:
         Path(path).write_bytes(data)
     except OSError as err:
-        raise UsageError(f"Datei »{path}« kann nicht geschrieben werden: {err.strerror} / cannot write file") from None
+        raise UsageError(
+            f"Datei »{path}« kann nicht geschrieben werden: {err.strerror} / cannot write file"
+        ) from None
 
 
 def _line(path: str, d: Diagnostic, lang: str, column: bool) -> str:
@@ -123,7 +175,9 @@ def handle(args: argparse.Namespace) -> int:
         try:
             tools = parse_tool_table(Path(args.tools).read_text(encoding="utf-8"))
         except OSError as err:
-            raise UsageError(f"Datei »{args.tools}« kann nicht gelesen werden: {err.strerror} / cannot read file") from None
+            raise UsageError(
+                f"Datei »{args.tools}« kann nicht gelesen werden: {err.strerror} / cannot read file"
+            ) from None
         except ToolTableError as err:
             raise UsageError(str(err)) from None
     if args.max_triangles < 12:
@@ -132,8 +186,13 @@ def handle(args: argparse.Namespace) -> int:
         return _turn(args, tools if args.tools else DEFAULT_LATHE_TOOLS)
     setup = setup_from_args(args, tools)
     toolpath = run(read_program(args.file), args.dialect, setup)
-    result = simulate(toolpath, args.stock, setup.tools, args.resolution or DEFAULT_RESOLUTION,
-                      expected_diameters=dict(args.expect_tool))
+    result = simulate(
+        toolpath,
+        args.stock,
+        setup.tools,
+        args.resolution or DEFAULT_RESOLUTION,
+        expected_diameters=dict(args.expect_tool),
+    )
     if args.stl:
         _write(args.stl, stl_bytes(*surface_mesh(result.heightmap, args.max_triangles)))
     if args.png:
@@ -141,8 +200,15 @@ def handle(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(simulation_json(result), ensure_ascii=False))
     else:
-        _summary(args, result.diagnostics, result.events, result.removed_volume, result.remaining_volume,
-                 result.cycle_time, result.resolution)
+        _summary(
+            args,
+            result.diagnostics,
+            result.events,
+            result.removed_volume,
+            result.remaining_volume,
+            result.cycle_time,
+            result.resolution,
+        )
     return EXIT_ERRORS if has_errors(result.diagnostics) or has_errors(result.events) else EXIT_OK
 
 
@@ -153,25 +219,48 @@ def _turn(args: argparse.Namespace, tools: ToolTable) -> int:
     blank = args.blank or _blank(DEFAULT_BLANK)
     result = simulate_turning(toolpath, blank, setup.tools, args.resolution or DEFAULT_TURNING_RESOLUTION)
     if args.stl:
-        _write(args.stl, stl_bytes(*revolved_mesh(result.profile, max_triangles=args.max_triangles),
-                                   name="PAL Trainer turned part"))
+        _write(
+            args.stl,
+            stl_bytes(
+                *revolved_mesh(result.profile, max_triangles=args.max_triangles),
+                name="PAL Trainer turned part",
+            ),
+        )
     if args.png:
         _write(args.png, half_section_png(result.profile, blank))
     if args.json:
         print(json.dumps(turning_json(result), ensure_ascii=False))
     else:
-        _summary(args, result.diagnostics, result.events, result.removed_volume, result.remaining_volume,
-                 result.cycle_time, result.resolution)
+        _summary(
+            args,
+            result.diagnostics,
+            result.events,
+            result.removed_volume,
+            result.remaining_volume,
+            result.cycle_time,
+            result.resolution,
+        )
     return EXIT_ERRORS if has_errors(result.diagnostics) or has_errors(result.events) else EXIT_OK
 
 
-def _summary(args: argparse.Namespace, diagnostics: list[Diagnostic], events: list[Diagnostic], removed: float,
-             remaining: float, total: float, resolution: float) -> None:
+def _summary(
+    args: argparse.Namespace,
+    diagnostics: list[Diagnostic],
+    events: list[Diagnostic],
+    removed: float,
+    remaining: float,
+    total: float,
+    resolution: float,
+) -> None:
     de = args.lang == "de"
     for d in diagnostics:
         print(_line(args.file, d, args.lang, True), file=sys.stderr)
     for d in events:
         print(_line(args.file, d, args.lang, False))
-    print(("Abgetragen {:.1f} mm³, Rest {:.1f} mm³, Laufzeit {:d}:{:02d} min (Raster {:g} mm)" if de else
-           "Removed {:.1f} mm³, remaining {:.1f} mm³, cycle time {:d}:{:02d} min (cells {:g} mm)").format(
-        removed, remaining, int(total // 60), round(total % 60) % 60, resolution))
+    print(
+        (
+            "Abgetragen {:.1f} mm³, Rest {:.1f} mm³, Laufzeit {:d}:{:02d} min (Raster {:g} mm)"
+            if de
+            else "Removed {:.1f} mm³, remaining {:.1f} mm³, cycle time {:d}:{:02d} min (cells {:g} mm)"
+        ).format(removed, remaining, int(total // 60), round(total % 60) % 60, resolution)
+    )

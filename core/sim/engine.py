@@ -140,10 +140,16 @@ def make_grid(stock: Stock, resolution: float, limits: SimLimits) -> tuple[Grid,
     return Grid(stock.x0, stock.y0, w / nx, h / ny, nx, ny), res
 
 
-def simulate(toolpath: Toolpath, stock: Stock, tools: ToolTable = DEFAULT_SIM_TOOLS,
-             resolution: float = DEFAULT_RESOLUTION, machine: Machine | None = None, *,
-             expected_diameters: Mapping[int, float] | None = None,
-             limits: SimLimits | None = None) -> SimResult:
+def simulate(
+    toolpath: Toolpath,
+    stock: Stock,
+    tools: ToolTable = DEFAULT_SIM_TOOLS,
+    resolution: float = DEFAULT_RESOLUTION,
+    machine: Machine | None = None,
+    *,
+    expected_diameters: Mapping[int, float] | None = None,
+    limits: SimLimits | None = None,
+) -> SimResult:
     """Machine `stock` along `toolpath`: the stock left, removed volume, cycle time and events.
 
     `expected_diameters` maps a T number to the diameter an exercise states for it (SIM-W001 when
@@ -154,8 +160,11 @@ def simulate(toolpath: Toolpath, stock: Stock, tools: ToolTable = DEFAULT_SIM_TO
     grid, used = make_grid(stock, resolution, limits)
     events = _Events(limits.max_events)
     if used != resolution:
-        events.add(diag("SIM-W002", NO_LINE, requested=float(resolution), used=round(used, 4),
-                        limit=limits.max_cells))
+        events.add(
+            diag(
+                "SIM-W002", NO_LINE, requested=float(resolution), used=round(used, 4), limit=limits.max_cells
+            )
+        )
     heights = np.full((grid.ny, grid.nx), stock.z1, dtype=np.float64)
     run = _Run(grid, heights, stock, tools, machine, limits, events)
     complete = True
@@ -166,15 +175,34 @@ def simulate(toolpath: Toolpath, stock: Stock, tools: ToolTable = DEFAULT_SIM_TO
     hm = HeightMap(grid, stock.z0, stock.z1, np.clip(heights, stock.z0, stock.z1))
     remaining = hm.volume()
     total = float(grid.nx * grid.ny) * grid.dx * grid.dy * (stock.z1 - stock.z0)
-    return SimResult(stock, used, hm, total - remaining, remaining, sum(run.times.values()), dict(run.times),
-                     events.items, list(toolpath.diagnostics), run.updates, complete)
+    return SimResult(
+        stock,
+        used,
+        hm,
+        total - remaining,
+        remaining,
+        sum(run.times.values()),
+        dict(run.times),
+        events.items,
+        list(toolpath.diagnostics),
+        run.updates,
+        complete,
+    )
 
 
 class _Run:
     """The mutable state of one simulation (private to `simulate`)."""
 
-    def __init__(self, grid: Grid, heights: Array, stock: Stock, tools: ToolTable, machine: Machine,
-                 limits: SimLimits, events: _Events) -> None:
+    def __init__(
+        self,
+        grid: Grid,
+        heights: Array,
+        stock: Stock,
+        tools: ToolTable,
+        machine: Machine,
+        limits: SimLimits,
+        events: _Events,
+    ) -> None:
         self.grid, self.h, self.stock, self.tools = grid, heights, stock, tools
         self.machine, self.limits, self.events = machine, limits, events
         self.table_z = stock.z0 if machine.table_z is None else machine.table_z
@@ -193,8 +221,18 @@ class _Run:
                 # arcs in the planes G18/G19 (ISO, Beckhoff) as chords within a quarter cell, at most max_pieces
                 pts = c.points(self.grid.dx / 4, max_chords=self.limits.max_pieces)
                 for a, b in itertools.pairwise(pts):
-                    self.move(dataclasses.replace(c, kind="feed", start=a, end=b, center=None, direction=None,
-                                                  radius=None, angle=None))
+                    self.move(
+                        dataclasses.replace(
+                            c,
+                            kind="feed",
+                            start=a,
+                            end=b,
+                            center=None,
+                            direction=None,
+                            radius=None,
+                            angle=None,
+                        )
+                    )
             elif isinstance(c, Move):
                 self.move(c)
             elif isinstance(c, Dwell):
@@ -214,8 +252,9 @@ class _Run:
         self.shift[c.tool] = tool.offset(c.tc).length + c.tl - tool.length
         want = expected.get(c.tool)
         if want is not None and abs(want - tool.diameter) > 1e-6:
-            self.events.add(diag("SIM-W001", c.span, tool=c.tool, actual=float(tool.diameter),
-                                 expected=float(want)))
+            self.events.add(
+                diag("SIM-W001", c.span, tool=c.tool, actual=float(tool.diameter), expected=float(want))
+            )
 
     # --- one move ---------------------------------------------------------------------------
 
@@ -268,7 +307,9 @@ class _Run:
                 cut = sub - env
                 volume += float(np.sum(cut[cut > tol])) * self.cell_area
             if plunging and b[2] < a[2]:
-                core = flat(max(cutter.radius * self.machine.core_fraction, 1.5 * max(self.grid.dx, self.grid.dy)))
+                core = flat(
+                    max(cutter.radius * self.machine.core_fraction, 1.5 * max(self.grid.dx, self.grid.dy))
+                )
                 w2, e2 = self._envelope(mv, core, a, b, arc, 0.0)
                 if w2 is not None and e2 is not None and self._hits(w2, e2):
                     self.events.add(diag("SIM-E002", mv.span, tool=mv.tool))
@@ -287,8 +328,9 @@ class _Run:
             elif mv.feed == 0:
                 self.events.add(diag("SIM-E008", mv.span, volume=round(volume, 1)))
 
-    def _collide(self, mv: Move, code: str, radius: float, above: float, a: Vec3, b: Vec3,
-                 arc: bool, zmin: float) -> None:
+    def _collide(
+        self, mv: Move, code: str, radius: float, above: float, a: Vec3, b: Vec3, arc: bool, zmin: float
+    ) -> None:
         """`code` when a flat cylinder of `radius` whose bottom is `above` mm over the tip meets material."""
         win, env = self._envelope(mv, flat(radius), a, b, arc, above)
         if win is None or env is None:
@@ -304,8 +346,9 @@ class _Run:
         j0, j1, i0, i1 = win
         return bool(np.any(self.h[j0:j1, i0:i1] - env > self.machine.touch_tolerance))
 
-    def _envelope(self, mv: Move, c: Cutter, a: Vec3, b: Vec3, arc: bool,
-                  above: float) -> tuple[tuple[int, int, int, int] | None, Array | None]:
+    def _envelope(
+        self, mv: Move, c: Cutter, a: Vec3, b: Vec3, arc: bool, above: float
+    ) -> tuple[tuple[int, int, int, int] | None, Array | None]:
         a2 = (a[0], a[1], a[2] + above)
         b2 = (b[0], b[1], b[2] + above)
         if arc:
@@ -328,8 +371,9 @@ class _Run:
             raise _Stop
         if arc:
             assert mv.angle is not None
-            env = arc_envelope(self.grid, win, c, a2, b2, (cx, cy, a2[2]), mv.direction == "ccw",
-                               math.radians(mv.angle))
+            env = arc_envelope(
+                self.grid, win, c, a2, b2, (cx, cy, a2[2]), mv.direction == "ccw", math.radians(mv.angle)
+            )
         else:
             env = line_envelope(self.grid, win, c, a2, b2)
         return win, env
@@ -360,8 +404,9 @@ def _arc_box(mv: Move) -> tuple[float, float, float, float]:
     return min(xs), max(xs), min(ys), max(ys)
 
 
-def _pieces(mv: Move, dz: float, reach: float, grid: Grid, limits: SimLimits,
-            top: float) -> Iterator[tuple[Vec3, Vec3, bool]]:
+def _pieces(
+    mv: Move, dz: float, reach: float, grid: Grid, limits: SimLimits, top: float
+) -> Iterator[tuple[Vec3, Vec3, bool]]:
     """The move as (start, end, is_planar_arc) pieces with the tip shift `dz` applied, without the part of
     a straight move that lies above `top` (the stock's top).
 
@@ -406,7 +451,10 @@ def _pieces(mv: Move, dz: float, reach: float, grid: Grid, limits: SimLimits,
     n = min(limits.max_pieces, math.ceil(length / max(2 * reach, 4 * cell)))
     prev = a
     for k in range(1, n + 1):
-        nxt = b if k == n else (a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n,
-                                a[2] + (b[2] - a[2]) * k / n)
+        nxt = (
+            b
+            if k == n
+            else (a[0] + (b[0] - a[0]) * k / n, a[1] + (b[1] - a[1]) * k / n, a[2] + (b[2] - a[2]) * k / n)
+        )
         yield prev, nxt, False
         prev = nxt

@@ -34,8 +34,9 @@ def surface_mesh(hm: HeightMap, max_triangles: int = 200_000) -> tuple[Vertices,
     """A closed, outward-oriented mesh of the stock with at most `max_triangles` (at least 2×2 vertices)."""
     g = hm.grid
     k = 1
-    while _triangles(len(_samples(g.nx, k)) if g.nx > 1 else 2, len(_samples(g.ny, k)) if g.ny > 1 else 2) \
-            > max_triangles and (k < g.nx or k < g.ny):
+    while _triangles(
+        len(_samples(g.nx, k)) if g.nx > 1 else 2, len(_samples(g.ny, k)) if g.ny > 1 else 2
+    ) > max_triangles and (k < g.nx or k < g.ny):
         k = max(k + 1, int(k * 1.25))
     ix = _samples(g.nx, k) if g.nx > 1 else np.array([0, 0])
     iy = _samples(g.ny, k) if g.ny > 1 else np.array([0, 0])
@@ -56,7 +57,12 @@ def surface_mesh(hm: HeightMap, max_triangles: int = 200_000) -> tuple[Vertices,
         return out
 
     jj, ii = np.meshgrid(np.arange(cy - 1), np.arange(cx - 1), indexing="ij")
-    v00, v10, v01, v11 = vid(jj, ii).ravel(), vid(jj, ii + 1).ravel(), vid(jj + 1, ii).ravel(), vid(jj + 1, ii + 1).ravel()
+    v00, v10, v01, v11 = (
+        vid(jj, ii).ravel(),
+        vid(jj, ii + 1).ravel(),
+        vid(jj + 1, ii).ravel(),
+        vid(jj + 1, ii + 1).ravel(),
+    )
     faces = [np.stack([v00, v10, v11], 1), np.stack([v00, v11, v01], 1)]
     i = np.arange(cx - 1)
     j = np.arange(cy - 1)
@@ -68,11 +74,22 @@ def surface_mesh(hm: HeightMap, max_triangles: int = 200_000) -> tuple[Vertices,
     faces += [np.stack([t1 + n, t0 + n, t0], 1), np.stack([t1 + n, t0, t1], 1)]
     t0, t1 = vid(j, cx - 1), vid(j + 1, cx - 1)  # right wall, normal +X
     faces += [np.stack([t0 + n, t1 + n, t1], 1), np.stack([t0 + n, t1, t0], 1)]
-    ring = np.concatenate([vid(0, np.arange(cx - 1)), vid(np.arange(cy - 1), cx - 1),
-                           vid(cy - 1, np.arange(cx - 1, 0, -1)), vid(np.arange(cy - 1, 0, -1), 0)]) + n
+    ring = (
+        np.concatenate(
+            [
+                vid(0, np.arange(cx - 1)),
+                vid(np.arange(cy - 1), cx - 1),
+                vid(cy - 1, np.arange(cx - 1, 0, -1)),
+                vid(np.arange(cy - 1, 0, -1), 0),
+            ]
+        )
+        + n
+    )
     centre = np.full(len(ring), 2 * n, dtype=np.int64)
     faces.append(np.stack([centre, np.roll(ring, -1), ring], 1))  # bottom, normal −Z
-    verts = np.vstack([verts, np.array([[(xs[0] + xs[-1]) / 2, (ys[0] + ys[-1]) / 2, hm.base]], dtype=np.float32)])
+    verts = np.vstack(
+        [verts, np.array([[(xs[0] + xs[-1]) / 2, (ys[0] + ys[-1]) / 2, hm.base]], dtype=np.float32)]
+    )
     tris = np.concatenate(faces).astype(np.int64)
     used, remap = np.unique(tris, return_inverse=True)
     return verts[used], remap.reshape(tris.shape).astype(np.int32)
@@ -81,7 +98,9 @@ def surface_mesh(hm: HeightMap, max_triangles: int = 200_000) -> tuple[Vertices,
 TILE_CELLS = 40  # cells along each side of a stock tile (20 mm at the 3D view's 0.5 mm)
 
 
-def stock_tiles(hm: HeightMap, max_triangles: int, tile_cells: int = TILE_CELLS) -> dict[str, tuple[str, Vertices, Triangles]]:
+def stock_tiles(
+    hm: HeightMap, max_triangles: int, tile_cells: int = TILE_CELLS
+) -> dict[str, tuple[str, Vertices, Triangles]]:
     """The stock as square tiles, each a closed mesh: {key: (digest, vertices, triangles)}.
 
     The 3D view resends only the tiles whose digest changed, so a playback step that cuts in one
@@ -95,9 +114,11 @@ def stock_tiles(hm: HeightMap, max_triangles: int, tile_cells: int = TILE_CELLS)
     for tj in range(rows):
         for ti in range(columns):
             j0, i0 = tj * tile_cells, ti * tile_cells
-            heights = hm.heights[j0:j0 + tile_cells, i0:i0 + tile_cells]
+            heights = hm.heights[j0 : j0 + tile_cells, i0 : i0 + tile_cells]
             ny, nx = heights.shape
-            part = HeightMap(type(g)(g.x0 + i0 * g.dx, g.y0 + j0 * g.dy, g.dx, g.dy, nx, ny), hm.base, hm.top, heights)
+            part = HeightMap(
+                type(g)(g.x0 + i0 * g.dx, g.y0 + j0 * g.dy, g.dx, g.dy, nx, ny), hm.base, hm.top, heights
+            )
             level = float(np.ptp(np.clip(heights, hm.base, hm.top))) == 0.0
             vertices, triangles = surface_mesh(part, 1 if level else budget)
             digest = hashlib.blake2b(vertices.tobytes() + triangles.tobytes(), digest_size=12).hexdigest()
@@ -134,5 +155,9 @@ def depth_png(hm: HeightMap, max_pixels: int = 1024) -> bytes:
     grey = np.rint((h - low) / (hm.top - low) * 255).astype(np.uint8)[::-1]
     rows = np.hstack([np.zeros((grey.shape[0], 1), dtype=np.uint8), grey])
     ihdr = struct.pack(">IIBBBBB", grey.shape[1], grey.shape[0], 8, 0, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + _chunk(b"IHDR", ihdr) + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
-            + _chunk(b"IEND", b""))
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + _chunk(b"IHDR", ihdr)
+        + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
+        + _chunk(b"IEND", b"")
+    )

@@ -22,9 +22,19 @@ import numpy as np
 from core.sim.shapes import Array
 from core.tools import Tool
 
-QUADRANT: dict[int, tuple[float, float]] = {1: (1.0, 1.0), 2: (-1.0, 1.0), 3: (-1.0, -1.0), 4: (1.0, -1.0)}  # (z, x)
+QUADRANT: dict[int, tuple[float, float]] = {
+    1: (1.0, 1.0),
+    2: (-1.0, 1.0),
+    3: (-1.0, -1.0),
+    4: (1.0, -1.0),
+}  # (z, x)
 INSERT_ANGLE = {"C": 80.0, "D": 55.0, "V": 35.0, "thread": 60.0}
-EDGE_LENGTH = {"C": 12.9, "D": 15.5, "V": 16.6, "thread": 5.0}  # mm: ISO 12/15/16 inserts, a 16 mm thread insert
+EDGE_LENGTH = {
+    "C": 12.9,
+    "D": 15.5,
+    "V": 16.6,
+    "thread": 5.0,
+}  # mm: ISO 12/15/16 inserts, a 16 mm thread insert
 CUTTING_LENGTH = {"C": 8.0, "D": 6.0, "V": 4.0, "thread": 3.0, "groove": 10.0}  # mm: usable depth of cut
 INSIDE_EDGE = 6.4  # mm: the small inserts (CCMT 06) of a boring bar
 APPROACH = 93.0  # degrees: the approach angle κ of a copying holder (SDJCR, SVJBR, …)
@@ -63,7 +73,9 @@ def insert_of(tool: Tool | None, number: int) -> Insert:
     kind = (tool.insert if tool is not None else "") or "C"
     inside = quadrant in (3, 4)
     qz, qx = QUADRANT[quadrant]
-    cutting = tool.cutting_length if tool is not None and tool.cutting_length is not None else CUTTING_LENGTH[kind]
+    cutting = (
+        tool.cutting_length if tool is not None and tool.cutting_length is not None else CUTTING_LENGTH[kind]
+    )
     if kind == "groove":
         assert tool is not None
         b = max(tool.width, 2 * r + 0.01)
@@ -80,7 +92,9 @@ def insert_of(tool: Tool | None, number: int) -> Insert:
             t2 = t1 - math.radians(eps)
         u1 = (edge * math.cos(t1), edge * math.sin(t1))
         u2 = (edge * math.cos(t2), edge * math.sin(t2))
-        core = [(0.0, 0.0), u2, (u1[0] + u2[0], u1[1] + u2[1]), u1] if kind != "thread" else [(0.0, 0.0), u2, u1]
+        core = (
+            [(0.0, 0.0), u2, (u1[0] + u2[0], u1[1] + u2[1]), u1] if kind != "thread" else [(0.0, 0.0), u2, u1]
+        )
         height = max(x for _, x in core) + r
         width = tool.holder if tool is not None and tool.holder else HOLDER_WIDTH
         hz = (-r + HOLDER_SETBACK, -r + HOLDER_SETBACK + width)
@@ -93,18 +107,22 @@ def insert_of(tool: Tool | None, number: int) -> Insert:
     else:
         core_m = _mirror(core, qz, 1.0)
         holder_m = _mirror([(hz[0], height), (hz[1], height), (hz[1], FAR), (hz[0], FAR)], qz, 1.0)
-    return Insert(number, kind, r, core_m, holder_m, inside, (-qz * r, -qx * r), cutting,
-                  -1 if qz > 0 else 1)
+    return Insert(number, kind, r, core_m, holder_m, inside, (-qz * r, -qx * r), cutting, -1 if qz > 0 else 1)
 
 
 def _axial(tool: Tool) -> Insert:
     """A drill or end mill on the spindle axis: a point (cone) and its body towards +Z, boring from the face."""
     d = tool.diameter / 2
-    angle = tool.point_angle or (118.0 if tool.kind == "twist_drill" else 90.0 if tool.kind == "spot_drill" else 180.0)
+    angle = tool.point_angle or (
+        118.0 if tool.kind == "twist_drill" else 90.0 if tool.kind == "spot_drill" else 180.0
+    )
     h = d / math.tan(math.radians(angle / 2)) if angle < 179.9 else 0.0
     length = max(tool.flute_length, h + 1.0)
-    core = ((0.0, 0.0), (h, -d), (length, -d), (length, d), (h, d)) if h > 0 else \
-        ((0.0, -d), (length, -d), (length, d), (0.0, d))
+    core = (
+        ((0.0, 0.0), (h, -d), (length, -d), (length, d), (h, d))
+        if h > 0
+        else ((0.0, -d), (length, -d), (length, d), (0.0, d))
+    )
     return Insert(tool.number, "axial", 0.0, core, (), True, (0.0, 0.0), tool.flute_length, -1)
 
 
@@ -113,8 +131,14 @@ def lower_hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
     pts = sorted(set(points))
     out: list[tuple[float, float]] = []
     for p in pts:
-        while len(out) >= 2 and ((out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
-                                 - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])) <= 0:
+        while (
+            len(out) >= 2
+            and (
+                (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
+                - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])
+            )
+            <= 0
+        ):
             out.pop()
         out.append(p)
     return out

@@ -46,15 +46,18 @@ def _loop(profile: RevolvedProfile, a: int, b: int) -> list[tuple[float, float]]
     lo, hi = profile.z0 + a * profile.dz, profile.z0 + b * profile.dz
     outer = np.clip(profile.outer[a:b], 0, None)
     inner = np.clip(profile.inner[a:b], 0, None)
-    out = [(hi, float(outer[-1]))] + [(float(zz), float(r)) for zz, r in zip(z[::-1], outer[::-1], strict=True)]
+    out = [(hi, float(outer[-1]))] + [
+        (float(zz), float(r)) for zz, r in zip(z[::-1], outer[::-1], strict=True)
+    ]
     out += [(lo, float(outer[0]))]
     inn = [(lo, float(inner[0]))] + [(float(zz), float(r)) for zz, r in zip(z, inner, strict=True)]
     inn += [(hi, float(inner[-1]))]
     return _simplify(out) + _simplify(inn)
 
 
-def revolved_mesh(profile: RevolvedProfile, sections: int = SECTIONS,
-                  max_triangles: int = 500_000) -> tuple[Vertices, Triangles]:
+def revolved_mesh(
+    profile: RevolvedProfile, sections: int = SECTIONS, max_triangles: int = 500_000
+) -> tuple[Vertices, Triangles]:
     """The part as a closed, outward-oriented triangle mesh (axis = Z). Points on the axis are one vertex.
     Over `max_triangles`, first fewer sections (down to 16), then every k-th point of the outline."""
     loops = [_loop(profile, a, b) for a, b in _runs(profile)]
@@ -138,5 +141,9 @@ def half_section_png(profile: RevolvedProfile, blank: Blank, max_pixels: int = 1
     img[axis_row, ::4] = AXIS
     rows = np.concatenate([np.zeros((h, 1), dtype=np.uint8), img.reshape(h, w * 3)], axis=1)
     ihdr = struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)
-    return (b"\x89PNG\r\n\x1a\n" + _chunk(b"IHDR", ihdr) + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
-            + _chunk(b"IEND", b""))
+    return (
+        b"\x89PNG\r\n\x1a\n"
+        + _chunk(b"IHDR", ihdr)
+        + _chunk(b"IDAT", zlib.compress(rows.tobytes(), 6))
+        + _chunk(b"IEND", b"")
+    )

@@ -12,9 +12,21 @@ from core.sim.turning import TurningResult
 def turning_json(result: TurningResult) -> dict[str, Any]:
     b = result.blank
     p = result.profile
-    return report_json(result, {
-        "blank": {"diameter": b.diameter, "bore": b.bore, "length": b.length, "clamp": round(b.clamp, 3),
-                  "jaw_diameter": round(2 * b.jaw_radius, 3)},
-        "profile": {"z0": p.z0, "dz": round(p.dz, 6), "samples": len(p.outer),
-                    "min_diameter": round(2 * float(p.outer.min()), 4) if len(p.outer) else 0.0},
-    })
+    return report_json(
+        result,
+        {
+            "blank": {
+                "diameter": b.diameter,
+                "bore": b.bore,
+                "length": b.length,
+                "clamp": round(b.clamp, 3),
+                "jaw_diameter": round(2 * b.jaw_radius, 3),
+            },
+            "profile": {
+                "z0": p.z0,
+                "dz": round(p.dz, 6),
+                "samples": len(p.outer),
+                "min_diameter": round(2 * float(p.outer.min()), 4) if len(p.outer) else 0.0,
+            },
+        },
+    )

@@ -9,8 +9,13 @@ from core.sim.engine import SimResult
 
 
 def _event(d: Diagnostic) -> dict[str, Any]:
-    return {"code": d.code, "severity": d.severity.value, "line": d.span.line,
-            "message": d.message, "message_en": d.message_en}
+    return {
+        "code": d.code,
+        "severity": d.severity.value,
+        "line": d.span.line,
+        "message": d.message,
+        "message_en": d.message_en,
+    }
 
 
 class Simulated(Protocol):
@@ -63,5 +68,10 @@ def report_json(result: Simulated, material: dict[str, Any]) -> dict[str, Any]:
 
 def simulation_json(result: SimResult) -> dict[str, Any]:
     s = result.stock
-    return report_json(result, {"stock": {"min": [s.x0, s.y0, s.z0], "max": [s.x1, s.y1, s.z1]},
-                                "grid": {"nx": result.heightmap.grid.nx, "ny": result.heightmap.grid.ny}})
+    return report_json(
+        result,
+        {
+            "stock": {"min": [s.x0, s.y0, s.z0], "max": [s.x1, s.y1, s.z1]},
+            "grid": {"nx": result.heightmap.grid.nx, "ny": result.heightmap.grid.ny},
+        },
+    )

@@ -134,8 +134,16 @@ def _capsule_rows(y: Array, radius: float, ddx: float, ddy: float, length: float
     return lo, hi
 
 
-def arc_envelope(grid: Grid, win: tuple[int, int, int, int], c: Cutter, start: Vec3, end: Vec3,
-                 center: Vec3, ccw: bool, sweep_rad: float) -> Array:
+def arc_envelope(
+    grid: Grid,
+    win: tuple[int, int, int, int],
+    c: Cutter,
+    start: Vec3,
+    end: Vec3,
+    center: Vec3,
+    ccw: bool,
+    sweep_rad: float,
+) -> Array:
     """Lowest tool point over each cell of `win` along a planar arc at Z = start Z."""
     j0, j1, i0, i1 = win
     x = (grid.xs(i0, i1) - center[0])[None, :]

@@ -67,7 +67,7 @@ class Blank:
 
     @property
     def volume(self) -> float:
-        return math.pi * (self.diameter ** 2 - self.bore ** 2) / 4 * self.length
+        return math.pi * (self.diameter**2 - self.bore**2) / 4 * self.length
 
 
 @dataclass(frozen=True, slots=True)
@@ -117,12 +117,12 @@ class RevolvedProfile:
 def _area(outer: Array, inner: Array, gap_lo: Array, gap_hi: Array) -> Array:
     """r_out² − r_in² less the gap's, per sample (the material's ring area / π)."""
     o, i = np.clip(outer, 0, None), np.clip(inner, 0, None)
-    area = np.clip(o ** 2 - i ** 2, 0, None)
+    area = np.clip(o**2 - i**2, 0, None)
     gap = ~np.isnan(gap_lo)
     if gap.any():
         lo = np.clip(gap_lo[gap], i[gap], o[gap])
         hi = np.clip(gap_hi[gap], i[gap], o[gap])
-        area[gap] -= np.clip(hi ** 2 - lo ** 2, 0, None)
+        area[gap] -= np.clip(hi**2 - lo**2, 0, None)
     return area
 
 
@@ -149,9 +149,15 @@ class _Stop(Exception):
     pass
 
 
-def simulate_turning(toolpath: Toolpath, blank: Blank, tools: ToolTable = DEFAULT_LATHE_TOOLS,
-                     resolution: float = DEFAULT_TURNING_RESOLUTION, machine: LatheMachine | None = None, *,
-                     limits: LatheLimits | None = None) -> TurningResult:
+def simulate_turning(
+    toolpath: Toolpath,
+    blank: Blank,
+    tools: ToolTable = DEFAULT_LATHE_TOOLS,
+    resolution: float = DEFAULT_TURNING_RESOLUTION,
+    machine: LatheMachine | None = None,
+    *,
+    limits: LatheLimits | None = None,
+) -> TurningResult:
     """Turn `blank` along `toolpath`: the part left, removed volume, cycle time and events. A station that is
     not a lathe tool in `tools` turns with a generic outside tool (C 80°, R0.4, P1); a drill or mill bores
     on the axis. Raises ValueError only for an invalid resolution."""
@@ -163,12 +169,26 @@ def simulate_turning(toolpath: Toolpath, blank: Blank, tools: ToolTable = DEFAUL
     n = max(1, round(blank.length / resolution))
     if n > limits.max_samples:
         n = limits.max_samples
-        events.add(diag("SIM-W002", NO_LINE, requested=float(resolution), used=round(blank.length / n, 4),
-                        limit=limits.max_samples))
+        events.add(
+            diag(
+                "SIM-W002",
+                NO_LINE,
+                requested=float(resolution),
+                used=round(blank.length / n, 4),
+                limit=limits.max_samples,
+            )
+        )
     dz = blank.length / n
-    profile = RevolvedProfile(-blank.length, dz, np.full(n, blank.diameter / 2), np.full(n, blank.bore / 2),
-                              np.full(n, np.nan), np.full(n, np.nan), np.zeros(n, dtype=np.int64),
-                              np.zeros(n, dtype=np.int64))
+    profile = RevolvedProfile(
+        -blank.length,
+        dz,
+        np.full(n, blank.diameter / 2),
+        np.full(n, blank.bore / 2),
+        np.full(n, np.nan),
+        np.full(n, np.nan),
+        np.zeros(n, dtype=np.int64),
+        np.zeros(n, dtype=np.int64),
+    )
     run = _Run(profile, blank, tools, machine, limits, events)
     complete = True
     try:
@@ -176,8 +196,19 @@ def simulate_turning(toolpath: Toolpath, blank: Blank, tools: ToolTable = DEFAUL
     except _Stop:
         complete = False
     remaining = profile.volume()
-    return TurningResult(blank, dz, profile, blank.volume - remaining, remaining, sum(run.times.values()),
-                         dict(run.times), events.items, list(toolpath.diagnostics), run.updates, complete)
+    return TurningResult(
+        blank,
+        dz,
+        profile,
+        blank.volume - remaining,
+        remaining,
+        sum(run.times.values()),
+        dict(run.times),
+        events.items,
+        list(toolpath.diagnostics),
+        run.updates,
+        complete,
+    )
 
 
 def _g(r: float, speed: float, limit: float) -> float:
@@ -189,10 +220,23 @@ def _g(r: float, speed: float, limit: float) -> float:
 
 
 class _Run:
-    def __init__(self, profile: RevolvedProfile, blank: Blank, tools: ToolTable, machine: LatheMachine,
-                 limits: LatheLimits, events: _Events) -> None:
-        self.p, self.blank, self.tools, self.machine, self.limits, self.events = \
-            profile, blank, tools, machine, limits, events
+    def __init__(
+        self,
+        profile: RevolvedProfile,
+        blank: Blank,
+        tools: ToolTable,
+        machine: LatheMachine,
+        limits: LatheLimits,
+        events: _Events,
+    ) -> None:
+        self.p, self.blank, self.tools, self.machine, self.limits, self.events = (
+            profile,
+            blank,
+            tools,
+            machine,
+            limits,
+            events,
+        )
         self.zs = profile.zs
         self.jaw_samples = math.ceil(blank.clamp / profile.dz)
         self.times: dict[int | None, float] = {}
@@ -234,7 +278,9 @@ class _Run:
         if len(path) == 2:  # a straight move: the radius changes linearly with the path
             dr = abs(r_end - r_start)
             if dr < 1e-9:
-                return length / (mv.feed * min(limit, 1000 * speed / (2 * math.pi * max(abs(r_end), 1e-9)))) * 60
+                return (
+                    length / (mv.feed * min(limit, 1000 * speed / (2 * math.pi * max(abs(r_end), 1e-9)))) * 60
+                )
             if r_start * r_end < 0:  # facing across the centre: both halves from the axis outwards
                 g = _g(abs(r_end), speed, limit) + _g(abs(r_start), speed, limit)
             else:
@@ -295,8 +341,16 @@ class _Run:
         i1 = min(len(self.zs), math.ceil((zhi - self.p.z0) / self.p.dz + 0.5))
         return i0, max(i0, i1)
 
-    def _envelope(self, pieces: Iterable[tuple[Point, Point]], shape: tuple[Point, ...], radius: float,
-                  upper: bool, i0: int, i1: int, mv: Move) -> Array:
+    def _envelope(
+        self,
+        pieces: Iterable[tuple[Point, Point]],
+        shape: tuple[Point, ...],
+        radius: float,
+        upper: bool,
+        i0: int,
+        i1: int,
+        mv: Move,
+    ) -> Array:
         """The lower (or upper) envelope of `shape` swept along `pieces` on the samples i0 … i1−1; each piece
         works on the samples under its own sweep only."""
         zs = self.zs[i0:i1]
@@ -309,7 +363,9 @@ class _Run:
             j0, j1 = max(j0, i0) - i0, min(j1, i1) - i0
             if j1 <= j0:
                 continue
-            pts = [(a[0] + z, sign * (a[1] + x)) for z, x in shape] + [(b[0] + z, sign * (b[1] + x)) for z, x in shape]
+            pts = [(a[0] + z, sign * (a[1] + x)) for z, x in shape] + [
+                (b[0] + z, sign * (b[1] + x)) for z, x in shape
+            ]
             self.updates += j1 - j0 + PIECE_COST
             if self.updates > self.limits.max_updates:
                 self.events.add(diag("SIM-E010", mv.span, limit=self.limits.max_updates))
@@ -379,10 +435,19 @@ class _Run:
             jaws = self.jaw_samples - i0
             if jaws > 0 and bool(np.any(low[:jaws] < self.blank.jaw_radius)):
                 k = int(np.argmax(low[:jaws] < self.blank.jaw_radius))
-                self.events.add(diag("SIM-E012", mv.span, tool=mv.tool, z=round(float(self.zs[i0 + k]), 3),
-                                     jaw=round(self.p.z0 + self.blank.clamp, 3)))
+                self.events.add(
+                    diag(
+                        "SIM-E012",
+                        mv.span,
+                        tool=mv.tool,
+                        z=round(float(self.zs[i0 + k]), 3),
+                        jaw=round(self.p.z0 + self.blank.clamp, 3),
+                    )
+                )
         if prior is not None and bool(cut.any()):
-            cut = self._deep(ins.inside, i0, prior, tol)  # a rapid sliding along a face it touches is no collision
+            cut = self._deep(
+                ins.inside, i0, prior, tol
+            )  # a rapid sliding along a face it touches is no collision
         old = np.where(under, uhi, old)
         new = np.where(under, ulo, taken)
         if removed > 1e-6 and bool(cut.any()):
@@ -390,8 +455,9 @@ class _Run:
         if ins.holder:
             self._holder(mv, ins, pieces)
 
-    def _deep(self, inside: bool, i0: int, before: tuple[Array, Array, Array, Array], tol: float
-              ) -> npt.NDArray[np.bool_]:
+    def _deep(
+        self, inside: bool, i0: int, before: tuple[Array, Array, Array, Array], tol: float
+    ) -> npt.NDArray[np.bool_]:
         """The samples of the window from i0 where a rapid took material deeper than `face_tolerance` from the
         space that was open before it, both radially and along Z: a cut into the part. Less is a tool sliding
         along a face it touches (a straight retract over the clearance a 93° edge leaves at the end of a pass).
@@ -399,10 +465,14 @@ class _Run:
         """
         n = len(before[0])
         b_out, b_in, b_lo, b_hi = before
-        a_out, a_in, a_lo, a_hi = (a[i0:i0 + n] for a in (self.p.outer, self.p.inner, self.p.gap_lo, self.p.gap_hi))
+        a_out, a_in, a_lo, a_hi = (
+            a[i0 : i0 + n] for a in (self.p.outer, self.p.inner, self.p.gap_lo, self.p.gap_hi)
+        )
         gap_b, gap_a = ~np.isnan(b_lo), ~np.isnan(a_lo)
         # the thickness taken at each sample, radially (the ring's area over its circumference)
-        thick = (_area(b_out, b_in, b_lo, b_hi) - _area(a_out, a_in, a_lo, a_hi)) / np.maximum(2 * b_out, 1e-9)
+        thick = (_area(b_out, b_in, b_lo, b_hi) - _area(a_out, a_in, a_lo, a_hi)) / np.maximum(
+            2 * b_out, 1e-9
+        )
         face = self.machine.face_tolerance
         # the deepest radius taken: where the part after the move first leaves the material before it, going
         # into the part from its cutting side
@@ -417,24 +487,41 @@ class _Run:
         lo, hi = max(0, i0 - reach), min(len(self.zs), i0 + n + reach)
         pad = (reach - (i0 - lo), reach - (hi - i0 - n))
         rows = []
-        for arr, old, fill in ((self.p.outer, b_out, -np.inf), (self.p.inner, b_in, np.inf),
-                               (self.p.gap_lo, b_lo, np.nan), (self.p.gap_hi, b_hi, np.nan)):
+        for arr, old, fill in (
+            (self.p.outer, b_out, -np.inf),
+            (self.p.inner, b_in, np.inf),
+            (self.p.gap_lo, b_lo, np.nan),
+            (self.p.gap_hi, b_hi, np.nan),
+        ):
             row = arr[lo:hi].copy()
-            row[i0 - lo:i0 - lo + n] = old
+            row[i0 - lo : i0 - lo + n] = old
             rows.append(np.pad(row, pad, constant_values=fill))
         deep = thick > max(face, tol)
         for k in range(-reach, reach + 1):
             if k == 0:
                 continue
-            o, i, g_lo, g_hi = (row[reach + k:reach + k + n] for row in rows)
+            o, i, g_lo, g_hi = (row[reach + k : reach + k + n] for row in rows)
             with np.errstate(invalid="ignore"):
-                open_ = (o <= deepest + tol) | (i >= deepest - tol) | ((deepest >= g_lo - tol) & (deepest <= g_hi + tol))
+                open_ = (
+                    (o <= deepest + tol)
+                    | (i >= deepest - tol)
+                    | ((deepest >= g_lo - tol) & (deepest <= g_hi + tol))
+                )
             deep &= ~open_
         return deep
 
     @staticmethod
-    def _gap(under: npt.NDArray[np.bool_], ulo: Array, uhi: Array, glo: Array, ghi: Array, inner: Array,
-             outer: Array, inside: bool, tol: float) -> None:
+    def _gap(
+        under: npt.NDArray[np.bool_],
+        ulo: Array,
+        uhi: Array,
+        glo: Array,
+        ghi: Array,
+        inner: Array,
+        outer: Array,
+        inside: bool,
+        tol: float,
+    ) -> None:
         """Add the cut ulo … uhi below the surface to the gaps (joined with an overlapping one, else the wider
         of the two kept); a gap that now reaches the surface opens it."""
         with np.errstate(invalid="ignore"):
@@ -455,8 +542,17 @@ class _Run:
         glo[opens] = np.nan
         ghi[opens] = np.nan
 
-    def _cut_events(self, mv: Move, ins: Insert, path: list[Point], removed: float, cut: npt.NDArray[np.bool_],
-                    old: Array, new: Array, i0: int) -> None:
+    def _cut_events(
+        self,
+        mv: Move,
+        ins: Insert,
+        path: list[Point],
+        removed: float,
+        cut: npt.NDArray[np.bool_],
+        old: Array,
+        new: Array,
+        i0: int,
+    ) -> None:
         volume = round(removed, 1)
         if mv.kind == "rapid":
             self.events.add(diag("SIM-E001", mv.span, volume=volume))
@@ -468,17 +564,28 @@ class _Run:
         length = math.hypot(dz, dx)
         if length < 1e-9 or mv.kind == "rapid":
             return
-        zs = self.zs[i0:i0 + len(cut)][cut]
+        zs = self.zs[i0 : i0 + len(cut)][cut]
         nz, nx = -dx / length, dz / length  # across the feed direction
         proj = np.concatenate([nz * zs + nx * old[cut], nz * zs + nx * new[cut]])
         depth = float(np.ptp(proj)) if len(proj) else 0.0
         if ins.kind != "groove" and depth > ins.cutting_length + self.machine.touch_tolerance:
-            self.events.add(diag("SIM-E013", mv.span, tool=mv.tool, depth=round(depth, 3),
-                                 length=round(ins.cutting_length, 3)))
+            self.events.add(
+                diag(
+                    "SIM-E013",
+                    mv.span,
+                    tool=mv.tool,
+                    depth=round(depth, 3),
+                    length=round(ins.cutting_length, 3),
+                )
+            )
         if ins.kind == "groove" and abs(dz) > abs(dx) + 1e-9:
-            self.events.add(diag("SIM-E014", mv.span, tool=mv.tool, what="Stechdrehmeißel", what_en="grooving tool"))
+            self.events.add(
+                diag("SIM-E014", mv.span, tool=mv.tool, what="Stechdrehmeißel", what_en="grooving tool")
+            )
         elif ins.kind == "thread" and (abs(dx) > abs(dz) + 1e-9 or dz * ins.direction < -1e-9):
-            self.events.add(diag("SIM-E014", mv.span, tool=mv.tool, what="Gewindedrehmeißel", what_en="threading tool"))
+            self.events.add(
+                diag("SIM-E014", mv.span, tool=mv.tool, what="Gewindedrehmeißel", what_en="threading tool")
+            )
 
     def _holder(self, mv: Move, ins: Insert, pieces: list[tuple[Point, Point]]) -> None:
         hz = [z for z, _ in ins.holder]
@@ -503,5 +610,12 @@ class _Run:
             hit = material & (outer - low > tol)
         if hit.any():
             k = int(np.argmax(hit))
-            self.events.add(diag("SIM-E011", mv.span, tool=mv.tool, z=round(float(self.zs[i0 + k]), 3),
-                                 d=round(2 * float(outer[k] if not ins.inside else inner[k]), 3)))
+            self.events.add(
+                diag(
+                    "SIM-E011",
+                    mv.span,
+                    tool=mv.tool,
+                    z=round(float(self.zs[i0 + k]), 3),
+                    d=round(2 * float(outer[k] if not ins.inside else inner[k]), 3),
+                )
+            )

@@ -44,8 +44,9 @@ _TERMINAL_NAMES: dict[str, tuple[str, str]] = {
 class BlockParser:
     """Parses the lines of one dialect's grammar into blocks."""
 
-    def __init__(self, grammar_file: Path, valued_codes: frozenset[str] = frozenset(),
-                 program_numbers: bool = False) -> None:
+    def __init__(
+        self, grammar_file: Path, valued_codes: frozenset[str] = frozenset(), program_numbers: bool = False
+    ) -> None:
         self._valued = valued_codes  # codes written with a value, as Beckhoff's G301=20
         self._programs = program_numbers  # a leading O word is a program number (ISO: `O1000`)
         self._lark = Lark(
@@ -68,9 +69,12 @@ class BlockParser:
 
     # -- whole programs --------------------------------------------------------------------
 
-    def parse_program(self, text: str, limits: Limits,
-                      memo: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] | None = None,
-                      ) -> tuple[Program, list[Diagnostic]]:
+    def parse_program(
+        self,
+        text: str,
+        limits: Limits,
+        memo: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] | None = None,
+    ) -> tuple[Program, list[Diagnostic]]:
         """Parse every line of `text`; never raises on user input.
 
         `memo` (line number and text → block and its diagnostics) lets a program that changed in a few
@@ -153,7 +157,9 @@ class BlockParser:
         try:
             return self._tree_block(raw, line, tree, diagnostics)
         except _TooDeep as err:
-            diagnostics.append(diag("PAL-E014", Span(line, err.column, line, len(raw) + 1), limit=MAX_EXPR_DEPTH))
+            diagnostics.append(
+                diag("PAL-E014", Span(line, err.column, line, len(raw) + 1), limit=MAX_EXPR_DEPTH)
+            )
             return Block(line, raw, None, (), ok=False)
 
     def _fast_block(
@@ -203,7 +209,9 @@ class BlockParser:
                 continue
             addr: Token = child.children[0]  # type: ignore[assignment]
             start: int = addr.column  # type: ignore[assignment]
-            if child.data == "bare":  # a value without an address (Beckhoff's G04 3.0): the interpreter decides
+            if (
+                child.data == "bare"
+            ):  # a value without an address (Beckhoff's G04 3.0): the interpreter decides
                 words.append(Word("", float(addr), str(addr), line, start, addr.end_column))  # type: ignore[arg-type]
             elif child.data == "unsupported_value":  # X=V.P.X: the variable is what is not supported
                 ref: Token = child.children[1]  # type: ignore[assignment]
@@ -217,14 +225,24 @@ class BlockParser:
                 words.append(Word(str(addr), None, "", line, start, addr.end_column))  # type: ignore[arg-type]
             elif child.data == "exprword":
                 expr = _expr(child.children[1])
-                words.append(Word(str(addr), None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start,
-                                  expr[-1], expr))
+                words.append(
+                    Word(str(addr), None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start, expr[-1], expr)
+                )
             else:  # assign
                 num = child.children[1]  # type: ignore[assignment]
                 expr = _expr(child.children[2])
                 if num.isdigit() and f"{addr}{int(num)}" in self._valued:
-                    words.append(Word(f"{addr}{int(num)}", None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line,
-                                      start, expr[-1], expr))
+                    words.append(
+                        Word(
+                            f"{addr}{int(num)}",
+                            None,
+                            "=" + raw[expr[-2] - 1 : expr[-1] - 1],
+                            line,
+                            start,
+                            expr[-1],
+                            expr,
+                        )
+                    )
                     continue
                 if str(addr) != self._param or not num.isdigit():
                     diagnostics.append(
@@ -232,8 +250,9 @@ class BlockParser:
                     )
                     continue
                 assignments.append(Assignment(int(num), expr, line, start, expr[-1]))
-        return _finish_block(raw, line, words, tuple(assignments), skip, comment, header, diagnostics,
-                             self._programs)
+        return _finish_block(
+            raw, line, words, tuple(assignments), skip, comment, header, diagnostics, self._programs
+        )
 
     def _syntax_diagnostic(self, err: UnexpectedInput, text: str, line: int) -> Diagnostic:
         """Turn lark's exception into the most helpful diagnostic for the trainee."""
@@ -259,8 +278,9 @@ class BlockParser:
             shown = "Satzende" if token is None or token.type == "$END" else str(token)
             end = col + max(1, len(shown) if token is not None and token.type != "$END" else 1)
             d = diag("PAL-E007", Span(line, col, line, end), token=shown, expected=de)
-            en_msg = diag("PAL-E007", d.span, token=shown if shown != "Satzende" else "end of block",
-                          expected=en).message_en
+            en_msg = diag(
+                "PAL-E007", d.span, token=shown if shown != "Satzende" else "end of block", expected=en
+            ).message_en
             return Diagnostic(d.code, d.severity, d.span, d.message, en_msg, d.params)
         return diag("PAL-E001", Span(line, col, line, col + 1), char=text[col - 1 : col] or " ")
 
@@ -293,8 +313,14 @@ def _finish_block(
             return Block(line, raw, number, (), assignments, skip, comment, None, ok=False)
         if len(words) > 1:
             rest = words[1]
-            diagnostics.append(diag("ISO-E307", Span(line, rest.column, line, words[-1].end_column),
-                                    number=int(first.raw), words=" ".join(str(w) for w in words[1:])))
+            diagnostics.append(
+                diag(
+                    "ISO-E307",
+                    Span(line, rest.column, line, words[-1].end_column),
+                    number=int(first.raw),
+                    words=" ".join(str(w) for w in words[1:]),
+                )
+            )
         return Block(line, raw, number, (), assignments, skip, comment, f"O{int(first.raw)}")
     return Block(line, raw, number, tuple(words), assignments, skip, comment, header)
 
@@ -347,13 +373,23 @@ def _expr(node: Tree[Token] | Token, depth: int = 0) -> Expr:
 
 
 @cache
-def parser_for(grammar: str, valued_codes: frozenset[str] = frozenset(), program_numbers: bool = False) -> BlockParser:
+def parser_for(
+    grammar: str, valued_codes: frozenset[str] = frozenset(), program_numbers: bool = False
+) -> BlockParser:
     """The (cached) parser of grammar file `<grammar>.lark` in this package."""
     return BlockParser(Path(__file__).with_name(f"{grammar}.lark"), valued_codes, program_numbers)
 
 
 def _relined(block: Block, line: int) -> Block:
     """`block` as the parse of its text in line `line` (a block is its text and its line)."""
-    return Block(line, block.text, block.number, tuple(w._replace(line=line) for w in block.words),
-                 tuple(a._replace(line=line) for a in block.assignments), block.skip, block.comment, block.header,
-                 block.ok)
+    return Block(
+        line,
+        block.text,
+        block.number,
+        tuple(w._replace(line=line) for w in block.words),
+        tuple(a._replace(line=line) for a in block.assignments),
+        block.skip,
+        block.comment,
+        block.header,
+        block.ok,
+    )

@@ -58,7 +58,9 @@ SCORE_MAXIMUM = 100.0
 BACKOFF_BASE = timedelta(seconds=30)
 BACKOFF_CAP = timedelta(hours=6)
 MAX_ATTEMPTS = 20  # 30 s doubling to 6 h: about three days of retries (a platform down over a weekend)
-LEASE = timedelta(minutes=2)  # a claimed row is not picked again for this long (its sender may still be at it)
+LEASE = timedelta(
+    minutes=2
+)  # a claimed row is not picked again for this long (its sender may still be at it)
 DRAIN_EVERY_SECONDS = 5.0
 BATCH = 50
 HTTP_TIMEOUT = 10.0
@@ -90,10 +92,13 @@ def _percent(submission: Submission) -> float | None:
 def _best_percent(db: Session, submission: Submission) -> float | None:
     """The best score (of 100) of the author's submissions of this exercise up to this one; an exam's that is
     not released yet counts only for its own row (which waits for the release)."""
-    q = select(Submission).where(Submission.exercise_id == submission.exercise_id,
-                                 Submission.user_id == submission.user_id, Submission.id <= submission.id,
-                                 Submission.grading.is_not(None),
-                                 or_(Submission.held.is_(False), Submission.id == submission.id))
+    q = select(Submission).where(
+        Submission.exercise_id == submission.exercise_id,
+        Submission.user_id == submission.user_id,
+        Submission.id <= submission.id,
+        Submission.grading.is_not(None),
+        or_(Submission.held.is_(False), Submission.id == submission.id),
+    )
     scores = [p for p in (_percent(s) for s in db.scalars(q)) if p is not None]
     return max(scores) if scores else None
 
@@ -102,10 +107,16 @@ def _assignment_score(db: Session, submission: Submission, assignment: Assignmen
     """An assignment link's score: the mean of the author's best score (of 100) per exercise of the assignment
     (an exercise not handed in counts 0), and whether every exercise was handed in."""
     slugs = list(assignment.exercises)
-    ids = {slug: pk for slug, pk in db.execute(select(Exercise.slug, Exercise.id).where(Exercise.slug.in_(slugs)))}
+    ids = {
+        slug: pk
+        for slug, pk in db.execute(select(Exercise.slug, Exercise.id).where(Exercise.slug.in_(slugs)))
+    }
     best: dict[int, float] = {}
-    q = select(Submission).where(Submission.assignment_id == assignment.id, Submission.user_id == submission.user_id,
-                                 Submission.id <= submission.id)
+    q = select(Submission).where(
+        Submission.assignment_id == assignment.id,
+        Submission.user_id == submission.user_id,
+        Submission.id <= submission.id,
+    )
     for s in db.scalars(q):
         best[s.exercise_id] = max(best.get(s.exercise_id, 0.0), _percent(s) or 0.0)
     scores = [best.get(ids.get(slug, -1), 0.0) for slug in slugs]
@@ -114,8 +125,11 @@ def _assignment_score(db: Session, submission: Submission, assignment: Assignmen
 
 
 def _lti_user(db: Session, platform_id: int, user_id: int) -> LtiUser | None:
-    return db.scalars(select(LtiUser).where(LtiUser.platform_id == platform_id, LtiUser.user_id == user_id)
-                      .order_by(LtiUser.id.desc())).first()
+    return db.scalars(
+        select(LtiUser)
+        .where(LtiUser.platform_id == platform_id, LtiUser.user_id == user_id)
+        .order_by(LtiUser.id.desc())
+    ).first()
 
 
 def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiScore | None:
@@ -140,9 +154,17 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
     # not an exam's waiting for its release: this one does not carry it
     released = select(Submission.id).where(Submission.held.is_(False))
     cell = or_(LtiScore.resource_link_pk == link.id, LtiScore.lineitem_url == link.lineitem_url)
-    db.execute(update(LtiScore).where(LtiScore.platform_id == link.platform_id, cell, LtiScore.lti_sub == lti_user.sub,
-                                      LtiScore.state == "pending", LtiScore.submission_id.in_(released))
-               .values(state="superseded"))
+    db.execute(
+        update(LtiScore)
+        .where(
+            LtiScore.platform_id == link.platform_id,
+            cell,
+            LtiScore.lti_sub == lti_user.sub,
+            LtiScore.state == "pending",
+            LtiScore.submission_id.in_(released),
+        )
+        .values(state="superseded")
+    )
     assignment = db.get(Assignment, link.assignment_id) if link.assignment_id is not None else None
     score: float | None
     if assignment is not None and submission.assignment_id == assignment.id:
@@ -150,11 +172,22 @@ def enqueue(db: Session, submission: Submission, link: LtiResourceLink) -> LtiSc
         progress = "Completed" if done else "InProgress"
     else:
         score, progress = _best_percent(db, submission), "Completed"
-    row = LtiScore(submission_id=submission.id, platform_id=link.platform_id, resource_link_pk=link.id,
-                   course_id=context.course_id if context else None, user_id=submission.user_id,
-                   exercise_slug=exercise.slug, lineitem_url=target, lti_sub=lti_user.sub,
-                   score_given=score, activity_progress=progress, timestamp=_utc(submission.created_at),
-                   state="pending", attempts=0, next_attempt_at=datetime.now(UTC))
+    row = LtiScore(
+        submission_id=submission.id,
+        platform_id=link.platform_id,
+        resource_link_pk=link.id,
+        course_id=context.course_id if context else None,
+        user_id=submission.user_id,
+        exercise_slug=exercise.slug,
+        lineitem_url=target,
+        lti_sub=lti_user.sub,
+        score_given=score,
+        activity_progress=progress,
+        timestamp=_utc(submission.created_at),
+        state="pending",
+        attempts=0,
+        next_attempt_at=datetime.now(UTC),
+    )
     db.add(row)
     db.commit()
     return row
@@ -165,9 +198,15 @@ def _assignment_link(db: Session, submission: Submission) -> LtiResourceLink | N
     assignment's), or None."""
     if submission.assignment_id is None:
         return None
-    q = (select(LtiResourceLink).join(LtiLaunch, LtiLaunch.resource_link_pk == LtiResourceLink.id)
-         .where(LtiLaunch.user_id == submission.user_id, LtiResourceLink.assignment_id == submission.assignment_id)
-         .order_by(LtiLaunch.created_at.desc(), LtiLaunch.id.desc()).limit(1))
+    q = (
+        select(LtiResourceLink)
+        .join(LtiLaunch, LtiLaunch.resource_link_pk == LtiResourceLink.id)
+        .where(
+            LtiLaunch.user_id == submission.user_id, LtiResourceLink.assignment_id == submission.assignment_id
+        )
+        .order_by(LtiLaunch.created_at.desc(), LtiLaunch.id.desc())
+        .limit(1)
+    )
     return db.scalars(q).first()
 
 
@@ -179,11 +218,20 @@ def after_graded(db: Session, submission: Submission) -> None:
     try:
         exercise = db.get(Exercise, submission.exercise_id)
         author = db.get(User, submission.user_id)
-        if exercise is None or author is None or not (submission.held or access.grade_visible(
-                access.situation(db, author, exercise.slug), submission, exercise.slug)):
+        if (
+            exercise is None
+            or author is None
+            or not (
+                submission.held
+                or access.grade_visible(
+                    access.situation(db, author, exercise.slug), submission, exercise.slug
+                )
+            )
+        ):
             return  # a practice grade an exam of the author's course withholds (server/access.py): not passed on
         link = _assignment_link(db, submission) or (
-            resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None)
+            resource_link_for(db, submission.user_id, exercise.slug) if exercise is not None else None
+        )
         if link is not None:
             enqueue(db, submission, link)
     except Exception:  # the grade is stored either way; the instructor sees a missing passback in the status
@@ -215,13 +263,19 @@ def retry(db: Session, row: LtiScore) -> LtiScore:
 
 def score_json(row: LtiScore) -> dict[str, Any]:
     """The AGS score (application/vnd.ims.lis.v1.score+json) of a queued row."""
-    body: dict[str, Any] = {"userId": row.lti_sub, "scoreMaximum": SCORE_MAXIMUM,
-                            "timestamp": _utc(row.timestamp).isoformat(timespec="milliseconds")}
+    body: dict[str, Any] = {
+        "userId": row.lti_sub,
+        "scoreMaximum": SCORE_MAXIMUM,
+        "timestamp": _utc(row.timestamp).isoformat(timespec="milliseconds"),
+    }
     if row.score_given is None:  # handed in, not graded by us (an exercise without grading)
         body.update(activityProgress="Submitted", gradingProgress="Pending")
     else:  # an assignment link with exercises still open: InProgress, its score so far is the grade for now
-        body.update(scoreGiven=row.score_given, activityProgress=row.activity_progress or "Completed",
-                    gradingProgress="FullyGraded")
+        body.update(
+            scoreGiven=row.score_given,
+            activityProgress=row.activity_progress or "Completed",
+            gradingProgress="FullyGraded",
+        )
     return body
 
 
@@ -238,23 +292,31 @@ class PassbackError(Exception):
 
 
 def unreachable(service: tuple[str, str]) -> PassbackError:
-    return PassbackError(f"Die Lernplattform war nicht erreichbar ({service[0]}). / "
-                         f"The learning platform was unreachable ({service[1]}).")
+    return PassbackError(
+        f"Die Lernplattform war nicht erreichbar ({service[0]}). / "
+        f"The learning platform was unreachable ({service[1]})."
+    )
 
 
 def refused(service: tuple[str, str], status: int) -> PassbackError:
-    return PassbackError(f"Die Lernplattform hat die Anfrage abgelehnt ({service[0]}, HTTP {status}). / "
-                         f"The learning platform refused the request ({service[1]}, HTTP {status}).")
+    return PassbackError(
+        f"Die Lernplattform hat die Anfrage abgelehnt ({service[0]}, HTTP {status}). / "
+        f"The learning platform refused the request ({service[1]}, HTTP {status})."
+    )
 
 
 def not_understood(service: tuple[str, str]) -> PassbackError:
-    return PassbackError(f"Die Antwort der Lernplattform war unverständlich ({service[0]}). / "
-                         f"The learning platform's answer was not understood ({service[1]}).")
+    return PassbackError(
+        f"Die Antwort der Lernplattform war unverständlich ({service[0]}). / "
+        f"The learning platform's answer was not understood ({service[1]})."
+    )
 
 
 def foreign_url(service: tuple[str, str]) -> PassbackError:
-    return PassbackError(f"Die Adresse ({service[0]}) gehört nicht zur registrierten Lernplattform; nichts "
-                         f"gesendet. / The address ({service[1]}) is not on the registered platform; nothing sent.")
+    return PassbackError(
+        f"Die Adresse ({service[0]}) gehört nicht zur registrierten Lernplattform; nichts "
+        f"gesendet. / The address ({service[1]}) is not on the registered platform; nothing sent."
+    )
 
 
 TOKEN = ("Zugriffstoken", "access token")
@@ -282,12 +344,20 @@ def client_assertion(db: Session, platform: LtiPlatform) -> str:
     kid, key = signing_key(db)
     db.commit()  # the first call makes and stores our key
     issued = int(time.time())
-    claims = {"iss": platform.client_id, "sub": platform.client_id, "aud": platform.token_url, "iat": issued,
-              "exp": issued + 300, "jti": uuid.uuid4().hex}
+    claims = {
+        "iss": platform.client_id,
+        "sub": platform.client_id,
+        "aud": platform.token_url,
+        "iat": issued,
+        "exp": issued + 300,
+        "jti": uuid.uuid4().hex,
+    }
     return jwt.encode(claims, key, algorithm="RS256", headers={"kid": kid})
 
 
-async def access_token(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, scopes: list[str]) -> str:
+async def access_token(
+    client: httpx.AsyncClient, db: Session, platform: LtiPlatform, scopes: list[str]
+) -> str:
     """A bearer token for `scopes`, from the cache until a minute before it expires."""
     scope = " ".join(sorted(scopes))
     cache_key = (platform.id, platform.token_url, platform.client_id, scope)
@@ -295,8 +365,12 @@ async def access_token(client: httpx.AsyncClient, db: Session, platform: LtiPlat
         cached = _tokens.get(cache_key)
     if cached is not None and cached.expires > time.monotonic():
         return cached.value
-    form = {"grant_type": "client_credentials", "client_assertion_type": ASSERTION_TYPE,
-            "client_assertion": client_assertion(db, platform), "scope": scope}
+    form = {
+        "grant_type": "client_credentials",
+        "client_assertion_type": ASSERTION_TYPE,
+        "client_assertion": client_assertion(db, platform),
+        "scope": scope,
+    }
     db.commit()  # no pooled connection is held while the platform answers
     try:
         resp = await client.post(platform.token_url, data=form, headers={"Accept": "application/json"})
@@ -315,13 +389,17 @@ async def access_token(client: httpx.AsyncClient, db: Session, platform: LtiPlat
     return value
 
 
-async def ensure_lineitem(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, row: LtiScore) -> str:
+async def ensure_lineitem(
+    client: httpx.AsyncClient, db: Session, platform: LtiPlatform, row: LtiScore
+) -> str:
     """The line item of the row's link: the one the link has, else the platform's line item for this resource
     link (found by resource_link_id, or made with a maximum of 100) — kept on the link for all its rows."""
     link = db.get(LtiResourceLink, row.resource_link_pk) if row.resource_link_pk is not None else None
     if link is None or not link.lineitems_url:
-        raise PassbackError("Der Link hat keine Bewertungsspalte, und keine lässt sich anlegen. / "
-                            "The link has no line item and none can be made.")
+        raise PassbackError(
+            "Der Link hat keine Bewertungsspalte, und keine lässt sich anlegen. / "
+            "The link has no line item and none can be made."
+        )
     if not link.lineitem_url:
         if not service_url_ok(platform, link.lineitems_url):
             raise foreign_url(LINEITEMS)
@@ -329,18 +407,36 @@ async def ensure_lineitem(client: httpx.AsyncClient, db: Session, platform: LtiP
         auth = {"Authorization": f"Bearer {token}"}
         db.commit()
         try:
-            found = await client.get(link.lineitems_url, params={"resource_link_id": link.resource_link_id},
-                                     headers={**auth, "Accept": LINEITEMS_MEDIA_TYPE})
+            found = await client.get(
+                link.lineitems_url,
+                params={"resource_link_id": link.resource_link_id},
+                headers={**auth, "Accept": LINEITEMS_MEDIA_TYPE},
+            )
             items = found.json() if found.status_code == 200 else []
-            mine = [i for i in items if isinstance(i, dict) and i.get("resourceLinkId") == link.resource_link_id
-                    and isinstance(i.get("id"), str)] if isinstance(items, list) else []
+            mine = (
+                [
+                    i
+                    for i in items
+                    if isinstance(i, dict)
+                    and i.get("resourceLinkId") == link.resource_link_id
+                    and isinstance(i.get("id"), str)
+                ]
+                if isinstance(items, list)
+                else []
+            )
             if mine:
                 made_id = mine[0]["id"]
             else:
-                made = await client.post(link.lineitems_url, json={
-                    "scoreMaximum": SCORE_MAXIMUM, "label": (link.title or row.exercise_slug)[:200],
-                    "resourceLinkId": link.resource_link_id, "resourceId": row.exercise_slug},
-                    headers={**auth, "Content-Type": LINEITEM_MEDIA_TYPE, "Accept": LINEITEM_MEDIA_TYPE})
+                made = await client.post(
+                    link.lineitems_url,
+                    json={
+                        "scoreMaximum": SCORE_MAXIMUM,
+                        "label": (link.title or row.exercise_slug)[:200],
+                        "resourceLinkId": link.resource_link_id,
+                        "resourceId": row.exercise_slug,
+                    },
+                    headers={**auth, "Content-Type": LINEITEM_MEDIA_TYPE, "Accept": LINEITEM_MEDIA_TYPE},
+                )
                 if made.status_code not in (200, 201):
                     raise refused(LINEITEMS, made.status_code)
                 body = made.json()
@@ -364,13 +460,18 @@ async def post_score(client: httpx.AsyncClient, db: Session, platform: LtiPlatfo
     if not row.lineitem_url:
         await ensure_lineitem(client, db, platform, row)
     url = scores_url(row.lineitem_url)
-    if not service_url_ok(platform, url):  # checked again before each request: stored rows may predate a change
+    if not service_url_ok(
+        platform, url
+    ):  # checked again before each request: stored rows may predate a change
         raise foreign_url(SCORE)
     token = await access_token(client, db, platform, [SCORE_SCOPE])
     db.commit()
     try:
-        resp = await client.post(url, json=score_json(row),
-                                 headers={"Authorization": f"Bearer {token}", "Content-Type": SCORE_MEDIA_TYPE})
+        resp = await client.post(
+            url,
+            json=score_json(row),
+            headers={"Authorization": f"Bearer {token}", "Content-Type": SCORE_MEDIA_TYPE},
+        )
     except httpx.HTTPError as err:
         raise unreachable(SCORE) from err
     if resp.status_code == 401:
@@ -381,9 +482,11 @@ async def post_score(client: httpx.AsyncClient, db: Session, platform: LtiPlatfo
 
 def _claim(db: Session, row_id: int, at: datetime) -> bool:
     """Take a due row for this sender (pushing its next attempt past the lease); False if another took it."""
-    result = db.execute(update(LtiScore).where(LtiScore.id == row_id, LtiScore.state == "pending",
-                                               LtiScore.next_attempt_at <= at)
-                        .values(next_attempt_at=at + LEASE))
+    result = db.execute(
+        update(LtiScore)
+        .where(LtiScore.id == row_id, LtiScore.state == "pending", LtiScore.next_attempt_at <= at)
+        .values(next_attempt_at=at + LEASE)
+    )
     db.commit()
     return bool(getattr(result, "rowcount", 0) == 1)
 
@@ -402,9 +505,13 @@ def _claimed(db: Session, row_id: int, at: datetime) -> LtiScore | None:
 def _due(db: Session, at: datetime) -> list[tuple[int, int]]:
     """(id, platform id) of the pending rows due at `at`, oldest first; an exam's scores only once its results
     are released."""
-    q = (select(LtiScore.id, LtiScore.platform_id).join(Submission, Submission.id == LtiScore.submission_id)
-         .where(LtiScore.state == "pending", LtiScore.next_attempt_at <= at, Submission.held.is_(False))
-         .order_by(LtiScore.next_attempt_at, LtiScore.id).limit(BATCH))
+    q = (
+        select(LtiScore.id, LtiScore.platform_id)
+        .join(Submission, Submission.id == LtiScore.submission_id)
+        .where(LtiScore.state == "pending", LtiScore.next_attempt_at <= at, Submission.held.is_(False))
+        .order_by(LtiScore.next_attempt_at, LtiScore.id)
+        .limit(BATCH)
+    )
     return [(r[0], r[1]) for r in db.execute(q)]
 
 
@@ -427,8 +534,10 @@ async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: dateti
     platform = db.get(LtiPlatform, row.platform_id)
     try:
         if platform is None:
-            raise PassbackError("Die Lernplattform ist in PAL Trainer nicht mehr registriert. / "
-                                "The platform is no longer registered.")
+            raise PassbackError(
+                "Die Lernplattform ist in PAL Trainer nicht mehr registriert. / "
+                "The platform is no longer registered."
+            )
         await post_score(client, db, platform, row)
     except PassbackError as err:
         log.info("LTI score not taken", extra={"job": f"score {row.id}: {err} {err.__cause__!r}"[:500]})
@@ -436,8 +545,13 @@ async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: dateti
         return False
     except Exception as err:  # our key unreadable, a database hiccup …: retried the same way
         log.exception("sending an LTI score failed", extra={"job": f"score {row.id}"})
-        _failed(db, row, at, f"Interner Fehler beim Senden ({type(err).__name__}); Näheres im Server-Protokoll. / "
-                             f"Internal error while sending ({type(err).__name__}); see the server log.")
+        _failed(
+            db,
+            row,
+            at,
+            f"Interner Fehler beim Senden ({type(err).__name__}); Näheres im Server-Protokoll. / "
+            f"Internal error while sending ({type(err).__name__}); see the server log.",
+        )
         return False
     row.attempts += 1
     row.state = "sent"
@@ -447,7 +561,9 @@ async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: dateti
     return True
 
 
-async def drain(database: Database, at: datetime | None = None, client: httpx.AsyncClient | None = None) -> int:
+async def drain(
+    database: Database, at: datetime | None = None, client: httpx.AsyncClient | None = None
+) -> int:
     """Send every due row once (rows another sender claimed are skipped); returns how many the platforms took."""
     at = at or datetime.now(UTC)
     own = client is None
@@ -483,4 +599,3 @@ async def drainer(database: Database) -> None:
             except Exception:  # a failed round is retried on the next one
                 log.exception("sending LTI scores failed")
             await asyncio.sleep(DRAIN_EVERY_SECONDS)
-

@@ -28,13 +28,18 @@ def content_item(exercise: Exercise, launch_url: str) -> dict[str, Any]:
         "text": exercise.title_en or exercise.title_de,
         "url": launch_url,
         "custom": {"exercise": exercise.slug},
-        "lineItem": {"scoreMaximum": SCORE_MAXIMUM, "label": exercise.title_de, "resourceId": exercise.slug,
-                     "tag": "paltrainer"},
+        "lineItem": {
+            "scoreMaximum": SCORE_MAXIMUM,
+            "label": exercise.title_de,
+            "resourceId": exercise.slug,
+            "tag": "paltrainer",
+        },
     }
 
 
-def response_jwt(db: Session, launch: LtiLaunch, platform: LtiPlatform, exercises: list[Exercise],
-                 launch_url: str) -> str:
+def response_jwt(
+    db: Session, launch: LtiLaunch, platform: LtiPlatform, exercises: list[Exercise], launch_url: str
+) -> str:
     """The signed response (our current key, its kid in the header): iss is our client id, aud the platform."""
     kid, private = keys.signing_key(db)
     now = datetime.now(UTC)

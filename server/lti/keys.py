@@ -46,29 +46,40 @@ def _fernet(db: Session) -> Fernet:
     if secret is None:
         configure(Settings())
         secret = _last[0]
-    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=_HKDF_INFO).derive(secret.encode("utf-8"))
+    derived = HKDF(algorithm=hashes.SHA256(), length=32, salt=None, info=_HKDF_INFO).derive(
+        secret.encode("utf-8")
+    )
     return Fernet(base64.urlsafe_b64encode(derived))
 
 
 def new_key(db: Session) -> LtiToolKey:
     """A new RSA-2048 key; it becomes the current signing key."""
     private = rsa.generate_private_key(public_exponent=65537, key_size=2048)
-    pem = private.private_bytes(serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8,
-                                serialization.NoEncryption())
+    pem = private.private_bytes(
+        serialization.Encoding.PEM, serialization.PrivateFormat.PKCS8, serialization.NoEncryption()
+    )
     kid = secrets.token_urlsafe(12)
     jwk: dict[str, Any] = json.loads(RSAAlgorithm.to_jwk(private.public_key()))
     jwk.pop("key_ops", None)  # "use" says it; some platforms refuse keys with both
     jwk.update({"kid": kid, "alg": "RS256", "use": "sig"})
-    row = LtiToolKey(kid=kid, private_pem_encrypted=_fernet(db).encrypt(pem).decode("ascii"), public_jwk=jwk,
-                     created_at=datetime.now(UTC))
+    row = LtiToolKey(
+        kid=kid,
+        private_pem_encrypted=_fernet(db).encrypt(pem).decode("ascii"),
+        public_jwk=jwk,
+        created_at=datetime.now(UTC),
+    )
     db.add(row)
     db.flush()
     return row
 
 
 def _current(db: Session) -> LtiToolKey | None:
-    return db.scalars(select(LtiToolKey).where(LtiToolKey.retired_at.is_(None))
-                      .order_by(LtiToolKey.created_at.desc(), LtiToolKey.id.desc()).limit(1)).first()
+    return db.scalars(
+        select(LtiToolKey)
+        .where(LtiToolKey.retired_at.is_(None))
+        .order_by(LtiToolKey.created_at.desc(), LtiToolKey.id.desc())
+        .limit(1)
+    ).first()
 
 
 def signing_key(db: Session) -> tuple[str, rsa.RSAPrivateKey]:
@@ -77,8 +88,9 @@ def signing_key(db: Session) -> tuple[str, rsa.RSAPrivateKey]:
     try:
         pem = _fernet(db).decrypt(row.private_pem_encrypted.encode("ascii"))
     except InvalidToken as exc:  # the secret key changed since the key was stored: rotate (see docs/lti.md)
-        raise RuntimeError("LTI tool key cannot be decrypted with this secret key; run "
-                           "`paltrainer admin lti-keys --rotate`") from exc
+        raise RuntimeError(
+            "LTI tool key cannot be decrypted with this secret key; run `paltrainer admin lti-keys --rotate`"
+        ) from exc
     private = serialization.load_pem_private_key(pem, password=None)
     assert isinstance(private, rsa.RSAPrivateKey)
     return row.kid, private
@@ -117,7 +129,13 @@ def listing(db: Session) -> list[dict[str, Any]]:
     """Every key, oldest first, with its state: "current" (signs), "published" (in /lti/jwks, no longer signs),
     "retired" (neither)."""
     current = _current(db)
-    return [{"kid": r.kid, "created_at": r.created_at.isoformat(), "retired_at": r.retired_at.isoformat()
-             if r.retired_at else None, "current": current is not None and r.id == current.id,
-             "state": _state(r, current)}
-            for r in db.scalars(select(LtiToolKey).order_by(LtiToolKey.id))]
+    return [
+        {
+            "kid": r.kid,
+            "created_at": r.created_at.isoformat(),
+            "retired_at": r.retired_at.isoformat() if r.retired_at else None,
+            "current": current is not None and r.id == current.id,
+            "state": _state(r, current),
+        }
+        for r in db.scalars(select(LtiToolKey).order_by(LtiToolKey.id))
+    ]

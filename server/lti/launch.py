@@ -61,14 +61,24 @@ STATE_SECONDS = 600  # from /lti/login to /lti/launch: the platform's login page
 TICKET_SECONDS = 120
 LEEWAY_SECONDS = 60  # clock skew between the platform and us
 NONCE_KEEP_SECONDS = 24 * 3600  # a used nonce is remembered at least this long (beyond any token's exp)
-MAX_LOGIN_STATES = 20_000  # logins under way at once, all platforms (a 2,000-trainee evening uses a few hundred)
+MAX_LOGIN_STATES = (
+    20_000  # logins under way at once, all platforms (a 2,000-trainee evening uses a few hundred)
+)
 NO_PASSWORD = "!lti"  # the password hash of accounts a launch makes: no password ever matches it
 
 # roles (LTI 1.3 core, appendix A.2): context roles and the institution/system administrator roles
 _LIS = "http://purl.imsglobal.org/vocab/lis/v2/"
-_INSTRUCTOR_ROLES = {_LIS + "membership#Instructor", _LIS + "membership/Instructor#TeachingAssistant", "Instructor"}
-_ADMIN_ROLES = {_LIS + "institution/person#Administrator", _LIS + "system/person#Administrator",
-                _LIS + "membership#Administrator", "Administrator"}
+_INSTRUCTOR_ROLES = {
+    _LIS + "membership#Instructor",
+    _LIS + "membership/Instructor#TeachingAssistant",
+    "Instructor",
+}
+_ADMIN_ROLES = {
+    _LIS + "institution/person#Administrator",
+    _LIS + "system/person#Administrator",
+    _LIS + "membership#Administrator",
+    "Administrator",
+}
 
 
 class LtiRefusal(Exception):
@@ -98,8 +108,9 @@ class JwksCache:
     """The platforms' public keys by JWKS URL, kept `ttl` seconds; a kid we do not know yet makes one fresh
     fetch (the platform rotated), at most once every `min_refetch` seconds per URL."""
 
-    def __init__(self, transport: httpx.BaseTransport | None = None, ttl: float = 300.0,
-                 min_refetch: float = 10.0) -> None:
+    def __init__(
+        self, transport: httpx.BaseTransport | None = None, ttl: float = 300.0, min_refetch: float = 10.0
+    ) -> None:
         self.transport, self.ttl, self.min_refetch = transport, ttl, min_refetch
         self._keys: dict[str, tuple[float, dict[str, Any]]] = {}
 
@@ -108,7 +119,9 @@ class JwksCache:
             resp = client.get(url)
             resp.raise_for_status()
             data = resp.json()
-        keys = {k["kid"]: k for k in data.get("keys", []) if isinstance(k, dict) and isinstance(k.get("kid"), str)}
+        keys = {
+            k["kid"]: k for k in data.get("keys", []) if isinstance(k, dict) and isinstance(k.get("kid"), str)
+        }
         self._keys[url] = (time.monotonic(), keys)
         return keys
 
@@ -133,9 +146,11 @@ def begin_login(db: Session, params: dict[str, str], own_origin: str) -> str:
     `own_origin`: this tool's origin (scheme://host[:port]); the launch must come back to it."""
     issuer, login_hint, target = params.get("iss"), params.get("login_hint"), params.get("target_link_uri")
     if not issuer or not login_hint or not target:
-        raise LtiRefusal("LTI_LOGIN_INCOMPLETE", "Der Anmeldeanfrage der Plattform fehlen Angaben "
-                         "(iss, login_hint, target_link_uri).",
-                         "The platform's login request lacks iss, login_hint or target_link_uri.")
+        raise LtiRefusal(
+            "LTI_LOGIN_INCOMPLETE",
+            "Der Anmeldeanfrage der Plattform fehlen Angaben (iss, login_hint, target_link_uri).",
+            "The platform's login request lacks iss, login_hint or target_link_uri.",
+        )
     try:
         target_path = urlsplit(target).path
     except ValueError:
@@ -143,8 +158,11 @@ def begin_login(db: Session, params: dict[str, str], own_origin: str) -> str:
     own = registration.origin_of(own_origin)
     if target_path != "/lti/launch" or own is None or registration.origin_of(target) != own:
         # the id_token goes to redirect_uri: only ever our own launch endpoint, never one on another host
-        raise LtiRefusal("LTI_BAD_TARGET", "Die Zieladresse des Starts (target_link_uri) ist nicht /lti/launch "
-                         "von PAL Trainer.", "The launch's target_link_uri is not PAL Trainer's /lti/launch.")
+        raise LtiRefusal(
+            "LTI_BAD_TARGET",
+            "Die Zieladresse des Starts (target_link_uri) ist nicht /lti/launch von PAL Trainer.",
+            "The launch's target_link_uri is not PAL Trainer's /lti/launch.",
+        )
     candidates = registration.platforms_of_issuer(db, issuer)
     client_id = params.get("client_id")
     if client_id:
@@ -152,18 +170,35 @@ def begin_login(db: Session, params: dict[str, str], own_origin: str) -> str:
     if not candidates:
         raise _unregistered(issuer)
     if len(candidates) > 1:
-        raise LtiRefusal("LTI_CLIENT_ID_REQUIRED", "Für diese Plattform sind mehrere Client-IDs registriert; "
-                         "die Anmeldeanfrage muss client_id enthalten.",
-                         "Several client ids are registered for this platform; the login request must name one.")
+        raise LtiRefusal(
+            "LTI_CLIENT_ID_REQUIRED",
+            "Für diese Plattform sind mehrere Client-IDs registriert; "
+            "die Anmeldeanfrage muss client_id enthalten.",
+            "Several client ids are registered for this platform; the login request must name one.",
+        )
     platform = candidates[0]
     state, nonce = secrets.token_urlsafe(32), secrets.token_urlsafe(32)
-    db.add(LtiLoginState(state=state, nonce=nonce, platform_id=platform.id,
-                         expires_at=_now() + timedelta(seconds=STATE_SECONDS)))
+    db.add(
+        LtiLoginState(
+            state=state,
+            nonce=nonce,
+            platform_id=platform.id,
+            expires_at=_now() + timedelta(seconds=STATE_SECONDS),
+        )
+    )
     _prune_login_states(db)
     db.commit()
-    query = {"scope": "openid", "response_type": "id_token", "response_mode": "form_post", "prompt": "none",
-             "client_id": platform.client_id, "redirect_uri": target, "login_hint": login_hint, "state": state,
-             "nonce": nonce}
+    query = {
+        "scope": "openid",
+        "response_type": "id_token",
+        "response_mode": "form_post",
+        "prompt": "none",
+        "client_id": platform.client_id,
+        "redirect_uri": target,
+        "login_hint": login_hint,
+        "state": state,
+        "nonce": nonce,
+    }
     if params.get("lti_message_hint"):
         query["lti_message_hint"] = params["lti_message_hint"]
     sep = "&" if "?" in platform.auth_login_url else "?"
@@ -175,15 +210,20 @@ def _prune_login_states(db: Session) -> None:
     route limits each address), so the table is bounded: under a flood of logins from many addresses a state
     lives shorter, but a real login, which comes back within seconds, still finds its own."""
     db.execute(delete(LtiLoginState).where(LtiLoginState.expires_at < _now()))
-    oldest_kept = db.scalars(select(LtiLoginState.id).order_by(LtiLoginState.id.desc())
-                             .offset(MAX_LOGIN_STATES - 1).limit(1)).first()
+    oldest_kept = db.scalars(
+        select(LtiLoginState.id).order_by(LtiLoginState.id.desc()).offset(MAX_LOGIN_STATES - 1).limit(1)
+    ).first()
     if oldest_kept is not None:
         db.execute(delete(LtiLoginState).where(LtiLoginState.id < oldest_kept))
 
 
 def _unregistered(issuer: str) -> LtiRefusal:
-    return LtiRefusal("LTI_UNKNOWN_ISSUER", f"Die Plattform »{issuer[:200]}« ist hier nicht registriert.",
-                      f"The platform '{issuer[:200]}' is not registered here.", 403)
+    return LtiRefusal(
+        "LTI_UNKNOWN_ISSUER",
+        f"Die Plattform »{issuer[:200]}« ist hier nicht registriert.",
+        f"The platform '{issuer[:200]}' is not registered here.",
+        403,
+    )
 
 
 # --- the id_token ------------------------------------------------------------------------------------
@@ -198,83 +238,149 @@ class Verified:
 def verify(db: Session, cache: JwksCache, id_token: str | None, state: str | None) -> Verified:
     """Check the authentication response; LtiRefusal with the reason on anything wrong."""
     if not state:
-        raise LtiRefusal("LTI_BAD_STATE", "Der Start enthält keinen Zustand (state); bitte erneut aus der "
-                         "Lernplattform öffnen.", "The launch carries no state; open it again from the platform.")
+        raise LtiRefusal(
+            "LTI_BAD_STATE",
+            "Der Start enthält keinen Zustand (state); bitte erneut aus der Lernplattform öffnen.",
+            "The launch carries no state; open it again from the platform.",
+        )
     login = db.scalars(select(LtiLoginState).where(LtiLoginState.state == state)).first()
     if login is None or _aware(login.expires_at) < _now():
-        raise LtiRefusal("LTI_BAD_STATE", "Der Start ist unbekannt oder abgelaufen (state); bitte erneut aus der "
-                         "Lernplattform öffnen.", "Unknown or expired launch state; open it again from the platform.")
+        raise LtiRefusal(
+            "LTI_BAD_STATE",
+            "Der Start ist unbekannt oder abgelaufen (state); bitte erneut aus der Lernplattform öffnen.",
+            "Unknown or expired launch state; open it again from the platform.",
+        )
     platform_id, expected_nonce = login.platform_id, login.nonce
     db.delete(login)  # a state is good for one launch
     db.commit()
     if not id_token:
-        raise LtiRefusal("LTI_BAD_TOKEN", "Der Start enthält kein id_token.", "The launch carries no id_token.")
+        raise LtiRefusal(
+            "LTI_BAD_TOKEN", "Der Start enthält kein id_token.", "The launch carries no id_token."
+        )
     try:
         header = jwt.get_unverified_header(id_token)
         unverified = jwt.decode(id_token, options={"verify_signature": False})
     except jwt.PyJWTError as exc:
-        raise LtiRefusal("LTI_BAD_TOKEN", "Das id_token ist kein gültiges JWT.",
-                         "The id_token is not a valid JWT.") from exc
+        raise LtiRefusal(
+            "LTI_BAD_TOKEN", "Das id_token ist kein gültiges JWT.", "The id_token is not a valid JWT."
+        ) from exc
     issuer = unverified.get("iss")
     platform = db.get(LtiPlatform, platform_id)
     if not isinstance(issuer, str) or platform is None or not registration.platforms_of_issuer(db, issuer):
         raise _unregistered(str(issuer))
     if platform.issuer != issuer:
-        raise LtiRefusal("LTI_BAD_STATE", "Der Start gehört zu einer anderen Plattform (state).",
-                         "The launch state belongs to another platform.")
+        raise LtiRefusal(
+            "LTI_BAD_STATE",
+            "Der Start gehört zu einer anderen Plattform (state).",
+            "The launch state belongs to another platform.",
+        )
     aud = unverified.get("aud")
     audiences = [aud] if isinstance(aud, str) else aud if isinstance(aud, list) else []
-    if platform.client_id not in audiences or (len(audiences) > 1 and unverified.get("azp") != platform.client_id):
-        raise LtiRefusal("LTI_WRONG_AUDIENCE", "Das id_token ist nicht für PAL Trainer ausgestellt (aud).",
-                         "The id_token is not issued for PAL Trainer (aud).", 403)
+    if platform.client_id not in audiences or (
+        len(audiences) > 1 and unverified.get("azp") != platform.client_id
+    ):
+        raise LtiRefusal(
+            "LTI_WRONG_AUDIENCE",
+            "Das id_token ist nicht für PAL Trainer ausgestellt (aud).",
+            "The id_token is not issued for PAL Trainer (aud).",
+            403,
+        )
     if header.get("alg") != "RS256" or not isinstance(header.get("kid"), str):
-        raise LtiRefusal("LTI_BAD_TOKEN", "Das id_token muss mit RS256 und einer Schlüssel-ID signiert sein.",
-                         "The id_token must be signed with RS256 and carry a key id.")
+        raise LtiRefusal(
+            "LTI_BAD_TOKEN",
+            "Das id_token muss mit RS256 und einer Schlüssel-ID signiert sein.",
+            "The id_token must be signed with RS256 and carry a key id.",
+        )
     jwk = cache.key(platform.jwks_url, header["kid"])
     if jwk is None:
-        raise LtiRefusal("LTI_UNKNOWN_KEY", "Das id_token ist mit einem Schlüssel signiert, den die Plattform nicht "
-                         "veröffentlicht.", "The id_token is signed with a key the platform does not publish.", 403)
+        raise LtiRefusal(
+            "LTI_UNKNOWN_KEY",
+            "Das id_token ist mit einem Schlüssel signiert, den die Plattform nicht veröffentlicht.",
+            "The id_token is signed with a key the platform does not publish.",
+            403,
+        )
     try:
         claims: dict[str, Any] = jwt.decode(
-            id_token, RSAAlgorithm.from_jwk(jwk), algorithms=["RS256"], audience=platform.client_id,  # type: ignore[arg-type]
-            issuer=platform.issuer, leeway=LEEWAY_SECONDS, options={"require": ["exp", "iat", "nonce", "sub"]})
+            id_token,
+            RSAAlgorithm.from_jwk(jwk),  # type: ignore[arg-type]
+            algorithms=["RS256"],
+            audience=platform.client_id,
+            issuer=platform.issuer,
+            leeway=LEEWAY_SECONDS,
+            options={"require": ["exp", "iat", "nonce", "sub"]},
+        )
     except jwt.ExpiredSignatureError as exc:
-        raise LtiRefusal("LTI_EXPIRED", "Das id_token ist abgelaufen; bitte erneut aus der Lernplattform öffnen.",
-                         "The id_token has expired; open it again from the platform.", 403) from exc
+        raise LtiRefusal(
+            "LTI_EXPIRED",
+            "Das id_token ist abgelaufen; bitte erneut aus der Lernplattform öffnen.",
+            "The id_token has expired; open it again from the platform.",
+            403,
+        ) from exc
     except jwt.InvalidSignatureError as exc:
-        raise LtiRefusal("LTI_BAD_SIGNATURE", "Die Signatur des id_token stimmt nicht.",
-                         "The id_token's signature is wrong.", 403) from exc
+        raise LtiRefusal(
+            "LTI_BAD_SIGNATURE",
+            "Die Signatur des id_token stimmt nicht.",
+            "The id_token's signature is wrong.",
+            403,
+        ) from exc
     except jwt.PyJWTError as exc:
-        raise LtiRefusal("LTI_BAD_TOKEN", f"Das id_token ist ungültig: {exc}", f"The id_token is invalid: {exc}",
-                         403) from exc
+        raise LtiRefusal(
+            "LTI_BAD_TOKEN", f"Das id_token ist ungültig: {exc}", f"The id_token is invalid: {exc}", 403
+        ) from exc
     nonce = str(claims["nonce"])
     db.execute(delete(LtiNonce).where(LtiNonce.expires_at < _now()))
-    if db.scalars(select(LtiNonce).where(LtiNonce.platform_id == platform.id, LtiNonce.nonce == nonce)).first():
-        raise LtiRefusal("LTI_REPLAY", "Dieses id_token wurde schon verwendet (nonce); bitte erneut aus der "
-                         "Lernplattform öffnen.", "This id_token was used before (nonce).", 403)
+    if db.scalars(
+        select(LtiNonce).where(LtiNonce.platform_id == platform.id, LtiNonce.nonce == nonce)
+    ).first():
+        raise LtiRefusal(
+            "LTI_REPLAY",
+            "Dieses id_token wurde schon verwendet (nonce); bitte erneut aus der Lernplattform öffnen.",
+            "This id_token was used before (nonce).",
+            403,
+        )
     if not secrets.compare_digest(nonce.encode("utf-8"), expected_nonce.encode("utf-8")):
-        raise LtiRefusal("LTI_BAD_NONCE", "Das id_token gehört nicht zu diesem Start (nonce).",
-                         "The id_token does not belong to this launch (nonce).", 403)
+        raise LtiRefusal(
+            "LTI_BAD_NONCE",
+            "Das id_token gehört nicht zu diesem Start (nonce).",
+            "The id_token does not belong to this launch (nonce).",
+            403,
+        )
     keep = max(float(claims["exp"]) - time.time() + LEEWAY_SECONDS, NONCE_KEEP_SECONDS)
     db.add(LtiNonce(platform_id=platform.id, nonce=nonce, expires_at=_now() + timedelta(seconds=keep)))
     try:
         db.commit()
     except IntegrityError as exc:  # the same token at the same moment twice
         db.rollback()
-        raise LtiRefusal("LTI_REPLAY", "Dieses id_token wurde schon verwendet (nonce).",
-                         "This id_token was used before (nonce).", 403) from exc
+        raise LtiRefusal(
+            "LTI_REPLAY",
+            "Dieses id_token wurde schon verwendet (nonce).",
+            "This id_token was used before (nonce).",
+            403,
+        ) from exc
     if claims.get(CLAIM_VERSION) != "1.3.0":
         raise LtiRefusal("LTI_BAD_VERSION", "Nur LTI 1.3 wird unterstützt.", "Only LTI 1.3 is supported.")
     message_type = claims.get(CLAIM_MESSAGE_TYPE)
     if message_type not in (RESOURCE_LINK_REQUEST, DEEP_LINKING_REQUEST):
-        raise LtiRefusal("LTI_UNSUPPORTED_MESSAGE", f"Die Nachricht »{str(message_type)[:80]}« wird nicht "
-                         "unterstützt.", f"The message type '{str(message_type)[:80]}' is not supported.")
+        raise LtiRefusal(
+            "LTI_UNSUPPORTED_MESSAGE",
+            f"Die Nachricht »{str(message_type)[:80]}« wird nicht unterstützt.",
+            f"The message type '{str(message_type)[:80]}' is not supported.",
+        )
     deployment = claims.get(CLAIM_DEPLOYMENT)
-    if not isinstance(deployment, str) or not db.scalars(select(LtiDeployment).where(
-            LtiDeployment.platform_id == platform.id, LtiDeployment.deployment_id == deployment)).first():
-        raise LtiRefusal("LTI_UNKNOWN_DEPLOYMENT", f"Die Deployment-ID »{str(deployment)[:80]}« ist für diese "
-                         "Plattform nicht registriert.",
-                         f"The deployment id '{str(deployment)[:80]}' is not registered for this platform.", 403)
+    if (
+        not isinstance(deployment, str)
+        or not db.scalars(
+            select(LtiDeployment).where(
+                LtiDeployment.platform_id == platform.id, LtiDeployment.deployment_id == deployment
+            )
+        ).first()
+    ):
+        raise LtiRefusal(
+            "LTI_UNKNOWN_DEPLOYMENT",
+            f"Die Deployment-ID »{str(deployment)[:80]}« ist für diese Plattform nicht registriert.",
+            f"The deployment id '{str(deployment)[:80]}' is not registered for this platform.",
+            403,
+        )
     return Verified(platform, claims)
 
 
@@ -282,7 +388,7 @@ def verify(db: Session, cache: JwksCache, id_token: str | None, state: str | Non
 
 
 def role_of(claims: dict[str, Any]) -> str:
-    """"administrator", "instructor" or "learner" from the roles claim; anything unknown is a learner."""
+    """ "administrator", "instructor" or "learner" from the roles claim; anything unknown is a learner."""
     roles = claims.get(CLAIM_ROLES)
     roles = {r for r in roles if isinstance(r, str)} if isinstance(roles, list) else set()
     if roles & _ADMIN_ROLES:
@@ -317,15 +423,23 @@ def _new_identity(db: Session, platform: LtiPlatform, sub: str, role: str) -> Lt
             made = _identity(db, platform, sub)  # the same person's other launch at the same moment made it
             if made is not None:
                 return made
-    raise LtiRefusal("LTI_USER_FAILED", "Das Konto für den Start ließ sich nicht anlegen; bitte erneut öffnen.",
-                     "The account for this launch could not be made; please open it again.", 503)
+    raise LtiRefusal(
+        "LTI_USER_FAILED",
+        "Das Konto für den Start ließ sich nicht anlegen; bitte erneut öffnen.",
+        "The account for this launch could not be made; please open it again.",
+        503,
+    )
 
 
-def platform_user(db: Session, platform: LtiPlatform, claims: dict[str, Any], teaches: bool) -> tuple[User, LtiUser]:
+def platform_user(
+    db: Session, platform: LtiPlatform, claims: dict[str, Any], teaches: bool
+) -> tuple[User, LtiUser]:
     """The account of the platform's user (claims "sub", name, email), made on their first launch or roster pull;
     a user the platform says teaches becomes an instructor here."""
     sub = str(claims["sub"])[:255]
-    name = str(claims.get("name") or " ".join(str(claims.get(k, "")) for k in ("given_name", "family_name"))).strip()
+    name = str(
+        claims.get("name") or " ".join(str(claims.get(k, "")) for k in ("given_name", "family_name"))
+    ).strip()
     email = claims.get("email") if isinstance(claims.get("email"), str) else ""
     link = _identity(db, platform, sub)
     if link is None:
@@ -347,24 +461,33 @@ def _service_url(platform: LtiPlatform, value: Any, what: str) -> str | None:
         return None
     if len(value) <= 1000 and registration.service_url_ok(platform, value):
         return value
-    log.warning("lti: service URL not on the platform's origins, ignored",
-                extra={"job": f"platform {platform.id} {what}: {value[:200]}"})
+    log.warning(
+        "lti: service URL not on the platform's origins, ignored",
+        extra={"job": f"platform {platform.id} {what}: {value[:200]}"},
+    )
     return None
 
 
-def _context(db: Session, platform: LtiPlatform, claims: dict[str, Any], user: User, teaches: bool) -> LtiContext | None:
+def _context(
+    db: Session, platform: LtiPlatform, claims: dict[str, Any], user: User, teaches: bool
+) -> LtiContext | None:
     ctx = claims.get(CLAIM_CONTEXT)
     if not isinstance(ctx, dict) or not isinstance(ctx.get("id"), str):
         return None
-    row = db.scalars(select(LtiContext).where(LtiContext.platform_id == platform.id,
-                                              LtiContext.context_id == ctx["id"][:255])).first()
+    row = db.scalars(
+        select(LtiContext).where(
+            LtiContext.platform_id == platform.id, LtiContext.context_id == ctx["id"][:255]
+        )
+    ).first()
     title = str(ctx.get("title") or ctx.get("label") or "LTI-Kurs")[:200]
     if row is None:
         row = LtiContext(platform_id=platform.id, context_id=ctx["id"][:255], title=title)
         db.add(row)
     nrps = claims.get(CLAIM_NRPS)
     if isinstance(nrps, dict) and "context_memberships_url" in nrps:
-        row.memberships_url = _service_url(platform, nrps["context_memberships_url"], "context_memberships_url")
+        row.memberships_url = _service_url(
+            platform, nrps["context_memberships_url"], "context_memberships_url"
+        )
     row.title = title
     if row.course_id is None or repo.course_by_id(db, row.course_id) is None:
         row.course_id = None
@@ -376,13 +499,17 @@ def _context(db: Session, platform: LtiPlatform, claims: dict[str, Any], user: U
     return row
 
 
-def _resource_link(db: Session, platform: LtiPlatform, claims: dict[str, Any],
-                   context: LtiContext | None) -> LtiResourceLink | None:
+def _resource_link(
+    db: Session, platform: LtiPlatform, claims: dict[str, Any], context: LtiContext | None
+) -> LtiResourceLink | None:
     rl = claims.get(CLAIM_RESOURCE_LINK)
     if not isinstance(rl, dict) or not isinstance(rl.get("id"), str):
         return None
-    row = db.scalars(select(LtiResourceLink).where(LtiResourceLink.platform_id == platform.id,
-                                                   LtiResourceLink.resource_link_id == rl["id"][:255])).first()
+    row = db.scalars(
+        select(LtiResourceLink).where(
+            LtiResourceLink.platform_id == platform.id, LtiResourceLink.resource_link_id == rl["id"][:255]
+        )
+    ).first()
     if row is None:
         row = LtiResourceLink(platform_id=platform.id, resource_link_id=rl["id"][:255], ags_scopes=[])
         db.add(row)
@@ -393,8 +520,11 @@ def _resource_link(db: Session, platform: LtiPlatform, claims: dict[str, Any],
     slug = custom.get("exercise")
     row.exercise_slug = slug if isinstance(slug, str) and repo.exercise_by_slug(db, slug) else None
     assignment_id = str(custom.get("assignment", ""))
-    assignment = db.get(Assignment, int(assignment_id)) if assignment_id.isdigit() and len(assignment_id) < 10 \
+    assignment = (
+        db.get(Assignment, int(assignment_id))
+        if assignment_id.isdigit() and len(assignment_id) < 10
         else None
+    )
     # an assignment must belong to the platform course's course: a link cannot reach another class's exam
     ok = assignment is not None and context is not None and assignment.course_id == context.course_id
     row.assignment_id = assignment.id if ok and assignment is not None else None
@@ -430,19 +560,33 @@ def accept(db: Session, verified: Verified) -> tuple[LtiLaunch, str]:
     message_type = str(claims[CLAIM_MESSAGE_TYPE])
     link = _resource_link(db, platform, claims, context) if message_type == RESOURCE_LINK_REQUEST else None
     ticket = secrets.token_urlsafe(32)
-    launch = LtiLaunch(platform_id=platform.id, deployment_id=str(claims[CLAIM_DEPLOYMENT]),
-                       message_type=message_type, user_id=user.id, lti_user_pk=lti_user.id,
-                       resource_link_pk=link.id if link else None, exercise_slug=landing_slug(db, link),
-                       role=role, ticket_hash=_hash(ticket),
-                       ticket_expires_at=_now() + timedelta(seconds=TICKET_SECONDS))
+    launch = LtiLaunch(
+        platform_id=platform.id,
+        deployment_id=str(claims[CLAIM_DEPLOYMENT]),
+        message_type=message_type,
+        user_id=user.id,
+        lti_user_pk=lti_user.id,
+        resource_link_pk=link.id if link else None,
+        exercise_slug=landing_slug(db, link),
+        role=role,
+        ticket_hash=_hash(ticket),
+        ticket_expires_at=_now() + timedelta(seconds=TICKET_SECONDS),
+    )
     if message_type == DEEP_LINKING_REQUEST:
         settings = claims.get(CLAIM_DL_SETTINGS)
         if not isinstance(settings, dict) or not isinstance(settings.get("deep_link_return_url"), str):
-            raise LtiRefusal("LTI_BAD_DEEP_LINKING", "Der Deep-Linking-Anfrage fehlt die Rücksprungadresse.",
-                             "The deep linking request lacks its return URL.")
+            raise LtiRefusal(
+                "LTI_BAD_DEEP_LINKING",
+                "Der Deep-Linking-Anfrage fehlt die Rücksprungadresse.",
+                "The deep linking request lacks its return URL.",
+            )
         if not teaches:
-            raise LtiRefusal("LTI_NOT_INSTRUCTOR", "Aufgaben auswählen dürfen nur Lehrkräfte.",
-                             "Only instructors may pick exercises.", 403)
+            raise LtiRefusal(
+                "LTI_NOT_INSTRUCTOR",
+                "Aufgaben auswählen dürfen nur Lehrkräfte.",
+                "Only instructors may pick exercises.",
+                403,
+            )
         launch.deep_link_return_url = settings["deep_link_return_url"][:1000]
         data = settings.get("data")
         launch.deep_link_data = data if isinstance(data, str) else None
@@ -464,8 +608,14 @@ def redeem(db: Session, ticket: str) -> LtiLaunch | None:
 
 def resource_link_for(db: Session, user_id: int, exercise_slug: str) -> LtiResourceLink | None:
     """The resource link of the user's latest launch into this exercise (for the grade passback), or None."""
-    launch = db.scalars(select(LtiLaunch).where(LtiLaunch.user_id == user_id,
-                                                LtiLaunch.exercise_slug == exercise_slug,
-                                                LtiLaunch.resource_link_pk.is_not(None))
-                        .order_by(LtiLaunch.created_at.desc(), LtiLaunch.id.desc()).limit(1)).first()
+    launch = db.scalars(
+        select(LtiLaunch)
+        .where(
+            LtiLaunch.user_id == user_id,
+            LtiLaunch.exercise_slug == exercise_slug,
+            LtiLaunch.resource_link_pk.is_not(None),
+        )
+        .order_by(LtiLaunch.created_at.desc(), LtiLaunch.id.desc())
+        .limit(1)
+    ).first()
     return db.get(LtiResourceLink, launch.resource_link_pk) if launch and launch.resource_link_pk else None

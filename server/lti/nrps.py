@@ -53,7 +53,9 @@ class RosterOut(BaseModel):
     users: list[RosterUser]
 
 
-async def _members(client: httpx.AsyncClient, db: Session, platform: LtiPlatform, url: str) -> list[dict[str, Any]]:
+async def _members(
+    client: httpx.AsyncClient, db: Session, platform: LtiPlatform, url: str
+) -> list[dict[str, Any]]:
     out: list[dict[str, Any]] = []
     next_url: str | None = url
     token: str | None = None
@@ -64,7 +66,9 @@ async def _members(client: httpx.AsyncClient, db: Session, platform: LtiPlatform
             raise ags.foreign_url(ROSTER)
         token = token or await ags.access_token(client, db, platform, [NRPS_SCOPE])
         try:
-            resp = await client.get(next_url, headers={"Authorization": f"Bearer {token}", "Accept": NRPS_MEDIA_TYPE})
+            resp = await client.get(
+                next_url, headers={"Authorization": f"Bearer {token}", "Accept": NRPS_MEDIA_TYPE}
+            )
         except httpx.HTTPError as err:
             raise ags.unreachable(ROSTER) from err
         if resp.status_code != 200:
@@ -84,12 +88,21 @@ def _add(db: Session, platform: LtiPlatform, course_id: int, member: dict[str, A
     sub = member.get("user_id")
     if not isinstance(sub, str | int) or str(sub) == "":
         return None
-    known = db.scalars(select(LtiUser).where(LtiUser.platform_id == platform.id,
-                                             LtiUser.sub == str(sub)[:255])).first() is not None
+    known = (
+        db.scalars(
+            select(LtiUser).where(LtiUser.platform_id == platform.id, LtiUser.sub == str(sub)[:255])
+        ).first()
+        is not None
+    )
     role = launch.role_of({launch.CLAIM_ROLES: member.get("roles")})
     teaches = role in ("instructor", "administrator")
-    claims = {"sub": str(sub), "name": member.get("name") or "", "given_name": member.get("given_name") or "",
-              "family_name": member.get("family_name") or "", "email": member.get("email") or ""}
+    claims = {
+        "sub": str(sub),
+        "name": member.get("name") or "",
+        "given_name": member.get("given_name") or "",
+        "family_name": member.get("family_name") or "",
+        "email": member.get("email") or "",
+    }
     user, lti_user = launch.platform_user(db, platform, claims, teaches)  # one rule for platform users
     course_role = "instructor" if teaches else "student"
     repo.add_member(db, course_id, user.id, course_role)
@@ -98,8 +111,13 @@ def _add(db: Session, platform: LtiPlatform, course_id: int, member: dict[str, A
 
 async def pull_roster(db: Session, course_id: int, client: httpx.AsyncClient | None = None) -> RosterOut:
     """Read the rosters of the platform courses linked to our course `course_id` and enrol their members."""
-    contexts = list(db.scalars(select(LtiContext).where(LtiContext.course_id == course_id,
-                                                        LtiContext.memberships_url.is_not(None))))
+    contexts = list(
+        db.scalars(
+            select(LtiContext).where(
+                LtiContext.course_id == course_id, LtiContext.memberships_url.is_not(None)
+            )
+        )
+    )
     if not contexts:
         raise ApiError("LTI_NO_ROSTER")
     own = client is None
@@ -115,7 +133,9 @@ async def pull_roster(db: Session, course_id: int, client: httpx.AsyncClient | N
             try:
                 members = await _members(http, db, platform, context.memberships_url)
             except ags.PassbackError as err:
-                log.warning("LTI roster failed", extra={"job": f"context {context.id}: {err} {err.__cause__!r}"})
+                log.warning(
+                    "LTI roster failed", extra={"job": f"context {context.id}: {err} {err.__cause__!r}"}
+                )
                 raise ApiError("LTI_PLATFORM_ERROR", detail=FAILED_DE, detail_en=FAILED_EN) from None
             for member in members:
                 seen += 1
@@ -131,6 +151,12 @@ async def pull_roster(db: Session, course_id: int, client: httpx.AsyncClient | N
         if own:
             await http.aclose()
     log.info("LTI roster pulled", extra={"job": f"course {course_id}: {len(users)} members"})
-    return RosterOut(course=course_id, members=seen, created=sum(u.created for u in users),
-                     students=sum(u.role == "student" for u in users),
-                     instructors=sum(u.role == "instructor" for u in users), skipped=skipped, users=users)
+    return RosterOut(
+        course=course_id,
+        members=seen,
+        created=sum(u.created for u in users),
+        students=sum(u.role == "student" for u in users),
+        instructors=sum(u.role == "instructor" for u in users),
+        skipped=skipped,
+        users=users,
+    )

@@ -20,8 +20,14 @@ Admin = Annotated[Principal, Depends(require_admin)]
 
 
 @router.post("/me/password", status_code=204, responses=responses(401, 403, 422, 429))
-def change_password(body: PasswordChange, request: Request, response: Response, db: DbSession,
-                    settings: AppSettings, principal: CurrentPrincipal) -> Response:
+def change_password(
+    body: PasswordChange,
+    request: Request,
+    response: Response,
+    db: DbSession,
+    settings: AppSettings,
+    principal: CurrentPrincipal,
+) -> Response:
     """The caller's own password: the current one (403 WRONG_PASSWORD if wrong; wrong tries use up the login
     budget of the name), the new one by the password rule (422 PASSWORD_RULE naming it). Other sessions end;
     this browser's session goes on (a new cookie)."""
@@ -37,8 +43,9 @@ def change_password(body: PasswordChange, request: Request, response: Response, 
     return response
 
 
-@router.post("/users/{username}/password-reset", response_model=PasswordReset,
-             responses=responses(401, 403, 404))
+@router.post(
+    "/users/{username}/password-reset", response_model=PasswordReset, responses=responses(401, 403, 404)
+)
 def reset_password(username: Username, db: DbSession, principal: CurrentPrincipal) -> PasswordReset:
     """A one-time password, shown only in this answer; the user must change it at the next login (until then the
     API answers 403 PASSWORD_CHANGE_REQUIRED). Instructors: students they manage or teach; admins: anyone."""
@@ -58,8 +65,9 @@ def activate(username: Username, db: DbSession, principal: Admin) -> UserOut:
 
 
 @router.post("/auth/signup", response_model=UserOut, status_code=201, responses=responses(404, 409, 422, 429))
-async def signup(body: SignupRequest, request: Request, response: Response, db: DbSession,
-                 settings: AppSettings) -> UserOut:
+async def signup(
+    body: SignupRequest, request: Request, response: Response, db: DbSession, settings: AppSettings
+) -> UserOut:
     """Self-registration (only with PALTRAINER_SELF_SIGNUP=course-code, else 404): a student account in the
     course with this join code, logged in at once (the session cookie of /auth/login). A wrong code is 404
     JOIN_CODE_INVALID; tries are limited per address."""

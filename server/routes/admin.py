@@ -18,7 +18,9 @@ from server.schemas import CLEAN, length
 router = APIRouter(prefix="/api/v1/admin", tags=["admin"])
 AdminPrincipal = Annotated[Principal, Depends(require_admin)]
 _Kid = Annotated[str, length(64, min_length=1), CLEAN]
-_Loose = Annotated[str, length(10_000), CLEAN]  # bounded here; the limits that matter are registration.platform_problems's (German)
+_Loose = Annotated[
+    str, length(10_000), CLEAN
+]  # bounded here; the limits that matter are registration.platform_problems's (German)
 
 
 class PlatformIn(BaseModel):
@@ -29,7 +31,9 @@ class PlatformIn(BaseModel):
     auth_login_url: _Loose = Field(description="OIDC authorization endpoint of the platform; https")
     token_url: _Loose = Field(description="OAuth 2 access token URL of the platform; https")
     jwks_url: _Loose = Field(description="Public keyset URL of the platform; https")
-    deployment_ids: list[_Loose] = Field(default=[], max_length=1000, description="At most 50, each 1–255 characters")
+    deployment_ids: list[_Loose] = Field(
+        default=[], max_length=1000, description="At most 50, each 1–255 characters"
+    )
     name: _Loose = Field(default="", description="Display name (default: the issuer)")
 
 
@@ -46,7 +50,7 @@ class PlatformOut(BaseModel):
 
 
 class RegistrationUrl(BaseModel):
-    url: str = Field(description="For the platform's dynamic registration (Moodle: \"Tool-URL\")")
+    url: str = Field(description='For the platform\'s dynamic registration (Moodle: "Tool-URL")')
     valid_days: int = Field(description="The URL is good for one registration within this many days")
 
 
@@ -56,7 +60,8 @@ class ToolKey(BaseModel):
     retired_at: str | None
     current: bool
     state: Literal["current", "published", "retired"] = Field(
-        description="current: signs; published: in /lti/jwks, no longer signs; retired: neither")
+        description="current: signs; published: in /lti/jwks, no longer signs; retired: neither"
+    )
 
 
 class KeyId(BaseModel):
@@ -67,16 +72,23 @@ def _base(request: Request) -> str:
     return str(request.base_url).rstrip("/")
 
 
-@router.post("/lti/platforms", status_code=201, response_model=PlatformOut, responses=responses(401, 403, 422))
+@router.post(
+    "/lti/platforms", status_code=201, response_model=PlatformOut, responses=responses(401, 403, 422)
+)
 def add_platform(body: PlatformIn, db: DbSession, _: AdminPrincipal) -> PlatformOut:
     """Register a platform (or update the one with this issuer and client id; deployment ids are added). Every
     field is checked at once; what is wrong comes back per field, in German."""
     fields = body.model_dump()
     problems = registration.platform_problems(**fields)
     if problems:
-        raise ApiError("VALIDATION", detail="; ".join(f"{field}: {de}" for field, (de, _en) in problems.items()),
-                       errors=[{"field": field, "type": "value_error", "message": de, "message_en": en}
-                               for field, (de, en) in problems.items()])
+        raise ApiError(
+            "VALIDATION",
+            detail="; ".join(f"{field}: {de}" for field, (de, _en) in problems.items()),
+            errors=[
+                {"field": field, "type": "value_error", "message": de, "message_en": en}
+                for field, (de, en) in problems.items()
+            ],
+        )
     return PlatformOut(**registration.platform_out(db, registration.register(db, **fields)))
 
 
@@ -90,8 +102,9 @@ def list_platforms(db: DbSession, _: AdminPrincipal) -> list[PlatformOut]:
 def new_registration_url(request: Request, settings: AppSettings, _: AdminPrincipal) -> RegistrationUrl:
     """A dynamic registration URL (valid 7 days, for one registration) for a platform's admin (Moodle: "Tool
     URL")."""
-    return RegistrationUrl(url=registration.registration_url(_base(request), settings),
-                           valid_days=registration.REGISTRATION_DAYS)
+    return RegistrationUrl(
+        url=registration.registration_url(_base(request), settings), valid_days=registration.REGISTRATION_DAYS
+    )
 
 
 @router.get("/lti/keys", response_model=list[ToolKey], responses=responses(401, 403))

@@ -41,8 +41,10 @@ def checked_login(request: Request, db: Session, settings: Settings, username: s
     """The user, if the password is right and neither the user name nor the address has used up its budget
     of failed logins (one budget for /auth/token and /auth/login); a wrong password uses up one of each."""
     limiter: RateLimiter = request.app.state.limiter
-    budgets = ((login_name(username), settings.rate_login_per_minute),
-               (f"ip:{client_address(request)}", settings.rate_login_address_per_minute))
+    budgets = (
+        (login_name(username), settings.rate_login_per_minute),
+        (f"ip:{client_address(request)}", settings.rate_login_address_per_minute),
+    )
     wait = max(limiter.wait(LOGIN_FAILURES, who, limit) for who, limit in budgets)
     if wait:
         raise ApiError("RATE_LIMITED", headers={"Retry-After": str(wait)}, retry_after=wait)
@@ -62,15 +64,21 @@ def _new_token(settings: Settings, user: User) -> str:
 
 
 @router.post("/auth/token", response_model=Token, responses=responses(401, 403, 422, 429))
-def token(form: Annotated[OAuth2PasswordRequestForm, Depends()], request: Request, db: DbSession,
-          settings: AppSettings) -> Token:
+def token(
+    form: Annotated[OAuth2PasswordRequestForm, Depends()],
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+) -> Token:
     """OAuth2 password flow (form fields username, password): a bearer token for scripts."""
     user = checked_login(request, db, settings, form.username, form.password)
     return Token(access_token=_new_token(settings, user))
 
 
 @router.post("/auth/login", response_model=UserOut, responses=responses(401, 403, 422, 429))
-def login(body: LoginRequest, request: Request, response: Response, db: DbSession, settings: AppSettings) -> UserOut:
+def login(
+    body: LoginRequest, request: Request, response: Response, db: DbSession, settings: AppSettings
+) -> UserOut:
     """Browser login: sets the session cookie (HttpOnly, SameSite=Lax)."""
     user = checked_login(request, db, settings, body.username, body.password)
     set_session(response, settings, user)
@@ -79,8 +87,15 @@ def login(body: LoginRequest, request: Request, response: Response, db: DbSessio
 
 def set_session(response: Response, settings: Settings, user: User) -> None:
     """The browser's session cookie for `user` (login, sign-up, after changing the password)."""
-    response.set_cookie(SESSION_COOKIE, _new_token(settings, user), max_age=settings.token_minutes * 60,
-                        httponly=True, samesite="lax", secure=settings.cookie_secure, path="/")
+    response.set_cookie(
+        SESSION_COOKIE,
+        _new_token(settings, user),
+        max_age=settings.token_minutes * 60,
+        httponly=True,
+        samesite="lax",
+        secure=settings.cookie_secure,
+        path="/",
+    )
 
 
 @router.post("/auth/logout", status_code=204)
@@ -95,7 +110,9 @@ def logout(request: Request, response: Response, db: DbSession, settings: AppSet
             db.execute(update(User).where(User.id == user.id).values(token_version=User.token_version + 1))
             db.commit()
             break
-    response.delete_cookie(SESSION_COOKIE, path="/", httponly=True, samesite="lax", secure=settings.cookie_secure)
+    response.delete_cookie(
+        SESSION_COOKIE, path="/", httponly=True, samesite="lax", secure=settings.cookie_secure
+    )
     response.status_code = 204
     return response
 
@@ -103,11 +120,19 @@ def logout(request: Request, response: Response, db: DbSession, settings: AppSet
 @router.get("/me", response_model=Me, responses=responses(401))
 def me(principal: CurrentPrincipal) -> Me:
     if principal.api_key is not None:
-        return Me(kind="api_key", username=principal.user.username if principal.user else None, role=None,
-                  scopes=principal.api_key.scopes)  # type: ignore[arg-type]
+        return Me(
+            kind="api_key",
+            username=principal.user.username if principal.user else None,
+            role=None,
+            scopes=principal.api_key.scopes,  # type: ignore[arg-type]
+        )
     assert principal.user is not None
-    return Me(kind="user", username=principal.user.username, role=principal.user.role,  # type: ignore[arg-type]
-              scopes=None)
+    return Me(
+        kind="user",
+        username=principal.user.username,
+        role=principal.user.role,  # type: ignore[arg-type]
+        scopes=None,
+    )
 
 
 @router.get("/api-keys", response_model=list[ApiKeyOut], responses=responses(401, 403))

@@ -38,10 +38,15 @@ def create_course(body: CourseCreate, db: DbSession, principal: CurrentPrincipal
     return courses.create_course(db, principal, body)
 
 
-@router.post("/join", response_model=CourseOut, responses=responses(401, 403, 404, 422, 429),
-             dependencies=[Depends(rate_limit("join", "rate_join_per_minute"))])
-def join_course(body: JoinRequest, request: Request, db: DbSession, settings: AppSettings,
-                principal: CurrentPrincipal) -> CourseOut:
+@router.post(
+    "/join",
+    response_model=CourseOut,
+    responses=responses(401, 403, 404, 422, 429),
+    dependencies=[Depends(rate_limit("join", "rate_join_per_minute"))],
+)
+def join_course(
+    body: JoinRequest, request: Request, db: DbSession, settings: AppSettings, principal: CurrentPrincipal
+) -> CourseOut:
     """A student joins the course with this join code (404 JOIN_CODE_INVALID for every failure); tries are
     limited per user and per address."""
     limiter: RateLimiter = request.app.state.limiter
@@ -57,7 +62,9 @@ def get_course(course_id: CourseId, db: DbSession, principal: CurrentPrincipal) 
 
 
 @router.patch("/{course_id}", response_model=CourseOut, responses=responses(401, 403, 404, 422))
-def update_course(course_id: CourseId, body: CourseUpdate, db: DbSession, principal: CurrentPrincipal) -> CourseOut:
+def update_course(
+    course_id: CourseId, body: CourseUpdate, db: DbSession, principal: CurrentPrincipal
+) -> CourseOut:
     return courses.update_course(db, principal, course_id, body)
 
 
@@ -74,9 +81,13 @@ def list_members(course_id: CourseId, db: DbSession, principal: CurrentPrincipal
     return courses.list_members(db, principal, course_id)
 
 
-@router.post("/{course_id}/members", response_model=MemberOut, status_code=201,
-             responses=responses(401, 403, 404, 422, 429),
-             dependencies=[Depends(rate_limit("enrol", "rate_enrol_per_minute"))])
+@router.post(
+    "/{course_id}/members",
+    response_model=MemberOut,
+    status_code=201,
+    responses=responses(401, 403, 404, 422, 429),
+    dependencies=[Depends(rate_limit("enrol", "rate_enrol_per_minute"))],
+)
 def add_member(course_id: CourseId, body: MemberIn, db: DbSession, principal: CurrentPrincipal) -> MemberOut:
     """A student the caller manages (admins: any student account), or an instructor account as a further
     instructor; adding twice is fine. Anybody else is 404 USER_NOT_FOUND, as if there were no such user:
@@ -85,17 +96,25 @@ def add_member(course_id: CourseId, body: MemberIn, db: DbSession, principal: Cu
 
 
 @router.delete("/{course_id}/members/{username}", status_code=204, responses=responses(401, 403, 404))
-def remove_member(course_id: CourseId, username: Username, db: DbSession, principal: CurrentPrincipal) -> Response:
+def remove_member(
+    course_id: CourseId, username: Username, db: DbSession, principal: CurrentPrincipal
+) -> Response:
     courses.remove_member(db, principal, course_id, username)
     return Response(status_code=204)
 
 
-@router.post("/{course_id}/members/import", response_model=ImportedMembers, status_code=201,
-             responses=responses(401, 403, 404, 409, 413, 422),
-             openapi_extra={"requestBody": {"required": True, "content": {
-                 "text/csv": {"schema": {"type": "string"}}}}})
-async def import_members(course_id: CourseId, request: Request, db: DbSession,
-                         principal: CurrentPrincipal) -> ImportedMembers:
+@router.post(
+    "/{course_id}/members/import",
+    response_model=ImportedMembers,
+    status_code=201,
+    responses=responses(401, 403, 404, 409, 413, 422),
+    openapi_extra={
+        "requestBody": {"required": True, "content": {"text/csv": {"schema": {"type": "string"}}}}
+    },
+)
+async def import_members(
+    course_id: CourseId, request: Request, db: DbSession, principal: CurrentPrincipal
+) -> ImportedMembers:
     """A class list as for POST /users/import: new students, all in this course (generated passwords in the
     answer, this once)."""
     data = await request.body()

@@ -27,13 +27,33 @@ def dialect_help(name: str) -> dict[str, Any]:
     if d is None:
         raise ApiError("NOT_FOUND")
     return {
-        "name": d.name, "title": d.title_de, "title_en": d.title_en,
-        "codes": [{"name": c.name, "group": c.group, "help_de": c.help_de, "help_en": c.help_en,
-                   "supported": c.support.value == "yes", "example": c.example, "rule_de": c.rule_de,
-                   "rule_en": c.rule_en, "mandatory": [list(g) for g in c.help_mandatory()],
-                   "optional": list(c.help_optional())}
-                  for c in sorted(d.table.codes.values(), key=code_order)],
-        "addresses": [{"name": a.name, "help_de": a.help_de, "help_en": a.help_en, "unit": a.unit,
-                       "rule_de": a.rule_de, "rule_en": a.rule_en} for a in d.table.addresses.values()],
+        "name": d.name,
+        "title": d.title_de,
+        "title_en": d.title_en,
+        "codes": [
+            {
+                "name": c.name,
+                "group": c.group,
+                "help_de": c.help_de,
+                "help_en": c.help_en,
+                "supported": c.support.value == "yes",
+                "example": c.example,
+                "rule_de": c.rule_de,
+                "rule_en": c.rule_en,
+                "mandatory": [list(g) for g in c.help_mandatory()],
+                "optional": list(c.help_optional()),
+            }
+            for c in sorted(d.table.codes.values(), key=code_order)
+        ],
+        "addresses": [
+            {
+                "name": a.name,
+                "help_de": a.help_de,
+                "help_en": a.help_en,
+                "unit": a.unit,
+                "rule_de": a.rule_de,
+                "rule_en": a.rule_en,
+            }
+            for a in d.table.addresses.values()
+        ],
     }
-

@@ -43,22 +43,38 @@ SHEET_NAME = {"de": "aufgabenblatt", "en": "task-sheet"}
 
 
 @router.get("", response_model=list[ExerciseOut], responses=responses(401, 403))
-def list_exercises(db: DbSession, principal: Reader, mine: bool = False, archived: bool = False) -> list[ExerciseOut]:
+def list_exercises(
+    db: DbSession, principal: Reader, mine: bool = False, archived: bool = False
+) -> list[ExerciseOut]:
     """The exercises the caller sees (drafts only their author's, "courses" only the author's courses', docs/
     server.md), in the order of their sets: by dialect, then the exercise's `order`, then title. `mine`: only those
     the caller manages (not built in); `archived`: archived ones too."""
     return services.visible_exercises(db, principal, mine, archived)
 
 
-@router.post("/drawing-preview", response_class=Response, responses={
-    200: {"content": {"image/svg+xml": {}}, "description": "The drawing of the editor's unsaved exercise"},
-    **responses(401, 403, 413, 422, 429, 503)}, dependencies=PICTURE)
-async def drawing_preview(body: DrawingPreviewIn, workers: AppWorkers, principal: CurrentPrincipal) -> Response:
+@router.post(
+    "/drawing-preview",
+    response_class=Response,
+    responses={
+        200: {
+            "content": {"image/svg+xml": {}},
+            "description": "The drawing of the editor's unsaved exercise",
+        },
+        **responses(401, 403, 413, 422, 429, 503),
+    },
+    dependencies=PICTURE,
+)
+async def drawing_preview(
+    body: DrawingPreviewIn, workers: AppWorkers, principal: CurrentPrincipal
+) -> Response:
     """The dimensioned drawing of an exercise as the editor holds it, before it is saved: its reference, dialect,
     stock or blank and tools (the other fields are filled in). Instructors; 422 EXERCISE_INVALID with every error."""
     services.require_instructor(principal)
-    return Response(await services.drawing_preview(workers, body.document, body.lang), media_type="image/svg+xml",
-                    headers={"Cache-Control": "no-store"})
+    return Response(
+        await services.drawing_preview(workers, body.document, body.lang),
+        media_type="image/svg+xml",
+        headers={"Cache-Control": "no-store"},
+    )
 
 
 @router.post("/task-preview", response_model=TaskPreview, responses=responses(401, 403, 422))
@@ -74,29 +90,52 @@ def get_exercise(slug: Slug, db: DbSession, principal: Reader) -> ExerciseOut:
     return services.exercise_out(db, services.exercise_seen(db, principal, slug), principal)
 
 
-@router.post("/{slug}/duplicate", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 404, 422))
+@router.post(
+    "/{slug}/duplicate", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 404, 422)
+)
 def duplicate_exercise(slug: Slug, db: DbSession, principal: CurrentPrincipal) -> ExerciseOut:
     """A copy of a built-in exercise or one's own as a new draft of the caller (instructors, admins), slug
     "<slug>-kopie" (or -kopie-2 …), title "… (Kopie)"."""
     return services.exercise_out(db, services.duplicate_exercise(db, principal, slug), principal)
 
 
-@router.get("/{slug}/export", response_class=Response, responses={
-    200: {"content": {"application/yaml": {}}, "description": "The exercise file (docs/exercises.md)"},
-    **responses(401, 403, 404)})
+@router.get(
+    "/{slug}/export",
+    response_class=Response,
+    responses={
+        200: {"content": {"application/yaml": {}}, "description": "The exercise file (docs/exercises.md)"},
+        **responses(401, 403, 404),
+    },
+)
 def export_exercise(slug: Slug, db: DbSession, principal: CurrentPrincipal) -> Response:
     """The exercise as a YAML file in the exercise format, with its reference: what `POST /exercises/import` reads
     (its owner and admins)."""
     name = re.sub(r"[^a-z0-9-]", "", slug) or "exercise"
-    return Response(services.export_exercise(db, principal, slug), media_type="application/yaml; charset=utf-8",
-                    headers={"Content-Disposition": f'attachment; filename="{name}.yaml"'})
+    return Response(
+        services.export_exercise(db, principal, slug),
+        media_type="application/yaml; charset=utf-8",
+        headers={"Content-Disposition": f'attachment; filename="{name}.yaml"'},
+    )
 
 
-@router.put("/{slug}/own-drawing", response_model=ExerciseOut, responses=responses(401, 403, 404, 413, 422),
-            openapi_extra={"requestBody": {"required": True, "content": {
-                "application/octet-stream": {"schema": {"type": "string", "format": "binary"}}}}})
-async def upload_drawing(slug: Slug, request: Request, db: DbSession, principal: CurrentPrincipal,
-                         filename: Annotated[str, Query(max_length=200)] = "zeichnung") -> ExerciseOut:
+@router.put(
+    "/{slug}/own-drawing",
+    response_model=ExerciseOut,
+    responses=responses(401, 403, 404, 413, 422),
+    openapi_extra={
+        "requestBody": {
+            "required": True,
+            "content": {"application/octet-stream": {"schema": {"type": "string", "format": "binary"}}},
+        }
+    },
+)
+async def upload_drawing(
+    slug: Slug,
+    request: Request,
+    db: DbSession,
+    principal: CurrentPrincipal,
+    filename: Annotated[str, Query(max_length=200)] = "zeichnung",
+) -> ExerciseOut:
     """The author's own drawing (PDF, PNG or SVG; at most 2 MB; recognised by its content; an SVG without scripts,
     event handlers or external references): shown to trainees and printed on the sheet instead of the generated
     drawing."""
@@ -115,18 +154,32 @@ def remove_drawing(slug: Slug, db: DbSession, principal: CurrentPrincipal) -> Re
     return Response(status_code=204)
 
 
-@router.get("/{slug}/own-drawing", response_class=Response, responses={
-    200: {"content": {"application/pdf": {}, "image/png": {}, "image/svg+xml": {}}}, **responses(401, 403, 404)})
+@router.get(
+    "/{slug}/own-drawing",
+    response_class=Response,
+    responses={
+        200: {"content": {"application/pdf": {}, "image/png": {}, "image/svg+xml": {}}},
+        **responses(401, 403, 404),
+    },
+)
 def get_own_drawing(slug: Slug, db: DbSession, principal: Reader) -> Response:
     """The author's own drawing as uploaded (for a PDF: what the exercise page opens)."""
     drawing = services.own_drawing(db, principal, slug)
-    return Response(drawing.data, media_type=drawing.media_type, headers={
-        "Cache-Control": "private, max-age=60", "Content-Security-Policy": "default-src 'none'; style-src 'unsafe-inline'; sandbox",
-        "Content-Disposition": f'inline; filename="{re.sub(r"[^A-Za-z0-9._-]", "_", drawing.filename)}"'})
+    return Response(
+        drawing.data,
+        media_type=drawing.media_type,
+        headers={
+            "Cache-Control": "private, max-age=60",
+            "Content-Security-Policy": "default-src 'none'; style-src 'unsafe-inline'; sandbox",
+            "Content-Disposition": f'inline; filename="{re.sub(r"[^A-Za-z0-9._-]", "_", drawing.filename)}"',
+        },
+    )
 
 
 @router.get("/{slug}/hints/{number}", response_model=Hint, responses=responses(401, 403, 404, 422))
-def exercise_hint(slug: Slug, number: Annotated[int, Path(ge=1, le=1000)], db: DbSession, principal: Reader) -> Hint:
+def exercise_hint(
+    slug: Slug, number: Annotated[int, Path(ge=1, le=1000)], db: DbSession, principal: Reader
+) -> Hint:
     """The exercise's hint `number` (1 … `hint_count`), one at a time ("Tipp anzeigen")."""
     return services.hint(db, principal, slug, number)
 
@@ -138,47 +191,100 @@ def exercise_solution(slug: Slug, db: DbSession, principal: Reader) -> Solution:
     return services.solution(db, principal, slug)
 
 
-@router.get("/{slug}/picture.png", response_class=Response, responses={
-    200: {"content": {"image/png": {}}, "description": "Top view of the finished part"},
-    **responses(401, 403, 404, 429, 503)}, dependencies=PICTURE)
+@router.get(
+    "/{slug}/picture.png",
+    response_class=Response,
+    responses={
+        200: {"content": {"image/png": {}}, "description": "Top view of the finished part"},
+        **responses(401, 403, 404, 429, 503),
+    },
+    dependencies=PICTURE,
+)
 async def exercise_picture(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader) -> Response:
     """The finished part seen from above (the reference machined on the stock), darker where deeper."""
-    return Response(await services.exercise_picture(db, workers, principal, slug), media_type="image/png",
-                    headers={"Cache-Control": "private, max-age=300"})
+    return Response(
+        await services.exercise_picture(db, workers, principal, slug),
+        media_type="image/png",
+        headers={"Cache-Control": "private, max-age=300"},
+    )
 
 
-@router.get("/{slug}/drawing.svg", response_class=Response, responses={
-    200: {"content": {"image/svg+xml": {}}, "description": "Dimensioned drawing of the finished part (A4, mm)"},
-    **responses(401, 403, 404, 429, 503)}, dependencies=PICTURE)
-async def exercise_drawing(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader,
-                           lang: Literal["de", "en"] = "de", download: bool = False) -> Response:
+@router.get(
+    "/{slug}/drawing.svg",
+    response_class=Response,
+    responses={
+        200: {
+            "content": {"image/svg+xml": {}},
+            "description": "Dimensioned drawing of the finished part (A4, mm)",
+        },
+        **responses(401, 403, 404, 429, 503),
+    },
+    dependencies=PICTURE,
+)
+async def exercise_drawing(
+    slug: Slug,
+    db: DbSession,
+    workers: AppWorkers,
+    principal: Reader,
+    lang: Literal["de", "en"] = "de",
+    download: bool = False,
+) -> Response:
     """The part as a PAL exam draws it: top view and section, coordinate dimensions from the workpiece zero,
     radii, chamfers, depths and a title block (docs/drawings.md). `download=true` offers it as a file."""
-    headers = {"Cache-Control": "private, max-age=300",
-               "Content-Security-Policy": "default-src 'none'; style-src 'unsafe-inline'; img-src data:"}
+    headers = {
+        "Cache-Control": "private, max-age=300",
+        "Content-Security-Policy": "default-src 'none'; style-src 'unsafe-inline'; img-src data:",
+    }
     if download:
-        headers["Content-Disposition"] = f'attachment; filename="{re.sub(r"[^a-z0-9-]", "", slug) or "part"}.svg"'
-    return Response(await services.exercise_drawing(db, workers, principal, slug, lang), media_type="image/svg+xml",
-                    headers=headers)
+        headers["Content-Disposition"] = (
+            f'attachment; filename="{re.sub(r"[^a-z0-9-]", "", slug) or "part"}.svg"'
+        )
+    return Response(
+        await services.exercise_drawing(db, workers, principal, slug, lang),
+        media_type="image/svg+xml",
+        headers=headers,
+    )
 
 
-@router.get("/{slug}/sheet.pdf", response_class=Response, responses={
-    200: {"content": {"application/pdf": {}}, "description": "Printed task sheet with the programming form (A4)"},
-    **responses(401, 403, 404, 429, 503)}, dependencies=PICTURE)
-async def exercise_sheet(slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader,
-                         lang: Literal["de", "en"] = "de") -> Response:
+@router.get(
+    "/{slug}/sheet.pdf",
+    response_class=Response,
+    responses={
+        200: {
+            "content": {"application/pdf": {}},
+            "description": "Printed task sheet with the programming form (A4)",
+        },
+        **responses(401, 403, 404, 429, 503),
+    },
+    dependencies=PICTURE,
+)
+async def exercise_sheet(
+    slug: Slug, db: DbSession, workers: AppWorkers, principal: Reader, lang: Literal["de", "en"] = "de"
+) -> Response:
     """The exercise for paper practice, as the PAL exam hands it out: title, task, the dimensioned drawing,
     blank, tools and cutting data, then the empty programming form (docs/drawings.md). 503 PDF_UNAVAILABLE
     where the server cannot make PDF (WeasyPrint or its system libraries missing)."""
     name = re.sub(r"[^a-z0-9-]", "", slug) or "exercise"
-    return Response(await services.exercise_sheet(db, workers, principal, slug, lang), media_type="application/pdf",
-                    headers={"Cache-Control": "private, max-age=300",
-                             "Content-Disposition": f'inline; filename="{name}-{SHEET_NAME[lang]}.pdf"'})
+    return Response(
+        await services.exercise_sheet(db, workers, principal, slug, lang),
+        media_type="application/pdf",
+        headers={
+            "Cache-Control": "private, max-age=300",
+            "Content-Disposition": f'inline; filename="{name}-{SHEET_NAME[lang]}.pdf"',
+        },
+    )
 
 
-@router.post("", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 409, 413, 422, 429, 503))
-async def create_exercise(body: ExerciseCreate, db: DbSession, settings: AppSettings, workers: AppWorkers,
-                          principal: CurrentPrincipal) -> ExerciseOut:
+@router.post(
+    "", response_model=ExerciseOut, status_code=201, responses=responses(401, 403, 409, 413, 422, 429, 503)
+)
+async def create_exercise(
+    body: ExerciseCreate,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: CurrentPrincipal,
+) -> ExerciseOut:
     """From fields, or (the editor) from `document`, the whole exercise in the exercise format: validated with
     every error at once (422 EXERCISE_INVALID, details.errors: field, message, message_en); unless a draft, its
     reference must score full marks. Visibility: without `document` public unless given, with it draft."""
@@ -189,13 +295,30 @@ async def create_exercise(body: ExerciseCreate, db: DbSession, settings: AppSett
     return await run_in_threadpool(services.exercise_out, db, exercise, principal)
 
 
-@router.post("/import", response_model=ExerciseOut, status_code=201,
-             responses=responses(401, 403, 409, 413, 422, 429, 503), dependencies=[HEAVY],
-             openapi_extra={"requestBody": {"required": True, "content": {
-                 "application/yaml": {"schema": {"type": "string"}},
-                 "application/json": {"schema": {"type": "object"}}}}})
-async def import_exercise(request: Request, db: DbSession, settings: AppSettings, workers: AppWorkers,
-                          principal: CurrentPrincipal, visibility: Visibility = "public") -> ExerciseOut:
+@router.post(
+    "/import",
+    response_model=ExerciseOut,
+    status_code=201,
+    responses=responses(401, 403, 409, 413, 422, 429, 503),
+    dependencies=[HEAVY],
+    openapi_extra={
+        "requestBody": {
+            "required": True,
+            "content": {
+                "application/yaml": {"schema": {"type": "string"}},
+                "application/json": {"schema": {"type": "object"}},
+            },
+        }
+    },
+)
+async def import_exercise(
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: CurrentPrincipal,
+    visibility: Visibility = "public",
+) -> ExerciseOut:
     """Create an exercise from a file in the exercise format (docs/exercises.md), YAML or JSON, with the
     reference inline. It is validated (every error at once), and its reference must score full marks; the
     messages say why not. `visibility`: who sees it (the editor's import: draft)."""
@@ -205,8 +328,14 @@ async def import_exercise(request: Request, db: DbSession, settings: AppSettings
 
 
 @router.patch("/{slug}", response_model=ExerciseOut, responses=responses(401, 403, 404, 413, 422, 429, 503))
-async def update_exercise(slug: Slug, body: ExerciseUpdate, db: DbSession, settings: AppSettings,
-                          workers: AppWorkers, principal: CurrentPrincipal) -> ExerciseOut:
+async def update_exercise(
+    slug: Slug,
+    body: ExerciseUpdate,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: CurrentPrincipal,
+) -> ExerciseOut:
     """Change fields, or (the editor) the whole `document`; `visibility`; `archived: false` takes it back from the
     archive. An edit of the content of a published exercise makes a new version (`version`); submissions keep the
     version they were graded against. Publishing needs a reference that scores full marks."""

@@ -21,7 +21,9 @@ from server.schemas import DB_INT_MAX, Slug, utc
 router = APIRouter(tags=["lti"])
 Id = Annotated[int, Path(ge=1, le=DB_INT_MAX)]
 State = Literal["pending", "sent", "failed", "superseded"]
-BAD_GATEWAY: dict[int | str, dict[str, Any]] = {502: {"model": ErrorBody, "description": "The learning platform did not answer as expected"}}
+BAD_GATEWAY: dict[int | str, dict[str, Any]] = {
+    502: {"model": ErrorBody, "description": "The learning platform did not answer as expected"}
+}
 MAX_ROWS = 2000
 
 
@@ -50,17 +52,32 @@ class ScoresOut(BaseModel):
 
 
 def _taught(db: DbSession, user: User) -> list[int]:
-    return list(db.scalars(select(CourseMember.course_id).where(CourseMember.user_id == user.id,
-                                                                CourseMember.role == "instructor")))
+    return list(
+        db.scalars(
+            select(CourseMember.course_id).where(
+                CourseMember.user_id == user.id, CourseMember.role == "instructor"
+            )
+        )
+    )
 
 
 def _score_out(row: LtiScore, sub: Submission, user: User | None, name: str) -> ScoreOut:
-    return ScoreOut(id=row.id, submission=row.submission_id, user=user.username if user else None, name=name,
-                    exercise=row.exercise_slug, assignment=sub.assignment_id, course=row.course_id,
-                    score=row.score_given, state=row.state, attempts=row.attempts,  # type: ignore[arg-type]
-                    last_error=row.last_error,
-                    next_attempt_at=utc(row.next_attempt_at) if row.state == "pending" else None,
-                    sent_at=utc(row.sent_at) if row.sent_at else None, created_at=utc(row.created_at))
+    return ScoreOut(
+        id=row.id,
+        submission=row.submission_id,
+        user=user.username if user else None,
+        name=name,
+        exercise=row.exercise_slug,
+        assignment=sub.assignment_id,
+        course=row.course_id,
+        score=row.score_given,
+        state=row.state,  # type: ignore[arg-type]
+        attempts=row.attempts,
+        last_error=row.last_error,
+        next_attempt_at=utc(row.next_attempt_at) if row.state == "pending" else None,
+        sent_at=utc(row.sent_at) if row.sent_at else None,
+        created_at=utc(row.created_at),
+    )
 
 
 def _row_for(db: DbSession, principal: CurrentPrincipal, score_id: int) -> LtiScore:
@@ -75,11 +92,14 @@ def _row_for(db: DbSession, principal: CurrentPrincipal, score_id: int) -> LtiSc
 
 
 @router.get("/lti/scores", response_model=ScoresOut, responses=responses(401, 403, 404, 422))
-def scores(db: DbSession, principal: CurrentPrincipal,
-           course: Annotated[int | None, Query(ge=1, le=DB_INT_MAX)] = None,
-           assignment: Annotated[int | None, Query(ge=1, le=DB_INT_MAX)] = None,
-           exercise: Annotated[Slug | None, Query()] = None,
-           state: Annotated[State | None, Query()] = None) -> ScoresOut:
+def scores(
+    db: DbSession,
+    principal: CurrentPrincipal,
+    course: Annotated[int | None, Query(ge=1, le=DB_INT_MAX)] = None,
+    assignment: Annotated[int | None, Query(ge=1, le=DB_INT_MAX)] = None,
+    exercise: Annotated[Slug | None, Query()] = None,
+    state: Annotated[State | None, Query()] = None,
+) -> ScoresOut:
     """The grade passback to the learning platforms: per submission its state (pending: waiting or retried
     with backoff; sent; failed: given up, may be retried; superseded: a newer score carried it), attempts and
     the platform's last error. Filters: course, assignment, exercise, state. Admins: all; instructors: the
@@ -87,9 +107,12 @@ def scores(db: DbSession, principal: CurrentPrincipal,
     if principal.api_key is not None or principal.user is None:
         raise ApiError("FORBIDDEN")
     user = principal.user
-    q = (select(LtiScore, Submission, User, LtiUser.name).join(Submission, Submission.id == LtiScore.submission_id)
-         .outerjoin(User, User.id == LtiScore.user_id)
-         .outerjoin(LtiUser, (LtiUser.platform_id == LtiScore.platform_id) & (LtiUser.sub == LtiScore.lti_sub)))
+    q = (
+        select(LtiScore, Submission, User, LtiUser.name)
+        .join(Submission, Submission.id == LtiScore.submission_id)
+        .outerjoin(User, User.id == LtiScore.user_id)
+        .outerjoin(LtiUser, (LtiUser.platform_id == LtiScore.platform_id) & (LtiUser.sub == LtiScore.lti_sub))
+    )
     if course is not None:
         courses.course_for(db, principal, course, manage=True)
         q = q.where(LtiScore.course_id == course)
@@ -121,10 +144,12 @@ def retry(score_id: Id, db: DbSession, principal: CurrentPrincipal) -> ScoreOut:
     ags.retry(db, row)
     sub = db.get(Submission, row.submission_id)
     assert sub is not None
-    lti_user = db.scalars(select(LtiUser).where(LtiUser.platform_id == row.platform_id,
-                                                LtiUser.sub == row.lti_sub)).first()
-    return _score_out(row, sub, db.get(User, row.user_id) if row.user_id else None,
-                      lti_user.name if lti_user else "")
+    lti_user = db.scalars(
+        select(LtiUser).where(LtiUser.platform_id == row.platform_id, LtiUser.sub == row.lti_sub)
+    ).first()
+    return _score_out(
+        row, sub, db.get(User, row.user_id) if row.user_id else None, lti_user.name if lti_user else ""
+    )
 
 
 class LinkedCourse(BaseModel):
@@ -139,14 +164,23 @@ class LinkedCourse(BaseModel):
 def linked_courses(course_id: Id, db: DbSession, principal: CurrentPrincipal) -> list[LinkedCourse]:
     """The course's instructors and admins: the learning-platform courses linked to it (empty: none)."""
     courses.course_for(db, principal, course_id, manage=True)
-    rows = db.execute(select(LtiContext, LtiPlatform).join(LtiPlatform, LtiPlatform.id == LtiContext.platform_id)
-                      .where(LtiContext.course_id == course_id).order_by(LtiContext.id)).all()
-    return [LinkedCourse(platform=p.name or p.issuer, context=c.title, roster=c.memberships_url is not None)
-            for c, p in rows]
+    rows = db.execute(
+        select(LtiContext, LtiPlatform)
+        .join(LtiPlatform, LtiPlatform.id == LtiContext.platform_id)
+        .where(LtiContext.course_id == course_id)
+        .order_by(LtiContext.id)
+    ).all()
+    return [
+        LinkedCourse(platform=p.name or p.issuer, context=c.title, roster=c.memberships_url is not None)
+        for c, p in rows
+    ]
 
 
-@router.post("/courses/{course_id}/lti/roster", response_model=nrps.RosterOut,
-             responses={**responses(401, 403, 404, 409), **BAD_GATEWAY})
+@router.post(
+    "/courses/{course_id}/lti/roster",
+    response_model=nrps.RosterOut,
+    responses={**responses(401, 403, 404, 409), **BAD_GATEWAY},
+)
 async def pull_roster(course_id: Id, db: DbSession, principal: CurrentPrincipal) -> nrps.RosterOut:
     """The course's instructors and admins: the members of the linked learning-platform course (Names and Role
     Provisioning Services) become users and members here (Learner → student, Instructor → instructor)."""

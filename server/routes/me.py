@@ -21,8 +21,11 @@ def my_progress(db: DbSession, principal: CurrentPrincipal) -> list[Progress]:
 
 
 @router.get("/submissions", response_model=list[MySubmission], responses=responses(401, 403, 404, 422))
-def my_submissions(db: DbSession, principal: CurrentPrincipal,
-                   exercise: Annotated[Slug, Query(description="The exercise's slug")]) -> list[MySubmission]:
+def my_submissions(
+    db: DbSession,
+    principal: CurrentPrincipal,
+    exercise: Annotated[Slug, Query(description="The exercise's slug")],
+) -> list[MySubmission]:
     """The caller's own submissions to one exercise, newest first (at most 200): score, time, criteria and the
     program (to load it into the editor)."""
     return services.my_submissions(db, principal, exercise)

@@ -46,8 +46,12 @@ def _page(name: str, title: str, status_code: int = 200, who: User | None = None
         # a one-time password (server/accounts.py): the change form first, nothing else
         return HTMLResponse("", status_code=303, headers={"Location": "/password"})
     html = _html(name, f"title.{name}", title)
-    if who is not None:  # for the header (web/src/header.js): who is logged in, and whether to show instructor links
-        html = html.replace("<body ", f'<body data-user="{escape(who.username)}" data-role="{escape(who.role)}" ', 1)
+    if (
+        who is not None
+    ):  # for the header (web/src/header.js): who is logged in, and whether to show instructor links
+        html = html.replace(
+            "<body ", f'<body data-user="{escape(who.username)}" data-role="{escape(who.role)}" ', 1
+        )
     return HTMLResponse(html, status_code=status_code)
 
 
@@ -62,8 +66,12 @@ def install_not_found(app: FastAPI) -> None:
     json_handler = app.exception_handlers[StarletteHTTPException]
 
     async def handler(request: Request, exc: Exception) -> Response:
-        if isinstance(exc, StarletteHTTPException) and exc.status_code == 404 and request.method in ("GET", "HEAD") \
-                and not request.url.path.startswith(("/api/", "/static/")):
+        if (
+            isinstance(exc, StarletteHTTPException)
+            and exc.status_code == 404
+            and request.method in ("GET", "HEAD")
+            and not request.url.path.startswith(("/api/", "/static/"))
+        ):
             return not_found()
         result = json_handler(request, exc)
         return await result if inspect.isawaitable(result) else result
@@ -128,8 +136,9 @@ def login(settings: AppSettings, next_: Annotated[str | None, Query(alias="next"
         return RedirectResponse("/login", status_code=303)
     page = _page("login", "Anmelden")
     if settings.self_signup == "course-code":  # "Neu hier? Mit dem Beitrittscode registrieren"
-        page = HTMLResponse(bytes(page.body).decode("utf-8").replace('<p id="signup-link" hidden>',
-                                                                      '<p id="signup-link">', 1))
+        page = HTMLResponse(
+            bytes(page.body).decode("utf-8").replace('<p id="signup-link" hidden>', '<p id="signup-link">', 1)
+        )
     return page
 
 
@@ -142,7 +151,9 @@ def password(who: Viewer) -> HTMLResponse | RedirectResponse:
     page = _page("password", "Passwort ändern", who=who)
     if who.must_change_password:  # why the page is shown: "Ihr Passwort wurde zurückgesetzt …"
         hidden = '<p id="password-required" class="notice" role="alert" hidden'
-        page = HTMLResponse(bytes(page.body).decode("utf-8").replace(hidden, hidden.removesuffix(" hidden"), 1))
+        page = HTMLResponse(
+            bytes(page.body).decode("utf-8").replace(hidden, hidden.removesuffix(" hidden"), 1)
+        )
     return page
 
 

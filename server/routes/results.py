@@ -18,10 +18,20 @@ def results(db: DbSession, principal: CurrentPrincipal) -> Results:
     return services.results(db, principal)
 
 
-@router.get("/results.csv", response_class=Response, responses={
-    200: {"content": {"text/csv": {"schema": {"type": "string"}}},
-          "description": "One row per trainee and exercise; `;`, UTF-8 with BOM, decimal comma, German time"},
-    **responses(401, 403)})
+@router.get(
+    "/results.csv",
+    response_class=Response,
+    responses={
+        200: {
+            "content": {"text/csv": {"schema": {"type": "string"}}},
+            "description": "One row per trainee and exercise; `;`, UTF-8 with BOM, decimal comma, German time",
+        },
+        **responses(401, 403),
+    },
+)
 def results_csv(db: DbSession, principal: CurrentPrincipal) -> Response:
-    return Response(services.results_csv(db, principal).encode("utf-8"), media_type="text/csv; charset=utf-8",
-                    headers={"Content-Disposition": 'attachment; filename="ergebnisse.csv"'})
+    return Response(
+        services.results_csv(db, principal).encode("utf-8"),
+        media_type="text/csv; charset=utf-8",
+        headers={"Content-Disposition": 'attachment; filename="ergebnisse.csv"'},
+    )

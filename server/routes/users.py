@@ -30,8 +30,12 @@ def create_user(body: UserCreate, db: DbSession, principal: CurrentPrincipal) ->
 
 
 @router.patch("/{username}", response_model=UserOut, responses=responses(401, 403, 404, 409, 422))
-def update_user(username: Username, body: UserUpdate, db: DbSession,
-                principal: Annotated[Principal, Depends(require_admin)]) -> UserOut:
+def update_user(
+    username: Username,
+    body: UserUpdate,
+    db: DbSession,
+    principal: Annotated[Principal, Depends(require_admin)],
+) -> UserOut:
     """Admins: change a user's role (`{"role": "instructor"}`; not their own), put a user under an instructor
     (`{"instructor": NAME}`) or under nobody (`null`); a field left out stays as it is."""
     user = repo.user_by_name(db, username)
@@ -50,14 +54,23 @@ def update_user(username: Username, body: UserUpdate, db: DbSession,
     return services.user_out(user, instructor.username if instructor else None)
 
 
-@router.post("/import", response_model=ImportedUsers, status_code=201,
-             responses=responses(401, 403, 404, 409, 413, 422),
-             openapi_extra={"requestBody": {"required": True, "content": {
-                 "text/csv": {"schema": {"type": "string"}}}}})
-async def import_users(request: Request, db: DbSession, principal: CurrentPrincipal,
-                       instructor: Annotated[Username | None, Query(
-                           description="Admins: the instructor who manages the new students")] = None
-                       ) -> ImportedUsers:
+@router.post(
+    "/import",
+    response_model=ImportedUsers,
+    status_code=201,
+    responses=responses(401, 403, 404, 409, 413, 422),
+    openapi_extra={
+        "requestBody": {"required": True, "content": {"text/csv": {"schema": {"type": "string"}}}}
+    },
+)
+async def import_users(
+    request: Request,
+    db: DbSession,
+    principal: CurrentPrincipal,
+    instructor: Annotated[
+        Username | None, Query(description="Admins: the instructor who manages the new students")
+    ] = None,
+) -> ImportedUsers:
     """A class list as CSV (`;` or `,`, UTF-8 with or without BOM; columns name;password or name only, an
     optional header row; at most 100 rows) → students managed by the calling instructor (admins: by `instructor`).
     All or none; generated passwords are in the answer, this once."""

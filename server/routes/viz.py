@@ -63,13 +63,20 @@ class SceneResult(BaseModel):
     cut: bool = Field(description="The toolpath had more segments than the view shows (20,000)")
     lines: list[int] = Field(description="The block line of each segment, for the playhead")
     errors: int
-    states: dict[int, dict[str, Any]] = Field(description="Per block line: plane, G90/G91, compensation, "
-                                                          "zero offset, feed, speed, tool, position after it "
-                                                          "(on a lathe x is the radius)")
-    lathe: bool = Field(default=False, description="A turning dialect: the lathe's drawing view (Z right, X up, "
-                                                   "the chuck left) with the part turned from the blank")
-    blank: dict[str, float] | None = Field(default=None, description="Turning: the blank shown (diameter, "
-                                           "inner_diameter, length, clamp, jaw_radius; mm)")
+    states: dict[int, dict[str, Any]] = Field(
+        description="Per block line: plane, G90/G91, compensation, "
+        "zero offset, feed, speed, tool, position after it "
+        "(on a lathe x is the radius)"
+    )
+    lathe: bool = Field(
+        default=False,
+        description="A turning dialect: the lathe's drawing view (Z right, X up, "
+        "the chuck left) with the part turned from the blank",
+    )
+    blank: dict[str, float] | None = Field(
+        default=None,
+        description="Turning: the blank shown (diameter, inner_diameter, length, clamp, jaw_radius; mm)",
+    )
 
 
 class Playhead(BaseModel):
@@ -77,7 +84,9 @@ class Playhead(BaseModel):
 
 
 class Section(BaseModel):
-    half: bool = Field(description="Turning: cut the part open (the back half and the cut face) or show it whole")
+    half: bool = Field(
+        description="Turning: cut the part open (the back half and the cut face) or show it whole"
+    )
 
 
 class View(BaseModel):
@@ -154,9 +163,12 @@ async def _driven(request: Request, token: str, principal: Principal) -> viz.Sce
     return scene
 
 
-@router.post("", response_model=VizSession, status_code=201, responses=responses(401, 429), dependencies=NEW_LIMIT)
-def new_session(request: Request, response: Response, db: DbSession, settings: AppSettings,
-                principal: PracticePrincipal) -> VizSession:
+@router.post(
+    "", response_model=VizSession, status_code=201, responses=responses(401, 429), dependencies=NEW_LIMIT
+)
+def new_session(
+    request: Request, response: Response, db: DbSession, settings: AppSettings, principal: PracticePrincipal
+) -> VizSession:
     """A token for a new scene of this user, key or (anonymous) browser; an anonymous browser gets its 3D
     cookie with it (HttpOnly), which its later calls must carry. Refused while an exam without 3D runs for the
     trainee."""
@@ -165,24 +177,43 @@ def new_session(request: Request, response: Response, db: DbSession, settings: A
     if principal is ANONYMOUS and (not cookie or not _COOKIE_VALUE.match(cookie)):
         cookie = secrets.token_urlsafe(24)
     if principal is ANONYMOUS:
-        response.set_cookie(viz.VIZ_COOKIE, cookie or "", httponly=True, samesite="strict",
-                            secure=settings.cookie_secure, path="/")
+        response.set_cookie(
+            viz.VIZ_COOKIE,
+            cookie or "",
+            httponly=True,
+            samesite="strict",
+            secure=settings.cookie_secure,
+            path="/",
+        )
     owner = _who(principal, cookie)
     quota = f"ip:{client_address(request)}" if principal is ANONYMOUS else owner
     token = _scenes(request).new_token(owner, quota)
     return VizSession(token=token, url=f"/viz/{token}/")
 
 
-@router.post("/{token}/scene", response_model=SceneResult, responses=responses(401, 403, 404, 410, 413, 422, 429, 503),
-             dependencies=SCENE_LIMIT)
-async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
-                    workers: AppWorkers, principal: PracticePrincipal) -> SceneResult:
+@router.post(
+    "/{token}/scene",
+    response_model=SceneResult,
+    responses=responses(401, 403, 404, 410, 413, 422, 429, 503),
+    dependencies=SCENE_LIMIT,
+)
+async def put_scene(
+    token: str,
+    body: SimulateRequest,
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: PracticePrincipal,
+) -> SceneResult:
     """Run the program (in a worker) and show its toolpath, the stock after it and the tool. The stock: the
     request's, else the exercise's, else the PAL examples' block; `resolution` is the view's own (0.5 mm).
     A turning program (TRAUB) is shown in the lathe's drawing view — Z right, X up, the chuck on the left —
     with the part turned from the blank (the request's, the exercise's, else a bar around the program) in
     chunks along Z (`lathe` and `blank` in the answer)."""
-    await _gate(request, principal, "viz", body.exercise)  # an exam that runs for the trainee may switch 3D off
+    await _gate(
+        request, principal, "viz", body.exercise
+    )  # an exam that runs for the trainee may switch 3D off
     scene = await run_in_threadpool(_scene, request, token, principal)
     spec = await run_in_threadpool(_spec, services.simulate_spec, db, settings, body)
     if body.blank is not None:
@@ -191,12 +222,23 @@ async def put_scene(token: str, body: SimulateRequest, request: Request, db: DbS
     data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program, scene.exercise = (body.program, body.dialect, spec), body.exercise
-    if data["stock"] is not None and "fine" in data["stock"]:  # the coarse level of detail is out; the fine one follows
-        scene.refining = asyncio.create_task(run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation))
+    if (
+        data["stock"] is not None and "fine" in data["stock"]
+    ):  # the coarse level of detail is out; the fine one follows
+        scene.refining = asyncio.create_task(
+            run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation)
+        )
         scene.refining.add_done_callback(_log_failure)
     turned = data.get("turned")
-    return SceneResult(segments=len(data["segments"]), cut=data["cut"], lines=data["lines"], errors=data["errors"],
-                       states=data["states"], lathe=bool(data.get("lathe")), blank=turned["blank"] if turned else None)
+    return SceneResult(
+        segments=len(data["segments"]),
+        cut=data["cut"],
+        lines=data["lines"],
+        errors=data["errors"],
+        states=data["states"],
+        lathe=bool(data.get("lathe")),
+        blank=turned["blank"] if turned else None,
+    )
 
 
 def _log_failure(task: asyncio.Task[Any]) -> None:
@@ -205,8 +247,9 @@ def _log_failure(task: asyncio.Task[Any]) -> None:
 
 
 @router.post("/{token}/playhead", responses=responses(401, 403, 410, 429), dependencies=STEP_LIMIT)
-async def put_playhead(token: str, body: Playhead, request: Request, workers: AppWorkers,
-                       principal: PracticePrincipal) -> dict[str, Any]:
+async def put_playhead(
+    token: str, body: Playhead, request: Request, workers: AppWorkers, principal: PracticePrincipal
+) -> dict[str, Any]:
     """Move the tool to the end of toolpath segment `index` and show the stock after its move; answers that
     segment's block line and, for a move a cycle made, the cycle ({code, pass, of}; PAL: defined_in_line)."""
     scene = await _driven(request, token, principal)
@@ -215,7 +258,9 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
         text, dialect, spec = scene.program
         move = scene.moves[min(body.index, len(scene.moves) - 1)] + 1
         if scene.lathe:  # the turned part after that move, its changed chunks only
-            turned = await workers.call(viz.job_turned_after, text, dialect, {**spec, "half": scene.half}, move)
+            turned = await workers.call(
+                viz.job_turned_after, text, dialect, {**spec, "half": scene.half}, move
+            )
             await run_in_threadpool(viz.show_turned, scene, turned)
         else:
             tiles = await workers.call(job_stock_after, text, dialect, spec, move)
@@ -225,8 +270,9 @@ async def put_playhead(token: str, body: Playhead, request: Request, workers: Ap
 
 
 @router.post("/{token}/section", responses=responses(401, 403, 410, 422, 429, 503), dependencies=STEP_LIMIT)
-async def put_section(token: str, body: Section, request: Request, workers: AppWorkers,
-                      principal: PracticePrincipal) -> dict[str, bool]:
+async def put_section(
+    token: str, body: Section, request: Request, workers: AppWorkers, principal: PracticePrincipal
+) -> dict[str, bool]:
     """Turning: cut the part open along the drawing plane to show bores and grooves (the back half with the cut
     face, the chuck halved too) or show it whole; kept for the session's next programs. Answers the state."""
     scene = await _driven(request, token, principal)
@@ -246,16 +292,29 @@ async def put_view(token: str, body: View, request: Request, principal: Practice
 
 
 @router.post("/{token}/layers", responses=responses(401, 403, 410, 422, 429), dependencies=STEP_LIMIT)
-async def put_layers(token: str, body: Layers, request: Request, principal: PracticePrincipal) -> dict[str, bool]:
+async def put_layers(
+    token: str, body: Layers, request: Request, principal: PracticePrincipal
+) -> dict[str, bool]:
     """Show or hide the rapid moves, the feed moves, the programmed contour and the stock; answers all four."""
     scene = await _driven(request, token, principal)
     return await run_in_threadpool(viz.set_layers, scene, body.model_dump(exclude_none=True))
 
 
-@router.post("/{token}/deviation", response_model=Deviation,
-             responses=responses(401, 403, 404, 410, 413, 422, 429, 503), dependencies=SCENE_LIMIT)
-async def put_deviation(token: str, body: ProgramRequest, request: Request, db: DbSession, settings: AppSettings,
-                        workers: AppWorkers, principal: PracticePrincipal) -> Deviation:
+@router.post(
+    "/{token}/deviation",
+    response_model=Deviation,
+    responses=responses(401, 403, 404, 410, 413, 422, 429, 503),
+    dependencies=SCENE_LIMIT,
+)
+async def put_deviation(
+    token: str,
+    body: ProgramRequest,
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: PracticePrincipal,
+) -> Deviation:
     """Colour the part of a program for an exercise where it leaves the tolerance band of the reference
     (after grading: red too much removed, blue too much left), with the volumes in mm³ and the largest
     deviation in mm."""
@@ -264,23 +323,48 @@ async def put_deviation(token: str, body: ProgramRequest, request: Request, db: 
         raise ApiError("EXERCISE_REQUIRED")
     await _gate(request, principal, "deviation", body.exercise)  # it compares with the reference
     spec = await run_in_threadpool(_spec, services.run_spec, db, settings, body)
-    data: dict[str, Any] = await workers.call(viz.job_view_deviation, body.program, {**spec, "half": scene.half})
+    data: dict[str, Any] = await workers.call(
+        viz.job_view_deviation, body.program, {**spec, "half": scene.half}
+    )
     if "bands" in data:  # a turned part: coloured bands around it; the counts are Z samples
         await run_in_threadpool(viz.show_deviation_bands, scene, data["bands"])
-        return Deviation(too_much=data["too_much_samples"], too_little=data["too_little_samples"],
-                         too_much_mm3=round(data["too_much_mm3"], 2), too_little_mm3=round(data["too_little_mm3"], 2),
-                         largest_mm=round(data["largest_mm"], 3))
+        return Deviation(
+            too_much=data["too_much_samples"],
+            too_little=data["too_little_samples"],
+            too_much_mm3=round(data["too_much_mm3"], 2),
+            too_little_mm3=round(data["too_little_mm3"], 2),
+            largest_mm=round(data["largest_mm"], 3),
+        )
     await run_in_threadpool(viz.show_deviation, scene, data["too_much"], data["too_little"], data["cell"])
-    return Deviation(too_much=len(data["too_much"]), too_little=len(data["too_little"]),
-                     too_much_mm3=round(data["too_much_mm3"], 2), too_little_mm3=round(data["too_little_mm3"], 2),
-                     largest_mm=round(data["largest_mm"], 3))
+    return Deviation(
+        too_much=len(data["too_much"]),
+        too_little=len(data["too_little"]),
+        too_much_mm3=round(data["too_much_mm3"], 2),
+        too_little_mm3=round(data["too_little_mm3"], 2),
+        largest_mm=round(data["largest_mm"], 3),
+    )
 
 
-@router.post("/picture.png", response_class=Response, dependencies=PICTURE_LIMIT, responses={
-    200: {"content": {"image/png": {}}, "description": "The stock after the program, from above (darker = deeper)"},
-    **responses(401, 413, 422, 429, 503)})
-async def picture(body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
-                  workers: AppWorkers, principal: PracticePrincipal) -> Response:
+@router.post(
+    "/picture.png",
+    response_class=Response,
+    dependencies=PICTURE_LIMIT,
+    responses={
+        200: {
+            "content": {"image/png": {}},
+            "description": "The stock after the program, from above (darker = deeper)",
+        },
+        **responses(401, 413, 422, 429, 503),
+    },
+)
+async def picture(
+    body: SimulateRequest,
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: PracticePrincipal,
+) -> Response:
     """The stock after the program seen from above, rendered on the server: what the page shows while the 3D
     view is off (no graphics acceleration). Needs no 3D session. For a turning program (TRAUB): the turned
     part after it as a half section in the lathe's drawing view, Z right, X up (header `X-Picture-View: lathe`)."""
@@ -293,11 +377,24 @@ async def picture(body: SimulateRequest, request: Request, db: DbSession, settin
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store", **view})
 
 
-@router.post("/picture.svg", response_class=Response, dependencies=PICTURE_LIMIT, responses={
-    200: {"content": {"image/svg+xml": {}}, "description": "The 2D picture of the program's result"},
-    **responses(401, 413, 422, 429, 503)})
-async def picture_svg(body: SimulateRequest, request: Request, db: DbSession, settings: AppSettings,
-                      workers: AppWorkers, principal: PracticePrincipal, lang: Literal["de", "en"] = "de") -> Response:
+@router.post(
+    "/picture.svg",
+    response_class=Response,
+    dependencies=PICTURE_LIMIT,
+    responses={
+        200: {"content": {"image/svg+xml": {}}, "description": "The 2D picture of the program's result"},
+        **responses(401, 413, 422, 429, 503),
+    },
+)
+async def picture_svg(
+    body: SimulateRequest,
+    request: Request,
+    db: DbSession,
+    settings: AppSettings,
+    workers: AppWorkers,
+    principal: PracticePrincipal,
+    lang: Literal["de", "en"] = "de",
+) -> Response:
     """The 2D view of the program's result, rendered on the server as SVG: what the page shows while the 3D view
     is off (no graphics acceleration). Milling: the plan view — the stock's outline, the depths as a colour
     ramp with its legend in mm, the tool-centre path (rapid dashed, feed solid), the programmed contour, axes
@@ -312,8 +409,11 @@ async def picture_svg(body: SimulateRequest, request: Request, db: DbSession, se
         spec["blank"] = body.blank.model_dump()
     data: dict[str, Any] = await workers.call(viz.job_picture_svg, body.program, body.dialect, spec, lang)
     info = data["info"]
-    headers = {"Cache-Control": "no-store", "X-Picture-View": str(info.get("view", "mill")),
-               "X-Picture-Path-Cut": str(info.get("path_cut", "false"))}
+    headers = {
+        "Cache-Control": "no-store",
+        "X-Picture-View": str(info.get("view", "mill")),
+        "X-Picture-Path-Cut": str(info.get("path_cut", "false")),
+    }
     if "raster" in info:
         headers.update({"X-Picture-Raster": str(info["raster"]), "X-Picture-Cell": str(info["cell"])})
     return Response(data["svg"].encode("utf-8"), media_type="image/svg+xml", headers=headers)
@@ -324,12 +424,19 @@ def viewer(token: str, request: Request, principal: OptionalPrincipal) -> Respon
     scenes = _scenes(request)
     ticket = scenes.ticket(token)
     if ticket is None and scenes.elsewhere(token):
-        return Response("Diese 3D-Ansicht lief auf einem anderen Server – bitte die Seite neu laden.",
-                        status_code=410, media_type="text/plain")
+        return Response(
+            "Diese 3D-Ansicht lief auf einem anderen Server – bitte die Seite neu laden.",
+            status_code=410,
+            media_type="text/plain",
+        )
     if ticket is None:
-        return Response("Sitzung abgelaufen – bitte die Seite neu laden.", status_code=401, media_type="text/plain")
+        return Response(
+            "Sitzung abgelaufen – bitte die Seite neu laden.", status_code=401, media_type="text/plain"
+        )
     if ticket.owner != _who(principal, request.cookies.get(viz.VIZ_COOKIE)):
-        return Response("Diese 3D-Ansicht gehört zu einer anderen Sitzung.", status_code=403, media_type="text/plain")
+        return Response(
+            "Diese 3D-Ansicht gehört zu einer anderen Sitzung.", status_code=403, media_type="text/plain"
+        )
     scenes.scene(ticket)
     return Response(viz.viser_page(), media_type="text/html", headers={"Cache-Control": "no-cache"})
 
@@ -353,8 +460,13 @@ async def viewer_socket(ws: WebSocket, token: str) -> None:
     offered = [p.strip() for p in ws.headers.get("sec-websocket-protocol", "").split(",") if p.strip()]
     protocol = next((p for p in offered if p.startswith("viser-v")), None)
     shown = scenes.live(ticket) if ticket else None
-    who = (await run_in_threadpool(_ws_who, ws.app.state.db, ws.app.state.settings, ws,
-                                   shown.exercise if shown else None) if ticket else None)
+    who = (
+        await run_in_threadpool(
+            _ws_who, ws.app.state.db, ws.app.state.settings, ws, shown.exercise if shown else None
+        )
+        if ticket
+        else None
+    )
     if ticket is None or protocol is None or who != ticket.owner:
         await ws.close(code=4410 if scenes.elsewhere(token) else 4403)
         return

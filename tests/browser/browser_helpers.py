@@ -21,9 +21,19 @@ ROOT = Path(__file__).parents[2]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 BUNDLE = ROOT / "server" / "static" / "app.js"
 PASSWORD = "ein langes Passwort"
-CHROMIUM_ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync"]
-NEEDS_CHROMIUM = pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+CHROMIUM_ARGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+NEEDS_CHROMIUM = pytest.mark.skipif(
+    CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)"
+)
 
 
 def free_port() -> int:
@@ -37,13 +47,38 @@ def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: i
     """`paltrainer serve` on a free loopback port with `users` ((name, role) pairs, password PASSWORD); its URL."""
     assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
     port = free_port()
-    env = {**os.environ, "PALTRAINER_DATA_DIR": str(data), "PALTRAINER_WORKERS": str(workers),
-           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
+    env = {
+        **os.environ,
+        "PALTRAINER_DATA_DIR": str(data),
+        "PALTRAINER_WORKERS": str(workers),
+        "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"),
+    }
     for name, role in users:
-        subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", name, "--role", role,
-                        "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "core.cli",
+                "admin",
+                "create-user",
+                name,
+                "--role",
+                role,
+                "--password",
+                PASSWORD,
+            ],
+            cwd=ROOT,
+            env=env,
+            check=True,
+            capture_output=True,
+        )
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
     url = f"http://127.0.0.1:{port}"
     try:
         for _ in range(600):  # up to a minute: on a busy CI machine the first start imports slowly

@@ -28,12 +28,21 @@ TEACHER, STUDENT = "konto-lehrer", "konto-anna"
 OWN = "Annas eigenes Passwort"
 
 
-def call(server: str, method: str, path: str, token: str | None = None, body: Any = None,
-         form: dict[str, str] | None = None) -> Any:
+def call(
+    server: str,
+    method: str,
+    path: str,
+    token: str | None = None,
+    body: Any = None,
+    form: dict[str, str] | None = None,
+) -> Any:
     headers = {"Authorization": f"Bearer {token}"} if token else {}
     data = None
     if form is not None:
-        data, headers["Content-Type"] = urllib.parse.urlencode(form).encode(), "application/x-www-form-urlencoded"
+        data, headers["Content-Type"] = (
+            urllib.parse.urlencode(form).encode(),
+            "application/x-www-form-urlencoded",
+        )
     elif body is not None:
         data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
     request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
@@ -52,7 +61,9 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
 @pytest.fixture(scope="module")
 def course(server: str) -> dict[str, Any]:
     """The instructor's course "FA 24b" with their student konto-anna (made by them, password PASSWORD)."""
-    token = call(server, "POST", "/auth/token", form={"username": TEACHER, "password": PASSWORD})["access_token"]
+    token = call(server, "POST", "/auth/token", form={"username": TEACHER, "password": PASSWORD})[
+        "access_token"
+    ]
     made = call(server, "POST", "/courses", token, {"name": "FA 24b"})
     call(server, "POST", "/users", token, {"username": STUDENT, "password": PASSWORD})
     call(server, "POST", f"/courses/{made['id']}/members", token, {"username": STUDENT})
@@ -82,8 +93,9 @@ def shot(page: Any, name: str) -> None:
     page.screenshot(path=str(SHOTS / name), full_page=True)
 
 
-def test_reset_on_the_course_page_and_the_student_must_change_it(browser: Any, server: str,
-                                                                 course: dict[str, Any]) -> None:
+def test_reset_on_the_course_page_and_the_student_must_change_it(
+    browser: Any, server: str, course: dict[str, Any]
+) -> None:
     teacher = page_of(browser, "laptop")
     log_in(teacher, server, TEACHER, PASSWORD)
     teacher.wait_for_url(f"{server}/instructor")
@@ -170,5 +182,7 @@ def test_a_visitor_signs_up_with_the_join_code(browser: Any, server: str, course
     assert "selbst registriert" not in teacher.locator("#member-table tr", has_text=STUDENT).inner_text()
     fits(teacher)
     shot(teacher, "accounts-signed-up-laptop.png")
-    row.get_by_role("button", name="konto-neu-laptop aus der Klasse entfernen").click()  # the instructor removes them
+    row.get_by_role(
+        "button", name="konto-neu-laptop aus der Klasse entfernen"
+    ).click()  # the instructor removes them
     teacher.locator("#member-table tr", has_text="konto-neu-laptop").wait_for(state="detached")

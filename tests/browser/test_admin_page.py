@@ -25,16 +25,30 @@ pytestmark = [NEEDS_CHROMIUM]
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024)}
-ADMIN, TRAINEE, TEACHER, LEAVER, FORGETFUL, VISITOR = ("verwalter", "azubi-anna", "lehrer-lutz", "azubi-ben", "azubi-carla",
-                                                      "azubi-dora")
-WIDER = ("[...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 1)"
-         ".slice(0, 5).map((e) => e.tagName + '#' + e.id + '.' + e.className)")
+ADMIN, TRAINEE, TEACHER, LEAVER, FORGETFUL, VISITOR = (
+    "verwalter",
+    "azubi-anna",
+    "lehrer-lutz",
+    "azubi-ben",
+    "azubi-carla",
+    "azubi-dora",
+)
+WIDER = (
+    "[...document.querySelectorAll('body *')].filter((e) => e.getBoundingClientRect().right > innerWidth + 1)"
+    ".slice(0, 5).map((e) => e.tagName + '#' + e.id + '.' + e.className)"
+)
 
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    users = [(ADMIN, "admin"), (TRAINEE, "student"), (TEACHER, "instructor"), (LEAVER, "student"),
-             (FORGETFUL, "student"), (VISITOR, "student")]
+    users = [
+        (ADMIN, "admin"),
+        (TRAINEE, "student"),
+        (TEACHER, "instructor"),
+        (LEAVER, "student"),
+        (FORGETFUL, "student"),
+        (VISITOR, "student"),
+    ]
     with running_server(tmp_path_factory.mktemp("data"), users) as url:
         yield url
 
@@ -83,8 +97,10 @@ def checked(page: Any, size: str, name: str) -> None:
     assert not [w for w in ("{", "}", "null", "undefined", "NaN") if w in text], text
     if AXE.exists():
         page.add_script_tag(path=str(AXE))
-        found = page.evaluate("async () => (await axe.run(document)).violations"
-                              ".filter((v) => ['serious', 'critical'].includes(v.impact)).map((v) => v.id)")
+        found = page.evaluate(
+            "async () => (await axe.run(document)).violations"
+            ".filter((v) => ['serious', 'critical'].includes(v.impact)).map((v) => v.id)"
+        )
         assert not found, found
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / f"admin-{name}-{size}.png"), full_page=True)
@@ -131,14 +147,20 @@ def test_admin_manages_users_keys_and_platforms(browser: Any, server: str) -> No
     # every scope of the server can be chosen
     from server.models import SCOPES
 
-    assert page.eval_on_selector_all("#new-key input[name=scope]", "(boxes) => boxes.map((b) => b.value)") == list(SCOPES)
+    assert page.eval_on_selector_all(
+        "#new-key input[name=scope]", "(boxes) => boxes.map((b) => b.value)"
+    ) == list(SCOPES)
 
     # a platform by hand: a wrong address is named at its field, then the right one registers it
-    fields = {"issuer": "moodle.bs-ost.example", "client_id": "pal-42",
-              "auth_login_url": "https://moodle.bs-ost.example/mod/lti/auth.php",
-              "token_url": "https://moodle.bs-ost.example/mod/lti/token.php",
-              "jwks_url": "https://moodle.bs-ost.example/mod/lti/certs.php", "deployment_ids": "3, 4",
-              "name": "Moodle BS Ost"}
+    fields = {
+        "issuer": "moodle.bs-ost.example",
+        "client_id": "pal-42",
+        "auth_login_url": "https://moodle.bs-ost.example/mod/lti/auth.php",
+        "token_url": "https://moodle.bs-ost.example/mod/lti/token.php",
+        "jwks_url": "https://moodle.bs-ost.example/mod/lti/certs.php",
+        "deployment_ids": "3, 4",
+        "name": "Moodle BS Ost",
+    }
     for field, value in fields.items():
         page.fill(f"#platform-{field}", value)
     page.click("#new-platform button[type=submit]")
@@ -163,7 +185,9 @@ def test_admin_manages_users_keys_and_platforms(browser: Any, server: str) -> No
     # our keys: a new one signs, the old one can then be retired
     page.click("#rotate-key")
     wait_until(page, "document.getElementById('lti-keys-status').textContent.includes('signiert ab jetzt')")
-    states = page.eval_on_selector_all("#lti-keys-table tbody tr td:nth-child(3)", "(cells) => cells.map((c) => c.textContent)")
+    states = page.eval_on_selector_all(
+        "#lti-keys-table tbody tr td:nth-child(3)", "(cells) => cells.map((c) => c.textContent)"
+    )
     assert states.count("signiert") == 1 and "veröffentlicht" in states
     checked(page, "laptop", "page")
     page.context.close()
@@ -215,11 +239,16 @@ def test_admin_creates_users_and_imports_a_class_list(browser: Any, server: str)
     # a class list for the instructor: the generated passwords shown this once
     page.select_option("#import-instructor", TEACHER)
     csv = b"Name;Passwort\nazubi-fritz\nazubi-greta;Gretas Passwort\n"
-    page.set_input_files("#import-file", files=[{"name": "klasse.csv", "mimeType": "text/csv", "buffer": csv}])
+    page.set_input_files(
+        "#import-file", files=[{"name": "klasse.csv", "mimeType": "text/csv", "buffer": csv}]
+    )
     wait_until(page, "document.querySelector('#import-result table') !== null")
     assert page.inner_text("#import-result p") == "2 Konten angelegt."
-    passwords = dict(page.eval_on_selector_all("#import-result tbody tr",
-                                               "(rows) => rows.map((r) => [...r.cells].map((c) => c.textContent))"))
+    passwords = dict(
+        page.eval_on_selector_all(
+            "#import-result tbody tr", "(rows) => rows.map((r) => [...r.cells].map((c) => c.textContent))"
+        )
+    )
     assert passwords["azubi-greta"] == "(aus der Liste)" and len(passwords["azubi-fritz"]) >= 8
     assert login_status(server, "azubi-fritz", passwords["azubi-fritz"]) == 200
     assert row(page, "users-table", "azubi-greta").locator("select.user-instructor").input_value() == TEACHER
@@ -252,6 +281,7 @@ def test_english_admin_page(browser: Any, server: str) -> None:
     open_admin(page, server)
     assert page.inner_text("main h2") == "Administration"
     assert "Registered platforms" in page.inner_text("#admin-lti")
-    assert json.dumps(page.eval_on_selector_all("#users-table th", "(ths) => ths.map((t) => t.textContent)")) == \
-        json.dumps(["Name", "Role", "Instructor", "Status", "Actions"])
+    assert json.dumps(
+        page.eval_on_selector_all("#users-table th", "(ths) => ths.map((t) => t.textContent)")
+    ) == json.dumps(["Name", "Role", "Instructor", "Status", "Actions"])
     page.context.close()

@@ -71,9 +71,11 @@ def setup(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Setup]:
     app = create_app(make_settings(tmp, "sqlite", workers=1))
     tool = Served(app, tool_port).start()
     state = PlatformState.new()
-    state.members = [Member("moodle-teacher-1", "Frau Lehmann", "lehmann@schule.example", [INSTRUCTOR]),
-                     Member("moodle-student-2", "Anna Azubi", "anna@schule.example", [LEARNER]),
-                     Member("moodle-student-3", "Carla Ceran", "carla@schule.example", [LEARNER])]
+    state.members = [
+        Member("moodle-teacher-1", "Frau Lehmann", "lehmann@schule.example", [INSTRUCTOR]),
+        Member("moodle-student-2", "Anna Azubi", "anna@schule.example", [LEARNER]),
+        Member("moodle-student-3", "Carla Ceran", "carla@schule.example", [LEARNER]),
+    ]
     slug = builtin_exercise(SimpleNamespace(app=app))
     papp = platform_app(platform_url, tool_url, state)
 
@@ -81,10 +83,12 @@ def setup(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Setup]:
     def course(user: str) -> HTMLResponse:
         """The platform's course page: the tool's link opened in a frame, as Moodle shows it."""
         start = f"/start?user={user}&exercise={slug}&link=link-1&lineitem=li-1"
-        return HTMLResponse("<!doctype html><title>Moodle: Fertigungstechnik 2A</title>"
-                            "<body style='margin:0'><p style='margin:4px 8px;font:14px sans-serif'>Moodle · "
-                            f"Fertigungstechnik 2A</p><iframe id='tool' src='{start}' "
-                            "style='border:0;width:100%;height:calc(100vh - 26px)'></iframe></body>")
+        return HTMLResponse(
+            "<!doctype html><title>Moodle: Fertigungstechnik 2A</title>"
+            "<body style='margin:0'><p style='margin:4px 8px;font:14px sans-serif'>Moodle · "
+            f"Fertigungstechnik 2A</p><iframe id='tool' src='{start}' "
+            "style='border:0;width:100%;height:calc(100vh - 26px)'></iframe></body>"
+        )
 
     @papp.middleware("http")
     async def autosubmit(request: Request, call_next: Any) -> Response:
@@ -99,10 +103,18 @@ def setup(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Setup]:
     platform = Served(papp, platform_port).start()
     with app.state.db.session() as db:
         admin = repo.create_user(db, "lti-admin", hash_password("ein langes Passwort"), "admin")
-    headers = {"Authorization": f"Bearer {make_token(app.state.settings.jwt_secret(), admin.id, admin.role, 60)}"}
-    body = {"issuer": platform_url, "client_id": CLIENT_ID, "auth_login_url": f"{platform_url}/auth",
-            "token_url": f"{platform_url}/token", "jwks_url": f"{platform_url}/jwks",
-            "deployment_ids": [DEPLOYMENT_ID], "name": "Moodle der Berufsschule"}
+    headers = {
+        "Authorization": f"Bearer {make_token(app.state.settings.jwt_secret(), admin.id, admin.role, 60)}"
+    }
+    body = {
+        "issuer": platform_url,
+        "client_id": CLIENT_ID,
+        "auth_login_url": f"{platform_url}/auth",
+        "token_url": f"{platform_url}/token",
+        "jwks_url": f"{platform_url}/jwks",
+        "deployment_ids": [DEPLOYMENT_ID],
+        "name": "Moodle der Berufsschule",
+    }
     assert httpx.post(f"{tool_url}/api/v1/admin/lti/platforms", json=body, headers=headers).status_code == 201
     try:
         yield Setup(tool, platform, platform_url, state, slug)
@@ -116,8 +128,10 @@ def setup(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Setup]:
 def learner_token(s: Setup) -> str:
     """Anna opens the exercise from the platform course (the tool's launch, as her browser would): her API token."""
     with httpx.Client(timeout=30) as browser:
-        r = browser.get(f"{s.platform.url}/start", params={"user": "moodle-student-2", "exercise": s.slug,
-                                                           "link": "link-1", "lineitem": "li-1"})
+        r = browser.get(
+            f"{s.platform.url}/start",
+            params={"user": "moodle-student-2", "exercise": s.slug, "link": "link-1", "lineitem": "li-1"},
+        )
         r = browser.get(r.headers["location"])
         r = browser.get(r.headers["location"].replace(s.platform_url, s.platform.url))
         r = browser.post(form_action(r.text), data=form_fields(r.text))
@@ -128,8 +142,12 @@ def learner_token(s: Setup) -> str:
 
 def submit(s: Setup, token: str) -> None:
     """Her submission of the reference program (full marks)."""
-    r = httpx.post(f"{s.tool.url}/api/v1/submissions", json={"exercise": s.slug, "program": reference_of()},
-                   headers={"Authorization": f"Bearer {token}"}, timeout=60)
+    r = httpx.post(
+        f"{s.tool.url}/api/v1/submissions",
+        json={"exercise": s.slug, "program": reference_of()},
+        headers={"Authorization": f"Bearer {token}"},
+        timeout=60,
+    )
     assert r.status_code == 201, r.text
 
 
@@ -153,8 +171,10 @@ def tool_frame(page: Any, origin: str, path: str) -> Any:
 
 def counts(frame: Any) -> dict[str, int]:
     items = frame.locator("#lti-counts li")
-    return {items.nth(i).get_attribute("data-state"): int(items.nth(i).locator(".badge").inner_text())
-            for i in range(items.count())}
+    return {
+        items.nth(i).get_attribute("data-state"): int(items.nth(i).locator(".badge").inner_text())
+        for i in range(items.count())
+    }
 
 
 def refresh(frame: Any) -> None:
@@ -172,9 +192,11 @@ def axe(browser: Any, url: str) -> None:
     page.goto(url)
     page.locator("#lti-counts").wait_for(timeout=30000)
     page.add_script_tag(path=str(AXE))
-    found = page.evaluate("axe.run(document.getElementById('lti'), {resultTypes: ['violations']})"
-                          ".then(r => r.violations.filter(v => ['serious', 'critical'].includes(v.impact))"
-                          ".map(v => v.id + ': ' + v.nodes.map(n => n.target).join(' ')))")
+    found = page.evaluate(
+        "axe.run(document.getElementById('lti'), {resultTypes: ['violations']})"
+        ".then(r => r.violations.filter(v => ['serious', 'critical'].includes(v.impact))"
+        ".map(v => v.id + ': ' + v.nodes.map(n => n.target).join(' ')))"
+    )
     page.context.close()
     assert found == [], found
 
@@ -213,8 +235,10 @@ def test_instructor_pulls_the_roster_and_follows_the_grade_passback(browser: Any
     # the roster: Anna and Carla come from the platform, the teacher is already there
     frame.click("#lti-roster")
     frame.locator("#lti-roster-note.ok").wait_for(timeout=30000)
-    assert frame.inner_text("#lti-roster-note") == ("Aus der Lernplattform übernommen – Schüler: 2, Lehrkräfte: 1; "
-                                                   "davon neu angelegt: 2, schon bekannt: 1.")
+    assert frame.inner_text("#lti-roster-note") == (
+        "Aus der Lernplattform übernommen – Schüler: 2, Lehrkräfte: 1; "
+        "davon neu angelegt: 2, schon bekannt: 1."
+    )
     assert frame.inner_text("#members h3") == "Teilnehmer (2)"
     assert frame.locator("#member-table tbody tr").count() == 3
 
@@ -245,7 +269,9 @@ def test_instructor_pulls_the_roster_and_follows_the_grade_passback(browser: Any
     row = frame.locator("#lti-problems tbody tr")
     assert row.locator("td").nth(3).inner_text() == "fehlgeschlagen (aufgegeben)"
     assert row.locator("td").nth(4).inner_text() == "2"
-    assert row.locator("td").nth(5).inner_text() == "Die Lernplattform war nicht erreichbar (Notenübertragung)."
+    assert (
+        row.locator("td").nth(5).inner_text() == "Die Lernplattform war nicht erreichbar (Notenübertragung)."
+    )
     assert "unreachable" in (row.locator("td").nth(5).get_attribute("title") or "")  # the technical text
     retry = row.get_by_role("button", name="Note von Anna Azubi erneut senden")
     assert retry.inner_text() == "erneut senden"

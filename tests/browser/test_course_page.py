@@ -24,7 +24,9 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
@@ -34,16 +36,27 @@ REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding=
 TEACHER = "kurs-lehrer"
 STUDENTS = {"kurs-anna": "Annas langes Passwort", "kurs-ben": "Bens langes Passwort"}
 # both write a decimal comma in a G1 block (PAL-E010): what the class discusses the next morning
-PROGRAMS = {"kurs-anna": REFERENCE.replace("N70 G1 Y84", "N70 G1 Y84,5"),
-            "kurs-ben": REFERENCE.replace("N60 G1 X70", "N60 G1 X70,0")}
+PROGRAMS = {
+    "kurs-anna": REFERENCE.replace("N70 G1 Y84", "N70 G1 Y84,5"),
+    "kurs-ben": REFERENCE.replace("N60 G1 X70", "N60 G1 X70,0"),
+}
 
 
-def call(server: str, method: str, path: str, token: str | None = None, body: Any = None,  # noqa: F811
-         form: dict[str, str] | None = None) -> Any:
+def call(
+    server: str,  # noqa: F811 (the fixture)
+    method: str,
+    path: str,
+    token: str | None = None,
+    body: Any = None,
+    form: dict[str, str] | None = None,
+) -> Any:
     headers = {"Authorization": f"Bearer {token}"} if token else {}
     data = None
     if form is not None:
-        data, headers["Content-Type"] = urllib.parse.urlencode(form).encode(), "application/x-www-form-urlencoded"
+        data, headers["Content-Type"] = (
+            urllib.parse.urlencode(form).encode(),
+            "application/x-www-form-urlencoded",
+        )
     elif body is not None:
         data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
     request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
@@ -52,14 +65,32 @@ def call(server: str, method: str, path: str, token: str | None = None, body: An
 
 
 def token(server: str, user: str, password: str) -> str:  # noqa: F811
-    return str(call(server, "POST", "/auth/token", form={"username": user, "password": password})["access_token"])
+    return str(
+        call(server, "POST", "/auth/token", form={"username": user, "password": password})["access_token"]
+    )
 
 
 @pytest.fixture(scope="module")
 def teacher(server: str) -> str:  # noqa: F811
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", TEACHER, "--role", "instructor",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            TEACHER,
+            "--role",
+            "instructor",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
     return TEACHER
 
 
@@ -80,8 +111,10 @@ def fits(page: Any) -> None:
 
 def no_placeholders(page: Any) -> None:
     """No text of the page (the select's options too) shows an unfilled {placeholder}, null, undefined or NaN."""
-    text = page.evaluate("document.body.innerText + ' ' + [...document.querySelectorAll('option')]"
-                         ".map((o) => o.textContent).join(' ')")
+    text = page.evaluate(
+        "document.body.innerText + ' ' + [...document.querySelectorAll('option')]"
+        ".map((o) => o.textContent).join(' ')"
+    )
     found = [w for w in ("{", "}", "null", "undefined", "NaN") if w in text]
     assert not found, (found, [line for line in text.splitlines() if any(w in line for w in found)])
 
@@ -108,8 +141,10 @@ def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher
 
     # the class list: two students, in this course
     csv = "Name;Passwort\n" + "".join(f"{n};{p}\n" for n, p in STUDENTS.items())
-    page.set_input_files("#course-class-file", files=[{"name": "klasse.csv", "mimeType": "text/csv",
-                                                       "buffer": csv.encode("utf-8-sig")}])
+    page.set_input_files(
+        "#course-class-file",
+        files=[{"name": "klasse.csv", "mimeType": "text/csv", "buffer": csv.encode("utf-8-sig")}],
+    )
     page.wait_for_selector("#course-passwords")
     assert "2 Schüler angelegt." in page.inner_text("#course-class-result")
     members = page.inner_text("#member-table")
@@ -121,7 +156,11 @@ def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher
     page.check(f"#a-exercises input[value='{SLUG}']")
     assert page.is_checked("#a-hints") and not page.is_visible("#a-duration")
     page.select_option("#a-mode", "exam")  # an exam's defaults: exam conditions, a duration, no deadline
-    assert not page.is_checked("#a-hints") and not page.is_checked("#a-viz") and page.input_value("#a-max") == "1"
+    assert (
+        not page.is_checked("#a-hints")
+        and not page.is_checked("#a-viz")
+        and page.input_value("#a-max") == "1"
+    )
     assert page.is_visible("#a-duration") and not page.is_visible("#a-deadline")
     page.select_option("#a-mode", "practice")
     assert page.is_checked("#a-hints") and page.input_value("#a-max") == "0"
@@ -133,14 +172,32 @@ def test_a_course_from_class_list_to_insights(server: str, browser: Any, teacher
 
     # the students submit: Anna in time; then the deadline is moved into the past and Ben is late
     anna, ben = (token(server, n, p) for n, p in STUDENTS.items())
-    call(server, "POST", "/submissions", anna, {"exercise": SLUG, "program": PROGRAMS["kurs-anna"],
-                                                "assignment": assignment})
+    call(
+        server,
+        "POST",
+        "/submissions",
+        anna,
+        {"exercise": SLUG, "program": PROGRAMS["kurs-anna"], "assignment": assignment},
+    )
     boss = token(server, TEACHER, PASSWORD)
     now = datetime.now(UTC)
-    call(server, "PATCH", f"/assignments/{assignment}", boss, {"opens_at": (now - timedelta(hours=2)).isoformat(),
-                                                                "deadline": (now - timedelta(hours=1)).isoformat()})
-    late = call(server, "POST", "/submissions", ben, {"exercise": SLUG, "program": PROGRAMS["kurs-ben"],
-                                                      "assignment": assignment})
+    call(
+        server,
+        "PATCH",
+        f"/assignments/{assignment}",
+        boss,
+        {
+            "opens_at": (now - timedelta(hours=2)).isoformat(),
+            "deadline": (now - timedelta(hours=1)).isoformat(),
+        },
+    )
+    late = call(
+        server,
+        "POST",
+        "/submissions",
+        ben,
+        {"exercise": SLUG, "program": PROGRAMS["kurs-ben"], "assignment": assignment},
+    )
     page.reload()
     page.wait_for_selector("#matrix")
     rows = {r.locator("th").inner_text(): r for r in page.locator("#matrix tbody tr").all()}
@@ -194,13 +251,18 @@ def test_course_page_accessibility_and_strangers(server: str, browser: Any, teac
     page = login(browser, server, bypass_csp=True)
     page.goto(f"{server}/courses/{course['id']}")
     page.wait_for_selector("#assignment-form")
-    page.screenshot(path=str(SHOTS / "course-new-laptop.png"), full_page=True)  # no assignment yet: the form open
+    page.screenshot(
+        path=str(SHOTS / "course-new-laptop.png"), full_page=True
+    )  # no assignment yet: the form open
     fits(page)
     # axe is injected as a script of its own: the pages' policy forbids inline script
     page.add_script_tag(path=str(AXE))
     result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
-    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
-               if v["impact"] in ("serious", "critical")]
+    serious = [
+        (v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3])
+        for v in result["violations"]
+        if v["impact"] in ("serious", "critical")
+    ]
     assert not serious, serious
     # in English: the page's own texts follow the switch
     page.click("#lang")
@@ -235,7 +297,9 @@ def test_member_count_and_exam_texts(server: str, browser: Any, teacher: str) ->
     page.on("dialog", lambda dialog: dialog.accept())  # "… aus der Klasse entfernen?"
     page.goto(f"{server}/courses/{course['id']}")
     page.wait_for_selector("#assignment-form")
-    assert members_heading(page) == "Teilnehmer (0)" and page.is_visible("text=Noch keine Schüler in dieser Klasse.")
+    assert members_heading(page) == "Teilnehmer (0)" and page.is_visible(
+        "text=Noch keine Schüler in dieser Klasse."
+    )
     # adding by name: the heading counts them, the "no students" line goes
     for n, name in enumerate(("kurs-clara", "kurs-dora"), start=1):
         page.fill("#member-name", name)
@@ -247,7 +311,9 @@ def test_member_count_and_exam_texts(server: str, browser: Any, teacher: str) ->
     # removing (after the confirmation): one fewer, the row gone, no reload needed
     page.click("#member-table button[aria-label='kurs-clara aus der Klasse entfernen']")
     page.wait_for_selector("#members h3:has-text('Teilnehmer (1)')")
-    assert "kurs-clara" not in page.inner_text("#member-table") and "kurs-dora" in page.inner_text("#member-table")
+    assert "kurs-clara" not in page.inner_text("#member-table") and "kurs-dora" in page.inner_text(
+        "#member-table"
+    )
 
     # the form: the mode without a duration; an exam explains what it withholds until its release
     assert page.locator("#a-mode option").all_text_contents() == ["Übung", "Prüfung"]
@@ -277,8 +343,11 @@ def test_member_count_and_exam_texts(server: str, browser: Any, teacher: str) ->
     no_placeholders(page)
     page.add_script_tag(path=str(AXE))
     result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
-    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
-               if v["impact"] in ("serious", "critical")]
+    serious = [
+        (v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3])
+        for v in result["violations"]
+        if v["impact"] in ("serious", "critical")
+    ]
     assert not serious, serious
     for size, (width, height) in SIZES.items():
         page.set_viewport_size({"width": width, "height": height})

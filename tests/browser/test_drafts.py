@@ -12,7 +12,9 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SLUG = "ergaenzen-01-kreisbogen"
 
@@ -34,13 +36,19 @@ def open_exercise(page: object, server: str) -> None:  # noqa: F811
 
 
 def editor_text(page: object) -> str:
-    return str(page.evaluate(  # type: ignore[attr-defined]
-        "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"))
+    return str(
+        page.evaluate(  # type: ignore[attr-defined]
+            "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"
+        )
+    )
 
 
 def server_draft(page: object) -> dict[str, object]:
-    return json.loads(page.evaluate(  # type: ignore[attr-defined]
-        f"fetch('/api/v1/exercises/{SLUG}/draft').then((r) => r.text())"))
+    return json.loads(
+        page.evaluate(  # type: ignore[attr-defined]
+            f"fetch('/api/v1/exercises/{SLUG}/draft').then((r) => r.text())"
+        )
+    )
 
 
 def type_at_end(page: object, text: str) -> None:
@@ -75,8 +83,10 @@ def test_draft_survives_reload_and_another_computer_and_reset(server: str, brows
     ctx.set_offline(True)  # type: ignore[attr-defined]
     type_at_end(page, "; offline getippt")
     time.sleep(2.5)
-    stored = page.evaluate("Object.keys(localStorage).filter((k) => k.startsWith('paltrainer-draft:'))"  # type: ignore[attr-defined]
-                           ".map((k) => localStorage.getItem(k)).join('')")
+    stored = page.evaluate(
+        "Object.keys(localStorage).filter((k) => k.startsWith('paltrainer-draft:'))"  # type: ignore[attr-defined]
+        ".map((k) => localStorage.getItem(k)).join('')"
+    )
     assert "offline getippt" in stored
     ctx.set_offline(False)  # type: ignore[attr-defined]
     deadline = time.monotonic() + 8

@@ -23,7 +23,9 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024)}
@@ -89,7 +91,10 @@ def test_the_zeichnung_tab_fits_zooms_and_moves_the_drawing(server: str, browser
     page.wait_for_selector(TAB, state="attached")  # the page is set up (its tabs too)
     page.click("#tab-drawing")
     page.wait_for_selector(f"{TAB} img", state="visible")
-    wait_until(page, f"document.querySelector('{TAB} img').naturalWidth > 100 && document.querySelector('{TAB}').dataset.zoom")
+    wait_until(
+        page,
+        f"document.querySelector('{TAB} img').naturalWidth > 100 && document.querySelector('{TAB}').dataset.zoom",
+    )
     page.wait_for_timeout(300)
     fitted = _state(page)
     stage, img = fitted["stage"], fitted["img"]
@@ -153,13 +158,19 @@ def test_the_zeichnung_tab_fits_zooms_and_moves_the_drawing(server: str, browser
     assert _state(page)["zoom"] == pytest.approx(fitted["zoom"] * 2.5, rel=0.05)
     # the Aufgabe tab's "Zeichnung groß öffnen" is our page, not the raw SVG
     links = page.eval_on_selector_all("a", "(all) => all.map((a) => a.getAttribute('href'))")
-    assert f"/exercises/{SLUG}/drawing" in links and not any(h and h.endswith("drawing.svg?lang=de") for h in links)
+    assert f"/exercises/{SLUG}/drawing" in links and not any(
+        h and h.endswith("drawing.svg?lang=de") for h in links
+    )
     assert not errors, errors
 
 
 @pytest.mark.parametrize("size", list(SIZES))
-def test_the_drawings_own_page_with_the_same_viewer_and_print(server: str, browser: Any, size: str,  # noqa: F811
-                                                              tmp_path: Path) -> None:
+def test_the_drawings_own_page_with_the_same_viewer_and_print(
+    server: str,  # noqa: F811 (the fixture)
+    browser: Any,
+    size: str,
+    tmp_path: Path,
+) -> None:
     page = _login(browser, server, size)
     page.goto(f"{server}/exercises/{SLUG}")
     page.wait_for_selector(TAB, state="attached")
@@ -172,14 +183,18 @@ def test_the_drawings_own_page_with_the_same_viewer_and_print(server: str, brows
     big.wait_for_load_state()
     assert big.url.endswith(f"/exercises/{SLUG}/drawing")
     stage = ".drawing-page .drawing-stage"
-    wait_until(big, f"document.querySelector('{stage} img')?.naturalWidth > 100 && document.querySelector('{stage}').dataset.zoom")
+    wait_until(
+        big,
+        f"document.querySelector('{stage} img')?.naturalWidth > 100 && document.querySelector('{stage}').dataset.zoom",
+    )
     big.wait_for_timeout(300)
     state = _state(big, stage)
     width, height = SIZES[size]
     # the viewer takes the window below the header and the title, the whole sheet fitted in it
     assert state["stage"]["w"] >= width - 40 and state["stage"]["y"] + state["stage"]["h"] >= height - 20
-    assert state["img"]["w"] == pytest.approx(state["stage"]["w"] - 2, abs=3) or \
-        state["img"]["h"] == pytest.approx(state["stage"]["h"] - 2, abs=3)
+    assert state["img"]["w"] == pytest.approx(state["stage"]["w"] - 2, abs=3) or state["img"][
+        "h"
+    ] == pytest.approx(state["stage"]["h"] - 2, abs=3)
     assert "G2 – Konturzug mit Kreisbogen" in big.inner_text("#drawing-title")
     assert big.is_visible("button:has-text('Drucken')") and big.is_visible("a:has-text('Zurück zur Aufgabe')")
     big.screenshot(path=str(SHOTS / f"drawing-page-{size}.png"))
@@ -198,10 +213,15 @@ def test_the_drawings_own_page_with_the_same_viewer_and_print(server: str, brows
     big.pdf(path=str(pdf), prefer_css_page_size=True)
     if shutil.which("pdfinfo") and shutil.which("pdftoppm"):
         info = subprocess.run(["pdfinfo", str(pdf)], capture_output=True, text=True, check=True).stdout
-        assert re.search(r"Pages:\s+1\n", info) and re.search(r"Page size:\s+841\.\d+ x 59[45]\.\d+ pts", info), info
+        assert re.search(r"Pages:\s+1\n", info) and re.search(
+            r"Page size:\s+841\.\d+ x 59[45]\.\d+ pts", info
+        ), info
         if size == "laptop":
-            subprocess.run(["pdftoppm", "-png", "-r", "60", "-singlefile", str(pdf), str(SHOTS / "drawing-page-print")],
-                           check=True, timeout=60)
+            subprocess.run(
+                ["pdftoppm", "-png", "-r", "60", "-singlefile", str(pdf), str(SHOTS / "drawing-page-print")],
+                check=True,
+                timeout=60,
+            )
     assert not errors, errors
 
 

@@ -69,8 +69,12 @@ def test_hover_on_rn_shows_its_sign_rule(editor: Any) -> None:
 def _labels(page: Any) -> list[str]:
     page.wait_for_timeout(400)  # the list follows the last key after a short delay
     page.wait_for_selector(".cm-tooltip-autocomplete li", timeout=5000)
-    return [str(x) for x in page.eval_on_selector_all(
-        ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)")]
+    return [
+        str(x)
+        for x in page.eval_on_selector_all(
+            ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)"
+        )
+    ]
 
 
 def _doc(page: Any) -> list[str]:
@@ -121,8 +125,14 @@ def test_locked_lines_stay_and_say_why(server: str, browser: Any) -> None:
     start = _doc(page)
     assert start[1] == "N10 T1 TC1 M6" and start[7] == ""
     assert page.locator(".cm-locked-line").count() == 10  # lines 1–7 and 9–11; line 8 is the trainee's
-    assert page.eval_on_selector_all(".cm-lock-gutter .cm-gutterElement", """els => els.filter(
-        e => e.textContent === "🔒" && e.style.visibility !== "hidden").length""") == 10  # (not the spacer)
+    assert (
+        page.eval_on_selector_all(
+            ".cm-lock-gutter .cm-gutterElement",
+            """els => els.filter(
+        e => e.textContent === "🔒" && e.style.visibility !== "hidden").length""",
+        )
+        == 10
+    )  # (not the spacer)
     # typing into a locked line does nothing and says why
     page.click(".cm-line >> nth=1")
     page.keyboard.press("End")

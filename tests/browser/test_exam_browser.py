@@ -35,16 +35,26 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
 SLUG = "pal-01-g1-gerade"
 OTHER = "pal-05-g2-kreisbogen"  # the retake's second exercise
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
-TEACHER, FIRST, SECOND, THIRD, FOURTH = "pruef-lehrer", "pruef-azubi", "pruef-azubi2", "pruef-azubi3", "pruef-azubi4"
+TEACHER, FIRST, SECOND, THIRD, FOURTH = (
+    "pruef-lehrer",
+    "pruef-azubi",
+    "pruef-azubi2",
+    "pruef-azubi3",
+    "pruef-azubi4",
+)
 RETAKER, COLLEAGUE = "pruef-azubi5", "pruef-meisterin"  # a retake; an instructor's account that sits the exam
-LEFT = 60  # seconds of the 2-minute exam still to go when it is made: enough for the trainees to open and type
+LEFT = (
+    60  # seconds of the 2-minute exam still to go when it is made: enough for the trainees to open and type
+)
 EARLIER_DRAFT = "N10 T1 TC1 M6 ; erste Pruefung\nN20 M30\n"  # the retaker's draft in the earlier, held exam
 RETAKE_DRAFT = "N10 T1 TC1 M6 ; Wiederholung\nN20 G0 X0 Y0 Z2\nN30 M30\n"
 EDITOR_TEXT = "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"
@@ -53,8 +63,9 @@ SAVED = "document.getElementById('save-state')?.textContent.includes('Entwurf ge
 
 def admin(*args: str) -> None:
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=env, check=True,
-                   capture_output=True)
+    subprocess.run(
+        [sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=env, check=True, capture_output=True
+    )
 
 
 def client(server: str, user: str) -> httpx.Client:  # noqa: F811
@@ -69,7 +80,13 @@ def teacher(server: str) -> httpx.Client:  # noqa: F811
     admin("create-user", TEACHER, "--role", "instructor", "--password", PASSWORD)
     admin("create-user", COLLEAGUE, "--role", "instructor", "--password", PASSWORD)
     c = client(server, TEACHER)
-    for name in (FIRST, SECOND, THIRD, FOURTH, RETAKER):  # the instructor makes the trainees (quicker than the CLI)
+    for name in (
+        FIRST,
+        SECOND,
+        THIRD,
+        FOURTH,
+        RETAKER,
+    ):  # the instructor makes the trainees (quicker than the CLI)
         r = c.post("/users", json={"username": name, "password": PASSWORD, "role": "student"})
         assert r.status_code == 201, r.text
     return c
@@ -92,13 +109,17 @@ def enrol_as_platform_would(course_id: int, username: str) -> None:
 
 
 def login(browser: Any, server: str, user: str, size: tuple[int, int] = (1366, 768)) -> Any:  # noqa: F811
-    ctx = browser.new_context(viewport={"width": size[0], "height": size[1]}, bypass_csp=True)  # axe as a script
+    ctx = browser.new_context(
+        viewport={"width": size[0], "height": size[1]}, bypass_csp=True
+    )  # axe as a script
     page = ctx.new_page()
     page.goto(f"{server}/login")
     page.fill("input[name=username]", user)
     page.fill("input[name=password]", PASSWORD)
     page.click("button[type=submit]")
-    page.wait_for_url(lambda url: url in (f"{server}/", f"{server}/instructor"))  # instructors land on their page
+    page.wait_for_url(
+        lambda url: url in (f"{server}/", f"{server}/instructor")
+    )  # instructors land on their page
     return page
 
 
@@ -111,8 +132,11 @@ def shot(page: Any, name: str) -> None:
 def accessible(page: Any) -> None:
     page.add_script_tag(path=str(AXE))
     result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
-    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
-               if v["impact"] in ("serious", "critical")]
+    serious = [
+        (v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3])
+        for v in result["violations"]
+        if v["impact"] in ("serious", "critical")
+    ]
     assert not serious, serious
 
 
@@ -136,11 +160,19 @@ def practice_link_hidden(page: Any) -> None:
     assert not page.is_visible("#nav-practice") and not page.is_visible("a[href='/practice']")
 
 
-def new_exam(teacher: httpx.Client, course: int, title: str, exercises: list[str], opens: datetime,
-             minutes: int) -> dict[str, Any]:
-    r = teacher.post(f"/courses/{course}/assignments", json={
-        "title": title, "exercises": exercises, "mode": "exam", "opens_at": opens.isoformat(),
-        "duration_minutes": minutes})
+def new_exam(
+    teacher: httpx.Client, course: int, title: str, exercises: list[str], opens: datetime, minutes: int
+) -> dict[str, Any]:
+    r = teacher.post(
+        f"/courses/{course}/assignments",
+        json={
+            "title": title,
+            "exercises": exercises,
+            "mode": "exam",
+            "opens_at": opens.isoformat(),
+            "duration_minutes": minutes,
+        },
+    )
     assert r.status_code == 201, r.text
     return dict(r.json())
 
@@ -157,10 +189,13 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     retake_course = teacher.post("/courses", json={"name": "Wiederholer"}).json()
     for c in (earlier_course, retake_course):
         assert teacher.post(f"/courses/{c['id']}/members", json={"username": RETAKER}).status_code == 201
-    earlier = new_exam(teacher, earlier_course["id"], "Prüfung Januar", [SLUG],
-                       datetime.now(UTC) - timedelta(seconds=52), 1)
+    earlier = new_exam(
+        teacher, earlier_course["id"], "Prüfung Januar", [SLUG], datetime.now(UTC) - timedelta(seconds=52), 1
+    )
     retaker = client(server, RETAKER)
-    r = retaker.put(f"/exercises/{SLUG}/draft", params={"assignment": earlier["id"]}, json={"program": EARLIER_DRAFT})
+    r = retaker.put(
+        f"/exercises/{SLUG}/draft", params={"assignment": earlier["id"]}, json={"program": EARLIER_DRAFT}
+    )
     assert r.status_code == 200 and r.json()["assignment"] == earlier["id"], r.text
 
     # trainee 1 joins with the code on the home page; trainee 2 by the same code over the API's form too
@@ -173,7 +208,9 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     first.fill("#join-code", course["join_code"])
     first.click("form#join button[type=submit]")
     first.wait_for_selector("#join-message.ok")
-    assert "Prüfungsklasse" in first.inner_text("#join-message") and "Prüfungsklasse" in first.inner_text(".my-courses")
+    assert "Prüfungsklasse" in first.inner_text("#join-message") and "Prüfungsklasse" in first.inner_text(
+        ".my-courses"
+    )
     # the day before, trainee 1 practised the exercise: the reference as the practice draft on the server, and a
     # line typed offline that only this browser keeps (never sent)
     trainee1 = client(server, FIRST)
@@ -221,7 +258,10 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     first.on("websocket", lambda ws: sockets.append(ws))
     first.goto(f"{server}/practice")
     first.wait_for_selector(".exam-notice")
-    assert "freies Üben gesperrt" in first.inner_text(".exam-notice") and first.locator(".cm-content").count() == 0
+    assert (
+        "freies Üben gesperrt" in first.inner_text(".exam-notice")
+        and first.locator(".cm-content").count() == 0
+    )
 
     # the home page: the running exam, its times, mode and status, a link into its exercise; no free practice
     first.goto(f"{server}/")
@@ -234,14 +274,19 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     accessible(first)
 
     open_exam(first, server)
-    assert re.search(r"Restzeit 0[01]:[0-5]\d", first.inner_text("#countdown")), first.inner_text("#countdown")
+    assert re.search(r"Restzeit 0[01]:[0-5]\d", first.inner_text("#countdown")), first.inner_text(
+        "#countdown"
+    )
     assert "Probeprüfung G1" in first.inner_text("#exam-bar")
     assert first.is_visible("figure.drawing img")  # the task with its drawing
     # the exam starts from the start program: neither the server's practice draft nor the browser's copy
     assert first.evaluate(EDITOR_TEXT) == start.rstrip("\n"), first.evaluate(EDITOR_TEXT)
     # exam conditions: no messages panel, no 3D view, no hints, no free practice, no live socket, no code help
     assert not first.is_visible("#diagnostics") and not first.is_visible(".viz-pane")
-    assert first.locator("#tab-hints").count() == 0 and first.locator("[role=tab]", has_text="Tipps").count() == 0
+    assert (
+        first.locator("#tab-hints").count() == 0
+        and first.locator("[role=tab]", has_text="Tipps").count() == 0
+    )
     practice_link_hidden(first)
     assert first.locator(".cm-lint-marker, .cm-gutter-lint").count() == 0
     assert first.locator("#file-open").count() == 0
@@ -257,7 +302,10 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
       localStorage.getItem('{local_key}:a{exam["id"]}')]""")
     assert "; geuebt" in json.loads(stored[0])["program"] and json.loads(stored[1])["program"] == REFERENCE
     first.context.close()  # trainee 1 closes the browser; the draft is on the server (the exam's)
-    assert trainee1.get(f"/exercises/{SLUG}/draft", params={"assignment": exam["id"]}).json()["program"] == REFERENCE
+    assert (
+        trainee1.get(f"/exercises/{SLUG}/draft", params={"assignment": exam["id"]}).json()["program"]
+        == REFERENCE
+    )
 
     open_exam(second, server)
     type_program(second, "N10 T1 TC1 M6\nN20 G0 X0 Y0 Z2\nN30 M30\n")
@@ -308,8 +356,11 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
 
     # trainee 2 keeps the page open: when the countdown ends the editor is read only, "Abgeben" is gone, the
     # page says the exam is being submitted, then what the server submitted
-    wait_until(second, "document.getElementById('exam-message')?.textContent.includes('Ihre Prüfung wird abgegeben')",
-               timeout=max(5.0, end - time.monotonic() + 15))
+    wait_until(
+        second,
+        "document.getElementById('exam-message')?.textContent.includes('Ihre Prüfung wird abgegeben')",
+        timeout=max(5.0, end - time.monotonic() + 15),
+    )
     assert not second.is_visible("#submit")
     wait_until(second, "document.getElementById('exam-message').dataset.confirmed === 'true'", timeout=120)
     message = second.inner_text("#exam-message")
@@ -335,7 +386,9 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     results = teacher.get(f"/assignments/{exam['id']}/results").json()
     rows = {row["username"]: row["results"][SLUG] for row in results["trainees"] if SLUG in row["results"]}
     assert rows[FIRST]["auto"] is True and rows[SECOND]["auto"] is True
-    assert rows[FIRST]["score"] == rows[FIRST]["max_score"] and rows[FIRST]["score"] > (rows[SECOND]["score"] or 0)
+    assert rows[FIRST]["score"] == rows[FIRST]["max_score"] and rows[FIRST]["score"] > (
+        rows[SECOND]["score"] or 0
+    )
     assert rows[THIRD]["auto"] is False and rows[THIRD]["score"] == rows[THIRD]["max_score"]
     # the retake's automatic submission is the retake's draft, not the earlier exam's
     deadline = time.monotonic() + 120
@@ -374,8 +427,12 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     assert "Ergebnis der Prüfung" in first.inner_text("#exam-message")
     assert first.inner_text(".cm-content").startswith(REFERENCE.splitlines()[0])
     assert first.is_visible(".viz-pane")  # the simulator's view of what was written
-    wait_until(first, "document.getElementById('viz-picture')?.naturalWidth > 100 "
-                      "|| document.getElementById('viz-frame')?.src.length > 0", timeout=30)
+    wait_until(
+        first,
+        "document.getElementById('viz-picture')?.naturalWidth > 100 "
+        "|| document.getElementById('viz-frame')?.src.length > 0",
+        timeout=30,
+    )
     shot(first, "result-laptop")
     first.goto(f"{server}/")
     first.wait_for_selector("details.assignments-done")
@@ -383,7 +440,9 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     assert f"Ergebnis: {max_score} von {max_score} Punkten" in first.inner_text("#home")
     # the teacher's last word on the released result: the score and the note on the exam page and the start page
     lower, comment = max_score - 10, "Der Programmkopf fehlt."
-    r = teacher.put(f"/submissions/{rows[FIRST]['submission']}/override", json={"score": lower, "comment": comment})
+    r = teacher.put(
+        f"/submissions/{rows[FIRST]['submission']}/override", json={"score": lower, "comment": comment}
+    )
     assert r.status_code == 200, r.text
     note = f"Punktzahl von der Lehrkraft geändert: {lower} statt {max_score} – {comment}"
     first.goto(f"{server}/exercises/{SLUG}?assignment={exam['id']}")
@@ -393,7 +452,9 @@ def test_two_minute_exam(server: str, browser: Any, teacher: httpx.Client) -> No
     first.goto(f"{server}/")
     first.wait_for_selector("details.assignments-done")
     first.click("details.assignments-done summary")
-    assert f"Ergebnis: {lower} von {max_score} Punkten" in first.inner_text("#home") and note in first.inner_text("#home")
+    assert f"Ergebnis: {lower} von {max_score} Punkten" in first.inner_text(
+        "#home"
+    ) and note in first.inner_text("#home")
     first.context.close()
     second.context.close()
 
@@ -405,9 +466,17 @@ def test_refused_live_socket_is_not_tried_again(server: str, browser: Any, teach
     course = teacher.post("/courses", json={"name": "Übungsklasse"}).json()
     r = teacher.post(f"/courses/{course['id']}/members", json={"username": FOURTH})
     assert r.status_code == 201, r.text
-    r = teacher.post(f"/courses/{course['id']}/assignments", json={
-        "title": "Prüfung mit freiem Üben", "exercises": [SLUG], "mode": "exam", "duration_minutes": 90,
-        "opens_at": (datetime.now(UTC) - timedelta(minutes=1)).isoformat(), "settings": {"free_practice": True}})
+    r = teacher.post(
+        f"/courses/{course['id']}/assignments",
+        json={
+            "title": "Prüfung mit freiem Üben",
+            "exercises": [SLUG],
+            "mode": "exam",
+            "duration_minutes": 90,
+            "opens_at": (datetime.now(UTC) - timedelta(minutes=1)).isoformat(),
+            "settings": {"free_practice": True},
+        },
+    )
     assert r.status_code == 201, r.text
     page = login(browser, server, FOURTH)
     sockets: list[Any] = []
@@ -433,7 +502,9 @@ def test_live_check_error_is_shown_in_german(server: str, browser: Any) -> None:
     page.goto(f"{server}/practice")
     page.wait_for_selector(".diag-none", timeout=20000)
     type_program(page, f"N10 M30 ; {'x' * 200_000}\n")  # over 200 000 characters
-    wait_until(page, "document.getElementById('status-line')?.textContent.includes('PROGRAM_TOO_LARGE')", timeout=30)
+    wait_until(
+        page, "document.getElementById('status-line')?.textContent.includes('PROGRAM_TOO_LARGE')", timeout=30
+    )
     assert "Das Programm ist zu lang" in page.inner_text("#status-line")
     assert "error" in (page.get_attribute("#status-line", "class") or "")
     assert "Das Programm ist zu lang" in page.inner_text("#diagnostics .diag-notice")

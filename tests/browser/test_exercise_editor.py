@@ -29,15 +29,29 @@ COPY = f"{BUILTIN}-kopie"
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{BUILTIN}.nc").read_text(encoding="utf-8")
 # the changed contour: the first line is longer (X80), the second shorter (Y60)
 CHANGED = REFERENCE.replace("N60 G1 X70", "N60 G1 X80").replace("N70 G1 Y84", "N70 G1 Y60")
-USERS = [("ed-lehrer", "instructor"), ("ed-kollege", "instructor"), ("ed-anna", "student"), ("ed-bert", "student")]
+USERS = [
+    ("ed-lehrer", "instructor"),
+    ("ed-kollege", "instructor"),
+    ("ed-anna", "student"),
+    ("ed-bert", "student"),
+]
 
 
-def call(server: str, method: str, path: str, token: str | None = None, body: Any = None,
-         form: dict[str, str] | None = None) -> Any:
+def call(
+    server: str,
+    method: str,
+    path: str,
+    token: str | None = None,
+    body: Any = None,
+    form: dict[str, str] | None = None,
+) -> Any:
     headers = {"Authorization": f"Bearer {token}"} if token else {}
     data = None
     if form is not None:
-        data, headers["Content-Type"] = urllib.parse.urlencode(form).encode(), "application/x-www-form-urlencoded"
+        data, headers["Content-Type"] = (
+            urllib.parse.urlencode(form).encode(),
+            "application/x-www-form-urlencoded",
+        )
     elif body is not None:
         data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
     request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
@@ -46,7 +60,9 @@ def call(server: str, method: str, path: str, token: str | None = None, body: An
 
 
 def token(server: str, user: str) -> str:
-    return str(call(server, "POST", "/auth/token", form={"username": user, "password": PASSWORD})["access_token"])
+    return str(
+        call(server, "POST", "/auth/token", form={"username": user, "password": PASSWORD})["access_token"]
+    )
 
 
 @pytest.fixture(scope="module")
@@ -112,8 +128,12 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     assert first != original
     # the 3D view of the reference, as trainees see theirs (Chromium without graphics: the server's picture)
     page.click("#viz-show")
-    wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100 "
-                     "|| Boolean(document.getElementById('viz-frame')?.src)", 60)
+    wait_until(
+        page,
+        "document.getElementById('viz-picture')?.naturalWidth > 100 "
+        "|| Boolean(document.getElementById('viz-frame')?.src)",
+        60,
+    )
     page.locator("#viz").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / "exercise-editor-3d-laptop.png"))
     page.locator(".program-and-drawing").scroll_into_view_if_needed()
@@ -165,7 +185,9 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     wait_until(anna, "document.querySelector('figure.drawing img')?.naturalWidth > 100", 60)
     assert "100 × 70" in anna.inner_text("#task")
     anna.screenshot(path=str(SHOTS / "exercise-editor-student-laptop.png"))
-    solved = call(server, "POST", "/submissions", token(server, "ed-anna"), {"exercise": COPY, "program": CHANGED})
+    solved = call(
+        server, "POST", "/submissions", token(server, "ed-anna"), {"exercise": COPY, "program": CHANGED}
+    )
     assert solved["score"] == 100 and solved["exercise_version"] == 1
     bert = login(browser, server, "ed-bert")
     bert.goto(f"{server}/")
@@ -179,7 +201,9 @@ def test_instructor_writes_an_exercise_for_one_course(server: str, browser: Any)
     page.wait_for_selector("[data-field='task.de'] textarea")
     task = page.locator("[data-field='task.de'] textarea")
     task.fill(task.input_value() + "\n\nAchten Sie auf die **Anfahrbewegung**.")
-    wait_until(page, "document.getElementById('task-preview').innerHTML.includes('<strong>Anfahrbewegung')", 30)
+    wait_until(
+        page, "document.getElementById('task-preview').innerHTML.includes('<strong>Anfahrbewegung')", 30
+    )
     page.click("#save")
     wait_until(page, "document.getElementById('edit-status').textContent.includes('Version 2')", 60)
     page.goto(f"{server}/instructor")
@@ -214,8 +238,11 @@ def test_editor_has_no_serious_accessibility_problems(server: str, browser: Any)
             assert page.locator(".has-error").count() >= 2
         page.add_script_tag(path=str(axe))
         result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
-        serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
-                   if v["impact"] in ("serious", "critical")]
+        serious = [
+            (v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3])
+            for v in result["violations"]
+            if v["impact"] in ("serious", "critical")
+        ]
         assert not serious, serious
     page.screenshot(path=str(SHOTS / "exercise-editor-new-errors-laptop.png"))
     page.fill("[data-field='title.de'] input", "Kontur für Übung 3")  # the slug follows the title
@@ -231,7 +258,10 @@ def test_a_turning_exercise_to_complete_round_trips_through_the_editor(server: s
     page = login(browser, server, "ed-kollege")
     page.goto(f"{server}/exercises/{copy['slug']}/edit")
     page.wait_for_selector("#start-editor .cm-content", timeout=60000)
-    assert page.locator("[data-field='blank']").is_visible() and not page.locator("[data-field='stock']").is_visible()
+    assert (
+        page.locator("[data-field='blank']").is_visible()
+        and not page.locator("[data-field='stock']").is_visible()
+    )
     diameter = f"{copy['document']['blank']['diameter']:g}".replace(".", ",")
     assert page.input_value("[data-field='blank.diameter'] input") == diameter
     locked = page.locator("[data-field='locked_lines'] input")

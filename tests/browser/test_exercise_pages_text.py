@@ -79,7 +79,9 @@ def logged_in(browser: Any, server: str, size: str, lang: str = "de", user: str 
 
 def open_exercise(page: Any, server: str, slug: str) -> None:
     page.goto(f"{server}/exercises/{slug}")
-    page.wait_for_selector("#task > *", state="attached", timeout=20000)  # a tablet starts with the task folded
+    page.wait_for_selector(
+        "#task > *", state="attached", timeout=20000
+    )  # a tablet starts with the task folded
     page.wait_for_selector("#tools .tool-cards, #tools p", state="attached", timeout=20000)
     page.wait_for_selector(".diag", timeout=20000)  # the live check's first answer in the drawer
 
@@ -124,7 +126,9 @@ def test_every_builtin_exercise_page_reads_clean(server: str, browser: Any, lang
         texts = page_texts(page)
         for where, text in texts.items():
             for found in LEFTOVERS.finditer(text):
-                problems.append((slug, where, found.group(0), text[max(0, found.start() - 60):found.end() + 60]))
+                problems.append(
+                    (slug, where, found.group(0), text[max(0, found.start() - 60) : found.end() + 60])
+                )
         task = str(page.inner_text("#task"))
         check_task_text(slug, lang, task, page)
         # the blank once: the built-in tasks state it, so no line above the text repeats it
@@ -143,7 +147,9 @@ def tool_card(page: Any, number: int) -> dict[str, str]:
     card = page.locator(".tool-card", has=page.locator(f"thead th:text-matches('^T{number}( ·|$)')"))
     assert card.count() == 1, number
     rows = card.locator("tbody tr")
-    labels = [rows.nth(i).locator("th").inner_text().replace("\u00ad", "") for i in range(rows.count())]  # soft hyphens
+    labels = [
+        rows.nth(i).locator("th").inner_text().replace("\u00ad", "") for i in range(rows.count())
+    ]  # soft hyphens
     return {label: rows.nth(i).locator("td").inner_text() for i, label in enumerate(labels)}
 
 
@@ -152,9 +158,15 @@ def test_turning_tools_as_a_turner_reads_them(server: str, browser: Any) -> None
     open_exercise(page, server, TURNING)
     page.click("#tab-tools")
     roughing, finishing = tool_card(page, 4), tool_card(page, 5)
-    assert roughing == {"Schneidplatte": "D (55°)", "Schneidenradius": "R0,8 mm", "Schneidenlage": "P1",
-                        "Schnittgeschwindigkeit": "V 160 m/min (G96)", "Vorschub": "F 0,35 mm/U",
-                        "Reduzierter Vorschub": "E 0,12 mm/U", "Drehrichtung": "M4 (links)"}, roughing
+    assert roughing == {
+        "Schneidplatte": "D (55°)",
+        "Schneidenradius": "R0,8 mm",
+        "Schneidenlage": "P1",
+        "Schnittgeschwindigkeit": "V 160 m/min (G96)",
+        "Vorschub": "F 0,35 mm/U",
+        "Reduzierter Vorschub": "E 0,12 mm/U",
+        "Drehrichtung": "M4 (links)",
+    }, roughing
     # every cutting-data entry: the finishing feed and the one on the cone, E at the chamfer
     assert finishing["Vorschub"] == "F 0,15 / 0,1 mm/U" and finishing["Reduzierter Vorschub"] == "E 0,1 mm/U"
     assert finishing["Schneidplatte"] == "V (35°)" and finishing["Schneidenradius"] == "R0,4 mm"
@@ -164,13 +176,22 @@ def test_turning_tools_as_a_turner_reads_them(server: str, browser: Any) -> None
     open_exercise(page, server, "traub-08-bohren-unterprogramm")
     page.click("#tab-tools")
     drill = tool_card(page, 4)
-    assert drill == {"Durchmesser": "Ø11 mm", "Drehzahl": "S 1000 1/min (G97)", "Vorschub": "F 0,1 mm/U",
-                     "Drehrichtung": "M3 (rechts)"}, drill
+    assert drill == {
+        "Durchmesser": "Ø11 mm",
+        "Drehzahl": "S 1000 1/min (G97)",
+        "Vorschub": "F 0,1 mm/U",
+        "Drehrichtung": "M3 (rechts)",
+    }, drill
     # a milling tool keeps its table
     open_exercise(page, server, MILLING)
     page.click("#tab-tools")
     mill = tool_card(page, 1)
-    assert mill == {"Durchmesser": "Ø25 mm", "S (1/min)": "2000", "F (mm/min)": "250", "Drehrichtung": "M3 (rechts)"}
+    assert mill == {
+        "Durchmesser": "Ø25 mm",
+        "S (1/min)": "2000",
+        "F (mm/min)": "250",
+        "Drehrichtung": "M3 (rechts)",
+    }
     page.context.close()
     # in English: the kind of tool, feeds per revolution
     page = logged_in(browser, server, "laptop", "en")
@@ -195,7 +216,9 @@ def test_screenshots_of_a_milling_and_a_turning_exercise(server: str, browser: A
         page.click("#tab-tools")
         page.evaluate("document.querySelector('#tools').scrollIntoView({block: 'start'})")
         page.screenshot(path=str(SHOTS / f"exercise-text-{kind}-tools-{size}.png"))
-        assert page.evaluate("document.documentElement.scrollWidth <= innerWidth")  # never horizontal scrolling
+        assert page.evaluate(
+            "document.documentElement.scrollWidth <= innerWidth"
+        )  # never horizontal scrolling
     page.context.close()
 
 
@@ -230,4 +253,3 @@ def test_free_practice_offers_the_turning_examples(server: str, browser: Any) ->
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / "practice-turning-example-laptop.png"))
     context.close()
-

@@ -26,14 +26,18 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024)}
 SLUG, OTHER = "pal-05-g2-kreisbogen", "pal-01-g1-gerade"
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
-MISTAKE = REFERENCE.replace("N40 G41 G0 X70 Y84", "N40 G0 X70 Y84")  # the cutter radius compensation forgotten
+MISTAKE = REFERENCE.replace(
+    "N40 G41 G0 X70 Y84", "N40 G0 X70 Y84"
+)  # the cutter radius compensation forgotten
 TEACHER, TRAINEE = "noten-lehrer", "noten-azubi"
 COMMENT = "Anfahrt im Unterricht besprochen, die Kontur selbst ist richtig gedacht."
 ACTIVE_LINE = "document.querySelector('.cm-activeLine')?.textContent"
@@ -47,8 +51,24 @@ def percent(total: int, of: int) -> str:
 @pytest.fixture(scope="module")
 def course(server: str) -> dict[str, Any]:  # noqa: F811
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", TEACHER, "--role", "instructor",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            TEACHER,
+            "--role",
+            "instructor",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
     with httpx.Client(base_url=f"{server}/api/v1", timeout=60) as c:
         r = c.post("/auth/token", data={"username": TEACHER, "password": PASSWORD})
         c.headers["Authorization"] = f"Bearer {r.json()['access_token']}"
@@ -57,9 +77,16 @@ def course(server: str) -> dict[str, Any]:  # noqa: F811
         made = c.post("/courses", json={"name": "Noten 24"}).json()
         assert c.post(f"/courses/{made['id']}/members", json={"username": TRAINEE}).status_code == 201
         now = datetime.now(UTC)
-        r = c.post(f"/courses/{made['id']}/assignments", json={
-            "title": "Konturen", "exercises": [SLUG, OTHER], "mode": "practice",
-            "opens_at": (now - timedelta(minutes=5)).isoformat(), "deadline": (now + timedelta(days=7)).isoformat()})
+        r = c.post(
+            f"/courses/{made['id']}/assignments",
+            json={
+                "title": "Konturen",
+                "exercises": [SLUG, OTHER],
+                "mode": "practice",
+                "opens_at": (now - timedelta(minutes=5)).isoformat(),
+                "deadline": (now + timedelta(days=7)).isoformat(),
+            },
+        )
         assert r.status_code == 201, r.text
         return {"id": made["id"], "assignment": r.json()["id"]}
 
@@ -72,7 +99,9 @@ def login(browser: Any, server: str, user: str, size: str = "laptop") -> Any:  #
     page.fill("input[name=username]", user)
     page.fill("input[name=password]", PASSWORD)
     page.click("button[type=submit]")
-    page.wait_for_url(lambda url: url in (f"{server}/", f"{server}/instructor"))  # instructors land on their page
+    page.wait_for_url(
+        lambda url: url in (f"{server}/", f"{server}/instructor")
+    )  # instructors land on their page
     return page
 
 
@@ -88,8 +117,11 @@ def accessible(page: Any, selector: str) -> None:
     """axe-core on the part of the page this test is about (`selector`)."""
     page.add_script_tag(path=str(AXE))
     result = page.evaluate(f"axe.run({{include: [['{selector}']]}}, {{resultTypes: ['violations']}})")
-    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
-               if v["impact"] in ("serious", "critical")]
+    serious = [
+        (v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3])
+        for v in result["violations"]
+        if v["impact"] in ("serious", "critical")
+    ]
     assert not serious, serious
 
 
@@ -100,9 +132,12 @@ def open_exercise(page: Any, server: str) -> None:  # noqa: F811
 
 def matrix_cells(page: Any) -> list[str]:
     """The trainee's row of the course page's matrix: the two exercises and the sum."""
-    return [str(c) for c in page.evaluate(f"""[...([...document.querySelectorAll('#matrix tbody tr')]
+    return [
+        str(c)
+        for c in page.evaluate(f"""[...([...document.querySelectorAll('#matrix tbody tr')]
       .find((r) => r.querySelector('th').textContent === '{TRAINEE}')?.querySelectorAll('td') || [])]
-      .map((c) => c.innerText.trim())""")]
+      .map((c) => c.innerText.trim())""")
+    ]
 
 
 def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: dict[str, Any]) -> None:  # noqa: F811
@@ -130,7 +165,9 @@ def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: 
     mark = geometry.locator(".mark").first
     assert mark.inner_text() == "◐" and mark.get_attribute("aria-label") == "teilweise erfüllt"
     text = geometry.inner_text()
-    assert re.search(r"◐ \d+/50 – 1 von 4 Formelementen maßhaltig\. Ursache: Die Fräserradiuskorrektur fehlt", text), text
+    assert re.search(
+        r"◐ \d+/50 – 1 von 4 Formelementen maßhaltig\. Ursache: Die Fräserradiuskorrektur fehlt", text
+    ), text
     compensation = page.locator("#result .criteria > li.failed", has_text="G41/G42 fehlt")
     assert compensation.count() == 1 and compensation.locator(".mark").inner_text() == "✗"
     assert page.locator("#result .criteria > li.passed .mark").first.inner_text() == "✓"
@@ -140,12 +177,19 @@ def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: 
     assert not page.is_visible("#result .feature-list")
     # the cause's line first, marked as such; it puts the cursor on the block where G41 belongs
     links = geometry.locator(":scope > .criterion-lines .line-link")
-    assert [links.nth(i).inner_text() for i in range(links.count())] == ["Ursache: Zeile 5", "Zeile 7", "Zeile 8",
-                                                                          "Zeile 9"]
+    assert [links.nth(i).inner_text() for i in range(links.count())] == [
+        "Ursache: Zeile 5",
+        "Zeile 7",
+        "Zeile 8",
+        "Zeile 9",
+    ]
     cause = geometry.locator(".line-link.cause-line")
     cause.click()
     wait_until(page, f"{ACTIVE_LINE} === 'N40 G0 X70 Y84'")
-    for size, (width, height) in SIZES.items():  # the drawer with the partial result (the features still folded)
+    for size, (
+        width,
+        height,
+    ) in SIZES.items():  # the drawer with the partial result (the features still folded)
         page.set_viewport_size({"width": width, "height": height})
         page.locator("#drawer").scroll_into_view_if_needed()
         shot(page, f"drawer-partial-{size}")
@@ -187,7 +231,10 @@ def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: 
     assert f"Automatische Bewertung: {automatic} von 100 Punkten" in form.inner_text()
     assert teacher.input_value("#override-score") == str(automatic)
     assert not teacher.locator("#override-restore").count() and "Geändert von" not in form.inner_text()
-    assert teacher.locator("#submission-view .criteria > li.partial .cause-line").inner_text() == "Ursache: Zeile 5"
+    assert (
+        teacher.locator("#submission-view .criteria > li.partial .cause-line").inner_text()
+        == "Ursache: Zeile 5"
+    )
     teacher.fill("#override-score", "101")  # more than the maximum: refused here, nothing sent
     teacher.click("#override-save")
     assert "ganze Zahl von 0 bis 100" in teacher.inner_text("#override-status.error")
@@ -202,7 +249,10 @@ def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: 
     teacher.wait_for_selector("#override-status.ok")
     assert teacher.inner_text("#override-status") == "Gespeichert: 80 von 100 Punkten zählen."
     assert f"Geändert von {TEACHER} am" in form.inner_text()
-    assert teacher.input_value("#override-comment") == COMMENT and teacher.locator("#override-restore").count() == 1
+    assert (
+        teacher.input_value("#override-comment") == COMMENT
+        and teacher.locator("#override-restore").count() == 1
+    )
     assert "80 von 100 Punkten (von der Lehrkraft geändert)" in teacher.inner_text("#submission-score")
     # the matrix follows: the cell marked, the sum with it
     wait_until(teacher, "document.querySelector('#matrix tbody tr')?.innerText.includes('80/200')")
@@ -236,7 +286,9 @@ def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: 
     shot(page, "history-tablet")
     page.click("#lang")  # in English: the server's English note, the cause's line
     page.wait_for_selector("#result .override-note", timeout=20000)
-    assert page.inner_text("#result .override-note").startswith(f"Score changed by the instructor: 80 instead of {automatic}")
+    assert page.inner_text("#result .override-note").startswith(
+        f"Score changed by the instructor: 80 instead of {automatic}"
+    )
     assert page.inner_text("#result .cause-line") == "Cause: line 5"
     page.click("#lang")
     page.wait_for_selector("#tab-task >> text=Aufgabe")
@@ -244,7 +296,9 @@ def test_a_partial_grade_the_teacher_changes(server: str, browser: Any, course: 
     # back to the grader's score: mark and note are gone
     teacher.click("#override-restore")
     teacher.wait_for_selector("#override-status.ok:has-text('Die automatische Bewertung gilt wieder.')")
-    assert not teacher.locator("#override-restore").count() and teacher.input_value("#override-score") == str(automatic)
+    assert not teacher.locator("#override-restore").count() and teacher.input_value("#override-score") == str(
+        automatic
+    )
     wait_until(teacher, f"document.querySelector('#matrix tbody tr')?.innerText.includes('{automatic}/200')")
     assert matrix_cells(teacher) == [f"{automatic}/100", "–", f"{automatic}/200 ({percent(automatic, 200)})"]
     assert not teacher.locator("#matrix .overridden-mark").count()

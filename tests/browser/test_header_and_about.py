@@ -18,7 +18,9 @@ pytestmark = [NEEDS_CHROMIUM]
 
 @pytest.fixture(scope="module")
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    with running_server(tmp_path_factory.mktemp("data"), [("azubi", "student"), ("meister", "instructor")]) as url:
+    with running_server(
+        tmp_path_factory.mktemp("data"), [("azubi", "student"), ("meister", "instructor")]
+    ) as url:
         yield url
 
 
@@ -41,7 +43,9 @@ def _login(page: Any, server: str, user: str) -> None:
     page.fill("input[name=username]", user)
     page.fill("input[name=password]", PASSWORD)
     page.click("button[type=submit]")
-    page.wait_for_url(lambda url: url in (f"{server}/", f"{server}/instructor"))  # instructors land on their page
+    page.wait_for_url(
+        lambda url: url in (f"{server}/", f"{server}/instructor")
+    )  # instructors land on their page
 
 
 def test_logged_out_visitor_goes_to_login_without_console_errors(server: str, page: Any) -> None:
@@ -82,8 +86,12 @@ def test_about_lists_codemirror_and_the_licences_are_served(server: str, page: A
     page.click("#nav-about")
     page.wait_for_url(f"{server}/about")
     page.wait_for_selector("#licences tbody tr")
-    rows = {r[0]: r for r in page.eval_on_selector_all(
-        "#licences tbody tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))")}
+    rows = {
+        r[0]: r
+        for r in page.eval_on_selector_all(
+            "#licences tbody tr", "rows => rows.map(r => [...r.cells].map(c => c.textContent))"
+        )
+    }
     assert rows["@codemirror/view"][2] == "MIT" and rows["@codemirror/state"][2] == "MIT"
     assert rows["swagger-ui-dist"][2] == "Apache-2.0"
     assert "Apache License 2.0" in page.inner_text("#about")

@@ -15,23 +15,51 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024), "desktop": (1920, 1080)}
 SLUG = "pal-05-g2-kreisbogen"
 AXE = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
-PAGES = {"practice": "/practice", "exercises": "/", "exercise": f"/exercises/{SLUG}", "instructor": "/instructor",
-         "login": "/login"}
-READY = {"practice": ".cm-content", "exercises": "ul.exercises", "exercise": "figure.drawing img",
-         "instructor": "#submission-list :is(table, p)", "login": "#login"}
+PAGES = {
+    "practice": "/practice",
+    "exercises": "/",
+    "exercise": f"/exercises/{SLUG}",
+    "instructor": "/instructor",
+    "login": "/login",
+}
+READY = {
+    "practice": ".cm-content",
+    "exercises": "ul.exercises",
+    "exercise": "figure.drawing img",
+    "instructor": "#submission-list :is(table, p)",
+    "login": "#login",
+}
 
 
 @pytest.fixture(scope="module")
 def instructor(server: str) -> str:  # noqa: F811
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "layout-lehrer", "--role", "instructor",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            "layout-lehrer",
+            "--role",
+            "instructor",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
     return "layout-lehrer"
 
 
@@ -46,7 +74,9 @@ def open_page(browser: object, server: str, user: str, name: str, size: str, **c
         page.click("button[type=submit]")
         page.wait_for_url(f"{server}/instructor")  # an instructor lands on their page
     page.goto(f"{server}{PAGES[name]}")
-    page.wait_for_selector(READY[name], state="attached", timeout=20000)  # the tablet folds the task (its drawing)
+    page.wait_for_selector(
+        READY[name], state="attached", timeout=20000
+    )  # the tablet folds the task (its drawing)
     if name in ("practice", "exercise"):
         page.wait_for_selector(".diag", timeout=20000)  # the first answer of the live check
         wait_until(page, "document.getElementById('viz-picture')?.naturalWidth > 100")
@@ -90,18 +120,29 @@ def test_no_serious_accessibility_problems(server: str, browser: object, instruc
     page = open_page(browser, server, instructor, name, "laptop", bypass_csp=True)
     page.add_script_tag(path=str(AXE))
     result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
-    serious = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3]) for v in result["violations"]
-               if v["impact"] in ("serious", "critical")]
+    serious = [
+        (v["id"], v["impact"], [n["target"] for n in v["nodes"]][:3])
+        for v in result["violations"]
+        if v["impact"] in ("serious", "critical")
+    ]
     assert not serious, serious
     page.context.close()
 
 
-def test_practice_loads_an_example_opens_saves_and_prints(server: str, browser: object, instructor: str,  # noqa: F811
-                                                          tmp_path: Path) -> None:
+def test_practice_loads_an_example_opens_saves_and_prints(
+    server: str,  # noqa: F811 (the fixture)
+    browser: object,
+    instructor: str,
+    tmp_path: Path,
+) -> None:
     page = open_page(browser, server, instructor, "practice", "laptop", accept_downloads=True)
-    page.select_option("#example", SLUG)  # a built-in example: its program and, in the Zeichnung tab, its drawing
+    page.select_option(
+        "#example", SLUG
+    )  # a built-in example: its program and, in the Zeichnung tab, its drawing
     reference = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
-    wait_until(page, f"document.querySelector('.cm-content').innerText.includes({reference.splitlines()[2]!r})")
+    wait_until(
+        page, f"document.querySelector('.cm-content').innerText.includes({reference.splitlines()[2]!r})"
+    )
     page.wait_for_selector("#panel-drawing .zoom-frame img")
     wait_until(page, "document.querySelector('#panel-drawing .zoom-frame img').naturalWidth > 100")
     assert page.get_attribute("#tab-drawing", "aria-selected") == "true"
@@ -128,8 +169,11 @@ def test_practice_loads_an_example_opens_saves_and_prints(server: str, browser: 
     page.context.close()
 
 
-def test_exercise_columns_resize_collapse_and_are_remembered(server: str, browser: object,  # noqa: F811
-                                                             instructor: str) -> None:
+def test_exercise_columns_resize_collapse_and_are_remembered(
+    server: str,  # noqa: F811 (the fixture)
+    browser: object,
+    instructor: str,
+) -> None:
     page = open_page(browser, server, instructor, "exercise", "laptop")
     editor = box(page, "#editor")["width"]
     page.focus(".viz-pane > .splitter")  # between editor and 3D view: the arrow keys move it
@@ -149,7 +193,10 @@ def test_exercise_columns_resize_collapse_and_are_remembered(server: str, browse
     page.click("#tab-tools")  # the tabs: the tool table with its numbers
     assert page.locator("#panel-tools table").is_visible() and not page.locator("#panel-task").is_visible()
     page.keyboard.press("ArrowRight")
-    assert page.get_attribute("#tab-hints", "aria-selected") == "true" and page.locator("#panel-hints").is_visible()
+    assert (
+        page.get_attribute("#tab-hints", "aria-selected") == "true"
+        and page.locator("#panel-hints").is_visible()
+    )
     page.context.close()
 
 
@@ -158,8 +205,20 @@ def test_exercise_page_in_english(server: str, browser: object, instructor: str)
     page.click("#lang")
     page.wait_for_selector("#tab-task >> text=Task")
     page.wait_for_selector(".diag", timeout=20000)
-    labels = [page.inner_text(s) for s in ("#tab-task", "#tab-drawing", "#tab-tools", "#tab-hints", "#file-open",
-                                            "#file-save", "#file-print", "#file-reset", "#submit")]
+    labels = [
+        page.inner_text(s)
+        for s in (
+            "#tab-task",
+            "#tab-drawing",
+            "#tab-tools",
+            "#tab-hints",
+            "#file-open",
+            "#file-save",
+            "#file-print",
+            "#file-reset",
+            "#submit",
+        )
+    ]
     assert labels == ["Task", "Drawing", "Tools", "Hints", "Open", "Save", "Print", "Reset", "Submit"]
     assert page.inner_text("#drawer-toggle").startswith("Messages")
     page.screenshot(path=str(SHOTS / "layout-exercise-laptop-en.png"))

@@ -17,9 +17,11 @@ from server.security import safe_redirect
 
 pytestmark = [NEEDS_CHROMIUM]
 # what the payload does if it ever runs: an API key with every scope in the victim's name
-PAYLOAD = ("javascript:fetch('/api/v1/api-keys',{method:'POST',headers:{'Content-Type':'application/json'},"
-           "body:JSON.stringify({name:'pwned',scopes:['practice','exercises:read','exercises:write',"
-           "'submissions:read','submissions:write']})}).then(()=>{window.pwned=true})")
+PAYLOAD = (
+    "javascript:fetch('/api/v1/api-keys',{method:'POST',headers:{'Content-Type':'application/json'},"
+    "body:JSON.stringify({name:'pwned',scopes:['practice','exercises:read','exercises:write',"
+    "'submissions:read','submissions:write']})}).then(()=>{window.pwned=true})"
+)
 
 
 @pytest.fixture(scope="module")
@@ -69,8 +71,10 @@ def test_javascript_next_does_not_run(server: str, browser: Any, page_check_only
     bad = f"{server}/login?next={quote(PAYLOAD, safe='')}"
     if page_check_only:  # the login page as it would be served if the server let the URL through
         html = page.request.get(f"{server}/login").text()
-        page.route(lambda u: u.startswith(f"{server}/login?next="),
-                   lambda route: route.fulfill(status=200, content_type="text/html", body=html))
+        page.route(
+            lambda u: u.startswith(f"{server}/login?next="),
+            lambda route: route.fulfill(status=200, content_type="text/html", body=html),
+        )
     page.goto(bad)
     assert ("/login?next=" in page.url) == page_check_only
     _login(page, "lehrer1" if page_check_only else "lehrer2")
@@ -83,9 +87,12 @@ def test_javascript_next_does_not_run(server: str, browser: Any, page_check_only
 
 
 @pytest.mark.parametrize("page_check_only", [False, True], ids=["server-and-page", "page-only"])
-@pytest.mark.parametrize("target", ["https://evil.example/login", "//evil.example/", "/\\evil.example/",
-                                    "/\t/evil.example/"])
-def test_offsite_next_stays_on_the_site(server: str, browser: Any, page_check_only: bool, target: str) -> None:
+@pytest.mark.parametrize(
+    "target", ["https://evil.example/login", "//evil.example/", "/\\evil.example/", "/\t/evil.example/"]
+)
+def test_offsite_next_stays_on_the_site(
+    server: str, browser: Any, page_check_only: bool, target: str
+) -> None:
     context = browser.new_context()
     page = context.new_page()
     seen = _watch(page)
@@ -93,8 +100,10 @@ def test_offsite_next_stays_on_the_site(server: str, browser: Any, page_check_on
     url = f"{server}/login?next={quote(target, safe='')}"
     if page_check_only:
         html = page.request.get(f"{server}/login").text()
-        page.route(lambda u: u.startswith(f"{server}/login?next="),
-                   lambda route: route.fulfill(status=200, content_type="text/html", body=html))
+        page.route(
+            lambda u: u.startswith(f"{server}/login?next="),
+            lambda route: route.fulfill(status=200, content_type="text/html", body=html),
+        )
     page.goto(url)
     _login(page, "lehrer3")
     page.wait_for_url(f"{server}/instructor")  # the bad `next` dropped: the instructor's own page
@@ -111,10 +120,29 @@ def test_site_next_is_followed(server: str, browser: Any) -> None:
     context.close()
 
 
-CASES = ["/", "/exercises/nuten", "/practice?dialect=beckhoff#x", "", "javascript:alert(1)", "JavaScript:alert(1)",
-         "https://evil.example", "//evil.example", "/\\evil.example", "\\\\evil.example", "/\t/evil.example",
-         "/\n/evil.example", " /x", "data:text/html,x", "exercises", "/x\x00", "/x\x7f", "/" + "a" * 3000,
-         "/ü/ß", "/a b", "/%2F%2Fevil.example"]
+CASES = [
+    "/",
+    "/exercises/nuten",
+    "/practice?dialect=beckhoff#x",
+    "",
+    "javascript:alert(1)",
+    "JavaScript:alert(1)",
+    "https://evil.example",
+    "//evil.example",
+    "/\\evil.example",
+    "\\\\evil.example",
+    "/\t/evil.example",
+    "/\n/evil.example",
+    " /x",
+    "data:text/html,x",
+    "exercises",
+    "/x\x00",
+    "/x\x7f",
+    "/" + "a" * 3000,
+    "/ü/ß",
+    "/a b",
+    "/%2F%2Fevil.example",
+]
 
 
 def test_page_rule_is_the_server_rule(server: str, browser: Any) -> None:
@@ -127,8 +155,9 @@ def test_page_rule_is_the_server_rule(server: str, browser: Any) -> None:
     page.close()
 
 
-@pytest.mark.parametrize("path", ["/", "/practice", "/login", "/instructor", "/exercises/pal-01-g1-gerade",
-                                  "/no/such/page"])
+@pytest.mark.parametrize(
+    "path", ["/", "/practice", "/login", "/instructor", "/exercises/pal-01-g1-gerade", "/no/such/page"]
+)
 def test_pages_run_under_the_policy(server: str, browser: Any, path: str) -> None:
     context = browser.new_context()
     page = context.new_page()

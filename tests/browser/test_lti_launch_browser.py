@@ -54,34 +54,62 @@ class Platform(BaseHTTPRequestHandler):
         if url.path == "/jwks":
             self._send(json.dumps({"keys": [JWK]}), "application/json")
         elif url.path == "/course":
-            login = self.tool + "/lti/login?" + urlencode({
-                "iss": self.issuer, "login_hint": query.get("who", "u-7"),
-                "target_link_uri": self.tool + "/lti/launch",
-                "client_id": "browser-client", "lti_deployment_id": "d-1"})
-            self._send(f'<!doctype html><title>Kurs</title><iframe id="tool" src="{escape(login)}" '
-                       'width="1200" height="900"></iframe>')
+            login = (
+                self.tool
+                + "/lti/login?"
+                + urlencode(
+                    {
+                        "iss": self.issuer,
+                        "login_hint": query.get("who", "u-7"),
+                        "target_link_uri": self.tool + "/lti/launch",
+                        "client_id": "browser-client",
+                        "lti_deployment_id": "d-1",
+                    }
+                )
+            )
+            self._send(
+                f'<!doctype html><title>Kurs</title><iframe id="tool" src="{escape(login)}" '
+                'width="1200" height="900"></iframe>'
+            )
         elif url.path == "/auth":
             now = int(time.time())
-            claims = {"iss": self.issuer, "aud": query["client_id"], "sub": query["login_hint"], "iat": now,
-                      "exp": now + 300,
-                      "nonce": query["nonce"], "name": "Lena Lernend",
-                      LTI + "message_type": "LtiResourceLinkRequest", LTI + "version": "1.3.0",
-                      LTI + "deployment_id": "d-1", LTI + "target_link_uri": query["redirect_uri"],
-                      LTI + "roles": ["http://purl.imsglobal.org/vocab/lis/v2/membership#Learner"],
-                      LTI + "context": {"id": "c-1", "title": "Fachklasse"},
-                      LTI + "resource_link": {"id": "rl-1"}, LTI + "custom": {"exercise": "pal-01-g1-gerade"}}
+            claims = {
+                "iss": self.issuer,
+                "aud": query["client_id"],
+                "sub": query["login_hint"],
+                "iat": now,
+                "exp": now + 300,
+                "nonce": query["nonce"],
+                "name": "Lena Lernend",
+                LTI + "message_type": "LtiResourceLinkRequest",
+                LTI + "version": "1.3.0",
+                LTI + "deployment_id": "d-1",
+                LTI + "target_link_uri": query["redirect_uri"],
+                LTI + "roles": ["http://purl.imsglobal.org/vocab/lis/v2/membership#Learner"],
+                LTI + "context": {"id": "c-1", "title": "Fachklasse"},
+                LTI + "resource_link": {"id": "rl-1"},
+                LTI + "custom": {"exercise": "pal-01-g1-gerade"},
+            }
             if query["login_hint"] == "teacher":  # content selection (deep linking) by an instructor
-                claims.update({
-                    LTI + "message_type": "LtiDeepLinkingRequest",
-                    LTI + "roles": ["http://purl.imsglobal.org/vocab/lis/v2/membership#Instructor"],
-                    "https://purl.imsglobal.org/spec/lti-dl/claim/deep_linking_settings": {
-                        "deep_link_return_url": f"{self.issuer}/return", "accept_types": ["ltiResourceLink"],
-                        "accept_multiple": True, "data": "d-42"}})
+                claims.update(
+                    {
+                        LTI + "message_type": "LtiDeepLinkingRequest",
+                        LTI + "roles": ["http://purl.imsglobal.org/vocab/lis/v2/membership#Instructor"],
+                        "https://purl.imsglobal.org/spec/lti-dl/claim/deep_linking_settings": {
+                            "deep_link_return_url": f"{self.issuer}/return",
+                            "accept_types": ["ltiResourceLink"],
+                            "accept_multiple": True,
+                            "data": "d-42",
+                        },
+                    }
+                )
             token = jwt.encode(claims, KEY, algorithm="RS256", headers={"kid": "platform-1"})
-            self._send(f'<!doctype html><form method="post" action="{escape(query["redirect_uri"])}">'
-                       f'<input type="hidden" name="id_token" value="{escape(token)}">'
-                       f'<input type="hidden" name="state" value="{escape(query["state"])}"></form>'
-                       "<script>document.forms[0].submit()</script>")
+            self._send(
+                f'<!doctype html><form method="post" action="{escape(query["redirect_uri"])}">'
+                f'<input type="hidden" name="id_token" value="{escape(token)}">'
+                f'<input type="hidden" name="state" value="{escape(query["state"])}"></form>'
+                "<script>document.forms[0].submit()</script>"
+            )
         else:
             self.send_error(404)
 
@@ -101,11 +129,36 @@ def platform_and_tool(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tupl
     Platform.issuer = issuer
     threading.Thread(target=httpd.serve_forever, daemon=True).start()
     data: Path = tmp_path_factory.mktemp("lti-browser")
-    env = {**os.environ, "PALTRAINER_DATA_DIR": str(data), "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises")}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "lti-register", "--issuer", issuer,
-                    "--client-id", "browser-client", "--deployment", "d-1", "--auth-url", f"{issuer}/auth",
-                    "--token-url", f"{issuer}/token", "--jwks-url", f"{issuer}/jwks"],
-                   cwd=ROOT, env=env, check=True, capture_output=True)
+    env = {
+        **os.environ,
+        "PALTRAINER_DATA_DIR": str(data),
+        "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"),
+    }
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "lti-register",
+            "--issuer",
+            issuer,
+            "--client-id",
+            "browser-client",
+            "--deployment",
+            "d-1",
+            "--auth-url",
+            f"{issuer}/auth",
+            "--token-url",
+            f"{issuer}/token",
+            "--jwks-url",
+            f"{issuer}/jwks",
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
     try:
         with running_server(data) as tool:
             Platform.tool = tool
@@ -114,8 +167,9 @@ def platform_and_tool(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tupl
         httpd.shutdown()
 
 
-def test_learner_launch_opens_the_exercise_inside_the_platform_frame(browser: Any,
-                                                                      platform_and_tool: tuple[str, str]) -> None:
+def test_learner_launch_opens_the_exercise_inside_the_platform_frame(
+    browser: Any, platform_and_tool: tuple[str, str]
+) -> None:
     issuer, tool = platform_and_tool
     context = browser.new_context()
     page = context.new_page()
@@ -123,8 +177,12 @@ def test_learner_launch_opens_the_exercise_inside_the_platform_frame(browser: An
     page.on("console", lambda m: csp.append(m.text) if "Content Security Policy" in m.text else None)
     refused: list[str] = []
     page.on("pageerror", lambda e: refused.append(f"page error: {e}"))
-    page.on("response", lambda r: refused.append(f"{r.status} {r.url}") if r.status >= 400 and
-            r.url.startswith(tool) else None)
+    page.on(
+        "response",
+        lambda r: (
+            refused.append(f"{r.status} {r.url}") if r.status >= 400 and r.url.startswith(tool) else None
+        ),
+    )
     page.goto(f"{issuer}/course")
     page.frame_locator("#tool").locator("#title:not(:empty)").wait_for(timeout=30000)
     tool_frame = next(f for f in page.frames if f.url.startswith(f"{tool}/lti/exercise/pal-01-g1-gerade"))
@@ -138,15 +196,18 @@ def test_learner_launch_opens_the_exercise_inside_the_platform_frame(browser: An
     assert tool_frame.locator("header nav a").count() == 0
     assert tool_frame.locator("#lang").is_visible()
     # the drawing (an <img> of the API) came with the token too
-    tool_frame.wait_for_function("() => [...document.images].some(i => i.src.startsWith('blob:') && i.complete"
-                                 " && i.naturalWidth > 0)", timeout=30000)
+    tool_frame.wait_for_function(
+        "() => [...document.images].some(i => i.src.startsWith('blob:') && i.complete && i.naturalWidth > 0)",
+        timeout=30000,
+    )
     assert csp == [], csp
     assert refused == [], refused  # nothing was refused for want of a cookie, no script failed
     context.close()
 
 
 def test_deep_linking_answer_goes_back_to_the_platform_without_inline_script(
-        browser: Any, platform_and_tool: tuple[str, str]) -> None:
+    browser: Any, platform_and_tool: tuple[str, str]
+) -> None:
     issuer, _ = platform_and_tool
     context = browser.new_context()
     page = context.new_page()

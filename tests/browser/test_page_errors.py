@@ -20,7 +20,9 @@ from browser_helpers import CHROMIUM, PASSWORD, ROOT, running_server
 from test_course_page import call, token
 from test_viz_view import wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SLUG = "pal-01-g1-gerade"
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
@@ -37,8 +39,10 @@ WATCH = """(() => {
 
 @pytest.fixture(scope="module")
 def server() -> Iterator[str]:
-    with tempfile.TemporaryDirectory() as data, running_server(
-            Path(data), [(STUDENT, "student"), (TEACHER, "instructor")], workers=2) as url:
+    with (
+        tempfile.TemporaryDirectory() as data,
+        running_server(Path(data), [(STUDENT, "student"), (TEACHER, "instructor")], workers=2) as url,
+    ):
         yield url
 
 
@@ -47,15 +51,23 @@ class Problems:
 
     def __init__(self, context: Any) -> None:
         self.seen: list[str] = []
-        context.expose_binding("__pageProblem", lambda source, kind, text: self.seen.append(
-            f"{kind} in {source['frame'].url}: {text}"))
+        context.expose_binding(
+            "__pageProblem",
+            lambda source, kind, text: self.seen.append(f"{kind} in {source['frame'].url}: {text}"),
+        )
         context.add_init_script(WATCH)
         context.on("page", self.watch)
 
     def watch(self, page: Any) -> None:
         page.on("pageerror", lambda e: self.seen.append(f"pageerror in {page.url}: {e}"))
-        page.on("console", lambda m: self.seen.append(f"console in {page.url}: {m.text}")
-                if "Content Security Policy" in m.text or "Content-Security-Policy" in m.text else None)
+        page.on(
+            "console",
+            lambda m: (
+                self.seen.append(f"console in {page.url}: {m.text}")
+                if "Content Security Policy" in m.text or "Content-Security-Policy" in m.text
+                else None
+            ),
+        )
 
     def take(self) -> list[str]:
         seen, self.seen = self.seen, []

@@ -20,7 +20,9 @@ from browser_helpers import CHROMIUM, NEEDS_CHROMIUM, PASSWORD, ROOT, running_se
 pytestmark = [NEEDS_CHROMIUM]
 
 SERVER_DATA: list[str] = []  # the started server's data directory (users are made there with the admin CLI)
-SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS", "")) if os.environ.get("PALTRAINER_SCREENSHOTS") else None
+SHOTS = (
+    Path(os.environ.get("PALTRAINER_SCREENSHOTS", "")) if os.environ.get("PALTRAINER_SCREENSHOTS") else None
+)
 
 
 def shot(page: object, name: str, tmp: Path) -> None:
@@ -137,7 +139,9 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     # the 3D view (off by itself in a browser without graphics acceleration, as here): switched on, the scene
     # connects through /viz/{token} and holds the toolpath; playback steps through it
     page.click("#viz-on")
-    page.wait_for_function("() => Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=10000)
+    page.wait_for_function(
+        "() => Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=10000
+    )
     page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=15000)
     page.click("#step-back")
     page.wait_for_function("() => document.getElementById('playhead-info').textContent.includes('Zeile')")
@@ -146,7 +150,9 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.wait_for_function(f"() => document.getElementById('playhead-info').textContent !== {first!r}")
     # the editor highlights the block of the current step
     line = int(page.inner_text("#playhead-info").rsplit("Zeile", 1)[1])
-    page.wait_for_function(f"() => document.querySelector('.cm-activeLine')?.textContent === {reference.splitlines()[line - 1]!r}")
+    page.wait_for_function(
+        f"() => document.querySelector('.cm-activeLine')?.textContent === {reference.splitlines()[line - 1]!r}"
+    )
     assert "G17" in page.inner_text("#modal-state") and "G90" in page.inner_text("#modal-state")
     # Alt+→ steps forward from the keyboard, as the button does
     second = page.inner_text("#playhead-info")
@@ -157,7 +163,9 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.click("#submit")
     score = page.wait_for_selector(".score", timeout=15000)
     assert score.inner_text() == "100 von 100 Punkten"
-    legend = page.wait_for_selector("#deviation", timeout=15000)  # with the 3D view on: the deviation in colour
+    legend = page.wait_for_selector(
+        "#deviation", timeout=15000
+    )  # with the 3D view on: the deviation in colour
     assert "Toleranzband" in legend.inner_text()
     page.click("#viz-off")
     page.wait_for_selector("#viz-on")
@@ -165,10 +173,28 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.close()
 
 
-def test_instructor_uploads_an_exercise_and_filters_submissions(server: str, browser: object, tmp_path: Path) -> None:
+def test_instructor_uploads_an_exercise_and_filters_submissions(
+    server: str, browser: object, tmp_path: Path
+) -> None:
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "lehrer", "--role", "instructor",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            "lehrer",
+            "--role",
+            "instructor",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
     page = browser.new_page()  # type: ignore[attr-defined]
     page.goto(f"{server}/login?next=/instructor")
     page.fill("input[name=username]", "lehrer")
@@ -179,36 +205,64 @@ def test_instructor_uploads_an_exercise_and_filters_submissions(server: str, bro
     text = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.yaml").read_text(encoding="utf-8")
     reference = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
     upload = text.replace("id: pal-05-g2-kreisbogen", "id: lehrer-kreisbogen").replace(
-        "reference_file: pal-05-g2-kreisbogen.nc\n", "reference: |\n" + "".join(f"  {x}\n" for x in reference.splitlines()))
+        "reference_file: pal-05-g2-kreisbogen.nc\n",
+        "reference: |\n" + "".join(f"  {x}\n" for x in reference.splitlines()),
+    )
     # the exercise file is the secondary way beside the editor: "Import und Export" on the instructor's page
     page.click("#my-exercises details.yaml-import summary")
     broken = upload.replace("feed: 150", "feed: -1").encode()
-    page.set_input_files("#import-exercise", files=[{"name": "kreisbogen.yaml", "mimeType": "application/yaml",
-                                                     "buffer": broken}])
+    page.set_input_files(
+        "#import-exercise",
+        files=[{"name": "kreisbogen.yaml", "mimeType": "application/yaml", "buffer": broken}],
+    )
     page.wait_for_selector("#my-exercises-message .error")
     assert "ungültig" in page.inner_text("#my-exercises-message")
     with page.expect_navigation():  # a new draft opens in the editor
-        page.set_input_files("#import-exercise", files=[{"name": "kreisbogen.yaml", "mimeType": "application/yaml",
-                                                         "buffer": upload.encode()}])
+        page.set_input_files(
+            "#import-exercise",
+            files=[{"name": "kreisbogen.yaml", "mimeType": "application/yaml", "buffer": upload.encode()}],
+        )
     assert page.url.endswith("/exercises/lehrer-kreisbogen/edit")
     page.wait_for_selector("#reference-editor .cm-content")
     shot(page, "instructor-upload", tmp_path)
     page.goto(f"{server}/instructor")
     page.wait_for_selector("#filter")
     page.select_option("#filter", "lehrer-kreisbogen")
-    page.wait_for_function("() => document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')")
+    page.wait_for_function(
+        "() => document.getElementById('csv').href.endsWith('?exercise=lehrer-kreisbogen')"
+    )
     page.close()
 
 
 def test_instructor_page_names_the_learner_of_a_platform_submission(server: str, browser: object) -> None:
     """A learning platform submits through an instructor's key for its learner: the page shows the learner."""
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "lehrerin", "--role", "instructor",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            "lehrerin",
+            "--role",
+            "instructor",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
 
     def call(path: str, body: dict[str, object], headers: dict[str, str]) -> dict[str, object]:
-        request = urllib.request.Request(f"{server}/api/v1{path}", data=json.dumps(body).encode(), method="POST",
-                                         headers={"Content-Type": "application/json", **headers})
+        request = urllib.request.Request(
+            f"{server}/api/v1{path}",
+            data=json.dumps(body).encode(),
+            method="POST",
+            headers={"Content-Type": "application/json", **headers},
+        )
         with urllib.request.urlopen(request, timeout=30) as r:
             answer: dict[str, object] = json.loads(r.read())
             return answer
@@ -216,13 +270,18 @@ def test_instructor_page_names_the_learner_of_a_platform_submission(server: str,
     login = call("/auth/login", {"username": "lehrerin", "password": PASSWORD}, {})
     assert login["username"] == "lehrerin"
     form = urllib.parse.urlencode({"username": "lehrerin", "password": PASSWORD}).encode()
-    with urllib.request.urlopen(urllib.request.Request(f"{server}/api/v1/auth/token", data=form), timeout=30) as r:
+    with urllib.request.urlopen(
+        urllib.request.Request(f"{server}/api/v1/auth/token", data=form), timeout=30
+    ) as r:
         bearer = {"Authorization": f"Bearer {json.loads(r.read())['access_token']}"}
     program = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X0 Y0 Z2\nN40 G1 Z-2\nN50 G1 X20\nN60 G0 Z50 M30\n"
     call("/exercises", {"slug": "moodle-nut", "title_de": "Nut", "reference_program": program}, bearer)
     key = call("/api-keys", {"name": "Moodle", "scopes": ["submissions:write"]}, bearer)["key"]
-    call("/submissions", {"exercise": "moodle-nut", "program": program, "external_user": "moodle-learner-9"},
-         {"X-API-Key": str(key)})
+    call(
+        "/submissions",
+        {"exercise": "moodle-nut", "program": program, "external_user": "moodle-learner-9"},
+        {"X-API-Key": str(key)},
+    )
     page = browser.new_page()  # type: ignore[attr-defined]
     page.goto(f"{server}/login?next=/instructor")
     page.fill("input[name=username]", "lehrerin")
@@ -232,5 +291,7 @@ def test_instructor_page_names_the_learner_of_a_platform_submission(server: str,
     page.wait_for_selector("#filter")
     page.select_option("#filter", "moodle-nut")
     page.wait_for_selector("#submission-list tbody tr")
-    assert page.inner_text("#submission-list tbody tr td:nth-child(3)") == "moodle-learner-9"  # not the key's owner
+    assert (
+        page.inner_text("#submission-list tbody tr td:nth-child(3)") == "moodle-learner-9"
+    )  # not the key's owner
     page.close()

@@ -12,12 +12,16 @@ import pytest
 from test_practice_page import CHROMIUM, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
-PROGRAM = ("%\nO1 (ABSATZ DREHEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nL1 = 36\n"
-           "N40 G0 X44 Z2 M8\nN50 G1 Z0 F0.2\nN60 X-1.6\nN70 G0 X L1 Z2\nN80 G1 Z-[L1/2+2]\nN90 U4\n"
-           "N100 Z-35\nN110 G0 X100 Z100 M9\nN120 M30\n")
+PROGRAM = (
+    "%\nO1 (ABSATZ DREHEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nL1 = 36\n"
+    "N40 G0 X44 Z2 M8\nN50 G1 Z0 F0.2\nN60 X-1.6\nN70 G0 X L1 Z2\nN80 G1 Z-[L1/2+2]\nN90 U4\n"
+    "N100 Z-35\nN110 G0 X100 Z100 M9\nN120 M30\n"
+)
 
 # the colour of the first span in the editor whose text starts with `text` (the highlighting of that word)
 COLOUR = """(text) => {
@@ -84,7 +88,9 @@ def test_turning_on_the_practice_page(server: str, browser: object) -> None:  # 
     page.click("#viz-on")
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=30)
     page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
-    assert page.is_visible(".viz-lathe-note") and page.is_visible(".viz-legend")  # deviation colours after grading
+    assert page.is_visible(".viz-lathe-note") and page.is_visible(
+        ".viz-legend"
+    )  # deviation colours after grading
     page.click("#step-back")  # from the last piece (N110) to the one before: N100 Z-35 at Ø44, radius 22
     wait_until(page, "document.getElementById('modal-state').textContent.includes('Z-35')")
     state = page.inner_text("#modal-state")
@@ -96,9 +102,11 @@ def test_turning_on_the_practice_page(server: str, browser: object) -> None:  # 
     context.close()
 
 
-CYCLE = ("%\nO2 (SCHRUPPEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nN40 G0 X60 Z2 M8\n"
-         "N50 G71 P60 Q80 I0.5 K0.1 D2.5 F0.25\nN60 G0 X30 Z2\nN70 G1 Z-20 F0.2\nN80 X60\n"
-         "N90 G0 X100 Z100 M9\nN100 M30\n")
+CYCLE = (
+    "%\nO2 (SCHRUPPEN)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nN40 G0 X60 Z2 M8\n"
+    "N50 G71 P60 Q80 I0.5 K0.1 D2.5 F0.25\nN60 G0 X30 Z2\nN70 G1 Z-20 F0.2\nN80 X60\n"
+    "N90 G0 X100 Z100 M9\nN100 M30\n"
+)
 
 
 def hover_note(browser: object, url: str, dialect: str, program: str, needle: str) -> str:
@@ -126,12 +134,16 @@ def test_hover_over_a_cycle_block_tells_its_passes(server: str, browser: object)
     assert note == "Zyklus G71: 6 Schnitte in diesem Programm", note
 
 
-POCKET = ("N10 T2 M6\nN20 S2000 F300 M3\nN30 G0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP30 D2 V2 RN8\n"
-          "N50 G79 X50 Y40 Z0\nN60 G0 Z50\nN70 M30\n")
+POCKET = (
+    "N10 T2 M6\nN20 S2000 F300 M3\nN30 G0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP30 D2 V2 RN8\n"
+    "N50 G79 X50 Y40 Z0\nN60 G0 Z50\nN70 M30\n"
+)
 
 
-HOLES = ("N10 T3 M6\nN20 S1800 F180 M3\nN30 G0 X0 Y0 Z10\nN40 G81 ZI-10 V2\n"
-         "N50 G77 IA50 JA50 R20 AN0 AI90 O4 Z0\nN60 G0 Z50\nN70 M30\n")
+HOLES = (
+    "N10 T3 M6\nN20 S1800 F180 M3\nN30 G0 X0 Y0 Z10\nN40 G81 ZI-10 V2\n"
+    "N50 G77 IA50 JA50 R20 AN0 AI90 O4 Z0\nN60 G0 Z50\nN70 M30\n"
+)
 
 
 def test_hover_over_a_pal_cycle_call_names_its_definition(server: str, browser: object) -> None:  # noqa: F811

@@ -11,13 +11,17 @@ import pytest
 from test_practice_page import CHROMIUM, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 # a shoulder Ø36 with a rounding, a groove Ø30 and Ø44 behind it, in a tube with a bore of Ø20
-PROGRAM = ("%\nO1 (ABSATZ UND EINSTICH)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\n"
-           "N40 G0 X44 Z2 M8\nN50 G1 Z0 F0.2\nN60 X18\nN70 G0 X36 Z2\nN80 G1 Z-20 R2\nN90 X44\nN100 Z-26\n"
-           "N110 X30 Z-30\nN120 Z-34\nN130 X44 Z-38\nN140 Z-45\nN150 G0 X100 Z100 M9\nN160 M30\n")
+PROGRAM = (
+    "%\nO1 (ABSATZ UND EINSTICH)\nN10 G59 Z200\nN20 G96 V200 T0101 M4\nN30 G92 S3000\n"
+    "N40 G0 X44 Z2 M8\nN50 G1 Z0 F0.2\nN60 X18\nN70 G0 X36 Z2\nN80 G1 Z-20 R2\nN90 X44\nN100 Z-26\n"
+    "N110 X30 Z-30\nN120 Z-34\nN130 X44 Z-38\nN140 Z-45\nN150 G0 X100 Z100 M9\nN160 M30\n"
+)
 
 
 def _practice(server: str, browser: object, width: int, height: int) -> object:  # noqa: F811
@@ -72,8 +76,11 @@ def test_turned_part_blank_playback_and_half_section(server: str, browser: objec
     page.wait_for_timeout(2500)  # type: ignore[attr-defined]
     page.screenshot(path=str(SHOTS / "traub-stock-playback-laptop.png"))  # type: ignore[attr-defined]
     page.click("#play")  # type: ignore[attr-defined]
-    wait_until(page, "document.getElementById('playhead').value === document.getElementById('playhead').max",
-               timeout=30)
+    wait_until(
+        page,
+        "document.getElementById('playhead').value === document.getElementById('playhead').max",
+        timeout=30,
+    )
 
     # the half section: the part cut open along the drawing plane, the bore in sight
     page.click("#viz-half")  # type: ignore[attr-defined]

@@ -113,7 +113,10 @@ def test_start_page_for_a_visitor(server: str, browser: Any, size: str) -> None:
     what = page.inner_text(".start-what")
     assert what.startswith("PAL Trainer ist ") and len(re.findall(r"[.!?](?:\s|$)", what)) == 2, what
     practice = page.locator("a#start-practice")
-    assert practice.inner_text() == "Freies Üben — ohne Anmeldung" and practice.get_attribute("href") == "/practice"
+    assert (
+        practice.inner_text() == "Freies Üben — ohne Anmeldung"
+        and practice.get_attribute("href") == "/practice"
+    )
     assert page.inner_text("#login-title") == "Anmelden"
     assert page.locator(".start-login button[type=submit]").inner_text() == "Anmelden"
     assert page.is_visible("input[name=username]") and page.is_visible("input[name=password]")
@@ -241,9 +244,17 @@ def test_tablet_editor_has_room(server: str, browser: Any) -> None:
     open_exercise(page, server)
     # the task folded to a strip: its tabs and the exercise's title, the panels out of the way
     assert page.get_attribute("#side-toggle", "aria-expanded") == "false"
-    assert not page.is_visible("#panel-task") and page.is_visible("#tab-task") and page.is_visible("#tab-drawing")
-    assert page.get_attribute("#side-title", "data-title").startswith("G2 – ") and page.is_visible("#side-title")
-    assert page.evaluate("getComputedStyle(document.getElementById('side-title'), '::before').content").startswith('"G2 – ')
+    assert (
+        not page.is_visible("#panel-task")
+        and page.is_visible("#tab-task")
+        and page.is_visible("#tab-drawing")
+    )
+    assert page.get_attribute("#side-title", "data-title").startswith("G2 – ") and page.is_visible(
+        "#side-title"
+    )
+    assert page.evaluate(
+        "getComputedStyle(document.getElementById('side-title'), '::before').content"
+    ).startswith('"G2 – ')
     program = "\n".join(f"N{10 * k} G1 X{k} Y{k} F250" for k in range(1, 41)) + "\nN410 M30\n"
     put_program(page, program)
     page.evaluate("window.scrollTo(0, 0)")

@@ -15,13 +15,23 @@ from pathlib import Path
 import pytest
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, server  # noqa: F401 (fixtures)
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024)}
 SLUG = "pal-01-g1-gerade"
 # text a trainee must never see in the view: viser's panel, its status, its address, its notices
-DEVELOPER_TEXT = ("Connected", "Dev Settings", "Scene tree", "Software WebGL", "ws://", "Save Canvas", "Reset View")
+DEVELOPER_TEXT = (
+    "Connected",
+    "Dev Settings",
+    "Scene tree",
+    "Software WebGL",
+    "ws://",
+    "Save Canvas",
+    "Reset View",
+)
 
 
 # the elements that reach beyond the window's right edge (to say what overflows)
@@ -68,15 +78,22 @@ def frame_fit(page: object) -> dict[str, float]:
     shot = page.locator("#viz-frame").screenshot()  # type: ignore[attr-defined]
     for layer in ("rapid", "feed", "contour"):
         page.check(f"#layer-{layer}")  # type: ignore[attr-defined]
-    image = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"), dtype=np.int32)[3:-3, 3:-3]  # inside the border
+    image = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"), dtype=np.int32)[
+        3:-3, 3:-3
+    ]  # inside the border
     backdrop = np.median(np.concatenate([image[0], image[-1], image[:, 0], image[:, -1]]), axis=0)
     part = np.abs(image - backdrop).sum(axis=2) > 24
     rows, cols = np.flatnonzero(part.any(axis=1)), np.flatnonzero(part.any(axis=0))
     height, width = part.shape
     assert len(rows) and len(cols), "nothing drawn in the 3D frame"
-    return {"left": cols[0] / width, "right": 1 - (cols[-1] + 1) / width, "top": rows[0] / height,
-            "bottom": 1 - (rows[-1] + 1) / height, "width": (cols[-1] + 1 - cols[0]) / width,
-            "height": (rows[-1] + 1 - rows[0]) / height}
+    return {
+        "left": cols[0] / width,
+        "right": 1 - (cols[-1] + 1) / width,
+        "top": rows[0] / height,
+        "bottom": 1 - (rows[-1] + 1) / height,
+        "width": (cols[-1] + 1 - cols[0]) / width,
+        "height": (rows[-1] + 1 - rows[0]) / height,
+    }
 
 
 @pytest.mark.parametrize("size", list(SIZES))
@@ -125,18 +142,33 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     assert token not in text
     # our own controls: views, layers with their colours, the deviation legend (German)
     toolbar = page.inner_text(".viz-toolbar")
-    for label in ("Oben", "Vorne", "Iso", "Zurücksetzen", "Eilgang", "Vorschub", "Kontur", "Rohteil",
-                  "zu viel abgetragen", "zu viel stehen gelassen"):
+    for label in (
+        "Oben",
+        "Vorne",
+        "Iso",
+        "Zurücksetzen",
+        "Eilgang",
+        "Vorschub",
+        "Kontur",
+        "Rohteil",
+        "zu viel abgetragen",
+        "zu viel stehen gelassen",
+    ):
         assert label in toolbar, label
     # nothing in the 3D panel sticks out of it (the page's own layout is tested with the pages)
-    assert page.evaluate("(v => v.scrollWidth <= v.clientWidth)(document.getElementById('viz'))"), page.evaluate(WIDER)
+    assert page.evaluate("(v => v.scrollWidth <= v.clientWidth)(document.getElementById('viz'))"), (
+        page.evaluate(WIDER)
+    )
     page.locator("#viz").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / f"viz-iso-{size}.png"))
 
     # every preset view frames the stock with a margin: nothing of it cut off, and it fills the view
     # (the zero's Z axis and the tool stand above the part in the views from the side: their tops not counted)
-    for view, sides in (("top", ("left", "right", "top", "bottom")), ("front", ("left", "right", "bottom")),
-                        ("iso", ("left", "right", "bottom"))):
+    for view, sides in (
+        ("top", ("left", "right", "top", "bottom")),
+        ("front", ("left", "right", "bottom")),
+        ("iso", ("left", "right", "bottom")),
+    ):
         page.click(f"#view-{view}")
         page.wait_for_timeout(2500)
         page.locator("#viz").scroll_into_view_if_needed()
@@ -145,7 +177,10 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
         for side in sides:
             assert fit[side] > 0.02, (view, side, fit)
         assert max(fit["width"], fit["height"]) > 0.6, (view, fit)
-        assert fit["left"] < 0.3 and fit["right"] < 0.3 or fit["top"] < 0.3 and fit["bottom"] < 0.3, (view, fit)
+        assert fit["left"] < 0.3 and fit["right"] < 0.3 or fit["top"] < 0.3 and fit["bottom"] < 0.3, (
+            view,
+            fit,
+        )
         assert abs(fit["left"] - fit["right"]) < 0.08, (view, fit)  # centred
 
     page.click("#view-top")
@@ -179,7 +214,9 @@ def test_the_2d_view_of_a_turning_program(server: str, browser: object, size: st
     page = browser.new_page(viewport={"width": width, "height": height})  # type: ignore[attr-defined]
     page.goto(f"{server}/practice?dialect=traub-tx8d")
     page.wait_for_selector(".cm-content")
-    program = (ROOT / "exercises" / "traub-tx8d" / "traub-10-schruppen-g71-g88.nc").read_text(encoding="utf-8")
+    program = (ROOT / "exercises" / "traub-tx8d" / "traub-10-schruppen-g71-g88.nc").read_text(
+        encoding="utf-8"
+    )
     page.click(".cm-content")
     page.keyboard.press("Control+a")
     page.keyboard.insert_text(program)

@@ -18,7 +18,9 @@ import pytest
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
-pytestmark = [pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")]
+pytestmark = [
+    pytest.mark.skipif(CHROMIUM is None, reason="Chromium not installed (.ci/run installs Debian's package)")
+]
 
 SLUG = "pal-01-g1-gerade"
 REFERENCE = (ROOT / "exercises" / "pal-mill" / f"{SLUG}.nc").read_text(encoding="utf-8")
@@ -33,8 +35,9 @@ def shot(page: object, name: str, full_page: bool = False) -> None:
 
 def admin(*args: str) -> None:
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=env, check=True,
-                   capture_output=True)
+    subprocess.run(
+        [sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=env, check=True, capture_output=True
+    )
 
 
 @pytest.fixture(scope="module")
@@ -51,13 +54,18 @@ def login(browser: object, server: str, user: str, password: str = PASSWORD) -> 
     page.fill("input[name=username]", user)
     page.fill("input[name=password]", password)
     page.click("button[type=submit]")
-    page.wait_for_url(lambda url: url in (f"{server}/", f"{server}/instructor"))  # instructors land on their page
+    page.wait_for_url(
+        lambda url: url in (f"{server}/", f"{server}/instructor")
+    )  # instructors land on their page
     return ctx, page
 
 
 def editor_text(page: object) -> str:
-    return str(page.evaluate(  # type: ignore[attr-defined]
-        "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"))
+    return str(
+        page.evaluate(  # type: ignore[attr-defined]
+            "[...document.querySelectorAll('.cm-content .cm-line')].map((l) => l.textContent).join('\\n')"
+        )
+    )
 
 
 def show_tab(page: object, tab: str) -> None:
@@ -104,8 +112,9 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     # submits twice: the typed start, then the whole program (opened from a file)
     first_score = submit(page)
     assert "von 100 Punkten" in first_score and not first_score.startswith("100 ")
-    page.set_input_files("#open-file", files=[{"name": "loesung.nc", "mimeType": "text/plain",
-                                               "buffer": REFERENCE.encode()}])
+    page.set_input_files(
+        "#open-file", files=[{"name": "loesung.nc", "mimeType": "text/plain", "buffer": REFERENCE.encode()}]
+    )
     wait_until(page, "document.querySelector('.cm-content').textContent.includes('N90 G0 X250')")
     assert submit(page) == "100 von 100 Punkten"
 
@@ -152,21 +161,29 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     assert mine[1] == TEACHER and mine[4] == "100" and mine[7] == "2"
 
     # the first submission opened read-only: the typed program, its messages and criteria with line links
-    ids = sorted(int(a.inner_text()) for a in page.locator("#submission-list tbody tr", has_text=TRAINEE)
-                 .locator("td:first-child a").all())
+    ids = sorted(
+        int(a.inner_text())
+        for a in page.locator("#submission-list tbody tr", has_text=TRAINEE).locator("td:first-child a").all()
+    )
     assert len(ids) == 2
     page.click(f"#submission-list a[href='/instructor?submission={ids[0]}']")
     page.wait_for_selector("#submission-view #submission-program", timeout=20000)
     view = page.inner_text("#submission-view")
-    assert f"Abgabe Nr. {ids[0]} von {TRAINEE}" in view and "erster Versuch" in page.inner_text("#submission-program")
+    assert f"Abgabe Nr. {ids[0]} von {TRAINEE}" in view and "erster Versuch" in page.inner_text(
+        "#submission-program"
+    )
     assert first_score in view and "null" not in view
     links = page.locator("#submission-view .criteria .line-link, #submission-diagnostics .line-link")
     assert links.count() >= 1
     links.first.click()
     assert page.locator("#submission-program li.marked").count() == 1
     # the part after the program (3D view, or its picture where the browser draws 3D without acceleration)
-    wait_until(page, "document.querySelector('#submission-viz #viz-picture')?.naturalWidth > 100"
-                     " || document.querySelector('#submission-viz #viz-frame')?.src", timeout=30)
+    wait_until(
+        page,
+        "document.querySelector('#submission-viz #viz-picture')?.naturalWidth > 100"
+        " || document.querySelector('#submission-viz #viz-frame')?.src",
+        timeout=30,
+    )
     shot(page, "submission", full_page=True)
     # the best one from the results table: full marks
     page.locator("#results-table tbody tr", has_text=TRAINEE).locator("a").first.click()
@@ -175,13 +192,24 @@ def test_a_day(server: str, browser: object, people: tuple[str, str], tmp_path: 
     assert "100 von 100 Punkten" in page.inner_text("#submission-view")
 
     # a class list: the generated password shown once, and it works
-    page.set_input_files("#class-file", files=[{"name": "klasse.csv", "mimeType": "text/csv",
-                                                "buffer": "Name;Passwort\nklasse-anna\nklasse-ben;ein Passwort mit Länge\n"
-                                                .encode("utf-8-sig")}])
+    page.set_input_files(
+        "#class-file",
+        files=[
+            {
+                "name": "klasse.csv",
+                "mimeType": "text/csv",
+                "buffer": "Name;Passwort\nklasse-anna\nklasse-ben;ein Passwort mit Länge\n".encode(
+                    "utf-8-sig"
+                ),
+            }
+        ],
+    )
     page.wait_for_selector("#class-passwords", timeout=20000)
     cells = [c.inner_text() for c in page.locator("#class-passwords tbody td").all()]
     shot(page, "instructor")
-    assert cells[0] == "klasse-anna" and len(cells[1]) == 12 and cells[2:] == ["klasse-ben", "(aus der Liste)"]
+    assert (
+        cells[0] == "klasse-anna" and len(cells[1]) == 12 and cells[2:] == ["klasse-ben", "(aus der Liste)"]
+    )
     page.reload()
     page.wait_for_selector("#results-table", timeout=20000)
     assert page.locator("#results-table tbody tr", has_text="klasse-anna").count() == 1
@@ -209,7 +237,9 @@ def test_hints_one_at_a_time_and_the_solution_after_a_submission(server: str, br
     page.wait_for_selector("#hint-list li")  # still shown after a reload
     # the solution: after the first submission (the server's reason in German until then)
     page.click("#solution-show")
-    wait_until(page, "document.getElementById('solution-message').textContent.includes('nach der ersten Abgabe')")
+    wait_until(
+        page, "document.getElementById('solution-message').textContent.includes('nach der ersten Abgabe')"
+    )
     assert not page.locator("#solution-dialog").count()
     submit(page)
     page.click("#solution-show")

@@ -37,7 +37,9 @@ POSTGRES_URL = os.environ.get("PALTRAINER_TEST_POSTGRES_URL")
 MISSING = binaries_missing() + ([] if POSTGRES_URL else ["PostgreSQL (PALTRAINER_TEST_POSTGRES_URL)"])
 if MISSING and os.environ.get("CI"):
     raise RuntimeError(f"the scale test needs {', '.join(MISSING)} in CI (bash .ci/run installs them)")
-pytestmark = pytest.mark.skipif(bool(MISSING), reason=f"needs {', '.join(MISSING)} (bash .ci/run installs them)")
+pytestmark = pytest.mark.skipif(
+    bool(MISSING), reason=f"needs {', '.join(MISSING)} (bash .ci/run installs them)"
+)
 
 USERS, PER_USER = 6, 50  # 300 submissions (few users: making one hashes its password, ~1 s)
 LIVE_SESSIONS = 100
@@ -52,9 +54,12 @@ RUN_ERRORS = {"TIME_LIMIT", "WORKER_FAILED", "BUSY", "RUN_FAILED"}  # server/liv
 @pytest.fixture(scope="module")
 def cluster() -> Iterator[Cluster]:
     assert POSTGRES_URL
-    env = {"PALTRAINER_RATE_CHECK_PER_MINUTE": str(CHECK_LIMIT), "PALTRAINER_RATE_SUBMIT_PER_MINUTE": "1000",
-           "PALTRAINER_HEAVY_JOBS_PER_USER": "1000",  # a few test users stand for a class: no per-user cap
-           "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000"}
+    env = {
+        "PALTRAINER_RATE_CHECK_PER_MINUTE": str(CHECK_LIMIT),
+        "PALTRAINER_RATE_SUBMIT_PER_MINUTE": "1000",
+        "PALTRAINER_HEAVY_JOBS_PER_USER": "1000",  # a few test users stand for a class: no per-user cap
+        "PALTRAINER_LIVE_CONNECTIONS_PER_ADDRESS": "1000",
+    }
     users = "".join(f"scale{i};{PASSWORD}\n" for i in range(USERS + 1))
     with Cluster(own_schema(POSTGRES_URL, "scale"), replicas=3, workers=1, env=env, users=users) as c:
         yield c
@@ -77,14 +82,19 @@ async def submit(client: httpx.AsyncClient, base: str, token: str, key: str, tal
     """POST until acknowledged, with the same Idempotency-Key each time (a lost answer is asked for again)."""
     for _ in range(60):
         try:
-            r = await client.post(f"{base}/api/v1/submissions", json={"exercise": EXERCISE, "program": PROGRAM},
-                                  headers={"Authorization": f"Bearer {token}", "Idempotency-Key": key})
+            r = await client.post(
+                f"{base}/api/v1/submissions",
+                json={"exercise": EXERCISE, "program": PROGRAM},
+                headers={"Authorization": f"Bearer {token}", "Idempotency-Key": key},
+            )
         except httpx.TransportError:
             r = None
         if r is not None and r.status_code in (200, 201):
             tally.acknowledged[key] = int(r.json()["id"])
             return
-        assert r is None or r.status_code in (502, 503, 504), r.text  # the balancer lost the replica mid-request
+        assert r is None or r.status_code in (502, 503, 504), (
+            r.text
+        )  # the balancer lost the replica mid-request
         tally.retries += 1
         await asyncio.sleep(0.2)
     raise AssertionError(f"submission {key} was never acknowledged")
@@ -96,8 +106,9 @@ class LiveResult:
     answered_after_kill: bool = False
 
 
-async def live_session(ws_url: str, n: int, killed: asyncio.Event, done: asyncio.Event, rng: random.Random,
-                       result: LiveResult) -> None:
+async def live_session(
+    ws_url: str, n: int, killed: asyncio.Event, done: asyncio.Event, rng: random.Random, result: LiveResult
+) -> None:
     """Types a line every ~0.5 s and waits for the update that answers it; reconnects (and opens its text again)
     when the socket goes; ends once the load is over and it has had an answer after the kill."""
     lines = PROGRAM.splitlines()
@@ -107,8 +118,16 @@ async def live_session(ws_url: str, n: int, killed: asyncio.Event, done: asyncio
             async with connect(ws_url, open_timeout=5, close_timeout=1) as ws:
                 result.connections += 1
                 version += 1
-                await ws.send(json.dumps({"type": "open", "version": version, "text": "\n".join(lines) + "\n",
-                                          "dialect": "pal-mill"}))
+                await ws.send(
+                    json.dumps(
+                        {
+                            "type": "open",
+                            "version": version,
+                            "text": "\n".join(lines) + "\n",
+                            "dialect": "pal-mill",
+                        }
+                    )
+                )
                 while True:
                     while True:  # the update (or error) that answers `version`
                         msg = json.loads(await asyncio.wait_for(ws.recv(), 15))
@@ -123,13 +142,23 @@ async def live_session(ws_url: str, n: int, killed: asyncio.Event, done: asyncio
                     await asyncio.sleep(rng.uniform(0.25, 0.75))
                     version += 1
                     line = rng.randrange(6, 8)  # a G1 line: its X or Y word changes
-                    lines[line - 1] = f"N{line}0 G1 X{rng.randrange(40, 80)}" if line == 6 else f"N70 G1 Y{rng.randrange(60, 90)}"
-                    await ws.send(json.dumps({"type": "edit", "version": version, "line": line, "text": lines[line - 1]}))
+                    lines[line - 1] = (
+                        f"N{line}0 G1 X{rng.randrange(40, 80)}"
+                        if line == 6
+                        else f"N70 G1 Y{rng.randrange(60, 90)}"
+                    )
+                    await ws.send(
+                        json.dumps(
+                            {"type": "edit", "version": version, "line": line, "text": lines[line - 1]}
+                        )
+                    )
         except (ConnectionClosed, OSError, InvalidStatus, TimeoutError):
             await asyncio.sleep(0.2 + rng.random() * 0.3)
 
 
-async def viz_failover(client: httpx.AsyncClient, cluster: Cluster, killed: asyncio.Event) -> tuple[float, float]:
+async def viz_failover(
+    client: httpx.AsyncClient, cluster: Cluster, killed: asyncio.Event
+) -> tuple[float, float]:
     """A 3D view on the victim: seconds from the kill until the page has opened a new scene on another replica
     (noticed, asked for a new session, got its token), and until that scene's viewer is up and shows the
     program (a viser server started and a run in a worker, behind the load's)."""
@@ -176,8 +205,10 @@ async def scenario(cluster: Cluster) -> None:
         tokens = [await token_of(client, cluster.url, f"scale{i}") for i in range(USERS)]
         ws_url = cluster.url.replace("http", "ws", 1) + "/api/v1/live"
         results = [LiveResult() for _ in range(LIVE_SESSIONS)]
-        live = [asyncio.create_task(live_session(ws_url, n, killed, done, random.Random(n), results[n]))
-                for n in range(LIVE_SESSIONS)]
+        live = [
+            asyncio.create_task(live_session(ws_url, n, killed, done, random.Random(n), results[n]))
+            for n in range(LIVE_SESSIONS)
+        ]
         viz = asyncio.create_task(viz_failover(client, cluster, killed))
         jobs = [(tokens[u], f"scale-{u}-{k}") for k in range(PER_USER) for u in range(USERS)]
         queue: asyncio.Queue[tuple[str, str]] = asyncio.Queue()
@@ -206,8 +237,10 @@ async def scenario(cluster: Cluster) -> None:
     assert killed.is_set() and len(tally.acknowledged) == len(jobs)
     engine = create_engine(cluster.database_url.replace("postgresql://", "postgresql+psycopg://", 1))
     with engine.connect() as conn:
-        rows = conn.execute(text("SELECT id, idempotency_key FROM submissions WHERE idempotency_key LIKE :pattern"),
-                            {"pattern": "%:scale-%"}).all()
+        rows = conn.execute(
+            text("SELECT id, idempotency_key FROM submissions WHERE idempotency_key LIKE :pattern"),
+            {"pattern": "%:scale-%"},
+        ).all()
     engine.dispose()
     stored = Counter(key.split(":", 1)[1] for _, key in rows)
     assert not [k for k, n in stored.items() if n != 1], "a submission stored twice"
@@ -219,9 +252,11 @@ async def scenario(cluster: Cluster) -> None:
     assert LIVE_SESSIONS // 10 <= reconnected <= LIVE_SESSIONS * 2 // 3, reconnected
     assert opened < 2.0, f"the new 3D scene was open after {opened:.2f} s"
     assert shown < 10.0, f"the new 3D scene showed the program after {shown:.2f} s"
-    print(f"\nscale: {len(jobs)} submissions ({tally.retries} retried) and {LIVE_SESSIONS} live sessions "
-          f"({reconnected} reconnected) in {loaded:.1f} s; 3D view open again after {opened:.2f} s, "
-          f"showing the program after {shown:.2f} s")
+    print(
+        f"\nscale: {len(jobs)} submissions ({tally.retries} retried) and {LIVE_SESSIONS} live sessions "
+        f"({reconnected} reconnected) in {loaded:.1f} s; 3D view open again after {opened:.2f} s, "
+        f"showing the program after {shown:.2f} s"
+    )
 
 
 async def rate_limits_hold(client: httpx.AsyncClient, cluster: Cluster, token: str) -> None:
@@ -230,13 +265,17 @@ async def rate_limits_hold(client: httpx.AsyncClient, cluster: Cluster, token: s
     body = {"program": "N10 G0 X0 Y0 Z2\nN20 M30\n"}
     statuses = Counter()
     for i in range(CHECK_LIMIT * 2):
-        r = await client.post(f"{living[i % 2]}/api/v1/check", json=body, headers={"Authorization": f"Bearer {token}"})
+        r = await client.post(
+            f"{living[i % 2]}/api/v1/check", json=body, headers={"Authorization": f"Bearer {token}"}
+        )
         statuses[r.status_code] += 1
     assert statuses == {200: CHECK_LIMIT, 429: CHECK_LIMIT}, statuses
     logins = Counter()
     for i in range(8):  # 5 wrong passwords per user name and minute, wherever they are tried
-        r = await client.post(f"{living[i % 2]}/api/v1/auth/token", data={"username": f"scale{USERS}",
-                                                                          "password": "wrong-password"})
+        r = await client.post(
+            f"{living[i % 2]}/api/v1/auth/token",
+            data={"username": f"scale{USERS}", "password": "wrong-password"},
+        )
         logins[r.status_code] += 1
     assert logins == {401: 5, 429: 3}, logins
 
@@ -251,7 +290,9 @@ def test_the_page_opens_a_new_scene_when_its_replica_dies(cluster: Cluster) -> N
     from playwright.sync_api import sync_playwright
 
     with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM, args=["--headless", "--no-sandbox", "--disable-gpu"])
+        browser = p.chromium.launch(
+            executable_path=CHROMIUM, args=["--headless", "--no-sandbox", "--disable-gpu"]
+        )
         try:
             page = browser.new_page(viewport={"width": 1366, "height": 768})
             page.goto(f"{cluster.url}/practice")
@@ -266,7 +307,11 @@ def test_the_page_opens_a_new_scene_when_its_replica_dies(cluster: Cluster) -> N
             replica = replica.split(".")[0]
             cluster.kill(replica)
             killed = time.monotonic()
-            poll(page, f"!document.getElementById('viz-frame').getAttribute('src').startsWith('/viz/{replica}.')", 5)
+            poll(
+                page,
+                f"!document.getElementById('viz-frame').getAttribute('src').startsWith('/viz/{replica}.')",
+                5,
+            )
             moved = time.monotonic() - killed
             poll(page, segments, 20)
             shown = time.monotonic() - killed

@@ -20,17 +20,35 @@ def course_with(api: Api, teacher: dict[str, str], *students: dict[str, str]) ->
     r = api.client.post("/api/v1/courses", json={"name": "Klasse"}, headers=auth(teacher))
     assert r.status_code == 201, r.text
     for s in students:
-        assert api.client.post("/api/v1/courses/join", json={"code": r.json()["join_code"]},
-                               headers=auth(s)).status_code == 200
+        assert (
+            api.client.post(
+                "/api/v1/courses/join", json={"code": r.json()["join_code"]}, headers=auth(s)
+            ).status_code
+            == 200
+        )
     return int(r.json()["id"])
 
 
-def assign(api: Api, teacher: dict[str, str], course: int, exercises: list[str], *, exam: bool = True,
-           start: float = -1, minutes: int = 90, **settings: Any) -> int:
+def assign(
+    api: Api,
+    teacher: dict[str, str],
+    course: int,
+    exercises: list[str],
+    *,
+    exam: bool = True,
+    start: float = -1,
+    minutes: int = 90,
+    **settings: Any,
+) -> int:
     """An exam (starting `start` minutes from now, `minutes` long) or a practice assignment (until start +
     minutes) of `exercises`; returns its id."""
-    body: dict[str, Any] = {"title": "Prüfung" if exam else "Übung", "exercises": exercises,
-                            "mode": "exam" if exam else "practice", "opens_at": iso(start), "settings": settings}
+    body: dict[str, Any] = {
+        "title": "Prüfung" if exam else "Übung",
+        "exercises": exercises,
+        "mode": "exam" if exam else "practice",
+        "opens_at": iso(start),
+        "settings": settings,
+    }
     body.update({"duration_minutes": minutes} if exam else {"deadline": iso(start + minutes)})
     r = api.client.post(f"/api/v1/courses/{course}/assignments", json=body, headers=auth(teacher))
     assert r.status_code == 201, r.text

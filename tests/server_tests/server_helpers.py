@@ -16,8 +16,13 @@ from server.config import Settings
 from server.security import hash_password, make_token
 
 POSTGRES_URL = os.environ.get("PALTRAINER_TEST_POSTGRES_URL")
-BACKENDS = ["sqlite", pytest.param("postgresql", marks=pytest.mark.skipif(
-    not POSTGRES_URL, reason="PALTRAINER_TEST_POSTGRES_URL not set"))]
+BACKENDS = [
+    "sqlite",
+    pytest.param(
+        "postgresql",
+        marks=pytest.mark.skipif(not POSTGRES_URL, reason="PALTRAINER_TEST_POSTGRES_URL not set"),
+    ),
+]
 PASSWORD = "correct horse battery"
 _HASH: list[str] = []
 _names = itertools.count(1)
@@ -41,12 +46,20 @@ def reset_postgres(url: str) -> None:
 def make_settings(tmp: Path, backend: str, **overrides: Any) -> Settings:
     exercises = tmp / "exercises"
     exercises.mkdir(exist_ok=True)
-    values: dict[str, Any] = {"data_dir": tmp / "data", "exercises_dir": exercises, "secret_key": "test-secret-of-at-least-thirty-two-bytes",
-                              "workers": 2, "rate_login_per_minute": 1000, "rate_check_per_minute": 1000,
-                              "rate_simulate_per_minute": 1000, "rate_submit_per_minute": 1000,
-                              # races of one user's concurrent requests are tested as such, not capped
-                              "heavy_jobs_per_user": 1000, "heavy_jobs_per_address": 1000,
-                              "finalize_seconds": 3600}  # the tests run the finaliser's rounds themselves
+    values: dict[str, Any] = {
+        "data_dir": tmp / "data",
+        "exercises_dir": exercises,
+        "secret_key": "test-secret-of-at-least-thirty-two-bytes",
+        "workers": 2,
+        "rate_login_per_minute": 1000,
+        "rate_check_per_minute": 1000,
+        "rate_simulate_per_minute": 1000,
+        "rate_submit_per_minute": 1000,
+        # races of one user's concurrent requests are tested as such, not capped
+        "heavy_jobs_per_user": 1000,
+        "heavy_jobs_per_address": 1000,
+        "finalize_seconds": 3600,
+    }  # the tests run the finaliser's rounds themselves
     if backend == "postgresql":
         assert POSTGRES_URL
         reset_postgres(POSTGRES_URL)
@@ -86,9 +99,17 @@ class Api:
         return {"X-API-Key": secret}
 
     def exercise(self, instructor: dict[str, str], **fields: Any) -> dict[str, Any]:
-        body = {"slug": unique("ex-"), "title_de": "Nuten", "title_en": "Slots", "task_de": "Fräse die Nuten.",
-                "reference_program": GOOD, "hidden_criteria": {"max_depth": 2}, "rubric": {"points": 10},
-                "tools": [{"number": 1, "diameter": 25}], **fields}
+        body = {
+            "slug": unique("ex-"),
+            "title_de": "Nuten",
+            "title_en": "Slots",
+            "task_de": "Fräse die Nuten.",
+            "reference_program": GOOD,
+            "hidden_criteria": {"max_depth": 2},
+            "rubric": {"points": 10},
+            "tools": [{"number": 1, "diameter": 25}],
+            **fields,
+        }
         r = self.client.post("/api/v1/exercises", json=body, headers=auth(instructor))
         assert r.status_code == 201, r.text
         return dict(r.json())

@@ -51,8 +51,10 @@ def test_login_rate_limit_is_429(api: Api) -> None:
     old = api.settings.rate_login_per_minute
     api.settings.rate_login_per_minute = 2
     try:
-        codes = [api.client.post("/api/v1/auth/token", data={"username": "x", "password": "y"}).status_code
-                 for _ in range(3)]
+        codes = [
+            api.client.post("/api/v1/auth/token", data={"username": "x", "password": "y"}).status_code
+            for _ in range(3)
+        ]
         assert codes == [401, 401, 429]
     finally:
         api.settings.rate_login_per_minute = old
@@ -78,10 +80,15 @@ def test_only_admins_manage_users(api: Api) -> None:
 
 def test_api_key_lifecycle(api: Api) -> None:
     instructor, student = api.user("instructor"), api.user()
-    r = api.client.post("/api/v1/api-keys", json={"name": "moodle", "scopes": ["practice"]}, headers=auth(student))
+    r = api.client.post(
+        "/api/v1/api-keys", json={"name": "moodle", "scopes": ["practice"]}, headers=auth(student)
+    )
     assert r.status_code == 403
-    r = api.client.post("/api/v1/api-keys", json={"name": "moodle", "scopes": ["practice", "exercises:read"]},
-                        headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/api-keys",
+        json={"name": "moodle", "scopes": ["practice", "exercises:read"]},
+        headers=auth(instructor),
+    )
     assert r.status_code == 201
     created = r.json()
     key = created["key"]
@@ -91,8 +98,12 @@ def test_api_key_lifecycle(api: Api) -> None:
         assert stored is not None and key not in stored.key_hash
     me = api.client.get("/api/v1/me", headers={"X-API-Key": key}).json()
     assert me["kind"] == "api_key" and me["scopes"] == ["exercises:read", "practice"]
-    assert api.client.post("/api/v1/check", json={"program": GOOD},
-                           headers={"Authorization": f"Bearer {key}"}).status_code == 200
+    assert (
+        api.client.post(
+            "/api/v1/check", json={"program": GOOD}, headers={"Authorization": f"Bearer {key}"}
+        ).status_code
+        == 200
+    )
     listed = api.client.get("/api/v1/api-keys", headers=auth(instructor)).json()
     assert [k["prefix"] for k in listed] == [created["prefix"]]
     assert "key" not in listed[0] and listed[0]["last_used_at"] is not None
@@ -133,20 +144,29 @@ def _browser(api: Api) -> TestClient:
 
 
 def test_one_password_rule_for_imports_new_users_and_changes() -> None:
-    assert password_problem("kurz") == ("das Passwort braucht mindestens 8 Zeichen",
-                                        "the password needs at least 8 characters")
+    assert password_problem("kurz") == (
+        "das Passwort braucht mindestens 8 Zeichen",
+        "the password needs at least 8 characters",
+    )
     assert password_problem("x" * 1001) is not None and password_problem("a\x00bcdefghi") is not None
     assert password_problem("acht8888") is None and password_problem("x" * 1000) is None
 
 
 def test_the_rule_is_named_in_german_wherever_a_password_is_chosen(api: Api) -> None:
     instructor = api.user("instructor")
-    r = api.client.post("/api/v1/users", json={"username": unique("s"), "password": "kurz"}, headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/users", json={"username": unique("s"), "password": "kurz"}, headers=auth(instructor)
+    )
     assert r.status_code == 422 and "mindestens 8 Zeichen" in r.json()["error"]["message"]
-    r = api.client.post("/api/v1/users/import", content=f"{unique('s')};kurz\n".encode(), headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/users/import", content=f"{unique('s')};kurz\n".encode(), headers=auth(instructor)
+    )
     assert r.status_code == 422 and "mindestens 8 Zeichen" in r.json()["error"]["message"]
-    r = api.client.post("/api/v1/me/password", json={"current_password": PASSWORD, "new_password": "kurz"},
-                        headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/me/password",
+        json={"current_password": PASSWORD, "new_password": "kurz"},
+        headers=auth(instructor),
+    )
     assert r.status_code == 422 and error_code(r) == "PASSWORD_RULE"
     assert "mindestens 8 Zeichen" in r.json()["error"]["message"]
     assert "at least 8 characters" in r.json()["error"]["message_en"]
@@ -155,16 +175,29 @@ def test_the_rule_is_named_in_german_wherever_a_password_is_chosen(api: Api) -> 
 def test_change_password_needs_the_right_current_one(api: Api) -> None:
     student = api.user()
     old_token = _bearer(api, student["name"])
-    r = api.client.post("/api/v1/me/password", json={"current_password": "not my password",
-                                                     "new_password": "ein neues Passwort"}, headers=old_token)
+    r = api.client.post(
+        "/api/v1/me/password",
+        json={"current_password": "not my password", "new_password": "ein neues Passwort"},
+        headers=old_token,
+    )
     assert r.status_code == 403 and error_code(r) == "WRONG_PASSWORD"
     assert r.json()["error"]["message"] == "Das bisherige Passwort ist falsch."
-    r = api.client.post("/api/v1/me/password", json={"current_password": PASSWORD, "new_password": PASSWORD},
-                        headers=old_token)
+    r = api.client.post(
+        "/api/v1/me/password",
+        json={"current_password": PASSWORD, "new_password": PASSWORD},
+        headers=old_token,
+    )
     assert r.status_code == 422 and "unterscheiden" in r.json()["error"]["message"]
     browser = _browser(api)
-    assert browser.post("/api/v1/auth/login", json={"username": student["name"], "password": PASSWORD}).status_code == 200
-    r = browser.post("/api/v1/me/password", json={"current_password": PASSWORD, "new_password": "ein neues Passwort"})
+    assert (
+        browser.post(
+            "/api/v1/auth/login", json={"username": student["name"], "password": PASSWORD}
+        ).status_code
+        == 200
+    )
+    r = browser.post(
+        "/api/v1/me/password", json={"current_password": PASSWORD, "new_password": "ein neues Passwort"}
+    )
     assert r.status_code == 204
     assert browser.get("/api/v1/me").json()["username"] == student["name"]  # this browser stays logged in
     assert api.client.get("/api/v1/me", headers=old_token).status_code == 401  # every other session ends
@@ -178,9 +211,14 @@ def test_wrong_current_passwords_use_up_the_login_budget(api: Api) -> None:
     old = api.settings.rate_login_per_minute
     api.settings.rate_login_per_minute = 2
     try:
-        codes = [api.client.post("/api/v1/me/password", json={"current_password": f"guess {i}",
-                                                              "new_password": "ein neues Passwort"},
-                                 headers=token).status_code for i in range(3)]
+        codes = [
+            api.client.post(
+                "/api/v1/me/password",
+                json={"current_password": f"guess {i}", "new_password": "ein neues Passwort"},
+                headers=token,
+            ).status_code
+            for i in range(3)
+        ]
     finally:
         api.settings.rate_login_per_minute = old
     assert codes == [403, 403, 429]
@@ -194,7 +232,9 @@ def _course(api: Api, instructor: dict[str, str]) -> dict[str, Any]:
 
 def test_instructor_resets_own_student_who_must_change_it_first(api: Api) -> None:
     instructor, name = api.user("instructor"), unique("azubi")
-    r = api.client.post("/api/v1/users", json={"username": name, "password": PASSWORD}, headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/users", json={"username": name, "password": PASSWORD}, headers=auth(instructor)
+    )
     assert r.status_code == 201 and r.json()["must_change_password"] is False
     before = _bearer(api, name)
     r = api.client.post(f"/api/v1/users/{name}/password-reset", headers=auth(instructor))
@@ -214,7 +254,9 @@ def test_instructor_resets_own_student_who_must_change_it_first(api: Api) -> Non
     r = browser.get("/", follow_redirects=False)
     assert r.status_code == 303 and r.headers["location"] == "/password"
     assert browser.get("/password").status_code == 200
-    r = browser.post("/api/v1/me/password", json={"current_password": once, "new_password": "mein eigenes Passwort"})
+    r = browser.post(
+        "/api/v1/me/password", json={"current_password": once, "new_password": "mein eigenes Passwort"}
+    )
     assert r.status_code == 204
     assert browser.get("/api/v1/exercises").status_code == 200
     assert browser.get("/", follow_redirects=False).status_code == 200
@@ -227,8 +269,12 @@ def test_instructor_resets_a_student_of_a_course_they_teach(api: Api) -> None:
     course = _course(api, instructor)
     r = api.client.post(f"/api/v1/users/{student['name']}/password-reset", headers=auth(instructor))
     assert r.status_code == 404  # not theirs yet
-    assert api.client.post("/api/v1/courses/join", json={"code": course["join_code"]},
-                           headers=auth(student)).status_code == 200
+    assert (
+        api.client.post(
+            "/api/v1/courses/join", json={"code": course["join_code"]}, headers=auth(student)
+        ).status_code
+        == 200
+    )
     r = api.client.post(f"/api/v1/users/{student['name']}/password-reset", headers=auth(instructor))
     assert r.status_code == 200
     assert _token(api, student["name"], r.json()["password"]).status_code == 200
@@ -260,8 +306,12 @@ def test_deactivated_user_cannot_log_in_and_their_tokens_and_keys_stop(api: Api)
     key = api.api_key(["exercises:read"], owner=instructor)
     assert api.client.get("/api/v1/exercises", headers=key).status_code == 200
     browser = _browser(api)
-    assert browser.post("/api/v1/auth/login", json={"username": instructor["name"],
-                                                     "password": PASSWORD}).status_code == 200
+    assert (
+        browser.post(
+            "/api/v1/auth/login", json={"username": instructor["name"], "password": PASSWORD}
+        ).status_code
+        == 200
+    )
     r = api.client.post(f"/api/v1/users/{instructor['name']}/deactivate", headers=auth(instructor))
     assert r.status_code == 403
     r = api.client.post(f"/api/v1/users/{instructor['name']}/deactivate", headers=auth(admin))
@@ -285,7 +335,9 @@ def test_deactivated_user_cannot_log_in_and_their_tokens_and_keys_stop(api: Api)
 
 
 def _signup(client: TestClient, code: str, name: str, password: str = PASSWORD) -> Any:
-    return client.post("/api/v1/auth/signup", json={"join_code": code, "username": name, "password": password})
+    return client.post(
+        "/api/v1/auth/signup", json={"join_code": code, "username": name, "password": password}
+    )
 
 
 def test_signup_is_off_by_default(api: Api) -> None:
@@ -320,8 +372,12 @@ def test_signup_with_a_course_code(api: Api) -> None:
         assert "paltrainer_session=" in r.headers["set-cookie"]
         assert browser.get("/api/v1/me").json()["username"] == name
         assert [c["id"] for c in browser.get("/api/v1/courses").json()] == [course["id"]]
-        members = {m["username"]: m for m in api.client.get(f"/api/v1/courses/{course['id']}/members",
-                                                           headers=auth(instructor)).json()}
+        members = {
+            m["username"]: m
+            for m in api.client.get(
+                f"/api/v1/courses/{course['id']}/members", headers=auth(instructor)
+            ).json()
+        }
         assert members[name]["signed_up"] is True and members[instructor["name"]]["signed_up"] is False
         assert api.client.get("/signup").status_code == 200
         assert '<p id="signup-link">' in api.client.get("/login").text

@@ -16,9 +16,16 @@ from server.models import SCOPES
 
 def platform(**changes: Any) -> dict[str, Any]:
     host = f"https://{unique('moodle')}.schule.example"
-    return {"issuer": host, "client_id": unique("client-"), "auth_login_url": f"{host}/mod/lti/auth.php",
-            "token_url": f"{host}/mod/lti/token.php", "jwks_url": f"{host}/mod/lti/certs.php",
-            "deployment_ids": ["1"], "name": "Moodle Berufsschule", **changes}
+    return {
+        "issuer": host,
+        "client_id": unique("client-"),
+        "auth_login_url": f"{host}/mod/lti/auth.php",
+        "token_url": f"{host}/mod/lti/token.php",
+        "jwks_url": f"{host}/mod/lti/certs.php",
+        "deployment_ids": ["1"],
+        "name": "Moodle Berufsschule",
+        **changes,
+    }
 
 
 def admin_routes(api: Api, admin: dict[str, str]) -> list[tuple[str, str, Any, int]]:
@@ -26,13 +33,15 @@ def admin_routes(api: Api, admin: dict[str, str]) -> list[tuple[str, str, Any, i
     kid = api.client.post("/api/v1/admin/lti/keys/rotate", headers=auth(admin)).json()["kid"]
     api.client.post("/api/v1/admin/lti/keys/rotate", headers=auth(admin))  # the older one may be retired now
     student = api.user()["name"]
-    return [("GET", "/api/v1/admin/lti/platforms", None, 200),
-            ("POST", "/api/v1/admin/lti/platforms", platform(), 201),
-            ("POST", "/api/v1/admin/lti/registration-url", None, 200),
-            ("GET", "/api/v1/admin/lti/keys", None, 200),
-            ("POST", "/api/v1/admin/lti/keys/rotate", None, 201),
-            ("POST", f"/api/v1/admin/lti/keys/{kid}/retire", None, 200),
-            ("PATCH", f"/api/v1/users/{student}", {"role": "instructor"}, 200)]
+    return [
+        ("GET", "/api/v1/admin/lti/platforms", None, 200),
+        ("POST", "/api/v1/admin/lti/platforms", platform(), 201),
+        ("POST", "/api/v1/admin/lti/registration-url", None, 200),
+        ("GET", "/api/v1/admin/lti/keys", None, 200),
+        ("POST", "/api/v1/admin/lti/keys/rotate", None, 201),
+        ("POST", f"/api/v1/admin/lti/keys/{kid}/retire", None, 200),
+        ("PATCH", f"/api/v1/users/{student}", {"role": "instructor"}, 200),
+    ]
 
 
 def test_role_matrix_of_the_admin_routes(api: Api) -> None:
@@ -69,7 +78,10 @@ def test_admin_page_is_the_admin_page_only_for_admins(api: Api) -> None:
         r = page_as(api, api.user(role))
         assert r.status_code == status
         assert 'data-page="admin"' in r.text and f'data-role="{role}"' in r.text
-        assert '<span data-role="admin" hidden> · <a href="/admin" data-i18n="nav.admin">Verwaltung</a></span>' in r.text
+        assert (
+            '<span data-role="admin" hidden> · <a href="/admin" data-i18n="nav.admin">Verwaltung</a></span>'
+            in r.text
+        )
 
 
 def test_admin_changes_a_role(api: Api) -> None:
@@ -84,8 +96,9 @@ def test_admin_changes_a_role(api: Api) -> None:
     listed = {u["username"]: u for u in api.client.get("/api/v1/users", headers=auth(admin)).json()}
     assert listed[name]["role"] == "instructor"
     # back to a trainee, managed by an instructor, in one request
-    r = api.client.patch(f"/api/v1/users/{name}", json={"role": "student", "instructor": teacher["name"]},
-                         headers=auth(admin))
+    r = api.client.patch(
+        f"/api/v1/users/{name}", json={"role": "student", "instructor": teacher["name"]}, headers=auth(admin)
+    )
     assert r.status_code == 200 and (r.json()["role"], r.json()["instructor"]) == ("student", teacher["name"])
     assert api.client.get("/api/v1/api-keys", headers=auth(trainee)).status_code == 403
     # a role change alone keeps the instructor
@@ -100,32 +113,46 @@ def test_bad_role_changes(api: Api) -> None:
     admin, trainee = api.user("admin"), api.user("student")
     r = api.client.patch(f"/api/v1/users/{admin['name']}", json={"role": "student"}, headers=auth(admin))
     assert r.status_code == 409 and error_code(r) == "OWN_ACCOUNT"
-    assert "eigene" in r.json()["error"]["message"]  # German: one cannot demote oneself (and lock everyone out)
+    assert (
+        "eigene" in r.json()["error"]["message"]
+    )  # German: one cannot demote oneself (and lock everyone out)
     r = api.client.patch(f"/api/v1/users/{trainee['name']}", json={"role": "king"}, headers=auth(admin))
     assert r.status_code == 422 and error_code(r) == "VALIDATION"
-    assert r.json()["error"]["message"] == ("Die Anfrage ist ungültig: Rolle »king« gibt es nicht (student, "
-                                            "instructor oder admin) / no such role (student, instructor or admin)")
+    assert r.json()["error"]["message"] == (
+        "Die Anfrage ist ungültig: Rolle »king« gibt es nicht (student, "
+        "instructor oder admin) / no such role (student, instructor or admin)"
+    )
     r = api.client.patch("/api/v1/users/niemand-hier", json={"role": "admin"}, headers=auth(admin))
     assert r.status_code == 404 and r.json()["error"]["message"] == "Benutzer »niemand-hier« nicht gefunden."
     # an unknown instructor changes nothing, the role neither
-    r = api.client.patch(f"/api/v1/users/{trainee['name']}", json={"role": "instructor", "instructor": "niemand"},
-                         headers=auth(admin))
+    r = api.client.patch(
+        f"/api/v1/users/{trainee['name']}",
+        json={"role": "instructor", "instructor": "niemand"},
+        headers=auth(admin),
+    )
     assert r.status_code == 404
     listed = {u["username"]: u for u in api.client.get("/api/v1/users", headers=auth(admin)).json()}
     assert listed[trainee["name"]]["role"] == "student"
 
 
-def test_platform_registered_by_rest_is_listed_by_the_cli(api: Api, monkeypatch: pytest.MonkeyPatch,
-                                                          capsys: pytest.CaptureFixture[str]) -> None:
+def test_platform_registered_by_rest_is_listed_by_the_cli(
+    api: Api, monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str]
+) -> None:
     admin = api.user("admin")
     body = platform(deployment_ids=["7", "8"])
     r = api.client.post("/api/v1/admin/lti/platforms", json=body, headers=auth(admin))
     assert r.status_code == 201, r.text
     out = r.json()
     assert (out["issuer"], out["client_id"], out["deployment_ids"], out["name"]) == (
-        body["issuer"], body["client_id"], ["7", "8"], "Moodle Berufsschule")
+        body["issuer"],
+        body["client_id"],
+        ["7", "8"],
+        "Moodle Berufsschule",
+    )
     # again with another deployment: still one platform, the deployment added
-    again = api.client.post("/api/v1/admin/lti/platforms", json={**body, "deployment_ids": ["9"]}, headers=auth(admin))
+    again = api.client.post(
+        "/api/v1/admin/lti/platforms", json={**body, "deployment_ids": ["9"]}, headers=auth(admin)
+    )
     assert again.json()["id"] == out["id"] and again.json()["deployment_ids"] == ["7", "8", "9"]
     listed = api.client.get("/api/v1/admin/lti/platforms", headers=auth(admin)).json()
     assert [p["deployment_ids"] for p in listed if p["id"] == out["id"]] == [["7", "8", "9"]]
@@ -139,41 +166,66 @@ def test_platform_registered_by_rest_is_listed_by_the_cli(api: Api, monkeypatch:
         monkeypatch.delenv("DATABASE_URL", raising=False)
     capsys.readouterr()
     assert main(["admin", "lti-platforms"]) == 0
-    assert f"{out['id']}\t{body['issuer']}\t{body['client_id']}\t7,8,9\tMoodle Berufsschule" in capsys.readouterr().out
+    assert (
+        f"{out['id']}\t{body['issuer']}\t{body['client_id']}\t7,8,9\tMoodle Berufsschule"
+        in capsys.readouterr().out
+    )
     # and the keys: the state the page shows is the one the command line prints
     keys = api.client.get("/api/v1/admin/lti/keys", headers=auth(admin)).json()
     assert sum(k["state"] == "current" for k in keys) == 1
     assert main(["admin", "lti-keys"]) == 0
     printed = capsys.readouterr().out
     for k in keys:
-        assert f"{k['kid']}\t" in printed and printed.split(f"{k['kid']}\t")[1].split("\n")[0].endswith(k["state"])
+        assert f"{k['kid']}\t" in printed and printed.split(f"{k['kid']}\t")[1].split("\n")[0].endswith(
+            k["state"]
+        )
 
 
 def test_bad_platforms_are_422_in_german_naming_every_field(api: Api) -> None:
     admin = api.user("admin")
     before = len(api.client.get("/api/v1/admin/lti/platforms", headers=auth(admin)).json())
-    body = platform(issuer="moodle.schule.example", auth_login_url="http://moodle.schule.example/auth.php",
-                    token_url="javascript:alert(1)", client_id="  ", deployment_ids=["", "x" * 300])
+    body = platform(
+        issuer="moodle.schule.example",
+        auth_login_url="http://moodle.schule.example/auth.php",
+        token_url="javascript:alert(1)",
+        client_id="  ",
+        deployment_ids=["", "x" * 300],
+    )
     r = api.client.post("/api/v1/admin/lti/platforms", json=body, headers=auth(admin))
     assert r.status_code == 422 and error_code(r) == "VALIDATION"
     errors = {e["field"]: e["message"] for e in r.json()["error"]["details"]["errors"]}
-    assert errors == {"issuer": "keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
-                      "auth_login_url": "keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
-                      "token_url": "keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
-                      "client_id": "darf nicht leer sein",
-                      "deployment_ids": "jede Deployment-ID 1 bis 255 Zeichen"}
+    assert errors == {
+        "issuer": "keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
+        "auth_login_url": "keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
+        "token_url": "keine gültige https-Adresse (z. B. https://moodle.schule.de/…)",
+        "client_id": "darf nicht leer sein",
+        "deployment_ids": "jede Deployment-ID 1 bis 255 Zeichen",
+    }
     message = r.json()["error"]["message"]
-    assert message.startswith("Die Anfrage ist ungültig: issuer: keine gültige https-Adresse") and "token_url" in message
+    assert (
+        message.startswith("Die Anfrage ist ungültig: issuer: keine gültige https-Adresse")
+        and "token_url" in message
+    )
     too_long = platform(name="N" * 201, deployment_ids=[str(i) for i in range(51)])
     r = api.client.post("/api/v1/admin/lti/platforms", json=too_long, headers=auth(admin))
     errors = {e["field"]: e["message"] for e in r.json()["error"]["details"]["errors"]}
-    assert r.status_code == 422 and errors == {"name": "höchstens 200 Zeichen",
-                                               "deployment_ids": "höchstens 50 Deployment-IDs"}
-    for bad in ({**platform(), "issuer": "https://a.example/\u0000"}, {**platform(), "extra": 1}, [1, 2], "text"):
+    assert r.status_code == 422 and errors == {
+        "name": "höchstens 200 Zeichen",
+        "deployment_ids": "höchstens 50 Deployment-IDs",
+    }
+    for bad in (
+        {**platform(), "issuer": "https://a.example/\u0000"},
+        {**platform(), "extra": 1},
+        [1, 2],
+        "text",
+    ):
         r = api.client.post("/api/v1/admin/lti/platforms", json=bad, headers=auth(admin))
         assert r.status_code == 422 and error_code(r) == "VALIDATION", r.text
-    r = api.client.post("/api/v1/admin/lti/platforms", content=b"{kaputt", headers={**auth(admin),
-                                                                                    "Content-Type": "application/json"})
+    r = api.client.post(
+        "/api/v1/admin/lti/platforms",
+        content=b"{kaputt",
+        headers={**auth(admin), "Content-Type": "application/json"},
+    )
     assert r.status_code == 422
     assert len(api.client.get("/api/v1/admin/lti/platforms", headers=auth(admin)).json()) == before
     r = api.client.post("/api/v1/admin/lti/keys/no-such-kid/retire", headers=auth(admin))
@@ -191,8 +243,9 @@ def test_registration_url_is_one_use_code_on_this_server(api: Api) -> None:
 
 def test_admin_sees_and_revokes_every_api_key(api: Api) -> None:
     admin, teacher = api.user("admin"), api.user("instructor")
-    r = api.client.post("/api/v1/api-keys", json={"name": "Schulsystem", "scopes": ["exercises:read"]},
-                        headers=auth(teacher))
+    r = api.client.post(
+        "/api/v1/api-keys", json={"name": "Schulsystem", "scopes": ["exercises:read"]}, headers=auth(teacher)
+    )
     assert r.status_code == 201
     created = r.json()
     key = {"X-API-Key": created["key"]}

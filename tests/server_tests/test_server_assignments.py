@@ -19,8 +19,12 @@ def _course_with(api: Api, *students: dict[str, str]) -> tuple[dict[str, str], i
     r = api.client.post("/api/v1/courses", json={"name": "Prüfungsklasse"}, headers=auth(teacher))
     assert r.status_code == 201, r.text
     for s in students:
-        assert api.client.post("/api/v1/courses/join", json={"code": r.json()["join_code"]},
-                               headers=auth(s)).status_code == 200
+        assert (
+            api.client.post(
+                "/api/v1/courses/join", json={"code": r.json()["join_code"]}, headers=auth(s)
+            ).status_code
+            == 200
+        )
     return teacher, int(r.json()["id"])
 
 
@@ -31,18 +35,35 @@ def _assign(api: Api, teacher: dict[str, str], course: int, **body: Any) -> dict
 
 
 def _submit(api: Api, who: dict[str, str], slug: str, **extra: Any) -> Any:
-    return api.client.post("/api/v1/submissions", json={"exercise": slug, "program": GOOD, **extra},
-                           headers=auth(who))
+    return api.client.post(
+        "/api/v1/submissions", json={"exercise": slug, "program": GOOD, **extra}, headers=auth(who)
+    )
 
 
 def test_practice_deadline_late_accept_and_refuse(api: Api) -> None:
     student = api.user()
     teacher, course = _course_with(api, student)
     slug = builtin_exercise(api)
-    accept = _assign(api, teacher, course, title="Übung G1", exercises=[slug], opens_at=iso(-1),
-                     deadline=iso(60), late="accept")
-    refuse = _assign(api, teacher, course, title="Übung G1 streng", exercises=[slug], opens_at=iso(-1),
-                     deadline=iso(60), late="refuse")
+    accept = _assign(
+        api,
+        teacher,
+        course,
+        title="Übung G1",
+        exercises=[slug],
+        opens_at=iso(-1),
+        deadline=iso(60),
+        late="accept",
+    )
+    refuse = _assign(
+        api,
+        teacher,
+        course,
+        title="Übung G1 streng",
+        exercises=[slug],
+        opens_at=iso(-1),
+        deadline=iso(60),
+        late="refuse",
+    )
     assert accept["mode"] == "practice" and accept["settings"]["hints"] is True
     mine = {a["id"]: a for a in api.client.get("/api/v1/me/assignments", headers=auth(student)).json()}
     assert mine[accept["id"]]["status"] == "open" and 3500 < mine[accept["id"]]["seconds_left"] <= 3600
@@ -64,13 +85,23 @@ def test_practice_deadline_late_accept_and_refuse(api: Api) -> None:
     cell = table["trainees"][0]["results"][slug]
     assert table["trainees"][0]["username"] == student["name"] and cell["late"] is True
     r = api.client.get(f"/api/v1/assignments/{accept['id']}/results?format=csv", headers=auth(teacher))
-    assert r.status_code == 200 and r.headers["content-type"].startswith("text/csv") and r.text.startswith("\ufeff")
+    assert (
+        r.status_code == 200
+        and r.headers["content-type"].startswith("text/csv")
+        and r.text.startswith("\ufeff")
+    )
     rows = list(csv.reader(io.StringIO(r.text.lstrip("\ufeff")), delimiter=";"))
     assert rows[0][:3] == ["Benutzer", "Aufgabe", "Punktzahl"] and rows[1][0] == student["name"]
     assert rows[1][5] == "ja"
-    assert api.client.get(f"/api/v1/assignments/{accept['id']}/results.csv", headers=auth(teacher)).text == r.text
+    assert (
+        api.client.get(f"/api/v1/assignments/{accept['id']}/results.csv", headers=auth(teacher)).text
+        == r.text
+    )
     # the student and another instructor do not see the results
-    assert api.client.get(f"/api/v1/assignments/{accept['id']}/results", headers=auth(student)).status_code == 403
+    assert (
+        api.client.get(f"/api/v1/assignments/{accept['id']}/results", headers=auth(student)).status_code
+        == 403
+    )
     other = api.user("instructor")
     r = api.client.get(f"/api/v1/assignments/{accept['id']}/results", headers=auth(other))
     assert r.status_code == 404 and error_code(r) == "ASSIGNMENT_NOT_FOUND"
@@ -80,22 +111,32 @@ def test_assignment_validation(api: Api) -> None:
     teacher, course = _course_with(api)
     slug = builtin_exercise(api)
     base = {"title": "X", "exercises": [slug], "opens_at": iso(0)}
-    r = api.client.post(f"/api/v1/courses/{course}/assignments", json={**base, "mode": "exam"}, headers=auth(teacher))
+    r = api.client.post(
+        f"/api/v1/courses/{course}/assignments", json={**base, "mode": "exam"}, headers=auth(teacher)
+    )
     assert r.status_code == 422 and error_code(r) == "ASSIGNMENT_TIMES"
-    r = api.client.post(f"/api/v1/courses/{course}/assignments", json={**base, "deadline": iso(-5)},
-                        headers=auth(teacher))
+    r = api.client.post(
+        f"/api/v1/courses/{course}/assignments", json={**base, "deadline": iso(-5)}, headers=auth(teacher)
+    )
     assert r.status_code == 422 and error_code(r) == "ASSIGNMENT_TIMES"
-    r = api.client.post(f"/api/v1/courses/{course}/assignments", json={**base, "exercises": ["gibt-es-nicht"],
-                                                                       "deadline": iso(5)}, headers=auth(teacher))
+    r = api.client.post(
+        f"/api/v1/courses/{course}/assignments",
+        json={**base, "exercises": ["gibt-es-nicht"], "deadline": iso(5)},
+        headers=auth(teacher),
+    )
     assert r.status_code == 404 and error_code(r) == "EXERCISE_NOT_FOUND"
     foreign = api.exercise(api.user("instructor"))["slug"]  # another instructor's own exercise
-    r = api.client.post(f"/api/v1/courses/{course}/assignments", json={**base, "exercises": [foreign],
-                                                                       "deadline": iso(5)}, headers=auth(teacher))
+    r = api.client.post(
+        f"/api/v1/courses/{course}/assignments",
+        json={**base, "exercises": [foreign], "deadline": iso(5)},
+        headers=auth(teacher),
+    )
     assert r.status_code == 403
     own = api.exercise(teacher)["slug"]
     a = _assign(api, teacher, course, **{**base, "exercises": [slug, own], "deadline": iso(5)})
-    r = api.client.patch(f"/api/v1/assignments/{a['id']}", json={"title": "Neu", "deadline": iso(10)},
-                         headers=auth(teacher))
+    r = api.client.patch(
+        f"/api/v1/assignments/{a['id']}", json={"title": "Neu", "deadline": iso(10)}, headers=auth(teacher)
+    )
     assert r.status_code == 200 and r.json()["title"] == "Neu" and r.json()["exercises"] == [slug, own]
     assert api.client.delete(f"/api/v1/assignments/{a['id']}", headers=auth(teacher)).status_code == 204
     assert api.client.get(f"/api/v1/assignments/{a['id']}", headers=auth(teacher)).status_code == 404
@@ -104,12 +145,28 @@ def test_assignment_validation(api: Api) -> None:
 def test_exam_time_limit_auto_submission_and_release(api: Api) -> None:
     s1, s2, s3 = api.user(), api.user(), api.user()
     teacher, course = _course_with(api, s1, s2, s3)
-    slug, other = builtin_exercise(api, hints=[{"de": "Erst Z, dann X.", "en": "Z first, then X."}]), \
-        builtin_exercise(api)
-    exam = _assign(api, teacher, course, title="Prüfung G1", exercises=[slug], mode="exam", opens_at=iso(-1),
-                   duration_minutes=90)
-    assert exam["settings"] == {"live_diagnostics": False, "viz": False, "hints": False, "solution": False,
-                                "free_practice": False, "max_submissions": 1}
+    slug, other = (
+        builtin_exercise(api, hints=[{"de": "Erst Z, dann X.", "en": "Z first, then X."}]),
+        builtin_exercise(api),
+    )
+    exam = _assign(
+        api,
+        teacher,
+        course,
+        title="Prüfung G1",
+        exercises=[slug],
+        mode="exam",
+        opens_at=iso(-1),
+        duration_minutes=90,
+    )
+    assert exam["settings"] == {
+        "live_diagnostics": False,
+        "viz": False,
+        "hints": False,
+        "solution": False,
+        "free_practice": False,
+        "max_submissions": 1,
+    }
     assert exam["late"] == "refuse"
     # while it runs: the exam's exercise only, no hints, no solution, one submission, no score shown
     mine = api.client.get("/api/v1/me/assignments", headers=auth(s1)).json()
@@ -127,8 +184,12 @@ def test_exam_time_limit_auto_submission_and_release(api: Api) -> None:
     first = r.json()["id"]
     r = _submit(api, s1, slug)
     assert r.status_code == 409 and error_code(r) == "ASSIGNMENT_SUBMITTED"
-    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": GOOD},
-                          headers=auth(s2)).status_code == 200
+    assert (
+        api.client.put(
+            f"/api/v1/exercises/{slug}/draft", json={"program": GOOD}, headers=auth(s2)
+        ).status_code
+        == 200
+    )
     r = api.client.post(f"/api/v1/assignments/{exam['id']}/release", headers=auth(teacher))
     assert r.status_code == 409 and error_code(r) == "EXAM_NOT_OVER"
 
@@ -136,8 +197,11 @@ def test_exam_time_limit_auto_submission_and_release(api: Api) -> None:
     r = _submit(api, s3, slug, assignment=exam["id"])
     assert r.status_code == 403 and error_code(r) == "EXAM_OVER"
     assert "Prüfungszeit ist abgelaufen" in r.json()["error"]["message"]
-    r = api.client.put(f"/api/v1/exercises/{slug}/draft?assignment={exam['id']}", json={"program": "N10 M30\n"},
-                       headers=auth(s2))
+    r = api.client.put(
+        f"/api/v1/exercises/{slug}/draft?assignment={exam['id']}",
+        json={"program": "N10 M30\n"},
+        headers=auth(s2),
+    )
     assert r.status_code == 403 and error_code(r) == "EXAM_OVER"
     # practice on the exercise goes on, into the practice draft, without a grade until the release
     r = api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": "N10 M30\n"}, headers=auth(s2))
@@ -151,6 +215,7 @@ def test_exam_time_limit_auto_submission_and_release(api: Api) -> None:
     portal = api.client.portal  # the background task's round, now (the app's event loop owns the workers)
     assert portal is not None
     from server.courses import finalize_ended_exams
+
     assert portal.call(finalize_ended_exams, api.app.state.db, api.app.state.workers) == 1
     mine = api.client.get("/api/v1/me/assignments", headers=auth(s2)).json()[0]
     item = mine["items"][0]
@@ -164,7 +229,10 @@ def test_exam_time_limit_auto_submission_and_release(api: Api) -> None:
     assert rows[s1["name"]]["results"][slug]["submission"] == first
     score = rows[s1["name"]]["results"][slug]["score"]
     assert rows[s1["name"]]["results"][slug]["auto"] is False and isinstance(score, int)
-    assert rows[s2["name"]]["results"][slug]["auto"] is True and rows[s2["name"]]["results"][slug]["score"] == score
+    assert (
+        rows[s2["name"]]["results"][slug]["auto"] is True
+        and rows[s2["name"]]["results"][slug]["score"] == score
+    )
     assert rows[s3["name"]]["results"] == {}  # no draft, nothing submitted
     # finalising again changes nothing
     assert portal.call(finalize_ended_exams, api.app.state.db, api.app.state.workers) == 0
@@ -178,10 +246,18 @@ def test_exam_time_limit_auto_submission_and_release(api: Api) -> None:
     r = api.client.post(f"/api/v1/assignments/{exam['id']}/release", headers=auth(teacher))
     assert r.status_code == 200 and r.json()["released"] is True
     item = api.client.get("/api/v1/me/assignments", headers=auth(s2)).json()[0]["items"][0]
-    assert item["score"] == score and item["criteria"] and item["program"] == GOOD  # the exam's draft, not practice's
-    assert api.client.get(f"/api/v1/submissions/{auto_id}", headers=auth(s2)).json()["grading"]["score"] == score
-    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": GOOD},
-                          headers=auth(s2)).status_code == 200  # released: practising it is free again
+    assert (
+        item["score"] == score and item["criteria"] and item["program"] == GOOD
+    )  # the exam's draft, not practice's
+    assert (
+        api.client.get(f"/api/v1/submissions/{auto_id}", headers=auth(s2)).json()["grading"]["score"] == score
+    )
+    assert (
+        api.client.put(
+            f"/api/v1/exercises/{slug}/draft", json={"program": GOOD}, headers=auth(s2)
+        ).status_code
+        == 200
+    )  # released: practising it is free again
 
 
 def test_ended_exam_is_finalised_by_the_background_task(api: Api) -> None:
@@ -190,10 +266,22 @@ def test_ended_exam_is_finalised_by_the_background_task(api: Api) -> None:
     student = api.user()
     teacher, course = _course_with(api, student)
     slug = builtin_exercise(api)
-    exam = _assign(api, teacher, course, title="Prüfung", exercises=[slug], mode="exam", opens_at=iso(-1),
-                   duration_minutes=30)
-    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": GOOD},
-                          headers=auth(student)).status_code == 200
+    exam = _assign(
+        api,
+        teacher,
+        course,
+        title="Prüfung",
+        exercises=[slug],
+        mode="exam",
+        opens_at=iso(-1),
+        duration_minutes=30,
+    )
+    assert (
+        api.client.put(
+            f"/api/v1/exercises/{slug}/draft", json={"program": GOOD}, headers=auth(student)
+        ).status_code
+        == 200
+    )
     shift(api, exam["id"], 31)
     portal = api.client.portal  # the app's event loop: the worker pool belongs to it
     assert portal is not None
@@ -213,11 +301,21 @@ def test_running_exam_refuses_live_diagnostics_and_3d(api: Api) -> None:
     teacher, course = _course_with(api, student)
     slug = builtin_exercise(api)
     before = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]  # a 3D view opened before
-    _assign(api, teacher, course, title="Prüfung", exercises=[slug], mode="exam", opens_at=iso(-1),
-            duration_minutes=90)
+    _assign(
+        api,
+        teacher,
+        course,
+        title="Prüfung",
+        exercises=[slug],
+        mode="exam",
+        opens_at=iso(-1),
+        duration_minutes=90,
+    )
     token = student["Authorization"].removeprefix("Bearer ")
-    with pytest.raises(WebSocketDisconnect) as err, api.client.websocket_connect(
-            f"/api/v1/live?token={token}") as ws:
+    with (
+        pytest.raises(WebSocketDisconnect) as err,
+        api.client.websocket_connect(f"/api/v1/live?token={token}") as ws,
+    ):
         ws.receive_text()
     assert err.value.code == 4403 and err.value.reason == "EXAM_RUNNING"
     r = api.client.post("/api/v1/viz", headers=auth(student))
@@ -226,7 +324,9 @@ def test_running_exam_refuses_live_diagnostics_and_3d(api: Api) -> None:
         r = api.client.post(f"/api/v1/viz/{before}/{path}", json=body, headers=auth(student))
         assert r.status_code == 403 and error_code(r) == "EXAM_RUNNING", path
     # someone outside the course works as before
-    with api.client.websocket_connect(f"/api/v1/live?token={free['Authorization'].removeprefix('Bearer ')}") as ws:
+    with api.client.websocket_connect(
+        f"/api/v1/live?token={free['Authorization'].removeprefix('Bearer ')}"
+    ) as ws:
         ws.send_text('{"type": "open", "version": 0, "text": "N10 M30\\n"}')
         assert '"update"' in ws.receive_text()
 
@@ -237,7 +337,9 @@ def test_sheets_of_an_assignment(api: Api) -> None:
     student = api.user()
     teacher, course = _course_with(api, student)
     slugs = [builtin_exercise(api), builtin_exercise(api)]
-    later = _assign(api, teacher, course, title="Später", exercises=slugs, opens_at=iso(60), deadline=iso(120))
+    later = _assign(
+        api, teacher, course, title="Später", exercises=slugs, opens_at=iso(60), deadline=iso(120)
+    )
     r = api.client.get(f"/api/v1/assignments/{later['id']}/sheets.pdf", headers=auth(student))
     assert r.status_code == 409 and error_code(r) == "ASSIGNMENT_NOT_OPEN"
     r = api.client.get(f"/api/v1/assignments/{later['id']}/sheets.pdf", headers=auth(teacher))

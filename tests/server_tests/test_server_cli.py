@@ -36,8 +36,22 @@ def test_admin_create_user_and_api_key(data_dir: Path, capsys: pytest.CaptureFix
     assert main(["admin", "create-user", "lehrer", "--role", "instructor", "--password", "geheim123"]) == 1
     assert main(["admin", "create-user", "kurz", "--password", "short"]) == 2
     capsys.readouterr()
-    assert main(["admin", "create-api-key", "moodle", "--scope", "practice,exercises:read",
-                 "--scope", "submissions:write", "--user", "lehrer"]) == 0
+    assert (
+        main(
+            [
+                "admin",
+                "create-api-key",
+                "moodle",
+                "--scope",
+                "practice,exercises:read",
+                "--scope",
+                "submissions:write",
+                "--user",
+                "lehrer",
+            ]
+        )
+        == 0
+    )
     key = capsys.readouterr().out.strip()
     assert key.startswith("pal_")
     assert main(["admin", "create-api-key", "x", "--scope", "everything"]) == 2
@@ -66,8 +80,14 @@ def served(tmp_path: Path) -> Iterator[str]:
     port = _free_port()
     env = {**os.environ, "PALTRAINER_DATA_DIR": str(tmp_path / "data"), "PALTRAINER_WORKERS": "1"}
     env.pop("DATABASE_URL", None)
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
     base = f"http://127.0.0.1:{port}"
     try:
         deadline = time.monotonic() + 30
@@ -101,7 +121,9 @@ def test_serve_answers_http_and_websocket(served: str) -> None:
         ws.send(json.dumps({"type": "edit", "version": 1, "line": 2, "text": "N20 X1,5"}))
         update = json.loads(ws.recv(timeout=10))
         assert update["version"] == 1 and update["diagnostics"][0]["line"] == 2
-    with pytest.raises(ConnectionClosed) as closed, \
-            connect(served.replace("http", "ws") + "/api/v1/live?token=tok-3f9a", open_timeout=10) as ws:
+    with (
+        pytest.raises(ConnectionClosed) as closed,
+        connect(served.replace("http", "ws") + "/api/v1/live?token=tok-3f9a", open_timeout=10) as ws,
+    ):
         ws.recv(timeout=10)
     assert closed.value.rcvd is not None and closed.value.rcvd.code == 4401

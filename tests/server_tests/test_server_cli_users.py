@@ -26,8 +26,10 @@ def _users(data_dir: Path) -> dict[str, tuple[str, str | None, str]]:
     with database.session() as db:
         users = list(repo.list_users(db))
         names = {u.id: u.username for u in users}
-        found = {u.username: (u.role, names.get(u.instructor_id) if u.instructor_id else None, u.password_hash)
-                 for u in users}
+        found = {
+            u.username: (u.role, names.get(u.instructor_id) if u.instructor_id else None, u.password_hash)
+            for u in users
+        }
     database.engine.dispose()
     return found
 
@@ -59,7 +61,9 @@ def test_import_users(data_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixt
     assert out["carla"] == "" and len(out["david"]) >= 10
     users = _users(data_dir)
     assert users["carla"][:2] == ("student", "lehrer") and users["david"][:2] == ("student", "lehrer")
-    assert verify_password(out["david"], users["david"][2]) and verify_password("carlas-passwort", users["carla"][2])
+    assert verify_password(out["david"], users["david"][2]) and verify_password(
+        "carlas-passwort", users["carla"][2]
+    )
     # a bad list: the rows are named, nothing is made
     csv_file.write_text("emil\nMüller\n", encoding="utf-8")
     assert main(["admin", "import-users", str(csv_file), "--instructor", "lehrer"]) == 1

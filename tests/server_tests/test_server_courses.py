@@ -44,12 +44,23 @@ def test_course_join_members_and_role_matrix(api: Api) -> None:
 
     # instructor A: their course and members; B's course, members and changes are 404
     r = api.client.get(f"/api/v1/courses/{ca['id']}/members", headers=auth(a))
-    assert r.json() == [{"username": a["name"], "role": "instructor", "signed_up": False},
-                        {"username": s1["name"], "role": "student", "signed_up": False}]
-    for method, path in (("GET", ""), ("GET", "/members"), ("PATCH", ""), ("DELETE", ""),
-                         ("GET", "/assignments")):
-        r = api.client.request(method, f"/api/v1/courses/{cb['id']}{path}", headers=auth(a),
-                               json={"name": "x"} if method == "PATCH" else None)
+    assert r.json() == [
+        {"username": a["name"], "role": "instructor", "signed_up": False},
+        {"username": s1["name"], "role": "student", "signed_up": False},
+    ]
+    for method, path in (
+        ("GET", ""),
+        ("GET", "/members"),
+        ("PATCH", ""),
+        ("DELETE", ""),
+        ("GET", "/assignments"),
+    ):
+        r = api.client.request(
+            method,
+            f"/api/v1/courses/{cb['id']}{path}",
+            headers=auth(a),
+            json={"name": "x"} if method == "PATCH" else None,
+        )
         assert r.status_code == 404, (method, path)
     listed = {c["id"] for c in api.client.get("/api/v1/courses", headers=auth(a)).json()}
     assert ca["id"] in listed and cb["id"] not in listed
@@ -59,13 +70,23 @@ def test_course_join_members_and_role_matrix(api: Api) -> None:
 
     # submissions: A sees s1's work in course A's assignment, not s1's free practice, not s2's (course B)
     slug = builtin_exercise(api)
-    r = api.client.post(f"/api/v1/courses/{ca['id']}/assignments", headers=auth(a), json={
-        "title": "Übung", "exercises": [slug], "opens_at": "2026-01-01T00:00:00Z", "deadline": "2099-01-01T00:00:00Z"})
+    r = api.client.post(
+        f"/api/v1/courses/{ca['id']}/assignments",
+        headers=auth(a),
+        json={
+            "title": "Übung",
+            "exercises": [slug],
+            "opens_at": "2026-01-01T00:00:00Z",
+            "deadline": "2099-01-01T00:00:00Z",
+        },
+    )
     assert r.status_code == 201, r.text
     practice_only = builtin_exercise(api)
     ids = {}
     for who, exercise in ((s1, slug), (s2, slug), (s1, practice_only)):
-        r = api.client.post("/api/v1/submissions", json={"exercise": exercise, "program": GOOD}, headers=auth(who))
+        r = api.client.post(
+            "/api/v1/submissions", json={"exercise": exercise, "program": GOOD}, headers=auth(who)
+        )
         assert r.status_code == 201, r.text
         ids[who["name"], exercise] = r.json()["id"]
     in_course, elsewhere, free = ids[s1["name"], slug], ids[s2["name"], slug], ids[s1["name"], practice_only]
@@ -78,23 +99,34 @@ def test_course_join_members_and_role_matrix(api: Api) -> None:
     assert s1["name"] in rows and s2["name"] not in rows
 
     # what s1 did in course A stays A's after s1 leaves
-    assert api.client.delete(f"/api/v1/courses/{ca['id']}/members/{s1['name']}", headers=auth(a)).status_code == 204
+    assert (
+        api.client.delete(f"/api/v1/courses/{ca['id']}/members/{s1['name']}", headers=auth(a)).status_code
+        == 204
+    )
     assert api.client.get(f"/api/v1/submissions/{in_course}", headers=auth(a)).status_code == 200
     # adding by name: only students A manages (s1 joins with the code again); a second instructor
     r = api.client.post(f"/api/v1/courses/{ca['id']}/members", json={"username": s1["name"]}, headers=auth(a))
     assert r.status_code == 404 and error_code(r) == "USER_NOT_FOUND"
     _join(api, s1, ca["join_code"])
-    r = api.client.post(f"/api/v1/courses/{ca['id']}/members", json={"username": s2["name"], "role": "instructor"},
-                        headers=auth(a))
+    r = api.client.post(
+        f"/api/v1/courses/{ca['id']}/members",
+        json={"username": s2["name"], "role": "instructor"},
+        headers=auth(a),
+    )
     assert r.status_code == 422 and error_code(r) == "NOT_AN_INSTRUCTOR"
-    r = api.client.post(f"/api/v1/courses/{ca['id']}/members", json={"username": b["name"], "role": "instructor"},
-                        headers=auth(a))
+    r = api.client.post(
+        f"/api/v1/courses/{ca['id']}/members",
+        json={"username": b["name"], "role": "instructor"},
+        headers=auth(a),
+    )
     assert r.status_code == 201
     assert api.client.get(f"/api/v1/courses/{ca['id']}", headers=auth(b)).json()["instructors"] == sorted(
-        [a["name"], b["name"]])
+        [a["name"], b["name"]]
+    )
     old = ca["join_code"]
-    r = api.client.patch(f"/api/v1/courses/{ca['id']}", json={"name": "Klasse A2", "new_join_code": True},
-                         headers=auth(a))
+    r = api.client.patch(
+        f"/api/v1/courses/{ca['id']}", json={"name": "Klasse A2", "new_join_code": True}, headers=auth(a)
+    )
     assert r.status_code == 200 and r.json()["name"] == "Klasse A2" and r.json()["join_code"] != old
     # students cannot make courses
     r = api.client.post("/api/v1/courses", json={"name": "x"}, headers=auth(s1))
@@ -108,8 +140,11 @@ def test_class_list_into_a_course(api: Api) -> None:
     a = api.user("instructor")
     course = _course(api, a)
     names = [unique("kl"), unique("kl")]
-    r = api.client.post(f"/api/v1/courses/{course['id']}/members/import", content=f"name\n{names[0]}\n{names[1]}\n",
-                        headers={**auth(a), "Content-Type": "text/csv"})
+    r = api.client.post(
+        f"/api/v1/courses/{course['id']}/members/import",
+        content=f"name\n{names[0]}\n{names[1]}\n",
+        headers={**auth(a), "Content-Type": "text/csv"},
+    )
     assert r.status_code == 201, r.text
     assert all(u["password"] for u in r.json()["users"])
     members = api.client.get(f"/api/v1/courses/{course['id']}/members", headers=auth(a)).json()
@@ -119,8 +154,11 @@ def test_class_list_into_a_course(api: Api) -> None:
 def test_students_an_instructor_creates_are_in_meine_klasse(api: Api) -> None:
     a = api.user("instructor")
     name = unique("neu")
-    r = api.client.post("/api/v1/users", json={"username": name, "password": "geheim-genug", "role": "student"},
-                        headers=auth(a))
+    r = api.client.post(
+        "/api/v1/users",
+        json={"username": name, "password": "geheim-genug", "role": "student"},
+        headers=auth(a),
+    )
     assert r.status_code == 201, r.text
     courses = api.client.get("/api/v1/courses", headers=auth(a)).json()
     assert [c["name"] for c in courses] == ["Meine Klasse"]
@@ -136,11 +174,19 @@ def test_migration_0006_makes_meine_klasse_from_managed_students(tmp_path: Path)
     command.upgrade(cfg, "0005")
     engine = create_engine(url)
     with engine.begin() as conn:
-        for uid, name, role, boss in ((1, "lehrer", "instructor", None), (2, "anna", "student", 1),
-                                      (3, "ben", "student", 1), (4, "cem", "student", None)):
-            conn.execute(text("INSERT INTO users (id, username, password_hash, role, created_at, token_version, "
-                              "instructor_id) VALUES (:i, :n, 'x', :r, '2026-01-01', 0, :b)"),
-                         {"i": uid, "n": name, "r": role, "b": boss})
+        for uid, name, role, boss in (
+            (1, "lehrer", "instructor", None),
+            (2, "anna", "student", 1),
+            (3, "ben", "student", 1),
+            (4, "cem", "student", None),
+        ):
+            conn.execute(
+                text(
+                    "INSERT INTO users (id, username, password_hash, role, created_at, token_version, "
+                    "instructor_id) VALUES (:i, :n, 'x', :r, '2026-01-01', 0, :b)"
+                ),
+                {"i": uid, "n": name, "r": role, "b": boss},
+            )
     command.upgrade(cfg, "head")
     with engine.begin() as conn:
         courses = conn.execute(text("SELECT id, name, join_code FROM courses")).all()

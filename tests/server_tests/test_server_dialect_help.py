@@ -32,8 +32,14 @@ def test_g2_mandatory_and_optional_addresses_with_units(api: Api) -> None:
     assert {"RN", "Z", "K"} <= set(g2["optional"]) and "R" not in g2["optional"]
     assert g2["example"] == "N40 G2 X56.4 Y10 I-20 J6.4"
     units = {a["name"]: a["unit"] for a in body["addresses"]}
-    assert (units["R"], units["I"], units["AO"], units["F"], units["S"], units["U"]) == \
-        ("mm", "mm", "°", "mm/min", "1/min", "s")
+    assert (units["R"], units["I"], units["AO"], units["F"], units["S"], units["U"]) == (
+        "mm",
+        "mm",
+        "°",
+        "mm/min",
+        "1/min",
+        "s",
+    )
     rn = next(a for a in body["addresses"] if a["name"] == "RN")
     assert rn["rule_de"] == "+ Rundung, − Fase"
 
@@ -63,5 +69,7 @@ def test_iso_dialects_share_the_compensation_rule(api: Api) -> None:
 
 def test_docs_are_generated_from_the_same_table() -> None:
     doc = Path(__file__).parents[2] / "docs" / "codes.md"
-    assert doc.read_text(encoding="utf-8") == codes_markdown(), "run: python -m core.dialects.help > docs/codes.md"
+    assert doc.read_text(encoding="utf-8") == codes_markdown(), (
+        "run: python -m core.dialects.help > docs/codes.md"
+    )
     assert "Werkzeug links der Kontur, in Vorschubrichtung gesehen" in codes_markdown()

@@ -11,8 +11,12 @@ from test_server_lms import exercise_file
 def test_drawing_of_an_uploaded_exercise(api: Api) -> None:
     owner, student = api.user("instructor"), api.user()
     slug = unique("zeichnung-")
-    assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
-                           headers=auth(owner)).status_code == 201
+    assert (
+        api.client.post(
+            "/api/v1/exercises/import", content=exercise_file(slug).encode(), headers=auth(owner)
+        ).status_code
+        == 201
+    )
     r = api.client.get(f"/api/v1/exercises/{slug}/drawing.svg", headers=auth(student))
     assert r.status_code == 200 and r.headers["content-type"].startswith("image/svg+xml")
     root = ET.fromstring(r.content)
@@ -24,4 +28,7 @@ def test_drawing_of_an_uploaded_exercise(api: Api) -> None:
     assert api.client.get(f"/api/v1/exercises/{slug}/drawing.svg").status_code == 401
     missing = api.client.get("/api/v1/exercises/no-such-exercise/drawing.svg", headers=auth(student))
     assert missing.status_code == 404 and error_code(missing) == "EXERCISE_NOT_FOUND"
-    assert api.client.get(f"/api/v1/exercises/{slug}/drawing.svg?lang=xx", headers=auth(student)).status_code == 422
+    assert (
+        api.client.get(f"/api/v1/exercises/{slug}/drawing.svg?lang=xx", headers=auth(student)).status_code
+        == 422
+    )

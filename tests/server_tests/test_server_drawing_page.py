@@ -16,7 +16,9 @@ def _directives(csp: str) -> dict[str, list[str]]:
     return {part.split()[0]: part.split()[1:] for part in (p.strip() for p in csp.split(";")) if part}
 
 
-@pytest.mark.parametrize("path", ["/exercises/pal-05-g2-kreisbogen/drawing", "/examples/traub-10-schruppen-g71-g88/drawing"])
+@pytest.mark.parametrize(
+    "path", ["/exercises/pal-05-g2-kreisbogen/drawing", "/examples/traub-10-schruppen-g71-g88/drawing"]
+)
 def test_the_drawing_page_is_ours(api: Api, path: str) -> None:
     r = api.client.get(path)
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")

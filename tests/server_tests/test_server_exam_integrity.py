@@ -26,8 +26,9 @@ from server.workers import HAS_SIM, job_submission
 REFERENCE = reference_of()
 
 
-def _draft(api: Api, who: dict[str, str], slug: str, program: str | None = None,
-           assignment: int | None = None) -> Any:
+def _draft(
+    api: Api, who: dict[str, str], slug: str, program: str | None = None, assignment: int | None = None
+) -> Any:
     url = f"/api/v1/exercises/{slug}/draft" + (f"?assignment={assignment}" if assignment else "")
     if program is None:
         return api.client.get(url, headers=auth(who))
@@ -35,8 +36,9 @@ def _draft(api: Api, who: dict[str, str], slug: str, program: str | None = None,
 
 
 def _submit(api: Api, who: dict[str, str], slug: str, program: str = GOOD, **extra: Any) -> Any:
-    return api.client.post("/api/v1/submissions", json={"exercise": slug, "program": program, **extra},
-                           headers=auth(who))
+    return api.client.post(
+        "/api/v1/submissions", json={"exercise": slug, "program": program, **extra}, headers=auth(who)
+    )
 
 
 def _auto_programs(api: Api, exam: int) -> dict[int | None, str]:
@@ -56,7 +58,9 @@ def test_a_retake_on_the_same_exercise_stores_and_submits_its_own_drafts(api: Ap
     second = assign(api, teacher, course, [g1, g2], minutes=60)
     r = _draft(api, student, g1)
     assert r.status_code == 200 and r.json() == {**r.json(), "assignment": second, "program": None}
-    r = _draft(api, student, g1, REFERENCE)  # the page saves without naming the exam: the running one takes it
+    r = _draft(
+        api, student, g1, REFERENCE
+    )  # the page saves without naming the exam: the running one takes it
     assert r.status_code == 200 and r.json()["assignment"] == second
     r = _draft(api, student, g1, assignment=first)  # while exam 2 runs, the exercise's work is exam 2's only
     assert r.status_code == 403 and error_code(r) == "EXAM_ELSEWHERE"
@@ -98,14 +102,18 @@ def test_practice_drafts_never_enter_an_exam_and_exam_drafts_never_leave_it(api:
     finalize(api)
     autos = _auto_programs(api, exam)
     assert autos == {_user_id(api, student): "N10 (in der Prüfung)\nN20 M30\n"}  # `empty` typed nothing
-    assert _draft(api, student, slug).json() == {**_draft(api, student, slug).json(), "assignment": None,
-                                                 "program": REFERENCE}
+    assert _draft(api, student, slug).json() == {
+        **_draft(api, student, slug).json(),
+        "assignment": None,
+        "program": REFERENCE,
+    }
     progress = {p["exercise"]: p for p in api.client.get("/api/v1/me/progress", headers=auth(student)).json()}
     assert progress[slug]["status"] == "draft"  # the practice draft; the exam's submission is held
 
 
 def test_the_end_of_an_exam_with_a_class_grades_each_draft_once_and_reads_never_wait(
-        api: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+    api: Api, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Point 3: 30 trainees end at once. The pages' reads answer while the drafts are still being graded (they
     never grade: status "submitting"), two finalisers (two replicas) grade each draft exactly once."""
     teacher = api.user("instructor")
@@ -158,8 +166,11 @@ def test_the_end_of_an_exam_with_a_class_grades_each_draft_once_and_reads_never_
     assert made == [0, 30]  # one replica took the exam, the other found it taken
     assert len(graded) == 30 and set(graded.values()) == {1}  # every draft graded exactly once
     assert len(_auto_programs(api, exam)) == 30
-    assert {a["status"] for s in students[:3]
-            for a in api.client.get("/api/v1/me/assignments", headers=auth(s)).json()} == {"submitted"}
+    assert {
+        a["status"]
+        for s in students[:3]
+        for a in api.client.get("/api/v1/me/assignments", headers=auth(s)).json()
+    } == {"submitted"}
 
 
 def test_a_stopped_finaliser_is_taken_over_when_its_lease_runs_out(api: Api) -> None:
@@ -217,10 +228,12 @@ def test_the_3d_view_its_picture_and_the_deviation_follow_the_exam(api: Api) -> 
     token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]  # opened before the exam
     exam = assign(api, teacher, course, [slug])
     body = {"program": GOOD, "exercise": slug}
-    for r in (api.client.post("/api/v1/viz", headers=auth(student)),
-              api.client.post("/api/v1/viz/picture.png", json=body, headers=auth(student)),
-              api.client.post(f"/api/v1/viz/{token}/deviation", json=body, headers=auth(student)),
-              api.client.post(f"/api/v1/viz/{token}/layers", json={"rapid": False}, headers=auth(student))):
+    for r in (
+        api.client.post("/api/v1/viz", headers=auth(student)),
+        api.client.post("/api/v1/viz/picture.png", json=body, headers=auth(student)),
+        api.client.post(f"/api/v1/viz/{token}/deviation", json=body, headers=auth(student)),
+        api.client.post(f"/api/v1/viz/{token}/layers", json={"rapid": False}, headers=auth(student)),
+    ):
         assert r.status_code == 403 and error_code(r) == "EXAM_RUNNING", r.text
     api.client.patch(f"/api/v1/assignments/{exam}", json={"settings": {"viz": True}}, headers=auth(teacher))
     assert api.client.post("/api/v1/viz/picture.png", json=body, headers=auth(student)).status_code == 200
@@ -235,13 +248,23 @@ def test_a_live_socket_opened_before_the_exam_stops_at_its_start(api: Api) -> No
     course = course_with(api, teacher, student)
     slug = builtin_exercise(api)
     starts = datetime.now(UTC) + timedelta(seconds=3)
-    r = api.client.post(f"/api/v1/courses/{course}/assignments", headers=auth(teacher), json={
-        "title": "Prüfung", "exercises": [slug], "mode": "exam", "opens_at": starts.isoformat(),
-        "duration_minutes": 30})
+    r = api.client.post(
+        f"/api/v1/courses/{course}/assignments",
+        headers=auth(teacher),
+        json={
+            "title": "Prüfung",
+            "exercises": [slug],
+            "mode": "exam",
+            "opens_at": starts.isoformat(),
+            "duration_minutes": 30,
+        },
+    )
     assert r.status_code == 201
     token = auth(student)["Authorization"].split()[1]
-    with pytest.raises(WebSocketDisconnect) as closed, api.client.websocket_connect(
-            f"/api/v1/live?token={token}") as ws:
+    with (
+        pytest.raises(WebSocketDisconnect) as closed,
+        api.client.websocket_connect(f"/api/v1/live?token={token}") as ws,
+    ):
         ws.send_text(json.dumps({"type": "open", "version": 0, "text": GOOD, "exercise": slug}))
         assert json.loads(ws.receive_text())["type"] == "update"
         while datetime.now(UTC) < starts + timedelta(milliseconds=200):
@@ -304,7 +327,10 @@ def test_an_upcoming_exam_keeps_its_exercises_and_their_reference_to_itself(api:
     assert mine["status"] == "upcoming" and mine["exercises"] == [] and mine["items"] == []
     assert 24 * 3600 - 60 < mine["seconds_to_start"] <= 24 * 3600 and mine["seconds_left"] is None
     assert api.client.get(f"/api/v1/assignments/{exam}", headers=auth(student)).json()["exercises"] == []
-    assert api.client.get(f"/api/v1/courses/{course}/assignments", headers=auth(student)).json()[0]["exercises"] == []
+    assert (
+        api.client.get(f"/api/v1/courses/{course}/assignments", headers=auth(student)).json()[0]["exercises"]
+        == []
+    )
     assert api.client.get(f"/api/v1/assignments/{exam}", headers=auth(teacher)).json()["exercises"] == [slug]
     assert _submit(api, student, slug, BAD).status_code == 201  # the throw-away submission
     for path in ("solution", "hints/1"):
@@ -325,8 +351,13 @@ def test_the_role_in_the_course_decides_not_the_accounts(api: Api) -> None:
     assert r.status_code == 403 and error_code(r) == "EXAM_RUNNING"
     r = _submit(api, sitter, slug, REFERENCE)
     assert r.status_code == 201 and r.json()["held"] is True and r.json()["score"] is None
-    assert api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(sitter)).json()["grading"] is None
-    assert api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(teacher)).json()["score"] == 100
+    assert (
+        api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(sitter)).json()["grading"]
+        is None
+    )
+    assert (
+        api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(teacher)).json()["score"] == 100
+    )
     shift(api, exam, 91)
     mine = api.client.get("/api/v1/me/assignments", headers=auth(sitter)).json()[0]
     assert mine["items"][0]["score"] is None and mine["items"][0]["program"] is None
@@ -343,13 +374,16 @@ def test_a_held_submission_says_handed_in_and_nothing_else_through_any_route(api
     assert r.status_code == 201, r.text
     held = r.json()
     assert held["held"] is True
-    assert {k: held[k] for k in ("grading", "score", "diagnostics", "error_count", "warning_count", "summary",
-                                 "lms")} == dict.fromkeys(("grading", "score", "diagnostics", "error_count",
-                                                           "warning_count", "summary", "lms"))
+    assert {
+        k: held[k]
+        for k in ("grading", "score", "diagnostics", "error_count", "warning_count", "summary", "lms")
+    } == dict.fromkeys(("grading", "score", "diagnostics", "error_count", "warning_count", "summary", "lms"))
     for who in (key, auth(student)):
         again = api.client.get(f"/api/v1/submissions/{held['id']}", headers=who).json()
         assert again["held"] is True and again["error_count"] is None and again["diagnostics"] is None
-        listed = [s for s in api.client.get("/api/v1/submissions", headers=who).json() if s["id"] == held["id"]]
+        listed = [
+            s for s in api.client.get("/api/v1/submissions", headers=who).json() if s["id"] == held["id"]
+        ]
         assert listed[0]["summary"] is None and listed[0]["score"] is None
     history = api.client.get(f"/api/v1/me/submissions?exercise={slug}", headers=auth(student)).json()
     assert history[0]["held"] is True and history[0]["error_count"] is None and history[0]["criteria"] == []
@@ -386,25 +420,42 @@ def test_migration_0009_keeps_one_practice_draft_and_adds_exam_drafts(tmp_path: 
     cfg = alembic_config(url)
     command.upgrade(cfg, "0008_lti_scores")
     engine = create_engine(url)
-    insert = ("INSERT INTO drafts (user_id, exercise_id, {cols} program, updated_at) VALUES (1, 1, {vals} :p, "
-              "'2026-01-01')")
+    insert = (
+        "INSERT INTO drafts (user_id, exercise_id, {cols} program, updated_at) VALUES (1, 1, {vals} :p, "
+        "'2026-01-01')"
+    )
     with engine.begin() as conn:
-        conn.execute(text("INSERT INTO users (id, username, password_hash, role, created_at, token_version) "
-                          "VALUES (1, 'anna', 'x', 'student', '2026-01-01', 0)"))
-        conn.execute(text("INSERT INTO exercises (id, slug, title_de, title_en, task_de, task_en, dialect, "
-                          "reference_program, builtin, created_at, updated_at) VALUES (1, 'g1', 'G1', '', '', '', "
-                          "'pal-mill', '', 1, '2026-01-01', '2026-01-01')"))
+        conn.execute(
+            text(
+                "INSERT INTO users (id, username, password_hash, role, created_at, token_version) "
+                "VALUES (1, 'anna', 'x', 'student', '2026-01-01', 0)"
+            )
+        )
+        conn.execute(
+            text(
+                "INSERT INTO exercises (id, slug, title_de, title_en, task_de, task_en, dialect, "
+                "reference_program, builtin, created_at, updated_at) VALUES (1, 'g1', 'G1', '', '', '', "
+                "'pal-mill', '', 1, '2026-01-01', '2026-01-01')"
+            )
+        )
         conn.execute(text(insert.format(cols="", vals="")), {"p": "N10 (geübt)"})
     command.upgrade(cfg, "head")
     with engine.begin() as conn:
-        conn.execute(text("INSERT INTO courses (id, name, join_code, created_at) VALUES (1, 'K', 'ABC', "
-                          "'2026-01-01')"))
-        conn.execute(text("INSERT INTO assignments (id, course_id, title, exercises, mode, late, opens_at, deadline, "
-                          "settings, created_at) VALUES (7, 1, 'P', '[\"g1\"]', 'exam', 'refuse', '2026-01-01', "
-                          "'2026-01-02', '{}', '2026-01-01')"))
+        conn.execute(
+            text("INSERT INTO courses (id, name, join_code, created_at) VALUES (1, 'K', 'ABC', '2026-01-01')")
+        )
+        conn.execute(
+            text(
+                "INSERT INTO assignments (id, course_id, title, exercises, mode, late, opens_at, deadline, "
+                "settings, created_at) VALUES (7, 1, 'P', '[\"g1\"]', 'exam', 'refuse', '2026-01-01', "
+                "'2026-01-02', '{}', '2026-01-01')"
+            )
+        )
         conn.execute(text(insert.format(cols="assignment_id,", vals="7,")), {"p": "N10 (Prüfung)"})
         assert conn.execute(text("SELECT assignment_id, program FROM drafts ORDER BY id")).all() == [
-            (None, "N10 (geübt)"), (7, "N10 (Prüfung)")]
+            (None, "N10 (geübt)"),
+            (7, "N10 (Prüfung)"),
+        ]
     for cols, vals in (("", ""), ("assignment_id,", "7,")):
         with pytest.raises(IntegrityError), engine.begin() as conn:
             conn.execute(text(insert.format(cols=cols, vals=vals)), {"p": "zweiter"})
@@ -416,7 +467,7 @@ def test_migration_0009_keeps_one_practice_draft_and_adds_exam_drafts(tmp_path: 
 
 
 def test_free_practice_examples_do_not_hand_out_an_exams_reference(api: Api) -> None:
-    """"Beispiel laden" (GET /examples, no account) gives the published reference of a built-in exercise — not
+    """ "Beispiel laden" (GET /examples, no account) gives the published reference of a built-in exercise — not
     while the exercise is in an exam whose results are not released; then its start program, if it has one."""
     teacher, student = api.user("instructor"), api.user()
     slug = builtin_exercise(api)

@@ -40,26 +40,68 @@ def row(**cells: str) -> dict[str, str]:
 FREE: dict[str, dict[str, str]] = {
     "hints": row(S="200", O="200", T="200", I="200", A="401", K="200", X="200"),
     "solution": row(S="200", O="200", T="200", I="200", A="401", K="200", X="403:SOLUTION_AFTER_SUBMISSION"),
-    "draft": row(S="200:practice", O="200:practice", T="200:practice", I="200:practice", A="401",
-                 K="403:DRAFTS_USERS_ONLY", X="403:DRAFTS_USERS_ONLY"),
-    "submit": row(S="201:graded", O="201:graded", T="201:graded", I="201:graded", A="401", K="201:graded",
-                  X="201:graded"),
+    "draft": row(
+        S="200:practice",
+        O="200:practice",
+        T="200:practice",
+        I="200:practice",
+        A="401",
+        K="403:DRAFTS_USERS_ONLY",
+        X="403:DRAFTS_USERS_ONLY",
+    ),
+    "submit": row(
+        S="201:graded",
+        O="201:graded",
+        T="201:graded",
+        I="201:graded",
+        A="401",
+        K="201:graded",
+        X="201:graded",
+    ),
     "check": OK,
     "deviation": OK,
     "live": {c: "update" for c in CALLERS},
 }
 # upcoming and held: the exam withholds the exercise's reference from the course's students (and the unknown)
 WITHHELD: dict[str, dict[str, str]] = {
-    "hints": row(S="403:EXAM_WITHHELD", O="200", T="200", I="403:EXAM_WITHHELD", A="401",
-                 K="403:EXAM_WITHHELD", X="403:EXAM_WITHHELD"),
-    "solution": row(S="403:EXAM_WITHHELD", O="200", T="200", I="403:EXAM_WITHHELD", A="401",
-                    K="403:EXAM_WITHHELD", X="403:EXAM_WITHHELD"),
+    "hints": row(
+        S="403:EXAM_WITHHELD",
+        O="200",
+        T="200",
+        I="403:EXAM_WITHHELD",
+        A="401",
+        K="403:EXAM_WITHHELD",
+        X="403:EXAM_WITHHELD",
+    ),
+    "solution": row(
+        S="403:EXAM_WITHHELD",
+        O="200",
+        T="200",
+        I="403:EXAM_WITHHELD",
+        A="401",
+        K="403:EXAM_WITHHELD",
+        X="403:EXAM_WITHHELD",
+    ),
     "draft": FREE["draft"],
-    "submit": row(S="201:withheld", O="201:graded", T="201:graded", I="201:withheld", A="401",
-                  K="201:withheld", X="201:withheld"),
+    "submit": row(
+        S="201:withheld",
+        O="201:graded",
+        T="201:graded",
+        I="201:withheld",
+        A="401",
+        K="201:withheld",
+        X="201:withheld",
+    ),
     "check": OK,
-    "deviation": row(S="403:EXAM_WITHHELD", O="200", T="200", I="403:EXAM_WITHHELD", A="403:EXAM_WITHHELD",
-                     K="403:EXAM_WITHHELD", X="403:EXAM_WITHHELD"),
+    "deviation": row(
+        S="403:EXAM_WITHHELD",
+        O="200",
+        T="200",
+        I="403:EXAM_WITHHELD",
+        A="403:EXAM_WITHHELD",
+        K="403:EXAM_WITHHELD",
+        X="403:EXAM_WITHHELD",
+    ),
     "live": FREE["live"],
 }
 NONE_YET = {c: "-" for c in CALLERS}
@@ -68,24 +110,76 @@ EXPECTED: dict[str, dict[str, dict[str, str]]] = {
     "practice": {**FREE, "exam_grade": NONE_YET},
     "upcoming": {**WITHHELD, "exam_grade": NONE_YET},
     "running": {
-        "hints": row(S="403:EXAM_RUNNING", O="200", T="200", I="403:EXAM_RUNNING", A="401", K="403:EXAM_RUNNING",
-                     X="403:EXAM_EXERCISE_LOCKED"),
-        "solution": row(S="403:EXAM_RUNNING", O="200", T="200", I="403:EXAM_RUNNING", A="401",
-                        K="403:EXAM_RUNNING", X="403:EXAM_EXERCISE_LOCKED"),
-        "draft": row(S="200:exam", O="200:practice", T="200:practice", I="200:exam", A="401",
-                     K="403:DRAFTS_USERS_ONLY", X="403:DRAFTS_USERS_ONLY"),
-        "submit": row(S="201:held", O="201:graded", T="201:graded", I="201:held", A="401", K="201:held",
-                      X="403:EXAM_EXERCISE_LOCKED"),
-        "check": row(S="403:EXAM_RUNNING", O="200", T="200", I="403:EXAM_RUNNING", A="403:EXAM_EXERCISE_LOCKED",
-                     K="403:EXAM_RUNNING", X="403:EXAM_EXERCISE_LOCKED"),
-        "deviation": row(S="403:EXAM_RUNNING", O="200", T="200", I="403:EXAM_RUNNING",
-                         A="403:EXAM_EXERCISE_LOCKED", K="403:EXAM_RUNNING", X="403:EXAM_EXERCISE_LOCKED"),
-        "live": row(S="4403:EXAM_RUNNING", O="update", T="update", I="4403:EXAM_RUNNING",
-                    A="4403:EXAM_EXERCISE_LOCKED", K="4403:EXAM_RUNNING", X="4403:EXAM_EXERCISE_LOCKED"),
+        "hints": row(
+            S="403:EXAM_RUNNING",
+            O="200",
+            T="200",
+            I="403:EXAM_RUNNING",
+            A="401",
+            K="403:EXAM_RUNNING",
+            X="403:EXAM_EXERCISE_LOCKED",
+        ),
+        "solution": row(
+            S="403:EXAM_RUNNING",
+            O="200",
+            T="200",
+            I="403:EXAM_RUNNING",
+            A="401",
+            K="403:EXAM_RUNNING",
+            X="403:EXAM_EXERCISE_LOCKED",
+        ),
+        "draft": row(
+            S="200:exam",
+            O="200:practice",
+            T="200:practice",
+            I="200:exam",
+            A="401",
+            K="403:DRAFTS_USERS_ONLY",
+            X="403:DRAFTS_USERS_ONLY",
+        ),
+        "submit": row(
+            S="201:held",
+            O="201:graded",
+            T="201:graded",
+            I="201:held",
+            A="401",
+            K="201:held",
+            X="403:EXAM_EXERCISE_LOCKED",
+        ),
+        "check": row(
+            S="403:EXAM_RUNNING",
+            O="200",
+            T="200",
+            I="403:EXAM_RUNNING",
+            A="403:EXAM_EXERCISE_LOCKED",
+            K="403:EXAM_RUNNING",
+            X="403:EXAM_EXERCISE_LOCKED",
+        ),
+        "deviation": row(
+            S="403:EXAM_RUNNING",
+            O="200",
+            T="200",
+            I="403:EXAM_RUNNING",
+            A="403:EXAM_EXERCISE_LOCKED",
+            K="403:EXAM_RUNNING",
+            X="403:EXAM_EXERCISE_LOCKED",
+        ),
+        "live": row(
+            S="4403:EXAM_RUNNING",
+            O="update",
+            T="update",
+            I="4403:EXAM_RUNNING",
+            A="4403:EXAM_EXERCISE_LOCKED",
+            K="4403:EXAM_RUNNING",
+            X="4403:EXAM_EXERCISE_LOCKED",
+        ),
         "exam_grade": HELD,  # the one S made in this moment
     },
     "held": {**WITHHELD, "exam_grade": HELD},
-    "released": {**FREE, "exam_grade": row(S="graded", O="404", T="graded", I="404", A="401", K="404", X="404")},
+    "released": {
+        **FREE,
+        "exam_grade": row(S="graded", O="404", T="graded", I="404", A="401", K="404", X="404"),
+    },
 }
 
 
@@ -104,8 +198,14 @@ class Callers:
             repo.add_member(db, self.course, user.id, "student")
         course_with(api, api.user("instructor"), other)
         self.headers: dict[str, dict[str, str]] = {
-            "S": auth(s), "O": auth(other), "T": auth(self.teacher), "I": auth(inst), "A": {},
-            "K": api.api_key(list(SCOPES), k_owner), "X": api.api_key(list(SCOPES))}
+            "S": auth(s),
+            "O": auth(other),
+            "T": auth(self.teacher),
+            "I": auth(inst),
+            "A": {},
+            "K": api.api_key(list(SCOPES), k_owner),
+            "X": api.api_key(list(SCOPES)),
+        }
         self.tokens = {c: self._viz_token(c) for c in CALLERS}
         self.exam_submission: int | None = None
 
@@ -129,7 +229,11 @@ class Callers:
             return self._code(client.get(f"/api/v1/exercises/{slug}/solution", headers=h))
         if route == "draft":
             r = client.put(f"/api/v1/exercises/{slug}/draft", json={"program": GOOD}, headers=h)
-            return f"200:{'practice' if r.json()['assignment'] is None else 'exam'}" if r.is_success else self._code(r)
+            return (
+                f"200:{'practice' if r.json()['assignment'] is None else 'exam'}"
+                if r.is_success
+                else self._code(r)
+            )
         if route == "submit":
             body: dict[str, Any] = {"exercise": slug, "program": GOOD}
             if caller == "X":
@@ -142,10 +246,17 @@ class Callers:
                 self.exam_submission = out["id"]
             return "201:held" if out["held"] else "201:graded" if out["score"] is not None else "201:withheld"
         if route == "check":
-            return self._code(client.post("/api/v1/check", json={"program": GOOD, "exercise": slug}, headers=h))
+            return self._code(
+                client.post("/api/v1/check", json={"program": GOOD, "exercise": slug}, headers=h)
+            )
         if route == "deviation":
-            return self._code(client.post(f"/api/v1/viz/{self.tokens[caller]}/deviation",
-                                          json={"program": GOOD, "exercise": slug}, headers=h))
+            return self._code(
+                client.post(
+                    f"/api/v1/viz/{self.tokens[caller]}/deviation",
+                    json={"program": GOOD, "exercise": slug},
+                    headers=h,
+                )
+            )
         if route == "live":
             return self._live(h)
         if route == "exam_grade":
@@ -201,14 +312,22 @@ def test_withheld_practice_grades_come_back_with_the_release(api: Api, moment: s
     exam = assign(api, teacher, course, [slug], start=60 if moment == "upcoming" else -100, minutes=90)
     if moment == "held":
         finalize(api)
-    r = api.client.post("/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=auth(student))
+    r = api.client.post(
+        "/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=auth(student)
+    )
     assert r.status_code == 201 and r.json()["score"] is None and r.json()["grading"] is None
     history = api.client.get(f"/api/v1/me/submissions?exercise={slug}", headers=auth(student)).json()
     assert history[0]["score"] is None and history[0]["criteria"] == []
     # it is graded all along (an admin sees it; the course's instructor does not see practice outside the course)
-    assert api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(admin)).json()["score"] is not None
+    assert (
+        api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(admin)).json()["score"]
+        is not None
+    )
     if moment == "upcoming":
         shift(api, exam, 151)
         finalize(api)
     release(api, teacher, exam)
-    assert api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(student)).json()["score"] is not None
+    assert (
+        api.client.get(f"/api/v1/submissions/{r.json()['id']}", headers=auth(student)).json()["score"]
+        is not None
+    )

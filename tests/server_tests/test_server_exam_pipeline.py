@@ -16,12 +16,25 @@ from server.workers import HAS_SIM
 def _exam(api: Api, student: dict[str, str], **settings: Any) -> tuple[int, str]:
     teacher = api.user("instructor")
     course = api.client.post("/api/v1/courses", json={"name": "Prüfung"}, headers=auth(teacher)).json()
-    assert api.client.post("/api/v1/courses/join", json={"code": course["join_code"]},
-                           headers=auth(student)).status_code == 200
+    assert (
+        api.client.post(
+            "/api/v1/courses/join", json={"code": course["join_code"]}, headers=auth(student)
+        ).status_code
+        == 200
+    )
     slug = builtin_exercise(api)
-    r = api.client.post(f"/api/v1/courses/{course['id']}/assignments", headers=auth(teacher), json={
-        "title": "Prüfung G1", "exercises": [slug], "mode": "exam", "duration_minutes": 90,
-        "opens_at": (datetime.now(UTC) - timedelta(minutes=1)).isoformat(), "settings": settings})
+    r = api.client.post(
+        f"/api/v1/courses/{course['id']}/assignments",
+        headers=auth(teacher),
+        json={
+            "title": "Prüfung G1",
+            "exercises": [slug],
+            "mode": "exam",
+            "duration_minutes": 90,
+            "opens_at": (datetime.now(UTC) - timedelta(minutes=1)).isoformat(),
+            "settings": settings,
+        },
+    )
     assert r.status_code == 201, r.text
     return int(r.json()["id"]), slug
 

@@ -14,8 +14,12 @@ def test_builtin_examples_without_an_account(api: Api) -> None:
     secret = builtin_exercise(api, solution="never")
     owner = api.user("instructor")
     own = unique("eigene-")
-    assert api.client.post("/api/v1/exercises/import", content=exercise_file(own).encode(),
-                           headers=auth(owner)).status_code == 201
+    assert (
+        api.client.post(
+            "/api/v1/exercises/import", content=exercise_file(own).encode(), headers=auth(owner)
+        ).status_code
+        == 201
+    )
     r = api.client.get("/api/v1/examples")
     assert r.status_code == 200
     examples = {e["slug"]: e for e in r.json()}

@@ -14,14 +14,20 @@ def upload_text(slug: str) -> str:
     text = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.yaml").read_text(encoding="utf-8")
     program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
     text = text.replace("id: pal-05-g2-kreisbogen", f"id: {slug}")
-    return text.replace("reference_file: pal-05-g2-kreisbogen.nc\n",
-                        "reference: |\n" + "".join(f"  {line}\n" for line in program.splitlines()))
+    return text.replace(
+        "reference_file: pal-05-g2-kreisbogen.nc\n",
+        "reference: |\n" + "".join(f"  {line}\n" for line in program.splitlines()),
+    )
 
 
 def test_upload_messages_per_field_in_german(api: Api) -> None:
     owner = api.user("instructor")
-    bad = (upload_text("Kreis_Bogen").replace("feed: 150", "feed: -5").replace("dialect: pal-mill", "dialect: fanuc")
-           + "farbe: rot\nsolution: sometimes\n")
+    bad = (
+        upload_text("Kreis_Bogen")
+        .replace("feed: 150", "feed: -5")
+        .replace("dialect: pal-mill", "dialect: fanuc")
+        + "farbe: rot\nsolution: sometimes\n"
+    )
     r = api.client.post("/api/v1/exercises/import", content=bad.encode(), headers=auth(owner))
     assert r.status_code == 422 and error_code(r) == "EXERCISE_INVALID"
     error = r.json()["error"]
@@ -38,7 +44,9 @@ def test_upload_messages_per_field_in_german(api: Api) -> None:
     assert "field `id`: only lower-case letters, digits and hyphens" in en
     fields = {p["field"]: p for p in error["details"]["errors"]}
     assert set(fields) >= {"id", "cutting_data[1].feed", "dialect", "farbe", "solution"}
-    assert fields["id"]["message"].startswith("nur Kleinbuchstaben") and fields["id"]["message_en"].startswith("only")
+    assert fields["id"]["message"].startswith("nur Kleinbuchstaben") and fields["id"][
+        "message_en"
+    ].startswith("only")
 
 
 def test_upload_rule_and_yaml_messages(api: Api) -> None:
@@ -46,13 +54,19 @@ def test_upload_rule_and_yaml_messages(api: Api) -> None:
     text = upload_text(unique("upload-")) + "rubric: [{id: geometry, points: 40}]\n"
     r = api.client.post("/api/v1/exercises/import", content=text.encode(), headers=auth(owner))
     assert r.status_code == 422
-    assert r.json()["error"]["message"] == "Die Aufgabe ist ungültig: Feld `rubric`: die Punkte müssen 100 ergeben (sind 40)"
-    assert r.json()["error"]["message_en"] == ("The exercise is invalid: field `rubric`: the points must add up to 100 "
-                                               "(they are 40)")
+    assert (
+        r.json()["error"]["message"]
+        == "Die Aufgabe ist ungültig: Feld `rubric`: die Punkte müssen 100 ergeben (sind 40)"
+    )
+    assert r.json()["error"]["message_en"] == (
+        "The exercise is invalid: field `rubric`: the points must add up to 100 (they are 40)"
+    )
     r = api.client.post("/api/v1/exercises/import", content=b"id: [1\n", headers=auth(owner))
     assert r.status_code == 422 and error_code(r) == "EXERCISE_INVALID"
     assert r.json()["error"]["message"].startswith("Die Aufgabe ist ungültig: kein gültiges YAML (Zeile 2")
-    assert "not valid YAML" in r.json()["error"]["message_en"] and "kein" not in r.json()["error"]["message_en"]
+    assert (
+        "not valid YAML" in r.json()["error"]["message_en"] and "kein" not in r.json()["error"]["message_en"]
+    )
 
 
 def test_upload_with_solution_order_and_hints(api: Api) -> None:

@@ -18,14 +18,24 @@ def test_student_sees_exercise_without_reference_or_hidden_criteria(api: Api) ->
     r = api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(student))
     assert r.status_code == 200
     body = r.json()
-    assert body["title_de"] == "Nuten" and body["rubric"] == {"points": 10} and body["owner"] == instructor["name"]
+    assert (
+        body["title_de"] == "Nuten"
+        and body["rubric"] == {"points": 10}
+        and body["owner"] == instructor["name"]
+    )
     assert body["reference_program"] is None and body["hidden_criteria"] is None
     listed = {e["slug"]: e for e in api.client.get("/api/v1/exercises", headers=auth(student)).json()}
     assert listed[ex["slug"]]["reference_program"] is None
     other = api.user("instructor")
-    assert api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(other)).json()["reference_program"] is None
+    assert (
+        api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(other)).json()["reference_program"]
+        is None
+    )
     admin = api.user("admin")
-    assert api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(admin)).json()["reference_program"] == GOOD
+    assert (
+        api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(admin)).json()["reference_program"]
+        == GOOD
+    )
 
 
 def test_exercises_need_a_login_or_a_key(api: Api) -> None:
@@ -53,17 +63,27 @@ def test_api_key_needs_exercises_write(api: Api) -> None:
 def test_create_validation_and_conflict(api: Api) -> None:
     instructor = api.user("instructor")
     ex = api.exercise(instructor)
-    r = api.client.post("/api/v1/exercises", json={"slug": ex["slug"], "title_de": "x"}, headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/exercises", json={"slug": ex["slug"], "title_de": "x"}, headers=auth(instructor)
+    )
     assert r.status_code == 409 and error_code(r) == "EXERCISE_EXISTS"
-    r = api.client.post("/api/v1/exercises", json={"slug": "Bad Slug!", "title_de": "x"}, headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/exercises", json={"slug": "Bad Slug!", "title_de": "x"}, headers=auth(instructor)
+    )
     assert r.status_code == 422 and error_code(r) == "VALIDATION"
-    r = api.client.post("/api/v1/exercises", json={"slug": "d1", "title_de": "x", "dialect": "iso"},
-                        headers=auth(instructor))
+    r = api.client.post(
+        "/api/v1/exercises", json={"slug": "d1", "title_de": "x", "dialect": "iso"}, headers=auth(instructor)
+    )
     assert r.status_code == 422 and error_code(r) == "UNKNOWN_DIALECT"
 
 
 def test_only_owner_or_admin_updates_and_deletes(api: Api) -> None:
-    owner, other, admin, student = api.user("instructor"), api.user("instructor"), api.user("admin"), api.user()
+    owner, other, admin, student = (
+        api.user("instructor"),
+        api.user("instructor"),
+        api.user("admin"),
+        api.user(),
+    )
     ex = api.exercise(owner)
     url = f"/api/v1/exercises/{ex['slug']}"
     for who in (other, student):
@@ -71,7 +91,9 @@ def test_only_owner_or_admin_updates_and_deletes(api: Api) -> None:
         assert r.status_code == 403 and error_code(r) == "FORBIDDEN"
         assert api.client.delete(url, headers=auth(who)).status_code == 403
     r = api.client.patch(url, json={"title_de": "Neu"}, headers=auth(owner))
-    assert r.status_code == 200 and r.json()["title_de"] == "Neu" and r.json()["task_de"] == "Fräse die Nuten."
+    assert (
+        r.status_code == 200 and r.json()["title_de"] == "Neu" and r.json()["task_de"] == "Fräse die Nuten."
+    )
     r = api.client.patch(url, json={"title_de": "Admin"}, headers=auth(admin))
     assert r.status_code == 200 and r.json()["title_de"] == "Admin"
     r = api.client.patch(url, json={"nonsense": 1}, headers=auth(owner))
@@ -88,13 +110,17 @@ def test_only_owner_or_admin_updates_and_deletes(api: Api) -> None:
 def test_exercise_with_submissions_is_archived_not_deleted(api: Api) -> None:
     owner, student = api.user("instructor"), api.user()
     ex = api.exercise(owner)
-    r = api.client.post("/api/v1/submissions", json={"exercise": ex["slug"], "program": GOOD}, headers=auth(student))
+    r = api.client.post(
+        "/api/v1/submissions", json={"exercise": ex["slug"], "program": GOOD}, headers=auth(student)
+    )
     assert r.status_code == 201
     r = api.client.delete(f"/api/v1/exercises/{ex['slug']}", headers=auth(owner))
     assert r.status_code == 204
     # hidden from the trainee, the submission kept; the owner still has it, marked archived
     assert api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(student)).status_code == 404
-    assert [s["exercise"] for s in api.client.get("/api/v1/submissions", headers=auth(student)).json()] == [ex["slug"]]
+    assert [s["exercise"] for s in api.client.get("/api/v1/submissions", headers=auth(student)).json()] == [
+        ex["slug"]
+    ]
     assert api.client.get(f"/api/v1/exercises/{ex['slug']}", headers=auth(owner)).json()["archived"] is True
 
 
@@ -103,7 +129,9 @@ def test_exercise_tool_table_is_used_by_check(api: Api) -> None:
     ex = api.exercise(owner, tools=[{"number": 3, "diameter": 10}])
     program = "N10 T1 TC1 M6\nN20 M30\n"
     free = api.client.post("/api/v1/check", json={"program": program}).json()["diagnostics"]
-    bound = api.client.post("/api/v1/check", json={"program": program, "exercise": ex["slug"]}).json()["diagnostics"]
+    bound = api.client.post("/api/v1/check", json={"program": program, "exercise": ex["slug"]}).json()[
+        "diagnostics"
+    ]
     assert not [d for d in free if d["severity"] == "error"]
     assert [d for d in bound if d["severity"] == "error"]
 
@@ -120,14 +148,16 @@ RUBRIC = """rubric:
 
 def write_exercise(folder: Path, slug: str) -> None:
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / f"{slug}.nc").write_text((SHIPPED / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8"),
-                                       encoding="utf-8")
+    (folder / f"{slug}.nc").write_text(
+        (SHIPPED / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8"), encoding="utf-8"
+    )
     (folder / f"{slug}.yaml").write_text(
         f"format: 1\nid: {slug}\ntitle: {{de: Absätze, en: Steps}}\ntask: {{de: Fräsen, en: Mill}}\n"
         "stock: {min: [0, 0, -30], max: [80, 70, 0]}\n"
         "tools:\n  - {number: 1, kind: end_mill, diameter: 25, cutting_length: 40, overall_length: 100}\n"
         f"cutting_data:\n  - {{tool: 1, speed: 1200, feed: 150}}\nreference_file: {slug}.nc\n{RUBRIC}",
-        encoding="utf-8")
+        encoding="utf-8",
+    )
 
 
 def test_builtin_exercises_are_loaded_from_yaml(api: Api, tmp_path: Path) -> None:

@@ -36,8 +36,14 @@ def small_pool(create_engine: Callable[..., Any]) -> Callable[..., Any]:
 
     @functools.wraps(create_engine)
     def make(url: Any, **kwargs: Any) -> Any:
-        return create_engine(url, **kwargs, poolclass=sqlalchemy.pool.QueuePool, pool_size=POOL, max_overflow=0,
-                             pool_timeout=10)
+        return create_engine(
+            url,
+            **kwargs,
+            poolclass=sqlalchemy.pool.QueuePool,
+            pool_size=POOL,
+            max_overflow=0,
+            pool_timeout=10,
+        )
 
     return make
 
@@ -48,10 +54,21 @@ def loaded(api: Api, tmp_path_factory: pytest.TempPathFactory) -> Iterator[Api]:
     pool of two connections, two workers, the default caps on heavy requests, and a time limit that a held job
     does not reach."""
     database = {"database_url": api.settings.database_url} if api.settings.database_url else {}
-    caps = {name: Settings.model_fields[name].default for name in ("heavy_jobs_per_user", "heavy_jobs_per_address")}
-    settings = make_settings(tmp_path_factory.mktemp("load"), "sqlite", workers=2, job_seconds=600,
-                             rate_picture_per_minute=1000, rate_viz_per_minute=1000,
-                             rate_viz_scene_per_minute=1000, **caps, **database)
+    caps = {
+        name: Settings.model_fields[name].default
+        for name in ("heavy_jobs_per_user", "heavy_jobs_per_address")
+    }
+    settings = make_settings(
+        tmp_path_factory.mktemp("load"),
+        "sqlite",
+        workers=2,
+        job_seconds=600,
+        rate_picture_per_minute=1000,
+        rate_viz_per_minute=1000,
+        rate_viz_scene_per_minute=1000,
+        **caps,
+        **database,
+    )
     app = create_app(settings)
     app.add_middleware(MarkRequests)
     with pytest.MonkeyPatch.context() as patch:
@@ -81,8 +98,11 @@ def light_requests_answer(api: Api, student: dict[str, str], slug: str, pool: Th
     the database, and runs in a worker) answer."""
     assert answer(pool.submit(api.client.get, "/healthz")).status_code == 200
     assert answer(pool.submit(api.client.get, "/readyz")).status_code == 200
-    r = answer(pool.submit(api.client.post, "/api/v1/check", json={"program": GOOD, "exercise": slug},
-                           headers=auth(student)))
+    r = answer(
+        pool.submit(
+            api.client.post, "/api/v1/check", json={"program": GOOD, "exercise": slug}, headers=auth(student)
+        )
+    )
     assert r.status_code == 200, r.text
     assert "diagnostics" in r.json()
 
@@ -104,31 +124,94 @@ def heavy_requests(api: Api) -> list[tuple[str, Callable[[], Any]]]:
     s = iter(students)
     for _ in range(2):
         sheets = assign(api, teacher, course, [builtin_exercise(api), builtin_exercise(api)], exam=False)
-        calls.append(("assignment sheets", functools.partial(client.get, f"/api/v1/assignments/{sheets}/sheets.pdf",
-                                                             headers=auth(next(s)))))
+        calls.append(
+            (
+                "assignment sheets",
+                functools.partial(
+                    client.get, f"/api/v1/assignments/{sheets}/sheets.pdf", headers=auth(next(s))
+                ),
+            )
+        )
         for kind, path in (("sheet", "sheet.pdf"), ("picture", "picture.png"), ("drawing", "drawing.svg")):
-            calls.append((kind, functools.partial(client.get, f"/api/v1/exercises/{builtin_exercise(api)}/{path}",
-                                                  headers=auth(next(s)))))
-        calls.append(("submission", functools.partial(
-            client.post, "/api/v1/submissions", json={"exercise": builtin_exercise(api), "program": reference_of()},
-            headers=auth(next(s)))))
-        calls.append(("simulate", functools.partial(client.post, "/api/v1/simulate", json={"program": GOOD},
-                                                    headers=auth(next(s)))))
+            calls.append(
+                (
+                    kind,
+                    functools.partial(
+                        client.get, f"/api/v1/exercises/{builtin_exercise(api)}/{path}", headers=auth(next(s))
+                    ),
+                )
+            )
+        calls.append(
+            (
+                "submission",
+                functools.partial(
+                    client.post,
+                    "/api/v1/submissions",
+                    json={"exercise": builtin_exercise(api), "program": reference_of()},
+                    headers=auth(next(s)),
+                ),
+            )
+        )
+        calls.append(
+            (
+                "simulate",
+                functools.partial(
+                    client.post, "/api/v1/simulate", json={"program": GOOD}, headers=auth(next(s))
+                ),
+            )
+        )
         who = next(s)
-        calls.append(("scene", functools.partial(client.post, f"/api/v1/viz/{viz_token(api, who)}/scene",
-                                                 json={"program": GOOD}, headers=auth(who))))
+        calls.append(
+            (
+                "scene",
+                functools.partial(
+                    client.post,
+                    f"/api/v1/viz/{viz_token(api, who)}/scene",
+                    json={"program": GOOD},
+                    headers=auth(who),
+                ),
+            )
+        )
         who = next(s)
-        calls.append(("deviation", functools.partial(
-            client.post, f"/api/v1/viz/{viz_token(api, who)}/deviation",
-            json={"program": reference_of(), "exercise": builtin_exercise(api)}, headers=auth(who))))
-        calls.append(("3d picture", functools.partial(client.post, "/api/v1/viz/picture.png",
-                                                      json={"program": GOOD}, headers=auth(next(s)))))
-    calls.append(("example drawing", functools.partial(
-        client.get, f"/api/v1/examples/{builtin_exercise(api)}/drawing.svg")))  # anonymous: counted per address
-    calls.append(("anonymous simulate", functools.partial(client.post, "/api/v1/simulate", json={"program": GOOD})))
-    calls.append(("import", functools.partial(
-        client.post, "/api/v1/exercises/import", content=exercise_file(unique("load-")).encode(),
-        headers={**auth(teacher), "Content-Type": "application/yaml"})))
+        calls.append(
+            (
+                "deviation",
+                functools.partial(
+                    client.post,
+                    f"/api/v1/viz/{viz_token(api, who)}/deviation",
+                    json={"program": reference_of(), "exercise": builtin_exercise(api)},
+                    headers=auth(who),
+                ),
+            )
+        )
+        calls.append(
+            (
+                "3d picture",
+                functools.partial(
+                    client.post, "/api/v1/viz/picture.png", json={"program": GOOD}, headers=auth(next(s))
+                ),
+            )
+        )
+    calls.append(
+        (
+            "example drawing",
+            functools.partial(client.get, f"/api/v1/examples/{builtin_exercise(api)}/drawing.svg"),
+        )
+    )  # anonymous: counted per address
+    calls.append(
+        ("anonymous simulate", functools.partial(client.post, "/api/v1/simulate", json={"program": GOOD}))
+    )
+    calls.append(
+        (
+            "import",
+            functools.partial(
+                client.post,
+                "/api/v1/exercises/import",
+                content=exercise_file(unique("load-")).encode(),
+                headers={**auth(teacher), "Content-Type": "application/yaml"},
+            ),
+        )
+    )
     return calls
 
 
@@ -145,13 +228,21 @@ def test_heavy_requests_held_in_the_workers_leave_the_server_answering(loaded: A
     course = course_with(api, teacher, greedy)
     for _ in range(cap + 2):
         sheets = assign(api, teacher, course, [builtin_exercise(api)], exam=False)
-        requests.append(("greedy sheets", functools.partial(
-            api.client.get, f"/api/v1/assignments/{sheets}/sheets.pdf", headers=auth(greedy))))
+        requests.append(
+            (
+                "greedy sheets",
+                functools.partial(
+                    api.client.get, f"/api/v1/assignments/{sheets}/sheets.pdf", headers=auth(greedy)
+                ),
+            )
+        )
     other, slug = api.user(), builtin_exercise(api)
     with concurrently(gate, len(requests) + 4) as pool:
         futures = [(name, pool.submit(call)) for name, call in requests]
         admitted = len(requests) - 2  # the greedy student's two beyond the cap are answered at once
-        wait_until(lambda: gate.entered == admitted, ANSWER_SECONDS, "every admitted request waits for a worker")
+        wait_until(
+            lambda: gate.entered == admitted, ANSWER_SECONDS, "every admitted request waits for a worker"
+        )
         wait_until(lambda: gate.arrivals() == 1, ANSWER_SECONDS, "a worker process holds one heavy job")
         refused = [(name, f.result()) for name, f in futures if f.done()]
         assert [name for name, _ in refused] == ["greedy sheets"] * 2
@@ -162,7 +253,9 @@ def test_heavy_requests_held_in_the_workers_leave_the_server_answering(loaded: A
         light_requests_answer(api, other, slug, pool)
         gate.open()
         answers = [(name, answer(f)) for name, f in futures]
-    failed = [(name, r.status_code, r.text[:300]) for name, r in answers if r.status_code not in (200, 201, 429)]
+    failed = [
+        (name, r.status_code, r.text[:300]) for name, r in answers if r.status_code not in (200, 201, 429)
+    ]
     assert failed == []
     assert sum(r.status_code == 429 for _, r in answers) == 2
 
@@ -178,9 +271,13 @@ def test_sixteen_sheets_of_one_student_are_capped_and_the_server_goes_on(loaded:
     sheets = assign(api, teacher, course, [builtin_exercise(api) for _ in range(3)], exam=False)
     slug = builtin_exercise(api)
     with concurrently(gate, 20) as pool:
-        futures = [pool.submit(api.client.get, f"/api/v1/assignments/{sheets}/sheets.pdf", headers=auth(student))
-                   for _ in range(16)]
-        wait_until(lambda: sum(f.done() for f in futures) == 16 - cap, ANSWER_SECONDS, "the refused ones answered")
+        futures = [
+            pool.submit(api.client.get, f"/api/v1/assignments/{sheets}/sheets.pdf", headers=auth(student))
+            for _ in range(16)
+        ]
+        wait_until(
+            lambda: sum(f.done() for f in futures) == 16 - cap, ANSWER_SECONDS, "the refused ones answered"
+        )
         wait_until(lambda: gate.entered >= 1, ANSWER_SECONDS, "a sheet waits for a worker")
         refused = [f.result() for f in futures if f.done()]
         assert {r.status_code for r in refused} == {429}
@@ -207,37 +304,73 @@ def _routes(api: Api) -> dict[str, Callable[[], Any]]:
     return {
         "check": lambda: client.post("/api/v1/check", json={"program": GOOD, "exercise": slug}, headers=who),
         "run": lambda: client.post("/api/v1/run", json={"program": GOOD, "exercise": slug}, headers=who),
-        "simulate": lambda: client.post("/api/v1/simulate", json={"program": GOOD, "exercise": slug}, headers=who),
+        "simulate": lambda: client.post(
+            "/api/v1/simulate", json={"program": GOOD, "exercise": slug}, headers=who
+        ),
         "picture": lambda: client.get(f"/api/v1/exercises/{slug}/picture.png", headers=who),
         "drawing": lambda: client.get(f"/api/v1/exercises/{slug}/drawing.svg", headers=who),
         "sheet": lambda: client.get(f"/api/v1/exercises/{slug}/sheet.pdf", headers=who),
         "assignment sheets": lambda: client.get(f"/api/v1/assignments/{sheets}/sheets.pdf", headers=who),
         "example drawing": lambda: client.get(f"/api/v1/examples/{slug}/drawing.svg"),
-        "scene": lambda: client.post(f"/api/v1/viz/{viz_token(api, student)}/scene",
-                                     json={"program": GOOD, "exercise": slug}, headers=who),
-        "deviation": lambda: client.post(f"/api/v1/viz/{viz_token(api, student)}/deviation",
-                                         json={"program": reference_of(), "exercise": slug}, headers=who),
-        "3d picture": lambda: client.post("/api/v1/viz/picture.png", json={"program": GOOD, "exercise": slug},
-                                          headers=who),
+        "scene": lambda: client.post(
+            f"/api/v1/viz/{viz_token(api, student)}/scene",
+            json={"program": GOOD, "exercise": slug},
+            headers=who,
+        ),
+        "deviation": lambda: client.post(
+            f"/api/v1/viz/{viz_token(api, student)}/deviation",
+            json={"program": reference_of(), "exercise": slug},
+            headers=who,
+        ),
+        "3d picture": lambda: client.post(
+            "/api/v1/viz/picture.png", json={"program": GOOD, "exercise": slug}, headers=who
+        ),
         "results": lambda: client.get("/api/v1/results", headers=auth(teacher)),
         "insights": lambda: client.get(f"/api/v1/assignments/{sheets}/insights", headers=auth(teacher)),
-        "submission": lambda: client.post("/api/v1/submissions", json={"exercise": slug, "program": GOOD},
-                                          headers=who),
-        "import": lambda: client.post("/api/v1/exercises/import", content=exercise_file(unique("loop-")).encode(),
-                                      headers={**auth(teacher), "Content-Type": "application/yaml"}),
+        "submission": lambda: client.post(
+            "/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=who
+        ),
+        "import": lambda: client.post(
+            "/api/v1/exercises/import",
+            content=exercise_file(unique("loop-")).encode(),
+            headers={**auth(teacher), "Content-Type": "application/yaml"},
+        ),
     }
 
 
 # services.create_submission and services.import_exercise still read and write on the event loop around their
 # worker call (their split into a threadpool part before and after is with the services' owners)
 ON_THE_LOOP_STILL: set[str] = set()
-ROUTES = ["check", "run", "simulate", "picture", "drawing", "sheet", "assignment sheets", "example drawing", "scene",
-          "deviation", "3d picture", "results", "insights", "submission", "import"]
+ROUTES = [
+    "check",
+    "run",
+    "simulate",
+    "picture",
+    "drawing",
+    "sheet",
+    "assignment sheets",
+    "example drawing",
+    "scene",
+    "deviation",
+    "3d picture",
+    "results",
+    "insights",
+    "submission",
+    "import",
+]
 
 
-@pytest.mark.parametrize("route", [pytest.param(r, marks=pytest.mark.xfail(
-    strict=True, reason="queries on the event loop in server/services.py")) if r in ON_THE_LOOP_STILL else r
-    for r in ROUTES])
+@pytest.mark.parametrize(
+    "route",
+    [
+        pytest.param(
+            r, marks=pytest.mark.xfail(strict=True, reason="queries on the event loop in server/services.py")
+        )
+        if r in ON_THE_LOOP_STILL
+        else r
+        for r in ROUTES
+    ],
+)
 def test_no_request_queries_the_database_on_the_event_loop(loaded: Api, route: str) -> None:
     """A synchronous query on the event loop stops every other request while it waits for the database or for a
     free pooled connection (the issue: /healthz took 119.5 s). Async routes do their database work in the

@@ -9,7 +9,9 @@ from server_helpers import GOOD, Api, auth, unique
 
 RETRIES = 6
 # long enough to grade that every retry has looked for the key before the first one is stored
-SLOW = GOOD.replace("N60 G0 Z50 M30\n", "".join(f"G1 X{i % 40} Y{i % 30}\n" for i in range(3000)) + "G0 Z50 M30\n")
+SLOW = GOOD.replace(
+    "N60 G0 Z50 M30\n", "".join(f"G1 X{i % 40} Y{i % 30}\n" for i in range(3000)) + "G0 Z50 M30\n"
+)
 
 
 def test_concurrent_retries_with_one_key_make_one_submission(api: Api) -> None:
@@ -39,11 +41,14 @@ def test_concurrent_retries_with_one_key_but_different_programs_conflict(api: Ap
     programs = [SLOW.replace("X20", f"X{20 + i}") for i in range(RETRIES)]
 
     def submit(program: str) -> int:
-        return api.client.post("/api/v1/submissions", json={"exercise": ex["slug"], "program": program},
-                               headers=headers).status_code
+        return api.client.post(
+            "/api/v1/submissions", json={"exercise": ex["slug"], "program": program}, headers=headers
+        ).status_code
 
     with ThreadPoolExecutor(RETRIES) as pool:
         codes = sorted(pool.map(submit, programs))
     assert codes == [201] + [409] * (RETRIES - 1), codes
-    listed = api.client.get("/api/v1/submissions", params={"exercise": ex["slug"]}, headers=auth(student)).json()
+    listed = api.client.get(
+        "/api/v1/submissions", params={"exercise": ex["slug"]}, headers=auth(student)
+    ).json()
     assert len(listed) == 1

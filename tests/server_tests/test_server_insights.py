@@ -22,18 +22,28 @@ def _class(api: Api, n: int) -> tuple[dict[str, str], list[dict[str, str]], int,
     students = [api.user() for _ in range(n)]
     course = api.client.post("/api/v1/courses", json={"name": "Einsichten"}, headers=auth(teacher)).json()
     for s in students:
-        assert api.client.post("/api/v1/courses/join", json={"code": course["join_code"]},
-                               headers=auth(s)).status_code == 200
+        assert (
+            api.client.post(
+                "/api/v1/courses/join", json={"code": course["join_code"]}, headers=auth(s)
+            ).status_code
+            == 200
+        )
     slug = builtin_exercise(api)
-    r = api.client.post(f"/api/v1/courses/{course['id']}/assignments", headers=auth(teacher), json={
-        "title": "Gerade", "exercises": [slug], "opens_at": _iso(-1), "deadline": _iso(60)})
+    r = api.client.post(
+        f"/api/v1/courses/{course['id']}/assignments",
+        headers=auth(teacher),
+        json={"title": "Gerade", "exercises": [slug], "opens_at": _iso(-1), "deadline": _iso(60)},
+    )
     assert r.status_code == 201, r.text
     return teacher, students, int(course["id"]), int(r.json()["id"]), slug
 
 
 def _submit(api: Api, who: dict[str, str], slug: str, program: str, assignment: int) -> None:
-    r = api.client.post("/api/v1/submissions", json={"exercise": slug, "program": program, "assignment": assignment},
-                        headers=auth(who))
+    r = api.client.post(
+        "/api/v1/submissions",
+        json={"exercise": slug, "program": program, "assignment": assignment},
+        headers=auth(who),
+    )
     assert r.status_code == 201, r.text
 
 
@@ -47,7 +57,9 @@ def test_insights_name_the_most_frequent_diagnostic_and_lost_criterion(api: Api)
     r = api.client.get(f"/api/v1/assignments/{assignment}/insights", headers=auth(teacher))
     assert r.status_code == 200, r.text
     body = r.json()
-    assert body["basis"] == "best" and body["students"] == 4 and body["scanned"] == 4 and body["capped"] is False
+    assert (
+        body["basis"] == "best" and body["students"] == 4 and body["scanned"] == 4 and body["capped"] is False
+    )
     (ex,) = body["exercises"]
     assert ex["exercise"] == slug and ex["students"] == 3 and ex["graded"] == 3
     top = ex["diagnostics"][0]
@@ -57,7 +69,11 @@ def test_insights_name_the_most_frequent_diagnostic_and_lost_criterion(api: Api)
     assert top["where"] == {"block": "G1", "students": 2}
     lost = {c["id"]: c for c in ex["criteria"]}
     # nobody's program makes the exercise's part: all three lost the geometry criterion
-    assert lost["geometry"]["lost"] == 3 and lost["geometry"]["of"] == 3 and lost["geometry"]["name"] == "Geometrie"
+    assert (
+        lost["geometry"]["lost"] == 3
+        and lost["geometry"]["of"] == 3
+        and lost["geometry"]["name"] == "Geometrie"
+    )
     assert lost["geometry"]["name_en"] == "geometry" and lost["geometry"]["points"] > 0
     # the syntax criterion: only the two with the error
     assert lost["syntax"]["lost"] == 2

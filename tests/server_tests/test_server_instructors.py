@@ -30,8 +30,11 @@ def test_role_matrix(api: Api) -> None:
     _set_instructor(api, s2, b)
     builtin = builtin_exercise(api)
     b_own = api.exercise(b)["slug"]
-    sub = {"s1_builtin": _submit(api, s1, builtin), "s2_builtin": _submit(api, s2, builtin),
-           "s1_b_own": _submit(api, s1, b_own)}
+    sub = {
+        "s1_builtin": _submit(api, s1, builtin),
+        "s2_builtin": _submit(api, s2, builtin),
+        "s1_b_own": _submit(api, s1, b_own),
+    }
     key_a = api.api_key(["submissions:read"], owner=a)
     platform = api.api_key(["submissions:read", "submissions:write"])
     sub["platform"] = _submit(api, platform, builtin)
@@ -65,7 +68,9 @@ def test_role_matrix(api: Api) -> None:
     assert rows_a == {s1["name"]}
     rows_b = {t["username"] for t in api.client.get("/api/v1/results", headers=auth(b)).json()["trainees"]}
     assert rows_b == {s1["name"], s2["name"]}  # s1 through B's own exercise
-    rows_admin = {t["username"] for t in api.client.get("/api/v1/results", headers=auth(admin)).json()["trainees"]}
+    rows_admin = {
+        t["username"] for t in api.client.get("/api/v1/results", headers=auth(admin)).json()["trainees"]
+    }
     assert {s1["name"], s2["name"]} <= rows_admin and a["name"] not in rows_admin
     assert api.client.get("/api/v1/results").status_code == 401
 
@@ -80,8 +85,14 @@ def test_role_matrix(api: Api) -> None:
 def test_an_instructor_sees_the_hidden_criteria_of_their_students_work(api: Api) -> None:
     a, s1 = api.user("instructor"), api.user()
     _set_instructor(api, s1, a)
-    slug = builtin_exercise(api, rubric=[{"id": "geometry", "points": 50}, {"id": "safety", "points": 40},
-                                         {"id": "syntax", "points": 10, "hidden": True}])
+    slug = builtin_exercise(
+        api,
+        rubric=[
+            {"id": "geometry", "points": 50},
+            {"id": "safety", "points": 40},
+            {"id": "syntax", "points": 10, "hidden": True},
+        ],
+    )
     sid = _submit(api, s1, slug)
     student_view = api.client.get(f"/api/v1/submissions/{sid}", headers=auth(s1)).json()
     assert "syntax" not in {c["id"] for c in student_view["grading"]["criteria"]}
@@ -94,17 +105,29 @@ def test_create_users_with_an_instructor(api: Api) -> None:
     admin, a, b, s = api.user("admin"), api.user("instructor"), api.user("instructor"), api.user()
     # admin: any role, managed by a named instructor
     name = unique("pupil")
-    r = api.client.post("/api/v1/users", json={"username": name, "password": PASSWORD, "instructor": a["name"]},
-                        headers=auth(admin))
+    r = api.client.post(
+        "/api/v1/users",
+        json={"username": name, "password": PASSWORD, "instructor": a["name"]},
+        headers=auth(admin),
+    )
     assert r.status_code == 201 and r.json()["instructor"] == a["name"] and r.json()["role"] == "student"
-    r = api.client.post("/api/v1/users", json={"username": unique("x"), "password": PASSWORD, "instructor": s["name"]},
-                        headers=auth(admin))
+    r = api.client.post(
+        "/api/v1/users",
+        json={"username": unique("x"), "password": PASSWORD, "instructor": s["name"]},
+        headers=auth(admin),
+    )
     assert r.status_code == 422 and error_code(r) == "NOT_AN_INSTRUCTOR"
-    r = api.client.post("/api/v1/users", json={"username": unique("x"), "password": PASSWORD, "instructor": "nobody-x"},
-                        headers=auth(admin))
+    r = api.client.post(
+        "/api/v1/users",
+        json={"username": unique("x"), "password": PASSWORD, "instructor": "nobody-x"},
+        headers=auth(admin),
+    )
     assert r.status_code == 404 and error_code(r) == "USER_NOT_FOUND"
-    r = api.client.post("/api/v1/users", json={"username": unique("t"), "password": PASSWORD, "role": "instructor"},
-                        headers=auth(admin))
+    r = api.client.post(
+        "/api/v1/users",
+        json={"username": unique("t"), "password": PASSWORD, "role": "instructor"},
+        headers=auth(admin),
+    )
     assert r.status_code == 201 and r.json()["instructor"] is None
     # an instructor: students managed by themselves, nothing else
     name = unique("pupil")
@@ -112,10 +135,13 @@ def test_create_users_with_an_instructor(api: Api) -> None:
     assert r.status_code == 201 and r.json()["instructor"] == a["name"]
     assert name in {u["username"] for u in api.client.get("/api/v1/users", headers=auth(a)).json()}
     for body in ({"role": "instructor"}, {"role": "admin"}, {"instructor": b["name"]}):
-        r = api.client.post("/api/v1/users", json={"username": unique("x"), "password": PASSWORD, **body},
-                            headers=auth(a))
+        r = api.client.post(
+            "/api/v1/users", json={"username": unique("x"), "password": PASSWORD, **body}, headers=auth(a)
+        )
         assert r.status_code == 403 and error_code(r) == "FORBIDDEN", body
-    r = api.client.post("/api/v1/users", json={"username": unique("x"), "password": PASSWORD}, headers=auth(s))
+    r = api.client.post(
+        "/api/v1/users", json={"username": unique("x"), "password": PASSWORD}, headers=auth(s)
+    )
     assert r.status_code == 403
     r = api.client.post("/api/v1/users", json={"username": name, "password": PASSWORD}, headers=auth(a))
     assert r.status_code == 409 and error_code(r) == "USER_EXISTS"
@@ -124,12 +150,17 @@ def test_create_users_with_an_instructor(api: Api) -> None:
     assert r.status_code == 200
 
 
-@pytest.mark.parametrize("encoding,delimiter,header", [
-    ("utf-8-sig", ";", True), ("utf-8", ",", False), ("utf-8", ";", False)])
+@pytest.mark.parametrize(
+    "encoding,delimiter,header", [("utf-8-sig", ";", True), ("utf-8", ",", False), ("utf-8", ";", False)]
+)
 def test_class_list_import(api: Api, encoding: str, delimiter: str, header: bool) -> None:
     a = api.user("instructor")
     one, two = unique("klasse"), unique("klasse")
-    lines = ([f"Name{delimiter}Passwort"] if header else []) + [f"{one}{delimiter}geheim-genug-1", f"{two}", ""]
+    lines = ([f"Name{delimiter}Passwort"] if header else []) + [
+        f"{one}{delimiter}geheim-genug-1",
+        f"{two}",
+        "",
+    ]
     data = "\r\n".join(lines).encode(encoding)
     r = api.client.post("/api/v1/users/import", content=data, headers={**auth(a), "Content-Type": "text/csv"})
     assert r.status_code == 201, r.text
@@ -138,8 +169,16 @@ def test_class_list_import(api: Api, encoding: str, delimiter: str, header: bool
     assert users[one]["password"] is None  # given in the list: not repeated
     generated = users[two]["password"]
     assert isinstance(generated, str) and len(generated) >= 10
-    assert api.client.post("/api/v1/auth/token", data={"username": two, "password": generated}).status_code == 200
-    assert api.client.post("/api/v1/auth/token", data={"username": one, "password": "geheim-genug-1"}).status_code == 200
+    assert (
+        api.client.post("/api/v1/auth/token", data={"username": two, "password": generated}).status_code
+        == 200
+    )
+    assert (
+        api.client.post(
+            "/api/v1/auth/token", data={"username": one, "password": "geheim-genug-1"}
+        ).status_code
+        == 200
+    )
     assert {one, two} <= {u["username"] for u in api.client.get("/api/v1/users", headers=auth(a)).json()}
 
 
@@ -151,7 +190,11 @@ def test_class_list_errors_name_the_rows_and_import_nothing(api: Api) -> None:
     assert r.status_code == 422 and error_code(r) == "CLASS_LIST_INVALID"
     rows = {e["row"]: e for e in r.json()["error"]["details"]["errors"]}
     assert set(rows) == {2, 3, 4}
-    assert "Umlaute" in rows[2]["message"] and "doppelt" in rows[3]["message"] and "8 Zeichen" in rows[4]["message"]
+    assert (
+        "Umlaute" in rows[2]["message"]
+        and "doppelt" in rows[3]["message"]
+        and "8 Zeichen" in rows[4]["message"]
+    )
     assert "Zeile 2" in r.json()["error"]["message"] and "row 2" in r.json()["error"]["message_en"]
     r = api.client.post("/api/v1/users/import", content=f"{ok}\n{taken}\n".encode(), headers=auth(a))
     assert r.status_code == 409 and error_code(r) == "USER_EXISTS" and taken in r.json()["error"]["message"]
@@ -166,11 +209,14 @@ def test_class_list_errors_name_the_rows_and_import_nothing(api: Api) -> None:
     # students may not; instructors only for themselves; admins for a named instructor
     assert api.client.post("/api/v1/users/import", content=b"someone\n", headers=auth(s)).status_code == 403
     other = api.user("instructor")
-    r = api.client.post(f"/api/v1/users/import?instructor={other['name']}", content=b"someone\n", headers=auth(a))
+    r = api.client.post(
+        f"/api/v1/users/import?instructor={other['name']}", content=b"someone\n", headers=auth(a)
+    )
     assert r.status_code == 403
     name = unique("klasse")
-    r = api.client.post(f"/api/v1/users/import?instructor={other['name']}", content=f"{name}\n".encode(),
-                        headers=auth(admin))
+    r = api.client.post(
+        f"/api/v1/users/import?instructor={other['name']}", content=f"{name}\n".encode(), headers=auth(admin)
+    )
     assert r.status_code == 201 and r.json()["users"][0]["instructor"] == other["name"]
 
 

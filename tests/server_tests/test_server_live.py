@@ -64,7 +64,9 @@ def test_insert_and_delete_lines(api: Api) -> None:
     with api.client.websocket_connect(URL) as ws:
         ws.send_text(json.dumps({"type": "open", "version": 0, "text": GOOD}))
         receive(ws)
-        ws.send_text(json.dumps({"type": "edit", "version": 1, "line": 4, "end_line": 3, "text": "N35 G0 X5"}))
+        ws.send_text(
+            json.dumps({"type": "edit", "version": 1, "line": 4, "end_line": 3, "text": "N35 G0 X5"})
+        )
         update = receive(ws)
         assert update["line_count"] == 7
         assert 4 in [x["line"] for x in update["toolpath"]]
@@ -112,8 +114,14 @@ def test_fast_edits_are_answered_in_order_and_end_at_the_newest_version(api: Api
         ws.send_text(json.dumps({"type": "edit", "version": 9, "line": 1, "text": "N10 T1 TC1 M6"}))
         update = receive(ws)
         assert update.pop("run") in ("incremental", "to_end")  # not a full run: the worker has the last one
-        assert update == {"type": "update", "version": 9, "line_count": 6, "diagnostics": [], "toolpath": [],
-                          "final": [28.0, 0.0, 50.0]}
+        assert update == {
+            "type": "update",
+            "version": 9,
+            "line_count": 6,
+            "diagnostics": [],
+            "toolpath": [],
+            "final": [28.0, 0.0, 50.0],
+        }
 
 
 def test_protocol_errors(api: Api) -> None:
@@ -176,7 +184,10 @@ def test_exercise_document_uses_its_tools(api: Api) -> None:
     owner = api.user("instructor")
     ex = api.exercise(owner, tools=[{"number": 3, "diameter": 10}])
     with api.client.websocket_connect(URL) as ws:
-        ws.send_text(json.dumps({"type": "open", "version": 0, "text": "N10 T1 TC1 M6\nN20 M30\n",
-                                 "exercise": ex["slug"]}))
+        ws.send_text(
+            json.dumps(
+                {"type": "open", "version": 0, "text": "N10 T1 TC1 M6\nN20 M30\n", "exercise": ex["slug"]}
+            )
+        )
         update = receive(ws)
     assert any(d["severity"] == "error" for d in lines_of(update["diagnostics"]).get(1, []))

@@ -47,18 +47,23 @@ def still_answers(ws: WebSocketTestSession, version: int, x: int = 33) -> None:
     assert update["final"] == [float(x), 0.0, 50.0]
 
 
-@pytest.mark.parametrize("frame", [
-    {"type": "open", "version": 1, "text": "N10 G0 X\ud800\n"},
-    {"type": "edit", "version": 1, "line": 2, "text": "N20 \ud800"},
-    {"type": "sync", "version": 1, "text": "N10 \udfff M30\n"},
-    {"type": "open", "version": 1, "text": GOOD, "exercise": "\ud800"},
-    {"type": "open", "version": 1, "text": GOOD, "dialect": "pal-\ud800"},
-    {"type": "edit", "version": 1, "line": 2, "text": "x", "\ud800": 1},
-])
+@pytest.mark.parametrize(
+    "frame",
+    [
+        {"type": "open", "version": 1, "text": "N10 G0 X\ud800\n"},
+        {"type": "edit", "version": 1, "line": 2, "text": "N20 \ud800"},
+        {"type": "sync", "version": 1, "text": "N10 \udfff M30\n"},
+        {"type": "open", "version": 1, "text": GOOD, "exercise": "\ud800"},
+        {"type": "open", "version": 1, "text": GOOD, "dialect": "pal-\ud800"},
+        {"type": "edit", "version": 1, "line": 2, "text": "x", "\ud800": 1},
+    ],
+)
 def test_a_lone_surrogate_is_an_error_and_the_session_goes_on(api: Api, frame: dict[str, Any]) -> None:
     with api.client.websocket_connect(URL) as ws:
         opened(ws)
-        ws.send_text(json.dumps(frame))  # ensure_ascii: the frame carries the escape \ud800, as a browser's would
+        ws.send_text(
+            json.dumps(frame)
+        )  # ensure_ascii: the frame carries the escape \ud800, as a browser's would
         error = receive(ws)
         assert error["type"] == "error" and error["code"] == "BAD_MESSAGE" and error["version"] == 1
         assert error["message"] and error["message_en"]
@@ -81,8 +86,12 @@ def test_deeply_nested_json_is_an_error_and_the_session_goes_on(api: Api, depth:
         opened(ws)
         ws.send_text("[" * depth + "]" * depth)
         assert receive(ws)["code"] == "BAD_MESSAGE"
-        ws.send_text('{"type": "edit", "version": 1, "line": 5, "text": "N50 G1 X1", "x": ' + "[" * depth
-                     + "]" * depth + "}")
+        ws.send_text(
+            '{"type": "edit", "version": 1, "line": 5, "text": "N50 G1 X1", "x": '
+            + "[" * depth
+            + "]" * depth
+            + "}"
+        )
         assert receive(ws)["code"] == "BAD_MESSAGE"
         still_answers(ws, 2)
 
@@ -152,8 +161,12 @@ def test_a_foreign_origin_is_refused(api: Api) -> None:
         assert refusal(api, origin=origin)["code"] == 4403
 
 
-@pytest.mark.parametrize("origin", [None, "http://testserver", "https://testserver", "https://moodle.example.org"])
-def test_the_own_origin_configured_origins_and_non_browsers_are_accepted(api: Api, origin: str | None) -> None:
+@pytest.mark.parametrize(
+    "origin", [None, "http://testserver", "https://testserver", "https://moodle.example.org"]
+)
+def test_the_own_origin_configured_origins_and_non_browsers_are_accepted(
+    api: Api, origin: str | None
+) -> None:
     old = api.settings.cors_origins
     api.settings.cors_origins = ["https://moodle.example.org"]
     try:

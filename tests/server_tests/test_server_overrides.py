@@ -22,7 +22,12 @@ def _submit(api: Api, who: dict[str, str], slug: str, program: str = GOOD) -> di
 
 
 def test_an_override_is_what_counts_and_what_the_trainee_reads(api: Api) -> None:
-    teacher, student, stranger, admin = api.user("instructor"), api.user(), api.user("instructor"), api.user("admin")
+    teacher, student, stranger, admin = (
+        api.user("instructor"),
+        api.user(),
+        api.user("instructor"),
+        api.user("admin"),
+    )
     course = course_with(api, teacher, student)
     slug, other, third = builtin_exercise(api), builtin_exercise(api), builtin_exercise(api)
     practice = assign(api, teacher, course, [slug, other, third], exam=False, start=-1, minutes=600)
@@ -32,13 +37,17 @@ def test_an_override_is_what_counts_and_what_the_trainee_reads(api: Api) -> None
     url = f"/api/v1/submissions/{submitted['id']}/override"
 
     # who may: the course's instructor and admins; not the student, not another instructor
-    r = api.client.put(url, json={"score": 80, "comment": "Nur ein Tippfehler im Vorschub."}, headers=auth(student))
+    r = api.client.put(
+        url, json={"score": 80, "comment": "Nur ein Tippfehler im Vorschub."}, headers=auth(student)
+    )
     assert r.status_code == 403
     r = api.client.put(url, json={"score": 80}, headers=auth(stranger))
     assert r.status_code == 404 and error_code(r) == "SUBMISSION_NOT_FOUND"
     r = api.client.put(url, json={"score": 101}, headers=auth(teacher))
     assert r.status_code == 422 and error_code(r) == "OVERRIDE_OUT_OF_RANGE"
-    r = api.client.put(url, json={"score": 80, "comment": "Nur ein Tippfehler im Vorschub."}, headers=auth(teacher))
+    r = api.client.put(
+        url, json={"score": 80, "comment": "Nur ein Tippfehler im Vorschub."}, headers=auth(teacher)
+    )
     assert r.status_code == 200, r.text
     seen = r.json()
     assert seen["score"] == 80 and seen["grading"]["score"] == auto  # the grader's score stays visible
@@ -47,13 +56,19 @@ def test_an_override_is_what_counts_and_what_the_trainee_reads(api: Api) -> None
     # the trainee reads both
     mine = api.client.get(f"/api/v1/submissions/{submitted['id']}", headers=auth(student)).json()
     assert mine["score"] == 80 and mine["lms"]["score"] == 80
-    assert mine["override"]["message"] == (f"Punktzahl von der Lehrkraft geändert: 80 statt {auto} – "
-                                           "Nur ein Tippfehler im Vorschub.")
+    assert mine["override"]["message"] == (
+        f"Punktzahl von der Lehrkraft geändert: 80 statt {auto} – Nur ein Tippfehler im Vorschub."
+    )
     assert "Nur ein Tippfehler" in mine["lms"]["comment"]
     history = api.client.get(f"/api/v1/me/submissions?exercise={slug}", headers=auth(student)).json()
-    assert history[0]["score"] == 80 and history[0]["override"]["comment"] == "Nur ein Tippfehler im Vorschub."
-    item = next(a for a in api.client.get("/api/v1/me/assignments", headers=auth(student)).json()
-                if a["id"] == practice)["items"][0]
+    assert (
+        history[0]["score"] == 80 and history[0]["override"]["comment"] == "Nur ein Tippfehler im Vorschub."
+    )
+    item = next(
+        a
+        for a in api.client.get("/api/v1/me/assignments", headers=auth(student)).json()
+        if a["id"] == practice
+    )["items"][0]
     assert item["score"] == 80 and item["override"]["score"] == 80
     progress = {p["exercise"]: p for p in api.client.get("/api/v1/me/progress", headers=auth(student)).json()}
     assert progress[slug]["best_score"] == 80
@@ -69,7 +84,12 @@ def test_an_override_is_what_counts_and_what_the_trainee_reads(api: Api) -> None
     assert next(r for r in rows if r[1] == slug)[2:5] == ["80", "100", "80,0"]
     assert next(r for r in rows if r[1] == "Summe")[2:5] == ["80", "300", "26,7"]
     overall = api.client.get("/api/v1/results", headers=auth(teacher)).json()
-    assert next(t for t in overall["trainees"] if t["username"] == student["name"])["results"][slug]["best_score"] == 80
+    assert (
+        next(t for t in overall["trainees"] if t["username"] == student["name"])["results"][slug][
+            "best_score"
+        ]
+        == 80
+    )
 
     # the learning platform's gradebook takes the score that counts
     with api.app.state.db.session() as db:
@@ -87,16 +107,24 @@ def test_an_override_is_what_counts_and_what_the_trainee_reads(api: Api) -> None
 def test_the_managing_instructor_may_override_practice_and_ungraded_work_cannot_be(api: Api) -> None:
     teacher = api.user("instructor")
     name = "verwaltet-" + teacher["name"]
-    r = api.client.post("/api/v1/users", json={"username": name, "password": "geheim-genug", "role": "student"},
-                        headers=auth(teacher))
+    r = api.client.post(
+        "/api/v1/users",
+        json={"username": name, "password": "geheim-genug", "role": "student"},
+        headers=auth(teacher),
+    )
     assert r.status_code == 201
     token = api.client.post("/api/v1/auth/token", data={"username": name, "password": "geheim-genug"}).json()
     student = {"name": name, "Authorization": f"Bearer {token['access_token']}"}
     submitted = _submit(api, student, builtin_exercise(api))
-    r = api.client.put(f"/api/v1/submissions/{submitted['id']}/override", json={"score": 95, "comment": ""},
-                       headers=auth(teacher))
+    r = api.client.put(
+        f"/api/v1/submissions/{submitted['id']}/override",
+        json={"score": 95, "comment": ""},
+        headers=auth(teacher),
+    )
     assert r.status_code == 200 and r.json()["override"]["message"].endswith(f"95 statt {submitted['score']}")
     ungraded = api.exercise(teacher)["slug"]  # an exercise without a grader's document
     submitted = _submit(api, student, ungraded)
-    r = api.client.put(f"/api/v1/submissions/{submitted['id']}/override", json={"score": 5}, headers=auth(teacher))
+    r = api.client.put(
+        f"/api/v1/submissions/{submitted['id']}/override", json={"score": 5}, headers=auth(teacher)
+    )
     assert r.status_code == 409 and error_code(r) == "NOT_GRADED"

@@ -16,8 +16,10 @@ from server.workers import HAS_SIM
 
 pytestmark = pytest.mark.skipif(not HAS_SIM, reason="the simulation (numpy) is not installed")
 SVG = "{http://www.w3.org/2000/svg}"
-TURNING = ("%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X40 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
-           "N60 U5\nN70 G2 X60 Z-30 R10\nN80 G0 X100 Z100\nN90 M30\n")
+TURNING = (
+    "%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X40 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
+    "N60 U5\nN70 G2 X60 Z-30 R10\nN80 G0 X100 Z100\nN90 M30\n"
+)
 
 
 def _texts(svg: bytes) -> list[str]:
@@ -43,11 +45,15 @@ def test_the_plan_view_of_a_milling_program(api: Api) -> None:
 
 def test_a_big_stock_gets_coarser_cells(api: Api) -> None:
     """At most 400 cells along the stock's longer side: a 1000 mm block is simulated at 2.5 mm."""
-    r = api.client.post("/api/v1/viz/picture.svg", json={"program": GOOD, "stock": {"min": [0, 0, -30],
-                                                                                     "max": [1000, 200, 0]}})
+    r = api.client.post(
+        "/api/v1/viz/picture.svg",
+        json={"program": GOOD, "stock": {"min": [0, 0, -30], "max": [1000, 200, 0]}},
+    )
     assert r.status_code == 200
     assert r.headers["x-picture-raster"] == "400x80" and r.headers["x-picture-cell"] == "2.5"
-    assert viz.picture_resolution({"stock": {"min": [0, 0, 0], "max": [80, 70, 1]}, "resolution": 0.1}) == 0.25
+    assert (
+        viz.picture_resolution({"stock": {"min": [0, 0, 0], "max": [80, 70, 1]}, "resolution": 0.1}) == 0.25
+    )
 
 
 def test_the_drawing_view_of_a_turning_program(api: Api) -> None:
@@ -56,8 +62,10 @@ def test_the_drawing_view_of_a_turning_program(api: Api) -> None:
     texts = _texts(r.content)
     assert "X (Ø)" in texts and "Schnitt" in texts and "60" in texts  # Ø60 behind Z-30
     # the request's blank is the one drawn (the 3D view turns the same)
-    r = api.client.post("/api/v1/viz/picture.svg", json={"program": TURNING, "dialect": "traub-tx8d",
-                                                         "blank": {"diameter": 80, "length": 100}})
+    r = api.client.post(
+        "/api/v1/viz/picture.svg",
+        json={"program": TURNING, "dialect": "traub-tx8d", "blank": {"diameter": 80, "length": 100}},
+    )
     assert r.status_code == 200 and "-100" in _texts(r.content)
 
 
@@ -101,8 +109,14 @@ def test_viser_client_round_trip() -> None:
     for pattern, _ in viz.CLIENT_PATCHES:
         assert pattern.search(code) and not pattern.search(new_code)
     # the same page around it: only the packed attributes differ
-    assert patched.replace(b'<link rel="stylesheet" href="/static/viz-frame.css">', b"").split(b"data-p=")[0] \
+    assert (
+        patched.replace(b'<link rel="stylesheet" href="/static/viz-frame.css">', b"").split(b"data-p=")[0]
         == original.split(b"data-p=")[0]
-    assert zstandard.ZstdDecompressor().decompress(
-        viz.base88_decode(viz._PACKED.search(patched).group(1)), max_output_size=len(new_style) + len(new_code)) \
+    )
+    assert (
+        zstandard.ZstdDecompressor().decompress(
+            viz.base88_decode(viz._PACKED.search(patched).group(1)),
+            max_output_size=len(new_style) + len(new_code),
+        )
         == new_style + new_code
+    )

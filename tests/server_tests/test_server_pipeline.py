@@ -33,8 +33,9 @@ def test_run_answers_in_the_cli_shape(api: Api) -> None:
 
 def test_run_with_tools_and_skip_blocks(api: Api) -> None:
     program = "N10 T7 TC1 M6\n/N20 G0 X10 Y10 Z2\nN30 M30\n"
-    r = api.client.post("/api/v1/run", json={"program": program, "tools": [{"number": 7, "diameter": 8}],
-                                             "skip_blocks": True})
+    r = api.client.post(
+        "/api/v1/run", json={"program": program, "tools": [{"number": 7, "diameter": 8}], "skip_blocks": True}
+    )
     body = r.json()
     assert r.status_code == 200
     assert [d["code"] for d in body["diagnostics"] if d["severity"] == "error"] == []
@@ -92,14 +93,18 @@ def test_check_rate_limit_is_429_per_caller(api: Api) -> None:
     old = api.settings.rate_check_per_minute
     api.settings.rate_check_per_minute = 3
     try:
-        codes = [api.client.post("/api/v1/check", json={"program": GOOD}, headers=auth(student)).status_code
-                 for _ in range(4)]
+        codes = [
+            api.client.post("/api/v1/check", json={"program": GOOD}, headers=auth(student)).status_code
+            for _ in range(4)
+        ]
         assert codes == [200, 200, 200, 429]
         r = api.client.post("/api/v1/run", json={"program": GOOD}, headers=auth(student))
         assert r.status_code == 429 and error_code(r) == "RATE_LIMITED"
         assert int(r.headers["retry-after"]) > 0
         other = api.user()
-        assert api.client.post("/api/v1/check", json={"program": GOOD}, headers=auth(other)).status_code == 200
+        assert (
+            api.client.post("/api/v1/check", json={"program": GOOD}, headers=auth(other)).status_code == 200
+        )
     finally:
         api.settings.rate_check_per_minute = old
 
@@ -110,7 +115,9 @@ def test_free_practice_off_needs_an_account(api: Api) -> None:
         r = api.client.post("/api/v1/check", json={"program": GOOD})
         assert r.status_code == 401 and error_code(r) == "FREE_PRACTICE_OFF"
         student = api.user()
-        assert api.client.post("/api/v1/check", json={"program": GOOD}, headers=auth(student)).status_code == 200
+        assert (
+            api.client.post("/api/v1/check", json={"program": GOOD}, headers=auth(student)).status_code == 200
+        )
     finally:
         api.settings.free_practice = True
 
@@ -134,9 +141,13 @@ def test_openapi_describes_bodies_and_errors(api: Api) -> None:
     assert "ErrorBody" in doc["components"]["schemas"]
     check = doc["paths"]["/api/v1/check"]["post"]
     assert check["requestBody"]["content"]["application/json"]["schema"]["$ref"].endswith("/ProgramRequest")
-    assert check["responses"]["200"]["content"]["application/json"]["schema"]["$ref"].endswith("/CheckResponse")
+    assert check["responses"]["200"]["content"]["application/json"]["schema"]["$ref"].endswith(
+        "/CheckResponse"
+    )
     for status in ("413", "422", "429"):
-        assert check["responses"][status]["content"]["application/json"]["schema"]["$ref"].endswith("/ErrorBody")
+        assert check["responses"][status]["content"]["application/json"]["schema"]["$ref"].endswith(
+            "/ErrorBody"
+        )
     for path, methods in doc["paths"].items():
         for method, op in methods.items():
             for status, resp in op["responses"].items():

@@ -32,8 +32,9 @@ def replica(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Api]:
 
 def other_replica_token(api: Api, name: str) -> str:
     """A token made by replica `name` with the same secret (as every replica of one installation has)."""
-    return viz.Scenes(api.settings.jwt_secret(), api.settings.model_copy(update={"replica_id": name})).new_token(
-        "anon:" + "x" * 20, "ip:127.0.0.1")
+    return viz.Scenes(
+        api.settings.jwt_secret(), api.settings.model_copy(update={"replica_id": name})
+    ).new_token("anon:" + "x" * 20, "ip:127.0.0.1")
 
 
 def test_a_3d_token_names_its_replica(replica: Api) -> None:
@@ -53,7 +54,10 @@ def test_another_replicas_token_is_gone_here(replica: Api) -> None:
     assert r.status_code == 410 and error_code(r) == "VIZ_ELSEWHERE"
     assert replica.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}).status_code == 410
     assert replica.client.get(f"/viz/{token}/").status_code == 410
-    with pytest.raises(WebSocketDisconnect) as closed, replica.client.websocket_connect(f"/viz/{token}/alive") as ws:
+    with (
+        pytest.raises(WebSocketDisconnect) as closed,
+        replica.client.websocket_connect(f"/viz/{token}/alive") as ws,
+    ):
         ws.receive_text()
     assert closed.value.code == 4410
 
@@ -67,7 +71,10 @@ def test_the_watch_socket_stays_open_for_this_replicas_scene(replica: Api) -> No
     token = replica.client.post("/api/v1/viz").json()["token"]
     with replica.client.websocket_connect(f"/viz/{token}/alive") as ws:
         ws.send_text("ping")  # still open: a closed socket would raise here or on close
-    with pytest.raises(WebSocketDisconnect) as closed, replica.client.websocket_connect("/viz/r1.x.y.z/alive") as ws:
+    with (
+        pytest.raises(WebSocketDisconnect) as closed,
+        replica.client.websocket_connect("/viz/r1.x.y.z/alive") as ws,
+    ):
         ws.receive_text()
     assert closed.value.code == 4401
 
@@ -119,7 +126,9 @@ def connections_held_at_worker_calls(replica: Api, monkeypatch: pytest.MonkeyPat
     return held
 
 
-def test_a_submission_being_graded_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_submission_being_graded_holds_no_database_connection(
+    replica: Api, monkeypatch: pytest.MonkeyPatch
+) -> None:
     """Many submissions waiting for a worker at once must not take every pooled connection: a request that then
     needs one would wait for the pool inside the event loop, and the replica would stall (bench/scale.py with
     16 clients on one replica did)."""
@@ -127,19 +136,25 @@ def test_a_submission_being_graded_holds_no_database_connection(replica: Api, mo
     with_exercises(replica)
     user = replica.user()
     program = (ROOT / "exercises" / "pal-mill" / "pal-01-g1-gerade.nc").read_text(encoding="utf-8")
-    r = replica.client.post("/api/v1/submissions", json={"exercise": "pal-01-g1-gerade", "program": program},
-                            headers={"Authorization": user["Authorization"]})
+    r = replica.client.post(
+        "/api/v1/submissions",
+        json={"exercise": "pal-01-g1-gerade", "program": program},
+        headers={"Authorization": user["Authorization"]},
+    )
     assert r.status_code == 201, r.text
     assert held == [0]
 
 
-def test_a_3d_scene_being_computed_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_a_3d_scene_being_computed_holds_no_database_connection(
+    replica: Api, monkeypatch: pytest.MonkeyPatch
+) -> None:
     held = connections_held_at_worker_calls(replica, monkeypatch)
     with_exercises(replica)
     auth = {"Authorization": replica.user()["Authorization"]}
     token = replica.client.post("/api/v1/viz", headers=auth).json()["token"]
-    r = replica.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "exercise": "pal-01-g1-gerade"},
-                            headers=auth)
+    r = replica.client.post(
+        f"/api/v1/viz/{token}/scene", json={"program": GOOD, "exercise": "pal-01-g1-gerade"}, headers=auth
+    )
     assert r.status_code == 200, r.text
     assert held == [0]
 
@@ -154,8 +169,9 @@ def with_exercises(api: Api) -> None:
 
 
 @pytest.mark.parametrize("path", ["/api/v1/check", "/api/v1/run", "/api/v1/simulate"])
-def test_a_program_being_checked_holds_no_database_connection(replica: Api, monkeypatch: pytest.MonkeyPatch,
-                                                              path: str) -> None:
+def test_a_program_being_checked_holds_no_database_connection(
+    replica: Api, monkeypatch: pytest.MonkeyPatch, path: str
+) -> None:
     """/check, /run and /simulate wait for a worker like a submission: without their connection."""
     held = connections_held_at_worker_calls(replica, monkeypatch)
     auth = {"Authorization": replica.user()["Authorization"]}

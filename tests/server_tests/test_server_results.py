@@ -29,7 +29,9 @@ def test_results_json_and_csv(api: Api) -> None:
     second = builtin_exercise(api, order=2, title={"de": "=Zweite", "en": "Second"})  # a formula in a title
 
     def submit(who: dict[str, str], slug: str, program: str) -> dict[str, object]:
-        r = api.client.post("/api/v1/submissions", json={"exercise": slug, "program": program}, headers=auth(who))
+        r = api.client.post(
+            "/api/v1/submissions", json={"exercise": slug, "program": program}, headers=auth(who)
+        )
         assert r.status_code == 201
         return dict(r.json())
 
@@ -68,4 +70,6 @@ def test_results_json_and_csv(api: Api) -> None:
     assert ben_row["Titel"] == "'=Zweite"  # not a formula in a spreadsheet
     score = int(str(ben_second["score"]))
     assert ben_row["Prozent"] == f"{score:.1f}".replace(".", ",") and "." not in ben_row["Prozent"]
-    assert row[(idle["name"], first)]["Beste Punktzahl"] == "" and row[(idle["name"], first)]["Abgaben"] == "0"
+    assert (
+        row[(idle["name"], first)]["Beste Punktzahl"] == "" and row[(idle["name"], first)]["Abgaben"] == "0"
+    )

@@ -61,20 +61,49 @@ BACKEND = "postgresql" if POSTGRES_URL else "sqlite"
 def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, dict[str, str]]]:
     """A server on a free port of 127.0.0.1 with its own database, and an admin's Authorization header."""
     data = tmp_path_factory.mktemp("schemathesis")
-    env = {**os.environ, "PALTRAINER_DATA_DIR": str(data), "PALTRAINER_WORKERS": "2",
-           "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"), "PALTRAINER_LOG_LEVEL": "WARNING",
-           **{f"PALTRAINER_RATE_{name}_PER_MINUTE": "1000000" for name in ("LOGIN", "CHECK", "SIMULATE", "SUBMIT")}}
+    env = {
+        **os.environ,
+        "PALTRAINER_DATA_DIR": str(data),
+        "PALTRAINER_WORKERS": "2",
+        "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"),
+        "PALTRAINER_LOG_LEVEL": "WARNING",
+        **{
+            f"PALTRAINER_RATE_{name}_PER_MINUTE": "1000000"
+            for name in ("LOGIN", "CHECK", "SIMULATE", "SUBMIT")
+        },
+    }
     env.pop("DATABASE_URL", None)
     env.pop("PALTRAINER_DATABASE_URL", None)
     if BACKEND == "postgresql":
         assert POSTGRES_URL
         env["PALTRAINER_DATABASE_URL"] = own_postgres_schema(POSTGRES_URL, "schemathesis")
-    subprocess.run([sys.executable, "-m", "core.cli", "admin", "create-user", "admin", "--role", "admin",
-                    "--password", PASSWORD], cwd=ROOT, env=env, check=True, capture_output=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "core.cli",
+            "admin",
+            "create-user",
+            "admin",
+            "--role",
+            "admin",
+            "--password",
+            PASSWORD,
+        ],
+        cwd=ROOT,
+        env=env,
+        check=True,
+        capture_output=True,
+    )
     port = free_port()
     url = f"http://127.0.0.1:{port}"
-    proc = subprocess.Popen([sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-                            cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+        cwd=ROOT,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+    )
     try:
         for _ in range(300):
             try:
@@ -85,7 +114,9 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[tuple[str, dict
         else:
             pytest.fail("the server did not start")
         form = urllib.parse.urlencode({"username": "admin", "password": PASSWORD}).encode()
-        with urllib.request.urlopen(urllib.request.Request(f"{url}/api/v1/auth/token", data=form), timeout=30) as r:
+        with urllib.request.urlopen(
+            urllib.request.Request(f"{url}/api/v1/auth/token", data=form), timeout=30
+        ) as r:
             token = json.loads(r.read())["access_token"]
         yield url, {"Authorization": f"Bearer {token}"}
     finally:
@@ -100,14 +131,20 @@ def openapi_document() -> dict[str, Any]:
 
 
 schema = schemathesis.openapi.from_dict(openapi_document()).exclude(path=list(SKIPPED))
-schema.config.generation.update(modes=[schemathesis.GenerationMode.POSITIVE, schemathesis.GenerationMode.NEGATIVE],
-                                max_examples=EXAMPLES)
+schema.config.generation.update(
+    modes=[schemathesis.GenerationMode.POSITIVE, schemathesis.GenerationMode.NEGATIVE], max_examples=EXAMPLES
+)
 
 
 @schema.parametrize()
-@settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
-          phases=[Phase.explicit, Phase.generate],
-          suppress_health_check=list(HealthCheck))
+@settings(
+    max_examples=EXAMPLES,
+    deadline=None,
+    derandomize=True,
+    database=None,
+    phases=[Phase.explicit, Phase.generate],
+    suppress_health_check=list(HealthCheck),
+)
 def test_no_request_is_a_server_error(case: schemathesis.Case, server: tuple[str, dict[str, str]]) -> None:
     url, admin = server
     response: Response = case.call(base_url=url, headers=admin, timeout=60)

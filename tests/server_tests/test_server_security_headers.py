@@ -21,8 +21,10 @@ def _directives(csp: str) -> dict[str, list[str]]:
     return {part.split()[0]: part.split()[1:] for part in (p.strip() for p in csp.split(";")) if part}
 
 
-@pytest.mark.parametrize("path", [*PAGE_PATHS, "/api/v1/dialects", "/api/v1/nothing", "/healthz",
-                                  "/static/app.css", "/openapi.json"])
+@pytest.mark.parametrize(
+    "path",
+    [*PAGE_PATHS, "/api/v1/dialects", "/api/v1/nothing", "/healthz", "/static/app.css", "/openapi.json"],
+)
 def test_every_response_has_the_security_headers(api: Api, path: str) -> None:
     r = api.client.get(path)
     assert r.headers["x-content-type-options"] == "nosniff"
@@ -35,8 +37,11 @@ def test_every_response_has_the_security_headers(api: Api, path: str) -> None:
 
 
 def test_a_refused_large_body_has_the_security_headers_too(api: Api) -> None:
-    r = api.client.post("/api/v1/check", content=b"x" * (api.settings.max_body_bytes + 1),
-                        headers={"Content-Type": "application/json"})
+    r = api.client.post(
+        "/api/v1/check",
+        content=b"x" * (api.settings.max_body_bytes + 1),
+        headers={"Content-Type": "application/json"},
+    )
     assert r.status_code == 413
     assert r.headers["x-content-type-options"] == "nosniff" and "content-security-policy" in r.headers
 
@@ -73,7 +78,9 @@ def test_docs_use_our_own_swagger_files(api: Api) -> None:
     assert r.status_code == 200
     urls = [u for u in re.findall(r"(?:src|href)=\"([^\"]+)\"", r.text) if u != "data:,"]  # no favicon
     assert urls and all(u.startswith("/") and not u.startswith("//") for u in urls), urls
-    for attrs, body in re.findall(r"<script\b([^>]*)>(.*?)</script>", r.text, flags=re.DOTALL | re.IGNORECASE):
+    for attrs, body in re.findall(
+        r"<script\b([^>]*)>(.*?)</script>", r.text, flags=re.DOTALL | re.IGNORECASE
+    ):
         assert "src=" in attrs and not body.strip()
     assert "/static/swagger/swagger-ui-bundle.js" in urls
     assert api.client.get("/redoc").status_code == 404

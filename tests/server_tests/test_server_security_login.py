@@ -42,7 +42,9 @@ def test_safe_redirect_allows_only_site_paths(target: str | None, expected: str)
     assert safe_redirect(target) == expected
 
 
-@pytest.mark.parametrize("target", ["javascript:alert(1)", "https://evil.example", "//evil.example", "/\\evil"])
+@pytest.mark.parametrize(
+    "target", ["javascript:alert(1)", "https://evil.example", "//evil.example", "/\\evil"]
+)
 def test_login_page_drops_a_foreign_next(api: Api, target: str) -> None:
     r = api.client.get("/login", params={"next": target}, follow_redirects=False)
     assert r.status_code == 303 and r.headers["location"] == "/login"
@@ -66,7 +68,9 @@ def test_ten_wrong_passwords_for_one_user_are_refused(api: Api) -> None:
     try:
         victim, other = api.user(), api.user()
         # one budget for both ways of logging in
-        codes = [(_token_login if i % 2 else _session_login)(api, victim["name"], f"guess {i}") for i in range(10)]
+        codes = [
+            (_token_login if i % 2 else _session_login)(api, victim["name"], f"guess {i}") for i in range(10)
+        ]
         assert codes[:5] == [401] * 5 and codes[5:] == [429] * 5
         r = api.client.post("/api/v1/auth/token", data={"username": victim["name"], "password": PASSWORD})
         assert r.status_code == 429 and error_code(r) == "RATE_LIMITED" and int(r.headers["retry-after"]) >= 1
@@ -98,7 +102,10 @@ def test_guessing_many_names_from_one_address_is_refused(api: Api) -> None:
         assert codes[:limit] == [401] * limit and codes[limit:] == [429] * 3
         # another address is not affected
         elsewhere = TestClient(api.app, base_url="http://127.0.0.1", client=("10.0.0.2", 50000))
-        assert elsewhere.post("/api/v1/auth/token", data={"username": "nobody", "password": "x"}).status_code == 401
+        assert (
+            elsewhere.post("/api/v1/auth/token", data={"username": "nobody", "password": "x"}).status_code
+            == 401
+        )
     finally:
         api.settings.rate_login_per_minute = 1000
         api.settings.rate_login_address_per_minute = 100
@@ -139,9 +146,13 @@ def test_logout_without_or_with_a_stale_token_is_204(api: Api) -> None:
     assert r.status_code == 204
 
 
-@pytest.mark.parametrize("sub", ["abc", "²", "٣", "-1", "0", "99999999999999999999", "2147483648", "1e3", " 1", ""])
+@pytest.mark.parametrize(
+    "sub", ["abc", "²", "٣", "-1", "0", "99999999999999999999", "2147483648", "1e3", " 1", ""]
+)
 def test_token_whose_subject_is_not_a_user_id_is_401(api: Api, sub: str) -> None:
-    token = jwt.encode({"sub": sub, "role": "admin", "exp": 4102444800}, api.settings.jwt_secret(), algorithm="HS256")
+    token = jwt.encode(
+        {"sub": sub, "role": "admin", "exp": 4102444800}, api.settings.jwt_secret(), algorithm="HS256"
+    )
     r = api.client.get("/api/v1/me", headers={"Authorization": f"Bearer {token}"})
     assert r.status_code == 401 and error_code(r) == "BAD_TOKEN"
 

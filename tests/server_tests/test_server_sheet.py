@@ -59,8 +59,9 @@ def test_sheet_needs_an_account_and_an_exercise(api: Api) -> None:
     assert bad_lang.status_code == 422
 
 
-def test_without_weasyprint_the_sheet_is_503_and_the_rest_works(api: Api,
-                                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+def test_without_weasyprint_the_sheet_is_503_and_the_rest_works(
+    api: Api, monkeypatch: pytest.MonkeyPatch
+) -> None:
     def no_pango() -> None:
         raise OSError("cannot load library 'libpango-1.0-0': libpango-1.0-0: cannot open shared object file")
 

@@ -25,7 +25,9 @@ def _pdf_available() -> bool:
     return True
 
 
-pytestmark = pytest.mark.skipif(not _pdf_available(), reason="WeasyPrint or Pango missing (bash .ci/run installs them)")
+pytestmark = pytest.mark.skipif(
+    not _pdf_available(), reason="WeasyPrint or Pango missing (bash .ci/run installs them)"
+)
 
 
 class Jobs:
@@ -48,7 +50,9 @@ class Jobs:
 
 @pytest.fixture(scope="module")
 def own(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Api]:
-    settings = make_settings(tmp_path_factory.mktemp("sheets"), "sqlite", workers=2, rate_picture_per_minute=1000)
+    settings = make_settings(
+        tmp_path_factory.mktemp("sheets"), "sqlite", workers=2, rate_picture_per_minute=1000
+    )
     with TestClient(create_app(settings), base_url="http://127.0.0.1") as client:
         yield Api(client)
 
@@ -75,7 +79,9 @@ def test_an_assignment_of_32_exercises_gets_its_sheets_one_job_per_exercise(own:
         assert f"Aufgabe {slugs[k]}" in sheets[2 * k] and "Programmierblatt" in sheets[2 * k + 1]
     rendered = jobs.named("job_sheet")
     assert len(rendered) == 32
-    assert all(isinstance(args[0], dict) for args in rendered)  # one exercise's document per job, no list of them
+    assert all(
+        isinstance(args[0], dict) for args in rendered
+    )  # one exercise's document per job, no list of them
     assert len(jobs.named("job_merge_pdfs")) == 1
 
     # asked for again (another trainee of the class): nothing is rendered or put together again
@@ -85,8 +91,9 @@ def test_an_assignment_of_32_exercises_gets_its_sheets_one_job_per_exercise(own:
     assert jobs.calls == []
 
     # one exercise changes: only its sheet is rendered again
-    changed = own.client.patch(f"/api/v1/exercises/{slugs[5]}", json={"title_de": "Neue Überschrift"},
-                               headers=auth(admin))
+    changed = own.client.patch(
+        f"/api/v1/exercises/{slugs[5]}", json={"title_de": "Neue Überschrift"}, headers=auth(admin)
+    )
     assert changed.status_code == 200, changed.text
     third = own.client.get(f"/api/v1/assignments/{assignment}/sheets.pdf", headers=auth(student))
     assert third.status_code == 200

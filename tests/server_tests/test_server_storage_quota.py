@@ -26,7 +26,9 @@ FLOOD = "N10 T1 TC1 M6\n" + "G1 X1,5\n" * 1500 + "M30\n"
 def test_a_submission_stores_at_most_200_diagnostics_and_how_many_there_were(api: Api) -> None:
     student, slug = api.user(), builtin_exercise(api)
     assert len(FLOOD) < api.settings.max_program_chars
-    r = api.client.post("/api/v1/submissions", json={"exercise": slug, "program": FLOOD}, headers=auth(student))
+    r = api.client.post(
+        "/api/v1/submissions", json={"exercise": slug, "program": FLOOD}, headers=auth(student)
+    )
     assert r.status_code == 201, r.text
     body = r.json()
     assert body["error_count"] >= 999  # the counts are of every diagnostic of the run
@@ -44,20 +46,50 @@ def test_a_submission_stores_at_most_200_diagnostics_and_how_many_there_were(api
 
 def _stored(api: Api, user: str, slug: str, score: int, assignment: int | None = None) -> int:
     """A graded submission with three diagnostics, stored as the server stores one (without grading it)."""
-    diagnostics = [{"code": "PAL-E010", "severity": "error", "line": 2, "column": 1, "message": "Komma",
-                    "message_en": "comma"} for _ in range(3)]
-    grading = {"score": score, "max_score": 100,
-                "criteria": [{"id": "geometry", "status": "passed" if score == 100 else "failed", "points": score,
-                              "max_points": 100, "lines": [2], "message": "Geometrie", "message_en": "geometry"}]}
+    diagnostics = [
+        {
+            "code": "PAL-E010",
+            "severity": "error",
+            "line": 2,
+            "column": 1,
+            "message": "Komma",
+            "message_en": "comma",
+        }
+        for _ in range(3)
+    ]
+    grading = {
+        "score": score,
+        "max_score": 100,
+        "criteria": [
+            {
+                "id": "geometry",
+                "status": "passed" if score == 100 else "failed",
+                "points": score,
+                "max_points": 100,
+                "lines": [2],
+                "message": "Geometrie",
+                "message_en": "geometry",
+            }
+        ],
+    }
     with api.app.state.db.session() as db:
         u, e = repo.user_by_name(db, user), repo.exercise_by_slug(db, slug)
         assert u is not None and e is not None
-        s = repo.create_submission(db, exercise_id=e.id, user_id=u.id, program=BAD, dialect="pal-mill",
-                                   error_count=3, warning_count=0, assignment_id=assignment,
-                                   result={"diagnostics": diagnostics,
-                                           "summary": {"moves": 1, "rapid": 0, "feed": 1, "arc": 0,
-                                                       "tool_changes": 1, "dwells": 0}},
-                                   grading=grading)
+        s = repo.create_submission(
+            db,
+            exercise_id=e.id,
+            user_id=u.id,
+            program=BAD,
+            dialect="pal-mill",
+            error_count=3,
+            warning_count=0,
+            assignment_id=assignment,
+            result={
+                "diagnostics": diagnostics,
+                "summary": {"moves": 1, "rapid": 0, "feed": 1, "arc": 0, "tool_changes": 1, "dwells": 0},
+            },
+            grading=grading,
+        )
         return s.id
 
 
@@ -94,7 +126,11 @@ def test_older_submissions_are_summarised_the_newest_50_and_the_best_keep_their_
     with api.app.state.db.session() as db:
         summarised = repo.submission_by_id(db, old[0])
         assert summarised is not None
-        assert summarised.error_count == 3 and summarised.grading is not None and summarised.grading["score"] == 40
+        assert (
+            summarised.error_count == 3
+            and summarised.grading is not None
+            and summarised.grading["score"] == 40
+        )
         assert summarised.program == BAD and summarised.result["summary"]["diagnostics"] == 3
         assert summarised.result["summary"]["moves"] == 1
 
@@ -112,7 +148,10 @@ def test_older_submissions_are_summarised_the_newest_50_and_the_best_keep_their_
     assert len(row["results"][slug]["submissions"]) == keep + 7
     table = api.client.get(f"/api/v1/assignments/{assignment}/results", headers=auth(teacher)).json()
     (trainee,) = table["trainees"]
-    assert trainee["results"][slug]["submission"] == best_in_assignment and trainee["results"][slug]["score"] == 70
+    assert (
+        trainee["results"][slug]["submission"] == best_in_assignment
+        and trainee["results"][slug]["score"] == 70
+    )
     seen = api.client.get(f"/api/v1/assignments/{assignment}/insights", headers=auth(teacher)).json()
     (exercise,) = seen["exercises"]
     assert exercise["diagnostics"][0]["code"] == "PAL-E010" and exercise["diagnostics"][0]["students"] == 1
@@ -151,8 +190,12 @@ def test_results_and_insights_read_only_the_columns_they_show(api: Api) -> None:
         for score in (20, 60, 40):
             _stored(api, s["name"], slug, score, assignment)
     with statements(api) as seen:
-        for path in ("/api/v1/results", "/api/v1/results.csv", f"/api/v1/assignments/{assignment}/results",
-                     f"/api/v1/assignments/{assignment}/results.csv"):
+        for path in (
+            "/api/v1/results",
+            "/api/v1/results.csv",
+            f"/api/v1/assignments/{assignment}/results",
+            f"/api/v1/assignments/{assignment}/results.csv",
+        ):
             assert api.client.get(path, headers=auth(teacher)).status_code == 200, path
     reads = [s for s in seen if "FROM submissions" in s]
     assert reads and not [s for s in reads if "submissions.program" in s or "submissions.result" in s]
@@ -171,8 +214,11 @@ def test_a_learning_platforms_learners_are_counted_each_on_their_own(api: Api) -
     key, slug = api.api_key(["submissions:write", "submissions:read"]), builtin_exercise(api)
     made: dict[str, list[int]] = {"lms-a": [], "lms-b": []}
     for learner in ("lms-a", "lms-b", "lms-a", "lms-a"):
-        r = api.client.post("/api/v1/submissions", json={"exercise": slug, "program": BAD, "external_user": learner},
-                            headers=key)
+        r = api.client.post(
+            "/api/v1/submissions",
+            json={"exercise": slug, "program": BAD, "external_user": learner},
+            headers=key,
+        )
         assert r.status_code == 201, r.text
         made[learner].append(r.json()["id"])
     with api.app.state.db.session() as db:

@@ -28,7 +28,11 @@ def test_the_practice_setup_offers_every_milling_kind() -> None:
 @pytest.mark.parametrize("kind", typing.get_args(ToolKind))
 def test_the_api_takes_every_kind(api: Api, kind: str) -> None:
     program = "N10 T7 TC1 M6\nN20 S1000 F100 M3\nN30 G0 X0 Y0 Z2\nN40 G0 Z50 M30\n"
-    r = api.client.post("/api/v1/run", json={"program": program, "tools": [{"number": 7, "diameter": 8, "kind": kind}]})
+    r = api.client.post(
+        "/api/v1/run", json={"program": program, "tools": [{"number": 7, "diameter": 8, "kind": kind}]}
+    )
     assert r.status_code == 200, r.text
-    r = api.client.post("/api/v1/check", json={"program": program, "tools": [{"number": 7, "diameter": 8, "kind": "saw"}]})
+    r = api.client.post(
+        "/api/v1/check", json={"program": program, "tools": [{"number": 7, "diameter": 8, "kind": "saw"}]}
+    )
     assert r.status_code == 422

@@ -14,16 +14,28 @@ def test_draft_round_trip_per_user(api: Api) -> None:
     slug = builtin_exercise(api)
     alice, bob = api.user(), api.user()
     r = api.client.get(f"/api/v1/exercises/{slug}/draft", headers=auth(alice))
-    assert r.status_code == 200 and r.json() == {"exercise": slug, "assignment": None, "program": None,
-                                                "updated_at": None}
+    assert r.status_code == 200 and r.json() == {
+        "exercise": slug,
+        "assignment": None,
+        "program": None,
+        "updated_at": None,
+    }
     r = api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT}, headers=auth(alice))
     assert r.status_code == 200 and r.json()["program"] == DRAFT and r.json()["updated_at"]
     # the same text again is the same state; a newer text replaces it
-    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT},
-                          headers=auth(alice)).json()["program"] == DRAFT
-    api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT + "N30 M30\n"}, headers=auth(alice))
-    assert api.client.get(f"/api/v1/exercises/{slug}/draft",
-                          headers=auth(alice)).json()["program"] == DRAFT + "N30 M30\n"
+    assert (
+        api.client.put(
+            f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT}, headers=auth(alice)
+        ).json()["program"]
+        == DRAFT
+    )
+    api.client.put(
+        f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT + "N30 M30\n"}, headers=auth(alice)
+    )
+    assert (
+        api.client.get(f"/api/v1/exercises/{slug}/draft", headers=auth(alice)).json()["program"]
+        == DRAFT + "N30 M30\n"
+    )
     # Bob sees only his own (none)
     assert api.client.get(f"/api/v1/exercises/{slug}/draft", headers=auth(bob)).json()["program"] is None
     # "Zurücksetzen": forget it
@@ -37,7 +49,9 @@ def test_draft_errors(api: Api) -> None:
     student = api.user()
     r = api.client.get("/api/v1/exercises/no-such-exercise/draft", headers=auth(student))
     assert r.status_code == 404 and error_code(r) == "EXERCISE_NOT_FOUND"
-    r = api.client.put("/api/v1/exercises/no-such-exercise/draft", json={"program": "x"}, headers=auth(student))
+    r = api.client.put(
+        "/api/v1/exercises/no-such-exercise/draft", json={"program": "x"}, headers=auth(student)
+    )
     assert r.status_code == 404 and error_code(r) == "EXERCISE_NOT_FOUND"
     for method in ("get", "put", "delete"):
         r = api.client.request(method, f"/api/v1/exercises/{slug}/draft", json={"program": "x"})
@@ -58,8 +72,12 @@ def test_draft_saves_are_rate_limited(api: Api) -> None:
     old = api.settings.rate_draft_per_minute
     api.settings.rate_draft_per_minute = 3
     try:
-        codes = [api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": str(i)},
-                                headers=auth(student)).status_code for i in range(4)]
+        codes = [
+            api.client.put(
+                f"/api/v1/exercises/{slug}/draft", json={"program": str(i)}, headers=auth(student)
+            ).status_code
+            for i in range(4)
+        ]
     finally:
         api.settings.rate_draft_per_minute = old
     assert codes == [200, 200, 200, 429]
@@ -70,9 +88,12 @@ def test_draft_saves_are_rate_limited(api: Api) -> None:
 def test_history_and_progress(api: Api) -> None:
     first, second = builtin_exercise(api), builtin_exercise(api)
     student, other = api.user(), api.user()
-    bad = api.client.post("/api/v1/submissions", json={"exercise": first, "program": GOOD}, headers=auth(student))
-    good = api.client.post("/api/v1/submissions", json={"exercise": first, "program": reference_of()},
-                           headers=auth(student))
+    bad = api.client.post(
+        "/api/v1/submissions", json={"exercise": first, "program": GOOD}, headers=auth(student)
+    )
+    good = api.client.post(
+        "/api/v1/submissions", json={"exercise": first, "program": reference_of()}, headers=auth(student)
+    )
     assert bad.status_code == good.status_code == 201
     api.client.post("/api/v1/submissions", json={"exercise": first, "program": GOOD}, headers=auth(other))
     api.client.put(f"/api/v1/exercises/{second}/draft", json={"program": DRAFT}, headers=auth(student))
@@ -81,7 +102,11 @@ def test_history_and_progress(api: Api) -> None:
     assert r.status_code == 200
     history = r.json()
     assert [h["id"] for h in history] == [good.json()["id"], bad.json()["id"]]  # newest first, only mine
-    assert history[0]["score"] == 100 and history[0]["max_score"] == 100 and history[0]["program"] == reference_of()
+    assert (
+        history[0]["score"] == 100
+        and history[0]["max_score"] == 100
+        and history[0]["program"] == reference_of()
+    )
     assert history[1]["score"] < 100 and history[1]["program"] == GOOD
     assert {c["id"] for c in history[1]["criteria"]} >= {"geometry", "syntax"}
     assert all("lines" in c for c in history[1]["criteria"])
@@ -100,17 +125,28 @@ def test_history_and_progress(api: Api) -> None:
 
 
 def test_hints_one_at_a_time(api: Api) -> None:
-    hints = [{"de": "Zuerst das Werkzeug einwechseln.", "en": "Change the tool in first."},
-             {"de": "G42 vor dem Anfahren.", "en": "G42 before the approach."}]
+    hints = [
+        {"de": "Zuerst das Werkzeug einwechseln.", "en": "Change the tool in first."},
+        {"de": "G42 vor dem Anfahren.", "en": "G42 before the approach."},
+    ]
     slug = builtin_exercise(api, hints=hints)
     student = api.user()
     listed = api.client.get(f"/api/v1/exercises/{slug}", headers=auth(student)).json()
     assert listed["hint_count"] == 2 and "hints" not in listed
     r = api.client.get(f"/api/v1/exercises/{slug}/hints/2", headers=auth(student))
-    assert r.status_code == 200 and r.json() == {"exercise": slug, "number": 2, "count": 2,
-                                                 "text": "G42 vor dem Anfahren.", "text_en": "G42 before the approach."}
+    assert r.status_code == 200 and r.json() == {
+        "exercise": slug,
+        "number": 2,
+        "count": 2,
+        "text": "G42 vor dem Anfahren.",
+        "text_en": "G42 before the approach.",
+    }
     r = api.client.get(f"/api/v1/exercises/{slug}/hints/3", headers=auth(student))
-    assert r.status_code == 404 and error_code(r) == "HINT_NOT_FOUND" and "Tipp 3" in r.json()["error"]["message"]
+    assert (
+        r.status_code == 404
+        and error_code(r) == "HINT_NOT_FOUND"
+        and "Tipp 3" in r.json()["error"]["message"]
+    )
     assert api.client.get(f"/api/v1/exercises/{slug}/hints/0", headers=auth(student)).status_code == 422
     assert api.client.get(f"/api/v1/exercises/{slug}/hints/1").status_code == 401
 
@@ -136,20 +172,30 @@ def test_solution_as_the_exercise_allows(api: Api) -> None:
     assert solution(never, instructor) == (403, "SOLUTION_NEVER")
     assert solution(after_submission, instructor) == (403, "SOLUTION_AFTER_SUBMISSION")
     course = api.client.post("/api/v1/courses", json={"name": "K"}, headers=auth(instructor)).json()["id"]
-    r = api.client.post(f"/api/v1/courses/{course}/assignments", headers=auth(instructor), json={
-        "title": "Übung", "exercises": [after_submission, never, full_marks], "opens_at": "2026-01-01T00:00:00Z",
-        "deadline": "2099-01-01T00:00:00Z"})
+    r = api.client.post(
+        f"/api/v1/courses/{course}/assignments",
+        headers=auth(instructor),
+        json={
+            "title": "Übung",
+            "exercises": [after_submission, never, full_marks],
+            "opens_at": "2026-01-01T00:00:00Z",
+            "deadline": "2099-01-01T00:00:00Z",
+        },
+    )
     assert r.status_code == 201, r.text
     for slug in (after_submission, never, full_marks):
         assert solution(slug, instructor) == (200, reference_of())
 
     for slug in (after_submission, never, full_marks):
-        api.client.post("/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=auth(student))
+        api.client.post(
+            "/api/v1/submissions", json={"exercise": slug, "program": GOOD}, headers=auth(student)
+        )
     assert solution(after_submission, student) == (200, reference_of())
     assert solution(never, student) == (403, "SOLUTION_NEVER")
     assert solution(full_marks, student) == (403, "SOLUTION_AFTER_FULL_MARKS")
-    api.client.post("/api/v1/submissions", json={"exercise": full_marks, "program": reference_of()},
-                    headers=auth(student))
+    api.client.post(
+        "/api/v1/submissions", json={"exercise": full_marks, "program": reference_of()}, headers=auth(student)
+    )
     assert solution(full_marks, student) == (200, reference_of())
     assert solution(never, student) == (403, "SOLUTION_NEVER")
     r = api.client.get("/api/v1/exercises/no-such-exercise/solution", headers=auth(student))
@@ -174,8 +220,12 @@ def test_list_sorted_by_order_then_title_with_dialect_names(api: Api) -> None:
 def test_deleting_an_exercise_takes_its_drafts(api: Api) -> None:
     owner, student = api.user("instructor"), api.user()
     slug = api.exercise(owner)["slug"]
-    assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT},
-                          headers=auth(student)).status_code == 200
+    assert (
+        api.client.put(
+            f"/api/v1/exercises/{slug}/draft", json={"program": DRAFT}, headers=auth(student)
+        ).status_code
+        == 200
+    )
     assert api.client.delete(f"/api/v1/exercises/{slug}", headers=auth(owner)).status_code == 204
     r = api.client.get(f"/api/v1/exercises/{slug}/draft", headers=auth(student))
     assert r.status_code == 404 and error_code(r) == "EXERCISE_NOT_FOUND"

@@ -25,7 +25,9 @@ def test_run_traub_with_nose_data_and_the_dialect_skip_default(api: Api) -> None
     assert [d["code"] for d in body["diagnostics"] if d["severity"] == "error"] == []
     assert [m["end"] for m in body["moves"]] == [[20.0, 0.0, 2.0], [20.0, 0.0, -20.0]]  # x = radius
     assert body["moves"][0]["plane"] == "G18"
-    r = api.client.post("/api/v1/run", json={"program": PROGRAM, "dialect": "traub-tx8d", "skip_blocks": False})
+    r = api.client.post(
+        "/api/v1/run", json={"program": PROGRAM, "dialect": "traub-tx8d", "skip_blocks": False}
+    )
     assert [m["end"][2] for m in r.json()["moves"]] == [2.0, -50.0, -20.0]
 
 

@@ -36,7 +36,9 @@ def test_viz_session_page_scene_and_playhead(api: Api) -> None:
     assert r.status_code == 401
 
 
-POCKET = "T2 M6\nS2000 F300 M3\nG0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP30 D2 V2 RN8\nN50 G79 X50 Y40 Z0\nG0 Z50\nM30\n"
+POCKET = (
+    "T2 M6\nS2000 F300 M3\nG0 X0 Y0 Z10\nN40 G72 ZI-5 LP40 BP30 D2 V2 RN8\nN50 G79 X50 Y40 Z0\nG0 Z50\nM30\n"
+)
 
 
 def test_playback_names_the_cycle_step_of_a_move() -> None:
@@ -50,12 +52,20 @@ def test_playback_names_the_cycle_step_of_a_move() -> None:
 
 def test_playhead_answers_the_cycle(api: Api) -> None:
     token = api.client.post("/api/v1/viz").json()["token"]
-    scene = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": POCKET, "dialect": "pal-mill"}).json()
+    scene = api.client.post(
+        f"/api/v1/viz/{token}/scene", json={"program": POCKET, "dialect": "pal-mill"}
+    ).json()
     at = [i for i, line in enumerate(scene["lines"]) if line == 5]
     first = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": at[0]}).json()
     last = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": at[-1]}).json()
-    assert first["line"] == 5 and first["cycle"] == {"code": "G72", "pass": 1, "of": 3, "defined_in_line": 4,
-                                                             "point": 1, "points": 1}
+    assert first["line"] == 5 and first["cycle"] == {
+        "code": "G72",
+        "pass": 1,
+        "of": 3,
+        "defined_in_line": 4,
+        "point": 1,
+        "points": 1,
+    }
     assert last["cycle"]["pass"] == 3
     assert api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}).json()["cycle"] is None
 
@@ -63,12 +73,17 @@ def test_playhead_answers_the_cycle(api: Api) -> None:
 def test_exercise_scene_shows_the_stock(api: Api) -> None:
     owner, student = api.user("instructor"), api.user()
     slug = unique("viz-")
-    assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
-                           headers=auth(owner)).status_code == 201
+    assert (
+        api.client.post(
+            "/api/v1/exercises/import", content=exercise_file(slug).encode(), headers=auth(owner)
+        ).status_code
+        == 201
+    )
     token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
     program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
-    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": program, "exercise": slug},
-                        headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/scene", json={"program": program, "exercise": slug}, headers=auth(student)
+    )
     assert r.status_code == 200 and r.json()["errors"] == 0
     states = r.json()["states"]
     assert states["8"]["compensation"] == "G41" and states["8"]["tool"] == 1 and states["8"]["feed"] == 150
@@ -86,11 +101,15 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     uncut = job_stock_after(text, dialect, spec, 1)
     cut = job_stock_after(text, dialect, spec, len(scene.moves) and scene.moves[-1] + 1)
 
-    def top(tiles: dict[str, tuple[str, np.ndarray, np.ndarray]]) -> float:  # lowest point of the upper surface
+    def top(
+        tiles: dict[str, tuple[str, np.ndarray, np.ndarray]],
+    ) -> float:  # lowest point of the upper surface
         z = np.concatenate([vertices[:, 2] for _, vertices, _ in tiles.values()])
         return float(z[z > -29].min())  # (the base is at Z-30)
 
-    assert top(uncut) == 0 and top(cut) == -2  # at first the stock's top at Z0; at the end the steps 2 mm deep
+    assert (
+        top(uncut) == 0 and top(cut) == -2
+    )  # at first the stock's top at Z0; at the end the steps 2 mm deep
     # the stock is 80 × 70 mm in tiles of 20 mm: the contour cuts along the right and the front edge only,
     # so the untouched tiles keep their digest and are not sent again
     changed = {key for key in uncut if uncut[key][0] != cut[key][0]}
@@ -98,23 +117,36 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     assert "3_1" not in changed  # the back left corner (Y 60–70, X 20–40) is never cut
     r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}, headers=auth(student))
     assert r.status_code == 200
-    assert scene.tiles == {key: digest for key, (digest, _, _) in uncut.items()}  # the stock after the first move
+    assert scene.tiles == {
+        key: digest for key, (digest, _, _) in uncut.items()
+    }  # the stock after the first move
 
 
 def test_deviation_colours_where_the_part_leaves_the_band(api: Api) -> None:
     owner, student = api.user("instructor"), api.user()
     slug = unique("dev-")
-    assert api.client.post("/api/v1/exercises/import", content=exercise_file(slug).encode(),
-                           headers=auth(owner)).status_code == 201
+    assert (
+        api.client.post(
+            "/api/v1/exercises/import", content=exercise_file(slug).encode(), headers=auth(owner)
+        ).status_code
+        == 201
+    )
     token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
     program = (ROOT / "exercises" / "pal-mill" / "pal-05-g2-kreisbogen.nc").read_text(encoding="utf-8")
-    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": program, "exercise": slug},
-                        headers=auth(student))
-    assert r.status_code == 200 and r.json() == {"too_much": 0, "too_little": 0, "too_much_mm3": 0,
-                                                 "too_little_mm3": 0, "largest_mm": 0}
+    r = api.client.post(
+        f"/api/v1/viz/{token}/deviation", json={"program": program, "exercise": slug}, headers=auth(student)
+    )
+    assert r.status_code == 200 and r.json() == {
+        "too_much": 0,
+        "too_little": 0,
+        "too_much_mm3": 0,
+        "too_little_mm3": 0,
+        "largest_mm": 0,
+    }
     too_deep = program.replace("N50 G0 Z-2", "N50 G0 Z-3")
-    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": too_deep, "exercise": slug},
-                        headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/deviation", json={"program": too_deep, "exercise": slug}, headers=auth(student)
+    )
     assert r.status_code == 200 and r.json()["too_much"] > 100 and r.json()["too_little"] == 0
     # in mm³ and mm, not in grid cells: the step is 1 mm too deep (0.95 beyond the 0.05 mm band) over its area
     gouge = r.json()
@@ -125,6 +157,7 @@ def test_deviation_colours_where_the_part_leaves_the_band(api: Api) -> None:
     graded = grade(parse_exercise(exercise_file(slug)), too_deep).to_json("instructor")
     geometry = next(c for c in graded["criteria"] if c["id"] == "geometry")
     from core.grading.numbers import volume
+
     assert geometry["status"] in ("partial", "failed")
     assert volume(gouge["too_much_mm3"]) in geometry["message"]  # the volume the score names, German form
     scenes: viz.Scenes = api.app.state.scenes
@@ -133,21 +166,27 @@ def test_deviation_colours_where_the_part_leaves_the_band(api: Api) -> None:
     scene = scenes.scene(ticket)
     assert scene.server.scene._handle_from_node_name.get("/deviation/too_much") is not None
     not_deep_enough = program.replace("N50 G0 Z-2", "N50 G0 Z-1")
-    r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": not_deep_enough, "exercise": slug},
-                        headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/deviation",
+        json={"program": not_deep_enough, "exercise": slug},
+        headers=auth(student),
+    )
     assert r.json()["too_much"] == 0 and r.json()["too_little"] > 100
     r = api.client.post(f"/api/v1/viz/{token}/deviation", json={"program": program}, headers=auth(student))
     assert r.status_code == 422 and r.json()["error"]["code"] == "EXERCISE_REQUIRED"
 
 
-@pytest.mark.parametrize("message,passes", [
-    ({"type": "ViewerCameraMessage", "wxyz": [1, 0, 0, 0]}, True),
-    ({"type": "GuiUpdateMessage", "uuid": "x", "updates": {}}, True),
-    ({"type": "ShareUrlRequest"}, False),
-    ({"type": "ShareUrlDisconnect"}, False),
-    ({"type": "FileTransferStartUpload"}, False),
-    ({"no": "type"}, False),
-])
+@pytest.mark.parametrize(
+    "message,passes",
+    [
+        ({"type": "ViewerCameraMessage", "wxyz": [1, 0, 0, 0]}, True),
+        ({"type": "GuiUpdateMessage", "uuid": "x", "updates": {}}, True),
+        ({"type": "ShareUrlRequest"}, False),
+        ({"type": "ShareUrlDisconnect"}, False),
+        ({"type": "FileTransferStartUpload"}, False),
+        ({"no": "type"}, False),
+    ],
+)
 def test_bridge_lets_only_the_view_messages_through(message: dict[str, object], passes: bool) -> None:
     assert viz.passes(msgspec.msgpack.encode(message)) is passes
 
@@ -216,21 +255,34 @@ def test_the_camera_centres_the_stock_and_fills_the_view(view: str, aspect: floa
 def test_views_and_layers(api: Api) -> None:
     student = api.user()
     token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
-    assert api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "stock": {
-        "min": [0, 0, -30], "max": [80, 70, 0]}}, headers=auth(student)).status_code == 200
+    assert (
+        api.client.post(
+            f"/api/v1/viz/{token}/scene",
+            json={"program": GOOD, "stock": {"min": [0, 0, -30], "max": [80, 70, 0]}},
+            headers=auth(student),
+        ).status_code
+        == 200
+    )
     scenes: viz.Scenes = api.app.state.scenes
     ticket = scenes.ticket(token)
     assert ticket is not None
     scene = scenes.scene(ticket)
-    r = api.client.post(f"/api/v1/viz/{token}/view", json={"view": "top", "aspect": 1.5}, headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/view", json={"view": "top", "aspect": 1.5}, headers=auth(student)
+    )
     assert r.status_code == 200 and r.json() == {"view": "top"}
     eye = np.asarray(scene.server.initial_camera.position) / viz.M
     assert np.allclose(eye[:2], (40, 35), atol=0.5) and eye[2] > 30  # straight above the stock's centre
-    r = api.client.post(f"/api/v1/viz/{token}/layers", json={"rapid": False, "stock": False}, headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/layers", json={"rapid": False, "stock": False}, headers=auth(student)
+    )
     assert r.json() == {"rapid": False, "feed": True, "contour": True, "stock": False}
     assert scene.nodes["rapid"].visible is False and scene.nodes["stock"].visible is False
     assert scene.nodes["feed"].visible is True
     # a new program keeps the trainee's choice
     api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD}, headers=auth(student))
     assert scene.nodes["rapid"].visible is False
-    assert api.client.post(f"/api/v1/viz/{token}/view", json={"view": "side"}, headers=auth(student)).status_code == 422
+    assert (
+        api.client.post(f"/api/v1/viz/{token}/view", json={"view": "side"}, headers=auth(student)).status_code
+        == 422
+    )

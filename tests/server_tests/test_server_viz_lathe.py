@@ -10,8 +10,10 @@ from server_helpers import Api
 
 from server import viz
 
-TURNING = ("%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X40 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
-           "N60 U5\nN70 G2 X60 Z-30 R10\nN80 G0 X100 Z100\nN90 M30\n")
+TURNING = (
+    "%\nO0001\nN10 G95 G97 S1200 M4\nN20 T0101\nN30 G0 X40 Z2\nN40 G1 Z0 F0.2\nN50 G1 Z-20\n"
+    "N60 U5\nN70 G2 X60 Z-30 R10\nN80 G0 X100 Z100\nN90 M30\n"
+)
 
 
 def _scene(api: Api, program: str, dialect: str) -> tuple[dict, viz.Scene]:
@@ -31,15 +33,19 @@ def test_turning_toolpath_in_the_lathe_orientation(api: Api) -> None:
     body, scene = _scene(api, TURNING, "traub-tx8d")
     assert body["errors"] == 0 and body["lathe"] is True
     # N50 G1 Z-20 from X40 Z0: a horizontal segment at height 20 (the radius), from 0 to -20 to the left
-    (a, b), = _segment_of(scene, 7)
+    ((a, b),) = _segment_of(scene, 7)
     assert np.allclose(a, [0, 0, 20]) and np.allclose(b, [-20, 0, 20])
     # N60 U5: up by 5 (U is a radius value), at Z-20
-    (a, b), = _segment_of(scene, 8)
+    ((a, b),) = _segment_of(scene, 8)
     assert np.allclose(a, [-20, 0, 20]) and np.allclose(b, [-20, 0, 25])
     # N70 G2 X60 Z-30 R10: every chord point at 10 mm from the arc's centre, mapped the same way
     arc = _segment_of(scene, 9)
     points = arc.reshape(-1, 3)
-    assert np.allclose(points[:, 1], 0) and np.allclose(points[0], [-20, 0, 25]) and np.allclose(points[-1], [-30, 0, 30])
+    assert (
+        np.allclose(points[:, 1], 0)
+        and np.allclose(points[0], [-20, 0, 25])
+        and np.allclose(points[-1], [-30, 0, 30])
+    )
     moves = api.client.post("/api/v1/run", json={"program": TURNING, "dialect": "traub-tx8d"}).json()["moves"]
     cx, _, cz = next(m for m in moves if m["line"] == 9)["center"]
     assert np.allclose(np.linalg.norm(points - [cz, 0, cx], axis=1), 10, atol=0.06)
@@ -63,13 +69,15 @@ def test_milling_scene_is_unchanged(api: Api) -> None:
     program = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X0 Y0 Z2\nN40 G1 Z-2\nN50 G1 X20\nN60 G0 Z50 M30\n"
     body, scene = _scene(api, program, "pal-mill")
     assert body["lathe"] is False and scene.has_stock
-    (a, b), = _segment_of(scene, 5)
+    ((a, b),) = _segment_of(scene, 5)
     assert np.allclose(a, [0, 0, -2]) and np.allclose(b, [20, 0, -2])
 
 
 def test_lathe_playhead_moves(api: Api) -> None:
     token = api.client.post("/api/v1/viz").json()["token"]
-    body = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": TURNING, "dialect": "traub-tx8d"}).json()
+    body = api.client.post(
+        f"/api/v1/viz/{token}/scene", json={"program": TURNING, "dialect": "traub-tx8d"}
+    ).json()
     index = body["lines"].index(7)
     r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": index})
     assert r.status_code == 200 and r.json()["line"] == 7
@@ -87,9 +95,9 @@ def _pixels(png: bytes) -> np.ndarray:
     assert depth == 8 and colour == 2
     data, at = b"", 8
     while at < len(png):
-        size = struct.unpack(">I", png[at:at + 4])[0]
-        if png[at + 4:at + 8] == b"IDAT":
-            data += png[at + 8:at + 8 + size]
+        size = struct.unpack(">I", png[at : at + 4])[0]
+        if png[at + 4 : at + 8] == b"IDAT":
+            data += png[at + 8 : at + 8 + size]
         at += 12 + size
     rows = np.frombuffer(zlib.decompress(data), dtype=np.uint8).reshape(height, 1 + 3 * width)
     return rows[:, 1:].reshape(height, width, 3)
@@ -112,6 +120,7 @@ def test_picture_of_a_turning_program_is_its_turned_part_in_half_section(api: Ap
     left = np.flatnonzero(section[:, cols.min() + 2]).min()
     right = np.flatnonzero(section[:, cols.max() - 2]).min()
     assert axis - left > 1.3 * (axis - right)
-    milling = api.client.post("/api/v1/viz/picture.png", json={"program": TURNING.replace("%\n", ""),
-                                                                "dialect": "pal-mill"})
+    milling = api.client.post(
+        "/api/v1/viz/picture.png", json={"program": TURNING.replace("%\n", ""), "dialect": "pal-mill"}
+    )
     assert "x-picture-view" not in milling.headers

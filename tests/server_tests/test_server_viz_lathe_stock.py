@@ -12,13 +12,17 @@ from server_helpers import Api, unique
 from server import viz
 
 # a bar Ø40 × 60 (20 mm in the chuck) turned to Ø30 over 20 mm, then a shoulder up to Ø42
-PROGRAM = ("%\nO1\nN10 G95 G97 S1000 M4\nN20 T0101\nN30 G0 X30 Z2\nN40 G1 Z-20 F0.2\nN50 G1 X42\n"
-           "N60 G0 X100 Z100\nN70 M30\n")
+PROGRAM = (
+    "%\nO1\nN10 G95 G97 S1000 M4\nN20 T0101\nN30 G0 X30 Z2\nN40 G1 Z-20 F0.2\nN50 G1 X42\n"
+    "N60 G0 X100 Z100\nN70 M30\n"
+)
 BAR = {"diameter": 40, "length": 60, "chuck_length": 20}
 LINE = {"N30": 5, "N40": 6, "N50": 7, "N60": 8}
 
 
-def _open(api: Api, blank: dict[str, Any] | None = BAR, program: str = PROGRAM) -> tuple[str, dict, viz.Scene]:
+def _open(
+    api: Api, blank: dict[str, Any] | None = BAR, program: str = PROGRAM
+) -> tuple[str, dict, viz.Scene]:
     token = api.client.post("/api/v1/viz").json()["token"]
     body: dict[str, Any] = {"program": program, "dialect": "traub-tx8d"}
     if blank is not None:
@@ -86,9 +90,14 @@ def test_blank_derived_from_the_program_without_one(api: Api) -> None:
 
 def test_bad_blank_is_refused(api: Api) -> None:
     token = api.client.post("/api/v1/viz").json()["token"]
-    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": PROGRAM, "dialect": "traub-tx8d",
-                                                            "blank": {"diameter": 40, "inner_diameter": 40,
-                                                                      "length": 60}})
+    r = api.client.post(
+        f"/api/v1/viz/{token}/scene",
+        json={
+            "program": PROGRAM,
+            "dialect": "traub-tx8d",
+            "blank": {"diameter": 40, "inner_diameter": 40, "length": 60},
+        },
+    )
     assert r.status_code == 422
 
 
@@ -138,8 +147,9 @@ def test_half_section_cuts_the_part_open(api: Api) -> None:
     jaws = np.asarray(scene.server.scene._handle_from_node_name["/chuck/jaws"].vertices) / viz.M
     assert len(jaws) == 2 * 8 and jaws[:, 1].min() > -5.01  # the jaw in front of the cut is left out
     # the cut stays for the next program and playback; switched off, the part is whole again
-    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": PROGRAM, "dialect": "traub-tx8d",
-                                                            "blank": tube})
+    r = api.client.post(
+        f"/api/v1/viz/{token}/scene", json={"program": PROGRAM, "dialect": "traub-tx8d", "blank": tube}
+    )
     assert r.status_code == 200 and any(k.endswith("_cut") for k in scene.tiles)
     r = api.client.post(f"/api/v1/viz/{token}/section", json={"half": False})
     assert r.json() == {"half": False} and not any(k.endswith("_cut") for k in scene.tiles)
@@ -166,8 +176,10 @@ def test_exercise_blank_and_its_tools_insert(api: Api) -> None:
     with api.app.state.db.session() as db:
         repo.create_exercise(db, exercise_fields(doc), owner_id=None, builtin=True)
     token = api.client.post("/api/v1/viz").json()["token"]
-    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": doc.reference, "dialect": "traub-tx8d",
-                                                            "exercise": doc.id})
+    r = api.client.post(
+        f"/api/v1/viz/{token}/scene",
+        json={"program": doc.reference, "dialect": "traub-tx8d", "exercise": doc.id},
+    )
     assert r.status_code == 200, r.text
     blank = r.json()["blank"]
     assert (blank["diameter"], blank["length"], blank["clamp"]) == (44, 80, 30)

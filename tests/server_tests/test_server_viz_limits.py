@@ -26,10 +26,18 @@ VISER_PROTOCOL = "viser-v" + __import__("viser").__version__
 def small(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Api]:
     """An app with small limits: 4 new 3D sessions a minute, 3 scene runs, 5 playhead steps, 2 pictures;
     at most 2 live sessions per user, 3 per address, 4 in all."""
-    settings = make_settings(tmp_path_factory.mktemp("vizlimits"), "sqlite", workers=1,
-                             rate_viz_per_minute=4, rate_viz_scene_per_minute=3, rate_viz_playhead_per_minute=5,
-                             rate_picture_per_minute=2, viz_sessions_per_user=2, viz_sessions_per_address=3,
-                             viz_sessions_max=4)
+    settings = make_settings(
+        tmp_path_factory.mktemp("vizlimits"),
+        "sqlite",
+        workers=1,
+        rate_viz_per_minute=4,
+        rate_viz_scene_per_minute=3,
+        rate_viz_playhead_per_minute=5,
+        rate_picture_per_minute=2,
+        viz_sessions_per_user=2,
+        viz_sessions_per_address=3,
+        viz_sessions_max=4,
+    )
     with TestClient(create_app(settings), base_url="http://127.0.0.1") as client:
         yield Api(client)
 
@@ -70,22 +78,35 @@ def test_new_3d_sessions_are_rate_limited(small: Api) -> None:
 def test_scene_deviation_and_playhead_are_rate_limited(small: Api) -> None:
     student = small.user()
     token = new_token(small, auth(student))
-    codes = [small.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD}, headers=auth(student))
-             .status_code for _ in range(4)]
+    codes = [
+        small.client.post(
+            f"/api/v1/viz/{token}/scene", json={"program": GOOD}, headers=auth(student)
+        ).status_code
+        for _ in range(4)
+    ]
     assert codes == [200, 200, 200, 429]
     # the deviation runs the program too: the same budget
-    r = small.client.post(f"/api/v1/viz/{token}/deviation", json={"program": GOOD, "exercise": "x"},
-                          headers=auth(student))
+    r = small.client.post(
+        f"/api/v1/viz/{token}/deviation", json={"program": GOOD, "exercise": "x"}, headers=auth(student)
+    )
     assert r.status_code == 429
-    steps = [small.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}, headers=auth(student))
-             .status_code for _ in range(6)]
+    steps = [
+        small.client.post(
+            f"/api/v1/viz/{token}/playhead", json={"index": 0}, headers=auth(student)
+        ).status_code
+        for _ in range(6)
+    ]
     assert steps == [200] * 5 + [429]
 
 
 def test_pictures_are_rate_limited(small: Api) -> None:
     student = small.user()
-    codes = [small.client.post("/api/v1/viz/picture.png", json={"program": GOOD}, headers=auth(student))
-             .status_code for _ in range(3)]
+    codes = [
+        small.client.post(
+            "/api/v1/viz/picture.png", json={"program": GOOD}, headers=auth(student)
+        ).status_code
+        for _ in range(3)
+    ]
     assert codes == [200, 200, 429]
     # the exercise's picture counts in the same budget
     r = small.client.get("/api/v1/exercises/no-such-exercise/picture.png", headers=auth(student))
@@ -98,8 +119,9 @@ def test_picture_of_the_current_state(small: Api) -> None:
     assert r.content.startswith(b"\x89PNG")
     width, height = int.from_bytes(r.content[16:20], "big"), int.from_bytes(r.content[20:24], "big")
     assert width > height > 100  # the 80 × 70 mm block seen from above
-    bad = small.client.post("/api/v1/viz/picture.png", json={"program": GOOD, "stock": {"min": [0, 0, 0],
-                                                                                           "max": [0, 0, 0]}})
+    bad = small.client.post(
+        "/api/v1/viz/picture.png", json={"program": GOOD, "stock": {"min": [0, 0, 0], "max": [0, 0, 0]}}
+    )
     assert bad.status_code == 422
 
 
@@ -118,7 +140,10 @@ def test_live_sessions_are_capped_per_user_and_in_total(small: Api) -> None:
     a, b = small.user(), small.user()
     mine = [new_token(small, auth(a)) for _ in range(3)]
     for token in mine:
-        assert small.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}, headers=auth(a)).status_code == 200
+        assert (
+            small.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 0}, headers=auth(a)).status_code
+            == 200
+        )
     scenes = scenes_of(small)
     assert len(scenes) == 2
     assert scenes.ticket(mine[0]).sid not in scenes.sids()
@@ -149,13 +174,20 @@ def test_a_token_drives_only_its_creators_scene(small: Api) -> None:
     ok = small.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD}, headers=auth(owner))
     assert ok.status_code == 200
     for who in (auth(other), {}):
-        for path, body in (("scene", {"program": GOOD}), ("playhead", {"index": 0}), ("view", {"view": "top"}),
-                           ("layers", {"rapid": False}), ("deviation", {"program": GOOD, "exercise": "x"})):
+        for path, body in (
+            ("scene", {"program": GOOD}),
+            ("playhead", {"index": 0}),
+            ("view", {"view": "top"}),
+            ("layers", {"rapid": False}),
+            ("deviation", {"program": GOOD, "exercise": "x"}),
+        ):
             r = small.client.post(f"/api/v1/viz/{token}/{path}", json=body, headers=who)
             assert r.status_code == 403 and error_code(r) == "VIZ_FOREIGN", (path, who, r.text)
     assert small.client.get(f"/viz/{token}/").status_code == 403  # the browser without the owner's cookie
-    with pytest.raises(WebSocketDisconnect) as closed, small.client.websocket_connect(
-            f"/viz/{token}", subprotocols=[VISER_PROTOCOL]) as ws:
+    with (
+        pytest.raises(WebSocketDisconnect) as closed,
+        small.client.websocket_connect(f"/viz/{token}", subprotocols=[VISER_PROTOCOL]) as ws,
+    ):
         ws.receive_bytes()
     assert closed.value.code == 4403
 

@@ -13,8 +13,11 @@ from server import viz
 def test_the_top_view_shows_the_tool_as_the_circle_it_cuts(api: Api) -> None:
     student = api.user()
     token = api.client.post("/api/v1/viz", headers=auth(student)).json()["token"]
-    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD, "stock": {
-        "min": [0, 0, -30], "max": [80, 70, 0]}}, headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/scene",
+        json={"program": GOOD, "stock": {"min": [0, 0, -30], "max": [80, 70, 0]}},
+        headers=auth(student),
+    )
     assert r.status_code == 200
     scenes: viz.Scenes = api.app.state.scenes
     ticket = scenes.ticket(token)
@@ -23,7 +26,9 @@ def test_the_top_view_shows_the_tool_as_the_circle_it_cuts(api: Api) -> None:
     body, ring = scene.nodes["tool_body"], scene.nodes["tool_footprint"]
     assert all(h.visible for h in body) and not ring.visible  # iso: the tool as it is
     for view, whole in (("top", False), ("front", True), ("top", False), ("reset", True)):
-        r = api.client.post(f"/api/v1/viz/{token}/view", json={"view": view, "aspect": 1.2}, headers=auth(student))
+        r = api.client.post(
+            f"/api/v1/viz/{token}/view", json={"view": view, "aspect": 1.2}, headers=auth(student)
+        )
         assert r.status_code == 200
         assert all(h.visible == whole for h in scene.nodes["tool_body"]), view
         assert scene.nodes["tool_footprint"].visible == (not whole), view
@@ -31,10 +36,15 @@ def test_the_top_view_shows_the_tool_as_the_circle_it_cuts(api: Api) -> None:
     api.client.post(f"/api/v1/viz/{token}/view", json={"view": "top"}, headers=auth(student))
     points = np.asarray(scene.nodes["tool_footprint"].points) / viz.M
     radii = np.linalg.norm(points[..., :2], axis=-1)
-    assert np.allclose(radii, radii.flat[0], atol=1e-3) and radii.flat[0] > 1 and np.all(np.abs(points[..., 2]) < 0.1)
+    assert (
+        np.allclose(radii, radii.flat[0], atol=1e-3)
+        and radii.flat[0] > 1
+        and np.all(np.abs(points[..., 2]) < 0.1)
+    )
     # a new program while looking from above: the tool (rebuilt) stays a circle
-    r = api.client.post(f"/api/v1/viz/{token}/scene", json={"program": GOOD.replace("X20", "X30")},
-                        headers=auth(student))
+    r = api.client.post(
+        f"/api/v1/viz/{token}/scene", json={"program": GOOD.replace("X20", "X30")}, headers=auth(student)
+    )
     assert r.status_code == 200 and scene.view == "top"
     assert not any(h.visible for h in scene.nodes["tool_body"]) and scene.nodes["tool_footprint"].visible
 

@@ -25,7 +25,9 @@ from server.workers import Workers
 def own(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Api]:
     """An app of its own (its workers are killed here), answering 500s as responses, not exceptions."""
     settings = make_settings(tmp_path_factory.mktemp("workers"), "sqlite", workers=2)
-    with TestClient(create_app(settings), base_url="http://127.0.0.1", raise_server_exceptions=False) as client:
+    with TestClient(
+        create_app(settings), base_url="http://127.0.0.1", raise_server_exceptions=False
+    ) as client:
         yield Api(client)
 
 
@@ -43,9 +45,12 @@ def test_a_worker_killed_under_load_is_replaced_and_every_request_is_answered(ow
     before = workers.pids()
     assert len(before) == 2
     exercise, student = own.exercise(own.user("instructor"))["slug"], auth(own.user())
-    requests = [("/api/v1/check", {"program": GOOD * 40}), ("/api/v1/run", {"program": GOOD * 40}),
-                ("/api/v1/simulate", {"program": GOOD}),
-                ("/api/v1/submissions", {"exercise": exercise, "program": GOOD * 20})]
+    requests = [
+        ("/api/v1/check", {"program": GOOD * 40}),
+        ("/api/v1/run", {"program": GOOD * 40}),
+        ("/api/v1/simulate", {"program": GOOD}),
+        ("/api/v1/submissions", {"exercise": exercise, "program": GOOD * 20}),
+    ]
 
     def call(k: int) -> tuple[str, int]:
         path, body = requests[k % len(requests)]
@@ -108,7 +113,9 @@ def run_with(processes: int, seconds: float, body: Any) -> Any:
 def test_the_time_limit_counts_from_the_start_of_a_job_not_from_its_queueing() -> None:
     async def body(workers: Workers) -> list[Any]:
         # three jobs of 0.6 s on one worker: the last waits 1.2 s, longer than the limit, but runs 0.6 s
-        return await asyncio.gather(*(workers.call(time.sleep, 0.6) for _ in range(3)), return_exceptions=True)
+        return await asyncio.gather(
+            *(workers.call(time.sleep, 0.6) for _ in range(3)), return_exceptions=True
+        )
 
     assert run_with(1, 1.5, body) == [None, None, None]
 
@@ -146,6 +153,9 @@ def test_a_request_from_another_event_loop_is_served(own: Api) -> None:
     """A client without its own lifespan (each request on a loop of its own) still reaches the workers."""
     other = TestClient(own.app, base_url="http://127.0.0.1", raise_server_exceptions=False)
     with ThreadPoolExecutor(6) as pool:  # both kinds at once, so that jobs wait for a free worker
-        answers = [pool.submit(client.post, "/api/v1/check", json={"program": GOOD * 40})
-                   for _ in range(6) for client in (own.client, other)]
+        answers = [
+            pool.submit(client.post, "/api/v1/check", json={"program": GOOD * 40})
+            for _ in range(6)
+            for client in (own.client, other)
+        ]
         assert [f.result(timeout=120).status_code for f in answers] == [200] * 12

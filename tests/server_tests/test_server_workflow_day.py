@@ -18,7 +18,10 @@ def test_a_day_with_pal_trainer(api: Api) -> None:
     assert r.status_code == 201 and r.json()["instructor"] == teacher["name"]
 
     # the student logs in in the browser (session cookie)
-    assert api.client.post("/api/v1/auth/login", json={"username": name, "password": password}).status_code == 200
+    assert (
+        api.client.post("/api/v1/auth/login", json={"username": name, "password": password}).status_code
+        == 200
+    )
     try:
         listed = api.client.get("/api/v1/exercises").json()
         assert slug in {e["slug"] for e in listed}
@@ -29,10 +32,14 @@ def test_a_day_with_pal_trainer(api: Api) -> None:
         typed = ""
         for line in GOOD.splitlines(keepends=True)[:3]:
             typed += line
-            assert api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": typed}).status_code == 200
+            assert (
+                api.client.put(f"/api/v1/exercises/{slug}/draft", json={"program": typed}).status_code == 200
+            )
         # … reloads the page: the text is back
         assert api.client.get(f"/api/v1/exercises/{slug}/draft").json()["program"] == typed
-        assert {p["exercise"]: p for p in api.client.get("/api/v1/me/progress").json()}[slug]["status"] == "draft"
+        assert {p["exercise"]: p for p in api.client.get("/api/v1/me/progress").json()}[slug][
+            "status"
+        ] == "draft"
         assert api.client.get(f"/api/v1/exercises/{slug}/hints/1").json()["text"] == "Erst das Werkzeug."
 
         # submits twice
@@ -69,4 +76,8 @@ def test_a_day_with_pal_trainer(api: Api) -> None:
     rows = list(csv.DictReader(io.StringIO(r.content.decode("utf-8-sig")), delimiter=";"))
     mine = [x for x in rows if x["Benutzer"] == name]
     assert len(mine) == 1 and mine[0]["Aufgabe"] == slug and mine[0]["Beste Punktzahl"] == "100"
-    assert mine[0]["Abgaben"] == "2" and mine[0]["Beste Abgabe"] == str(second_id) and mine[0]["Prozent"] == "100,0"
+    assert (
+        mine[0]["Abgaben"] == "2"
+        and mine[0]["Beste Abgabe"] == str(second_id)
+        and mine[0]["Prozent"] == "100,0"
+    )

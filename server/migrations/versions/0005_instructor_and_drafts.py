@@ -20,8 +20,9 @@ def upgrade() -> None:
     with op.batch_alter_table("users", schema=None) as batch_op:
         batch_op.add_column(sa.Column("instructor_id", sa.Integer(), nullable=True))
         batch_op.create_index("ix_users_instructor_id", ["instructor_id"], unique=False)
-        batch_op.create_foreign_key("fk_users_instructor_id_users", "users", ["instructor_id"], ["id"],
-                                    ondelete="SET NULL")
+        batch_op.create_foreign_key(
+            "fk_users_instructor_id_users", "users", ["instructor_id"], ["id"], ondelete="SET NULL"
+        )
     op.create_table(
         "drafts",
         sa.Column("id", sa.Integer(), nullable=False),

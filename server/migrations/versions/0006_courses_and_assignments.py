@@ -71,8 +71,13 @@ def upgrade() -> None:
         batch_op.add_column(sa.Column("held", sa.Boolean(), nullable=False, server_default=sa.false()))
         batch_op.add_column(sa.Column("auto", sa.Boolean(), nullable=False, server_default=sa.false()))
         batch_op.create_index("ix_submissions_assignment_id", ["assignment_id"], unique=False)
-        batch_op.create_foreign_key("fk_submissions_assignment_id_assignments", "assignments", ["assignment_id"],
-                                    ["id"], ondelete="SET NULL")
+        batch_op.create_foreign_key(
+            "fk_submissions_assignment_id_assignments",
+            "assignments",
+            ["assignment_id"],
+            ["id"],
+            ondelete="SET NULL",
+        )
     _courses_from_managed_students()
 
 
@@ -80,22 +85,38 @@ def _courses_from_managed_students() -> None:
     """Every instructor who manages students gets the course "Meine Klasse" with them."""
     conn = op.get_bind()
     users = sa.table("users", sa.column("id", sa.Integer), sa.column("instructor_id", sa.Integer))
-    courses = sa.table("courses", sa.column("id", sa.Integer), sa.column("name", sa.String),
-                       sa.column("join_code", sa.String), sa.column("created_at", sa.DateTime(timezone=True)))
-    members = sa.table("course_members", sa.column("course_id", sa.Integer), sa.column("user_id", sa.Integer),
-                       sa.column("role", sa.String))
+    courses = sa.table(
+        "courses",
+        sa.column("id", sa.Integer),
+        sa.column("name", sa.String),
+        sa.column("join_code", sa.String),
+        sa.column("created_at", sa.DateTime(timezone=True)),
+    )
+    members = sa.table(
+        "course_members",
+        sa.column("course_id", sa.Integer),
+        sa.column("user_id", sa.Integer),
+        sa.column("role", sa.String),
+    )
     managed: dict[int, list[int]] = {}
-    for uid, boss in conn.execute(sa.select(users.c.id, users.c.instructor_id)
-                                  .where(users.c.instructor_id.is_not(None))).all():
+    for uid, boss in conn.execute(
+        sa.select(users.c.id, users.c.instructor_id).where(users.c.instructor_id.is_not(None))
+    ).all():
         managed.setdefault(boss, []).append(uid)
     for boss, students in sorted(managed.items()):
         code = "".join(secrets.choice(_CODE_ALPHABET) for _ in range(8))
-        course_id = conn.execute(courses.insert().values(name="Meine Klasse", join_code=code,
-                                                         created_at=datetime.now(UTC))
-                                 .returning(courses.c.id)).scalar_one()
-        conn.execute(members.insert(), [{"course_id": course_id, "user_id": boss, "role": "instructor"},
-                                        *({"course_id": course_id, "user_id": s, "role": "student"}
-                                          for s in students if s != boss)])
+        course_id = conn.execute(
+            courses.insert()
+            .values(name="Meine Klasse", join_code=code, created_at=datetime.now(UTC))
+            .returning(courses.c.id)
+        ).scalar_one()
+        conn.execute(
+            members.insert(),
+            [
+                {"course_id": course_id, "user_id": boss, "role": "instructor"},
+                *({"course_id": course_id, "user_id": s, "role": "student"} for s in students if s != boss),
+            ],
+        )
 
 
 def downgrade() -> None:

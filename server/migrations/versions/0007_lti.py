@@ -162,6 +162,15 @@ def upgrade() -> None:
 
 
 def downgrade() -> None:
-    for table in ("lti_launches", "lti_nonces", "lti_login_states", "lti_resource_links", "lti_contexts",
-                  "lti_users", "lti_tool_keys", "lti_deployments", "lti_platforms"):
+    for table in (
+        "lti_launches",
+        "lti_nonces",
+        "lti_login_states",
+        "lti_resource_links",
+        "lti_contexts",
+        "lti_users",
+        "lti_tool_keys",
+        "lti_deployments",
+        "lti_platforms",
+    ):
         op.drop_table(table)

@@ -28,16 +28,29 @@ def upgrade() -> None:
     with op.batch_alter_table("drafts", schema=None) as batch_op:
         batch_op.add_column(sa.Column("assignment_id", sa.Integer(), nullable=True))
         batch_op.drop_constraint("uq_drafts_user_exercise", type_="unique")
-        batch_op.create_foreign_key("fk_drafts_assignment_id_assignments", "assignments", ["assignment_id"], ["id"],
-                                    ondelete="CASCADE")
-        batch_op.create_unique_constraint("uq_drafts_user_exercise_assignment",
-                                          ["user_id", "exercise_id", "assignment_id"])
-    op.create_index("uq_drafts_practice", "drafts", ["user_id", "exercise_id"], unique=True,
-                    sqlite_where=_PRACTICE, postgresql_where=_PRACTICE)
+        batch_op.create_foreign_key(
+            "fk_drafts_assignment_id_assignments",
+            "assignments",
+            ["assignment_id"],
+            ["id"],
+            ondelete="CASCADE",
+        )
+        batch_op.create_unique_constraint(
+            "uq_drafts_user_exercise_assignment", ["user_id", "exercise_id", "assignment_id"]
+        )
+    op.create_index(
+        "uq_drafts_practice",
+        "drafts",
+        ["user_id", "exercise_id"],
+        unique=True,
+        sqlite_where=_PRACTICE,
+        postgresql_where=_PRACTICE,
+    )
     with op.batch_alter_table("submissions", schema=None) as batch_op:
         batch_op.add_column(sa.Column("attempt", sa.Integer(), nullable=True))
-        batch_op.create_unique_constraint("uq_submissions_attempt", ["assignment_id", "user_id", "exercise_id",
-                                                                     "attempt"])
+        batch_op.create_unique_constraint(
+            "uq_submissions_attempt", ["assignment_id", "user_id", "exercise_id", "attempt"]
+        )
     with op.batch_alter_table("assignments", schema=None) as batch_op:
         batch_op.add_column(sa.Column("finalizing_until", sa.DateTime(timezone=True), nullable=True))
 
@@ -49,7 +62,9 @@ def downgrade() -> None:
         batch_op.drop_constraint("uq_submissions_attempt", type_="unique")
         batch_op.drop_column("attempt")
     op.drop_index("uq_drafts_practice", table_name="drafts")
-    op.execute("DELETE FROM drafts WHERE assignment_id IS NOT NULL")  # exam drafts have no place in the old table
+    op.execute(
+        "DELETE FROM drafts WHERE assignment_id IS NOT NULL"
+    )  # exam drafts have no place in the old table
     with op.batch_alter_table("drafts", schema=None) as batch_op:
         batch_op.drop_constraint("uq_drafts_user_exercise_assignment", type_="unique")
         batch_op.drop_constraint("fk_drafts_assignment_id_assignments", type_="foreignkey")

@@ -24,8 +24,9 @@ def upgrade() -> None:
         batch_op.add_column(sa.Column("override_comment", sa.Text(), nullable=True))
         batch_op.add_column(sa.Column("override_by", sa.Integer(), nullable=True))
         batch_op.add_column(sa.Column("override_at", _TZ, nullable=True))
-        batch_op.create_foreign_key("fk_submissions_override_by_users", "users", ["override_by"], ["id"],
-                                    ondelete="SET NULL")
+        batch_op.create_foreign_key(
+            "fk_submissions_override_by_users", "users", ["override_by"], ["id"], ondelete="SET NULL"
+        )
     op.create_table(
         "grade_overrides",
         sa.Column("id", sa.Integer(), nullable=False),

@@ -55,12 +55,14 @@ def upgrade() -> None:
     with op.batch_alter_table("submissions", schema=None) as batch_op:
         batch_op.add_column(sa.Column("exercise_version", sa.Integer(), nullable=True))
     with op.batch_alter_table("users", schema=None) as batch_op:
-        batch_op.add_column(sa.Column("must_change_password", sa.Boolean(), nullable=False,
-                                      server_default=sa.false()))
+        batch_op.add_column(
+            sa.Column("must_change_password", sa.Boolean(), nullable=False, server_default=sa.false())
+        )
         batch_op.add_column(sa.Column("deactivated_at", _TZ, nullable=True))
         batch_op.add_column(sa.Column("signup_course_id", sa.Integer(), nullable=True))
-        batch_op.create_foreign_key("fk_users_signup_course_id_courses", "courses", ["signup_course_id"], ["id"],
-                                    ondelete="SET NULL")
+        batch_op.create_foreign_key(
+            "fk_users_signup_course_id_courses", "courses", ["signup_course_id"], ["id"], ondelete="SET NULL"
+        )
 
 
 def downgrade() -> None:
