@@ -1,14 +1,17 @@
-"""What the browser tests share: Debian's Chromium, and a PAL Trainer server started on 127.0.0.1 with its own data
-folder, the built-in exercises and the users a test module needs (made with the admin CLI before it starts)."""
+"""What the browser tests share: Debian's Chromium, a PAL Trainer server started on 127.0.0.1 with its own data
+folder, the built-in exercises and the users a test module needs (made with the admin CLI before it starts), and
+calls of its API to set a scene up."""
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import socket
 import subprocess
 import sys
 import time
+import urllib.parse
 import urllib.request
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
@@ -106,3 +109,26 @@ def chromium() -> Iterator[Any]:
             yield b
         finally:
             b.close()
+
+
+def call(
+    server: str,
+    method: str,
+    path: str,
+    token: str | None = None,
+    body: Any = None,
+    form: dict[str, str] | None = None,
+) -> Any:
+    """One API call of the server at `server` (its origin): a JSON body or a form, the answer's JSON."""
+    headers = {"Authorization": f"Bearer {token}"} if token else {}
+    data = None
+    if form is not None:
+        data, headers["Content-Type"] = (
+            urllib.parse.urlencode(form).encode(),
+            "application/x-www-form-urlencoded",
+        )
+    elif body is not None:
+        data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
+    request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
+    with urllib.request.urlopen(request, timeout=120) as r:
+        return json.loads(r.read() or b"null")

@@ -7,16 +7,13 @@ registriert" on the course page. The header's user menu leads to "Passwort ände
 
 from __future__ import annotations
 
-import json
 import os
-import urllib.parse
-import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, running_server
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, call, running_server
 from playwright.sync_api import expect
 from test_viz_view import WIDER
 
@@ -26,28 +23,6 @@ SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent /
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024)}
 TEACHER, STUDENT = "konto-lehrer", "konto-anna"
 OWN = "Annas eigenes Passwort"
-
-
-def call(
-    server: str,
-    method: str,
-    path: str,
-    token: str | None = None,
-    body: Any = None,
-    form: dict[str, str] | None = None,
-) -> Any:
-    headers = {"Authorization": f"Bearer {token}"} if token else {}
-    data = None
-    if form is not None:
-        data, headers["Content-Type"] = (
-            urllib.parse.urlencode(form).encode(),
-            "application/x-www-form-urlencoded",
-        )
-    elif body is not None:
-        data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
-    request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
-    with urllib.request.urlopen(request, timeout=60) as r:
-        return json.loads(r.read() or b"null")
 
 
 @pytest.fixture(scope="module")

@@ -10,17 +10,15 @@ PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/."""
 
 from __future__ import annotations
 
-import json
 import os
 import subprocess
 import sys
-import urllib.parse
-import urllib.request
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any
 
 import pytest
+from browser_helpers import call
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER
 
@@ -40,28 +38,6 @@ PROGRAMS = {
     "kurs-anna": REFERENCE.replace("N70 G1 Y84", "N70 G1 Y84,5"),
     "kurs-ben": REFERENCE.replace("N60 G1 X70", "N60 G1 X70,0"),
 }
-
-
-def call(
-    server: str,  # noqa: F811 (the fixture)
-    method: str,
-    path: str,
-    token: str | None = None,
-    body: Any = None,
-    form: dict[str, str] | None = None,
-) -> Any:
-    headers = {"Authorization": f"Bearer {token}"} if token else {}
-    data = None
-    if form is not None:
-        data, headers["Content-Type"] = (
-            urllib.parse.urlencode(form).encode(),
-            "application/x-www-form-urlencoded",
-        )
-    elif body is not None:
-        data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
-    request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
-    with urllib.request.urlopen(request, timeout=60) as r:
-        return json.loads(r.read() or b"null")
 
 
 def token(server: str, user: str, password: str) -> str:  # noqa: F811

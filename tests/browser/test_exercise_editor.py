@@ -10,14 +10,12 @@ from __future__ import annotations
 import json
 import os
 import tempfile
-import urllib.parse
-import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, running_server
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, call, running_server
 from test_viz_view import wait_until
 
 pytestmark = [NEEDS_CHROMIUM]
@@ -35,28 +33,6 @@ USERS = [
     ("ed-anna", "student"),
     ("ed-bert", "student"),
 ]
-
-
-def call(
-    server: str,
-    method: str,
-    path: str,
-    token: str | None = None,
-    body: Any = None,
-    form: dict[str, str] | None = None,
-) -> Any:
-    headers = {"Authorization": f"Bearer {token}"} if token else {}
-    data = None
-    if form is not None:
-        data, headers["Content-Type"] = (
-            urllib.parse.urlencode(form).encode(),
-            "application/x-www-form-urlencoded",
-        )
-    elif body is not None:
-        data, headers["Content-Type"] = json.dumps(body).encode(), "application/json"
-    request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
-    with urllib.request.urlopen(request, timeout=120) as r:
-        return json.loads(r.read() or b"null")
 
 
 def token(server: str, user: str) -> str:
