@@ -29,9 +29,9 @@ def _run_case(data: st.DataObject, loops: bool) -> None:
     assert all(w <= c for w, c in zip(out.work, ceiling, strict=True)), (
         f"work {out.work} > {ceiling} ({name})"
     )
-    # the budget counts programmed moves; a chamfer or rounding (RN, D) inserts one element into a move and the
-    # radius compensation one transition at each corner: at most three moves of the toolpath for each
-    assert out.moves <= 3 * LIMITS.max_moves, f"{out.moves} moves in the toolpath of a mutation of {name}"
+    # the budget counts programmed moves; a chamfer or rounding (RN, D) inserts one element after a move, and the
+    # radius compensation an arc at each outside corner (two per move with chamfers): at most four for each
+    assert out.moves <= 4 * LIMITS.max_moves, f"{out.moves} moves in the toolpath of a mutation of {name}"
     assert out.segments <= LIMITS.max_drawn_segments
     assert out.answer_bytes < MAX_ANSWER_BYTES
 
