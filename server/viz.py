@@ -4,14 +4,14 @@ Each session gets a `ViserServer` on 127.0.0.1 (port chosen by the system), made
 and stopped after it has been idle. The page embeds `/viz/{token}/`; the token is signed and short-lived
 and names the session. The WebSocket `/viz/{token}` bridges to the session's viser and lets only the
 client→server messages through that the view needs (never the share-tunnel request). The geometry is
-computed in worker processes (server/workers.py: job_scene); this module only hands arrays to viser.
+core/scene's, computed in worker processes (server/workers.py); this module only hands its arrays to viser:
+the nodes, their colours and materials, the camera and what the layers and the playhead show.
 """
 
 from __future__ import annotations
 
 import asyncio
 import contextlib
-import itertools
 import logging
 import re
 import threading
@@ -24,8 +24,31 @@ from typing import Any, Literal
 import jwt
 import numpy as np
 
-from core.geometry.polyline import simplified
 from core.picture2d import png_rgb
+from core.scene.camera import FOV, camera_for, home
+from core.scene.meshes import (
+    InsertShape,
+    Tiles,
+    ToolMeshes,
+    ToolShape,
+    dashed,
+    footprint,
+    insert_mesh,
+    insert_meshes,
+    insert_shape,
+    spindle_axis,
+    stock_outline,
+    tool_mesh,
+)
+from core.scene.turned import (
+    TURNED_RESOLUTION,
+    TurnedProfile,
+    ViewBlank,
+    chuck_meshes,
+    deviation_band,
+    turned_chunks,
+    view_blank,
+)
 
 log = logging.getLogger("paltrainer.server")
 
@@ -63,14 +86,7 @@ OUTLINE_COLOUR = (88, 96, 108)  # the stock's box, thin
 EDGE_COLOUR = (40, 44, 52)
 TOOL_OPACITY = 0.45
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
-DASH, GAP = 2.0, 1.5  # mm: rapid moves are drawn dashed
-MAX_DASHES = 30_000
 LAYERS = ("rapid", "feed", "contour", "stock")
-VIEWS = ("iso", "top", "front", "reset")
-VIEW_MARGIN = 0.08  # every preset view leaves this much of the picture free around the part, on every side
-# the direction from the part to the camera of each view (Z up; "front" looks along +Y as PAL drawings do)
-FOV = float(np.radians(35))  # a narrow lens: the part looks as drawn, not bulging (viser's default is 75°)
-_VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front": (0.0, -1.0, 0.12)}
 # turning (DECISIONS §15) until the turning stock exists: the toolpath in the lathe's drawing view. A move's
 # (x = radius, y, z) becomes the scene's (z, -y, x): Z (the spindle axis) to the right, the chuck side on the
 # left, X up; the front camera stands at the lathe's +Y, so G2 is clockwise in the picture as in the manual.
@@ -81,10 +97,11 @@ LATHE_ZERO = (
     0.0,
     float(np.sqrt(0.5)),
 )  # the same turn: the zero's red axis is X, up
-# the lathe's front view is the drawing itself: straight from the front, not from a little above
-_LATHE_DIRECTIONS = {**_VIEW_DIRECTIONS, "front": (0.0, -1.0, 0.0)}
 AXIS_COLOUR = (70, 76, 86)  # the spindle axis, dash-dotted as on a drawing
 INSERT_COLOUR = (120, 130, 142)
+CUT_COLOUR = (222, 184, 135)  # the cut face of the half section, like the hatched area of a section drawing
+CHUCK_COLOUR = (84, 90, 100)
+JAW_COLOUR = (128, 136, 148)
 
 
 def viser_page() -> bytes:
@@ -228,9 +245,10 @@ class Scene:
     lines: list[int] = field(default_factory=list)  # the block line of each segment
     segment_tools: list[int | None] = field(default_factory=list)  # the tool number of each segment
     cycles: dict[int, dict[str, Any]] = field(default_factory=dict)  # move index → its cycle (code, pass, of)
-    tools: dict[int, dict[str, Any]] = field(default_factory=dict)  # tool number → its shape (tool table)
+    tools: dict[int, ToolShape | InsertShape] = field(default_factory=dict)  # tool number → its shape
     tool_radius: float = 3.0
-    tool_key: tuple[Any, ...] | None = None  # the shape the tool node shows now
+    # the shape the tool node shows now (a turning tool without a table entry: its nose radius)
+    tool_key: ToolShape | InsertShape | float | None = None
     framed: bool = False  # the camera has been pointed at the part
     bounds: tuple[np.ndarray, np.ndarray] | None = None  # the part's box (stock, else the cutting moves), mm
     aspect: float = 1.3  # the view's width / height, as the page last said
@@ -242,8 +260,9 @@ class Scene:
     has_stock: bool = False
     lathe: bool = False  # a turning program: the lathe's drawing view (LATHE_AXES), the turned part
     half: bool = False  # the turned part cut open (half section)
-    turned: dict[str, Any] | None = None  # the profile shown (turned_chunks) and its blank
-    chuck_key: tuple[Any, ...] | None = None  # the blank and cut the chuck node shows now
+    profile: TurnedProfile | None = None  # the turned part shown (its chunks: the stock tiles)
+    blank: ViewBlank | None = None  # and its blank
+    chuck_key: tuple[ViewBlank, bool] | None = None  # the blank and cut the chuck node shows now
     segment_centre: list[bool] = field(
         default_factory=list
     )  # lathe: the segment's end is the nose centre (SRK)
@@ -446,7 +465,7 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         scene.generation += 1
         lines = {
             "feed": (data["feed"], FEED_COLOUR, 2.0),
-            "rapid": (_dashed(data["rapid"]), RAPID_COLOUR, 1.5),
+            "rapid": (dashed(data["rapid"]), RAPID_COLOUR, 1.5),
             "contour": (data.get("contour"), CONTOUR_COLOUR, 1.5),
         }
         for name, (segments, colour, thickness) in lines.items():
@@ -476,7 +495,8 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
                 axes_radius=0.4 * M,
                 wxyz=LATHE_ZERO if lathe else (1.0, 0.0, 0.0, 0.0),
             )
-        scene.turned = data.get("turned")
+        turned = data.get("turned")
+        scene.profile, scene.blank = (turned["profile"], turned["blank"]) if turned else (None, None)
         _chuck(scene)
         bounds = _bounds(data)
         _axis(scene, bounds)
@@ -496,7 +516,7 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
             or not all(np.allclose(a, b) for a, b in zip(bounds, scene.bounds, strict=True))
         ):
             scene.bounds = bounds
-            _look(scene, scene.view if scene.framed else _home(scene))
+            _look(scene, scene.view if scene.framed else home(scene.lathe))
         scene.segments = data["segments"]
         scene.lines = data["lines"]
         scene.moves = data.get("moves", [])
@@ -505,7 +525,7 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         scene.segment_centre = list(data.get("segment_centre") or [])
         scene.tools = {int(k): v for k, v in (data.get("tools") or {}).items()}
         scene.tool_radius = float(data.get("tool_radius") or 3.0)
-        last = scene.segment_tools[-1] if scene.segment_tools else data.get("tool_number")
+        last = scene.segment_tools[-1] if scene.segment_tools else None
         _tool(
             scene,
             scene.tools.get(last) if last is not None else None,
@@ -516,11 +536,6 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         return scene.generation
 
 
-def _home(scene: Scene) -> str:
-    """The view a scene starts with (and goes back to on "reset"): iso for milling, the drawing for turning."""
-    return "front" if scene.lathe else "iso"
-
-
 def is_lathe(dialect: str) -> bool:
     from core.pipeline import DIALECTS
 
@@ -528,11 +543,10 @@ def is_lathe(dialect: str) -> bool:
     return found is not None and found.lathe
 
 
-def lathe_view(data: dict[str, Any], nose: dict[int, Any]) -> dict[str, Any]:
+def lathe_view(data: dict[str, Any], nose: dict[int, InsertShape]) -> dict[str, Any]:
     """A turning program's scene data (server/workers.py: job_scene, moves as x = radius, y = 0, z) turned into
-    the lathe's drawing view (LATHE_AXES); no milling stock; the turret's tools (their nose radius in mm, or
-    their insert_shape). The modal states keep the program's coordinates (the page shows X as a diameter) and
-    name the plane G18."""
+    the lathe's drawing view (LATHE_AXES); no milling stock; the turret's tools (their inserts). The modal
+    states keep the program's coordinates (the page shows X as a diameter) and name the plane G18."""
     for key in ("segments", "feed", "rapid", "contour"):
         if data.get(key) is not None:
             data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(
@@ -540,7 +554,7 @@ def lathe_view(data: dict[str, Any], nose: dict[int, Any]) -> dict[str, Any]:
             )
     data["tool"] = [float(v) for v in LATHE_AXES @ np.asarray(data["tool"], dtype=np.float64)]
     data["stock"] = None
-    data["tools"] = {n: r if isinstance(r, dict) else {"kind": "turning", "nose": r} for n, r in nose.items()}
+    data["tools"] = dict(nose)
     for state in data["states"].values():
         state["plane"] = state.get("plane") or "G18"
     data["lathe"] = True
@@ -553,41 +567,8 @@ def _axis(scene: Scene, bounds: tuple[np.ndarray, np.ndarray] | None) -> None:
     if not scene.lathe or bounds is None:
         s.remove_by_name("/axis")
         return
-    margin = max(5.0, 0.08 * float(bounds[1][0] - bounds[0][0]))
-    start, end = float(bounds[0][0]) - margin, float(bounds[1][0]) + margin
-    pieces = []
-    for a in np.arange(start, end, 10.0):  # 6 mm line, 1.5 gap, 1 mm dot, 1.5 gap
-        pieces += [(a, min(a + 6.0, end)), (a + 7.5, a + 8.5)]
-    pieces = [(a, b) for a, b in pieces if a < end and b > a]
-    points = np.array([[[a, 0.0, 0.0], [min(b, end), 0.0, 0.0]] for a, b in pieces], dtype=np.float32)
+    points = spindle_axis(float(bounds[0][0]), float(bounds[1][0]))
     s.add_line_segments("/axis", points * M, AXIS_COLOUR, thickness=1.0, thickness_units="screen")
-
-
-def _dashed(segments: np.ndarray) -> np.ndarray:
-    """Segments cut into dashes (DASH mm drawn, GAP mm left out), so that rapid moves read as dashed lines;
-    longer dashes where there would be more than MAX_DASHES."""
-    if not len(segments):
-        return segments
-    a, b = segments[:, 0, :].astype(np.float64), segments[:, 1, :].astype(np.float64)
-    length = np.linalg.norm(b - a, axis=1)
-    period = DASH + GAP
-    total = float(np.ceil(length / period).sum())
-    if total > MAX_DASHES:
-        period *= total / MAX_DASHES
-    dash = period * DASH / (DASH + GAP)
-    pieces = []
-    for p, q, n in zip(a, b, length, strict=True):
-        if n <= dash:
-            pieces.append((p, q))
-            continue
-        starts = np.arange(0.0, n, period)
-        ends = np.minimum(starts + dash, n)
-        d = (q - p) / n
-        pieces.extend(zip(p + starts[:, None] * d, p + ends[:, None] * d, strict=True))
-    return np.asarray(pieces, dtype=np.float32).reshape(-1, 2, 3)
-
-
-Tiles = dict[str, tuple[str, np.ndarray, np.ndarray]]  # key → (digest, vertices mm, triangles)
 
 
 def show_stock(scene: Scene, tiles: Tiles, generation: int | None = None) -> bool:
@@ -657,7 +638,7 @@ def show_deviation_bands(scene: Scene, bands: dict[str, tuple[np.ndarray, np.nda
                     receive_shadow=False,
                 )
         if scene.bounds is not None and any(len(t) for _, t in bands.values()):
-            _look(scene, _home(scene))
+            _look(scene, home(scene.lathe))
 
 
 def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, cell: float) -> None:
@@ -685,158 +666,61 @@ def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, c
                     position=(0.0, 0.0, 0.05 * M),
                 )  # just above the surface, not in it
         if scene.bounds is not None and (len(too_much) or len(too_little)):
-            _look(scene, _home(scene))
+            _look(scene, home(scene.lathe))
 
 
 # -- the tool ----------------------------------------------------------------------------------------------
-FLUTES = {"end_mill": 4, "slot_drill": 2, "ball_nose": 2, "torus": 4, "twist_drill": 2, "spot_drill": 2}
-HELIX = 0.55  # rad: the cutting edges' helix angle (about 30°)
 
 
-def tool_shape(tool: Any) -> dict[str, Any]:
-    """A tool table entry as the view draws it (plain data: crosses from the worker process)."""
-    return {
-        "kind": str(tool.kind),
-        "diameter": float(tool.diameter),
-        "flute": float(tool.flute_length),
-        "length": float(tool.length),
-        "shank": float(tool.shank),
-        "corner": float(tool.corner_radius),
-        "angle": float(tool.point_angle),
-    }
-
-
-def _envelope(shape: dict[str, Any], z: np.ndarray) -> np.ndarray:
-    """The tool's outer radius at height z above its tip (mm): the tip's form, the cutting part, the shank."""
-    r = shape["diameter"] / 2
-    kind = shape["kind"]
-    out = np.where(z <= shape["flute"], r, shape["shank"] / 2)
-    if kind == "ball_nose":
-        out = np.where(z < r, np.sqrt(np.clip(r * r - (r - z) ** 2, 0, None)), out)
-    elif kind == "torus" and shape["corner"] > 0:
-        c = min(shape["corner"], r)
-        out = np.where(z < c, r - c + np.sqrt(np.clip(c * c - (c - z) ** 2, 0, None)), out)
-    elif kind in ("twist_drill", "spot_drill"):
-        half = np.radians((shape["angle"] or 118.0) / 2)
-        cone = r / np.tan(half)
-        out = np.where(z < cone, z * np.tan(half), out)
-    return np.asarray(out, dtype=np.float64)
-
-
-def tool_mesh(
-    shape: dict[str, Any], around: int = 48
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """The tool standing on its tip at the origin (mm): the cutting part (vertices, triangles), the shank
-    (vertices, triangles) and its cutting edges as helical line segments. An end mill has four edges, a slot
-    drill two; a ball-nose mill a round tip, a drill a point."""
-    r, flute, length = shape["diameter"] / 2, shape["flute"], max(shape["length"], shape["flute"])
-    n = FLUTES.get(shape["kind"], 2)
-    tip = r if shape["kind"] == "ball_nose" else 0.0
-    zs_cut = np.unique(
-        np.concatenate([np.linspace(0, min(max(tip, r), flute), 9), np.linspace(0, flute, 17)])
-    )
-    theta = np.linspace(0, 2 * np.pi, around, endpoint=False)
-
-    def rings(zs: np.ndarray, gullets: bool) -> tuple[np.ndarray, np.ndarray]:
-        env = _envelope(shape, zs)[:, None]
-        phase = theta[None, :] - (zs[:, None] / max(r, 1e-6)) * np.tan(HELIX)
-        depth = 0.16 * np.clip(np.cos(n * phase), 0, None) ** 3 if gullets else 0.0
-        radius = np.broadcast_to(env * (1 - depth), (len(zs), around))
-        pts = np.stack(
-            [radius * np.cos(theta), radius * np.sin(theta), np.broadcast_to(zs[:, None], radius.shape)], -1
-        )
-        vertices = np.vstack([pts.reshape(-1, 3), [[0, 0, zs[0]], [0, 0, zs[-1]]]])
-        k, m = len(zs), around
-        tris = []
-        for i in range(k - 1):
-            for j in range(m):
-                a, b = i * m + j, i * m + (j + 1) % m
-                tris += [(a, b, b + m), (a, b + m, a + m)]
-        bottom, top = k * m, k * m + 1
-        tris += [(bottom, (j + 1) % m, j) for j in range(m)]
-        tris += [(top, (k - 1) * m + j, (k - 1) * m + (j + 1) % m) for j in range(m)]
-        return vertices.astype(np.float32), np.asarray(tris, dtype=np.uint32)
-
-    cut_v, cut_t = rings(zs_cut, True)
-    shank_v, shank_t = rings(np.array([flute, length]), False)
-    zs = np.linspace(0, flute, 25)
-    env = _envelope(shape, zs) * 1.005
-    edges = []
-    for e in range(n):
-        angle = 2 * np.pi * e / n + (zs / max(r, 1e-6)) * np.tan(HELIX)
-        pts = np.stack([env * np.cos(angle), env * np.sin(angle), zs], -1)
-        edges += list(itertools.pairwise(pts))
-    return cut_v, cut_t, shank_v, shank_t, np.asarray(edges, dtype=np.float32).reshape(-1, 2, 3)
-
-
-def insert_mesh(nose: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """A turning tool in the lathe's drawing view (scene mm, the cutting point at the origin): an 80° rhombic
-    insert (vertices, triangles) reaching right and up from its point, the holder above it (vertices,
-    triangles), and the insert's outline (segments). A nose radius rounds the point."""
-    size = 10.0
-    e1 = np.array([np.cos(np.radians(5)), np.sin(np.radians(5))])  # along Z (the side cutting edge) …
-    e2 = np.array([np.cos(np.radians(85)), np.sin(np.radians(85))])  # … and along X: 80° between them
-    r = min(max(nose, 0.0), 2.0)
-    if r > 0:  # the nose: an arc tangent to both edges, from the Z edge round the corner to the X edge
-        centre = (e1 + e2) / np.linalg.norm(e1 + e2) * r / np.sin(np.radians(40))
-        angles = np.radians(np.linspace(275, 175, 7))
-        nose_points = centre + r * np.stack([np.cos(angles), np.sin(angles)], -1)
-    else:
-        nose_points = np.zeros((1, 2))
-    outline = np.vstack([nose_points, [size * e2, size * (e1 + e2), size * e1]])
-    outline_3d = np.stack([outline[:, 0], np.full(len(outline), 1.0), outline[:, 1]], -1)
-    insert_v = np.vstack([outline_3d, [[*outline_3d.mean(axis=0)]]]).astype(np.float32)
-    middle = len(outline)
-    insert_t = np.array([(middle, k, (k + 1) % middle) for k in range(middle)], dtype=np.uint32)
-    edges = np.stack([outline_3d, np.roll(outline_3d, -1, axis=0)], 1).astype(np.float32)
-    centre = size * (e1 + e2) / 2
-    holder = np.array(
-        [
-            [centre[0] - 6, 2.0, centre[1]],
-            [centre[0] + 6, 2.0, centre[1]],
-            [centre[0] + 6, 2.0, centre[1] + 45],
-            [centre[0] - 6, 2.0, centre[1] + 45],
-        ],
-        dtype=np.float32,
-    )
-    return insert_v, insert_t, holder, np.array([(0, 1, 2), (0, 2, 3)], dtype=np.uint32), edges
-
-
-def _insert(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...]) -> None:
-    nose = float((shape or {}).get("nose", 0.0))
-    key = ("turning", nose)
+def _turning_tool(scene: Scene, shape: InsertShape | None, point: tuple[float, ...], centre: bool) -> None:
+    """A turning tool as its insert (its outline from the tool table: C/D/V, grooving, thread; the nose
+    radius) on its holder, in the plane of the drawing view; `point` is its theoretical tip, or under SRK
+    (`centre`) its nose centre. A segment without a tool: a generic 80° insert."""
     s = scene.server.scene
+    key = shape if shape is not None else 0.0
+    tip = shape.position((point[0], point[1], point[2]), centre) if shape is not None else point
     position = (tip[0] * M, tip[1] * M, tip[2] * M)
-    if key != scene.tool_key:
-        insert_v, insert_t, holder_v, holder_t, edges = insert_mesh(nose)
-        scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
-        s.add_mesh_simple(
-            "/tool/cutter",
-            insert_v * M,
-            insert_t,
-            color=INSERT_COLOUR,
-            opacity=0.7,
-            side="double",
-            cast_shadow=False,
-            receive_shadow=False,
-        )
+    if key == scene.tool_key:
+        scene.nodes["tool"].position = position
+        return
+    meshes, opacity, flat = (
+        (insert_meshes(shape), 0.85, True) if shape is not None else (insert_mesh(), 0.7, False)
+    )
+    scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
+    cutter_v, cutter_t = meshes.cutter
+    s.add_mesh_simple(
+        "/tool/cutter",
+        cutter_v * M,
+        cutter_t,
+        color=INSERT_COLOUR,
+        opacity=opacity,
+        flat_shading=flat,
+        side="double",
+        cast_shadow=False,
+        receive_shadow=False,
+    )
+    if meshes.shank is not None:
+        holder_v, holder_t = meshes.shank
         s.add_mesh_simple(
             "/tool/shank",
             holder_v * M,
             holder_t,
             color=SHANK_COLOUR,
             opacity=TOOL_OPACITY,
+            flat_shading=flat,
             side="double",
             cast_shadow=False,
             receive_shadow=False,
         )
-        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
-        scene.tool_key = key
     else:
-        scene.nodes["tool"].position = position
+        s.remove_by_name("/tool/shank")
+    s.add_line_segments("/tool/edges", meshes.edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
+    scene.tool_key = key
 
 
-def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], centre: bool = False) -> None:
+def _tool(
+    scene: Scene, shape: ToolShape | InsertShape | None, tip: tuple[float, ...], centre: bool = False
+) -> None:
     """The tool, upright on its tip at `tip` (mm): built when its shape changes, else only moved. (viser's
     meshes are given in scene coordinates, Z up: nothing needs turning.) On a lathe: the turning tool, its
     theoretical tip at `tip` (or, `centre`, under SRK, its nose centre)."""
@@ -846,73 +730,61 @@ def _tool(scene: Scene, shape: dict[str, Any] | None, tip: tuple[float, ...], ce
         ):  # the milling tool's, before a turning program
             scene.server.scene.remove_by_name("/tool/footprint")
         scene.nodes.pop("tool_body", None)
-        if shape is not None and shape.get("kind") == "insert":
-            _insert_shape(scene, shape, tip, centre)
-        else:
-            _insert(scene, shape, tip)
+        _turning_tool(scene, shape if isinstance(shape, InsertShape) else None, tip, centre)
         return
-    if shape is None:  # no tool table entry: a plain cylinder of the tool's radius
-        shape = {
-            "kind": "end_mill",
-            "diameter": 2 * scene.tool_radius,
-            "flute": 4 * scene.tool_radius,
-            "length": 4 * scene.tool_radius + 40,
-            "shank": 2 * scene.tool_radius,
-            "corner": 0.0,
-            "angle": 0.0,
-        }
-    key = tuple(sorted(shape.items()))
+    if not isinstance(shape, ToolShape):  # no tool table entry: a plain cylinder of the tool's radius
+        shape = ToolShape.cylinder(scene.tool_radius)
     s = scene.server.scene
     position = (tip[0] * M, tip[1] * M, tip[2] * M)
-    if key != scene.tool_key:
-        cut_v, cut_t, shank_v, shank_t, edges = tool_mesh(shape)
-        scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
-        body = scene.view != "top"
-        # see-through: a Ø25 end mill is taller than the part and would hide what it cuts
-        scene.nodes["tool_body"] = [
-            s.add_mesh_simple(
-                "/tool/cutter",
-                cut_v * M,
-                cut_t,
-                color=TOOL_COLOUR,
-                opacity=TOOL_OPACITY,
-                cast_shadow=False,
-                receive_shadow=False,
-                visible=body,
-            ),
-            s.add_mesh_simple(
-                "/tool/shank",
-                shank_v * M,
-                shank_t,
-                color=SHANK_COLOUR,
-                opacity=TOOL_OPACITY,
-                cast_shadow=False,
-                receive_shadow=False,
-                visible=body,
-            ),
-            s.add_line_segments(
-                "/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen", visible=body
-            ),
-        ]
-        # from above the tool would cover the part it cuts: there only the circle it cuts is drawn
-        scene.nodes["tool_footprint"] = s.add_line_segments(
-            "/tool/footprint",
-            footprint(shape["diameter"] / 2) * M,
-            EDGE_COLOUR,
-            thickness=2.0,
-            thickness_units="screen",
-            visible=not body,
-        )
-        scene.tool_key = key
-    else:
+    if shape == scene.tool_key:
         scene.nodes["tool"].position = position
-
-
-def footprint(radius: float, count: int = 64) -> np.ndarray:
-    """The circle a milling tool of `radius` cuts, at its tip (segments, mm, around the tool's axis)."""
-    a = np.linspace(0.0, 2 * np.pi, count + 1)
-    ring = np.stack([radius * np.cos(a), radius * np.sin(a), np.full_like(a, 0.05)], -1)
-    return np.stack([ring[:-1], ring[1:]], 1).astype(np.float32)
+        return
+    meshes: ToolMeshes = tool_mesh(shape)
+    assert meshes.shank is not None
+    (cut_v, cut_t), (shank_v, shank_t) = meshes.cutter, meshes.shank
+    scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
+    body = scene.view != "top"
+    # see-through: a Ø25 end mill is taller than the part and would hide what it cuts
+    scene.nodes["tool_body"] = [
+        s.add_mesh_simple(
+            "/tool/cutter",
+            cut_v * M,
+            cut_t,
+            color=TOOL_COLOUR,
+            opacity=TOOL_OPACITY,
+            cast_shadow=False,
+            receive_shadow=False,
+            visible=body,
+        ),
+        s.add_mesh_simple(
+            "/tool/shank",
+            shank_v * M,
+            shank_t,
+            color=SHANK_COLOUR,
+            opacity=TOOL_OPACITY,
+            cast_shadow=False,
+            receive_shadow=False,
+            visible=body,
+        ),
+        s.add_line_segments(
+            "/tool/edges",
+            meshes.edges * M,
+            EDGE_COLOUR,
+            thickness=1.5,
+            thickness_units="screen",
+            visible=body,
+        ),
+    ]
+    # from above the tool would cover the part it cuts: there only the circle it cuts is drawn
+    scene.nodes["tool_footprint"] = s.add_line_segments(
+        "/tool/footprint",
+        footprint(shape.diameter / 2) * M,
+        EDGE_COLOUR,
+        thickness=2.0,
+        thickness_units="screen",
+        visible=not body,
+    )
+    scene.tool_key = shape
 
 
 def _tool_for_view(scene: Scene) -> None:
@@ -922,14 +794,6 @@ def _tool_for_view(scene: Scene) -> None:
         handle.visible = body
     if "tool_footprint" in scene.nodes:
         scene.nodes["tool_footprint"].visible = not body
-
-
-def stock_outline(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """The twelve edges of the stock's box (segments, mm): the blank stays readable where the material is gone
-    and where its lit faces are close to the background."""
-    corners = np.array([[x, y, z] for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])])
-    edges = [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)]
-    return np.array([[corners[a], corners[b]] for a, b in edges], dtype=np.float32)
 
 
 # -- the camera and the layers ------------------------------------------------------------------------------
@@ -953,43 +817,6 @@ def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
         if data.get("turned"):  # and the jaws of the chuck at its left end
             lo[0] -= 0.08 * float(hi[0] - lo[0]) + 5.0
     return lo, hi
-
-
-def camera_for(
-    bounds: tuple[np.ndarray, np.ndarray],
-    view: str,
-    aspect: float,
-    fov: float = np.radians(50),
-    lathe: bool = False,
-    margin: float = VIEW_MARGIN,
-) -> tuple[np.ndarray, np.ndarray]:
-    """Eye and target (mm) so that the box is centred in the picture and fills it but for `margin` (a fraction
-    of the picture's width and height) on every side: the distance at which the box's farthest-out corner just
-    fits, in width and in height, the target moved until the box's picture has as much room left as right and
-    above as below (perspective makes the near corners larger)."""
-    lo, hi = bounds
-    directions = _LATHE_DIRECTIONS if lathe else _VIEW_DIRECTIONS
-    back = np.asarray(directions.get(view, directions["iso"]), dtype=np.float64)
-    back /= np.linalg.norm(back)
-    right = np.cross(np.array([0.0, 0.0, 1.0]), back)
-    right = right / np.linalg.norm(right) if np.linalg.norm(right) > 1e-9 else np.array([1.0, 0.0, 0.0])
-    up = np.cross(back, right)
-    tan_v = np.tan(fov / 2) * (1 - 2 * margin)  # the box within the middle of the picture
-    tan_h = np.tan(fov / 2) * max(aspect, 0.2) * (1 - 2 * margin)
-    corners = np.array(np.meshgrid(*zip(lo, hi, strict=True))).T.reshape(-1, 3)
-    target = (lo + hi) / 2
-    distance = 1.0
-    for _ in range(8):
-        p = corners - target
-        x, y, z = p @ right, p @ up, p @ back
-        distance = max(float(np.max(np.maximum(np.abs(x) / tan_h, np.abs(y) / tan_v) + z)), 1.0)
-        depth = distance - z
-        u, v = x / (depth * tan_h), y / (depth * tan_v)  # where each corner lands, -1…1 across the picture
-        shift_u, shift_v = (u.max() + u.min()) / 2, (v.max() + v.min()) / 2
-        if abs(shift_u) < 1e-3 and abs(shift_v) < 1e-3:
-            break
-        target = target + right * shift_u * distance * tan_h + up * shift_v * distance * tan_v
-    return target + back * distance, target
 
 
 def _look(scene: Scene, view: str) -> None:
@@ -1017,7 +844,7 @@ def set_view(scene: Scene, view: str, aspect: float | None = None) -> None:
     with scene.lock:
         if aspect:
             scene.aspect = float(min(max(aspect, 0.2), 5.0))
-        _look(scene, _home(scene) if view == "reset" else view)
+        _look(scene, home(scene.lathe) if view == "reset" else view)
 
 
 def set_layers(scene: Scene, layers: dict[str, bool]) -> dict[str, bool]:
@@ -1115,6 +942,12 @@ async def bridge(browser: Any, port: int, subprotocol: str) -> None:
                 t.result()
 
 
+def _given_blank(spec: dict[str, Any]) -> dict[str, Any] | None:
+    """The blank a request names, else its exercise's (None: a bar around the program)."""
+    found: dict[str, Any] | None = spec.get("blank") or (spec.get("exercise") or {}).get("blank")
+    return found
+
+
 def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     """The stock after a program, seen from above (PNG, darker = deeper): what the page shows while the 3D
     view is off. Runs in a worker process."""
@@ -1158,7 +991,7 @@ def job_picture_svg(text: str, dialect: str, spec: dict[str, Any], lang: str = "
     if is_lathe(dialect):
         setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
         toolpath = run(text, dialect, setup)
-        blank = view_blank(spec, toolpath)
+        blank = view_blank(_given_blank(spec), toolpath)
         resolution = max(TURNED_RESOLUTION, blank.length / 4000)
         profile = simulate_turning(toolpath, blank, setup.tools, resolution).profile
         picture = lathe_picture(toolpath, profile, blank, language)
@@ -1185,7 +1018,7 @@ def turned_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
 
     setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
     toolpath = run(text, dialect, setup)
-    blank = view_blank(spec, toolpath)
+    blank = view_blank(_given_blank(spec), toolpath)
     profile = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION).profile
     return png_rgb(
         half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE)
@@ -1207,7 +1040,7 @@ def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
         tools = [m.tool for m in run(text, dialect, setup).moves]
         data["segment_tools"] = [tools[k] if k < len(tools) else None for k in data["moves"]]
         data["tools"] = {
-            n: tool_shape(t)
+            n: ToolShape.of(t)
             for n in set(data["segment_tools"])
             if n is not None and (t := setup.tools.get(n)) is not None
         }
@@ -1269,267 +1102,7 @@ def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
     }
 
 
-# -- the turned part (a lathe dialect): the bar revolved from the turning simulation's profile --------------
-# The profile r_out(z)/r_in(z) (core/sim/turning.py) is revolved in chunks of CHUNK_MM along Z, each a mesh with
-# a digest, so a playback step resends only the chunks whose part of the profile changed (VISER.md: revolved
-# meshes). Scene coordinates as LATHE_AXES: Z to the right, the radius up (θ = 0) and towards the back (+y).
-TURNED_RESOLUTION = 0.1  # mm along Z: the view's profile (radii are exact)
-TURNED_SECTIONS = 48  # around the axis; a half section keeps the back 24 (the camera looks from −y)
-CHUNK_MM = 10.0  # along Z; at most MAX_CHUNKS chunks (longer ones for a long bar)
-MAX_CHUNKS = 40
-PROFILE_TOLERANCE = 0.01  # mm: the outline simplified within this (the exam's radial tolerance)
-CORNER = np.radians(35)  # the outline turning by more than this is an edge (its own normals)
-CUT_OFFSET = 0.05  # mm: the cut face a little behind the plane of the toolpath, which stays visible on it
-CUT_COLOUR = (222, 184, 135)  # the cut face of the half section, like the hatched area of a section drawing
-CHUCK_COLOUR = (84, 90, 100)
-JAW_COLOUR = (128, 136, 148)
-INSERT_THICKNESS = 4.8  # mm: an ISO insert (…04…) seen from the side; the holder is drawn as a thicker plate
-HOLDER_THICKNESS = 12.0
-HOLDER_REACH = 35.0  # mm of the holder drawn beyond the insert (the turret is not drawn)
-
-
-def view_blank(spec: dict[str, Any], toolpath: Any) -> Any:
-    """The blank the lathe view turns: the request's, else the exercise's, else a bar around the program
-    (Ø the largest diameter of its cutting moves, long enough that the chuck stays clear of them)."""
-    from core.sim import Blank
-
-    found = spec.get("blank") or (spec.get("exercise") or {}).get("blank")
-    if found:
-        return Blank(
-            float(found["diameter"]),
-            float(found["length"]),
-            float(found.get("inner_diameter") or 0.0),
-            found.get("chuck_length"),
-            found.get("jaw_diameter"),
-        )
-    cutting = [m for m in toolpath.moves if m.kind != "rapid"]
-    points = np.array(
-        [p for m in cutting for p in (m.start, m.end)] or [(10.0, 0.0, -10.0)], dtype=np.float64
-    )
-    diameter = max(10.0, float(np.ceil(2 * np.max(np.abs(points[:, 0])) - 1e-6)))
-    depth = max(5.0, -float(np.min(points[:, 2])))
-    length = max(20.0, 5 * float(np.ceil(1.5 * (depth + 5) / 5)))  # the chuck holds at most a third
-    return Blank(min(diameter, 2000.0), min(length, 5000.0))
-
-
-def profile_data(profile: Any) -> dict[str, Any]:
-    return {
-        "z0": float(profile.z0),
-        "dz": float(profile.dz),
-        "outer": np.asarray(profile.outer, np.float32),
-        "inner": np.asarray(profile.inner, np.float32),
-    }
-
-
-def blank_data(blank: Any) -> dict[str, float]:
-    return {
-        "diameter": float(blank.diameter),
-        "inner_diameter": float(blank.bore),
-        "length": float(blank.length),
-        "clamp": float(blank.clamp),
-        "jaw_radius": float(blank.jaw_radius),
-    }
-
-
-def _pieces(points: np.ndarray) -> list[np.ndarray]:
-    """A polyline (z, r) cut at its corners: each piece is revolved with its own normals."""
-    if len(points) < 3:
-        return [points]
-    d = np.diff(points, axis=0)
-    angle = np.arctan2(d[:, 1], d[:, 0])
-    turn = np.abs((np.diff(angle) + np.pi) % (2 * np.pi) - np.pi)
-    cuts = np.flatnonzero(turn > CORNER) + 1
-    return [points[a : b + 1] for a, b in itertools.pairwise([0, *cuts.tolist(), len(points) - 1])]
-
-
-def _angles(half: bool, sections: int = TURNED_SECTIONS) -> tuple[np.ndarray, bool]:
-    """The angles of the rings from the top (θ = 0) over the back; whether the last column wraps to the first."""
-    if half:
-        return np.linspace(0.0, np.pi, sections // 2 + 1), False
-    return np.linspace(0.0, 2 * np.pi, sections, endpoint=False), True
-
-
-def revolve(points: np.ndarray, half: bool, sections: int = TURNED_SECTIONS) -> tuple[np.ndarray, np.ndarray]:
-    """A polyline (z, r) revolved about the axis (scene mm, vertices and triangles)."""
-    theta, wrap = _angles(half, sections)
-    columns = len(theta)
-    z, r = points[:, 0][:, None], points[:, 1][:, None]
-    vertices = np.stack(
-        [np.broadcast_to(z, (len(points), columns)), r * np.sin(theta), r * np.cos(theta)], -1
-    )
-    i, j = np.meshgrid(np.arange(len(points) - 1), np.arange(columns if wrap else columns - 1), indexing="ij")
-    a = i * columns + j
-    b = i * columns + (j + 1) % columns
-    quads = np.stack([a, b, b + columns, a + columns], -1).reshape(-1, 4)
-    triangles = np.concatenate([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
-    return vertices.reshape(-1, 3).astype(np.float32), triangles.astype(np.uint32)
-
-
-def _merge(parts: list[tuple[np.ndarray, np.ndarray]]) -> tuple[np.ndarray, np.ndarray]:
-    vertices, triangles, base = [], [], 0
-    for v, t in parts:
-        vertices.append(v)
-        triangles.append(t + base)
-        base += len(v)
-    if not vertices:
-        return np.zeros((0, 3), np.float32), np.zeros((0, 3), np.uint32)
-    return np.vstack(vertices).astype(np.float32), np.vstack(triangles).astype(np.uint32)
-
-
-def _digest(vertices: np.ndarray, triangles: np.ndarray) -> str:
-    import hashlib
-
-    return hashlib.blake2b(vertices.tobytes() + triangles.tobytes(), digest_size=12).hexdigest()
-
-
-def turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
-    """The turned part as chunks along Z: {"z<k>": its revolved surface} and, in a half section, {"z<k>_cut":
-    the cut face} (digest, scene vertices mm, triangles). Faces across the axis are drawn only where the
-    material really ends (the front face, a shoulder, the parted-off end), not between chunks."""
-    z0, dz = float(profile["z0"]), float(profile["dz"])
-    outer = np.asarray(profile["outer"], np.float64)
-    inner = np.clip(np.asarray(profile["inner"], np.float64), 0.0, None)
-    n = len(outer)
-    solid = outer - inner > 1e-6
-    per = max(1, round(max(CHUNK_MM, n * dz / MAX_CHUNKS) / dz))
-    zs = z0 + (np.arange(n) + 0.5) * dz
-    chunks: Tiles = {}
-    for k, a in enumerate(range(0, n, per)):
-        b = min(n, a + per)
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], solid[a:b].astype(np.int8), [0]])))
-        surface: list[tuple[np.ndarray, np.ndarray]] = []
-        cut: list[tuple[np.ndarray, np.ndarray]] = []
-        for i, j in zip(a + edges[::2], a + edges[1::2], strict=True):
-            lo, hi = z0 + i * dz, z0 + j * dz
-            z = np.concatenate([[lo], zs[i:j], [hi]])
-            o = np.concatenate([[outer[i]], outer[i:j], [outer[j - 1]]])
-            m = np.concatenate([[inner[i]], inner[i:j], [inner[j - 1]]])
-            ko, ki = simplified(z, o, PROFILE_TOLERANCE), simplified(z, m, PROFILE_TOLERANCE)
-            outline = [np.stack([z[ko], o[ko]], -1)]
-            if np.any(m > 1e-9):
-                outline.append(np.stack([z[ki], m[ki]], -1))
-            if i == 0 or not solid[i - 1]:  # the material ends here: the face across
-                outline.append(np.array([[lo, inner[i]], [lo, outer[i]]]))
-            if j == n or not solid[j]:
-                outline.append(np.array([[hi, inner[j - 1]], [hi, outer[j - 1]]]))
-            for line in outline:
-                surface += [revolve(piece, half) for piece in _pieces(line) if len(piece) >= 2]
-            if half:
-                zz = np.union1d(z[ko], z[ki])
-                ro, ri = np.interp(zz, z[ko], o[ko]), np.interp(zz, z[ki], m[ki])
-                for sign in (1.0, -1.0):  # the upper and the lower half of the section
-                    top = np.stack([zz, np.full_like(zz, CUT_OFFSET), sign * ro], -1)
-                    bottom = np.stack([zz, np.full_like(zz, CUT_OFFSET), sign * ri], -1)
-                    count = len(zz)
-                    q = np.arange(count - 1)
-                    tris = np.concatenate(
-                        [np.stack([q, q + 1, count + q + 1], -1), np.stack([q, count + q + 1, count + q], -1)]
-                    )
-                    cut.append((np.vstack([top, bottom]).astype(np.float32), tris.astype(np.uint32)))
-        for key, parts in ((f"z{k}", surface), (f"z{k}_cut", cut)):
-            if parts:
-                v, t = _merge(parts)
-                chunks[key] = (_digest(v, t), v, t)
-    return chunks
-
-
-def _box(corners: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """A hexahedron from its 8 corners (index bits: z, tangential, radial)."""
-    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
-    tris = [t for a, b, c, d in faces for t in ((a, b, c), (a, c, d))]
-    return corners.astype(np.float32), np.asarray(tris, dtype=np.uint32)
-
-
-def chuck_meshes(blank: dict[str, float], half: bool) -> dict[str, tuple[np.ndarray, np.ndarray]]:
-    """The chuck at the bar's back end (left) and its three jaws holding the last `clamp` mm (scene mm); in a
-    half section only the back half of the chuck and the jaws behind the cut."""
-    r = blank["diameter"] / 2
-    jaw_r = max(blank["jaw_radius"], r + 5.0)
-    back = -blank["length"]
-    body_r, depth = jaw_r + 4.0, float(np.clip(0.4 * jaw_r, 12.0, 40.0))  # the chuck's face, behind the jaws
-    outline = np.array([[back, 0.0], [back, body_r], [back - depth, body_r], [back - depth, 0.0]])
-    body = _merge([revolve(piece, half, 64) for piece in (outline[:2], outline[1:3], outline[2:])])
-    width = float(np.clip(0.5 * r, 8.0, 30.0))
-    jaws = []
-    for theta in np.radians([0.0, 120.0, 240.0]):
-        if half and np.sin(theta) < -1e-9:  # in front of the cut: left out
-            continue
-        u = np.array([0.0, np.sin(theta), np.cos(theta)])  # radial (scene y, z)
-        v = np.array([0.0, np.cos(theta), -np.sin(theta)])  # tangential
-        corners = np.array(
-            [
-                [z, 0.0, 0.0] + t * v + rr * u
-                for rr in (r, jaw_r)
-                for t in (-width / 2, width / 2)
-                for z in (back, back + blank["clamp"])
-            ]
-        )
-        jaws.append(_box(corners))
-    return {"body": body, "jaws": _merge(jaws)}
-
-
-def insert_shape(insert: Any) -> dict[str, Any]:
-    """A turning tool's insert as the view draws it (plain data, from the worker): its outline (the core grown by
-    the nose radius) and its holder (cut off HOLDER_REACH beyond the insert), (z, x) mm relative to the
-    theoretical tip."""
-    r, (tz, tx) = float(insert.radius), insert.tip
-    core = np.asarray(insert.core, dtype=np.float64)
-    if r > 0:
-        a = np.linspace(0, 2 * np.pi, 24, endpoint=False)
-        core = (core[:, None, :] + r * np.stack([np.cos(a), np.sin(a)], -1)[None]).reshape(-1, 2)
-    outline = _hull(core) - (tz, tx)
-    holder = np.asarray(insert.holder, dtype=np.float64).reshape(-1, 2) - (tz, tx)
-    if len(holder):
-        lo, hi = outline.min(axis=0), outline.max(axis=0)
-        holder[:, 0] = np.clip(holder[:, 0], lo[0] - HOLDER_REACH - 40, hi[0] + HOLDER_REACH + 40)
-        holder[:, 1] = np.clip(holder[:, 1], lo[1] - HOLDER_REACH, hi[1] + HOLDER_REACH)
-    return {
-        "kind": "insert",
-        "insert": insert.kind,
-        "outline": outline.round(4).tolist(),
-        "holder": holder.round(4).tolist(),
-        "tip": [float(tz), float(tx)],
-    }
-
-
-def _hull(points: np.ndarray) -> np.ndarray:
-    """The convex hull (counter-clockwise) of 2-D points (Andrew's monotone chain)."""
-    pts = sorted({(round(float(x), 6), round(float(y), 6)) for x, y in points})
-    if len(pts) < 3:
-        return np.asarray(pts, dtype=np.float64)
-
-    def chain(seq: list[tuple[float, float]]) -> list[tuple[float, float]]:
-        out: list[tuple[float, float]] = []
-        for p in seq:
-            while (
-                len(out) >= 2
-                and (
-                    (out[-1][0] - out[-2][0]) * (p[1] - out[-2][1])
-                    - (out[-1][1] - out[-2][1]) * (p[0] - out[-2][0])
-                )
-                <= 0
-            ):
-                out.pop()
-            out.append(p)
-        return out
-
-    lower, upper = chain(pts), chain(pts[::-1])
-    return np.asarray(lower[:-1] + upper[:-1], dtype=np.float64)
-
-
-def prism(outline: np.ndarray, thickness: float) -> tuple[np.ndarray, np.ndarray]:
-    """A convex outline (z, x) as a plate across y (scene mm, vertices and triangles)."""
-    n = len(outline)
-    front = np.stack([outline[:, 0], np.full(n, -thickness / 2), outline[:, 1]], -1)
-    back = front + [0.0, thickness, 0.0]
-    k = np.arange(n)
-    fan = [(0, i, i + 1) for i in range(1, n - 1)]
-    tris = (
-        fan
-        + [(n + a, n + c, n + b) for a, b, c in fan]
-        + [t for i in k for t in ((i, (i + 1) % n, n + (i + 1) % n), (i, n + (i + 1) % n, n + i))]
-    )
-    return np.vstack([front, back]).astype(np.float32), np.asarray(tris, dtype=np.uint32)
+# -- the turned part (a lathe dialect): core/scene/turned.py's chunks and chuck ------------------------------
 
 
 def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int | None) -> dict[str, Any]:
@@ -1541,19 +1114,19 @@ def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int |
 
     setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
     toolpath = run(text, dialect, setup)
-    blank = view_blank(spec, toolpath)
+    blank = view_blank(_given_blank(spec), toolpath)
     if moves is not None:
         toolpath = toolpath.until_move(moves)
     result = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION)
-    profile = profile_data(result.profile)
+    profile = TurnedProfile.of(result.profile)
     return {
         "chunks": turned_chunks(profile, bool(spec.get("half"))),
         "profile": profile,
-        "blank": blank_data(blank),
+        "blank": ViewBlank.of(blank),
     }
 
 
-def job_turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
+def job_turned_chunks(profile: TurnedProfile, half: bool) -> Tiles:
     """The chunks of a profile shown already, whole or cut open (the half-section toggle). Runs in a worker."""
     return turned_chunks(profile, half)
 
@@ -1561,22 +1134,21 @@ def job_turned_chunks(profile: dict[str, Any], half: bool) -> Tiles:
 def _chuck(scene: Scene) -> None:
     """The chuck and its jaws at the left end of the turned part; rebuilt only when the blank or the cut changes."""
     s = scene.server.scene
-    if not scene.lathe or scene.turned is None:
+    if not scene.lathe or scene.blank is None:
         if scene.chuck_key is not None:
             s.remove_by_name("/chuck")
             scene.chuck_key = None
         return
-    blank = scene.turned["blank"]
-    key = (tuple(sorted(blank.items())), scene.half)
+    key = (scene.blank, scene.half)
     if key == scene.chuck_key:
         return
-    meshes = chuck_meshes(blank, scene.half)
+    meshes = chuck_meshes(scene.blank, scene.half)
     s.add_frame("/chuck", show_axes=False)
-    v, t = meshes["body"]
+    v, t = meshes.body
     s.add_mesh_simple(
         "/chuck/body", v * M, t, color=CHUCK_COLOUR, side="double", cast_shadow=False, receive_shadow=False
     )
-    v, t = meshes["jaws"]
+    v, t = meshes.jaws
     s.add_mesh_simple(
         "/chuck/jaws",
         v * M,
@@ -1590,68 +1162,13 @@ def _chuck(scene: Scene) -> None:
     scene.chuck_key = key
 
 
-def _insert_shape(scene: Scene, shape: dict[str, Any], point: tuple[float, ...], centre: bool) -> None:
-    """A turning tool as its insert (outline from the tool table: C/D/V, grooving, thread; the nose radius) on
-    its holder, in the plane of the drawing view; `point` is its theoretical tip, or under SRK its nose centre."""
-    s = scene.server.scene
-    tz, tx = shape["tip"]
-    # the mesh is made around the theoretical tip; under SRK the path is the nose centre's: the tip is beside it
-    position = tuple(
-        v * M for v in (point[0] + (tz if centre else 0.0), point[1], point[2] + (tx if centre else 0.0))
-    )
-    key = (
-        "insert",
-        str(shape.get("insert")),
-        tuple(map(tuple, shape["outline"])),
-        tuple(map(tuple, shape["holder"])),
-    )
-    if key != scene.tool_key:
-        outline = np.asarray(shape["outline"], dtype=np.float64)
-        insert_v, insert_t = prism(outline, INSERT_THICKNESS)
-        scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
-        s.add_mesh_simple(
-            "/tool/cutter",
-            insert_v * M,
-            insert_t,
-            color=INSERT_COLOUR,
-            opacity=0.85,
-            flat_shading=True,
-            side="double",
-            cast_shadow=False,
-            receive_shadow=False,
-        )
-        if len(shape["holder"]) >= 3:
-            holder_v, holder_t = prism(_hull(np.asarray(shape["holder"], dtype=np.float64)), HOLDER_THICKNESS)
-            s.add_mesh_simple(
-                "/tool/shank",
-                holder_v * M,
-                holder_t,
-                color=SHANK_COLOUR,
-                opacity=TOOL_OPACITY,
-                flat_shading=True,
-                side="double",
-                cast_shadow=False,
-                receive_shadow=False,
-            )
-        else:
-            s.remove_by_name("/tool/shank")
-        ring = np.stack(
-            [outline[:, 0], np.full(len(outline), -INSERT_THICKNESS / 2 - 0.05), outline[:, 1]], -1
-        )
-        edges = np.stack([ring, np.roll(ring, -1, axis=0)], 1).astype(np.float32)
-        s.add_line_segments("/tool/edges", edges * M, EDGE_COLOUR, thickness=1.5, thickness_units="screen")
-        scene.tool_key = key
-    else:
-        scene.nodes["tool"].position = position
-
-
 def show_turned(scene: Scene, turned: dict[str, Any], generation: int | None = None) -> bool:
     """Show a turned part (job_turned_after: its chunks, profile and blank): only changed chunks are sent."""
     with scene.lock:
         if generation is not None and generation != scene.generation:
             return False
         with scene.server.atomic():
-            scene.turned = {"profile": turned["profile"], "blank": turned["blank"]}
+            scene.profile, scene.blank = turned["profile"], turned["blank"]
             _put_tiles(scene, turned["chunks"])
             _chuck(scene)
         return True
@@ -1665,9 +1182,6 @@ def set_half(scene: Scene, half: bool, chunks: Tiles | None) -> bool:
             _put_tiles(scene, chunks)
         _chuck(scene)
         return scene.half
-
-
-BAND_LIFT = 0.08  # mm: a deviation band lies just outside the turned surface (inside the bore), not in it
 
 
 def lathe_deviation(exercise: Any, text: str, half: bool) -> dict[str, Any]:
@@ -1703,24 +1217,3 @@ def lathe_deviation(exercise: Any, text: str, half: bool) -> dict[str, Any]:
         "too_little_mm3": dev.left_volume,
         "largest_mm": largest,
     }
-
-
-def deviation_band(
-    part: Any, outside: np.ndarray, inside: np.ndarray, half: bool
-) -> tuple[np.ndarray, np.ndarray]:
-    """Revolved strips over the runs of marked Z samples: on the outside surface (lifted by BAND_LIFT) and in
-    the bore (lowered by it), scene mm."""
-    z0, dz = float(part.z0), float(part.dz)
-    outer = np.asarray(part.outer, np.float64)
-    inner = np.clip(np.asarray(part.inner, np.float64), 0.0, None)
-    zs = z0 + (np.arange(len(outer)) + 0.5) * dz
-    parts = []
-    for mask, radius, lift in ((outside, outer, BAND_LIFT), (inside, inner, -BAND_LIFT)):
-        mask = mask & (outer - inner > 1e-6)
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], mask.astype(np.int8), [0]])))
-        for i, j in zip(edges[::2], edges[1::2], strict=True):
-            z = np.concatenate([[z0 + i * dz], zs[i:j], [z0 + j * dz]])
-            r = np.clip(np.concatenate([[radius[i]], radius[i:j], [radius[j - 1]]]) + lift, 0.0, None)
-            keep = simplified(z, r, PROFILE_TOLERANCE)
-            parts.append(revolve(np.stack([z[keep], r[keep]], -1), half))
-    return _merge(parts)

@@ -9,7 +9,8 @@ A milling kind (drill, end mill) on the lathe is an axial tool that bores from t
 
 `lower_envelope` gives, on sample positions z, the lowest point of a convex polygon grown by a radius:
 the shape swept along a straight piece is the convex hull of its two end positions, so a move's cut on
-the revolved profile is the minimum of these envelopes (upper envelopes by mirroring X).
+the revolved profile is the minimum of these envelopes (upper envelopes by mirroring X). `convex_hull` is the
+one convex hull of the project (the 3D view's insert outlines, core/scene/meshes.py, use it too).
 """
 
 from __future__ import annotations
@@ -126,11 +127,14 @@ def _axial(tool: Tool) -> Insert:
     return Insert(tool.number, "axial", 0.0, core, (), True, (0.0, 0.0), tool.flute_length, -1)
 
 
-def lower_hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
-    """The lower chain of the convex hull, sorted by z (Andrew's monotone chain)."""
-    pts = sorted(set(points))
-    out: list[tuple[float, float]] = []
-    for p in pts:
+Point = tuple[float, float]
+
+
+def _chain(points: list[Point]) -> list[Point]:
+    """One chain of Andrew's monotone chain over `points` in sorted order: every turn is to the left, collinear
+    points are dropped."""
+    out: list[Point] = []
+    for p in points:
         while (
             len(out) >= 2
             and (
@@ -142,6 +146,21 @@ def lower_hull(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
             out.pop()
         out.append(p)
     return out
+
+
+def lower_hull(points: list[Point]) -> list[Point]:
+    """The lower chain of the convex hull, sorted by z (Andrew's monotone chain)."""
+    return _chain(sorted(set(points)))
+
+
+def convex_hull(points: list[Point]) -> list[Point]:
+    """The convex hull of 2-D points, counter-clockwise from the lowest z (then x); fewer than three distinct
+    points come back sorted."""
+    pts = sorted(set(points))
+    if len(pts) < 3:
+        return pts
+    lower, upper = _chain(pts), _chain(pts[::-1])
+    return lower[:-1] + upper[:-1]
 
 
 def lower_envelope(zs: Array, chain: list[tuple[float, float]], radius: float) -> Array:

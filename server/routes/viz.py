@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import dataclasses
 import logging
 import re
 import secrets
@@ -237,7 +238,7 @@ async def put_scene(
         errors=data["errors"],
         states=data["states"],
         lathe=bool(data.get("lathe")),
-        blank=turned["blank"] if turned else None,
+        blank=dataclasses.asdict(turned["blank"]) if turned else None,
     )
 
 
@@ -277,8 +278,8 @@ async def put_section(
     face, the chuck halved too) or show it whole; kept for the session's next programs. Answers the state."""
     scene = await _driven(request, token, principal)
     chunks = None
-    if scene.lathe and scene.turned is not None:
-        chunks = await workers.call(viz.job_turned_chunks, scene.turned["profile"], body.half)
+    if scene.lathe and scene.profile is not None:
+        chunks = await workers.call(viz.job_turned_chunks, scene.profile, body.half)
     return {"half": await run_in_threadpool(viz.set_half, scene, body.half, chunks)}
 
 

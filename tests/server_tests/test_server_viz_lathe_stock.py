@@ -9,6 +9,8 @@ from typing import Any
 import numpy as np
 from server_helpers import Api, unique
 
+from core.scene.meshes import InsertShape
+from core.scene.turned import BAND_LIFT, CUT_OFFSET
 from server import viz
 
 # a bar Ø40 × 60 (20 mm in the chuck) turned to Ø30 over 20 mm, then a shoulder up to Ø42
@@ -139,7 +141,7 @@ def test_half_section_cuts_the_part_open(api: Api) -> None:
     half = _chunk_vertices(scene)
     assert half[:, 1].min() > -1e-4  # only the back half is left (the camera looks from the front, −y)
     cut = _chunk_vertices(scene, cut=True)
-    assert np.allclose(cut[:, 1], viz.CUT_OFFSET)  # the cut face lies in the drawing plane
+    assert np.allclose(cut[:, 1], CUT_OFFSET)  # the cut face lies in the drawing plane
     # the section shows the bore: at Z-10 the wall reaches from R10 (the bore) to R15 above and below the axis
     wall = cut[np.isclose(cut[:, 0], cut[np.argmin(np.abs(cut[:, 0] + 10)), 0])]
     assert np.isclose(wall[:, 2].max(), 15, atol=0.01) and np.isclose(wall[:, 2].min(), -15, atol=0.01)
@@ -189,9 +191,9 @@ def test_exercise_blank_and_its_tools_insert(api: Api) -> None:
     v = _chunk_vertices(scene)
     assert np.isclose(v[:, 0].min(), -80) and np.hypot(v[:, 1], v[:, 2]).max() <= 22.0 + 1e-3
     shape = scene.tools[1]
-    assert shape["kind"] == "insert" and shape["insert"] == "C"
+    assert isinstance(shape, InsertShape) and shape.insert == "C"
     # the nose radius R0.8 rounds the insert's point: its outline stays 0.8 mm and more away from the sharp tip
-    outline = np.asarray(shape["outline"])
+    outline = np.asarray(shape.outline)
     assert np.hypot(outline[:, 0], outline[:, 1]).min() > 0.3
 
 
@@ -223,7 +225,7 @@ def test_deviation_after_grading_as_bands_on_the_turned_part(api: Api) -> None:
     radius = np.hypot(band[:, 1], band[:, 2])
     assert band[:, 0].min() > -31 and band[:, 0].max() < 0.5  # over the shoulder's 30 mm
     shoulder = radius[(band[:, 0] > -29) & (band[:, 0] < -3)]
-    assert np.allclose(shoulder, 19 + viz.BAND_LIFT, atol=0.01)  # on the Ø38 surface, just outside it
+    assert np.allclose(shoulder, 19 + BAND_LIFT, atol=0.01)  # on the Ø38 surface, just outside it
     assert radius.min() > 17  # down the chamfer D2 at the front
     assert "/deviation/too_little" not in handles
     body["program"] = doc.reference

@@ -1,6 +1,6 @@
-"""The 3D view's preset views (issue 28, point 12): each fits the stock with a margin (the camera:
-test_server_viz.py), the stock's box is outlined, and from above the tool does not cover the part — only the
-circle it cuts is drawn there, the tool whole again in the other views."""
+"""The 3D view's preset views (issue 28, point 12): from above the tool does not cover the part — only the
+circle it cuts is drawn there, the tool whole again in the other views. Each view fits the stock with a margin
+and the stock's box is outlined: tests/test_scene_meshes.py."""
 
 from __future__ import annotations
 
@@ -47,11 +47,3 @@ def test_the_top_view_shows_the_tool_as_the_circle_it_cuts(api: Api) -> None:
     )
     assert r.status_code == 200 and scene.view == "top"
     assert not any(h.visible for h in scene.nodes["tool_body"]) and scene.nodes["tool_footprint"].visible
-
-
-def test_the_stock_box_is_outlined() -> None:
-    lo, hi = np.array([0.0, 0.0, -30.0]), np.array([80.0, 70.0, 0.0])
-    edges = viz.stock_outline(lo, hi)
-    assert edges.shape == (12, 2, 3)
-    lengths = sorted(np.round(np.linalg.norm(edges[:, 1] - edges[:, 0], axis=1)).tolist())
-    assert lengths == [30] * 4 + [70] * 4 + [80] * 4
