@@ -108,10 +108,28 @@ def test_the_turned_bar_shows_its_diameter_and_length_in_chunks() -> None:
     outer[-100:] = 15.0  # the last 10 mm before Z0
     turned = turned_chunks(TurnedProfile(profile.z0, profile.dz, outer, profile.inner), half=False)
     front = chunk_vertices({"z2": turned["z2"]})
-    on_surface = np.hypot(front[:, 1], front[:, 2]) > 1e-6
+    on_surface = front[:, 0] > -9.99  # the shoulder's face at Z-10 reaches from R15 to R20
     assert np.allclose(np.hypot(front[on_surface, 1], front[on_surface, 2]).max(), 15, atol=1e-4)
     # only the chunk that changed has a new digest: playback resends nothing else
     assert [turned[k][0] == chunks[k][0] for k in ("z0", "z1", "z2")] == [True, True, False]
+
+
+@pytest.mark.parametrize("shoulder", [-10.0, -15.0])  # on the border of two chunks, inside one
+def test_the_turned_part_is_one_closed_surface_also_at_a_shoulder(shoulder: float) -> None:
+    """A Ø40 bar turned to Ø30 from Z0 to the shoulder, with a Ø10 bore 5 mm deep: the chunks together are one
+    closed surface, the shoulder's face from R15 to R20 and the bore's bottom there too (no hole to look
+    into, wherever the shoulder falls)."""
+    profile = bar_profile(40, 30)
+    outer, inner = profile.outer.copy(), profile.inner.copy()
+    outer[round((shoulder + 30) / 0.1) :] = 15.0
+    inner[-50:] = 5.0
+    chunks = turned_chunks(TurnedProfile(profile.z0, profile.dz, outer, inner), half=False)
+    whole = merge([(v, t.astype(np.uint32)) for _, v, t in chunks.values()])
+    assert is_closed(whole)
+    v = whole[0].astype(np.float64)
+    radius = np.hypot(v[:, 1], v[:, 2])
+    step = radius[np.isclose(v[:, 0], shoulder, atol=0.06) & (radius > 1e-6)]  # within half a sample
+    assert step.min() == pytest.approx(15, abs=1e-4) and step.max() == pytest.approx(20, abs=1e-4)
 
 
 def test_a_half_section_keeps_the_back_half_and_shows_the_wall_of_a_tube() -> None:

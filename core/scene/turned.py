@@ -123,7 +123,8 @@ def _section(zz: npt.NDArray[np.float64], ro: npt.NDArray[Any], ri: npt.NDArray[
 def turned_chunks(profile: TurnedProfile, half: bool) -> Tiles:
     """The turned part as chunks along Z: {"z<k>": its revolved surface} and, in a half section, {"z<k>_cut":
     the cut face} (digest, vertices, triangles). Faces across the axis are drawn only where the material
-    really ends (the front face, a shoulder, the parted-off end), not between chunks."""
+    really ends (the front face, the parted-off end) or its radius steps (a shoulder on the border of two
+    chunks), not between chunks: the chunks together are one closed surface."""
     z0, dz = profile.z0, profile.dz
     outer = np.asarray(profile.outer, np.float64)
     inner = np.clip(np.asarray(profile.inner, np.float64), 0.0, None)
@@ -148,6 +149,10 @@ def turned_chunks(profile: TurnedProfile, half: bool) -> Tiles:
                 outline.append(np.stack([z[ki], m[ki]], -1))
             if i == 0 or not solid[i - 1]:  # the material ends here: the face across
                 outline.append(np.array([[lo, inner[i]], [lo, outer[i]]]))
+            else:  # it goes on from the chunk before: a shoulder (or a bore's) on the border between them
+                outline += [
+                    np.array([[lo, r[i - 1]], [lo, r[i]]]) for r in (outer, inner) if r[i] != r[i - 1]
+                ]
             if j == n or not solid[j]:
                 outline.append(np.array([[hi, inner[j - 1]], [hi, outer[j - 1]]]))
             for line in outline:
