@@ -19,12 +19,11 @@ import time
 import uuid
 from dataclasses import dataclass, field
 from importlib import resources
-from typing import Any, Literal
+from typing import Any
 
 import jwt
 import numpy as np
 
-from core.picture2d import png_rgb
 from core.scene.camera import FOV, camera_for, home
 from core.scene.meshes import (
     InsertShape,
@@ -35,19 +34,14 @@ from core.scene.meshes import (
     footprint,
     insert_mesh,
     insert_meshes,
-    insert_shape,
     spindle_axis,
     stock_outline,
     tool_mesh,
 )
 from core.scene.turned import (
-    TURNED_RESOLUTION,
     TurnedProfile,
     ViewBlank,
     chuck_meshes,
-    deviation_band,
-    turned_chunks,
-    view_blank,
 )
 
 log = logging.getLogger("paltrainer.server")
@@ -87,16 +81,8 @@ EDGE_COLOUR = (40, 44, 52)
 TOOL_OPACITY = 0.45
 M = 0.001  # the scene is in metres (viser's camera and grid are made for them); the product speaks mm
 LAYERS = ("rapid", "feed", "contour", "stock")
-# turning (DECISIONS §15) until the turning stock exists: the toolpath in the lathe's drawing view. A move's
-# (x = radius, y, z) becomes the scene's (z, -y, x): Z (the spindle axis) to the right, the chuck side on the
-# left, X up; the front camera stands at the lathe's +Y, so G2 is clockwise in the picture as in the manual.
-LATHE_AXES = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
-LATHE_ZERO = (
-    0.0,
-    float(np.sqrt(0.5)),
-    0.0,
-    float(np.sqrt(0.5)),
-)  # the same turn: the zero's red axis is X, up
+# the turn of core/scene/camera.py's LATHE_AXES (the lathe's drawing view) for the zero's axes: X up, Z right
+LATHE_ZERO = (0.0, float(np.sqrt(0.5)), 0.0, float(np.sqrt(0.5)))
 AXIS_COLOUR = (70, 76, 86)  # the spindle axis, dash-dotted as on a drawing
 INSERT_COLOUR = (120, 130, 142)
 CUT_COLOUR = (222, 184, 135)  # the cut face of the half section, like the hatched area of a section drawing
@@ -258,7 +244,7 @@ class Scene:
         default_factory=dict
     )  # the handles of the nodes the layers and playback move
     has_stock: bool = False
-    lathe: bool = False  # a turning program: the lathe's drawing view (LATHE_AXES), the turned part
+    lathe: bool = False  # a turning program: the lathe's drawing view (camera.LATHE_AXES), the turned part
     half: bool = False  # the turned part cut open (half section)
     profile: TurnedProfile | None = None  # the turned part shown (its chunks: the stock tiles)
     blank: ViewBlank | None = None  # and its blank
@@ -534,31 +520,6 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         )
         s.remove_by_name("/playback/current")
         return scene.generation
-
-
-def is_lathe(dialect: str) -> bool:
-    from core.pipeline import DIALECTS
-
-    found = DIALECTS.get(dialect)
-    return found is not None and found.lathe
-
-
-def lathe_view(data: dict[str, Any], nose: dict[int, InsertShape]) -> dict[str, Any]:
-    """A turning program's scene data (server/workers.py: job_scene, moves as x = radius, y = 0, z) turned into
-    the lathe's drawing view (LATHE_AXES); no milling stock; the turret's tools (their inserts). The modal
-    states keep the program's coordinates (the page shows X as a diameter) and name the plane G18."""
-    for key in ("segments", "feed", "rapid", "contour"):
-        if data.get(key) is not None:
-            data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(
-                np.float32
-            )
-    data["tool"] = [float(v) for v in LATHE_AXES @ np.asarray(data["tool"], dtype=np.float64)]
-    data["stock"] = None
-    data["tools"] = dict(nose)
-    for state in data["states"].values():
-        state["plane"] = state.get("plane") or "G18"
-    data["lathe"] = True
-    return data
 
 
 def _axis(scene: Scene, bounds: tuple[np.ndarray, np.ndarray] | None) -> None:
@@ -942,193 +903,7 @@ async def bridge(browser: Any, port: int, subprotocol: str) -> None:
                 t.result()
 
 
-def _given_blank(spec: dict[str, Any]) -> dict[str, Any] | None:
-    """The blank a request names, else its exercise's (None: a bar around the program)."""
-    found: dict[str, Any] | None = spec.get("blank") or (spec.get("exercise") or {}).get("blank")
-    return found
-
-
-def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
-    """The stock after a program, seen from above (PNG, darker = deeper): what the page shows while the 3D
-    view is off. Runs in a worker process."""
-    from core.pipeline import run
-    from core.sim import DEFAULT_SIM_TOOLS, Stock, depth_png, simulate
-    from server.workers import make_setup
-
-    if is_lathe(dialect):
-        return turned_picture(text, dialect, spec)
-    setup = make_setup(spec, DEFAULT_SIM_TOOLS)
-    lo, hi = spec["stock"]["min"], spec["stock"]["max"]
-    result = simulate(run(text, dialect, setup), Stock(*lo, *hi), setup.tools, spec["resolution"])
-    return depth_png(result.heightmap, max_pixels=480)
-
-
-PICTURE_RASTER = (
-    400  # cells along the stock's longer side at most: the 2D picture's height map (core/picture2d.py)
-)
-PICTURE_CELL = 0.25  # mm: no finer cells for it
-
-
-def picture_resolution(spec: dict[str, Any]) -> float:
-    """The cell of the 2D picture's height map: the request's, at least PICTURE_CELL and coarse enough that the
-    stock's longer side has at most PICTURE_RASTER cells (the simulation's cost is bounded with it)."""
-    lo, hi = spec["stock"]["min"], spec["stock"]["max"]
-    side = max(float(hi[0]) - float(lo[0]), float(hi[1]) - float(lo[1]))
-    return max(float(spec.get("resolution") or 0.0), PICTURE_CELL, side / PICTURE_RASTER)
-
-
-def job_picture_svg(text: str, dialect: str, spec: dict[str, Any], lang: str = "de") -> dict[str, Any]:
-    """The 2D picture of a program's result (core/picture2d.py), what the page shows while the 3D view is off:
-    milling the plan view with the depths, the path, the contour, the zero and the blocks an error skipped;
-    turning the drawing view with the part in half section (the blank the 3D view turns). {"svg", "info"}.
-    Runs in a worker process."""
-    from core.picture2d import lathe_picture, mill_picture
-    from core.pipeline import run
-    from core.sim import DEFAULT_LATHE_TOOLS, DEFAULT_SIM_TOOLS, Stock, simulate, simulate_turning
-    from server.workers import make_setup
-
-    language: Literal["de", "en"] = "en" if lang == "en" else "de"
-    if is_lathe(dialect):
-        setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
-        toolpath = run(text, dialect, setup)
-        blank = view_blank(_given_blank(spec), toolpath)
-        resolution = max(TURNED_RESOLUTION, blank.length / 4000)
-        profile = simulate_turning(toolpath, blank, setup.tools, resolution).profile
-        picture = lathe_picture(toolpath, profile, blank, language)
-    else:
-        setup = make_setup(spec, DEFAULT_SIM_TOOLS)
-        toolpath = run(text, dialect, setup)
-        stock = Stock(*spec["stock"]["min"], *spec["stock"]["max"])
-        result = simulate(toolpath, stock, setup.tools, picture_resolution(spec))
-        picture = mill_picture(toolpath, result.heightmap, stock, language)
-    return {"svg": picture.svg, "info": picture.info}
-
-
-PICTURE_SIZE = (480, 320)  # pixels: the lathe's picture while the 3D view is off
-
-
-def turned_picture(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
-    """A turning program's part after it, turned from the blank the 3D view turns (view_blank), as a half
-    section in the drawing view (core/drawing/turned_picture.py): the PNG the page shows while the 3D view is
-    off."""
-    from core.drawing.turned_picture import half_section_image
-    from core.pipeline import run
-    from core.sim import DEFAULT_LATHE_TOOLS, simulate_turning
-    from server.workers import make_setup
-
-    setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
-    toolpath = run(text, dialect, setup)
-    blank = view_blank(_given_blank(spec), toolpath)
-    profile = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION).profile
-    return png_rgb(
-        half_section_image(profile.outer, profile.inner, profile.z0, profile.dz, blank, PICTURE_SIZE)
-    )
-
-
-def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
-    """What the 3D view shows (server/workers.py: job_scene) and, per segment, the tool that cuts it with
-    its shape from the tool table. Runs in a worker process."""
-    from core.pipeline import run
-    from server.workers import job_scene, make_setup
-
-    lathe = is_lathe(dialect)
-    if lathe:  # no milling block for a turning program (the turning stock is not there yet)
-        spec = {**spec, "stock": None}
-    data = job_scene(text, dialect, spec)
-    setup = make_setup(spec)
-    if "segment_tools" not in data:
-        tools = [m.tool for m in run(text, dialect, setup).moves]
-        data["segment_tools"] = [tools[k] if k < len(tools) else None for k in data["moves"]]
-        data["tools"] = {
-            n: ToolShape.of(t)
-            for n in set(data["segment_tools"])
-            if n is not None and (t := setup.tools.get(n)) is not None
-        }
-    if lathe:
-        from core.sim import DEFAULT_LATHE_TOOLS
-        from core.sim.insert import insert_of
-
-        lathe_tools = make_setup(spec, DEFAULT_LATHE_TOOLS).tools
-        data = lathe_view(
-            data,
-            {
-                n: insert_shape(insert_of(lathe_tools.get(n), n))
-                for n in set(data["segment_tools"])
-                if n is not None
-            },
-        )
-        toolpath = run(text, dialect, setup)
-        centre = [
-            m.programmed_end is not None and bool(np.any(np.abs(np.subtract(m.programmed_end, m.end)) > 1e-6))
-            for m in toolpath.moves
-        ]
-        data["segment_centre"] = [centre[k] if k < len(centre) else False for k in data["moves"]]
-        turned = job_turned_after(text, dialect, spec, None)
-        data["stock"] = {"coarse": turned["chunks"]}
-        data["turned"] = {"profile": turned["profile"], "blank": turned["blank"]}
-    data["lathe"] = lathe
-    return data
-
-
-def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
-    """Where a program's part leaves the exercise's tolerance band: the cells' surface points (mm) where too
-    much material was removed and where too much is left, the volumes (mm³, as the geometry criterion counts
-    them) and the largest deviation (mm). Runs in a worker process."""
-    from core.grading import deviation
-    from server.workers import exercise_document
-
-    exercise = exercise_document(spec)
-    if exercise is None:
-        none = np.zeros((0, 3), np.float32)
-        return {
-            "too_much": none,
-            "too_little": none,
-            "cell": 0.0,
-            "too_much_mm3": 0.0,
-            "too_little_mm3": 0.0,
-            "largest_mm": 0.0,
-        }
-    if exercise.lathe:
-        return lathe_deviation(exercise, text, bool(spec.get("half")))
-    d = deviation(exercise, text)
-    area = d.part.grid.dx * d.part.grid.dy
-    return {
-        "too_much": d.points("over"),
-        "too_little": d.points("left"),
-        "cell": d.part.grid.dx,
-        "too_much_mm3": float(d.over.sum()) * area,
-        "too_little_mm3": float(d.left.sum()) * area,
-        "largest_mm": float(max(d.over.max(initial=0.0), d.left.max(initial=0.0))),
-    }
-
-
 # -- the turned part (a lathe dialect): core/scene/turned.py's chunks and chuck ------------------------------
-
-
-def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int | None) -> dict[str, Any]:
-    """The turned part after the first `moves` moves (None: all) as chunks, with its profile and blank (the
-    half-section toggle re-meshes the profile). Runs in a worker process."""
-    from core.pipeline import run
-    from core.sim import DEFAULT_LATHE_TOOLS, simulate_turning
-    from server.workers import make_setup
-
-    setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
-    toolpath = run(text, dialect, setup)
-    blank = view_blank(_given_blank(spec), toolpath)
-    if moves is not None:
-        toolpath = toolpath.until_move(moves)
-    result = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION)
-    profile = TurnedProfile.of(result.profile)
-    return {
-        "chunks": turned_chunks(profile, bool(spec.get("half"))),
-        "profile": profile,
-        "blank": ViewBlank.of(blank),
-    }
-
-
-def job_turned_chunks(profile: TurnedProfile, half: bool) -> Tiles:
-    """The chunks of a profile shown already, whole or cut open (the half-section toggle). Runs in a worker."""
-    return turned_chunks(profile, half)
 
 
 def _chuck(scene: Scene) -> None:
@@ -1182,38 +957,3 @@ def set_half(scene: Scene, half: bool, chunks: Tiles | None) -> bool:
             _put_tiles(scene, chunks)
         _chuck(scene)
         return scene.half
-
-
-def lathe_deviation(exercise: Any, text: str, half: bool) -> dict[str, Any]:
-    """A turning exercise's deviation for the view (core.grading.turning, the geometry criterion's tolerance):
-    the volumes, the largest deviation and, as `bands`, revolved strips on the submitted part where it
-    leaves the band (too much removed red, too much left blue). Runs in a worker process."""
-    from core.grading.turning import compare_profiles, execute_turning
-
-    tol = next(
-        (c.tolerance if c.tolerance is not None else 0.05 for c in exercise.rubric if c.id == "geometry"),
-        0.05,
-    )
-    reference, submission = execute_turning(exercise, exercise.reference), execute_turning(exercise, text)
-    dev = compare_profiles(reference.sim.profile, submission.sim.profile, tol)
-    part = submission.sim.profile
-    bands = {
-        "too_much": deviation_band(part, dev.over_outer > 0, dev.over_inner > 0, half),
-        "too_little": deviation_band(part, dev.left_outer > 0, dev.left_inner > 0, half),
-    }
-    none = np.zeros((0, 3), np.float32)
-    largest = max(
-        float(np.max(a, initial=0.0))
-        for a in (dev.over_outer, dev.left_outer, dev.over_inner, dev.left_inner)
-    )
-    return {
-        "too_much": none,
-        "too_little": none,
-        "cell": 0.0,
-        "bands": bands,
-        "too_much_samples": int(np.count_nonzero((dev.over_outer > 0) | (dev.over_inner > 0))),
-        "too_little_samples": int(np.count_nonzero((dev.left_outer > 0) | (dev.left_inner > 0))),
-        "too_much_mm3": dev.over_volume,
-        "too_little_mm3": dev.left_volume,
-        "largest_mm": largest,
-    }

@@ -15,6 +15,10 @@ FOV = float(np.radians(35))  # a narrow lens: the part looks as drawn, not bulgi
 VIEW_DIRECTIONS = {"iso": (0.55, -0.8, 0.65), "top": (0.0, -1e-3, 1.0), "front": (0.0, -1.0, 0.12)}
 # the lathe's front view is the drawing itself: straight from the front, not from a little above
 LATHE_DIRECTIONS = {**VIEW_DIRECTIONS, "front": (0.0, -1.0, 0.0)}
+# a lathe program is shown in the lathe's drawing view (DECISIONS §15): a move's (x = radius, y, z) becomes the
+# scene's (z, -y, x): Z (the spindle axis) to the right, the chuck side on the left, X up; the front camera
+# stands at the lathe's +Y, so G2 is clockwise in the picture as in the manual
+LATHE_AXES = np.array([[0.0, 0.0, 1.0], [0.0, -1.0, 0.0], [1.0, 0.0, 0.0]])
 
 
 def home(lathe: bool) -> str:

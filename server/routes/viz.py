@@ -40,7 +40,16 @@ from server.deps import (
 )
 from server.errors import ApiError, responses
 from server.schemas import ProgramRequest, SimulateRequest
-from server.workers import job_stock_after
+from server.workers import (
+    is_lathe,
+    job_picture_now,
+    job_picture_svg,
+    job_stock_after,
+    job_turned_after,
+    job_turned_chunks,
+    job_view_deviation,
+    job_view_scene,
+)
 
 log = logging.getLogger("paltrainer.server")
 router = APIRouter(prefix="/viz", tags=["3d view"])
@@ -220,7 +229,7 @@ async def put_scene(
     if body.blank is not None:
         spec["blank"] = body.blank.model_dump()
     spec["half"] = scene.half
-    data: dict[str, Any] = await workers.call(viz.job_view_scene, body.program, body.dialect, spec)
+    data: dict[str, Any] = await workers.call(job_view_scene, body.program, body.dialect, spec)
     generation = await run_in_threadpool(viz.show, scene, data)
     scene.program, scene.exercise = (body.program, body.dialect, spec), body.exercise
     if (
@@ -259,9 +268,7 @@ async def put_playhead(
         text, dialect, spec = scene.program
         move = scene.moves[min(body.index, len(scene.moves) - 1)] + 1
         if scene.lathe:  # the turned part after that move, its changed chunks only
-            turned = await workers.call(
-                viz.job_turned_after, text, dialect, {**spec, "half": scene.half}, move
-            )
+            turned = await workers.call(job_turned_after, text, dialect, {**spec, "half": scene.half}, move)
             await run_in_threadpool(viz.show_turned, scene, turned)
         else:
             tiles = await workers.call(job_stock_after, text, dialect, spec, move)
@@ -279,7 +286,7 @@ async def put_section(
     scene = await _driven(request, token, principal)
     chunks = None
     if scene.lathe and scene.profile is not None:
-        chunks = await workers.call(viz.job_turned_chunks, scene.profile, body.half)
+        chunks = await workers.call(job_turned_chunks, scene.profile, body.half)
     return {"half": await run_in_threadpool(viz.set_half, scene, body.half, chunks)}
 
 
@@ -324,9 +331,7 @@ async def put_deviation(
         raise ApiError("EXERCISE_REQUIRED")
     await _gate(request, principal, "deviation", body.exercise)  # it compares with the reference
     spec = await run_in_threadpool(_spec, services.run_spec, db, settings, body)
-    data: dict[str, Any] = await workers.call(
-        viz.job_view_deviation, body.program, {**spec, "half": scene.half}
-    )
+    data: dict[str, Any] = await workers.call(job_view_deviation, body.program, {**spec, "half": scene.half})
     if "bands" in data:  # a turned part: coloured bands around it; the counts are Z samples
         await run_in_threadpool(viz.show_deviation_bands, scene, data["bands"])
         return Deviation(
@@ -372,9 +377,9 @@ async def picture(
     await _gate(request, principal, "viz", body.exercise)  # the 3D view's stand-in follows its rules
     body.resolution = max(body.resolution, 0.25)  # a picture of at most 480 pixels needs no finer cells
     spec = await run_in_threadpool(_spec, services.simulate_spec, db, settings, body)
-    png: bytes = await workers.call(viz.job_picture_now, body.program, body.dialect, spec)
+    png: bytes = await workers.call(job_picture_now, body.program, body.dialect, spec)
     # a turning program's picture is its turned part in half section (the page words its caption so)
-    view = {"X-Picture-View": "lathe"} if viz.is_lathe(body.dialect) else {}
+    view = {"X-Picture-View": "lathe"} if is_lathe(body.dialect) else {}
     return Response(png, media_type="image/png", headers={"Cache-Control": "no-store", **view})
 
 
@@ -408,7 +413,7 @@ async def picture_svg(
     spec = await run_in_threadpool(_spec, services.simulate_spec, db, settings, body)
     if body.blank is not None:
         spec["blank"] = body.blank.model_dump()
-    data: dict[str, Any] = await workers.call(viz.job_picture_svg, body.program, body.dialect, spec, lang)
+    data: dict[str, Any] = await workers.call(job_picture_svg, body.program, body.dialect, spec, lang)
     info = data["info"]
     headers = {
         "Cache-Control": "no-store",

@@ -12,7 +12,7 @@ from exam_helpers import assign, course_with
 from server_helpers import GOOD, Api, auth, builtin_exercise, error_code
 
 from server import viz
-from server.workers import HAS_SIM
+from server.workers import HAS_SIM, picture_resolution
 
 pytestmark = pytest.mark.skipif(not HAS_SIM, reason="the simulation (numpy) is not installed")
 SVG = "{http://www.w3.org/2000/svg}"
@@ -51,9 +51,7 @@ def test_a_big_stock_gets_coarser_cells(api: Api) -> None:
     )
     assert r.status_code == 200
     assert r.headers["x-picture-raster"] == "400x80" and r.headers["x-picture-cell"] == "2.5"
-    assert (
-        viz.picture_resolution({"stock": {"min": [0, 0, 0], "max": [80, 70, 1]}, "resolution": 0.1}) == 0.25
-    )
+    assert picture_resolution({"stock": {"min": [0, 0, 0], "max": [80, 70, 1]}, "resolution": 0.1}) == 0.25
 
 
 def test_the_drawing_view_of_a_turning_program(api: Api) -> None:
