@@ -16,7 +16,10 @@ from __future__ import annotations
 import copy
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Literal
+from typing import TYPE_CHECKING, Any, Literal, NotRequired
+
+# pydantic (server/schemas.py: MoveOut) reads the wire's TypedDicts, and wants typing_extensions' before Python 3.12
+from typing_extensions import TypedDict
 
 from core.diagnostics import Diagnostic
 from core.limits import DEFAULT_LIMITS, Limits
@@ -37,6 +40,68 @@ def _r(v: float) -> float:
 
 def _v(p: Vec3) -> list[float]:
     return [_r(p[0]), _r(p[1]), _r(p[2])]
+
+
+class CallJson(TypedDict):
+    """A calling block of a move: its source (None: the program file) and line."""
+
+    source: str | None
+    line: int
+
+
+# "pass" is a keyword: the functional form
+CycleJson = TypedDict(
+    "CycleJson",
+    {
+        "code": str,  # the cycle's code, e.g. "G71"
+        "pass": int,  # this move's pass …
+        "of": int,  # … of this many
+        "defined_in_line": NotRequired[int],  # PAL: the line of the block that defined the cycle
+        "point": NotRequired[int],  # PAL cycle calls: the move belongs to point `point` …
+        "points": NotRequired[int],  # … of `points`
+    },
+)
+
+
+class _MoveFields(TypedDict):
+    """The fields every move has on the wire (MoveJson)."""
+
+    line: int
+    kind: MoveKind
+    start: list[float]
+    end: list[float]
+    center: list[float] | None
+    direction: Literal["cw", "ccw"] | None
+    radius: float | None
+    angle: float | None
+    feed: float
+    feed_unit: Literal["mm/min", "mm/rev"]
+    spindle: float
+    spindle_direction: Literal["cw", "ccw"] | None
+    coolant: bool
+    tool: int | None
+    exact_stop: bool
+    plane: str
+    programmed_end: list[float]  # the end itself when the move has no compensation
+    source: str | None
+    call_stack: list[CallJson]
+
+
+class MoveJson(_MoveFields, total=False):
+    """A move on the wire (`paltrainer run --json`, POST /api/v1/run, the live answers): the contract schools'
+    scripts read, written once here (`Move.to_json` makes it, server/schemas.py's MoveOut is it). Points are
+    [x, y, z] mm rounded to 6 decimals; `line` is the span's line. The fields below only where they apply
+    (`total=False` rather than NotRequired: so they are optional at run time too, for pydantic and
+    introspection, whatever the annotations' evaluation)."""
+
+    cycle: CycleJson
+    thread: Literal[True]
+    pitch: float | None
+
+
+# the Move's fields that are on the wire under another shape (everything else under its own name):
+# span → line, cycle_definition → cycle.defined_in_line, cycle_point → cycle.point and cycle.points
+WIRE_RESHAPED = {"span": ("line",), "cycle_definition": ("cycle",), "cycle_point": ("cycle",)}
 
 
 @dataclass(frozen=True, slots=True)
@@ -108,8 +173,20 @@ class Move:
         ]
         return pts + [self.end]
 
-    def to_json(self) -> dict[str, Any]:
-        return {
+    def cycle_json(self) -> CycleJson | None:
+        """The cycle that made the move, as on the wire; None: no cycle."""
+        if self.cycle is None:
+            return None
+        code, number, count = self.cycle
+        cycle: CycleJson = {"code": code, "pass": number, "of": count}
+        if self.cycle_definition is not None:
+            cycle["defined_in_line"] = self.cycle_definition
+        if self.cycle_point is not None:
+            cycle["point"], cycle["points"] = self.cycle_point
+        return cycle
+
+    def to_json(self) -> MoveJson:
+        data: MoveJson = {
             "line": self.span.line,
             "kind": self.kind,
             "start": _v(self.start),
@@ -129,29 +206,13 @@ class Move:
             "programmed_end": _v(self.programmed_end if self.programmed_end is not None else self.end),
             "source": self.source,
             "call_stack": [{"source": src, "line": line} for src, line in self.call_stack],
-            **(
-                {}
-                if self.cycle is None
-                else {
-                    "cycle": {
-                        "code": self.cycle[0],
-                        "pass": self.cycle[1],
-                        "of": self.cycle[2],
-                        **(
-                            {}
-                            if self.cycle_definition is None
-                            else {"defined_in_line": self.cycle_definition}
-                        ),
-                        **(
-                            {}
-                            if self.cycle_point is None
-                            else {"point": self.cycle_point[0], "points": self.cycle_point[1]}
-                        ),
-                    }
-                }
-            ),
-            **({"thread": True, "pitch": self.pitch} if self.thread else {}),
         }
+        cycle = self.cycle_json()
+        if cycle is not None:
+            data["cycle"] = cycle
+        if self.thread:
+            data["thread"], data["pitch"] = True, self.pitch
+        return data
 
 
 @dataclass(frozen=True, slots=True)

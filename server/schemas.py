@@ -16,11 +16,13 @@ from pydantic import (
     StringConstraints,
     model_serializer,
     model_validator,
+    with_config,
 )
 from pydantic_core import PydanticCustomError
 
 from core.exercises import CriterionId
 from core.pipeline import DEFAULT_DIALECT
+from core.toolpath import MoveJson
 from core.tools import ToolKind
 from server.security import PASSWORD_MAX, PASSWORD_MIN, password_problem
 
@@ -243,24 +245,9 @@ class CheckResponse(BaseModel):
     diagnostics: list[DiagnosticOut]
 
 
-class MoveOut(BaseModel):
-    model_config = ConfigDict(extra="allow")  # the pipeline may add fields
-
-    line: int
-    kind: Literal["rapid", "feed", "arc"]
-    start: list[float]
-    end: list[float]
-    center: list[float] | None
-    direction: Literal["cw", "ccw"] | None
-    radius: float | None
-    angle: float | None
-    feed: float
-    feed_unit: Literal["mm/min", "mm/rev"]
-    spindle: float
-    spindle_direction: Literal["cw", "ccw"] | None
-    coolant: bool
-    tool: int | None
-    exact_stop: bool
+@with_config(ConfigDict(extra="allow"))  # the pipeline may add fields
+class MoveOut(MoveJson):
+    """A move: core/toolpath.py's MoveJson, the one definition of its fields (Move.to_json makes it)."""
 
 
 class DwellOut(BaseModel):

@@ -48,6 +48,7 @@ from core.scene.turned import (
     turned_chunks,
     view_blank,
 )
+from core.toolpath import CycleJson
 from core.tools import DEFAULT_TOOLS, Tool, ToolTable
 from server.errors import ApiError
 
@@ -185,7 +186,7 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
     rapid: list[bool] = []
     lines: list[int] = []
     moves: list[int] = []  # the move each segment belongs to (playback shows the stock after that move)
-    cycles: dict[int, dict[str, Any]] = {}  # move index → the cycle that made it (playback names its step)
+    cycles: dict[int, CycleJson] = {}  # move index → the cycle that made it (playback names its step)
     contour: list[tuple[Any, Any]] = []  # the programmed contour where it differs from the tool-centre path
     drawn, notice = drawing(toolpath, 0.05)  # the chords are counted before they are made (PAL-I019)
     for k, (m, points) in enumerate(zip(toolpath.moves, drawn, strict=False)):
@@ -194,8 +195,9 @@ def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
             rapid.append(m.kind == "rapid")
             lines.append(m.line)
             moves.append(k)
-        if m.cycle is not None:
-            cycles[k] = m.to_json()["cycle"]
+        cycle = m.cycle_json()
+        if cycle is not None:
+            cycles[k] = cycle
         if m.programmed_end is not None and m.programmed_end != m.end:
             contour.append((contour[-1][1] if contour else m.programmed_end, m.programmed_end))
     states = {}
