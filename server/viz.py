@@ -24,11 +24,10 @@ from typing import Any
 import jwt
 import numpy as np
 
-from core.scene.camera import FOV, camera_for, home
+from core.scene.camera import FOV, Box, camera_for, home
 from core.scene.meshes import (
     InsertShape,
     Tiles,
-    ToolMeshes,
     ToolShape,
     dashed,
     footprint,
@@ -38,11 +37,8 @@ from core.scene.meshes import (
     stock_outline,
     tool_mesh,
 )
-from core.scene.turned import (
-    TurnedProfile,
-    ViewBlank,
-    chuck_meshes,
-)
+from core.scene.payload import Playback, SceneDeviation, ScenePayload, TurnedPart, part_box
+from core.scene.turned import TurnedProfile, ViewBlank, chuck_meshes
 
 log = logging.getLogger("paltrainer.server")
 
@@ -227,16 +223,11 @@ class Scene:
     ticket: Ticket | None = None
     started: float = field(default_factory=time.monotonic)
     used: float = field(default_factory=time.monotonic)
-    segments: np.ndarray | None = None  # (N, 2, 3) the toolpath, one segment per move piece
-    lines: list[int] = field(default_factory=list)  # the block line of each segment
-    segment_tools: list[int | None] = field(default_factory=list)  # the tool number of each segment
-    cycles: dict[int, dict[str, Any]] = field(default_factory=dict)  # move index → its cycle (code, pass, of)
-    tools: dict[int, ToolShape | InsertShape] = field(default_factory=dict)  # tool number → its shape
-    tool_radius: float = 3.0
+    playback: Playback | None = None  # the toolpath's segments shown, for the playhead
     # the shape the tool node shows now (a turning tool without a table entry: its nose radius)
     tool_key: ToolShape | InsertShape | float | None = None
     framed: bool = False  # the camera has been pointed at the part
-    bounds: tuple[np.ndarray, np.ndarray] | None = None  # the part's box (stock, else the cutting moves), mm
+    bounds: Box | None = None  # the part's box (payload.part_box), mm
     aspect: float = 1.3  # the view's width / height, as the page last said
     view: str = "iso"
     layers: dict[str, bool] = field(default_factory=lambda: dict.fromkeys(LAYERS, True))
@@ -249,10 +240,6 @@ class Scene:
     profile: TurnedProfile | None = None  # the turned part shown (its chunks: the stock tiles)
     blank: ViewBlank | None = None  # and its blank
     chuck_key: tuple[ViewBlank, bool] | None = None  # the blank and cut the chuck node shows now
-    segment_centre: list[bool] = field(
-        default_factory=list
-    )  # lathe: the segment's end is the nose centre (SRK)
-    moves: list[int] = field(default_factory=list)  # the move of each segment
     program: tuple[str, str, dict[str, Any]] | None = None  # text, dialect, worker spec of what is shown
     exercise: str | None = None  # the exercise of what is shown (server/access.py asks about it)
     tiles: dict[str, str] = field(default_factory=dict)  # stock tile shown → its digest (resend only changes)
@@ -442,7 +429,7 @@ def _new_scene(ticket: Ticket | None = None) -> Scene:
     return Scene(server, server.get_port(), ticket)
 
 
-def show(scene: Scene, data: dict[str, Any]) -> int:
+def show(scene: Scene, shown: ScenePayload) -> int:
     """Put a program's result into the scene: toolpath (feed solid blue, rapid dashed orange, the programmed
     contour green), the stock's coarse level of detail, the tool at the end. Answers the scene's generation
     (for the fine level's `show_stock`)."""
@@ -450,12 +437,12 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
     with scene.lock, scene.server.atomic():
         scene.generation += 1
         lines = {
-            "feed": (data["feed"], FEED_COLOUR, 2.0),
-            "rapid": (dashed(data["rapid"]), RAPID_COLOUR, 1.5),
-            "contour": (data.get("contour"), CONTOUR_COLOUR, 1.5),
+            "feed": (shown.feed, FEED_COLOUR, 2.0),
+            "rapid": (dashed(shown.rapid), RAPID_COLOUR, 1.5),
+            "contour": (shown.contour, CONTOUR_COLOUR, 1.5),
         }
         for name, (segments, colour, thickness) in lines.items():
-            if segments is not None and len(segments):
+            if len(segments):
                 scene.nodes[name] = s.add_line_segments(
                     f"/toolpath/{name}",
                     segments * M,
@@ -469,24 +456,23 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
                 scene.nodes.pop(name, None)
         if "stock" not in scene.nodes:
             scene.nodes["stock"] = s.add_frame("/stock", show_axes=False, visible=scene.layers["stock"])
-        _put_tiles(scene, data["stock"]["coarse"] if data.get("stock") is not None else {})
+        _put_tiles(scene, shown.stock.coarse if shown.stock is not None else {})
         s.remove_by_name("/deviation")
-        scene.has_stock = data.get("stock") is not None
-        lathe = bool(data.get("lathe"))
-        if lathe != scene.lathe:  # another kind of machine: its own zero axes and its own first view
-            scene.lathe, scene.framed = lathe, False
+        scene.has_stock = shown.stock is not None
+        if shown.lathe != scene.lathe:  # another kind of machine: its own zero axes and its own first view
+            scene.lathe, scene.framed = shown.lathe, False
             s.add_frame(
                 "/zero",
                 axes_length=10 * M,
                 axes_radius=0.4 * M,
-                wxyz=LATHE_ZERO if lathe else (1.0, 0.0, 0.0, 0.0),
+                wxyz=LATHE_ZERO if shown.lathe else (1.0, 0.0, 0.0, 0.0),
             )
-        turned = data.get("turned")
-        scene.profile, scene.blank = (turned["profile"], turned["blank"]) if turned else (None, None)
+        turned = shown.turned
+        scene.profile, scene.blank = (turned.profile, turned.blank) if turned else (None, None)
         _chuck(scene)
-        bounds = _bounds(data)
+        bounds = part_box(shown)
         _axis(scene, bounds)
-        if scene.has_stock and not lathe and bounds is not None:  # the blank's edges, with the stock layer
+        if scene.has_stock and not shown.lathe and bounds is not None:  # the blank's edges, with the stock
             s.add_line_segments(
                 "/stock/outline",
                 stock_outline(*bounds) * M,
@@ -503,26 +489,19 @@ def show(scene: Scene, data: dict[str, Any]) -> int:
         ):
             scene.bounds = bounds
             _look(scene, scene.view if scene.framed else home(scene.lathe))
-        scene.segments = data["segments"]
-        scene.lines = data["lines"]
-        scene.moves = data.get("moves", [])
-        scene.cycles = dict(data.get("cycles") or {})
-        scene.segment_tools = list(data.get("segment_tools") or [])
-        scene.segment_centre = list(data.get("segment_centre") or [])
-        scene.tools = {int(k): v for k, v in (data.get("tools") or {}).items()}
-        scene.tool_radius = float(data.get("tool_radius") or 3.0)
-        last = scene.segment_tools[-1] if scene.segment_tools else None
+        scene.playback = p = shown.playback
+        last = p.tools[-1] if p.tools else None
         _tool(
             scene,
-            scene.tools.get(last) if last is not None else None,
-            tuple(data["tool"]) if data.get("tool") else (0.0, 0.0, 0.0),
-            bool(scene.segment_centre[-1]) if scene.segment_centre else False,
+            p.shapes.get(last) if last is not None else None,
+            shown.tool,
+            bool(p.centre[-1]) if p.centre else False,
         )
         s.remove_by_name("/playback/current")
         return scene.generation
 
 
-def _axis(scene: Scene, bounds: tuple[np.ndarray, np.ndarray] | None) -> None:
+def _axis(scene: Scene, bounds: Box | None) -> None:
     """A lathe's spindle axis (Z), dash-dotted as the centre line of a drawing, a little beyond the part."""
     s = scene.server.scene
     if not scene.lathe or bounds is None:
@@ -579,41 +558,20 @@ def _put_tiles(scene: Scene, tiles: Tiles) -> None:
         scene.tiles[key] = digest
 
 
-def show_deviation_bands(scene: Scene, bands: dict[str, tuple[np.ndarray, np.ndarray]]) -> None:
-    """A turned part's deviation: red bands around it where too much was removed, blue where too much is left
-    (lathe_deviation); the camera goes back to the drawing view."""
-    with scene.lock, scene.server.atomic():
-        s = scene.server.scene
-        s.remove_by_name("/deviation")
-        s.remove_by_name("/playback/current")
-        for name, colour in (("too_much", TOO_MUCH_COLOUR), ("too_little", TOO_LITTLE_COLOUR)):
-            vertices, triangles = bands.get(name, (np.zeros((0, 3)), np.zeros((0, 3))))
-            if len(triangles):
-                s.add_mesh_simple(
-                    f"/deviation/{name}",
-                    np.asarray(vertices) * M,
-                    triangles,
-                    color=colour,
-                    side="double",
-                    cast_shadow=False,
-                    receive_shadow=False,
-                )
-        if scene.bounds is not None and any(len(t) for _, t in bands.values()):
-            _look(scene, home(scene.lathe))
-
-
-def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, cell: float) -> None:
+def show_deviation(scene: Scene, deviation: SceneDeviation) -> None:
     """Colour the part where it leaves the tolerance band: red where too much material was removed, blue
-    where too much is left (points at the cells' centres on the part's surface, mm). The camera goes back to
-    the view that shows the whole part, so the colours are in sight without moving it."""
+    where too much is left — a milled part as points at the cells' centres on its surface, a turned part as
+    bands around it. The camera goes back to the view that shows the whole part, so the colours are in sight
+    without moving it."""
     with scene.lock, scene.server.atomic():
         s = scene.server.scene
         s.remove_by_name("/deviation")
         s.remove_by_name("/playback/current")
-        size = max(cell, 0.4) * M  # at least a few pixels: a thin gouge must still show
+        size = max(deviation.cell, 0.4) * M  # at least a few pixels: a thin gouge must still show
+        bands, coloured = deviation.bands or {}, False
         for name, points, colour in (
-            ("too_much", too_much, TOO_MUCH_COLOUR),
-            ("too_little", too_little, TOO_LITTLE_COLOUR),
+            ("too_much", deviation.too_much, TOO_MUCH_COLOUR),
+            ("too_little", deviation.too_little, TOO_LITTLE_COLOUR),
         ):
             if len(points):
                 s.add_point_cloud(
@@ -626,7 +584,20 @@ def show_deviation(scene: Scene, too_much: np.ndarray, too_little: np.ndarray, c
                     point_shading="flat",
                     position=(0.0, 0.0, 0.05 * M),
                 )  # just above the surface, not in it
-        if scene.bounds is not None and (len(too_much) or len(too_little)):
+                coloured = True
+            vertices, triangles = bands.get(name) or (None, ())
+            if vertices is not None and len(triangles):
+                coloured = True
+                s.add_mesh_simple(
+                    f"/deviation/{name}",
+                    vertices * M,
+                    triangles,
+                    color=colour,
+                    side="double",
+                    cast_shadow=False,
+                    receive_shadow=False,
+                )
+        if scene.bounds is not None and coloured:
             _look(scene, home(scene.lathe))
 
 
@@ -694,13 +665,13 @@ def _tool(
         _turning_tool(scene, shape if isinstance(shape, InsertShape) else None, tip, centre)
         return
     if not isinstance(shape, ToolShape):  # no tool table entry: a plain cylinder of the tool's radius
-        shape = ToolShape.cylinder(scene.tool_radius)
+        shape = ToolShape.cylinder(scene.playback.tool_radius if scene.playback else 3.0)
     s = scene.server.scene
     position = (tip[0] * M, tip[1] * M, tip[2] * M)
     if shape == scene.tool_key:
         scene.nodes["tool"].position = position
         return
-    meshes: ToolMeshes = tool_mesh(shape)
+    meshes = tool_mesh(shape)
     assert meshes.shank is not None
     (cut_v, cut_t), (shank_v, shank_t) = meshes.cutter, meshes.shank
     scene.nodes["tool"] = s.add_frame("/tool", show_axes=False, position=position)
@@ -758,26 +729,6 @@ def _tool_for_view(scene: Scene) -> None:
 
 
 # -- the camera and the layers ------------------------------------------------------------------------------
-def _bounds(data: dict[str, Any]) -> tuple[np.ndarray, np.ndarray] | None:
-    """The part's box in mm: the stock, else the cutting moves, else the whole path."""
-    if data.get("stock") is not None:
-        pts = np.vstack([vertices for _, vertices, _ in data["stock"]["coarse"].values()])
-        if data.get("lathe") and len(data["feed"]):  # the turned part and where the tool cuts (from Z2, say)
-            pts = np.vstack([pts, data["feed"].reshape(-1, 3)])
-    elif len(data["feed"]):
-        pts = data["feed"].reshape(-1, 3)
-    elif len(data["segments"]):
-        pts = data["segments"].reshape(-1, 3)
-    else:
-        return None
-    lo, hi = pts.min(axis=0).astype(np.float64), pts.max(axis=0).astype(np.float64)
-    if data.get(
-        "lathe"
-    ):  # the spindle axis is in the picture: the part is seen as in the drawing, from X0 up
-        lo[2], hi[2] = min(lo[2], 0.0), max(hi[2], 0.0)
-        if data.get("turned"):  # and the jaws of the chuck at its left end
-            lo[0] -= 0.08 * float(hi[0] - lo[0]) + 5.0
-    return lo, hi
 
 
 def _look(scene: Scene, view: str) -> None:
@@ -825,10 +776,11 @@ def playhead(scene: Scene, index: int) -> int | None:
     """Move the tool to the end of segment `index` and mark it; the block line of that segment."""
     with scene.lock:
         scene.generation += 1
-        if scene.segments is None or not len(scene.segments):
+        p = scene.playback
+        if p is None or not len(p.segments):
             return None
-        index = max(0, min(index, len(scene.segments) - 1))
-        seg = scene.segments[index]
+        index = max(0, min(index, len(p.segments) - 1))
+        seg = p.segments[index]
         s = scene.server.scene
         with scene.server.atomic():
             s.remove_by_name("/deviation")  # it belongs to the finished part
@@ -839,15 +791,15 @@ def playhead(scene: Scene, index: int) -> int | None:
                 thickness=5.0,
                 thickness_units="screen",
             )
-            number = scene.segment_tools[index] if index < len(scene.segment_tools) else None
-            centre = index < len(scene.segment_centre) and scene.segment_centre[index]
+            number = p.tools[index] if index < len(p.tools) else None
+            centre = index < len(p.centre) and p.centre[index]
             _tool(
                 scene,
-                scene.tools.get(number) if number is not None else None,
+                p.shapes.get(number) if number is not None else None,
                 tuple(float(v) for v in seg[1]),
                 centre,
             )
-        return scene.lines[index] if index < len(scene.lines) else None
+        return p.lines[index] if index < len(p.lines) else None
 
 
 def passes(frame: bytes) -> bool:
@@ -937,14 +889,14 @@ def _chuck(scene: Scene) -> None:
     scene.chuck_key = key
 
 
-def show_turned(scene: Scene, turned: dict[str, Any], generation: int | None = None) -> bool:
-    """Show a turned part (job_turned_after: its chunks, profile and blank): only changed chunks are sent."""
+def show_turned(scene: Scene, turned: TurnedPart, generation: int | None = None) -> bool:
+    """Show a turned part (after a playback step): only changed chunks are sent."""
     with scene.lock:
         if generation is not None and generation != scene.generation:
             return False
         with scene.server.atomic():
-            scene.profile, scene.blank = turned["profile"], turned["blank"]
-            _put_tiles(scene, turned["chunks"])
+            scene.profile, scene.blank = turned.profile, turned.blank
+            _put_tiles(scene, turned.chunks)
             _chuck(scene)
         return True
 

@@ -17,7 +17,6 @@ import contextlib
 import gc
 import hashlib
 import importlib.util
-import itertools
 import json
 import logging
 import multiprocessing
@@ -30,25 +29,25 @@ from concurrent.futures.process import BrokenProcessPool
 from multiprocessing.connection import wait as mp_wait
 from typing import Any, Literal, TypeVar
 
-import numpy as np
-
 from core.diagnostics import Severity
 from core.exercises import Exercise as ExerciseDocument
 from core.exercises import ExerciseError, parse_exercise
 from core.grading import grade
 from core.interpreter.state import RunSetup
-from core.pipeline import Memo, diagnostics_json, drawing, run, summarised, toolpath_json
-from core.scene.camera import LATHE_AXES
-from core.scene.meshes import InsertShape, Tiles, ToolShape, insert_shape
-from core.scene.turned import (
-    TURNED_RESOLUTION,
-    TurnedProfile,
-    ViewBlank,
-    deviation_band,
-    turned_chunks,
-    view_blank,
+from core.pipeline import Memo, diagnostics_json, run, summarised, toolpath_json
+from core.scene.meshes import Tiles
+from core.scene.payload import (
+    NO_DEVIATION,
+    SceneDeviation,
+    ScenePayload,
+    StockLevels,
+    TurnedPart,
+    lathe_scene,
+    mill_scene,
+    milled_deviation,
+    turned_deviation,
 )
-from core.toolpath import CycleJson
+from core.scene.turned import TURNED_RESOLUTION, TurnedProfile, ViewBlank, turned_chunks, view_blank
 from core.tools import DEFAULT_TOOLS, Tool, ToolTable
 from server.errors import ApiError
 
@@ -170,96 +169,10 @@ def job_submission(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, A
     }
 
 
-MAX_SCENE_SEGMENTS = 20_000  # toolpath segments sent to the 3D view; beyond, the path is cut (and said so)
+# --- the 3D view and its 2D stand-in (server/viz.py shows what these make: core/scene/payload.py) ---------
 SCENE_RESOLUTION = 0.5  # mm: the 3D view's stock is a coarse level of detail
 SCENE_TRIANGLES = 40_000  # the fine level of detail, sent right after the coarse one
 PLAYBACK_TRIANGLES = 6_000  # the coarse level: first picture and playback (a step stays under 150 KB)
-
-
-def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
-    """What the 3D view shows of a program: toolpath segments (arcs as chords), the stock after it, the tool."""
-    from core.sim import Stock, simulate, stock_tiles
-
-    setup = make_setup(spec)
-    toolpath = run(text, dialect, setup)
-    segments: list[tuple[Any, Any]] = []
-    rapid: list[bool] = []
-    lines: list[int] = []
-    moves: list[int] = []  # the move each segment belongs to (playback shows the stock after that move)
-    cycles: dict[int, CycleJson] = {}  # move index → the cycle that made it (playback names its step)
-    contour: list[tuple[Any, Any]] = []  # the programmed contour where it differs from the tool-centre path
-    drawn, notice = drawing(toolpath, 0.05)  # the chords are counted before they are made (PAL-I019)
-    for k, (m, points) in enumerate(zip(toolpath.moves, drawn, strict=False)):
-        for a, b in itertools.pairwise(points):
-            segments.append((a, b))
-            rapid.append(m.kind == "rapid")
-            lines.append(m.line)
-            moves.append(k)
-        cycle = m.cycle_json()
-        if cycle is not None:
-            cycles[k] = cycle
-        if m.programmed_end is not None and m.programmed_end != m.end:
-            contour.append((contour[-1][1] if contour else m.programmed_end, m.programmed_end))
-    states = {}
-    for line in sorted(set(lines)):
-        state, position = toolpath.state_at(line)
-        codes = state.codes
-        states[line] = {
-            "plane": codes.get("plane"),
-            "dimensions": codes.get("dimensions"),
-            "compensation": codes.get("compensation"),
-            "zero_offset": codes.get("zero_offset"),
-            "feed": state.feed,
-            "speed": state.speed,
-            "tool": state.tool,
-            "position": [round(v, 3) for v in position],
-        }
-    cut = notice is not None or len(segments) > MAX_SCENE_SEGMENTS
-    segments, rapid = segments[:MAX_SCENE_SEGMENTS], rapid[:MAX_SCENE_SEGMENTS]
-    lines, moves = lines[:MAX_SCENE_SEGMENTS], moves[:MAX_SCENE_SEGMENTS]
-    seg = np.asarray(segments, dtype=np.float32).reshape(-1, 2, 3)
-    is_rapid = np.asarray(rapid, dtype=bool)
-    stock = None
-    box = spec.get("stock")
-    if box:
-        result = simulate(toolpath, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
-        stock = {
-            "coarse": stock_tiles(result.heightmap, PLAYBACK_TRIANGLES),
-            "fine": stock_tiles(result.heightmap, SCENE_TRIANGLES),
-        }
-    last = toolpath.moves[-1] if toolpath.moves else None
-    tool = setup.tools.get(last.tool) if last is not None and last.tool is not None else None
-    programmed = np.asarray(contour, dtype=np.float32).reshape(-1, 2, 3)
-    return {
-        "segments": seg,
-        "feed": seg[~is_rapid],
-        "rapid": seg[is_rapid],
-        "lines": lines,
-        "cut": cut,
-        "notice": notice.to_json() if notice is not None else None,
-        "contour": programmed,
-        "states": states,
-        "moves": moves,
-        "cycles": cycles,
-        "stock": stock,
-        "tool": list(toolpath.final_position),
-        "tool_radius": tool.radius if tool else 3.0,
-        "errors": sum(d.severity is Severity.ERROR for d in toolpath.diagnostics),
-    }
-
-
-def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -> Any:
-    """The stock after the first `moves` moves of the program, as coarse tiles (see core.sim.stock_tiles)."""
-    from core.sim import Stock, simulate, stock_tiles
-
-    setup = make_setup(spec)
-    partial = run(text, dialect, setup).until_move(moves)
-    box = spec["stock"]
-    result = simulate(partial, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
-    return stock_tiles(result.heightmap, PLAYBACK_TRIANGLES)
-
-
-# --- the 3D view and its 2D stand-in (server/viz.py shows what these make) ------------------------
 
 
 def is_lathe(dialect: str) -> bool:
@@ -275,69 +188,41 @@ def _given_blank(spec: dict[str, Any]) -> dict[str, Any] | None:
     return found
 
 
-def job_view_scene(text: str, dialect: str, spec: dict[str, Any]) -> dict[str, Any]:
-    """What the 3D view shows (job_scene) and, per segment, the tool that cuts it with
-    its shape from the tool table. Runs in a worker process."""
-    from core.sim import DEFAULT_LATHE_TOOLS
-    from core.sim.insert import insert_of
+def job_scene(text: str, dialect: str, spec: dict[str, Any]) -> ScenePayload:
+    """What the 3D view shows of a program: its toolpath, the tools that cut it, the stock after it (the
+    request's box; none without one) or, for a turning program, the part turned from the blank
+    (`job_turned_after`) in the lathe's drawing view."""
+    from core.sim import DEFAULT_LATHE_TOOLS, Stock, simulate, stock_tiles
 
-    lathe = is_lathe(dialect)
-    if lathe:  # no milling block for a turning program (the turning stock is not there yet)
-        spec = {**spec, "stock": None}
-    data = job_scene(text, dialect, spec)
     setup = make_setup(spec)
-    if "segment_tools" not in data:
-        tools = [m.tool for m in run(text, dialect, setup).moves]
-        data["segment_tools"] = [tools[k] if k < len(tools) else None for k in data["moves"]]
-        data["tools"] = {
-            n: ToolShape.of(t)
-            for n in set(data["segment_tools"])
-            if n is not None and (t := setup.tools.get(n)) is not None
-        }
-    if lathe:
-        lathe_tools = make_setup(spec, DEFAULT_LATHE_TOOLS).tools
-        data = lathe_view(
-            data,
-            {
-                n: insert_shape(insert_of(lathe_tools.get(n), n))
-                for n in set(data["segment_tools"])
-                if n is not None
-            },
+    toolpath = run(text, dialect, setup)
+    if is_lathe(dialect):
+        inserts = make_setup(spec, DEFAULT_LATHE_TOOLS).tools
+        return lathe_scene(toolpath, setup.tools, inserts, job_turned_after(text, dialect, spec, None))
+    stock = None
+    box = spec.get("stock")
+    if box:
+        result = simulate(toolpath, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
+        stock = StockLevels(
+            stock_tiles(result.heightmap, PLAYBACK_TRIANGLES), stock_tiles(result.heightmap, SCENE_TRIANGLES)
         )
-        toolpath = run(text, dialect, setup)
-        centre = [
-            m.programmed_end is not None and bool(np.any(np.abs(np.subtract(m.programmed_end, m.end)) > 1e-6))
-            for m in toolpath.moves
-        ]
-        data["segment_centre"] = [centre[k] if k < len(centre) else False for k in data["moves"]]
-        turned = job_turned_after(text, dialect, spec, None)
-        data["stock"] = {"coarse": turned["chunks"]}
-        data["turned"] = {"profile": turned["profile"], "blank": turned["blank"]}
-    data["lathe"] = lathe
-    return data
+    return mill_scene(toolpath, setup.tools, stock)
 
 
-def lathe_view(data: dict[str, Any], nose: dict[int, InsertShape]) -> dict[str, Any]:
-    """A turning program's scene data (job_scene, moves as x = radius, y = 0, z) turned into
-    the lathe's drawing view (LATHE_AXES); no milling stock; the turret's tools (their inserts). The modal
-    states keep the program's coordinates (the page shows X as a diameter) and name the plane G18."""
-    for key in ("segments", "feed", "rapid", "contour"):
-        if data.get(key) is not None:
-            data[key] = (np.asarray(data[key], dtype=np.float64).reshape(-1, 2, 3) @ LATHE_AXES.T).astype(
-                np.float32
-            )
-    data["tool"] = [float(v) for v in LATHE_AXES @ np.asarray(data["tool"], dtype=np.float64)]
-    data["stock"] = None
-    data["tools"] = dict(nose)
-    for state in data["states"].values():
-        state["plane"] = state.get("plane") or "G18"
-    data["lathe"] = True
-    return data
+def job_stock_after(text: str, dialect: str, spec: dict[str, Any], moves: int) -> Tiles:
+    """The stock after the first `moves` moves of the program, as coarse tiles (see core.sim.stock_tiles)."""
+    from core.sim import Stock, simulate, stock_tiles
+
+    setup = make_setup(spec)
+    partial = run(text, dialect, setup).until_move(moves)
+    box = spec["stock"]
+    result = simulate(partial, Stock(*box["min"], *box["max"]), setup.tools, SCENE_RESOLUTION)
+    return stock_tiles(result.heightmap, PLAYBACK_TRIANGLES)
 
 
-def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int | None) -> dict[str, Any]:
-    """The turned part after the first `moves` moves (None: all) as chunks, with its profile and blank (the
-    half-section toggle re-meshes the profile). Runs in a worker process."""
+def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int | None) -> TurnedPart:
+    """The turned part after the first `moves` moves (None: all; playback: the move shown), turned from the
+    blank the view shows (view_blank) with the lathe's tools, its chunks cut open when spec["half"] says so."""
     from core.sim import DEFAULT_LATHE_TOOLS, simulate_turning
 
     setup = make_setup(spec, DEFAULT_LATHE_TOOLS)
@@ -347,82 +232,33 @@ def job_turned_after(text: str, dialect: str, spec: dict[str, Any], moves: int |
         toolpath = toolpath.until_move(moves)
     result = simulate_turning(toolpath, blank, setup.tools, TURNED_RESOLUTION)
     profile = TurnedProfile.of(result.profile)
-    return {
-        "chunks": turned_chunks(profile, bool(spec.get("half"))),
-        "profile": profile,
-        "blank": ViewBlank.of(blank),
-    }
+    return TurnedPart(profile, ViewBlank.of(blank), turned_chunks(profile, bool(spec.get("half"))))
 
 
 def job_turned_chunks(profile: TurnedProfile, half: bool) -> Tiles:
-    """The chunks of a profile shown already, whole or cut open (the half-section toggle). Runs in a worker."""
+    """The chunks of a profile shown already, whole or cut open (the half-section toggle)."""
     return turned_chunks(profile, half)
 
 
-def job_view_deviation(text: str, spec: dict[str, Any]) -> dict[str, Any]:
-    """Where a program's part leaves the exercise's tolerance band: the cells' surface points (mm) where too
-    much material was removed and where too much is left, the volumes (mm³, as the geometry criterion counts
-    them) and the largest deviation (mm). Runs in a worker process."""
+def job_view_deviation(text: str, spec: dict[str, Any]) -> SceneDeviation:
+    """Where a program's part leaves the exercise's tolerance band (the geometry criterion's tolerance), as
+    the view colours it: milling the cells, turning bands around the part (cut open when spec["half"] says
+    so); nothing for a request without an exercise document."""
     from core.grading import deviation
+    from core.grading.turning import compare_profiles, execute_turning
 
     exercise = exercise_document(spec)
     if exercise is None:
-        none = np.zeros((0, 3), np.float32)
-        return {
-            "too_much": none,
-            "too_little": none,
-            "cell": 0.0,
-            "too_much_mm3": 0.0,
-            "too_little_mm3": 0.0,
-            "largest_mm": 0.0,
-        }
-    if exercise.lathe:
-        return lathe_deviation(exercise, text, bool(spec.get("half")))
-    d = deviation(exercise, text)
-    area = d.part.grid.dx * d.part.grid.dy
-    return {
-        "too_much": d.points("over"),
-        "too_little": d.points("left"),
-        "cell": d.part.grid.dx,
-        "too_much_mm3": float(d.over.sum()) * area,
-        "too_little_mm3": float(d.left.sum()) * area,
-        "largest_mm": float(max(d.over.max(initial=0.0), d.left.max(initial=0.0))),
-    }
-
-
-def lathe_deviation(exercise: Any, text: str, half: bool) -> dict[str, Any]:
-    """A turning exercise's deviation for the view (core.grading.turning, the geometry criterion's tolerance):
-    the volumes, the largest deviation and, as `bands`, revolved strips on the submitted part where it
-    leaves the band (too much removed red, too much left blue). Runs in a worker process."""
-    from core.grading.turning import compare_profiles, execute_turning
-
+        return NO_DEVIATION
+    if not exercise.lathe:
+        return milled_deviation(deviation(exercise, text))
     tol = next(
         (c.tolerance if c.tolerance is not None else 0.05 for c in exercise.rubric if c.id == "geometry"),
         0.05,
     )
     reference, submission = execute_turning(exercise, exercise.reference), execute_turning(exercise, text)
     dev = compare_profiles(reference.sim.profile, submission.sim.profile, tol)
-    part = submission.sim.profile
-    bands = {
-        "too_much": deviation_band(part, dev.over_outer > 0, dev.over_inner > 0, half),
-        "too_little": deviation_band(part, dev.left_outer > 0, dev.left_inner > 0, half),
-    }
-    none = np.zeros((0, 3), np.float32)
-    largest = max(
-        float(np.max(a, initial=0.0))
-        for a in (dev.over_outer, dev.left_outer, dev.over_inner, dev.left_inner)
-    )
-    return {
-        "too_much": none,
-        "too_little": none,
-        "cell": 0.0,
-        "bands": bands,
-        "too_much_samples": int(np.count_nonzero((dev.over_outer > 0) | (dev.over_inner > 0))),
-        "too_little_samples": int(np.count_nonzero((dev.left_outer > 0) | (dev.left_inner > 0))),
-        "too_much_mm3": dev.over_volume,
-        "too_little_mm3": dev.left_volume,
-        "largest_mm": largest,
-    }
+    return turned_deviation(dev, bool(spec.get("half")))
 
 
 def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
@@ -438,11 +274,8 @@ def job_picture_now(text: str, dialect: str, spec: dict[str, Any]) -> bytes:
     return depth_png(result.heightmap, max_pixels=480)
 
 
-PICTURE_RASTER = (
-    400  # cells along the stock's longer side at most: the 2D picture's height map (core/picture2d.py)
-)
-
-
+# cells along the stock's longer side at most: the 2D picture's height map (core/picture2d.py)
+PICTURE_RASTER = 400
 PICTURE_CELL = 0.25  # mm: no finer cells for it
 
 

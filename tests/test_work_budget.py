@@ -193,7 +193,7 @@ def test_run_live_and_scene_jobs_stay_small(program: str) -> None:
     assert json_size(live) < MB
     assert any(d["code"] == "PAL-I018" for ds in live["diagnostics"].values() for d in ds)
     scene = job_scene(program, "pal-mill", {})
-    assert len(scene["segments"]) <= DEFAULT_LIMITS.max_drawn_segments
+    assert len(scene.playback.segments) <= DEFAULT_LIMITS.max_drawn_segments
 
 
 def test_grading_looks_at_a_bounded_number_of_chords_per_arc() -> None:

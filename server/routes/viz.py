@@ -14,6 +14,7 @@ import dataclasses
 import logging
 import re
 import secrets
+from collections.abc import Mapping
 from typing import Any, Literal
 
 from fastapi import APIRouter, Depends, Request, Response, WebSocket, WebSocketDisconnect
@@ -21,6 +22,7 @@ from pydantic import BaseModel, Field
 from sqlalchemy.orm import Session
 from starlette.concurrency import run_in_threadpool
 
+from core.scene.payload import SceneDeviation, ScenePayload
 from server import access, services, viz
 from server.config import Settings
 from server.db import Database
@@ -44,11 +46,11 @@ from server.workers import (
     is_lathe,
     job_picture_now,
     job_picture_svg,
+    job_scene,
     job_stock_after,
     job_turned_after,
     job_turned_chunks,
     job_view_deviation,
-    job_view_scene,
 )
 
 log = logging.getLogger("paltrainer.server")
@@ -73,7 +75,7 @@ class SceneResult(BaseModel):
     cut: bool = Field(description="The toolpath had more segments than the view shows (20,000)")
     lines: list[int] = Field(description="The block line of each segment, for the playhead")
     errors: int
-    states: dict[int, dict[str, Any]] = Field(
+    states: Mapping[int, Mapping[str, Any]] = Field(
         description="Per block line: plane, G90/G91, compensation, "
         "zero offset, feed, speed, tool, position after it "
         "(on a lathe x is the radius)"
@@ -229,25 +231,24 @@ async def put_scene(
     if body.blank is not None:
         spec["blank"] = body.blank.model_dump()
     spec["half"] = scene.half
-    data: dict[str, Any] = await workers.call(job_view_scene, body.program, body.dialect, spec)
-    generation = await run_in_threadpool(viz.show, scene, data)
+    shown: ScenePayload = await workers.call(job_scene, body.program, body.dialect, spec)
+    generation = await run_in_threadpool(viz.show, scene, shown)
     scene.program, scene.exercise = (body.program, body.dialect, spec), body.exercise
     if (
-        data["stock"] is not None and "fine" in data["stock"]
-    ):  # the coarse level of detail is out; the fine one follows
+        shown.stock is not None and shown.stock.fine is not None
+    ):  # the coarse level is out; the fine one follows
         scene.refining = asyncio.create_task(
-            run_in_threadpool(viz.show_stock, scene, data["stock"]["fine"], generation)
+            run_in_threadpool(viz.show_stock, scene, shown.stock.fine, generation)
         )
         scene.refining.add_done_callback(_log_failure)
-    turned = data.get("turned")
     return SceneResult(
-        segments=len(data["segments"]),
-        cut=data["cut"],
-        lines=data["lines"],
-        errors=data["errors"],
-        states=data["states"],
-        lathe=bool(data.get("lathe")),
-        blank=dataclasses.asdict(turned["blank"]) if turned else None,
+        segments=len(shown.playback.segments),
+        cut=shown.cut,
+        lines=shown.playback.lines,
+        errors=shown.errors,
+        states=shown.states,
+        lathe=shown.lathe,
+        blank=dataclasses.asdict(shown.turned.blank) if shown.turned else None,
     )
 
 
@@ -264,16 +265,19 @@ async def put_playhead(
     segment's block line and, for a move a cycle made, the cycle ({code, pass, of}; PAL: defined_in_line)."""
     scene = await _driven(request, token, principal)
     line = await run_in_threadpool(viz.playhead, scene, body.index)
-    if scene.has_stock and scene.program is not None and scene.moves:
+    playback = scene.playback
+    move = playback.move_at(body.index) if playback is not None else None
+    if scene.has_stock and scene.program is not None and move is not None:
         text, dialect, spec = scene.program
-        move = scene.moves[min(body.index, len(scene.moves) - 1)] + 1
         if scene.lathe:  # the turned part after that move, its changed chunks only
-            turned = await workers.call(job_turned_after, text, dialect, {**spec, "half": scene.half}, move)
+            turned = await workers.call(
+                job_turned_after, text, dialect, {**spec, "half": scene.half}, move + 1
+            )
             await run_in_threadpool(viz.show_turned, scene, turned)
         else:
-            tiles = await workers.call(job_stock_after, text, dialect, spec, move)
+            tiles = await workers.call(job_stock_after, text, dialect, spec, move + 1)
             await run_in_threadpool(viz.show_stock, scene, tiles)
-    cycle = scene.cycles.get(scene.moves[min(body.index, len(scene.moves) - 1)]) if scene.moves else None
+    cycle = playback.cycles.get(move) if playback is not None and move is not None else None
     return {"index": body.index, "line": line, "cycle": cycle}
 
 
@@ -331,23 +335,16 @@ async def put_deviation(
         raise ApiError("EXERCISE_REQUIRED")
     await _gate(request, principal, "deviation", body.exercise)  # it compares with the reference
     spec = await run_in_threadpool(_spec, services.run_spec, db, settings, body)
-    data: dict[str, Any] = await workers.call(job_view_deviation, body.program, {**spec, "half": scene.half})
-    if "bands" in data:  # a turned part: coloured bands around it; the counts are Z samples
-        await run_in_threadpool(viz.show_deviation_bands, scene, data["bands"])
-        return Deviation(
-            too_much=data["too_much_samples"],
-            too_little=data["too_little_samples"],
-            too_much_mm3=round(data["too_much_mm3"], 2),
-            too_little_mm3=round(data["too_little_mm3"], 2),
-            largest_mm=round(data["largest_mm"], 3),
-        )
-    await run_in_threadpool(viz.show_deviation, scene, data["too_much"], data["too_little"], data["cell"])
+    deviation: SceneDeviation = await workers.call(
+        job_view_deviation, body.program, {**spec, "half": scene.half}
+    )
+    await run_in_threadpool(viz.show_deviation, scene, deviation)
     return Deviation(
-        too_much=len(data["too_much"]),
-        too_little=len(data["too_little"]),
-        too_much_mm3=round(data["too_much_mm3"], 2),
-        too_little_mm3=round(data["too_little_mm3"], 2),
-        largest_mm=round(data["largest_mm"], 3),
+        too_much=deviation.too_much_count,
+        too_little=deviation.too_little_count,
+        too_much_mm3=round(deviation.too_much_mm3, 2),
+        too_little_mm3=round(deviation.too_little_mm3, 2),
+        largest_mm=round(deviation.largest_mm, 3),
     )
 
 

@@ -43,11 +43,11 @@ POCKET = (
 
 def test_playback_names_the_cycle_step_of_a_move() -> None:
     # the scene job (as the route's worker runs it) keeps the cycle of each move a PAL cycle made
-    data = job_scene(POCKET, "pal-mill", {})
-    assert data["cycles"] and {c["code"] for c in data["cycles"].values()} == {"G72"}
-    assert {c["defined_in_line"] for c in data["cycles"].values()} == {4}
-    assert {c["of"] for c in data["cycles"].values()} == {3}  # ZI-5 in levels of at most 2 mm: 3 levels
-    assert 0 not in data["cycles"]  # the rapid before the cycle belongs to none
+    cycles = job_scene(POCKET, "pal-mill", {}).playback.cycles
+    assert cycles and {c["code"] for c in cycles.values()} == {"G72"}
+    assert {c["defined_in_line"] for c in cycles.values() if "defined_in_line" in c} == {4}
+    assert {c["of"] for c in cycles.values()} == {3}  # ZI-5 in levels of at most 2 mm: 3 levels
+    assert 0 not in cycles  # the rapid before the cycle belongs to none
 
 
 def test_playhead_answers_the_cycle(api: Api) -> None:
@@ -91,7 +91,7 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     ticket = scenes.ticket(token)
     assert ticket is not None
     scene = scenes.scene(ticket)
-    assert scene.segments is not None and len(scene.segments) == r.json()["segments"]
+    assert scene.playback is not None and len(scene.playback.segments) == r.json()["segments"]
     assert scene.has_stock  # the stock as cut by the program is in the scene
     # playing: the stock after the current block (the first moves are rapids above the part: uncut)
     from server.workers import job_stock_after
@@ -99,7 +99,7 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     assert scene.program is not None
     text, dialect, spec = scene.program
     uncut = job_stock_after(text, dialect, spec, 1)
-    cut = job_stock_after(text, dialect, spec, len(scene.moves) and scene.moves[-1] + 1)
+    cut = job_stock_after(text, dialect, spec, scene.playback.moves[-1] + 1)
 
     def top(
         tiles: dict[str, tuple[str, np.ndarray, np.ndarray]],
@@ -209,7 +209,7 @@ def test_tool_node_is_not_turned_and_sits_on_the_tip(api: Api) -> None:
     assert np.allclose(np.asarray(tool.position) / viz.M, (20, 0, 50), atol=1e-3)  # GOOD ends at X20 Z50
     r = api.client.post(f"/api/v1/viz/{token}/playhead", json={"index": 1}, headers=auth(student))
     assert r.status_code == 200
-    end = scene.segments[1][1] if scene.segments is not None else None
+    end = scene.playback.segments[1][1] if scene.playback is not None else None
     assert np.allclose(np.asarray(tool.position) / viz.M, end, atol=1e-3)
 
 

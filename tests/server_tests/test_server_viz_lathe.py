@@ -26,7 +26,9 @@ def _scene(api: Api, program: str, dialect: str) -> tuple[dict, viz.Scene]:
 
 
 def _segment_of(scene: viz.Scene, line: int) -> np.ndarray:
-    return np.asarray([s for s, n in zip(scene.segments, scene.lines, strict=True) if n == line])
+    assert scene.playback is not None
+    p = scene.playback
+    return np.asarray([s for s, n in zip(p.segments, p.lines, strict=True) if n == line])
 
 
 def test_turning_toolpath_in_the_lathe_orientation(api: Api) -> None:

@@ -190,7 +190,8 @@ def test_exercise_blank_and_its_tools_insert(api: Api) -> None:
     scene = api.app.state.scenes.scene(ticket)
     v = _chunk_vertices(scene)
     assert np.isclose(v[:, 0].min(), -80) and np.hypot(v[:, 1], v[:, 2]).max() <= 22.0 + 1e-3
-    shape = scene.tools[1]
+    assert scene.playback is not None
+    shape = scene.playback.shapes[1]
     assert isinstance(shape, InsertShape) and shape.insert == "C"
     # the nose radius R0.8 rounds the insert's point: its outline stays 0.8 mm and more away from the sharp tip
     outline = np.asarray(shape.outline)
