@@ -8,9 +8,7 @@ diagnostics. What a single block means is the dialect's block executor (core/int
 from __future__ import annotations
 
 import dataclasses
-import re
 from array import array
-from dataclasses import dataclass
 from typing import Any, Protocol
 
 from core.diagnostics import Diagnostic, diag
@@ -18,11 +16,10 @@ from core.dialects.codes import CodeTable
 from core.interpreter.checkpoints import (
     MAX_STEPS,
     STATS,
-    CallPoint,
     Checkpoint,
+    FramePoint,
     Keep,
     LineMap,
-    RepeatPoint,
     Trace,
     UnitKey,
     Unmappable,
@@ -31,10 +28,19 @@ from core.interpreter.checkpoints import (
 )
 from core.interpreter.contour import Item, Planned, finish
 from core.interpreter.followups import FollowUps
+from core.interpreter.run import (
+    Frame,
+    Unit,
+    cap_diagnostics,
+    dedupe,
+    finish_toolpath,
+    library_unit,
+    split_units,
+)
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.limits import Budget
 from core.syntax.blocks import Block, Program, Span
-from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
+from core.toolpath import Move, Toolpath, Vec3
 
 
 class BlockExecutor(Protocol):
@@ -69,98 +75,43 @@ class BlockOutcome(Protocol):
     def repeat(self) -> tuple[int, int, int] | None: ...
 
 
-@dataclass(slots=True)
-class Unit:
-    """One program of a run: the main program or a subprogram L<number>."""
-
-    number: int | None  # None: the main program
-    source: str | None  # None: the program file; "L200": a file of the program library
-    blocks: list[Block]
-    first: int = 1  # the line of its first block (a unit's blocks are consecutive lines)
-    _numbers: dict[int, int] | None = None
-
-    @property
-    def numbers(self) -> dict[int, int]:
-        """Block number N → index of its first block (made when a jump or repeat first needs it)."""
-        if self._numbers is None:
-            self._numbers = {}
-            for i, b in enumerate(self.blocks):
-                if b.number is not None:
-                    self._numbers.setdefault(b.number, i)
-        return self._numbers
-
-    @property
-    def name(self) -> str:
-        return "Hauptprogramm" if self.number is None else f"L{self.number}"
-
-    @property
-    def key(self) -> UnitKey:
-        return self.source, self.number
+def _frame_points(frames: list[Frame]) -> tuple[FramePoint, ...]:
+    """The frames in lines (checkpoints): a call's callee runs from its start; a G23 section names its lines."""
+    points: list[FramePoint] = []
+    for f in frames:
+        u = f.caller
+        if f.repeat:
+            assert f.end is not None
+            points.append(
+                (
+                    u.key,
+                    u.first + f.return_index,
+                    u.key,
+                    u.first + f.start,
+                    u.first + f.end,
+                    f.remaining,
+                    f.line,
+                    True,
+                )
+            )
+        else:
+            points.append(
+                (u.key, u.first + f.return_index, f.callee.key, 0, None, f.remaining, f.line, False)
+            )
+    return tuple(points)
 
 
-_SUB_HEADER = {"L": re.compile(r"L\s*(\d+)"), "O": re.compile(r"O(\d+)")}
-
-
-def split_units(program: Program, prefix: str = "L") -> tuple[Unit, dict[int, Unit]]:
-    """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header (PAL) or
-    an `O<n>` line (ISO: the O line before the main program's first block is its own number)."""
-    pattern = _SUB_HEADER[prefix]
-    headers = [
-        i for i, b in enumerate(program.blocks) if b.header is not None and pattern.fullmatch(b.header)
-    ]
-    subs: dict[int, Unit] = {}
-    if headers and prefix == "O":
-        first = next(
-            (i for i, b in enumerate(program.blocks) if b.ok and not b.is_empty and b.header is None),
-            len(program.blocks),
-        )
-        headers = [i for i in headers if i > first]
-    if not headers:
-        return Unit(None, None, program.blocks), subs
-    starts = set(headers)
-    main: list[Block] = []
-    current = main
-    for i, b in enumerate(program.blocks):
-        m = pattern.fullmatch(b.header or "") if i in starts else None
-        if m is not None:
-            current = []
-            subs.setdefault(int(m.group(1)), Unit(int(m.group(1)), None, current, first=b.line + 1))
-            continue
-        current.append(b)
-    return Unit(None, None, main), subs
-
-
-@dataclass(slots=True)
-class _Call:
-    unit: Unit  # the caller
-    return_index: int
-    callee: Unit
-    remaining: int  # runs of the callee still to come after this one
-    line: int  # the calling block
-    source: str | None
-
-
-@dataclass(slots=True)
-class _Repeat:
-    unit: Unit
-    start: int
-    end: int
-    remaining: int
-    return_index: int
-
-
-def _call_points(calls: list[_Call]) -> tuple[CallPoint, ...]:
-    return tuple(
-        (c.unit.key, c.unit.first + c.return_index, c.callee.key, c.remaining, c.line, c.source)
-        for c in calls
-    )
-
-
-def _repeat_points(repeats: list[_Repeat]) -> tuple[RepeatPoint, ...]:
-    return tuple(
-        (r.unit.key, r.unit.first + r.start, r.unit.first + r.end, r.remaining, r.unit.first + r.return_index)
-        for r in repeats
-    )
+def _frames_at(points: tuple[FramePoint, ...], units: dict[UnitKey, Unit]) -> list[Frame]:
+    frames = []
+    for u, r, c, s, e, n, ln, repeat in points:
+        caller = units[u]
+        first = caller.first
+        if repeat:
+            assert e is not None
+            frames.append(Frame(caller, r - first, caller, s - first, e - first, n, ln, True))
+        else:
+            frames.append(Frame(caller, r - first, units[c], 0, None, n, ln))
+    return frames
 
 
 def interpret(  # noqa: C901
@@ -192,17 +143,16 @@ def interpret(  # noqa: C901
     flow = _FLOW_CODES[prefix]
     main, subs = split_units(program, prefix)
     for number, prog in (library or {}).items():
-        subs.setdefault(number, Unit(number, f"{prefix}{number}", prog.blocks))
+        subs.setdefault(number, library_unit(number, prog, prefix))
     units = {main.key: main, **{u.key: u for u in subs.values()}}
     n_lines = len(program.blocks)
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines
     planned: list[Item] = []
-    calls: list[_Call] = []
+    frames: list[Frame] = []  # calls and G23 sections in progress
     # the executor keeps its reading of blocks once the program first goes back (a call, a repeat, a
     # jump): until then every block runs once and keeping them would only cost
     cache: dict[Any, Any] | None = readings
-    repeats: list[_Repeat] = []
     unit, index = main, 0
     ended = False
     budget = Budget(limits)
@@ -235,13 +185,7 @@ def interpret(  # noqa: C901
             state, position = cp.state, cp.position
             params.update(cp.params)
             params_now = cp.params
-            calls = [
-                _Call(units[u], r - units[u].first, units[c], n, ln, src) for u, r, c, n, ln, src in cp.calls
-            ]
-            repeats = [
-                _Repeat(units[u], a - units[u].first, b - units[u].first, n, r - units[u].first)
-                for u, a, b, n, r in cp.repeats
-            ]
+            frames = _frames_at(cp.frames, units)
             follow.unknown = cp.unknown
             for _, where, unknown in trace.at_log:
                 follow.at.setdefault(where, unknown)
@@ -278,23 +222,30 @@ def interpret(  # noqa: C901
     def section_end(u: Unit, done: int, following: int) -> int:
         """Where to go on once block `done` of `u` has run (a call or a repeat it made included): back to the
         start of the G23 section it ends while that repeats, else `following`."""
-        while repeats and repeats[-1].unit is u and repeats[-1].end == done:
-            top = repeats[-1]
-            top.remaining -= 1
+        while frames and frames[-1].repeat and frames[-1].caller is u and frames[-1].end == done:
+            top = frames[-1]
             if top.remaining > 0:
+                top.remaining -= 1
                 return top.start
-            repeats.pop()  # the G23 block itself may end an outer section
+            frames.pop()  # the G23 block itself may end an outer section
             done, following = top.return_index - 1, top.return_index
         return following
 
+    def leave_call() -> Frame:
+        """The call in progress, its unit's G23 sections left unfinished (M17, the end of the unit) dropped."""
+        while frames[-1].repeat:
+            frames.pop()
+        return frames[-1]
+
     while True:
         if index >= len(unit.blocks):
-            if not calls:
+            if not _calling(frames):
                 break
-            tail = unit.blocks[-1].line if unit.blocks else max(1, unit.first - 1)  # empty: its header
+            tail = unit.tail  # (empty: its header)
             report(diag(flow["PAL-E409"], Span(tail, 1, tail, 1), number=unit.number))
-            frame = calls.pop()
-            unit, index = frame.unit, section_end(frame.unit, frame.return_index - 1, frame.return_index)
+            frame = leave_call()
+            frames.pop()
+            unit, index = frame.caller, section_end(frame.caller, frame.return_index - 1, frame.return_index)
             continue
         block = unit.blocks[index]
         if trace is not None:
@@ -304,8 +255,7 @@ def interpret(  # noqa: C901
                 state,
                 position,
                 params_now,
-                _call_points(calls) if calls else (),
-                _repeat_points(repeats) if repeats else (),
+                _frame_points(frames) if frames else (),
                 follow.unknown,
             )
             if meet:
@@ -390,8 +340,8 @@ def interpret(  # noqa: C901
             if trace is not None:
                 trace.spent = True
             break
-        if calls:
-            stack = tuple((c.source, c.line) for c in calls)
+        if frames and _calling(frames):
+            stack = tuple((f.caller.source, f.line) for f in frames if not f.repeat)
             for c in out.commands:
                 if isinstance(c, Planned):
                     c.move = dataclasses.replace(c.move, source=unit.source, call_stack=stack)
@@ -415,12 +365,12 @@ def interpret(  # noqa: C901
             callee = subs.get(number)
             if callee is None:
                 report(diag(flow["PAL-E401"], block.span, number=number))
-            elif callee is unit or any(c.callee is callee for c in calls):
+            elif callee is unit or any(f.callee is callee and not f.repeat for f in frames):
                 report(diag(flow["PAL-E404"], block.span, number=number))
-            elif len(calls) >= setup.max_call_depth:
+            elif sum(not f.repeat for f in frames) >= setup.max_call_depth:
                 report(diag(flow["PAL-E405"], block.span, limit=setup.max_call_depth))
             elif count >= 1:
-                calls.append(_Call(unit, index, callee, count - 1, block.line, unit.source))
+                frames.append(Frame(unit, index, callee, 0, None, count - 1, block.line))
                 unit, index = callee, 0
                 continue
         elif out.flow is not None:  # a G29 jump that is taken
@@ -442,29 +392,30 @@ def interpret(  # noqa: C901
             elif end < start:
                 report(diag("PAL-E407", block.span, start=first, end=last))
             elif count >= 1:
-                repeats.append(_Repeat(unit, start, end, count, index))
+                frames.append(Frame(unit, index, unit, start, end, count - 1, block.line, repeat=True))
                 index = start
                 continue
         index = section_end(unit, here, index)
         if out.sub_end:
+            calling = _calling(frames)
             if (
-                not calls and prefix == "O"
+                not calling and prefix == "O"
             ):  # M99 in the main program: the control starts it again, without end
                 report(diag("ISO-W306", block.span))
                 ended = True
                 break
-            if not calls:
+            if not calling:
                 report(diag("PAL-E402", block.span))
             else:
-                frame = calls[-1]
+                frame = leave_call()
                 if frame.remaining > 0:
                     frame.remaining -= 1
-                    index = 0
+                    index = frame.start
                 else:
-                    calls.pop()
+                    frames.pop()
                     unit, index = (
-                        frame.unit,
-                        section_end(frame.unit, frame.return_index - 1, frame.return_index),
+                        frame.caller,
+                        section_end(frame.caller, frame.return_index - 1, frame.return_index),
                     )
             continue
         if getattr(
@@ -473,7 +424,7 @@ def interpret(  # noqa: C901
             ended = True
             break
         if out.ended:
-            if calls:
+            if _calling(frames):
                 report(diag(flow["PAL-E403"], block.span, number=unit.number))
             ended = True
             rest = next(
@@ -499,32 +450,14 @@ def interpret(  # noqa: C901
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     result.commands = finish(planned, diags)
     result.work = budget.counters
-    for command in result.commands:
-        if type(command) is Move:
-            result.moves.append(command)
-        elif type(command) is Dwell:
-            result.dwells.append(command)
-        elif type(command) is ToolChange:
-            result.tool_changes.append(command)
-    # lines not executed hold the state of the line before them
-    current_state, current_position = result.initial, setup.start
-    for i in range(n_lines):
-        if states[i] is None:
-            states[i], positions[i] = current_state, current_position
-        else:
-            current_state, current_position = states[i], positions[i]  # type: ignore[assignment]
-    result.line_states = states  # type: ignore[assignment]
-    result.line_positions = positions  # type: ignore[assignment]
+    finish_toolpath(result, states, positions, setup.start)
     if readings is not None and len(readings) > 2 * n_lines + 256:  # keep what this program's blocks can use
         alive = {id(b) for b in program.blocks}
         for key in [k for k in readings if k[0] not in alive]:
             del readings[key]
-    _dedupe(diags)
+    dedupe(diags)
     follow.finish(diags)
-    if len(diags) > limits.max_diagnostics:
-        cut = diags[limits.max_diagnostics - 1]
-        del diags[limits.max_diagnostics - 1 :]
-        diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
+    cap_diagnostics(diags, limits.max_diagnostics)
     result.final_position = position
     return result
 
@@ -629,7 +562,7 @@ def _resume(
                 lines.diagnostic(d)  # the run maps them once it starts
     except Unmappable:
         return None
-    if start.unit not in units or any(c[0] not in units or c[2] not in units for c in start.calls):
+    if start.unit not in units or any(f[0] not in units or f[2] not in units for f in start.frames):
         return None
     trace.checkpoints = kept
     trace.executed, trace.steps, trace.moves = old.executed[:r], old.steps[:r], old.moves[:r]
@@ -753,13 +686,6 @@ def _take_over(
     return None
 
 
-def _dedupe(diags: list[Diagnostic]) -> None:
-    """A block run many times (loops, subprograms) reports each finding once."""
-    seen: set[tuple[str, Span, str | None]] = set()
-    keep = []
-    for d in diags:
-        key = (d.code, d.span, d.source)
-        if key not in seen:
-            seen.add(key)
-            keep.append(d)
-    diags[:] = keep
+def _calling(frames: list[Frame]) -> bool:
+    """Whether a call is in progress (not only G23 sections of the main program)."""
+    return any(not f.repeat for f in frames)

@@ -38,11 +38,9 @@ from core.syntax.blocks import Block, Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
 UnitKey = tuple[str | None, int | None]  # (source, subprogram number): None, None is the main program
-# a call in progress: caller, the line it returns to, callee, runs still to come, calling line, caller's source
-CallPoint = tuple[UnitKey, int, UnitKey, int, int, str | None]
-RepeatPoint = tuple[
-    UnitKey, int, int, int, int
-]  # a G23 section: unit, start line, end line, remaining, return line
+# a frame in progress (core/interpreter/run.py: Frame): caller, the line it returns to, callee, the first and
+# last line of a G23 section (a call: 0, None), runs still to come, the calling line, whether a G23 section
+FramePoint = tuple[UnitKey, int, UnitKey, int, int | None, int, int, bool]
 
 STATS: Counter[str] = Counter()  # "full", "incremental" (met the previous run), "to_end" (restarted, ran on)
 MAX_STEPS = (
@@ -59,8 +57,7 @@ class Checkpoint(NamedTuple):
     state: ModalState
     position: Vec3
     params: dict[int, float]  # never mutated: a new copy after each block that assigns
-    calls: tuple[CallPoint, ...]
-    repeats: tuple[RepeatPoint, ...]
+    frames: tuple[FramePoint, ...]
     unknown: dict[str, int]  # FollowUps.unknown, never mutated (a change makes a new dict)
 
 
@@ -168,18 +165,24 @@ class LineMap:
 
     def checkpoint(self, cp: Checkpoint) -> Checkpoint:
         """`cp` in the new numbering (Unmappable where it names a changed line)."""
-        calls = tuple(
-            (u, self.after(r, u[0]), c, n, self.line(ln, src), src) for u, r, c, n, ln, src in cp.calls
-        )
-        repeats = tuple(
-            (u, self.line(s, u[0]), self.line(e, u[0]), n, self.after(r, u[0]))
-            for u, s, e, n, r in cp.repeats
+        frames = tuple(
+            (
+                u,
+                self.after(r, u[0]),
+                c,
+                self.line(s, u[0]) if repeat else s,
+                self.line(e, u[0]) if repeat and e is not None else e,
+                n,
+                self.line(ln, u[0]),
+                repeat,
+            )
+            for u, r, c, s, e, n, ln, repeat in cp.frames
         )
         unknown = self.unknown(cp.unknown)
         line = self.line(cp.line, cp.unit[0])
-        if line == cp.line and calls == cp.calls and repeats == cp.repeats and unknown is cp.unknown:
+        if line == cp.line and frames == cp.frames and unknown is cp.unknown:
             return cp
-        return cp._replace(line=line, calls=calls, repeats=repeats, unknown=unknown)
+        return cp._replace(line=line, frames=frames, unknown=unknown)
 
     def move(self, m: Move) -> Move:
         span = self.span(m.span) if m.source is None and m.span.line >= self.first else m.span

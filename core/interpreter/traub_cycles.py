@@ -41,7 +41,8 @@ from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind
 
 if TYPE_CHECKING:
-    from core.interpreter.traub_turn import Outcome, TurnRun, Unit
+    from core.interpreter.run import Unit
+    from core.interpreter.traub_turn import Outcome, TurnRun
 
 XZ = tuple[float, float]
 EPS = 1e-7

@@ -26,9 +26,18 @@ from typing import Any
 from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
-from core.interpreter import _dedupe, traub_cycles, turn_contour
+from core.interpreter import traub_cycles, turn_contour
 from core.interpreter.checkpoints import STATS, Keep, LineMap, Unmappable, changed_lines
 from core.interpreter.params import evaluate as evaluate_expression
+from core.interpreter.run import (
+    Frame,
+    Unit,
+    cap_diagnostics,
+    dedupe,
+    finish_toolpath,
+    program_number,
+    split_programs,
+)
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.interpreter.traub_trace import (
     INF,
@@ -81,60 +90,6 @@ _GEOMETRY = frozenset({"X", "U", "Z", "W", "A", "R", "P", "Q", "I", "K", "D", "C
 _SPEED_CODES = frozenset({"G92", "G96", "G97"})
 
 
-# -- programs in one file ----------------------------------------------------------------------
-
-
-@dataclass(slots=True)
-class Unit:
-    """One program of the run: the main program or a subprogram / macro O<number>."""
-
-    number: int | None
-    source: str | None  # None: the program file; "O8000": a file of the library
-    line: int = 1  # the line of its O block
-    blocks: list[Block] = field(default_factory=list)
-    numbers: dict[int, int] = field(default_factory=dict)  # block number N → index
-
-    @property
-    def name(self) -> str:
-        return "Hauptprogramm" if self.number is None else f"O{self.number}"
-
-    def index_numbers(self) -> None:
-        for i, b in enumerate(self.blocks):
-            if b.number is not None:
-                self.numbers.setdefault(b.number, i)
-
-
-def _program_number(block: Block) -> int | None:
-    if block.words and block.words[0].address == "O" and block.words[0].value is not None:
-        return int(block.words[0].value)
-    return None
-
-
-def split_programs(program: Program, source: str | None = None) -> tuple[Unit, list[Unit]]:
-    """The main program and the programs after it (`%` … `O8010` … `M99` … `%`, DECISIONS §18).
-
-    An O block starts a new program, except the main program's own number at its head.
-    """
-    main = Unit(None, source)
-    others: list[Unit] = []
-    current = main
-    for b in program.blocks:
-        if b.header is not None or not b.ok:
-            continue
-        number = _program_number(b)
-        if number is not None:
-            if current is main and main.number is None and not any(not x.is_empty for x in main.blocks):
-                main.number = number
-            else:
-                current = Unit(number, source, b.line)
-                others.append(current)
-            continue
-        current.blocks.append(b)
-    for u in (main, *others):
-        u.index_numbers()
-    return main, others
-
-
 # -- the state of a run --------------------------------------------------------------------
 
 
@@ -174,19 +129,6 @@ class Turn:
     @property
     def spindle_on(self) -> bool:
         return self.codes.get("spindle") in ("M3", "M4")
-
-
-@dataclass(slots=True)
-class _Frame:
-    """A call in progress (G22 or a macro)."""
-
-    unit: Unit
-    return_index: int
-    callee: Unit
-    start: int
-    end: int | None  # index of the last block of the section; None: up to M99
-    remaining: int  # further runs after this one
-    line: int
 
 
 # -- L parameters ---------------------------------------------------------------------------
@@ -883,7 +825,7 @@ def run_program(  # noqa: C901
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines
     items: list[Item] = []
-    calls: list[_Frame] = []
+    calls: list[Frame] = []
     unit, index, end_index = main, 0, None
     ended = False
     budget = Budget(limits)
@@ -944,7 +886,7 @@ def run_program(  # noqa: C901
             came_from = None
             return True
         calls.pop()
-        unit, index = frame.unit, frame.return_index
+        unit, index = frame.caller, frame.return_index
         came_from = frame.line if unit.source is None else None  # on after the calling block
         end_index = calls[-1].end if calls else None
         return True
@@ -953,7 +895,7 @@ def run_program(  # noqa: C901
         at_section_end = end_index is not None and index > end_index
         if index >= len(unit.blocks) or at_section_end:
             if trace is not None and unit.source is None and not at_section_end:
-                tail = unit.blocks[-1].line if unit.blocks else unit.line
+                tail = unit.tail
                 trace.touches.append((step, tail, INF, True))  # the lines after its last block
             if not calls:
                 break
@@ -1046,7 +988,7 @@ def run_program(  # noqa: C901
             ended = True
             break
         if calls or unit.source is not None:
-            stack = tuple((None if c.unit.source is None else c.unit.source, c.line) for c in calls)
+            stack = tuple((c.caller.source, c.line) for c in calls)
             for k, it in enumerate(out.items):
                 if isinstance(it, TurnItem):
                     out.items[k] = dataclasses.replace(
@@ -1092,7 +1034,7 @@ def run_program(  # noqa: C901
                 continue
             if count < 1:
                 continue
-            calls.append(_Frame(unit, index, callee, start, stop, count - 1, block.line))
+            calls.append(Frame(unit, index, callee, start, stop, count - 1, block.line))
             unit, index, end_index = callee, start, stop
             came_from = None
             continue
@@ -1135,33 +1077,17 @@ def run_program(  # noqa: C901
     early = run.early
     result.commands = [_to_workpiece(c, dx, dz) if early and id(c) in early else c for c in commands]
     result.work = budget.counters
-    for command in result.commands:
-        if type(command) is Move:
-            result.moves.append(command)
-        elif type(command) is Dwell:
-            result.dwells.append(command)
-        elif type(command) is ToolChange:
-            result.tool_changes.append(command)
-    current_state: ModalState = result.initial
+    # the positions of the lines in the workpiece frame (the run kept machine coordinates)
+    for i, ps in enumerate(positions):
+        if ps is not None:
+            positions[i] = (ps[0] - dx, 0.0, ps[2] - dz)
     tcp = setup.tool_change_point  # where the run starts
-    current_position: Vec3 = (tcp[0] / 2 - dx, 0.0, tcp[1] - dz)
-    for i in range(n_lines):
-        st, ps = states[i], positions[i]
-        if st is None or ps is None:
-            states[i], positions[i] = current_state, current_position
-        else:
-            current_state, current_position = st, (ps[0] - dx, 0.0, ps[2] - dz)
-            positions[i] = current_position
-    result.line_states = states  # type: ignore[assignment]
-    result.line_positions = positions  # type: ignore[assignment]
+    finish_toolpath(result, states, positions, (tcp[0] / 2 - dx, 0.0, tcp[1] - dz))
     result.params = dict(run.params)
     final = run.last_known
     result.final_position = (final[0] - dx, 0.0, final[1] - dz)
-    _dedupe(diags)
-    if len(diags) > limits.max_diagnostics:
-        cut = diags[limits.max_diagnostics - 1]
-        del diags[limits.max_diagnostics - 1 :]
-        diags.append(diag("PAL-E012", cut.span, limit=limits.max_diagnostics))
+    dedupe(diags)
+    cap_diagnostics(diags, limits.max_diagnostics)
     return result
 
 
@@ -1234,10 +1160,10 @@ def _key(u: Unit, main: Unit) -> Key:
     return (u.source, None if u is main else u.number)
 
 
-def _frame_point(c: _Frame, main: Unit) -> FramePoint:
+def _frame_point(c: Frame, main: Unit) -> FramePoint:
     callee = c.callee.blocks
     return (
-        _key(c.unit, main),
+        _key(c.caller, main),
         c.line,
         _key(c.callee, main),
         callee[c.start].line if c.start < len(callee) else -1,
@@ -1255,14 +1181,14 @@ def _index(u: Unit, line: int) -> int:
     raise Unmappable
 
 
-def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, int | None, list[_Frame]]:
+def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, int | None, list[Frame]]:
     """The loop's position and call stack at `cp` (Unmappable where a line is no block of its program)."""
     unit = keys[cp.unit]
     calls = []
     for u, c, k, s, e, n in cp.calls:
         caller, callee = keys[u], keys[k]
         calls.append(
-            _Frame(
+            Frame(
                 caller,
                 _index(caller, c) + 1,
                 callee,
@@ -1295,7 +1221,7 @@ def _resume(
     lo = max(1, first - 1)
     was, now = old.blocks[lo - 1 : old_end - 1], blocks[lo - 1 : new_end - 1]
     for b in (*was, *now):  # programs and block numbers as they were: calls, sections and contours the same
-        if b.header is not None or (b.ok and _program_number(b) is not None):
+        if b.header is not None or (b.ok and program_number(b) is not None):
             return None
     if [b.number for b in was if b.ok and b.number is not None] != [
         b.number for b in now if b.ok and b.number is not None

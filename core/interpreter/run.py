@@ -1,0 +1,195 @@
+"""What every run loop shares: the programs of a run, the frames of calls and repeated sections, and the end
+of a run.
+
+- `Unit`: one program of a run — the main program, a subprogram after it in the same file (PAL `%L<n>`, ISO
+  and TRAUB `O<n>`) or one of the program library.
+- `Frame`: a run of a unit (or of a section of it) in progress — PAL's L call and G23 section repeat, ISO's
+  M98, TRAUB's G22 with P/Q and its macros are all one thing: run blocks `start`…`end` of `callee` so many
+  times, then go on at `return_index` of `caller`.
+- `finish_toolpath`: the toolpath's lists, the line states of lines no block set, one finding per block and
+  the cap on diagnostics.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+
+from core.diagnostics import Diagnostic, diag
+from core.interpreter.state import ModalState
+from core.syntax.blocks import Block, Program, Span
+from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
+
+UnitKey = tuple[str | None, int | None]  # (source, number): (None, None) is the main program
+
+
+@dataclass(slots=True, eq=False)
+class Unit:
+    """One program of a run: the main program or a subprogram L<number> / O<number>."""
+
+    number: int | None  # the main program: None (TRAUB: its own O number, if it has one)
+    source: str | None  # None: the program file; "L200", "O8000": a file of the program library
+    blocks: list[Block]
+    line: int = 0  # the line of its header (`%L<n>`, `O<n>`); 0: none (the main program, a library file)
+    prefix: str = "L"  # how its programs are called: L (PAL) or O (ISO, TRAUB)
+    main: bool = False
+    _numbers: dict[int, int] | None = None
+
+    @property
+    def numbers(self) -> dict[int, int]:
+        """Block number N → index of its first block (made when a jump, repeat or section first needs it)."""
+        if self._numbers is None:
+            self._numbers = {}
+            for i, b in enumerate(self.blocks):
+                if b.number is not None:
+                    self._numbers.setdefault(b.number, i)
+        return self._numbers
+
+    @property
+    def first(self) -> int:
+        """The line after its header: where its blocks start (PAL and ISO units are consecutive lines)."""
+        return self.line + 1
+
+    @property
+    def tail(self) -> int:
+        """Its last line: the last block's, or the header's when it has no blocks."""
+        return self.blocks[-1].line if self.blocks else max(1, self.line)
+
+    @property
+    def name(self) -> str:
+        return "Hauptprogramm" if self.main else f"{self.prefix}{self.number}"
+
+    @property
+    def key(self) -> UnitKey:
+        return self.source, None if self.main else self.number
+
+
+@dataclass(slots=True)
+class Frame:
+    """A run of `callee` (blocks `start`…`end`, `end` None: to its end or M17/M99) in progress, called from
+    the block at `line` of `caller`, which goes on at `return_index`; `remaining` runs follow this one.
+    `repeat`: a G23 section of the caller's own blocks, not a call (no call depth, no call stack)."""
+
+    caller: Unit
+    return_index: int
+    callee: Unit
+    start: int
+    end: int | None
+    remaining: int
+    line: int
+    repeat: bool = False
+
+
+_SUB_HEADER = {"L": re.compile(r"L\s*(\d+)"), "O": re.compile(r"O(\d+)")}
+
+
+def split_units(program: Program, prefix: str = "L") -> tuple[Unit, dict[int, Unit]]:
+    """The main program and the subprograms that follow it in the same file, each after a `%L<n>` header (PAL) or
+    an `O<n>` line (ISO: the O line before the main program's first block is its own number)."""
+    pattern = _SUB_HEADER[prefix]
+    headers = [
+        i for i, b in enumerate(program.blocks) if b.header is not None and pattern.fullmatch(b.header)
+    ]
+    subs: dict[int, Unit] = {}
+    if headers and prefix == "O":
+        first = next(
+            (i for i, b in enumerate(program.blocks) if b.ok and not b.is_empty and b.header is None),
+            len(program.blocks),
+        )
+        headers = [i for i in headers if i > first]
+    if not headers:
+        return Unit(None, None, program.blocks, prefix=prefix, main=True), subs
+    starts = set(headers)
+    main: list[Block] = []
+    current = main
+    for i, b in enumerate(program.blocks):
+        m = pattern.fullmatch(b.header or "") if i in starts else None
+        if m is not None:
+            current = []
+            number = int(m.group(1))
+            subs.setdefault(number, Unit(number, None, current, line=b.line, prefix=prefix))
+            continue
+        current.append(b)
+    return Unit(None, None, main, prefix=prefix, main=True), subs
+
+
+def library_unit(number: int, program: Program, prefix: str) -> Unit:
+    """A subprogram of the program library: a file of its own."""
+    return Unit(number, f"{prefix}{number}", program.blocks, prefix=prefix)
+
+
+def program_number(block: Block) -> int | None:
+    """TRAUB: the number of an O block (a program's head), else None."""
+    if block.words and block.words[0].address == "O" and block.words[0].value is not None:
+        return int(block.words[0].value)
+    return None
+
+
+def split_programs(program: Program, source: str | None = None) -> tuple[Unit, list[Unit]]:
+    """TRAUB: the main program and the programs after it (`%` … `O8010` … `M99` … `%`, DECISIONS §18).
+
+    An O block starts a new program, except the main program's own number at its head. Lines that are not
+    blocks (headers, lines with errors) are no part of a program: a TRAUB unit's blocks are not consecutive.
+    """
+    main = Unit(None, source, [], line=0, prefix="O", main=source is None)
+    others: list[Unit] = []
+    current = main
+    for b in program.blocks:
+        if b.header is not None or not b.ok:
+            continue
+        number = program_number(b)
+        if number is not None:
+            if current is main and main.number is None and not any(not x.is_empty for x in main.blocks):
+                main.number = number
+            else:
+                current = Unit(number, source, [], line=b.line, prefix="O")
+                others.append(current)
+            continue
+        current.blocks.append(b)
+    return main, others
+
+
+def dedupe(diags: list[Diagnostic]) -> None:
+    """A block run many times (loops, subprograms) reports each finding once."""
+    seen: set[tuple[str, Span, str | None]] = set()
+    keep = []
+    for d in diags:
+        key = (d.code, d.span, d.source)
+        if key not in seen:
+            seen.add(key)
+            keep.append(d)
+    diags[:] = keep
+
+
+def finish_toolpath(
+    result: Toolpath,
+    states: list[ModalState | None],
+    positions: list[Vec3 | None],
+    start: Vec3,
+) -> None:
+    """Sort the commands into the toolpath's lists; the lines no block set hold the state and position of the
+    line before them (the first ones: the switch-on state at `start`)."""
+    for command in result.commands:
+        if type(command) is Move:
+            result.moves.append(command)
+        elif type(command) is Dwell:
+            result.dwells.append(command)
+        elif type(command) is ToolChange:
+            result.tool_changes.append(command)
+    current_state, current_position = result.initial, start
+    for i in range(len(states)):
+        st, ps = states[i], positions[i]
+        if st is None or ps is None:
+            states[i], positions[i] = current_state, current_position
+        else:
+            current_state, current_position = st, ps
+    result.line_states = states  # type: ignore[assignment]
+    result.line_positions = positions  # type: ignore[assignment]
+
+
+def cap_diagnostics(diags: list[Diagnostic], limit: int) -> None:
+    """At most `limit` findings: the last one says so."""
+    if len(diags) > limit:
+        cut = diags[limit - 1]
+        del diags[limit - 1 :]
+        diags.append(diag("PAL-E012", cut.span, limit=limit))
