@@ -39,6 +39,16 @@ class Code:
     rule_de: str = ""
     rule_en: str = ""
     mandatory: tuple[tuple[str, ...], ...] | None = None
+    # how the interpreter treats it, where a dialect's manual sets rules of its own (TRAUB TX 8 D)
+    needs_tool: bool = False  # only with a T word in its block (TRAUB M6, M13: L1160–1190)
+    with_srk: bool = False  # allowed while the cutting-edge radius compensation is on (TRAUB L2544–2566)
+    change_point: bool = (
+        False  # goes to the tool change point and deselects the tool data (TRAUB G24–G28, G53)
+    )
+    speed: bool = (
+        False  # sets the spindle speed or its limit and takes X/Z/Q of its own (TRAUB G92, G96, G97)
+    )
+    cycle: str = ""  # the family of cycles that executes it (core/interpreter/traub_cycles.py: FAMILIES)
 
     def help_mandatory(self) -> tuple[tuple[str, ...], ...]:
         """Groups of addresses of which the block needs one each (for the help; the checks use `required`)."""

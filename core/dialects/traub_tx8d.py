@@ -8,6 +8,8 @@ executing them yields a "not supported yet" diagnostic. The other cycles run in 
 
 from __future__ import annotations
 
+import dataclasses
+
 from core.dialects.codes import Address, Code, CodeTable, Group, Support
 
 P = Support.PLANNED
@@ -662,6 +664,43 @@ _ADDRESSES = [
     ),
     Address("J", "Kegelwinkel (Gewindezyklen)", "taper angle (thread cycles)"),
 ]
+
+# the manual's lists of codes with rules of their own, as columns of the table (codes.Code)
+_COLUMNS: dict[str, dict[str, object]] = {
+    **{m: {"alone": True} for m in ("M0", "M1", "M30", "M99", "M10", "M11", "M17", "M18")},  # L1170
+    **{m: {"needs_tool": True} for m in ("M6", "M13")},  # L1160–1190
+    **{g: {"change_point": True} for g in ("G24", "G25", "G26", "G27", "G28", "G53")},
+    **{g: {"speed": True} for g in ("G92", "G96", "G97")},
+    # the cycles of core/interpreter/traub_cycles.py by family (G33 is the modal thread motion)
+    "G33": {"cycle": "thread_motion"},
+    **{g: {"cycle": "contour_roughing"} for g in ("G70", "G71", "G72")},
+    **{g: {"cycle": "rectangle_roughing"} for g in ("G74", "G75")},
+    **{g: {"cycle": "drilling"} for g in ("G83", "G84")},
+    **{g: {"cycle": "thread"} for g in ("G76", "G82", "G86")},
+    **{g: {"cycle": "single_cut"} for g in ("G77", "G78", "G79", "G81")},
+}
+# G codes allowed while SRK is on (L2544–2566), besides the SRK codes themselves
+for _g in (
+    "G0",
+    "G1",
+    "G2",
+    "G3",
+    "G4",
+    "G9",
+    "G22",
+    "G40",
+    "G41",
+    "G42",
+    "G46",
+    "G77",
+    "G79",
+    "G94",
+    "G95",
+    "G96",
+    "G97",
+):
+    _COLUMNS.setdefault(_g, {})["with_srk"] = True
+_CODES = [dataclasses.replace(c, **_COLUMNS[c.name]) if c.name in _COLUMNS else c for c in _CODES]  # type: ignore[arg-type]
 
 TABLE = CodeTable(
     codes={c.name: c for c in _CODES},

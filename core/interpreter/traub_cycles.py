@@ -41,6 +41,7 @@ from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind
 
 if TYPE_CHECKING:
+    from core.dialects.codes import Code
     from core.interpreter.run import Unit
     from core.interpreter.traub_turn import Outcome, TurnRun
 
@@ -50,11 +51,6 @@ CHORD = 0.01  # mm: arcs of a contour become chords straying at most this much
 MAX_CHORDS = 90  # … or at most this many chords per arc
 WORK = 300_000  # passes × contour points of one roughing cycle: beyond it the cycle is refused (TX-E406)
 RUN_WORK = 1_000_000  # the same for all roughing cycles of a run (a program of many cycles): TX-E420
-
-# the cycle codes this module executes (G33 is the modal thread motion)
-CODES = frozenset(
-    {"G70", "G71", "G72", "G86", "G74", "G75", "G76", "G77", "G78", "G79", "G81", "G82", "G83", "G84"}
-)
 
 
 @dataclass(frozen=True, slots=True)
@@ -159,10 +155,74 @@ def _equal(total: float, depth: float) -> int:
     return max(1, math.ceil(total / depth - 1e-9))
 
 
+@dataclass(slots=True)
+class _Call:
+    """One cycle block as the families below see it."""
+
+    run: TurnRun
+    block: Block
+    code: str
+    words: dict[str, Word]
+    values: dict[str, float]
+    out: _Out
+    limit: int  # passes (max_cycle_passes)
+    d: list[Diagnostic]
+    span: Span  # the cycle's G word
+
+
+def _thread_motion(c: _Call) -> None:
+    _g33(c.run, c.out, c.values, c.words, c.d, c.span)
+
+
+def _contour_roughing(c: _Call) -> None:
+    state = c.run.cycles
+    if state.work > RUN_WORK:
+        c.d.append(diag("TX-E420", c.span, code=c.code))
+        return
+    if c.code == "G70" and "J" in c.words:  # the setting angle's effect on the cuts is on the lost page 112
+        c.d.append(diag("TX-W418", c.words["J"].span))
+    contour = _contour(c.run, c.block, c.code, c.values, c.d, c.span)
+    if contour is not None:
+        falling = c.run.turn.codes.get("falling") == "G88"
+        _rough_contour(c.out, c.code, contour, c.values, c.words, falling, state.setup, c.limit, c.d, c.span)
+
+
+def _rectangle_roughing(c: _Call) -> None:
+    _rough_rect(c.run, c.out, c.code, c.values, c.words, c.run.cycles.setup, c.limit, c.d, c.span)
+
+
+def _drilling(c: _Call) -> None:
+    _drill(c.run, c.out, c.code, c.values, c.words, c.run.cycles.setup, c.limit, c.d, c.span)
+
+
+def _thread(c: _Call) -> None:
+    if c.code != "G82" and c.run.turn.codes.get("runout") == "M35":
+        c.d.append(diag("TX-W421", c.span, code=c.code))
+    _thread_cycle(c.run, c.out, c.code, c.values, c.words, c.limit, c.d, c.span)
+
+
+def _single_cut(c: _Call) -> None:
+    if c.code == "G78" and c.run.turn.codes.get("runout") == "M35":
+        c.d.append(diag("TX-W421", c.span, code=c.code))
+    _chamfer(c.run, c.out, c.code, c.values, c.words, c.limit, c.d, c.span)
+
+
+# the code table's `cycle` column → what executes the family
+FAMILIES: dict[str, Callable[[_Call], None]] = {
+    "thread_motion": _thread_motion,
+    "contour_roughing": _contour_roughing,
+    "rectangle_roughing": _rectangle_roughing,
+    "drilling": _drilling,
+    "thread": _thread,
+    "single_cut": _single_cut,
+}
+
+
 def execute(
-    run: TurnRun, block: Block, code: str, words: dict[str, Word], values: dict[str, float], out: Outcome
+    run: TurnRun, block: Block, cycle: Code, words: dict[str, Word], values: dict[str, float], out: Outcome
 ) -> None:
-    """Expand the cycle `code` of `block` into `out.items`; the tool ends where the cycle leaves it."""
+    """Expand the cycle `cycle` of `block` into `out.items`; the tool ends where the cycle leaves it."""
+    code = cycle.name
     d = out.diagnostics
     span = block.span
     state = run.cycles
@@ -178,41 +238,9 @@ def execute(
         None,
     )
     cspan = word.span if word is not None else span
-    limit = run.setup.limits.max_cycle_passes
-    if code == "G33":
-        _g33(run, o, values, words, d, cspan)
-    elif code in ("G70", "G71", "G72"):
-        if state.work > RUN_WORK:
-            d.append(diag("TX-E420", cspan, code=code))
-            return
-        if code == "G70" and "J" in words:  # the setting angle's effect on the cuts is on the lost page 112
-            d.append(diag("TX-W418", words["J"].span))
-        contour = _contour(run, block, code, values, d, cspan)
-        if contour is not None:
-            _rough_contour(
-                o,
-                code,
-                contour,
-                values,
-                words,
-                run.turn.codes.get("falling") == "G88",
-                state.setup,
-                limit,
-                d,
-                cspan,
-            )
-    elif code in ("G74", "G75"):
-        _rough_rect(run, o, code, values, words, state.setup, limit, d, cspan)
-    elif code in ("G83", "G84"):
-        _drill(run, o, code, values, words, state.setup, limit, d, cspan)
-    elif code in ("G76", "G82", "G86"):
-        if code != "G82" and run.turn.codes.get("runout") == "M35":
-            d.append(diag("TX-W421", cspan, code=code))
-        _thread_cycle(run, o, code, values, words, limit, d, cspan)
-    elif code in ("G77", "G78", "G79", "G81"):
-        if code == "G78" and run.turn.codes.get("runout") == "M35":
-            d.append(diag("TX-W421", cspan, code=code))
-        _chamfer(run, o, code, values, words, limit, d, cspan)
+    FAMILIES[cycle.cycle](
+        _Call(run, block, code, words, values, o, run.setup.limits.max_cycle_passes, d, cspan)
+    )
     out.items.extend(o.items)
     run.position = run.last_known = o.pos
 

@@ -61,33 +61,7 @@ from core.tools import ToolTable
 Item = turn_contour.Item
 
 MAX_SPINDLE = 6000.0  # 1/min: the machine's highest speed when no G92 limits it (SET UP-Bild 5 #5)
-_MUST_STAND_ALONE = frozenset({"M0", "M1", "M30", "M99", "M10", "M11", "M17", "M18"})  # L1170
-_WITH_T_ONLY = frozenset({"M6", "M13"})
-# G functions allowed while SRK is on (L2544–2566), besides the SRK codes themselves
-_SRK_ALLOWED = frozenset(
-    {
-        "G0",
-        "G1",
-        "G2",
-        "G3",
-        "G4",
-        "G9",
-        "G22",
-        "G40",
-        "G41",
-        "G42",
-        "G46",
-        "G77",
-        "G79",
-        "G94",
-        "G95",
-        "G96",
-        "G97",
-    }
-)
-_CHANGE_POINT = frozenset({"G24", "G25", "G26", "G27", "G28", "G53"})
 _GEOMETRY = frozenset({"X", "U", "Z", "W", "A", "R", "P", "Q", "I", "K", "D", "C", "H"})
-_SPEED_CODES = frozenset({"G92", "G96", "G97"})
 
 
 # -- the state of a run --------------------------------------------------------------------
@@ -269,7 +243,7 @@ def _read(  # noqa: C901
                 )
             owner, owner_word = code, w
     # which addresses the block may hold
-    speed_code = next((c for _, c in gs if c.name in _SPEED_CODES), None)
+    speed_code = next((c for _, c in gs if c.speed), None)
     if owner is not None:
         allowed = owner.words | TABLE.always_allowed
         if speed_code is not None:
@@ -299,9 +273,9 @@ def _read(  # noqa: C901
             d.append(diag("PAL-E109", words[a].span, address=a, raw=words[a].raw))
     # M functions that must stand alone, or need a T (L1160–1190)
     for w, code in ms:
-        if code.name in _MUST_STAND_ALONE and (len(ms) > 1 or gs or words):
+        if code.alone and (len(ms) > 1 or gs or words):
             d.append(diag("TX-E105", w.span, code=code.name))
-        if code.name in _WITH_T_ONLY and "T" not in words:
+        if code.needs_tool and "T" not in words:
             d.append(diag("TX-E106", w.span, code=code.name))
     if "T" in values:
         station = int(values["T"]) // 100
@@ -445,7 +419,7 @@ class TurnRun:
         srk = t.codes.get("compensation")
         if srk != "G40" and "G40" not in names:
             for w, c in gs:
-                if c.name not in _SRK_ALLOWED:
+                if not c.with_srk:
                     d.append(diag("TX-E103", w.span, command=c.name, srk=srk))
         if "M17" in mnames and t.spindle_on and "M5" not in mnames:
             d.append(diag("TX-E109", next(w.span for w, c in ms if c.name == "M17")))
@@ -455,7 +429,7 @@ class TurnRun:
             if not (on and direction):
                 d.append(diag("TX-E107", words["B"].span))
         motion: Code | None = owner if owner is not None and owner.group == "motion" else None
-        if owner is None and not names & _SPEED_CODES and words.keys() & _GEOMETRY:
+        if owner is None and not any(c.speed for _, c in gs) and words.keys() & _GEOMETRY:
             motion = TABLE.codes[t.codes.get("motion") or "G1"]
         moving = motion is not None and bool(words.keys() & _GEOMETRY)
         if moving and not t.tool_called and t.deselected_by is not None and "T" not in values:
@@ -549,7 +523,7 @@ class TurnRun:
             t.tool = value // 100 or None
             t.offset = value % 100
             t.tool_called, t.deselected_by, t.first_after_t = True, None, True
-            if owner is None or owner.name not in _CHANGE_POINT:  # else at the change point, below
+            if owner is None or not owner.change_point:  # else at the change point, below
                 out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
         if names & {"G54", "G55", "G56", "G57"}:
             zero = next(c.name for _, c in gs if c.name in ("G54", "G55", "G56", "G57"))
@@ -564,9 +538,9 @@ class TurnRun:
 
         # -- the motion, dwell, change point or call --------------------------------------------
         cycle = (
-            "G33"
-            if moving and motion is not None and motion.name == "G33"
-            else (owner.name if owner is not None and owner.name in traub_cycles.CODES else None)
+            motion
+            if moving and motion is not None and motion.cycle
+            else (owner if owner is not None and owner.cycle else None)
         )
         if cycle is not None:  # cycles and threads: core.interpreter.traub_cycles
             traub_cycles.execute(self, block, cycle, words, values, out)
@@ -580,7 +554,7 @@ class TurnRun:
                 d.append(diag("TX-E108", (words.get("X") or words["U"]).span, value=seconds))
             else:
                 out.items.append(self._early(Dwell(self._vec(), seconds, span)))
-        elif owner is not None and owner.name in _CHANGE_POINT:
+        elif owner is not None and owner.change_point:
             self._change_point(owner.name, words, values, span, out)
             if "T" in values:
                 out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
