@@ -154,6 +154,8 @@ class _Reading:
     values: dict[str, float]
     owner: Code | None
     owner_word: Word | None
+    g_names: frozenset[str] = frozenset()
+    m_names: frozenset[str] = frozenset()
 
 
 def _read(  # noqa: C901
@@ -281,7 +283,16 @@ def _read(  # noqa: C901
         station = int(values["T"]) // 100
         if not (0 <= station <= 16 or 21 <= station <= 36):
             d.append(diag("TX-E111", words["T"].span, station=station))
-    return _Reading(gs, ms, words, values, owner, owner_word)
+    return _Reading(
+        gs,
+        ms,
+        words,
+        values,
+        owner,
+        owner_word,
+        frozenset(c.name for _, c in gs),
+        frozenset(c.name for _, c in ms),
+    )
 
 
 class TurnRun:
@@ -382,14 +393,40 @@ class TurnRun:
 
     # -- the block ----------------------------------------------------------------------------
 
-    def execute(self, block: Block) -> Outcome:  # noqa: C901
+    def execute(self, block: Block) -> Outcome:
+        """Run one block: a transaction (module docstring). The phases are the methods below."""
         out = Outcome()
         d = out.diagnostics
         t = self.turn
-        span = block.span
-        # L-parameter assignments, left to right, into a copy
-        params = self.params
         reads: set[int] | None = set() if self.program is not None else None
+        params = self._assign(block, d, reads)
+        r = self._reading(block, params, d, reads)
+        motion, moving = self._check(block, r, d)
+        if any(x.severity is Severity.ERROR for x in d) or self._planned(r, d):
+            return out  # the block is not executed
+        self.params = params
+        if (
+            reads
+        ):  # what a called program read: an assignment of another value afterwards comes too late (T27)
+            for n in reads:
+                if n in params:
+                    self.callee_reads[n] = (params[n], self.program or "")
+                self.late.pop(n, None)
+        srk = t.codes.get("compensation")
+        self._technology(block.span, r, motion, moving, out)
+        self._act(block, r, motion, moving, out)
+        self._srk_window(srk, moving, block.span, d)
+        # -- block end
+        mnames = r.m_names
+        if mnames & {"M0", "M1", "M30"}:  # they include M05 and M09 (L1178)
+            t.codes = {**t.codes, "spindle": "M5", "coolant": "M9"}
+        out.ended = "M30" in mnames
+        out.sub_end = "M99" in mnames
+        return out
+
+    def _assign(self, block: Block, d: list[Diagnostic], reads: set[int] | None) -> dict[int, float]:
+        """The L-parameter assignments, left to right, into a copy of the parameters."""
+        params = self.params
         if block.assignments:
             params = dict(params)
             for asg in block.assignments:
@@ -402,22 +439,32 @@ class TurnRun:
                     seen = self.callee_reads.get(asg.param)
                     if seen is not None and seen[0] != v and self.program is None:
                         self.late[asg.param] = (asg.span, seen[1])
-        modal = t.codes.get("motion") or "G1"
-        known = self.readings.get((id(block), modal))  # a block read before (sections, subprograms)
+        return params
+
+    def _reading(
+        self, block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None
+    ) -> _Reading:
+        """The block's words sorted and checked; kept for a block without expressions (sections, subprograms)."""
+        modal = self.turn.codes.get("motion") or "G1"
+        known = self.readings.get((id(block), modal))
         if known is None:
             found: list[Diagnostic] = []
             r = _read(block, params, found, reads, self.setup.limits.max_abs_value, modal)
             if all(w.expr is None for w in block.words):  # the same words always read the same
                 self.readings[(id(block), modal)] = (r, found)
             d.extend(found)
-        else:
-            r = known[0]
-            d.extend(known[1])
+            return r
+        d.extend(known[1])
+        return known[0]
+
+    def _check(self, block: Block, r: _Reading, d: list[Diagnostic]) -> tuple[Code | None, bool]:
+        """The rules that depend on the state (SRK, the spindle, driven tools, the tool call); the block's
+        motion code and whether it moves."""
+        t = self.turn
         gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
-        names = {c.name for _, c in gs}
-        mnames = {c.name for _, c in ms}
+        mnames = r.m_names
         srk = t.codes.get("compensation")
-        if srk != "G40" and "G40" not in names:
+        if srk != "G40" and "G40" not in r.g_names:
             for w, c in gs:
                 if not c.with_srk:
                     d.append(diag("TX-E103", w.span, command=c.name, srk=srk))
@@ -433,15 +480,18 @@ class TurnRun:
             motion = TABLE.codes[t.codes.get("motion") or "G1"]
         moving = motion is not None and bool(words.keys() & _GEOMETRY)
         if moving and not t.tool_called and t.deselected_by is not None and "T" not in values:
-            d.append(diag("TX-E102", span, command=t.deselected_by))
+            d.append(diag("TX-E102", block.span, command=t.deselected_by))
         if moving and (t.first_after_t or "T" in values):
             for a in ("U", "W"):
                 if a in words:
                     d.append(diag("TX-E101", words[a].span, address=a))
                     break
-        if any(x.severity is Severity.ERROR for x in d):
-            return out  # the block is not executed
-        for w, c in gs + ms:
+        return motion, moving
+
+    @staticmethod
+    def _planned(r: _Reading, d: list[Diagnostic]) -> bool:
+        """Codes not supported yet: a note each; True when one owns the block, which is then not executed."""
+        for w, c in r.gs + r.ms:
             if c.support is Support.PLANNED:
                 skips = c.owns_block
                 d.append(
@@ -459,17 +509,15 @@ class TurnRun:
                     )
                 )
                 if skips:
-                    return out
-        self.params = params
-        if (
-            reads
-        ):  # what a called program read: an assignment of another value afterwards comes too late (T27)
-            for n in reads:
-                if n in params:
-                    self.callee_reads[n] = (params[n], self.program or "")
-                self.late.pop(n, None)
+                    return True
+        return False
 
-        # -- technology and modes at the block start ------------------------------------------
+    def _technology(self, span: Span, r: _Reading, motion: Code | None, moving: bool, out: Outcome) -> None:
+        """Technology and modes at the block start: feed, modal codes, speed, driven tools, tool, zero point, SRK."""
+        t = self.turn
+        d = out.diagnostics
+        gs, ms, words, values, owner = r.gs, r.ms, r.words, r.values, r.owner
+        names, mnames = r.g_names, r.m_names
         if "F" in values:
             t.feed = values["F"]
         if "E" in values:
@@ -477,29 +525,7 @@ class TurnRun:
         for _, c in gs + ms:
             if c.group is not None and c.group != "program_end" and t.codes.get(c.group) != c.name:
                 t.codes = {**t.codes, c.group: c.name}
-        if "G92" in names:
-            if "S" in values:
-                t.limit = values["S"]
-            for a in ("X", "Z", "Q"):
-                if a in words:
-                    d.append(diag("TX-W102", words[a].span, address=a))
-        elif "G96" in names:
-            t.cutting_speed = values["V"]
-            if "S" in values:
-                t.speed = values["S"]
-        elif "G97" in names:
-            if "S" in values:
-                t.speed = values["S"]
-            elif "V" in values:
-                x = values.get("X", 0.0)
-                if x <= 0:
-                    d.append(diag("TX-E112", r.owner_word.span if r.owner_word else span))
-                else:
-                    t.speed = values["V"] * 1000.0 / (math.pi * x)
-        elif "S" in values:
-            t.speed = values["S"]
-        elif "V" in values:
-            t.cutting_speed = values["V"]
+        self._speed(span, r, d)
         if mnames & {"M21", "M22"}:
             t.driven_on = True
         if mnames & {"M23", "M24"}:
@@ -536,7 +562,40 @@ class TurnRun:
                 self.nose = self._nose_for(c.name)
                 out.items.append(SrkSwitch(c.name, w.span, self.nose))  # type: ignore[arg-type]
 
-        # -- the motion, dwell, change point or call --------------------------------------------
+    def _speed(self, span: Span, r: _Reading, d: list[Diagnostic]) -> None:
+        """G92 speed limit, G96 constant cutting speed, G97 constant speed, or S/V alone."""
+        t = self.turn
+        names, words, values = r.g_names, r.words, r.values
+        if "G92" in names:
+            if "S" in values:
+                t.limit = values["S"]
+            for a in ("X", "Z", "Q"):
+                if a in words:
+                    d.append(diag("TX-W102", words[a].span, address=a))
+        elif "G96" in names:
+            t.cutting_speed = values["V"]
+            if "S" in values:
+                t.speed = values["S"]
+        elif "G97" in names:
+            if "S" in values:
+                t.speed = values["S"]
+            elif "V" in values:
+                x = values.get("X", 0.0)
+                if x <= 0:
+                    d.append(diag("TX-E112", r.owner_word.span if r.owner_word else span))
+                else:
+                    t.speed = values["V"] * 1000.0 / (math.pi * x)
+        elif "S" in values:
+            t.speed = values["S"]
+        elif "V" in values:
+            t.cutting_speed = values["V"]
+
+    def _act(self, block: Block, r: _Reading, motion: Code | None, moving: bool, out: Outcome) -> None:
+        """The motion, dwell, change point or call of the block."""
+        t = self.turn
+        d = out.diagnostics
+        span = block.span
+        words, values, owner = r.words, r.values, r.owner
         cycle = (
             motion
             if moving and motion is not None and motion.cycle
@@ -548,41 +607,38 @@ class TurnRun:
         elif moving and motion is not None:
             self._motion(motion.name, words, values, span, out)
             t.first_after_t = False
-        elif owner is not None and owner.name == "G4":
+        elif owner is None:
+            return
+        elif owner.name == "G4":
             seconds = values.get("X", values.get("U", 0.0))
             if not 0.001 <= seconds <= 999.99:
                 d.append(diag("TX-E108", (words.get("X") or words["U"]).span, value=seconds))
             else:
                 out.items.append(self._early(Dwell(self._vec(), seconds, span)))
-        elif owner is not None and owner.change_point:
+        elif owner.change_point:
             self._change_point(owner.name, words, values, span, out)
             if "T" in values:
                 out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
-        elif owner is not None and owner.name == "G22":
+        elif owner.name == "G22":
             out.call = (
                 int(values["A"]) if "A" in values else None,
                 int(values["P"]) if "P" in values else None,
                 int(values["Q"]) if "Q" in values else None,
                 int(values.get("H", 1)),
             )
-        elif owner is not None and 201 <= int(owner.name[1:]) <= 299:
+        elif 201 <= int(owner.name[1:]) <= 299:
             out.call = (9600 + int(owner.name[1:]), None, None, 1)
 
-        # -- under SRK, of 5 blocks in a row at least 3 move (L2544–2566) ------------------------
-        if srk == "G40" and t.codes.get("compensation") != "G40":
+    def _srk_window(self, srk: str | None, moving: bool, span: Span, d: list[Diagnostic]) -> None:
+        """Under SRK, of 5 blocks in a row at least 3 move (L2544–2566)."""
+        now = self.turn.codes.get("compensation")
+        if srk == "G40" and now != "G40":
             self.srk_window, self.srk_reported = [], False
-        elif srk != "G40" and t.codes.get("compensation") != "G40":
+        elif srk != "G40" and now != "G40":
             self.srk_window.append(moving)
             if len(self.srk_window) >= 5 and sum(self.srk_window[-5:]) < 3 and not self.srk_reported:
                 d.append(diag("TX-E113", span, count=sum(self.srk_window[-5:])))
                 self.srk_reported = True
-
-        # -- block end ------------------------------------------------------------------------
-        if mnames & {"M0", "M1", "M30"}:  # they include M05 and M09 (L1178)
-            t.codes = {**t.codes, "spindle": "M5", "coolant": "M9"}
-        out.ended = "M30" in mnames
-        out.sub_end = "M99" in mnames
-        return out
 
     def _vec(self) -> Vec3:
         """Where the tool stands, in the output frame once it is known (else machine, fixed at the end)."""
