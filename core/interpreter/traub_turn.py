@@ -158,7 +158,7 @@ class _Reading:
     m_names: frozenset[str] = frozenset()
 
 
-def _read(  # noqa: C901
+def _read(
     block: Block,
     params: dict[int, float],
     d: list[Diagnostic],
@@ -167,6 +167,25 @@ def _read(  # noqa: C901
     modal_motion: str = "G1",
 ) -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
+    gs, ms, words, values = _sort(block, params, d, reads, limit)
+    owner, owner_word = _owner(gs, ms, d)
+    _check_words(gs, ms, words, values, owner, owner_word, modal_motion, d)
+    return _Reading(
+        gs,
+        ms,
+        words,
+        values,
+        owner,
+        owner_word,
+        frozenset(c.name for _, c in gs),
+        frozenset(c.name for _, c in ms),
+    )
+
+
+def _sort(
+    block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None, limit: float
+) -> tuple[list[tuple[Word, Code]], list[tuple[Word, Code]], dict[str, Word], dict[str, float]]:
+    """The G and M codes of the block, its address words and their values (each checked on its own)."""
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
     words: dict[str, Word] = {}
@@ -209,6 +228,13 @@ def _read(  # noqa: C901
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
             continue
         values[a] = v
+    return gs, ms, words, values
+
+
+def _owner(
+    gs: list[tuple[Word, Code]], ms: list[tuple[Word, Code]], d: list[Diagnostic]
+) -> tuple[Code | None, Word | None]:
+    """One member of each modal group, and the code that owns the block (its address words)."""
     if len(ms) > 3:
         d.append(diag("TX-E104", ms[3][0].span, count=len(ms)))
     # modal groups: one member each
@@ -244,7 +270,20 @@ def _read(  # noqa: C901
                     )
                 )
             owner, owner_word = code, w
-    # which addresses the block may hold
+    return owner, owner_word
+
+
+def _check_words(
+    gs: list[tuple[Word, Code]],
+    ms: list[tuple[Word, Code]],
+    words: dict[str, Word],
+    values: dict[str, float],
+    owner: Code | None,
+    owner_word: Word | None,
+    modal_motion: str,
+    d: list[Diagnostic],
+) -> None:
+    """Which addresses the block may hold, which it must, and the rules of single words."""
     speed_code = next((c for _, c in gs if c.speed), None)
     if owner is not None:
         allowed = owner.words | TABLE.always_allowed
@@ -283,16 +322,6 @@ def _read(  # noqa: C901
         station = int(values["T"]) // 100
         if not (0 <= station <= 16 or 21 <= station <= 36):
             d.append(diag("TX-E111", words["T"].span, station=station))
-    return _Reading(
-        gs,
-        ms,
-        words,
-        values,
-        owner,
-        owner_word,
-        frozenset(c.name for _, c in gs),
-        frozenset(c.name for _, c in ms),
-    )
 
 
 class TurnRun:
