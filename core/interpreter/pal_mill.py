@@ -54,7 +54,7 @@ class Outcome:
     )
 
 
-def execute_block(  # noqa: C901
+def execute_block(
     setup: RunSetup,
     state: ModalState,
     position: Vec3,
@@ -66,66 +66,108 @@ def execute_block(  # noqa: C901
     """Execute `block` from `state` at `position`. `params` (P1…P999) is updated only on success."""
     out = Outcome(state, position)
     d = out.diagnostics
-    span = block.span
-    before = state
-
-    # -- parameter assignments, left to right, into a copy --------------------------------
-    new_params = params
-    if block.assignments:
-        new_params = dict(params)
-        for asg in block.assignments:
-            if not 1 <= asg.param <= 999:
-                d.append(diag("PAL-E113", asg.span, number=asg.param))
-                continue
-            value = evaluate(asg.expr, new_params, asg.line, d)
-            if value is not None and _in_range(value, f"P{asg.param}", asg.span, setup, d):
-                new_params[asg.param] = value
-
-    # -- read the words: everything that depends on the block alone (cached for loops) ---------
-    codes = state.codes
-    if cache is None:
-        reading = _read(
-            block, table, setup, new_params, codes.get("motion"), codes.get("plane"), codes.get("cycle")
-        )
-    else:
-        # the entry holds its block: while it is kept, no other block can have the block's id
-        key = (id(block), codes.get("motion"), codes.get("plane"), codes.get("cycle"))
-        hit: tuple[Block, Reading] | None = cache.get(key)
-        cached = hit[1] if hit is not None and hit[0] is block else None
-        reading = (
-            cached
-            if cached is not None
-            else _read(
-                block, table, setup, new_params, codes.get("motion"), codes.get("plane"), codes.get("cycle")
-            )
-        )
-        if cached is None and reading.cacheable:
-            cache[key] = (block, reading)
+    new_params = _assign(setup, block, params, d)
+    reading = _reading(setup, table, block, new_params, state.codes, cache)
     d.extend(reading.diagnostics)
-    gs, ms, words, values = reading.gs, reading.ms, reading.words, reading.values
-    owner, owner_word, motion = reading.owner, reading.owner_word, reading.motion
-    new_tool, arc_plane = reading.new_tool, reading.arc_plane
+    values = reading.values
     if table.din and values:
-        units = dict(reading.activations).get("units") or codes.get("units")
+        units = dict(reading.activations).get("units") or state.codes.get("units")
         if units in _INCH:  # inch input (G20, Beckhoff G70): every length in mm from here on
             values = _in_mm(values, reading.cycle is not None)
-
-    if ms and any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
-        d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
-    in_block = reading.in_block
-    compensating = state.codes["compensation"] != "G40"
-    if compensating and "G40" not in in_block:
-        for a in ("T", "TC", "TR", "TL"):
-            if a in words:
-                d.append(diag("PAL-E216", words[a][0].span, address=a))
-    if owner is not None and owner.name in _CHECKED_OWNERS:
-        _check_owner(owner, owner_word or gs[0][0], in_block, words, values, state, d)
+    owner = reading.owner
     pal_cycle = (
         owner is not None
         and not table.din
         and (owner.name in pal_cycles.DEFINITIONS or owner.name in pal_cycles.CALLS)
     )
-    if pal_cycle and owner is not None:
+    step = _Step(setup, table, block, reading, values, new_params, pal_cycle, out)
+    _check_in_state(step, state)
+    if d and any(x.severity is Severity.ERROR for x in d):
+        out.executed = False
+        if pal_cycle and owner is not None and owner.name in pal_cycles.DEFINITIONS:
+            # a rejected definition replaces the earlier one all the same: its calls must not run the old cycle
+            out.state = dataclasses.replace(state, pal_cycle=None)
+        return out  # the block is not executed; the state stays as it was
+    if _skips_planned(step):
+        out.executed = False
+        return out
+    before = state
+    state = _commit(step, state, position)
+    state, position = _act(step, before, state, position)
+    state = _block_end(step, state)
+    if new_params is not params:
+        params.clear()
+        params.update(new_params)
+    out.state, out.position = state, position
+    return out
+
+
+@dataclass(slots=True)
+class _Step:
+    """A block on its way through `execute_block`: what its phases share."""
+
+    setup: RunSetup
+    table: CodeTable
+    block: Block
+    reading: Reading
+    values: dict[str, float]  # in mm
+    params: dict[int, float]  # after the block's assignments
+    pal_cycle: bool  # a PAL cycle's definition or call
+    out: Outcome
+
+
+def _assign(setup: RunSetup, block: Block, params: dict[int, float], d: list[Diagnostic]) -> dict[int, float]:
+    """The parameter assignments, left to right, into a copy."""
+    if not block.assignments:
+        return params
+    new_params = dict(params)
+    for asg in block.assignments:
+        if not 1 <= asg.param <= 999:
+            d.append(diag("PAL-E113", asg.span, number=asg.param))
+            continue
+        value = evaluate(asg.expr, new_params, asg.line, d)
+        if value is not None and _in_range(value, f"P{asg.param}", asg.span, setup, d):
+            new_params[asg.param] = value
+    return new_params
+
+
+def _reading(
+    setup: RunSetup,
+    table: CodeTable,
+    block: Block,
+    params: dict[int, float],
+    codes: dict[str, str | None],
+    cache: dict[Any, Any] | None,
+) -> Reading:
+    """Everything that depends on the block alone, kept in `cache` for blocks run again (loops)."""
+    motion, plane, cycle = codes.get("motion"), codes.get("plane"), codes.get("cycle")
+    if cache is None:
+        return _read(block, table, setup, params, motion, plane, cycle)
+    # the entry holds its block: while it is kept, no other block can have the block's id
+    key = (id(block), motion, plane, cycle)
+    hit: tuple[Block, Reading] | None = cache.get(key)
+    if hit is not None and hit[0] is block:
+        return hit[1]
+    reading = _read(block, table, setup, params, motion, plane, cycle)
+    if reading.cacheable:
+        cache[key] = (block, reading)
+    return reading
+
+
+def _check_in_state(step: _Step, state: ModalState) -> None:
+    """The rules that depend on the state: M6 without a tool, T words under compensation, the owners' own
+    rules, the PAL cycles'."""
+    r, values, d = step.reading, step.values, step.out.diagnostics
+    ms, words, owner, owner_word = r.ms, r.words, r.owner, r.owner_word
+    if ms and any(c.name == "M6" for _, c in ms) and "T" not in values and state.tool is None:
+        d.append(diag("PAL-E308", next(w.span for w, c in ms if c.name == "M6")))
+    if state.codes["compensation"] != "G40" and "G40" not in r.in_block:
+        for a in ("T", "TC", "TR", "TL"):
+            if a in words:
+                d.append(diag("PAL-E216", words[a][0].span, address=a))
+    if owner is not None and owner.name in _CHECKED_OWNERS:
+        _check_owner(owner, owner_word or r.gs[0][0], r.in_block, words, values, state, d)
+    if step.pal_cycle and owner is not None:
         if owner.name == "G73" and "RZ" in values:  # the boss form (Zapfen)
             d.append(
                 _not_supported(
@@ -134,7 +176,7 @@ def execute_block(  # noqa: C901
             )
         pal_cycles.check_block(
             owner.name,
-            owner_word.span if owner_word else span,
+            owner_word.span if owner_word else step.block.span,
             words,
             values,
             state,
@@ -142,36 +184,35 @@ def execute_block(  # noqa: C901
             d,
         )
 
-    if d and any(x.severity is Severity.ERROR for x in d):
-        out.executed = False
-        if pal_cycle and owner is not None and owner.name in pal_cycles.DEFINITIONS:
-            # a rejected definition replaces the earlier one all the same: its calls must not run the old cycle
-            out.state = dataclasses.replace(state, pal_cycle=None)
-        return out  # the block is not executed; the state stays as it was
 
-    # -- what is not implemented yet -------------------------------------------------------
-    for w, code in reading.planned:
+def _skips_planned(step: _Step) -> bool:
+    """Codes not supported yet: a note each; True when one owns the block, which then does nothing."""
+    for w, code in step.reading.planned:
         if (
-            code.support is Support.PLANNED and not table.din
+            code.support is Support.PLANNED and not step.table.din
         ):  # (DIN: a warning of the reading, the block runs)
             skips = code.owns_block
-            d.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
+            step.out.diagnostics.append(_not_supported(w.span, code.feature_de, code.feature_en, skips))
             if skips:
-                out.executed = False
-                return out
+                return True
+    return False
 
-    # -- commit: technology and modes at block start ------------------------------------------
+
+def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
+    """Technology and modes at the block start: F, S, the tool change with TC/TR/TL, modal codes, the frame."""
+    r, values, table, out = step.reading, step.values, step.table, step.out
+    owner = r.owner
     codes = state.codes
-    changes = {g: m for g, m in reading.activations if codes.get(g) != m}
+    changes = {g: m for g, m in r.activations if codes.get(g) != m}
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
     if "F" in values and not (
-        pal_cycle and owner is not None and owner.name == "G84"
+        step.pal_cycle and owner is not None and owner.name == "G84"
     ):  # (G84: F is the pitch)
         feed = values["F"]
     if "S" in values:
         speed = values["S"]
     if "T" in values:
-        tool = new_tool or None
+        tool = r.new_tool or None
         tc, tr, tl = 1, 0.0, 0.0
         codes = {**codes, "spindle": "M5", "coolant": "M9"}  # a tool change stops spindle and coolant
     if "TC" in values:
@@ -212,140 +253,180 @@ def execute_block(  # noqa: C901
     if table.din:
         state = _din_modes(state)
     if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
-        frame = _frame(setup, state.frame, changes.get("zero_offset"), owner, words, values)
+        frame = _frame(step.setup, state.frame, changes.get("zero_offset"), owner, r.words, values)
         if frame is not state.frame:
             state = dataclasses.replace(state, frame=frame)
     if "T" in values:
-        out.commands.append(ToolChange(tool, tc, tr, tl, position, span))
+        out.commands.append(ToolChange(tool, tc, tr, tl, position, step.block.span))
     if changes.get("spindle") in ("M3", "M4") and speed == 0:
-        d.append(diag("PAL-E306", next(w.span for w, c in ms if c.name in ("M3", "M4", "M13", "M14"))))
+        span = next(w.span for w, c in r.ms if c.name in ("M3", "M4", "M13", "M14"))
+        out.diagnostics.append(diag("PAL-E306", span))
+    return state
 
-    # -- the motion or the dwell -----------------------------------------------------------------
-    if owner is not None and owner.name == "G4":
-        if "U" in values:
-            seconds = values["U"]
-        elif "X" in values:
-            seconds = values["X"]  # DIN/ISO: X in seconds
-        else:
-            seconds = values["P"] / 1000  # ISO: P in milliseconds
-        if int(values.get("O", 1)) == 2:
-            if state.speed == 0:
-                d.append(diag("PAL-E305", owner_word.span if owner_word else span))
-                seconds = 0.0
-            else:
-                seconds = values["U"] * 60.0 / state.speed
-        out.commands.append(Dwell(position, seconds, span))
+
+def _act(step: _Step, before: ModalState, state: ModalState, position: Vec3) -> tuple[ModalState, Vec3]:
+    """The motion, dwell, cycle or program flow of the block."""
+    r, values, words, setup, out = step.reading, step.values, step.reading.words, step.setup, step.out
+    owner, span, d = r.owner, step.block.span, out.diagnostics
+    name = owner.name if owner is not None else None
+    if name == "G4":
+        out.commands.append(Dwell(position, _dwell_seconds(step, state), span))
     elif "#TIME" in values:  # Beckhoff's dwell in plain text
         out.commands.append(Dwell(position, values["#TIME"], span))
-    elif "G28" in in_block or "G53" in in_block:
-        position = _home(setup, state, position, values, words, "G28" in in_block, span, out.commands, d)
-    elif reading.cycle is not None:
-        position, state = _drill(setup, state, position, reading.cycle, values, words, span, out.commands, d)
-    elif pal_cycle and owner is not None and owner.name in pal_cycles.DEFINITIONS:
+    elif "G28" in r.in_block or "G53" in r.in_block:
+        position = _home(setup, state, position, values, words, "G28" in r.in_block, span, out.commands, d)
+    elif r.cycle is not None:
+        position, state = _drill(setup, state, position, r.cycle, values, words, span, out.commands, d)
+    elif step.pal_cycle and name in pal_cycles.DEFINITIONS:
+        assert name is not None
+        ms = [c.name for _, c in r.ms]
         state = dataclasses.replace(
-            state, pal_cycle=pal_cycles.define(owner.name, values, block.line, state, [c.name for _, c in ms])
+            state, pal_cycle=pal_cycles.define(name, values, step.block.line, state, ms)
         )
-    elif pal_cycle and owner is not None:
-        position = _cycle_call(setup, state, position, owner.name, values, span, out.commands, d)
-    elif owner is not None and owner.name in ("G45", "G47"):
-        planned = _approach(
-            setup, state, state.frame.to_program(position), owner.name, words, values, span, d
-        )
+    elif step.pal_cycle and name is not None:
+        position = _cycle_call(setup, state, position, name, values, span, out.commands, d)
+    elif name in ("G45", "G47"):
+        assert name is not None
+        planned = _approach(setup, state, state.frame.to_program(position), name, words, values, span, d)
         planned.move = state.frame.map_move(planned.move)
         planned.side = -planned.side if state.frame.flips else planned.side
         out.commands.append(planned)
         position = planned.move.end
         if state.tangent is not None:  # the first contour element is not known yet
             state = dataclasses.replace(state, tangent=None)
-    elif owner is not None and owner.name in ("G46", "G48"):
-        planned = _departure(setup, before, state, position, owner.name, words, values, span, d)
+    elif name in ("G46", "G48"):
+        assert name is not None
+        planned = _departure(setup, before, state, position, name, words, values, span, d)
         out.commands.append(planned)
         position = planned.move.end  # the tool centre: compensation is off from here on
-    elif motion is not None and reading.moves:
-        exact = "G9" in in_block or state.codes.get("path_mode") == "G61"
-        frame = state.frame
-        here = position if frame.identity else frame.to_program(position)
-        if table.din and motion.name in ("G2", "G3"):
-            move, radius = _din_motion(
-                setup,
-                state,
-                here,
-                motion.name,
-                words,
-                values,
-                span,
-                exact,
-                arc_plane,
-                reading.alt_plane,
-                table,
-                d,
-            )
-            pole = None
-            if radius is not None and table.modal_radius and radius != state.arc_radius:
-                state = dataclasses.replace(state, arc_radius=radius)
-        else:
-            move, pole = _motion(
-                setup,
-                state,
-                here,
-                motion.name,
-                words,
-                values,
-                span,
-                exact,
-                arc_plane,
-                table.strict_technology,
-                d,
-                table.din,
-            )
-        if pole is not None and pole != state.pole:
-            state = dataclasses.replace(state, pole=pole)
-        if move is not None:
-            move = frame.map_move(move)
-            side, radius = _compensation(setup, state)
-            rn, element, by_length = _transition(values, words)
-            out.commands.append(
-                Planned(
-                    move,
-                    rn,
-                    element,
-                    values.get("E") or values.get("#FRC"),
-                    -side if frame.flips else side,
-                    radius,
-                    None,
-                    None,
-                    by_length,
-                    "RN" not in values,
-                )
-            )
-            position = move.end
-            if side and (move.kind == "arc" or move.start[:2] != move.end[:2]):
-                state = dataclasses.replace(state, tangent=end_tangent_of(move))
-    elif owner is not None and owner.name in ("G301", "G302"):
-        size = values.get("I", state.blend)
-        if size <= 0:
-            d.append(diag("PAL-E501", owner_word.span if owner_word else span, command=owner.name))
-            out.stopped = True  # an error that stops decoding
-        else:
-            state = dataclasses.replace(state, blend=size)
-            element = f"{owner.name} I{size:g}"
-            out.commands.append(
-                Blend(size if owner.name == "G302" else -size, element, values.get("#FRC", state.feed), span)
-            )
-    elif owner is not None and owner.name == "G22":
+    elif r.motion is not None and r.moves:
+        state, position = _contour_motion(step, r.motion, state, position)
+    elif name in ("G301", "G302"):
+        state = _blend(step, state)
+    else:
+        _flow(step)
+    return state, position
+
+
+def _dwell_seconds(step: _Step, state: ModalState) -> float:
+    values = step.values
+    if "U" in values:
+        seconds = values["U"]
+    elif "X" in values:
+        seconds = values["X"]  # DIN/ISO: X in seconds
+    else:
+        seconds = values["P"] / 1000  # ISO: P in milliseconds
+    if int(values.get("O", 1)) == 2:  # U in spindle revolutions
+        if state.speed == 0:
+            owner_word = step.reading.owner_word
+            step.out.diagnostics.append(diag("PAL-E305", owner_word.span if owner_word else step.block.span))
+            return 0.0
+        return values["U"] * 60.0 / state.speed
+    return seconds
+
+
+def _contour_motion(step: _Step, motion: Code, state: ModalState, position: Vec3) -> tuple[ModalState, Vec3]:
+    """A G0–G3 move (a contour element under compensation, with its transition to the next one)."""
+    r, values, words, setup, table, out = (
+        step.reading,
+        step.values,
+        step.reading.words,
+        step.setup,
+        step.table,
+        step.out,
+    )
+    span, d = step.block.span, out.diagnostics
+    exact = "G9" in r.in_block or state.codes.get("path_mode") == "G61"
+    frame = state.frame
+    here = position if frame.identity else frame.to_program(position)
+    if table.din and motion.name in ("G2", "G3"):
+        move, radius = _din_motion(
+            setup, state, here, motion.name, words, values, span, exact, r.arc_plane, r.alt_plane, table, d
+        )
+        pole = None
+        if radius is not None and table.modal_radius and radius != state.arc_radius:
+            state = dataclasses.replace(state, arc_radius=radius)
+    else:
+        move, pole = _motion(
+            setup,
+            state,
+            here,
+            motion.name,
+            words,
+            values,
+            span,
+            exact,
+            r.arc_plane,
+            table.strict_technology,
+            d,
+            table.din,
+        )
+    if pole is not None and pole != state.pole:
+        state = dataclasses.replace(state, pole=pole)
+    if move is None:
+        return state, position
+    move = frame.map_move(move)
+    side, radius = _compensation(setup, state)
+    rn, element, by_length = _transition(values, words)
+    out.commands.append(
+        Planned(
+            move,
+            rn,
+            element,
+            values.get("E") or values.get("#FRC"),
+            -side if frame.flips else side,
+            radius,
+            None,
+            None,
+            by_length,
+            "RN" not in values,
+        )
+    )
+    if side and (move.kind == "arc" or move.start[:2] != move.end[:2]):
+        state = dataclasses.replace(state, tangent=end_tangent_of(move))
+    return state, move.end
+
+
+def _blend(step: _Step, state: ModalState) -> ModalState:
+    """Beckhoff G301/G302: rounding or chamfering of the corners from here on."""
+    owner, owner_word, out = step.reading.owner, step.reading.owner_word, step.out
+    assert owner is not None
+    size = step.values.get("I", state.blend)
+    if size <= 0:
+        out.diagnostics.append(
+            diag("PAL-E501", owner_word.span if owner_word else step.block.span, command=owner.name)
+        )
+        out.stopped = True  # an error that stops decoding
+        return state
+    element = f"{owner.name} I{size:g}"
+    out.commands.append(
+        Blend(
+            size if owner.name == "G302" else -size,
+            element,
+            step.values.get("#FRC", state.feed),
+            step.block.span,
+        )
+    )
+    return dataclasses.replace(state, blend=size)
+
+
+def _flow(step: _Step) -> None:
+    """G22 call, G23 section repeat, G29 jump (when its condition holds)."""
+    owner, words, values, out = step.reading.owner, step.reading.words, step.values, step.out
+    if owner is None:
+        return
+    if owner.name == "G22":
         out.flow = ("call", int(values["L"]), int(values.get("H", 1)))
-    elif owner is not None and owner.name == "G23":
+    elif owner.name == "G23":
         first_n, last_n = (int(n.value or 0) for n in words["N"])
         out.repeat = (first_n, last_n, int(values.get("H", 1)))
-    elif (
-        owner is not None
-        and owner.name == "G29"
-        and ("P" not in words or _compare(new_params, words["P"], int(values["O"])))
-    ):
+    elif owner.name == "G29" and ("P" not in words or _compare(step.params, words["P"], int(values["O"]))):
         out.flow = ("jump", int(values["N"]), 0)
 
-    # -- block end: M5, M9, M30 ---------------------------------------------------------------
-    ends = reading.ends
+
+def _block_end(step: _Step, state: ModalState) -> ModalState:
+    """M5 and M9 at the block end; M30, M17 and M98 say where the program goes on."""
+    out, ends = step.out, step.reading.ends
     if ends:
         state = ModalState(
             {**state.codes, **ends},
@@ -363,18 +444,14 @@ def execute_block(  # noqa: C901
             state.drill,
             state.pal_cycle,
         )
-    for w, code in ms:
+    for w, code in step.reading.ms:
         if code.name in ("M30", "M2"):
             out.ended = True
         elif code.name in ("M17", "M99"):
             out.sub_end = True
         elif code.name == "M98":
-            out.flow = _subprogram_call(values, words, w, d)
-    if new_params is not params:
-        params.clear()
-        params.update(new_params)
-    out.state, out.position = state, position
-    return out
+            out.flow = _subprogram_call(step.values, step.reading.words, w, out.diagnostics)
+    return state
 
 
 _NON_NEGATIVE = ("F", "S", "U", "H", "E", "RP")
