@@ -521,7 +521,7 @@ class Reading:
     ] = ()  # DIN: the data words of a code not supported yet, which stay without effect
 
 
-def _read(  # noqa: C901
+def _read(
     block: Block,
     table: CodeTable,
     setup: RunSetup,
@@ -531,8 +531,107 @@ def _read(  # noqa: C901
     modal_cycle: str | None = None,
 ) -> Reading:
     """Sort and check the words of `block` (`modal_motion`/`modal_plane`/`modal_cycle`: what is active before it)."""
+    sorted_words = _sort_words(block, table, setup, new_params)
+    gs, ms, words, values = sorted_words.gs, sorted_words.ms, sorted_words.words, sorted_words.values
+    flags, has_expr, d = sorted_words.flags, sorted_words.has_expr, sorted_words.d
+    code_diags, unknown = sorted_words.code_diags, sorted_words.unknown
+    # a cycle not supported yet, or a G code the dialect does not know, owns the block: which words it takes
+    # is not known here, so the block gets the one diagnostic about its code and no follow-ups on its words
+    unmodelled = next(((w, c) for w, c in gs if c.support is Support.PLANNED and c.owns_block), None)
+    dropped: tuple[str, ...] = ()
+    if unmodelled is not None and table.din and not any(x.code == "PAL-E105" for x in code_diags):
+        # DIN/ISO: the code's data (every address but the technology) stay without effect, the rest of the block runs
+        dropped = tuple(
+            sorted({a for a in words if a not in table.technology_words} | {w.address for w in unknown})
+        )
+        words = {a: ws for a, ws in words.items() if a not in dropped}
+        values = {a: v for a, v in values.items() if a not in dropped}
+        flags = [w for w in flags if w.address not in dropped]
+        gs = [(w, c) for w, c in gs if c is not unmodelled[1]]
+        unknown = []
+        d = [x for x in d if x.span.column not in {w.column for w in block.words if w.address in dropped}]
+        code_diags.append(
+            _not_supported_din(
+                unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, dropped
+            )
+        )
+    elif unmodelled is not None or any(x.code == "PAL-E105" for x in code_diags):
+        only = (
+            [_not_supported(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, True)]
+            if unmodelled is not None
+            else code_diags
+        )
+        return Reading(
+            gs,
+            [],
+            {},
+            {},
+            None,
+            None,
+            None,
+            None,
+            "G17",
+            only,
+            not has_expr,
+            frozenset(c.name for _, c in gs),
+            [],
+            [],
+            {},
+            False,
+        )
+    d[:0] = code_diags + [diag("PAL-E003", w.address_span, address=w.address) for w in unknown]
+
+    sorted_words.words, sorted_words.values, sorted_words.flags, sorted_words.gs = words, values, flags, gs
+    sorted_words.d = d
+    owner, owner_word = _owner(table, gs, ms, d)
+    motion, cycle, names = _addresses(
+        block, table, sorted_words, owner, owner_word, modal_motion, modal_cycle, d
+    )
+    new_tool, arc_plane, alt_plane = _tool_and_plane(
+        table, setup, sorted_words, motion, cycle, names, modal_plane, d
+    )
+    activations, ends, planned = _switches(table, gs, ms, owner, motion, d)
+    return Reading(
+        gs,
+        ms,
+        words,
+        values,
+        owner,
+        owner_word,
+        motion,
+        new_tool,
+        arc_plane,
+        d,
+        not has_expr,
+        names,
+        planned,
+        activations,
+        ends,
+        not words.keys().isdisjoint(_GEOMETRY_WORDS),
+        cycle,
+        alt_plane,
+        dropped,
+    )
+
+
+@dataclass(slots=True)
+class _Words:
+    """A block's words sorted (the first step of `_read`)."""
+
+    gs: list[tuple[Word, Code]]
+    ms: list[tuple[Word, Code]]
+    words: dict[str, list[Word]]
+    values: dict[str, float]
+    flags: list[Word]  # address words without a value
+    has_expr: bool
+    code_diags: list[Diagnostic]  # about the G and M words themselves
+    unknown: list[Word]  # words of addresses the dialect does not have
+    d: list[Diagnostic]
+
+
+def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dict[int, float]) -> _Words:
+    """The block's G and M codes, its address words and their values, each word checked on its own."""
     d: list[Diagnostic] = []
-    # -- sort the words ----------------------------------------------------------------------
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
     words: dict[str, list[Word]] = {}
@@ -591,54 +690,13 @@ def _read(  # noqa: C901
         if spec.integer and v != int(v):
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
         values.setdefault(a, v)
+    return _Words(gs, ms, words, values, flags, has_expr, code_diags, unknown, d)
 
-    # a cycle not supported yet, or a G code the dialect does not know, owns the block: which words it takes
-    # is not known here, so the block gets the one diagnostic about its code and no follow-ups on its words
-    unmodelled = next(((w, c) for w, c in gs if c.support is Support.PLANNED and c.owns_block), None)
-    dropped: tuple[str, ...] = ()
-    if unmodelled is not None and table.din and not any(x.code == "PAL-E105" for x in code_diags):
-        # DIN/ISO: the code's data (every address but the technology) stay without effect, the rest of the block runs
-        dropped = tuple(
-            sorted({a for a in words if a not in table.technology_words} | {w.address for w in unknown})
-        )
-        words = {a: ws for a, ws in words.items() if a not in dropped}
-        values = {a: v for a, v in values.items() if a not in dropped}
-        flags = [w for w in flags if w.address not in dropped]
-        gs = [(w, c) for w, c in gs if c is not unmodelled[1]]
-        unknown = []
-        d = [x for x in d if x.span.column not in {w.column for w in block.words if w.address in dropped}]
-        code_diags.append(
-            _not_supported_din(
-                unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, dropped
-            )
-        )
-    elif unmodelled is not None or any(x.code == "PAL-E105" for x in code_diags):
-        only = (
-            [_not_supported(unmodelled[0].span, unmodelled[1].feature_de, unmodelled[1].feature_en, True)]
-            if unmodelled is not None
-            else code_diags
-        )
-        return Reading(
-            gs,
-            [],
-            {},
-            {},
-            None,
-            None,
-            None,
-            None,
-            "G17",
-            only,
-            not has_expr,
-            frozenset(c.name for _, c in gs),
-            [],
-            [],
-            {},
-            False,
-        )
-    d[:0] = code_diags + [diag("PAL-E003", w.address_span, address=w.address) for w in unknown]
 
-    # -- G codes: count, groups, the code that owns the block -------------------------------
+def _owner(
+    table: CodeTable, gs: list[tuple[Word, Code]], ms: list[tuple[Word, Code]], d: list[Diagnostic]
+) -> tuple[Code | None, Word | None]:
+    """G codes: their count, one member of each modal group, the code that owns the block."""
     if table.max_g_words is not None and len(gs) > table.max_g_words:
         d.append(diag("PAL-E104", gs[table.max_g_words][0].span, count=len(gs)))
     owner: Code | None = None
@@ -675,8 +733,22 @@ def _read(  # noqa: C901
                     )
                 )
             owner, owner_word = code, w
+    return owner, owner_word
 
-    # -- which addresses the block may hold -----------------------------------------------
+
+def _addresses(
+    block: Block,
+    table: CodeTable,
+    sorted_words: _Words,
+    owner: Code | None,
+    owner_word: Word | None,
+    modal_motion: str | None,
+    modal_cycle: str | None,
+    d: list[Diagnostic],
+) -> tuple[Code | None, Code | None, frozenset[str]]:
+    """Which addresses the block may hold, which it must, and how often: (motion, drilling cycle, G names)."""
+    gs, ms, words = sorted_words.gs, sorted_words.ms, sorted_words.words
+    values, flags = sorted_words.values, sorted_words.flags
     motion = owner if owner is not None and owner.group == "motion" else None
     # the words that codes which do not own the block take (ISO: M98 P L, G28/G53 X Y Z; none in PAL)
     extra = frozenset().union(*(c.words for _, c in gs + ms if not c.owns_block))
@@ -733,6 +805,22 @@ def _read(  # noqa: C901
             d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
     if "TC" in values and not 1 <= values["TC"] <= 9:
         d.append(diag("PAL-E112", words["TC"][0].span, value=words["TC"][0].raw))
+    return motion, cycle, names
+
+
+def _tool_and_plane(
+    table: CodeTable,
+    setup: RunSetup,
+    sorted_words: _Words,
+    motion: Code | None,
+    cycle: Code | None,
+    names: frozenset[str],
+    modal_plane: str | None,
+    d: list[Diagnostic],
+) -> tuple[int | None, str, str | None]:
+    """The tool called, the plane of an arc (its centre words), the dialect's own rules: (tool, plane, DIN's
+    other plane)."""
+    gs, ms, words, values = sorted_words.gs, sorted_words.ms, sorted_words.words, sorted_words.values
     new_tool: int | None = None
     if "T" in values:
         new_tool = int(values["T"])
@@ -774,6 +862,18 @@ def _read(  # noqa: C901
             d.append(diag("PAL-E108", words["H"][0].span, address="H (1 oder 2)", raw=words["H"][0].raw))
     if "G70" in names and not table.din:
         d.append(diag("PAL-E309", next(w.span for w, c in gs if c.name == "G70")))
+    return new_tool, arc_plane, alt_plane
+
+
+def _switches(
+    table: CodeTable,
+    gs: list[tuple[Word, Code]],
+    ms: list[tuple[Word, Code]],
+    owner: Code | None,
+    motion: Code | None,
+    d: list[Diagnostic],
+) -> tuple[list[tuple[str, str]], dict[str, str], list[tuple[Word, Code]]]:
+    """What the codes switch at the block start and at its end, and the codes not supported yet."""
     activations: list[tuple[str, str]] = []
     ends: dict[str, str] = {}
     planned: list[tuple[Word, Code]] = []
@@ -794,27 +894,7 @@ def _read(  # noqa: C901
         and all(g != "cycle" for g, _ in activations)
     ):
         activations.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
-    return Reading(
-        gs,
-        ms,
-        words,
-        values,
-        owner,
-        owner_word,
-        motion,
-        new_tool,
-        arc_plane,
-        d,
-        not has_expr,
-        names,
-        planned,
-        activations,
-        ends,
-        not words.keys().isdisjoint(_GEOMETRY_WORDS),
-        cycle,
-        alt_plane,
-        dropped,
-    )
+    return activations, ends, planned
 
 
 def _compare(params: dict[int, float], operands: list[Word], op: int) -> bool:
