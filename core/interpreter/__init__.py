@@ -324,14 +324,15 @@ def interpret(  # noqa: C901
                 trace.at_log.append((step - 1, (unit.source, block.line), follow.unknown))
             if block.assignments:
                 params_now = dict(params)
-        follow.ran(
-            block,
-            unit.source,
-            out.diagnostics,
-            getattr(out, "executed", True),
-            out.position != position,
-            out.state.active("dimensions") != "G91",
-        )
+        if follow.unknown or out.diagnostics:  # (else nothing is unknown before or after it)
+            follow.ran(
+                block,
+                unit.source,
+                out.diagnostics,
+                getattr(out, "executed", True),
+                out.position != position,
+                out.state.active("dimensions") != "G91",
+            )
         budget.reported(len(out.diagnostics))
         spent = budget.made(sum(type(c) is Planned for c in out.commands), block)
         if spent is not None:

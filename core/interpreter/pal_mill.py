@@ -66,7 +66,7 @@ def execute_block(
     """Execute `block` from `state` at `position`. `params` (P1…P999) is updated only on success."""
     out = Outcome(state, position)
     d = out.diagnostics
-    new_params = _assign(setup, block, params, d)
+    new_params = _assign(setup, block, params, d) if block.assignments else params
     reading = _reading(setup, table, block, new_params, state.codes, cache)
     d.extend(reading.diagnostics)
     values = reading.values
@@ -88,13 +88,14 @@ def execute_block(
             # a rejected definition replaces the earlier one all the same: its calls must not run the old cycle
             out.state = dataclasses.replace(state, pal_cycle=None)
         return out  # the block is not executed; the state stays as it was
-    if _skips_planned(step):
+    if reading.planned and _skips_planned(step):
         out.executed = False
         return out
     before = state
     state = _commit(step, state, position)
     state, position = _act(step, before, state, position)
-    state = _block_end(step, state)
+    if reading.ends or reading.ms:
+        state = _block_end(step, state)
     if new_params is not params:
         params.clear()
         params.update(new_params)

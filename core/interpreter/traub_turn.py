@@ -156,6 +156,7 @@ class _Reading:
     owner_word: Word | None
     g_names: frozenset[str] = frozenset()
     m_names: frozenset[str] = frozenset()
+    speed_code: Code | None = None  # G92, G96 or G97 (codes.Code.speed)
 
 
 def _read(
@@ -169,7 +170,7 @@ def _read(
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
     gs, ms, words, values = _sort(block, params, d, reads, limit)
     owner, owner_word = _owner(gs, ms, d)
-    _check_words(gs, ms, words, values, owner, owner_word, modal_motion, d)
+    speed_code = _check_words(gs, ms, words, values, owner, owner_word, modal_motion, d)
     return _Reading(
         gs,
         ms,
@@ -179,6 +180,7 @@ def _read(
         owner_word,
         frozenset(c.name for _, c in gs),
         frozenset(c.name for _, c in ms),
+        speed_code,
     )
 
 
@@ -282,8 +284,8 @@ def _check_words(
     owner_word: Word | None,
     modal_motion: str,
     d: list[Diagnostic],
-) -> None:
-    """Which addresses the block may hold, which it must, and the rules of single words."""
+) -> Code | None:
+    """Which addresses the block may hold, which it must, and the rules of single words; the speed code."""
     speed_code = next((c for _, c in gs if c.speed), None)
     if owner is not None:
         allowed = owner.words | TABLE.always_allowed
@@ -322,6 +324,7 @@ def _check_words(
         station = int(values["T"]) // 100
         if not (0 <= station <= 16 or 21 <= station <= 36):
             d.append(diag("TX-E111", words["T"].span, station=station))
+    return speed_code
 
 
 class TurnRun:
@@ -442,9 +445,10 @@ class TurnRun:
                     self.callee_reads[n] = (params[n], self.program or "")
                 self.late.pop(n, None)
         srk = t.codes.get("compensation")
-        self._technology(block.span, r, motion, moving, out)
-        self._act(block, r, motion, moving, out)
-        self._srk_window(srk, moving, block.span, d)
+        span = block.span
+        self._technology(span, r, motion, moving, out)
+        self._act(block, span, r, motion, moving, out)
+        self._srk_window(srk, moving, span, d)
         # -- block end
         mnames = r.m_names
         if mnames & {"M0", "M1", "M30"}:  # they include M05 and M09 (L1178)
@@ -505,7 +509,7 @@ class TurnRun:
             if not (on and direction):
                 d.append(diag("TX-E107", words["B"].span))
         motion: Code | None = owner if owner is not None and owner.group == "motion" else None
-        if owner is None and not any(c.speed for _, c in gs) and words.keys() & _GEOMETRY:
+        if owner is None and r.speed_code is None and words.keys() & _GEOMETRY:
             motion = TABLE.codes[t.codes.get("motion") or "G1"]
         moving = motion is not None and bool(words.keys() & _GEOMETRY)
         if moving and not t.tool_called and t.deselected_by is not None and "T" not in values:
@@ -619,11 +623,12 @@ class TurnRun:
         elif "V" in values:
             t.cutting_speed = values["V"]
 
-    def _act(self, block: Block, r: _Reading, motion: Code | None, moving: bool, out: Outcome) -> None:
+    def _act(
+        self, block: Block, span: Span, r: _Reading, motion: Code | None, moving: bool, out: Outcome
+    ) -> None:
         """The motion, dwell, change point or call of the block."""
         t = self.turn
         d = out.diagnostics
-        span = block.span
         words, values, owner = r.words, r.values, r.owner
         cycle = (
             motion
