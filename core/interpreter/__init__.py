@@ -29,6 +29,7 @@ from core.interpreter.checkpoints import (
 from core.interpreter.contour import Item, Planned, finish
 from core.interpreter.followups import FollowUps
 from core.interpreter.run import (
+    Cursor,
     Frame,
     Unit,
     cap_diagnostics,
@@ -149,11 +150,10 @@ def interpret(  # noqa: C901
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines
     planned: list[Item] = []
-    frames: list[Frame] = []  # calls and G23 sections in progress
     # the executor keeps its reading of blocks once the program first goes back (a call, a repeat, a
     # jump): until then every block runs once and keeping them would only cost
     cache: dict[Any, Any] | None = readings
-    unit, index = main, 0
+    cur = Cursor(main)  # where the run is, and the calls and G23 sections in progress
     ended = False
     budget = Budget(limits)
     last_line = 0
@@ -181,11 +181,11 @@ def interpret(  # noqa: C901
             kind = "to_end"
         if resumed is not None and resume_at is not None:
             cp = resume_at
-            unit, index = units[cp.unit], cp.line - units[cp.unit].first
+            cur.unit, cur.index = units[cp.unit], cp.line - units[cp.unit].first
             state, position = cp.state, cp.position
             params.update(cp.params)
             params_now = cp.params
-            frames = _frames_at(cp.frames, units)
+            cur.frames = _frames_at(cp.frames, units)
             follow.unknown = cp.unknown
             for _, where, unknown in trace.at_log:
                 follow.at.setdefault(where, unknown)
@@ -217,37 +217,18 @@ def interpret(  # noqa: C901
         STATS["full"] += 1
 
     def report(d: Diagnostic) -> None:
-        diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
-
-    def section_end(u: Unit, done: int, following: int) -> int:
-        """Where to go on once block `done` of `u` has run (a call or a repeat it made included): back to the
-        start of the G23 section it ends while that repeats, else `following`."""
-        while frames and frames[-1].repeat and frames[-1].caller is u and frames[-1].end == done:
-            top = frames[-1]
-            if top.remaining > 0:
-                top.remaining -= 1
-                return top.start
-            frames.pop()  # the G23 block itself may end an outer section
-            done, following = top.return_index - 1, top.return_index
-        return following
-
-    def leave_call() -> Frame:
-        """The call in progress, its unit's G23 sections left unfinished (M17, the end of the unit) dropped."""
-        while frames[-1].repeat:
-            frames.pop()
-        return frames[-1]
+        diags.append(d if cur.unit.source is None else dataclasses.replace(d, source=cur.unit.source))
 
     while True:
-        if index >= len(unit.blocks):
-            if not _calling(frames):
+        unit = cur.unit
+        if cur.index >= len(unit.blocks):
+            if not cur.calling():
                 break
             tail = unit.tail  # (empty: its header)
             report(diag(flow["PAL-E409"], Span(tail, 1, tail, 1), number=unit.number))
-            frame = leave_call()
-            frames.pop()
-            unit, index = frame.caller, section_end(frame.caller, frame.return_index - 1, frame.return_index)
+            cur.leave(again=False)
             continue
-        block = unit.blocks[index]
+        block = unit.blocks[cur.index]
         if trace is not None:
             cp = Checkpoint(
                 unit.key,
@@ -255,7 +236,7 @@ def interpret(  # noqa: C901
                 state,
                 position,
                 params_now,
-                _frame_points(frames) if frames else (),
+                _frame_points(cur.frames) if cur.frames else (),
                 follow.unknown,
             )
             if meet:
@@ -300,8 +281,8 @@ def interpret(  # noqa: C901
                 trace.where.append(block.line if unit.source is None else 0)
             else:
                 trace = None  # too long to keep: the next run is a full one
-        here = index
-        index += 1
+        here = cur.index
+        cur.index += 1
         step += 1
         if not block.ok or block.is_empty or block.header is not None:
             if not block.ok:
@@ -341,8 +322,8 @@ def interpret(  # noqa: C901
             if trace is not None:
                 trace.spent = True
             break
-        if frames and _calling(frames):
-            stack = tuple((f.caller.source, f.line) for f in frames if not f.repeat)
+        if cur.frames and cur.calling():
+            stack = cur.call_stack()
             for c in out.commands:
                 if isinstance(c, Planned):
                     c.move = dataclasses.replace(c.move, source=unit.source, call_stack=stack)
@@ -366,13 +347,12 @@ def interpret(  # noqa: C901
             callee = subs.get(number)
             if callee is None:
                 report(diag(flow["PAL-E401"], block.span, number=number))
-            elif callee is unit or any(f.callee is callee and not f.repeat for f in frames):
+            elif cur.active(callee):
                 report(diag(flow["PAL-E404"], block.span, number=number))
-            elif sum(not f.repeat for f in frames) >= setup.max_call_depth:
+            elif cur.depth() >= setup.max_call_depth:
                 report(diag(flow["PAL-E405"], block.span, limit=setup.max_call_depth))
             elif count >= 1:
-                frames.append(Frame(unit, index, callee, 0, None, count - 1, block.line))
-                unit, index = callee, 0
+                cur.enter(Frame(unit, cur.index, callee, 0, None, count - 1, block.line))
                 continue
         elif out.flow is not None:  # a G29 jump that is taken
             if trace is not None:
@@ -381,7 +361,7 @@ def interpret(  # noqa: C901
             if target is None:
                 report(diag("PAL-E406", block.span, number=out.flow[1]))
             else:
-                index = target
+                cur.index = target
                 continue
         if out.repeat is not None:
             if trace is not None:
@@ -393,12 +373,11 @@ def interpret(  # noqa: C901
             elif end < start:
                 report(diag("PAL-E407", block.span, start=first, end=last))
             elif count >= 1:
-                frames.append(Frame(unit, index, unit, start, end, count - 1, block.line, repeat=True))
-                index = start
+                cur.enter(Frame(unit, cur.index, unit, start, end, count - 1, block.line, repeat=True))
                 continue
-        index = section_end(unit, here, index)
+        cur.after(here)
         if out.sub_end:
-            calling = _calling(frames)
+            calling = cur.calling()
             if (
                 not calling and prefix == "O"
             ):  # M99 in the main program: the control starts it again, without end
@@ -408,16 +387,7 @@ def interpret(  # noqa: C901
             if not calling:
                 report(diag("PAL-E402", block.span))
             else:
-                frame = leave_call()
-                if frame.remaining > 0:
-                    frame.remaining -= 1
-                    index = frame.start
-                else:
-                    frames.pop()
-                    unit, index = (
-                        frame.caller,
-                        section_end(frame.caller, frame.return_index - 1, frame.return_index),
-                    )
+                cur.leave()
             continue
         if getattr(
             out, "stopped", False
@@ -425,11 +395,12 @@ def interpret(  # noqa: C901
             ended = True
             break
         if out.ended:
-            if _calling(frames):
+            if cur.calling():
                 report(diag(flow["PAL-E403"], block.span, number=unit.number))
             ended = True
             rest = next(
-                (b for b in unit.blocks[index:] if b.ok and not b.is_empty and b.header is None), None
+                (b for b in cur.unit.blocks[cur.index :] if b.ok and not b.is_empty and b.header is None),
+                None,
             )
             if unit is main and rest is not None:
                 diags.append(diag("PAL-W101", rest.span))
@@ -685,8 +656,3 @@ def _take_over(
         assert old.state is not None
         return old.state, old.position, old.ended, final_line, final_set
     return None
-
-
-def _calling(frames: list[Frame]) -> bool:
-    """Whether a call is in progress (not only G23 sections of the main program)."""
-    return any(not f.repeat for f in frames)

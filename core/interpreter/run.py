@@ -13,7 +13,7 @@ of a run.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from core.diagnostics import Diagnostic, diag
 from core.interpreter.state import ModalState
@@ -78,6 +78,74 @@ class Frame:
     remaining: int
     line: int
     repeat: bool = False
+
+
+@dataclass(slots=True)
+class Cursor:
+    """Where a run is: the unit, the index of its next block and the frames in progress — and the program flow
+    that moves it (calls, repeated sections, returns), the same for every dialect."""
+
+    unit: Unit
+    index: int = 0
+    frames: list[Frame] = field(default_factory=list)
+    returned_from: int = 0  # the calling block's line of the last return
+
+    def calling(self) -> bool:
+        """Whether a call is in progress (not only G23 sections of the main program)."""
+        return any(not f.repeat for f in self.frames)
+
+    def depth(self) -> int:
+        return sum(not f.repeat for f in self.frames)
+
+    def active(self, callee: Unit) -> bool:
+        """Whether `callee` runs already (a call of it now would be a recursion)."""
+        return callee is self.unit or any(f.callee is callee and not f.repeat for f in self.frames)
+
+    def call_stack(self) -> tuple[tuple[str | None, int], ...]:
+        """The calling blocks (source, line), outermost first."""
+        return tuple((f.caller.source, f.line) for f in self.frames if not f.repeat)
+
+    def enter(self, frame: Frame) -> None:
+        """Start a call or a repeated section; `frame.return_index` is where the caller goes on."""
+        self.frames.append(frame)
+        self.unit, self.index = frame.callee, frame.start
+
+    def after(self, done: int) -> bool:
+        """Block `done` of the unit has run (the calls it made included) and `index` is where the run goes on:
+        at the last block of a section, run the section again or go on after the block that called it (which
+        may itself end a section). True when the run moved elsewhere."""
+        frames = self.frames
+        moved = False
+        while frames and frames[-1].end == done and frames[-1].callee is self.unit:
+            top = frames[-1]
+            if top.remaining > 0:
+                top.remaining -= 1
+                self.index = top.start
+                return True
+            frames.pop()
+            self.unit, self.index, done = top.caller, top.return_index, top.return_index - 1
+            moved = True
+        return moved
+
+    def leave(self, again: bool = True) -> str | None:
+        """The end of a called program (M17, M99, or past its last block): run it again (`again` and runs to
+        come) or go on after the calling block; the program's unfinished G23 sections end with it. Answers
+        "again", "returned" (after the calling block, whose line is `returned_from`), "moved" (returned and
+        went on elsewhere: the calling block ended a section) or None when no call is in progress."""
+        if not self.calling():
+            return None
+        frames = self.frames
+        while frames[-1].repeat:
+            frames.pop()
+        frame = frames[-1]
+        if again and frame.remaining > 0:
+            frame.remaining -= 1
+            self.index = frame.start
+            return "again"
+        frames.pop()
+        self.unit, self.index = frame.caller, frame.return_index
+        self.returned_from = frame.line
+        return "moved" if self.after(frame.return_index - 1) else "returned"
 
 
 _SUB_HEADER = {"L": re.compile(r"L\s*(\d+)"), "O": re.compile(r"O(\d+)")}
