@@ -199,3 +199,15 @@ def test_mirrored_pocket_keeps_the_tool_inside() -> None:
     # the mirrored square spans X-70…-10; the Ø25 tool runs 12.5 mm inside its edges
     # (the last element, before G40, ends beside its programmed end point)
     assert corners == [pytest.approx((-57.5, 57.5)), pytest.approx((-22.5, 57.5)), pytest.approx((-22.5, 10))]
+
+
+def test_m17_inside_a_g23_section_ends_the_subprogram_with_its_section() -> None:
+    # L7 repeats N30…N40 five times, but N40 is its M17: each run of L7 ends there, the section with it
+    program = (
+        READY + "G0 X0 Y0 Z0\nG22 L7 H2\nM30\n%L7\nN10 G1 XI1\nN20 G23 N30 N40 H5\nN30 G1 YI1\nN40 M17\n"
+    )
+    tp = run(program)
+    assert errors(tp) == []
+    feeds = [(xy(m.start), xy(m.end)) for m in tp.moves if m.kind == "feed"]
+    assert feeds == [((0, 0), (1, 0)), ((1, 0), (1, 1)), ((1, 1), (2, 1)), ((2, 1), (2, 2))]
+    assert xy(tp.final_position) == (2, 2)

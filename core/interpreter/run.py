@@ -110,28 +110,28 @@ class Cursor:
         self.frames.append(frame)
         self.unit, self.index = frame.callee, frame.start
 
-    def after(self, done: int) -> bool:
+    def after(self, done: int) -> str | None:
         """Block `done` of the unit has run (the calls it made included) and `index` is where the run goes on:
         at the last block of a section, run the section again or go on after the block that called it (which
-        may itself end a section). True when the run moved elsewhere."""
+        may itself end a section). How the run went on: "again" (a section from its start), "returned"
+        (after a calling block, whose line is `returned_from`) or None (as it was)."""
         frames = self.frames
-        moved = False
+        how = None
         while frames and frames[-1].end == done and frames[-1].callee is self.unit:
             top = frames[-1]
             if top.remaining > 0:
                 top.remaining -= 1
                 self.index = top.start
-                return True
+                return "again"
             frames.pop()
             self.unit, self.index, done = top.caller, top.return_index, top.return_index - 1
-            moved = True
-        return moved
+            self.returned_from, how = top.line, "returned"
+        return how
 
     def leave(self, again: bool = True) -> str | None:
         """The end of a called program (M17, M99, or past its last block): run it again (`again` and runs to
-        come) or go on after the calling block; the program's unfinished G23 sections end with it. Answers
-        "again", "returned" (after the calling block, whose line is `returned_from`), "moved" (returned and
-        went on elsewhere: the calling block ended a section) or None when no call is in progress."""
+        come) or go on after the calling block; the program's unfinished G23 sections end with it. How the
+        run went on (as `after` says), None when no call is in progress."""
         if not self.calling():
             return None
         frames = self.frames
@@ -145,7 +145,7 @@ class Cursor:
         frames.pop()
         self.unit, self.index = frame.caller, frame.return_index
         self.returned_from = frame.line
-        return "moved" if self.after(frame.return_index - 1) else "returned"
+        return self.after(frame.return_index - 1) or "returned"
 
 
 _SUB_HEADER = {"L": re.compile(r"L\s*(\d+)"), "O": re.compile(r"O(\d+)")}

@@ -30,6 +30,7 @@ from core.interpreter import traub_cycles, turn_contour
 from core.interpreter.checkpoints import STATS, Keep, LineMap, Unmappable, changed_lines
 from core.interpreter.params import evaluate as evaluate_expression
 from core.interpreter.run import (
+    Cursor,
     Frame,
     Unit,
     cap_diagnostics,
@@ -889,8 +890,7 @@ def run_program(  # noqa: C901
     states: list[ModalState | None] = [None] * n_lines
     positions: list[Vec3 | None] = [None] * n_lines
     items: list[Item] = []
-    calls: list[Frame] = []
-    unit, index, end_index = main, 0, None
+    cur = Cursor(main)  # where the run is, and the calls in progress
     ended = False
     budget = Budget(limits)
     last_line, last_set = 0, -1
@@ -915,7 +915,7 @@ def run_program(  # noqa: C901
             STATS["to_end"] += 1  # until it meets the previous run
             r, lm, meet, cp = resumed
             if cp is not None:
-                unit, index, end_index, calls = _place(cp, keys)
+                cur.unit, cur.index, cur.frames = _place(cp, keys)
                 _restore(run, cp.run, map_contours(lm, old.contours[r], {}))
                 budget.executed, budget.steps, budget.moves = old.counters[r]
                 for s in range(r):
@@ -936,37 +936,55 @@ def run_program(  # noqa: C901
                 step = r
 
     def report(d: Diagnostic) -> None:
-        diags.append(d if unit.source is None else dataclasses.replace(d, source=unit.source))
+        diags.append(d if cur.unit.source is None else dataclasses.replace(d, source=cur.unit.source))
 
-    def leave() -> bool:
-        """Finish a run of the current call: repeat it or return. False when there is no call."""
-        nonlocal unit, index, end_index, came_from
-        if not calls:
+    def arrived(how: str | None) -> int | None:
+        """The program-file line the run passed last after a move of the cursor (None: a jump)."""
+        if how == "returned" and cur.unit.source is None:
+            line: int = cur.returned_from  # on after the calling block
+            return line
+        return None
+
+    def call(what: tuple[int | None, int | None, int | None, int], block: Block) -> bool:
+        """G22 (A, P, Q, H) or a macro: enter the program or its section; False after an error or H0."""
+        target, first_n, last_n, count = what
+        unit = cur.unit
+        callee = unit if target is None else units.get(target)
+        if callee is None:
+            report(diag("TX-E301", block.span, number=target))
             return False
-        frame = calls[-1]
-        if frame.remaining > 0:
-            frame.remaining -= 1
-            index = frame.start
-            came_from = None
-            return True
-        calls.pop()
-        unit, index = frame.caller, frame.return_index
-        came_from = frame.line if unit.source is None else None  # on after the calling block
-        end_index = calls[-1].end if calls else None
+        if target is not None and cur.active(callee):
+            report(diag("TX-E303", block.span, number=target))
+            return False
+        if cur.depth() >= setup.max_call_depth:
+            report(diag("TX-E302", block.span, limit=setup.max_call_depth))
+            return False
+        missing = [n for n in (first_n, last_n) if n is not None and n not in callee.numbers]
+        for n in missing:
+            report(diag("TX-E304", block.span, number=n, program=callee.name))
+        if missing:
+            return False
+        start = 0 if first_n is None else callee.numbers[first_n]
+        stop = None if last_n is None else callee.numbers[last_n]
+        if stop is not None and stop < start:
+            report(diag("TX-E305", block.span, start=first_n, end=last_n))
+            return False
+        if count < 1:
+            return False
+        cur.enter(Frame(unit, cur.index, callee, start, stop, count - 1, block.line))
         return True
 
     while True:
-        at_section_end = end_index is not None and index > end_index
-        if index >= len(unit.blocks) or at_section_end:
-            if trace is not None and unit.source is None and not at_section_end:
-                tail = unit.tail
-                trace.touches.append((step, tail, INF, True))  # the lines after its last block
-            if not calls:
+        unit, index = cur.unit, cur.index
+        if index >= len(unit.blocks):
+            if trace is not None and unit.source is None:
+                trace.touches.append((step, unit.tail, INF, True))  # the lines after its last block
+            if not cur.frames:
                 break
-            if not at_section_end and calls[-1].end is None and unit is not main:
+            if cur.frames[-1].end is None and unit is not main:
                 line = unit.blocks[-1].line if unit.blocks else 1
                 report(diag("TX-W302", Span(line, 1, line, 1), number=unit.number))
-            leave()
+            came_from = arrived(cur.leave())
             continue
         block = unit.blocks[index]
         if trace is not None:
@@ -977,11 +995,12 @@ def run_program(  # noqa: C901
                 scan = block.line - 1 if came_from is None else came_from
                 if scan < block.line:
                     trace.touches.append((step, scan, block.line, True))
+            end_index = cur.frames[-1].end if cur.frames else None
             cp = TurnPoint(
                 (unit.source, None if unit is main else unit.number),
                 block.line,
                 None if end_index is None else unit.blocks[end_index].line,
-                tuple(_frame_point(c, main) for c in calls),
+                tuple(_frame_point(c, main) for c in cur.frames),
                 snapshot(run),
             )
             if meet and old is not None:
@@ -1026,7 +1045,7 @@ def run_program(  # noqa: C901
             else:
                 trace = None  # too long to keep: the next run is a full one
         came_from = block.line if unit.source is None else None
-        index += 1
+        cur.index += 1
         step += 1
         if block.is_empty:
             continue
@@ -1039,7 +1058,7 @@ def run_program(  # noqa: C901
             report(spent)
             ended = True
             break
-        run.program = calls[-1].callee.name if calls else None
+        run.program = cur.frames[-1].callee.name if cur.frames else None
         out = run.execute(block)
         if run.read:
             if trace is not None:
@@ -1051,8 +1070,8 @@ def run_program(  # noqa: C901
             report(spent)
             ended = True
             break
-        if calls or unit.source is not None:
-            stack = tuple((c.caller.source, c.line) for c in calls)
+        if cur.frames or unit.source is not None:
+            stack = cur.call_stack()
             for k, it in enumerate(out.items):
                 if isinstance(it, TurnItem):
                     out.items[k] = dataclasses.replace(
@@ -1064,63 +1083,37 @@ def run_program(  # noqa: C901
         for d in out.diagnostics:
             report(d)
         if unit.source is None:
-            states[block.line - 1] = run.modal_state()
             p = run.last_known
-            positions[block.line - 1] = (p[0], 0.0, p[1])
+            line_state, line_position = run.modal_state(), (p[0], 0.0, p[1])
+            states[block.line - 1], positions[block.line - 1] = line_state, line_position
             if trace is not None:
-                trace.sets[-1] = (block.line - 1, states[block.line - 1], positions[block.line - 1])  # type: ignore[assignment]
+                trace.sets[-1] = (block.line - 1, line_state, line_position)
         if out.call is not None:
-            target, first_n, last_n, count = out.call
-            callee = unit if target is None else units.get(target)
-            if callee is None:
-                report(diag("TX-E301", block.span, number=target))
+            if call(out.call, block):
+                came_from = None
                 continue
-            if target is not None and (callee is unit or any(c.callee is callee for c in calls)):
-                report(diag("TX-E303", block.span, number=target))
-                continue
-            if len(calls) >= setup.max_call_depth:
-                report(diag("TX-E302", block.span, limit=setup.max_call_depth))
-                continue
-            start, stop = 0, None
-            bad = False
-            for n in (first_n, last_n):
-                if n is not None and n not in callee.numbers:
-                    report(diag("TX-E304", block.span, number=n, program=callee.name))
-                    bad = True
-            if bad:
-                continue
-            if first_n is not None:
-                start = callee.numbers[first_n]
-            if last_n is not None:
-                stop = callee.numbers[last_n]
-            if stop is not None and stop < start:
-                report(diag("TX-E305", block.span, start=first_n, end=last_n))
-                continue
-            if count < 1:
-                continue
-            calls.append(Frame(unit, index, callee, start, stop, count - 1, block.line))
-            unit, index, end_index = callee, start, stop
-            came_from = None
-            continue
-        if out.sub_end:
-            if not calls:
+        elif out.sub_end:
+            if not cur.frames:
                 report(diag("TX-W301", block.span))
                 ended = True
                 break
-            leave()
+            came_from = arrived(cur.leave())
             continue
-        if out.ended:
-            if calls and unit is not main:
+        elif out.ended:
+            if cur.frames and unit is not main:
                 report(diag("TX-E306", block.span, number=unit.number))
                 ended = True
                 break
             ended = True
             if trace is not None and unit.source is None:
                 trace.touches.append((step - 1, block.line, INF, False))  # PAL-W101 looks at the rest
-            rest = next((b for b in unit.blocks[index:] if not b.is_empty), None)
+            rest = next((b for b in unit.blocks[cur.index :] if not b.is_empty), None)
             if rest is not None:
                 diags.append(diag("PAL-W101", rest.span))
             break
+        how = cur.after(index)
+        if how is not None:
+            came_from = arrived(how)
     if trace is not None and keep is not None:
         trace.items, trace.loop_diags, trace.early = items, diags[n_initial:], set(run.early)
         trace.final, trace.final_contours = (
@@ -1245,7 +1238,7 @@ def _index(u: Unit, line: int) -> int:
     raise Unmappable
 
 
-def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, int | None, list[Frame]]:
+def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, list[Frame]]:
     """The loop's position and call stack at `cp` (Unmappable where a line is no block of its program)."""
     unit = keys[cp.unit]
     calls = []
@@ -1262,7 +1255,9 @@ def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, int | None,
                 c,
             )
         )
-    return unit, _index(unit, cp.line), None if cp.end is None else _index(unit, cp.end), calls
+    if cp.end is not None:
+        _index(unit, cp.end)  # (Unmappable where the section's end is no block of its program)
+    return unit, _index(unit, cp.line), calls
 
 
 def _map_touch(lm: LineMap, lo: int, hi: int) -> tuple[int, int]:
