@@ -361,7 +361,7 @@ def _map_move(m: Move, plane: str, f: Callable[[Vec3, str], Vec3]) -> Move:
 # -- stage 2: cutter radius compensation -----------------------------------------------------
 
 
-def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Command]:  # noqa: C901
+def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -> list[Command]:
     """Turn the programmed contour into the tool-centre path (G41/G42, G45–G48, G40)."""
     out: list[Command] = []
     pos: Vec3 | None = None  # where the tool centre is
@@ -426,91 +426,111 @@ def compensate(items: list[Planned | Dwell | ToolChange], d: list[Diagnostic]) -
                 pos = m.end
                 continue
             active = p.side
-            first = element_of(nxt.move)
-            t = start_tangent(first)
-            if p.approach is not None:
-                pos = _approach(p, start, first, r, out)
-            else:
-                target = add((m.end[0], m.end[1]), left(t), r)
-                end = (target[0], target[1], m.end[2])
-                if _without_approach(m, start, target, t, r, following(k, p.side)):
+            follow = following(k, p.side) if p.approach is None else []
+            pos = _first_beside(p, start, element_of(nxt.move), r, follow, out, d)
+            continue
+        pos = _contour_element(p, start, r, next_in_plane(k, p.side), out, d)
+    return out
+
+
+def _first_beside(
+    p: Planned,
+    start: Vec3,
+    first: Element,
+    r: float,
+    follow: list[Element],
+    out: list[Command],
+    d: list[Diagnostic],
+) -> Vec3:
+    """The first move after G41/G42 (`p`): G45's approach, or straight to the point beside the start of the
+    first contour element (a warning when it cuts into the contour); where the tool centre is then."""
+    m = p.move
+    if p.approach is not None:
+        return _approach(p, start, first, r, out)
+    t = start_tangent(first)
+    target = add((m.end[0], m.end[1]), left(t), r)
+    end = (target[0], target[1], m.end[2])
+    if _without_approach(m, start, target, t, r, follow):
+        d.append(
+            diag(
+                "PAL-W222",
+                m.span,
+                command="G41" if p.side > 0 else "G42",
+                tool_radius=p.radius,
+                tool_radius_de=_fmt_de(p.radius),
+            )
+        )
+    out.append(
+        dataclasses.replace(
+            m,
+            kind="rapid" if m.kind == "rapid" else "feed",
+            start=start,
+            end=end,
+            center=None,
+            direction=None,
+            radius=None,
+            angle=None,
+            programmed_end=m.end,
+        )
+    )
+    return end
+
+
+def _contour_element(
+    p: Planned, start: Vec3, r: float, nxt: Planned | None, out: list[Command], d: list[Diagnostic]
+) -> Vec3:
+    """A contour element under compensation: its offset by the tool radius, ending where the next element's
+    offset starts (inside corner) or followed by an arc about the corner (outside); where the tool centre is."""
+    m = p.move
+    e = element_of(m)
+    o = offset(e, r)
+    if o is None:
+        if isinstance(e, Arc):
+            smaller = e.radius < p.radius - 1e-9  # equal is not smaller: the offset arc vanishes
+            d.append(
+                diag(
+                    "PAL-E214",
+                    m.span,
+                    radius=round(e.radius, 4),
+                    tool_radius=p.radius,
+                    relation="kleiner als" if smaller else "nicht größer als",
+                    relation_en="smaller than" if smaller else "not larger than",
+                )
+            )
+        else:
+            d.append(diag("PAL-E215", m.span, tool_radius=p.radius))
+        return m.end
+    o = with_start(o, (start[0], start[1]))  # where the previous corner left the tool
+    corner_arc: Element | None = None
+    if nxt is not None:
+        e2 = element_of(nxt.move)
+        o2 = offset(e2, r)
+        side_turn = turn(e, e2)
+        if o2 is not None:
+            if side_turn * p.side > 0:  # inside corner: end where the two offsets meet
+                x = nearest([q for q in intersections(o, o2)], e.b)
+                if x is None or math.dist(x, e.b) > 10 * abs(r) + 1e-6:
                     d.append(
                         diag(
-                            "PAL-W222",
+                            "PAL-E217",
                             m.span,
-                            command="G41" if p.side > 0 else "G42",
                             tool_radius=p.radius,
-                            tool_radius_de=_fmt_de(p.radius),
+                            first=m.span.line,
+                            second=nxt.move.span.line,
                         )
                     )
-                out.append(
-                    dataclasses.replace(
-                        m,
-                        kind="rapid" if m.kind == "rapid" else "feed",
-                        start=start,
-                        end=end,
-                        center=None,
-                        direction=None,
-                        radius=None,
-                        angle=None,
-                        programmed_end=m.end,
-                    )
-                )
-                pos = end
-            continue
-        # a contour element under compensation
-        e = element_of(m)
-        o = offset(e, r)
-        if o is None:
-            if isinstance(e, Arc):
-                smaller = e.radius < p.radius - 1e-9  # equal is not smaller: the offset arc vanishes
-                d.append(
-                    diag(
-                        "PAL-E214",
-                        m.span,
-                        radius=round(e.radius, 4),
-                        tool_radius=p.radius,
-                        relation="kleiner als" if smaller else "nicht größer als",
-                        relation_en="smaller than" if smaller else "not larger than",
-                    )
-                )
-            else:
-                d.append(diag("PAL-E215", m.span, tool_radius=p.radius))
-            pos = m.end
-            continue
-        o = with_start(o, (start[0], start[1]))  # where the previous corner left the tool
-        corner_arc: Element | None = None
-        nxt = next_in_plane(k, p.side)
-        if nxt is not None:
-            e2 = element_of(nxt.move)
-            o2 = offset(e2, r)
-            side_turn = turn(e, e2)
-            if o2 is not None:
-                if side_turn * p.side > 0:  # inside corner: end where the two offsets meet
-                    x = nearest([q for q in intersections(o, o2)], e.b)
-                    if x is None or math.dist(x, e.b) > 10 * abs(r) + 1e-6:
-                        d.append(
-                            diag(
-                                "PAL-E217",
-                                m.span,
-                                tool_radius=p.radius,
-                                first=m.span.line,
-                                second=nxt.move.span.line,
-                            )
-                        )
-                    else:
-                        o = with_end(o, x)
-                elif side_turn != 0.0 or _reverses(e, e2):  # outside corner: an arc about the corner
-                    corner_arc = Arc(o.b, o2.a, e.b, cw=side_turn < 0 if side_turn != 0.0 else p.side > 0)
-        if _reversed(e, o):
-            d.append(diag("PAL-E215", m.span, tool_radius=p.radius))
-        z1 = m.end[2]
-        out.append(move_of(m, o, start[2], z1, programmed=m.end))
-        pos = (o.b[0], o.b[1], z1)
-        if corner_arc is not None:
-            out.append(move_of(m, corner_arc, z1, z1, programmed=m.end))
-            pos = (corner_arc.b[0], corner_arc.b[1], z1)
-    return out
+                else:
+                    o = with_end(o, x)
+            elif side_turn != 0.0 or _reverses(e, e2):  # outside corner: an arc about the corner
+                corner_arc = Arc(o.b, o2.a, e.b, cw=side_turn < 0 if side_turn != 0.0 else p.side > 0)
+    if _reversed(e, o):
+        d.append(diag("PAL-E215", m.span, tool_radius=p.radius))
+    z1 = m.end[2]
+    out.append(move_of(m, o, start[2], z1, programmed=m.end))
+    if corner_arc is None:
+        return (o.b[0], o.b[1], z1)
+    out.append(move_of(m, corner_arc, z1, z1, programmed=m.end))
+    return (corner_arc.b[0], corner_arc.b[1], z1)
 
 
 # the approach check (PAL-W222) looks at the first few contour elements after the compensation is selected
