@@ -765,7 +765,93 @@ def _session_side(seq: Seq, i: int, nose: Nose, span: Span, d: list[Diagnostic])
     return -1
 
 
-def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:  # noqa: C901
+def _element_end(
+    seq: Seq,
+    i: int,
+    j: int | None,
+    seg: _Seg,
+    nxt: object,
+    start: Point,
+    o: Element,
+    side: int,
+    nose: Nose,
+    follows: bool,
+    skipped: set[int],
+    d: list[Diagnostic],
+) -> tuple[Element, Element | None, Element | None]:
+    """How the equidistant `o` of `seg` under SRK ends: a small step rolled round, an inside corner where the
+    next equidistant starts, an arc about an outside corner, the end of the compensation (a rapid or G40
+    next); (the equidistant, a corner arc, a tail to the contour point)."""
+    r = side * nose.radius
+    corner: Element | None = None
+    tail: Element | None = None
+    step = _small_step(seq, seg, j, o, r, nose.mode) if j is not None and follows else None
+    if step is not None:
+        # a step smaller than the nose radius: the nose rolls round its outer corner instead (Satzausblendung)
+        assert isinstance(nxt, _Seg)
+        o, corner = step
+        d.append(diag("TX-W220", nxt.item.span, nose=nose.radius))
+        skipped.add(id(nxt))
+    elif isinstance(nxt, _Seg) and follows and not nxt.rapid:
+        o2 = offset(nxt.e, r)
+        bend = turn(seg.e, nxt.e)
+        if o2 is not None and math.dist(seg.e.b, nxt.e.a) > 1e-6:  # blocks between were suppressed
+            x = _gap_joint(o, o2, seg.e.b, nxt.e.a, nose.radius)
+            if x is not None:
+                o = with_end(o, x)
+        elif o2 is not None and bend * side > 0:  # inside corner: where the equidistants meet
+            x = nearest(intersections(o, o2), seg.e.b)
+            if x is None or math.dist(x, seg.e.b) > 10 * nose.radius + 1e-6:
+                d.append(diag("TX-E215", seg.item.span, nose=nose.radius, second=nxt.item.span.line))
+            else:
+                o = with_end(o, x)
+        elif (
+            o2 is not None
+            and math.dist(o.b, o2.a) > 1e-6
+            and (bend != 0.0 or dot(end_tangent(seg.e), start_tangent(nxt.e)) < 0)
+        ):
+            corner = Arc(o.b, o2.a, seg.e.b, cw=bend < 0 if bend != 0.0 else side > 0)
+    elif isinstance(nxt, _Seg) and follows:
+        # a rapid under SRK ends the compensation on this block: A there names the direction of
+        # the last element (TX-28 case 3); without A the rapid's own direction makes the corner
+        a = nxt.item.a
+        v = _dir(a) if a is not None else start_tangent(nxt.e)
+        if a is not None and abs(_angle_diff(angle_of(end_tangent(seg.e)), a)) > 0.01:
+            d.append(diag("TX-W216", nxt.item.span, angle=a, direction=angle_of(end_tangent(seg.e))))
+        bend = cross(end_tangent(seg.e), v)
+        if abs(bend) > 1e-9 and bend * side > 0:
+            virtual = offset(Line(seg.e.b, add(seg.e.b, v)), r)
+            x = nearest(intersections(o, virtual), seg.e.b) if virtual is not None else None
+            if x is not None:
+                o = with_end(o, x)
+                if a is None:
+                    d.append(
+                        diag(
+                            "TX-W217",
+                            seg.item.span,
+                            length=math.dist(x, add(seg.e.b, left(end_tangent(seg.e)), r)),
+                            second=nxt.item.span.line,
+                        )
+                    )
+        _check_deselect(seg, nose, d)
+    elif nxt is not None or _switch_follows(seq, i):
+        # G40 straight after a feed block: the block itself deselects (TX-28 case 1)
+        d.append(diag("TX-W218", seg.item.span))
+        _check_deselect(seg, nose, d)
+        if (
+            isinstance(seg.e, Line)
+            and abs(seg.e.a[0] - seg.e.b[0]) < 1e-9
+            and seg.e.length < 2 * nose.radius - 1e-9
+        ):  # deselection in X needs 2 × R (L2676)
+            d.append(diag("TX-E224", seg.item.span, length=seg.e.length, need=2 * nose.radius))
+        if isinstance(o, Line):
+            o = Line(start, seg.e.b)
+        else:
+            tail = Line(o.b, seg.e.b)
+    return o, corner, tail
+
+
+def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:
     out: list[Command] = []
     pos: Point | None = None  # where the output path is (tool tip, or nose centre under SRK)
     session: tuple[int, Nose] | None = None  # (side, nose) of the running compensation
@@ -833,71 +919,7 @@ def _compensate(seq: Seq, d: list[Diagnostic]) -> list[Command]:  # noqa: C901
             pos = seg.e.b
             continue
         o = with_start(o, start)
-        corner: Element | None = None
-        tail: Element | None = None
-        step = _small_step(seq, seg, j, o, r, nose.mode) if j is not None and follows else None
-        if step is not None:
-            # a step smaller than the nose radius: the nose rolls round its outer corner instead (Satzausblendung)
-            assert isinstance(nxt, _Seg)
-            o, corner = step
-            d.append(diag("TX-W220", nxt.item.span, nose=nose.radius))
-            skipped.add(id(nxt))
-        elif isinstance(nxt, _Seg) and follows and not nxt.rapid:
-            o2 = offset(nxt.e, r)
-            bend = turn(seg.e, nxt.e)
-            if o2 is not None and math.dist(seg.e.b, nxt.e.a) > 1e-6:  # blocks between were suppressed
-                x = _gap_joint(o, o2, seg.e.b, nxt.e.a, nose.radius)
-                if x is not None:
-                    o = with_end(o, x)
-            elif o2 is not None and bend * side > 0:  # inside corner: where the equidistants meet
-                x = nearest(intersections(o, o2), seg.e.b)
-                if x is None or math.dist(x, seg.e.b) > 10 * nose.radius + 1e-6:
-                    d.append(diag("TX-E215", seg.item.span, nose=nose.radius, second=nxt.item.span.line))
-                else:
-                    o = with_end(o, x)
-            elif (
-                o2 is not None
-                and math.dist(o.b, o2.a) > 1e-6
-                and (bend != 0.0 or dot(end_tangent(seg.e), start_tangent(nxt.e)) < 0)
-            ):
-                corner = Arc(o.b, o2.a, seg.e.b, cw=bend < 0 if bend != 0.0 else side > 0)
-        elif isinstance(nxt, _Seg) and follows:
-            # a rapid under SRK ends the compensation on this block: A there names the direction of
-            # the last element (TX-28 case 3); without A the rapid's own direction makes the corner
-            a = nxt.item.a
-            v = _dir(a) if a is not None else start_tangent(nxt.e)
-            if a is not None and abs(_angle_diff(angle_of(end_tangent(seg.e)), a)) > 0.01:
-                d.append(diag("TX-W216", nxt.item.span, angle=a, direction=angle_of(end_tangent(seg.e))))
-            bend = cross(end_tangent(seg.e), v)
-            if abs(bend) > 1e-9 and bend * side > 0:
-                virtual = offset(Line(seg.e.b, add(seg.e.b, v)), r)
-                x = nearest(intersections(o, virtual), seg.e.b) if virtual is not None else None
-                if x is not None:
-                    o = with_end(o, x)
-                    if a is None:
-                        d.append(
-                            diag(
-                                "TX-W217",
-                                seg.item.span,
-                                length=math.dist(x, add(seg.e.b, left(end_tangent(seg.e)), r)),
-                                second=nxt.item.span.line,
-                            )
-                        )
-            _check_deselect(seg, nose, d)
-        elif nxt is not None or _switch_follows(seq, i):
-            # G40 straight after a feed block: the block itself deselects (TX-28 case 1)
-            d.append(diag("TX-W218", seg.item.span))
-            _check_deselect(seg, nose, d)
-            if (
-                isinstance(seg.e, Line)
-                and abs(seg.e.a[0] - seg.e.b[0]) < 1e-9
-                and seg.e.length < 2 * nose.radius - 1e-9
-            ):  # deselection in X needs 2 × R (L2676)
-                d.append(diag("TX-E224", seg.item.span, length=seg.e.length, need=2 * nose.radius))
-            if isinstance(o, Line):
-                o = Line(start, seg.e.b)
-            else:
-                tail = Line(o.b, seg.e.b)
+        o, corner, tail = _element_end(seq, i, j, seg, nxt, start, o, side, nose, follows, skipped, d)
         if nose.mode == "G46" and not range_warned and _against_quadrant(seg.e, side, nose.quadrant):
             d.append(diag("TX-W225", seg.item.span, quadrant=nose.quadrant))
             range_warned = True
