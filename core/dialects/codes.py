@@ -70,6 +70,7 @@ class Address:
     integer: bool = False  # the value must be a whole number
     flag: bool = False  # may be written without a value (G66 X Y)
     unit: str = ""  # of the value, for the help ("mm", "mm/min", "°"); "" for numbers and choices
+    non_negative: bool = False  # a value below zero is an error (PAL-E109)
     rule_de: str = ""  # the rule to remember (RN: "+ Rundung, − Fase")
     rule_en: str = ""
 
@@ -114,11 +115,15 @@ class CodeTable:
     group_of: dict[str, str] = field(init=False)
     technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
     pairs: dict[str, tuple[tuple[str, str], ...]] = field(init=False)  # code → (group, member) it switches
+    non_negative: tuple[str, ...] = field(init=False)  # the addresses whose values must not be negative
 
     def __post_init__(self) -> None:
         group_of = {m: g.name for g in self.groups for m in g.members}
         object.__setattr__(self, "group_of", group_of)
         object.__setattr__(self, "technology_words", self.always_allowed | self.tool_words)
+        object.__setattr__(
+            self, "non_negative", tuple(a for a, spec in self.addresses.items() if spec.non_negative)
+        )
         object.__setattr__(
             self,
             "pairs",

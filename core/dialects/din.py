@@ -9,6 +9,8 @@ but the product does not model gives one "not supported yet" warning and the res
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 from core.dialects.codes import Address, Code, Group, Support
 
 P = Support.PLANNED
@@ -193,6 +195,8 @@ ADDRESSES = [
         rule_en="+ arc up to 180°, − arc over 180°",
     ),
 ]
+# values that must not be negative (PAL-E109): feed, speed, the tool offset, K of a drilling cycle (its count)
+ADDRESSES = [replace(a, non_negative=True) if a.name in ("F", "S", "D", "K") else a for a in ADDRESSES]
 
 
 def planned(

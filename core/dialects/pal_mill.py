@@ -779,6 +779,7 @@ _ADDRESSES = [
         unit=_UNITS.get(a.name, ""),
         rule_de=_RULES.get(a.name, ("", ""))[0],
         rule_en=_RULES.get(a.name, ("", ""))[1],
+        non_negative=a.name in ("F", "S", "U", "H", "E", "RP"),
     )
     for a in _ADDRESSES
 ]

@@ -350,6 +350,9 @@ _ADDRESSES = [
         integer=True,
     ),
 ]
+_ADDRESSES = [
+    replace(a, non_negative=True) if a.name in ("H", "P", "L") else a for a in _ADDRESSES
+]  # (PAL-E109)
 
 TABLE = CodeTable(
     codes={c.name: c for c in _CODES},

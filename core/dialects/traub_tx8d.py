@@ -701,6 +701,10 @@ for _g in (
 ):
     _COLUMNS.setdefault(_g, {})["with_srk"] = True
 _CODES = [dataclasses.replace(c, **_COLUMNS[c.name]) if c.name in _COLUMNS else c for c in _CODES]  # type: ignore[arg-type]
+_ADDRESSES = [
+    dataclasses.replace(a, non_negative=True) if a.name in ("F", "E", "S", "V", "H") else a
+    for a in _ADDRESSES
+]  # (PAL-E109)
 
 TABLE = CodeTable(
     codes={c.name: c for c in _CODES},

@@ -24,6 +24,7 @@ from core.interpreter.contour import Approach, Blend, Departure, Item, Planned, 
 from core.interpreter.frames import Frame
 from core.interpreter.params import evaluate
 from core.interpreter.state import DrillData, ModalState, RunSetup
+from core.interpreter.words import group_conflicts, missing_words, negative_values
 from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 
@@ -455,7 +456,6 @@ def _block_end(step: _Step, state: ModalState) -> ModalState:
     return state
 
 
-_NON_NEGATIVE = ("F", "S", "U", "H", "E", "RP")
 _SPELLINGS = frozenset({"XI", "YI", "ZI", "XA", "YA", "ZA"})
 _CHECKED_OWNERS = frozenset({"G23", "G29", "G45", "G46", "G47", "G48", "G58", "G59"})
 
@@ -702,24 +702,7 @@ def _owner(
         d.append(diag("PAL-E104", gs[table.max_g_words][0].span, count=len(gs)))
     owner: Code | None = None
     owner_word: Word | None = None
-    seen_groups: dict[str, Word] = {}
-    for w, code in gs + ms if len(gs) + len(ms) > 1 else ():  # one code cannot conflict with itself
-        for member in table.activates(code):
-            g = table.group_of[member]
-            if g in seen_groups:
-                first = seen_groups[g]
-                label = table.group(g)
-                d.append(
-                    diag(
-                        "PAL-E103",
-                        w.span,
-                        first=str(first),
-                        second=str(w),
-                        group=label.label_de,
-                        group_en=label.label_en,
-                    )
-                )
-            seen_groups[g] = w
+    group_conflicts(table, gs + ms, d)
     for w, code in gs:
         if code.owns_block:
             if owner is not None and owner.group != code.group or (owner is not None and code.group is None):
@@ -797,13 +780,8 @@ def _addresses(
             present = [s for s in spellings if s in words]
             if len(present) > 1:
                 d.append(diag("PAL-E107", words[present[1]][0].span, first=present[0], second=present[1]))
-    for w, code in gs + ms if table.din else gs:
-        for one_of in code.required:
-            if not any(a in words for a in one_of):
-                d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
-    for a in () if values.keys().isdisjoint(_NON_NEGATIVE) else _NON_NEGATIVE:
-        if a in values and values[a] < 0:
-            d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
+    missing_words(gs + ms if table.din else gs, words, d)
+    negative_values(table, values, lambda a: words[a][0], d)
     if "TC" in values and not 1 <= values["TC"] <= 9:
         d.append(diag("PAL-E112", words["TC"][0].span, value=words["TC"][0].raw))
     return motion, cycle, names
@@ -1501,7 +1479,6 @@ def _departure(
 _INCH = frozenset({"G20", "G70"})
 _HOMING = frozenset({"G28", "G53"})
 _LENGTHS = ("X", "Y", "Z", "I", "J", "K", "R", "Q", "F", "#CHR", "#CHF", "#RND", "#FRC", "G301", "G302")
-_DIN_NON_NEGATIVE = ("D", "H", "P", "K", "L")
 
 
 def _in_mm(values: dict[str, float], cycle: bool) -> dict[str, float]:
@@ -1533,9 +1510,6 @@ def _check_din(
     d: list[Diagnostic],
 ) -> None:
     """The rules of the DIN/ISO words that a table of allowed words cannot say."""
-    for a in _DIN_NON_NEGATIVE:
-        if a in values and values[a] < 0:
-            d.append(diag("PAL-E109", words[a][0].span, address=a, raw=words[a][0].raw))
     if cycle is not None:
         for a in ("K", "L"):
             if a in values and values[a] != int(values[a]):

@@ -54,6 +54,7 @@ from core.interpreter.traub_trace import (
     touches,
 )
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
+from core.interpreter.words import group_conflicts, missing_words, negative_values
 from core.limits import Budget
 from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
 from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
@@ -240,23 +241,7 @@ def _owner(
     """One member of each modal group, and the code that owns the block (its address words)."""
     if len(ms) > 3:
         d.append(diag("TX-E104", ms[3][0].span, count=len(ms)))
-    # modal groups: one member each
-    seen: dict[str, Word] = {}
-    for w, code in gs + ms:
-        if code.group is not None and code.group != "program_end":
-            if code.group in seen:
-                label = TABLE.group(code.group)
-                d.append(
-                    diag(
-                        "PAL-E103",
-                        w.span,
-                        first=str(seen[code.group]),
-                        second=str(w),
-                        group=label.label_de,
-                        group_en=label.label_en,
-                    )
-                )
-            seen[code.group] = w
+    group_conflicts(TABLE, gs + ms, d)
     owner: Code | None = None
     owner_word: Word | None = None
     for w, code in gs:
@@ -308,13 +293,8 @@ def _check_words(
                 else f"{modal_motion} (modal)"
             )
             d.append(diag("PAL-E101", w.span, address=a, command=command))
-    for w, code in gs:
-        for one_of in code.required:
-            if not any(a in words for a in one_of):
-                d.append(diag("PAL-E102", w.span, address="/".join(one_of), command=str(w)))
-    for a in ("F", "E", "S", "V", "H"):
-        if a in values and values[a] < 0:
-            d.append(diag("PAL-E109", words[a].span, address=a, raw=words[a].raw))
+    missing_words(gs, words, d)
+    negative_values(TABLE, values, words.__getitem__, d)
     # M functions that must stand alone, or need a T (L1160–1190)
     for w, code in ms:
         if code.alone and (len(ms) > 1 or gs or words):
