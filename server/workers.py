@@ -34,7 +34,7 @@ from core.exercises import Exercise as ExerciseDocument
 from core.exercises import ExerciseError, parse_exercise
 from core.grading import grade
 from core.interpreter.state import RunSetup
-from core.pipeline import Memo, diagnostics_json, run, summarised, toolpath_json
+from core.pipeline import DIALECTS, Memo, diagnostics_json, run, summarised, toolpath_json
 from core.scene.meshes import Tiles
 from core.scene.payload import (
     NO_DEVIATION,
@@ -176,8 +176,7 @@ PLAYBACK_TRIANGLES = 6_000  # the coarse level: first picture and playback (a st
 
 
 def is_lathe(dialect: str) -> bool:
-    from core.pipeline import DIALECTS
-
+    """A turning dialect: its scene is the lathe's drawing view, its pictures the turned part."""
     found = DIALECTS.get(dialect)
     return found is not None and found.lathe
 
