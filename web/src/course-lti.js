@@ -5,44 +5,7 @@
 // "erneut senden" for a given-up one (POST /lti/scores/{id}/retry).
 
 import { api, el } from "./dom.js";
-import { addTexts, lang, message, t } from "./i18n.js";
-
-addTexts({
-  "lti.title": ["Lernplattform (LTI)", "Learning platform (LTI)"],
-  "lti.linked": ["Verbunden mit diesen Kursen der Lernplattform:", "Linked to these learning-platform courses:"],
-  "lti.course": ["»{context}« in {platform}", "'{context}' in {platform}"],
-  "lti.no_roster": ["(bietet keine Teilnehmerliste an)", "(offers no roster)"],
-  "lti.roster": ["Teilnehmerliste übernehmen", "Pull the roster"],
-  "lti.roster_help": ["Holt die Teilnehmenden aus der Lernplattform in diese Klasse: Lernende als Schüler, Lehrende als Lehrkräfte. Niemand wird entfernt.",
-    "Brings the platform course's participants into this course: learners as students, teachers as instructors. Nobody is removed."],
-  "lti.roster_busy": ["Teilnehmerliste wird geholt …", "Fetching the roster …"],
-  "lti.roster_done": ["Aus der Lernplattform übernommen – Schüler: {students}, Lehrkräfte: {instructors}; davon neu angelegt: {created}, schon bekannt: {updated}.",
-    "Taken from the learning platform – students: {students}, instructors: {instructors}; newly added: {created}, already known: {updated}."],
-  "lti.roster_skipped": ["{n} inaktive übersprungen.", "{n} inactive ones skipped."],
-  "lti.roster_failed": ["Die Teilnehmerliste konnte nicht geholt werden.", "The roster could not be fetched."],
-  "lti.grades": ["Noten an die Lernplattform", "Grades sent to the learning platform"],
-  "lti.grades_for": ["Für", "For"],
-  "lti.grades_all": ["die ganze Klasse", "the whole course"],
-  "lti.grades_none": ["Noch keine Noten für die Lernplattform.", "No grades for the learning platform yet."],
-  "lti.grades_failed": ["Der Stand der Notenübertragung konnte nicht geladen werden.", "The grade passback status could not be loaded."],
-  "lti.state.sent": ["gesendet", "sent"],
-  "lti.state.pending": ["wartet", "waiting"],
-  "lti.state.failed": ["fehlgeschlagen (aufgegeben)", "failed (given up)"],
-  "lti.state.superseded": ["durch neuere Note ersetzt", "replaced by a newer grade"],
-  "lti.problems": ["Noten, die nicht angekommen sind", "Grades that did not arrive"],
-  "lti.problems_none": ["Alle Noten sind angekommen oder unterwegs.", "All grades arrived or are on their way."],
-  "lti.col.student": ["Schüler", "Student"],
-  "lti.col.exercise": ["Aufgabe", "Exercise"],
-  "lti.col.score": ["Note", "Score"],
-  "lti.col.state": ["Stand", "State"],
-  "lti.col.attempts": ["Versuche", "Attempts"],
-  "lti.col.error": ["Letzter Fehler", "Last error"],
-  "lti.next": ["nächster Versuch {time}", "next attempt {time}"],
-  "lti.retry": ["erneut senden", "send again"],
-  "lti.retry_label": ["Note von {name} erneut senden", "Send {name}'s grade again"],
-  "lti.retried": ["wird erneut gesendet", "being sent again"],
-  "lti.refresh": ["Aktualisieren", "Refresh"],
-});
+import { lang, message, t } from "./i18n.js";
 
 const STATES = ["sent", "pending", "failed", "superseded"];
 const error = (r, fallback) => (r.body?.error && message(r.body.error)) || t(fallback);

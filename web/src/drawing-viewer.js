@@ -5,32 +5,13 @@
 // fits the views with their dimensions (the SVG's data-views, core/drawing), not the empty paper around them;
 // pressed again, the whole sheet.
 //
-// "Zeichnung groß öffnen" opens the drawing's own page (/exercises/{slug}/drawing, /examples/{slug}/drawing: the
-// same viewer over the whole window, with "Drucken", which prints the sheet alone on A4 landscape).
+// "Zeichnung groß öffnen" opens the drawing's own page (/exercises/{slug}/drawing, /examples/{slug}/drawing;
+// page-drawing.js: the same viewer over the whole window, with "Drucken", which prints the sheet alone on A4
+// landscape).
 
-import { api, el } from "./dom.js";
-import { addTexts, lang, t } from "./i18n.js";
+import { el } from "./dom.js";
+import { t } from "./i18n.js";
 import { framedHref } from "./lti-frame.js";
-import { loginUrl } from "./redirect.js";
-
-addTexts({
-  "title.drawing": ["PAL Trainer – Zeichnung", "PAL Trainer – Drawing"],
-  "drawing.stage": ["Zeichnung: Mausrad oder + und − zoomen, ziehen oder Pfeiltasten verschieben, 0 einpassen",
-    "Drawing: wheel or + and − to zoom, drag or the arrow keys to move, 0 to fit"],
-  "drawing.level": ["Zoomstufe (100 % = Blattgröße A4)", "Zoom level (100 % = A4 sheet size)"],
-  "drawing.print": ["Drucken", "Print"],
-  "drawing.print_title": ["Die Zeichnung allein auf A4 quer drucken", "Print the drawing alone on A4 landscape"],
-  "drawing.page_heading": ["Zeichnung: {title}", "Drawing: {title}"],
-  "drawing.back": ["Zurück zur Aufgabe", "Back to the exercise"],
-  "drawing.back_practice": ["Zum freien Üben", "To free practice"],
-  "drawing.missing": ["Diese Zeichnung gibt es nicht (mehr).", "This drawing does not exist (any more)."],
-  "drawing.open_short": ["Groß öffnen", "Open large"],
-  "drawing.svg_short": ["SVG", "SVG"],
-  "drawing.sheet_short": ["Aufgabenblatt", "Task sheet"],
-  "drawing.failed": ["Die Zeichnung konnte nicht geladen werden.", "The drawing could not be loaded."],
-  "drawing.hint": ["Mausrad: zoomen · ziehen: verschieben · Doppelklick: vergrößern · Tasten + − 0 und Pfeile",
-    "Wheel: zoom · drag: move · double-click: enlarge · keys + − 0 and arrows"],
-});
 
 const SHEET_WIDTH = (297 / 25.4) * 96;  // CSS px of the A4 sheet at 100 %
 const STEP = 1.25;  // one button press or key: 25 % more or less
@@ -52,7 +33,7 @@ function iconButton(text, key, onclick) {
 
 // The viewer: a toolbar (− + ⤢, the zoom level, links) over the stage with the sheet. `links`: "groß öffnen"
 // (not on the drawing's own page), the SVG download and, with `sheet`, the task sheet (PDF).
-export function drawingViewer(url, { slug = "zeichnung", sheet = null, page = true, extra = [], whole = false } = {}) {
+export function drawingViewer(url, { slug = t("drawing.default_name"), sheet = null, page = true, extra = [], whole = false } = {}) {
   const img = el("img", { alt: t("drawing.alt"), draggable: false, className: "drawing-image" });
   const stage = el("div", { className: "drawing-stage zoom-frame", tabIndex: 0 }, img);  // zoom-frame: as before
   stage.setAttribute("role", "application");
@@ -223,35 +204,4 @@ export function drawingViewer(url, { slug = "zeichnung", sheet = null, page = tr
     img.src = URL.createObjectURL(new Blob([text], { type: "image/svg+xml" }));
   }).catch(() => stage.replaceChildren(el("p", { className: "error drawing-failed" }, t("drawing.failed"))));
   return viewer;
-}
-
-// The drawing's own page: the exercise's (or free practice's example's) drawing over the whole window, with
-// "Drucken" (the sheet alone, A4 landscape) and the way back.
-export async function mountDrawingPage(root) {
-  const [, kind, slug] = location.pathname.split("/").map(decodeURIComponent);
-  const heading = root.querySelector("#drawing-title");
-  const svg = `/api/v1/${kind}/${encodeURIComponent(slug)}/drawing.svg?lang=${lang}`;
-  let title = slug;
-  if (kind === "exercises") {
-    const r = await api(`/exercises/${encodeURIComponent(slug)}`);
-    if (r.status === 401) { location.href = loginUrl(); return; }
-    if (!r.ok) { root.replaceChildren(el("p", { className: "error" }, t("drawing.missing"))); return; }
-    title = (lang === "en" && r.body.title_en) || r.body.title_de || slug;
-  } else {
-    const r = await api("/examples");
-    const found = r.ok ? r.body.find((e) => e.slug === slug) : null;
-    if (!found) { root.replaceChildren(el("p", { className: "error" }, t("drawing.missing"))); return; }
-    title = (lang === "en" && found.title_en) || found.title_de || slug;
-  }
-  document.title = `PAL Trainer – ${t("drawing.page_heading", { title })}`;
-  heading.textContent = t("drawing.page_heading", { title });
-  // the sheet alone on the paper, A4 landscape without the browser's margins (this page only)
-  document.head.append(el("style", { textContent: "@page { size: A4 landscape; margin: 0; }" }));
-  const print = el("button", { type: "button", className: "primary", title: t("drawing.print_title"), onclick: () => window.print() },
-    t("drawing.print"));
-  const back = el("a", { href: framedHref(kind === "exercises" ? `/exercises/${encodeURIComponent(slug)}` : "/practice") },
-    t(kind === "exercises" ? "drawing.back" : "drawing.back_practice"));
-  const viewer = drawingViewer(svg, { slug, page: false, extra: [print, back], whole: true });
-  root.querySelector("#drawing-viewer").replaceChildren(viewer);
-  viewer.drawing.stage.focus();
 }

@@ -8,7 +8,6 @@
 import { el } from "./dom.js";
 import { lang, message, t } from "./i18n.js";
 import { formatDecimal } from "./numbers.js";
-import "./texts-grades.js";
 
 const MARKS = { passed: "✓", partial: "◐", failed: "✗" };
 

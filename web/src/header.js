@@ -1,26 +1,20 @@
 // The page header: who is logged in (the server puts the session's user into <body data-user data-role>) with
 // "Abmelden", instructor links only for instructors and admins, "Verwaltung" (/admin) only for admins, "Freies
-// Üben" not while an exam without it runs for the user (on every page, page-exam.js), the "Über / Lizenzen" link,
+// Üben" not while an exam without it runs for the user (on every page, exam.js), the "Über / Lizenzen" link,
 // and the language switch keeping the page's state across its reload (state.js).
 
 import { api, el } from "./dom.js";
-import { lang } from "./i18n.js";
-import { watchPracticeLink } from "./page-exam.js";
+import { t } from "./i18n.js";
+import { watchPracticeLink } from "./exam.js";
 import { safeNext } from "./redirect.js";
 import { keepState } from "./state.js";
 
-const TEXTS = {
-  de: { logout: "Abmelden", password: "Passwort ändern", about: "Über / Lizenzen", user: "Angemeldet als {name}", roles: { student: "Auszubildende/r",
-    instructor: "Ausbilder/in", admin: "Administrator/in" } },
-  en: { logout: "Log out", password: "Change password", about: "About / licences", user: "Logged in as {name}", roles: { student: "trainee",
-    instructor: "instructor", admin: "administrator" } },
-};
-const tx = TEXTS[lang === "en" ? "en" : "de"];
+const ROLES = new Set(["student", "instructor", "admin"]);  // the roles with a name of their own
 
 export function mountHeader() {
   const { user, role } = document.body.dataset;
   const about = document.getElementById("nav-about");
-  if (about) about.textContent = tx.about;
+  if (about) about.textContent = t("header.about");
   for (const node of /** @type {NodeListOf<HTMLElement>} */ (document.querySelectorAll("[data-role=instructor]"))) {
     node.hidden = !(role === "instructor" || role === "admin");
   }
@@ -34,11 +28,11 @@ export function mountHeader() {
     box.hidden = false;
     const name = document.getElementById("nav-username");
     name.textContent = user;
-    name.title = `${tx.user.replace("{name}", user)} (${tx.roles[role] || role})`;
+    name.title = `${t("header.user", { name: user })} (${ROLES.has(role) ? t(`header.role.${role}`) : role})`;
     const logout = document.getElementById("logout");
-    logout.textContent = tx.logout;
+    logout.textContent = t("header.logout");
     if (!document.getElementById("nav-password")) {  // the user menu: name, "Passwort ändern", "Abmelden"
-      logout.before("· ", el("a", { href: "/password", id: "nav-password" }, tx.password), " · ");
+      logout.before("· ", el("a", { href: "/password", id: "nav-password" }, t("header.password")), " · ");
     }
     logout.onclick = async () => {
       await api("/auth/logout", { method: "POST" });

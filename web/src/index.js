@@ -1,12 +1,15 @@
-// The bundle's entry: everything the pages call, as window.PalTrainer.
+// The bundle's entry: it starts the page (pages.js) and offers the mount functions as window.PalTrainer.
 import { installBearer } from "./lti.js";  // first: storage fallback before any module reads it
 import { instructorCourseLinks, keepFrameOnLinks } from "./lti-frame.js";
 import { mountEditor, setTools } from "./main.js";
-import {
-  mountExercise, mountExerciseList, mountInstructor, mountLogin, mountPracticeSetup, mountViz,
-} from "./pages.js";
+import { mountExercise } from "./page-exercise.js";
+import { mountExerciseList } from "./page-home.js";
+import { mountInstructor } from "./page-instructor.js";
+import { mountLogin } from "./page-login.js";
+import { mountPracticeSetup } from "./page-practice.js";
+import { boot } from "./pages.js";
+import { mountViz } from "./viz.js";
 
-import { boot } from "./boot.js";
 import { translatePage } from "./i18n.js";
 import { safeNext } from "./redirect.js";
 

@@ -5,15 +5,7 @@
 
 import { EditorState, Facet, RangeSet, StateEffect, StateField, Text } from "@codemirror/state";
 import { Decoration, EditorView, GutterMarker, gutter, showPanel } from "@codemirror/view";
-import { lang } from "./i18n.js";
-
-const TEXTS = {
-  de: { blocked: "Zeile {n} ist vorgegeben und kann nicht geändert werden. Ergänzen Sie das Programm in den freien Zeilen.",
-    lock: "vorgegebene Zeile" },
-  en: { blocked: "Line {n} is given and cannot be changed. Complete the program in the free lines.",
-    lock: "given line" },
-};
-const tx = TEXTS[lang === "en" ? "en" : "de"];
+import { t } from "./i18n.js";
 
 const blocked = /** @type {import("@codemirror/state").StateEffectType<number>} */ (StateEffect.define());  // the number of the locked line a dropped change would have altered
 
@@ -54,7 +46,7 @@ const starts = StateField.define({
 const notice = StateField.define({
   create: () => /** @type {string | null} */ (null),
   update(value, tr) {
-    for (const e of tr.effects) if (e.is(blocked)) return tx.blocked.replace("{n}", String(e.value));
+    for (const e of tr.effects) if (e.is(blocked)) return t("locked.blocked", { n: e.value });
     return tr.docChanged ? null : value;
   },
   provide: (field) => showPanel.from(field, (text) => (text ? () => {
@@ -97,8 +89,8 @@ class Lock extends GutterMarker {
   toDOM() {
     const span = document.createElement("span");
     span.textContent = "🔒";
-    span.title = tx.lock;
-    span.setAttribute("aria-label", tx.lock);
+    span.title = t("locked.lock");
+    span.setAttribute("aria-label", t("locked.lock"));
     return span;
   }
 }

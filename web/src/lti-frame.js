@@ -4,13 +4,8 @@
 // frame keep the platform (?p=, for the frame-ancestors) and the token (the fragment).
 
 import { api, el } from "./dom.js";
-import { addTexts, t } from "./i18n.js";
+import { t } from "./i18n.js";
 import { safeNext } from "./redirect.js";
-
-addTexts({
-  "ltiframe.course": ["Klasse {name}", "Course {name}"],
-  "ltiframe.course_title": ["Ergebnisse, Teilnehmer und Noten der Klasse {name}", "Results, members and grades of the course {name}"],
-});
 
 const framed = () => {
   const token = new URLSearchParams(location.hash.slice(1)).get("token");

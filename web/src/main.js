@@ -13,8 +13,8 @@ import { tags } from "@lezer/highlight";
 import { setDiagnostics, lintGutter } from "@codemirror/lint";
 import { autocompletion } from "@codemirror/autocomplete";
 import { searchKeymap } from "@codemirror/search";
-import { lang, message, t } from "./i18n.js";
-import { completionSource, emptyHelp, enterKeymap, helpDom, helpFrom } from "./help.js";
+import { message, t } from "./i18n.js";
+import { completionSource, editorHelp, emptyHelp, enterKeymap, helpDom, helpFrom } from "./help.js";
 import { lockedLines } from "./locked.js";
 
 // -- the PAL mode: block numbers, G/M codes, addresses, numbers, comments -----------------------
@@ -73,22 +73,30 @@ const palHighlight = HighlightStyle.define([
   { tag: tags.bracket, color: "#57606a" },
 ]);
 
-// German editor phrases (CodeMirror's own texts)
-const germanPhrases = lang === "en" ? [] : EditorState.phrases.of({
-  "Find": "Suchen", "Replace": "Ersetzen", "next": "weiter", "previous": "zurück", "all": "alle",
-  "match case": "Groß/klein", "regexp": "Regulärer Ausdruck", "by word": "Ganzes Wort",
-  "replace": "ersetzen", "replace all": "alle ersetzen", "close": "schließen",
-  "Go to line": "Zu Zeile springen", "go": "los", "Diagnostics": "Meldungen", "No diagnostics": "Keine Meldungen",
-});
+// CodeMirror's own texts (its phrase → our key; in English the phrase itself)
+const PHRASES = {
+  "Find": "phrase.find", "Replace": "phrase.replace", "next": "phrase.next", "previous": "phrase.previous",
+  "all": "phrase.all", "match case": "phrase.match_case", "regexp": "phrase.regexp", "by word": "phrase.by_word",
+  "replace": "phrase.replace_one", "replace all": "phrase.replace_all", "close": "phrase.close",
+  "Go to line": "phrase.go_to_line", "go": "phrase.go", "Diagnostics": "phrase.diagnostics",
+  "No diagnostics": "phrase.no_diagnostics",
+};
+const phrases = EditorState.phrases.of(Object.fromEntries(Object.entries(PHRASES).map(([phrase, key]) => [phrase, t(key)])));
 
-// -- help from the dialect's code table --------------------------------------------------------
-let help = emptyHelp();
-let comments = /;.*/g;  // the dialect's comments (PAL: from ";" to the end of the line)
+// -- help from the dialect's code table, kept in each editor's state (help.js: editorHelp) -------------
+const helps = new Map();  // dialect → the promise of its help (asked once per page)
 
-async function loadHelp(dialect) {
-  const r = await fetch(`/api/v1/dialects/${dialect}`);
-  if (!r.ok) return;
-  help = helpFrom(await r.json());
+function loadHelp(dialect) {
+  if (!helps.has(dialect)) {
+    const asked = fetch(`/api/v1/dialects/${dialect}`).then(async (r) => {
+      if (r.ok) return helpFrom(await r.json());
+      helps.delete(dialect);  // no help this time; the next editor asks again
+      return emptyHelp();
+    });
+    helps.set(dialect, asked);
+    asked.catch(() => helps.delete(dialect));  // no answer: this editor's mount fails, as before; the next one asks again
+  }
+  return helps.get(dialect);
 }
 
 function wordAt(text, pos) {
@@ -100,7 +108,7 @@ function wordAt(text, pos) {
   return null;
 }
 
-function inComment(text, pos) {
+function inComment(text, pos, comments) {
   for (const c of text.matchAll(comments)) {
     if (c.index <= pos && pos < c.index + c[0].length) return true;
   }
@@ -108,8 +116,9 @@ function inComment(text, pos) {
 }
 
 const hoverHelp = hoverTooltip((view, pos) => {
+  const { help, comments } = view.state.facet(editorHelp);
   const line = view.state.doc.lineAt(pos);
-  if (inComment(line.text, pos - line.from)) return null;
+  if (inComment(line.text, pos - line.from, comments)) return null;
   const m = wordAt(line.text, pos - line.from);
   if (!m) return null;
   const address = m[1].toUpperCase();
@@ -140,8 +149,6 @@ const hoverHelp = hoverTooltip((view, pos) => {
     },
   };
 });
-
-const completeAddresses = completionSource(() => help);
 
 // -- live diagnostics over the WebSocket -------------------------------------------------------
 // How long to wait before the socket connects again after it closed (ms), or null: not again. The one place
@@ -269,8 +276,8 @@ export async function mountEditor(parent, {
   live: withLive = true,  // false (an exam without live diagnostics): no socket, no hover help, no completion
   readOnly = false,
 } = {}) {
-  if (withLive) await loadHelp(dialect);
-  comments = COMMENTS[dialect] || /;.*/g;
+  // this editor's help (an earlier editor of another dialect keeps its own)
+  const help = withLive ? await loadHelp(dialect) : null;
   let live = null;
   const language = new Compartment();
   const editable = new Compartment();
@@ -283,8 +290,9 @@ export async function mountEditor(parent, {
         keymap.of([...defaultKeymap, ...historyKeymap, ...searchKeymap]),
         language.of(MODES[dialect] || palMode), syntaxHighlighting(palHighlight),
         // enterKeymap before the completion list's Enter
-        withLive ? [lintGutter(), hoverHelp, enterKeymap, autocompletion({ override: [completeAddresses] })] : [],
-        germanPhrases, editable.of(EditorState.readOnly.of(readOnly)),
+        withLive ? [editorHelp.of({ help, comments: COMMENTS[dialect] || /;.*/g }), lintGutter(), hoverHelp, enterKeymap,
+          autocompletion({ override: [completionSource] })] : [],
+        phrases, editable.of(EditorState.readOnly.of(readOnly)),
         EditorView.contentAttributes.of({ "aria-label": t("program.label") }), lockedLines(text, locked?.lines, locked?.start),
         EditorView.updateListener.of((u) => {
           if (u.docChanged && live) live.changed();

@@ -3,157 +3,24 @@
 // for the chosen assignment the results matrix (students × exercises, best score, late marks, "*" where the
 // teacher changed the score, the sum with its percentage; a cell opens the submission above it, where the
 // teacher may change its score), CSV and PDF task sheets, releasing an exam's results, and what the class got wrong
-// (GET /assignments/{id}/insights). The instructor page's list of courses and "Neue Klasse" are here too.
+// (GET /assignments/{id}/insights).
 
-import { api, el } from "./dom.js";
+import { api, el, errorText as error, post } from "./dom.js";
 import { overriddenMark } from "./grades.js";
-import { addTexts, lang, message, t } from "./i18n.js";
+import { lang, message, t } from "./i18n.js";
 import { formatDecimal } from "./numbers.js";
 import { loginUrl, safeNext } from "./redirect.js";
 import { submissionSection, versionNote } from "./results.js";
 import { ltiPart } from "./course-lti.js";
 import { framedHref } from "./lti-frame.js";
-import { modeLabel } from "./page-exam.js";
-import { resetButton } from "./page-account.js";
-import "./texts-exam.js";  // the modes: "Übung", "Prüfung", "Prüfung · 90 min"
+import { modeLabel } from "./exam.js";
 
-addTexts({
-  "title.course": ["PAL Trainer – Klasse", "PAL Trainer – Course"],
-  "course.heading": ["Klasse", "Course"],
-  "course.missing": ["Diese Klasse gibt es nicht oder Sie sehen sie nicht.", "This course does not exist or you cannot see it."],
-  "course.only_instructors": ["Diese Seite ist für die Lehrkräfte der Klasse.", "This page is for the course's instructors."],
-  "course.back": ["← Lehrer-Bereich", "← Instructor"],
-  "course.instructors": ["Lehrkräfte: {names}", "Instructors: {names}"],
-  "course.code": ["Beitrittscode für die Schüler:", "Join code for the students:"],
-  "course.code_help": ["Die Schüler geben ihn nach dem Anmelden auf ihrer Startseite ein.",
-    "The students enter it on their home page after logging in."],
-  "course.new_code": ["Neuen Code erzeugen", "New code"],
-  "course.new_code_confirm": ["Einen neuen Beitrittscode erzeugen? Der alte gilt dann nicht mehr.",
-    "Make a new join code? The old one stops working."],
-  "members.title": ["Teilnehmer ({n})", "Members ({n})"],
-  "members.none": ["Noch keine Schüler in dieser Klasse.", "No students in this course yet."],
-  "members.role": ["Rolle", "Role"],
-  "members.role.student": ["Schüler", "student"],
-  "members.role.instructor": ["Lehrkraft", "instructor"],
-  "members.remove": ["entfernen", "remove"],
-  "members.actions": ["Aktionen", "Actions"],
-  "members.signed_up": ["selbst registriert", "signed up"],
-  "members.signed_up_title": ["Hat sich selbst mit dem Beitrittscode registriert", "Signed up with the join code"],
-  "members.remove_label": ["{name} aus der Klasse entfernen", "Remove {name} from the course"],
-  "members.remove_confirm": ["{name} aus der Klasse entfernen? Die Abgaben bleiben erhalten.",
-    "Remove {name} from the course? Their submissions stay."],
-  "members.add": ["Hinzufügen", "Add"],
-  "members.add_label": ["Benutzername eines Ihrer Schüler", "User name of one of your students"],
-  "members.add_help": ["Hinzufügen lassen sich die Schülerkonten, die Sie angelegt haben (auch über eine Klassenliste). Alle anderen treten mit dem Beitrittscode bei.",
-    "You can add the student accounts you made (a class list included). Everybody else joins with the join code."],
-  "members.added": ["{name} ist jetzt in der Klasse.", "{name} is now in the course."],
-  "members.import": ["Klassenliste (CSV) importieren", "Import a class list (CSV)"],
-  "members.import_help": ["Eine Zeile je Schüler: Name;Passwort oder nur Name (dann wird ein Passwort erzeugt). Die Konten werden neu angelegt und kommen in diese Klasse.",
-    "One line per student: name;password or just the name (a password is generated). The accounts are created and put into this course."],
-  "assignments.title": ["Aufträge", "Assignments"],
-  "assignments.none": ["Noch keine Aufträge.", "No assignments yet."],
-  "assignments.col.title": ["Auftrag", "Assignment"],
-  "assignments.col.mode": ["Art", "Mode"],
-  "assignments.col.opens": ["Freigabe", "Opens"],
-  "assignments.col.deadline": ["Abgabefrist / Ende", "Deadline / end"],
-  "assignments.released": ["Ergebnisse freigegeben", "results released"],
-  "assignments.held": ["Ergebnisse noch verborgen", "results still hidden"],
-  "assignments.new": ["Neuen Auftrag anlegen", "New assignment"],
-  "form.title": ["Titel", "Title"],
-  "form.exercises": ["Aufgaben", "Exercises"],
-  "form.opens": ["Freigabe ab", "Opens at"],
-  "form.deadline": ["Abgabefrist", "Deadline"],
-  "form.mode": ["Art", "Mode"],
-  "form.duration": ["Dauer (Minuten)", "Duration (minutes)"],
-  "form.late": ["Nach der Frist", "After the deadline"],
-  "form.late.accept": ["als verspätet annehmen", "accept as late"],
-  "form.late.refuse": ["nicht mehr annehmen", "refuse"],
-  "form.exam_note": ["Solange die Ergebnisse dieser Prüfung nicht freigegeben sind, sehen die Schülerinnen und Schüler "
-    + "dieser Klasse zu den Aufgaben der Prüfung weder Musterlösung noch Tipps, und ihre Übungsabgaben zu diesen Aufgaben "
-    + "werden nicht bewertet.",
-  "Until the results of this exam are released, the students of this course see neither the model solution nor hints "
-    + "for the exam's exercises, and their practice submissions of these exercises are not graded."],
-  "form.settings": ["Während der Bearbeitung erlaubt", "Allowed while working"],
-  "form.settings_help": ["Eine Prüfung beginnt mit Prüfungsbedingungen: alles aus, eine Abgabe.",
-    "An exam starts with exam conditions: everything off, one submission."],
-  "setting.live_diagnostics": ["Meldungen beim Tippen", "live messages while typing"],
-  "setting.viz": ["3D-Ansicht", "3D view"],
-  "setting.hints": ["Tipps", "hints"],
-  "setting.solution": ["Musterlösung", "model solution"],
-  "setting.free_practice": ["Freies Üben", "free practice"],
-  "setting.max_submissions": ["Abgaben je Aufgabe (0 = beliebig viele)", "Submissions per exercise (0 = any number)"],
-  "form.create": ["Auftrag anlegen", "Create the assignment"],
-  "form.no_exercise": ["Bitte mindestens eine Aufgabe wählen.", "Please choose at least one exercise."],
-  "form.created": ["Auftrag »{title}« angelegt.", "Assignment '{title}' created."],
-  "matrix.title": ["Ergebnisse: {title}", "Results: {title}"],
-  "matrix.csv": ["Ergebnisse als CSV (Excel)", "Results as CSV (Excel)"],
-  "matrix.sheets": ["Aufgabenblätter (PDF)", "Task sheets (PDF)"],
-  "matrix.release": ["Ergebnisse für die Schüler freigeben", "Release the results to the students"],
-  "matrix.release_confirm": ["Die Ergebnisse jetzt für die Schüler freigeben?", "Release the results to the students now?"],
-  "matrix.student": ["Schüler", "Student"],
-  "matrix.total": ["Summe", "Total"],
-  "matrix.none": ["Keine Schüler in der Klasse.", "No students in the course."],
-  "matrix.late": ["verspätet", "late"],
-  "matrix.auto": ["autom.", "auto"],
-  "matrix.auto_title": ["Am Prüfungsende automatisch abgegeben (letzter Entwurf)", "Submitted automatically at the exam's end (last draft)"],
-  "matrix.cell_title": ["Abgabe von {user} öffnen ({time})", "Open {user}'s submission ({time})"],
-  "matrix.note": ["Je Zelle die beste Abgabe; ein Klick öffnet sie oben.", "Each cell: the best submission; a click opens it above."],
-  "matrix.close": ["Abgabe schließen", "Close the submission"],
-  "insights.title": ["Was die Klasse falsch gemacht hat", "What the class got wrong"],
-  "insights.basis": ["Je Schüler zählt die beste Abgabe.", "Each student's best submission counts."],
-  "insights.capped": ["Nur die neuesten {n} Abgaben wurden ausgewertet.", "Only the newest {n} submissions were read."],
-  "insights.submitted": ["{n} von {of} Schülern haben abgegeben.", "{n} of {of} students submitted."],
-  "insights.nothing": ["Noch keine Abgaben.", "No submissions yet."],
-  "insights.diagnostics": ["Häufigste Meldungen", "Most frequent messages"],
-  "insights.no_diagnostics": ["Keine Meldungen.", "No messages."],
-  "insights.criteria": ["Verlorene Kriterien", "Lost criteria"],
-  "insights.no_criteria": ["Alle haben alle Kriterien erfüllt.", "Everyone met every criterion."],
-  "insights.of": ["{n} von {of}", "{n} of {of}"],
-  "insights.lost": ["verloren das Kriterium »{name}«", "lost the {name} criterion"],
-  "insights.where": ["{n} davon bei {block}", "{n} of them at {block}"],
-  "insights.students": ["Schüler", "students"],
-  "courses.title": ["Meine Klassen", "My courses"],
-  "courses.all": ["Alle Klassen", "All courses"],
-  "courses.none": ["Noch keine Klasse.", "No course yet."],
-  "courses.students": ["{n} Schüler", "{n} students"],
-  "courses.new": ["Neue Klasse", "New course"],
-  "courses.name": ["Name der Klasse (z. B. FA 23a)", "Name of the course (e.g. FA 23a)"],
-  "courses.create": ["Klasse anlegen", "Create the course"],
-});
-
-const error = (r, fallback) => (r.body?.error && message(r.body.error)) || t(fallback);
-const post = (body) => ({ method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
 const titleOf = (e) => (e ? (lang === "en" && e.title_en ? e.title_en : e.title_de) : "");
 const query = () => new URLSearchParams(location.search);
 // times to the minute: "22.11.2026, 18:46"
 const formatTime = (iso) => new Date(iso).toLocaleString(lang === "en" ? "en-GB" : "de-DE",
   { dateStyle: "medium", timeStyle: "short" });
 const SETTINGS = ["live_diagnostics", "viz", "hints", "solution", "free_practice"];
-
-// -- the instructor page's list of courses and "Neue Klasse" ---------------------------------------------
-export async function coursesSection() {
-  const section = el("section", { id: "courses" });
-  const r = await api("/courses");
-  const admin = document.body.dataset.role === "admin";
-  const list = r.ok && r.body.length
-    ? el("ul", { className: "courses", id: "course-list" }, ...r.body.map((c) => el("li", {},
-      el("a", { href: `/courses/${c.id}` }, c.name), el("span", { className: "meta" },
-        ` · ${t("courses.students", { n: c.students })} · ${c.instructors.join(", ")}`))))
-    : el("p", { className: "meta" }, r.ok ? t("courses.none") : error(r, "instructor.error"));
-  const name = el("input", { type: "text", id: "course-name", required: true, maxLength: 200 });
-  const note = el("p", { role: "status" });
-  const form = el("form", { className: "inline-form", id: "course-new" },
-    el("label", {}, `${t("courses.name")} `, name), " ", el("button", { type: "submit" }, t("courses.create")), note);
-  form.onsubmit = async (event) => {
-    event.preventDefault();
-    const made = await api("/courses", post({ name: name.value.trim() }));
-    if (made.ok) location.href = safeNext(`/courses/${made.body.id}`);
-    else { note.className = "error"; note.textContent = error(made, "instructor.error"); }
-  };
-  section.append(el("h3", {}, t(admin ? "courses.all" : "courses.title")), list,
-    el("details", { open: r.ok && !r.body.length }, el("summary", {}, t("courses.new")), form));
-  return section;
-}
 
 // -- the course page ---------------------------------------------------------------------------------
 export async function mountCourse(parent, id) {
@@ -492,4 +359,23 @@ function insightsPart(r, byslug) {
     section.append(part);
   }
   return section;
+}
+
+// "Passwort zurücksetzen" for one student of the members table: a confirmation, then the one-time password shown
+// once in `out`.
+function resetButton(username, out) {
+  const button = el("button", { type: "button", className: "link-button reset-password" }, t("reset.button"));
+  button.setAttribute("aria-label", t("reset.label", { name: username }));
+  button.onclick = async () => {
+    if (!confirm(t("reset.confirm", { name: username }))) return;
+    const r = await api(`/users/${encodeURIComponent(username)}/password-reset`, { method: "POST" });
+    if (!r.ok) {
+      out.replaceChildren(el("p", { className: "error" }, error(r, "reset.failed")));
+      return;
+    }
+    out.replaceChildren(el("p", { className: "ok" }, `${t("reset.done", { name: r.body.username })} `,
+      el("code", { className: "one-time-password", id: "one-time-password" }, r.body.password)),
+    el("p", { className: "meta" }, t("reset.once", { name: r.body.username })));
+  };
+  return button;
 }

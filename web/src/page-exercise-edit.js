@@ -6,111 +6,12 @@
 // "Speichern" sends the document; the server validates it and names every error at its field.
 
 import { api, el } from "./dom.js";
-import { addTexts, lang, message, t } from "./i18n.js";
+import { lang, message, t } from "./i18n.js";
 import { mountEditor } from "./main.js";
 import { mountViz } from "./viz.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { loginUrl, safeNext } from "./redirect.js";
 import { LATHE_DIALECTS, MILLING_TOOL_KINDS } from "./tool-kinds.js";
-
-addTexts({
-  "title.exercise-edit": ["PAL Trainer – Aufgabe bearbeiten", "PAL Trainer – Edit exercise"],
-  "edit.title_new": ["Neue Aufgabe", "New exercise"],
-  "edit.title_edit": ["Aufgabe bearbeiten: {title}", "Edit exercise: {title}"],
-  "edit.general": ["Allgemein", "General"],
-  "edit.slug": ["Kennung (in der Adresse)", "Slug (in the address)"],
-  "edit.slug_hint": ["Kleinbuchstaben, Ziffern und Bindestriche, z. B. kontur-fa23", "Lower-case letters, digits and hyphens, e.g. contour-fa23"],
-  "edit.title_de": ["Titel (deutsch)", "Title (German)"],
-  "edit.title_en": ["Titel (englisch, optional)", "Title (English, optional)"],
-  "edit.task": ["Aufgabentext", "Task"],
-  "edit.task_de": ["Aufgabentext (deutsch)", "Task (German)"],
-  "edit.task_en": ["Aufgabentext (englisch, optional)", "Task (English, optional)"],
-  "edit.task_hint": ["Absätze, **fett**, *kursiv*, Listen mit »- «, `Code`", "Paragraphs, **bold**, *italic*, lists with '- ', `code`"],
-  "edit.preview": ["Vorschau", "Preview"],
-  "edit.dialect": ["Dialekt", "Dialect"],
-  "edit.kind": ["Art", "Kind"],
-  "edit.blank": ["Rohteil und Werkstücknullpunkt", "Blank and workpiece zero"],
-  "edit.stock_min": ["Ecke min (X, Y, Z in mm)", "Corner min (X, Y, Z in mm)"],
-  "edit.stock_max": ["Ecke max (X, Y, Z in mm)", "Corner max (X, Y, Z in mm)"],
-  "edit.stock_hint": ["Der Werkstücknullpunkt ist X0 Y0 Z0; üblich: min 0, 0, −Höhe und max Länge, Breite, 0.",
-    "The workpiece zero is X0 Y0 Z0; usual: min 0, 0, −height and max length, width, 0."],
-  "edit.blank_diameter": ["Durchmesser (mm)", "Diameter (mm)"],
-  "edit.blank_inner": ["Innendurchmesser (mm, 0 = Stange)", "Inner diameter (mm, 0 = bar)"],
-  "edit.blank_length": ["Länge (mm)", "Length (mm)"],
-  "edit.blank_chuck": ["Spannlänge (mm, leer = Vorgabe)", "Chuck length (mm, empty = default)"],
-  "edit.zero": ["Werkstücknullpunkt (Beschreibung)", "Workpiece zero (description)"],
-  "edit.tools": ["Werkzeuge", "Tools"],
-  "edit.tool_number": ["T", "T"],
-  "edit.tool_radius": ["Radius (mm)", "Radius (mm)"],
-  "edit.tool_quadrant": ["Lage P", "Position P"],
-  "edit.add_tool": ["Werkzeug hinzufügen", "Add a tool"],
-  "edit.remove": ["Entfernen", "Remove"],
-  "edit.cutting": ["Schnittdaten", "Cutting data"],
-  "edit.cut_speed": ["S (1/min)", "S (rpm)"],
-  "edit.cut_vc": ["V (m/min)", "V (m/min)"],
-  "edit.cut_feed": ["F", "F"],
-  "edit.cut_which": ["Drehzahl S oder Schnittgeschwindigkeit V", "Spindle speed S or cutting speed V"],
-  "edit.cut_spindle": ["Drehrichtung", "Spindle"],
-  "edit.add_cut": ["Schnittdaten hinzufügen", "Add cutting data"],
-  "edit.reference": ["Referenzprogramm", "Reference program"],
-  "edit.reference_hint": ["Gegen dieses Programm wird bewertet; veröffentlicht muss es die volle Punktzahl erreichen.",
-    "Submissions are graded against it; once published it must score full marks."],
-  "edit.start": ["Startprogramm", "Start program"],
-  "edit.start_hint": ["Was die Auszubildenden vorfinden: bei »ergänzen« mit Lücken, bei »Fehler finden« mit eingebauten Fehlern.",
-    "What trainees start from: with gaps to complete, or with planted mistakes to find."],
-  "edit.locked": ["Gesperrte Zeilen (Nummern, durch Komma getrennt; Klick auf die Zeilennummer schaltet um)",
-    "Locked lines (numbers separated by commas; a click on the line number toggles)"],
-  "edit.hints": ["Tipps (durch eine Leerzeile getrennt)", "Hints (separated by an empty line)"],
-  "edit.solution": ["Musterlösung zeigen", "Show the model solution"],
-  "solution.never": ["nie", "never"],
-  "solution.after_submission": ["nach der ersten Abgabe", "after the first submission"],
-  "solution.after_full_marks": ["nach einer Abgabe mit voller Punktzahl", "after a submission with full marks"],
-  "edit.rubric": ["Bewertung (Punkte, zusammen 100)", "Grading (points, 100 in all)"],
-  "edit.rubric_default": ["Die übliche Gewichtung; nach dem ersten Speichern hier änderbar.",
-    "The usual weights; they can be changed here after the first save."],
-  "edit.rubric_sum": ["Summe: {n}", "Sum: {n}"],
-  "edit.visibility": ["Sichtbarkeit", "Visibility"],
-  "visibility.draft": ["Entwurf (nur ich)", "Draft (only me)"],
-  "visibility.courses": ["Meine Klassen", "My courses"],
-  "visibility.public": ["Alle auf diesem Server", "Everyone on this server"],
-  "edit.drawing": ["Zeichnung", "Drawing"],
-  "edit.viz": ["3D-Ansicht des Referenzprogramms", "3D view of the reference program"],
-  "edit.viz_show": ["3D-Ansicht zeigen", "Show the 3D view"],
-  "edit.viz_again": ["3D-Ansicht neu laden (Rohteil, Werkzeuge, Dialekt)", "Reload the 3D view (blank, tools, dialect)"],
-  "edit.drawing_hint": ["Aus dem Referenzprogramm erzeugt; folgt dem Programm beim Tippen.",
-    "Generated from the reference program; it follows the program as you type."],
-  "edit.drawing_wait": ["Zeichnung wird erstellt …", "Drawing is being made …"],
-  "edit.drawing_error": ["Noch keine Zeichnung: {msg}", "No drawing yet: {msg}"],
-  "edit.own_drawing": ["Eigene Zeichnung statt der erzeugten (PDF, PNG oder SVG, höchstens 2 MB)",
-    "Own drawing instead of the generated one (PDF, PNG or SVG, at most 2 MB)"],
-  "edit.own_drawing_after_save": ["Eine eigene Zeichnung lässt sich nach dem ersten Speichern hochladen.",
-    "An own drawing can be uploaded after the first save."],
-  "edit.own_drawing_set": ["Eigene Zeichnung ({type}) wird den Auszubildenden gezeigt und gedruckt.",
-    "Own drawing ({type}) is shown to trainees and printed."],
-  "edit.own_drawing_open": ["öffnen", "open"],
-  "edit.own_drawing_remove": ["Eigene Zeichnung entfernen", "Remove own drawing"],
-  "edit.own_drawing_uploaded": ["Eigene Zeichnung gespeichert.", "Own drawing saved."],
-  "edit.save": ["Speichern", "Save"],
-  "edit.saved": ["Gespeichert (Version {v}).", "Saved (version {v})."],
-  "edit.errors": ["Bitte korrigieren Sie die markierten Felder:", "Please correct the marked fields:"],
-  "edit.error": ["Speichern nicht möglich.", "Could not save."],
-  "edit.other": ["Import und Export", "Import and export"],
-  "edit.export": ["Als YAML-Datei exportieren", "Export as a YAML file"],
-  "edit.import": ["Aus einer YAML-Datei anlegen (als Entwurf)", "Create from a YAML file (as a draft)"],
-  "edit.view": ["Als Auszubildende/r ansehen", "View as a trainee"],
-  "edit.back": ["Zurück zum Lehrer-Bereich", "Back to the instructor's page"],
-  "edit.forbidden": ["Aufgaben bearbeiten können Lehrkräfte und Administratoren.", "Instructors and admins edit exercises."],
-  "crit.geometry": ["Geometrie", "Geometry"],
-  "crit.safety": ["Sicherheit", "Safety"],
-  "crit.technology": ["Technologie", "Technology"],
-  "crit.syntax": ["Syntax", "Syntax"],
-  "crit.tool_change": ["Werkzeugwechsel", "Tool change"],
-  "crit.spindle_on": ["Spindel ein", "Spindle on"],
-  "crit.compensation_off": ["Korrektur ab", "Compensation off"],
-  "crit.safe_position": ["Sichere Position", "Safe position"],
-  "crit.program_end": ["Programmende", "Program end"],
-  "crit.locked_lines": ["Gesperrte Zeilen", "Locked lines"],
-});
 
 const LATHE_KINDS = ["turning"];
 const NEW_DOCUMENT = {
@@ -150,7 +51,7 @@ export async function mountExerciseEdit(root, slug) {
     doc = structuredClone(r.body.document);
   }
   const dialects = await api("/dialects");
-  const dialectList = dialects.ok ? dialects.body : [{ name: "pal-mill", title: "PAL Fräsen" }];
+  const dialectList = dialects.ok ? dialects.body : [{ name: "pal-mill", title: t("dialect.pal_mill") }];
 
   // -- a field: label, control, hint, and the place for its errors (data-field: the document's path) --
   const field = (name, label, control, hint = null) => el("div", { className: "field" },
@@ -556,88 +457,6 @@ export async function mountExerciseEdit(root, slug) {
   drawing();
   await mountReference();
   if (kind.value !== "write") await mountStart();
-}
-
-addTexts({
-  "mine.title": ["Meine Aufgaben", "My exercises"],
-  "mine.new": ["Neue Aufgabe", "New exercise"],
-  "mine.none": ["Noch keine eigenen Aufgaben. Beginnen Sie mit »Neue Aufgabe« oder kopieren Sie eine eingebaute Aufgabe.",
-    "No exercises of your own yet. Start with 'New exercise' or copy a built-in one."],
-  "mine.template": ["Eingebaute Aufgabe als Vorlage", "Built-in exercise as a template"],
-  "mine.copy": ["Kopieren", "Duplicate"],
-  "mine.edit": ["Bearbeiten", "Edit"],
-  "mine.archive": ["Archivieren", "Archive"],
-  "mine.restore": ["Wiederherstellen", "Restore"],
-  "mine.archived": ["archiviert", "archived"],
-  "mine.archive_confirm": ["»{title}« archivieren? Sie verschwindet aus den Listen der Auszubildenden; Abgaben bleiben erhalten (ohne Abgaben wird sie gelöscht).",
-    "Archive '{title}'? It disappears from the trainees' lists; submissions are kept (without submissions it is deleted)."],
-  "mine.col_title": ["Aufgabe", "Exercise"],
-  "mine.col_visibility": ["Sichtbarkeit", "Visibility"],
-  "mine.col_version": ["Version", "Version"],
-  "mine.import": ["Aus YAML-Datei anlegen (als Entwurf)", "Create from a YAML file (as a draft)"],
-});
-
-// The instructor's page: their exercises with edit, duplicate and archive; a new one, a copy of a built-in one,
-// and (secondary) a YAML file as a new draft.
-export async function myExercisesSection() {
-  const section = el("section", { id: "my-exercises" });
-  const status = el("div", { id: "my-exercises-message", role: "alert" });
-  const fail = (r) => { status.replaceChildren(el("p", { className: "error" }, (r.body?.error && message(r.body.error)) || t("edit.error"))); };
-  const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
-  const duplicate = async (slug) => {
-    const r = await api(`/exercises/${encodeURIComponent(slug)}/duplicate`, { method: "POST" });
-    if (r.ok) location.href = safeNext(editPath(r.body.slug)); else fail(r);
-  };
-  async function show() {
-    const [mine, all] = await Promise.all([api("/exercises?mine=true&archived=true"), api("/exercises")]);
-    const rows = mine.ok ? mine.body : [];
-    const builtins = all.ok ? all.body.filter((e) => e.builtin) : [];
-    const template = el("select", { id: "template" }, ...builtins.map((e) => el("option", { value: e.slug },
-      `${title(e)} (${(lang === "en" && e.dialect_title_en) || e.dialect_title})`)));
-    template.setAttribute("aria-label", t("mine.template"));
-    const importFile = el("input", { type: "file", id: "import-exercise", accept: ".yaml,.yml,.json" });
-    importFile.setAttribute("aria-label", t("mine.import"));
-    importFile.onchange = async () => {
-      const r = await api("/exercises/import?visibility=draft", { method: "POST", headers: { "Content-Type": "application/yaml" },
-        body: await importFile.files[0].text() });
-      if (r.ok) location.href = safeNext(editPath(r.body.slug));
-      else {
-        fail(r);
-        const errors = r.body?.error?.details?.errors || [];
-        if (errors.length) status.append(el("ul", {}, ...errors.map((e) => el("li", {}, `${e.field}: ${message(e)}`))));
-      }
-    };
-    const list = rows.length ? el("table", { className: "my-exercises" },
-      el("thead", {}, el("tr", {}, el("th", {}, t("mine.col_title")), el("th", {}, t("mine.col_visibility")),
-        el("th", { className: "num" }, t("mine.col_version")), el("th"))),
-      el("tbody", {}, ...rows.map((e) => el("tr", { className: e.archived ? "archived" : "" },
-        el("td", {}, el("a", { href: `/exercises/${encodeURIComponent(e.slug)}` }, title(e))),
-        el("td", {}, e.archived ? t("mine.archived") : t(`visibility.${e.visibility}`)),
-        el("td", { className: "num" }, String(e.version)),
-        el("td", { className: "actions" },
-          el("a", { href: `/exercises/${encodeURIComponent(e.slug)}/edit`, className: "edit" }, t("mine.edit")), " ",
-          el("button", { type: "button", className: "copy", onclick: () => duplicate(e.slug) }, t("mine.copy")), " ",
-          e.archived
-            ? el("button", { type: "button", className: "restore", onclick: async () => {
-              const r = await api(`/exercises/${encodeURIComponent(e.slug)}`, { method: "PATCH",
-                headers: { "Content-Type": "application/json" }, body: JSON.stringify({ archived: false }) });
-              if (r.ok) show(); else fail(r);
-            } }, t("mine.restore"))
-            : el("button", { type: "button", className: "archive", onclick: async () => {
-              if (!confirm(t("mine.archive_confirm", { title: title(e) }))) return;
-              const r = await api(`/exercises/${encodeURIComponent(e.slug)}`, { method: "DELETE" });
-              if (r.ok) show(); else fail(r);
-            } }, t("mine.archive"))))))) : el("p", { className: "meta" }, t("mine.none"));
-    section.replaceChildren(el("h3", {}, t("mine.title")),
-      el("p", { className: "my-actions" }, el("a", { href: "/exercises/new", id: "new-exercise", className: "button" }, t("mine.new")),
-        " ", el("label", {}, `${t("mine.template")} `, template), " ",
-        el("button", { type: "button", id: "copy-template", onclick: () => template.value && duplicate(template.value) }, t("mine.copy"))),
-      status, list,
-      el("details", { className: "yaml-import" }, el("summary", {}, t("edit.other")),
-        el("p", {}, el("label", {}, `${t("mine.import")} `, importFile))));
-  }
-  await show();
-  return section;
 }
 
 // the editor of a saved exercise (the page goes there through the one redirect rule, safeNext)

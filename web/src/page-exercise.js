@@ -13,9 +13,9 @@ import { mountEditor } from "./main.js";
 import { formatDecimal } from "./numbers.js";
 import { loginUrl } from "./redirect.js";
 import { LATHE_DIALECTS } from "./tool-kinds.js";
-import "./texts-exercise.js";
 import { mountViz } from "./viz.js";
-import { examContext, examNotice, mountExam, prepareExam } from "./page-exam.js";
+import { examContext } from "./exam.js";
+import { examNotice, mountExam, prepareExam } from "./page-exam.js";  // the exam's page at the exercise's address
 
 // The Werkzeuge tab: one small table per tool, so that it fits the side panel. Milling: the diameter, S (1/min),
 // F (mm/min) and the spindle's direction. Turning, what a turner reads: the insert, its nose radius and cutting

@@ -1,12 +1,12 @@
 // The trainee's start page above the exercise list: their courses, joining a course with its code, and the
 // assignments (GET /me/assignments) with opening time, deadline, mode, status and a link into each exercise
-// (an exam's from its start). And the start page of a visitor without an account (mountStart).
+// (an exam's from its start); below them the exercise list, one list per dialect with the trainee's progress.
 
 import { api, el } from "./dom.js";
 import { overrideNote } from "./grades.js";
 import { lang, message, t } from "./i18n.js";
-import { clock, formatTime, modeLabel, myAssignments, watchPracticeLink } from "./page-exam.js";
-import "./texts-exam.js";
+import { clock, formatTime, modeLabel, myAssignments, watchPracticeLink } from "./exam.js";
+import { loginUrl } from "./redirect.js";
 
 const DONE = new Set(["submitting", "submitted", "late", "closed"]);
 
@@ -41,24 +41,6 @@ export async function mountHome(section, fresh = false) {
           ? el("span", { className: "meta" }, ` · ${t("home.instructors", { names: c.instructors.join(", ") })}`) : null)))
         : el("p", { className: "meta" }, t("home.no_courses")),
       joinForm(section)] : [])].filter(Boolean));
-}
-
-// The start page for a visitor without an account (the login page: "/" sends them there): what PAL Trainer is in
-// two sentences, free practice without an account, and beside it the login form (moved into a box of its own).
-export function mountStart(form) {
-  const main = form.closest("main");
-  if (!main || main.querySelector(".start")) return;
-  const heading = main.querySelector("h2");
-  heading.id = "login-title";
-  const intro = el("section", { className: "start-intro" },
-    el("h2", { id: "start-title" }, t("start.title")),
-    el("p", { className: "start-what" }, t("start.what")),
-    el("p", {}, el("a", { className: "start-practice", id: "start-practice", href: "/practice" }, t("start.practice"))));
-  intro.setAttribute("aria-labelledby", "start-title");
-  const login = el("section", { className: "start-login" }, heading,
-    el("p", { className: "meta" }, t("start.login_note")), form);
-  login.setAttribute("aria-labelledby", "login-title");
-  main.replaceChildren(el("div", { className: "start" }, intro, login));
 }
 
 const exerciseHref = (a, slug) => `/exercises/${encodeURIComponent(slug)}?assignment=${a.id}`;
@@ -121,4 +103,34 @@ function joinForm(section) {
     again.textContent = t("home.joined", { name: r.body.name });
   };
   return form;
+}
+
+// The exercise list: one list per dialect, each exercise with its kind and where the trainee stands.
+export async function mountExerciseList(parent) {
+  const r = await api("/exercises");
+  if (r.status === 401) {
+    location.href = loginUrl();
+    return;
+  }
+  const kinds = { write: t("kind.write"), complete: t("kind.complete"), fix: t("kind.fix") };
+  // where the trainee stands on each exercise (not started, draft, best score); the list keeps the API's order
+  const progress = await api("/me/progress");
+  const state = new Map((progress.ok ? progress.body : []).map((p) => [p.exercise, p]));
+  const status = (slug) => {
+    const p = state.get(slug);
+    if (!p || p.status === "not_started") return el("span", { className: "progress not-started" }, t("progress.not_started"));
+    if (p.status === "draft") return el("span", { className: "progress draft" }, t("progress.draft"));
+    return el("span", { className: "progress submitted" }, p.best_score === null
+      ? t("progress.submitted") : t("progress.best", { score: p.best_score, max: p.max_score }));
+  };
+  // one list per dialect, under its name ("PAL Fräsen")
+  const groups = [];
+  for (const e of r.body) {
+    if (groups.at(-1)?.dialect !== e.dialect) groups.push({ dialect: e.dialect, title: (lang === "en" && e.dialect_title_en) || e.dialect_title || e.dialect, items: [] });
+    groups.at(-1).items.push(e);
+  }
+  parent.replaceChildren(...groups.flatMap((g) => [el("h3", { className: "dialect-title" }, g.title),
+    el("ul", { className: "exercises" }, ...g.items.map((e) => el("li", {},
+      el("a", { href: `/exercises/${e.slug}` }, lang === "en" && e.title_en ? e.title_en : e.title_de),
+      el("span", { className: "meta" }, ` ${kinds[e.kind] || ""} · `), status(e.slug))))]));
 }

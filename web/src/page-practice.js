@@ -1,17 +1,16 @@
 // Free practice: the editor with live diagnostics and the 3D view, the stock and tools kept in the browser;
 // "Beispiel laden" puts a built-in example's program into the editor (GET /api/v1/examples; every dialect's,
 // the TRAUB turning examples with their blank) and shows its drawing; programs open from and save to the
-// trainee's computer and print with line numbers.
+// trainee's computer and print with line numbers. While an exam without free practice runs, a notice instead.
 
 import { api, el } from "./dom.js";
 import { lang, t } from "./i18n.js";
-import { formatDecimal } from "./numbers.js";
+import { decimalInput, formatDecimal, parseDecimal } from "./numbers.js";
 import { drawingZoom, editorToolbar, mountDrawer, mountSideToggle, mountSplitters, mountTabs } from "./layout.js";
 import { mountEditor, setTools } from "./main.js";
-import { mountPracticeSetup } from "./pages.js";
-import { saveSetup } from "./setup.js";
+import { practiceBlocked } from "./exam.js";
+import { practiceSetup, saveSetup } from "./setup.js";
 import { LATHE_DIALECTS, MILLING_TOOL_KINDS } from "./tool-kinds.js";
-import "./texts-exercise.js";
 import { mountViz } from "./viz.js";
 
 const SAMPLE = "N10 T1 TC1 M6\nN20 S1200 F150 M3\nN30 G0 X-25 Y-15 Z2\nN40 G42 G0 X-14 Y10\nN50 G0 Z-2\n" +
@@ -91,6 +90,7 @@ function setupOf(example) {
 }
 
 export async function mountPractice(root) {
+  if (await practiceBlocked(root)) return;  // an exam without free practice runs: its notice instead (exam.js)
   const showTab = mountTabs(root);
   mountSideToggle(root);
   mountSplitters(root);
@@ -103,7 +103,7 @@ export async function mountPractice(root) {
   const saved = `paltrainer-practice-${select.value}`;
   const savedExample = `paltrainer-practice-example-${select.value}`;
   let scene = null;
-  let filename = localStorage.getItem(`${saved}-file`) || "programm.nc";
+  let filename = localStorage.getItem(`${saved}-file`) || t("file.default_name");
   const lathe = LATHE_DIALECTS.has(select.value);
   const setup = lathe ? mountBlank(root.querySelector("#setup"), (next) => scene?.setup(next))
     : mountPracticeSetup(root.querySelector("#setup"), (next) => {
@@ -126,7 +126,7 @@ export async function mountPractice(root) {
   const examples = r.ok ? r.body : [];
   const title = (e) => (lang === "en" && e.title_en ? e.title_en : e.title_de);
   // every dialect's examples, the page's own first (the others open the practice page of their dialect)
-  const dialects = { "pal-mill": "PAL Fräsen", "sinumerik-iso": "SINUMERIK 808D ISO", beckhoff: "Beckhoff TwinCAT",
+  const dialects = { "pal-mill": t("dialect.pal_mill"), "sinumerik-iso": "SINUMERIK 808D ISO", beckhoff: "Beckhoff TwinCAT",
     "traub-tx8d": t("example.group_traub") };
   const order = [select.value, ...Object.keys(dialects).filter((d) => d !== select.value)];
   for (const dialect of order) {
@@ -198,4 +198,57 @@ export async function mountPractice(root) {
     showTab("tab-drawing");
   };
   scene = await mountViz(root.querySelector("#viz"), window.editor, { dialect: select.value, setup });
+}
+
+// -- milling: the stock and the tools, kept in the browser (setup.js) ----------------------------------
+export function mountPracticeSetup(parent, onChange) {
+  const setup = practiceSetup();
+  // text fields that take "12,5" as 12.5 (numbers.js); the limits are checked in changed()
+  const number = (value, min, max, step, label) => decimalInput(value, label, { integer: step === 1 });
+  const size = setup.size.map((v, i) => number(v, 1, 2000, 0.1, t(`setup.size.${i}`)));
+  const rows = el("tbody");
+  const changed = () => {
+    const next = {
+      size: size.map((input) => parseDecimal(input.value)),
+      tools: [...rows.children].map((tr) => {
+        const [num, kind, dia] = tr.querySelectorAll("input, select");
+        return { number: parseDecimal(num.value), kind: kind.value, diameter: parseDecimal(dia.value) };
+      }),
+    };
+    const valid = next.size.every((v) => v > 0 && v <= 2000)
+      && next.tools.every((tool) => Number.isInteger(tool.number) && tool.number >= 1 && tool.number <= 99
+        && tool.diameter > 0 && tool.diameter <= 1000);
+    message.textContent = valid ? "" : t("setup.invalid");
+    if (!valid) return;
+    saveSetup(next);
+    onChange(next);
+  };
+  const message = el("p", { className: "error", role: "status" }, "");
+  const row = (tool) => {
+    const kind = el("select", {}, ...MILLING_TOOL_KINDS.map((k) =>
+      el("option", { value: k, selected: tool.kind === k }, t(`kind.${k}`))));
+    kind.setAttribute("aria-label", t("tools.kind"));
+    const tr = el("tr", {},
+      el("td", {}, number(tool.number, 1, 99, 1, t("tools.tool"))), el("td", {}, kind),
+      el("td", {}, number(tool.diameter, 0.1, 1000, 0.1, t("tools.diameter"))),
+      el("td", {}, el("button", { type: "button", className: "remove", onclick: () => { tr.remove(); changed(); } },
+        t("setup.remove"))));
+    return tr;
+  };
+  rows.append(...setup.tools.map(row));
+  const add = el("button", { type: "button", id: "add-tool", onclick: () => {
+    const used = [...rows.querySelectorAll("tr td:first-child input")].map((i) => parseDecimal(i.value) || 0);
+    rows.append(row({ number: Math.max(0, ...used) + 1, kind: "end_mill", diameter: 10 }));
+    changed();
+  } }, t("setup.add"));
+  const form = el("form", { className: "setup", onchange: changed, onsubmit: (e) => e.preventDefault() },
+    el("fieldset", {}, el("legend", {}, t("setup.stock")),
+      ...size.flatMap((input, i) => [el("label", {}, `${"XYZ"[i]} `, input), " "]), el("span", {}, " mm")),
+    el("fieldset", {}, el("legend", {}, t("setup.tools")),
+      el("table", {}, el("thead", {}, el("tr", {}, ...["tools.tool", "tools.kind", "tools.diameter"].map((k) =>
+        el("th", {}, t(k))), el("th"))), rows),
+      el("p", { className: "meta" }, t("setup.default_tools")), add),
+    message);
+  parent.replaceChildren(form);
+  return setup;
 }

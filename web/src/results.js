@@ -7,14 +7,10 @@
 import { Text } from "@codemirror/state";
 import { api, el } from "./dom.js";
 import { criteriaList, formatMinute, overriddenMark } from "./grades.js";
-import { addTexts, lang, message, t } from "./i18n.js";
+import { lang, message, t } from "./i18n.js";
 import { formatTime, scoreText } from "./history.js";
 import { decimalInput, parseDecimal } from "./numbers.js";
 import { mountViz } from "./viz.js";
-
-addTexts({
-  "results.version": ["bewertet nach Version {v} der Aufgabe", "graded against version {v} of the exercise"],
-});
 
 // A submission graded against an earlier version of its exercise (edited since): which one.
 export function versionNote(version) { return t("results.version", { v: version }); }
