@@ -106,3 +106,14 @@ def test_no_import_cycle_in_the_web_modules() -> None:
 
 def test_the_walk_finds_a_cycle() -> None:
     assert cycles({"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}) == [["a", "b", "c"]]
+
+
+def test_the_traub_cycles_see_the_run_only_through_their_own_narrow_view() -> None:
+    # core/interpreter/traub_cycles.py: CycleRun, Technology, BlockResult — not TurnRun, not even for annotations
+    tree = ast.parse((ROOT / "core" / "interpreter" / "traub_cycles.py").read_text(encoding="utf-8"))
+    imported = {
+        node.module for node in ast.walk(tree) if isinstance(node, ast.ImportFrom) and node.module is not None
+    }
+    assert "core.interpreter.traub_turn" not in imported
+    private = re.findall(r"\brun\._[a-z]\w*", ast.unparse(tree))
+    assert private == []

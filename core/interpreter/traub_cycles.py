@@ -31,9 +31,9 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from core.diagnostics import Diagnostic, diag
 from core.interpreter.traub_trace import INF as INF_LINE
@@ -42,8 +42,9 @@ from core.toolpath import Dwell, Move, MoveKind
 
 if TYPE_CHECKING:
     from core.dialects.codes import Code
+    from core.interpreter import turn_contour
     from core.interpreter.run import Unit
-    from core.interpreter.traub_turn import Outcome, TurnRun
+    from core.interpreter.state import RunSetup
 
 XZ = tuple[float, float]
 EPS = 1e-7
@@ -77,15 +78,64 @@ class CycleState:
     setup: CycleSetup = field(default_factory=CycleSetup)
 
 
+# -- what a cycle sees of the run (core/interpreter/traub_turn.py: TurnRun, Turn, Outcome) ------------------
+
+
+class Technology(Protocol):
+    """The technology and modes active at the cycle block."""
+
+    codes: dict[str, str | None]
+    feed: float
+    skip_on: bool
+
+    def zero(self) -> XZ: ...
+    def spindle_at(self, x: float) -> float: ...
+    @property
+    def spindle_on(self) -> bool: ...
+
+
+class BlockResult(Protocol):
+    """What one block of a contour did (read by `CycleRun.execute`)."""
+
+    @property
+    def items(self) -> Sequence[turn_contour.Item]: ...
+    @property
+    def diagnostics(self) -> list[Diagnostic]: ...
+    @property
+    def ended(self) -> bool: ...
+    @property
+    def sub_end(self) -> bool: ...
+
+
+class CycleRun(Protocol):
+    """The run as a cycle sees it: where the tool is, the technology, the programs (for a contour of P/Q or A),
+    and a copy of the run that executes a contour's blocks. Never more."""
+
+    setup: RunSetup
+    cycles: CycleState
+    position: XZ | None  # machine (x radius, z); None: unknown
+    last_known: XZ
+    reference: XZ | None
+    programs: list[Unit]
+    read: list[tuple[int, int]]  # program-file lines lo < line ≤ hi a cycle read (checkpoints)
+
+    @property
+    def turn(self) -> Technology: ...
+    def ref(self) -> XZ: ...
+    def template(self, kind: str, span: Span, exact: bool = False) -> Move: ...
+    def contour_reader(self, cycles: CycleState) -> CycleRun: ...
+    def execute(self, block: Block) -> BlockResult: ...
+
+
 class _Out:
     """Collects the moves of one cycle block in the output frame."""
 
-    def __init__(self, run: TurnRun, code: str, span: Span, start: XZ) -> None:
+    def __init__(self, run: CycleRun, code: str, span: Span, start: XZ) -> None:
         self.run = run
         self.code = code
         self.span = span
-        self.ref = run._ref()  # a cycle may be the first motion of the run
-        self.template = run._template("feed", span)
+        self.ref = run.ref()  # a cycle may be the first motion of the run
+        self.template = run.template("feed", span)
         self.items: list[Move | Dwell] = []
         self.pos = start
         self.passes = 1
@@ -142,7 +192,7 @@ class _Out:
             self.items.append(Dwell(self._v(self.pos), seconds, self.span))
 
 
-def _target(run: TurnRun, values: dict[str, float], start: XZ) -> tuple[float | None, float | None]:
+def _target(run: CycleRun, values: dict[str, float], start: XZ) -> tuple[float | None, float | None]:
     """X/U and Z/W of the block in machine coordinates (X a diameter, U a radius increment)."""
     zx, zz = run.turn.zero()
     x = values["X"] / 2 + zx if "X" in values else start[0] + values["U"] if "U" in values else None
@@ -159,7 +209,7 @@ def _equal(total: float, depth: float) -> int:
 class _Call:
     """One cycle block as the families below see it."""
 
-    run: TurnRun
+    run: CycleRun
     block: Block
     code: str
     words: dict[str, Word]
@@ -219,19 +269,24 @@ FAMILIES: dict[str, Callable[[_Call], None]] = {
 
 
 def execute(
-    run: TurnRun, block: Block, cycle: Code, words: dict[str, Word], values: dict[str, float], out: Outcome
-) -> None:
-    """Expand the cycle `cycle` of `block` into `out.items`; the tool ends where the cycle leaves it."""
+    run: CycleRun,
+    block: Block,
+    cycle: Code,
+    words: dict[str, Word],
+    values: dict[str, float],
+    d: list[Diagnostic],
+) -> list[Move | Dwell]:
+    """The moves and dwells of the cycle `cycle` of `block` (its findings into `d`); the tool ends where the
+    cycle leaves it."""
     code = cycle.name
-    d = out.diagnostics
     span = block.span
     state = run.cycles
     if state.in_contour and code != "G33":
-        return  # a cycle inside a contour that a roughing cycle reads: it runs when the program gets there
+        return []  # a cycle inside a contour that a roughing cycle reads: it runs when the program gets there
     start = run.position
     if start is None:
         d.append(diag("TX-E401", span, code=code))
-        return
+        return []
     o = _Out(run, code, span, start)
     word = next(
         (w for w in block.words if w.address == "G" and w.value is not None and f"G{int(w.value)}" == code),
@@ -241,14 +296,14 @@ def execute(
     FAMILIES[cycle.cycle](
         _Call(run, block, code, words, values, o, run.setup.limits.max_cycle_passes, d, cspan)
     )
-    out.items.extend(o.items)
     run.position = run.last_known = o.pos
+    return o.items
 
 
 # -- the contour of P/Q or A --------------------------------------------------------------------
 
 
-def _unit_of(run: TurnRun, block: Block) -> Unit | None:
+def _unit_of(run: CycleRun, block: Block) -> Unit | None:
     for u in run.programs:
         if any(b is block for b in u.blocks):
             return u
@@ -256,7 +311,7 @@ def _unit_of(run: TurnRun, block: Block) -> Unit | None:
 
 
 def _contour(
-    run: TurnRun, block: Block, code: str, values: dict[str, float], d: list[Diagnostic], span: Span
+    run: CycleRun, block: Block, code: str, values: dict[str, float], d: list[Diagnostic], span: Span
 ) -> list[tuple[XZ, int]] | None:
     """The finished contour as points (machine x radius, z) with the line of the block that made each, resolved
     by a copy of the run that executes the contour blocks (forward references and subprograms included)."""
@@ -327,7 +382,7 @@ def _contour(
     if k == len(moves):
         d.append(diag("TX-E409", span, code=code))
         return None
-    ref = run._ref()
+    ref = run.ref()
     first_move = moves[k]
     points: list[tuple[XZ, int]] = [
         ((first_move.start[0] + ref[0], first_move.start[2] + ref[1]), first_move.line)
@@ -725,7 +780,7 @@ def _cut_line(o: _Out, a: XZ, b: XZ, axis: int, every: float | None, back_off: f
 
 
 def _few_pieces(
-    run: TurnRun, length: float, every: float | None, passes: int, code: str, d: list[Diagnostic], span: Span
+    run: CycleRun, length: float, every: float | None, passes: int, code: str, d: list[Diagnostic], span: Span
 ) -> bool:
     """Chip breaking every `every` mm makes pieces; more than the run's move budget is refused before any is made."""
     pieces = passes * (_equal(length, every) if every is not None and every > 0 else 1)
@@ -736,7 +791,7 @@ def _few_pieces(
 
 
 def _rough_rect(
-    run: TurnRun,
+    run: CycleRun,
     o: _Out,
     code: str,
     values: dict[str, float],
@@ -810,7 +865,7 @@ def _rough_rect(
 
 
 def _drill(
-    run: TurnRun,
+    run: CycleRun,
     o: _Out,
     code: str,
     values: dict[str, float],
@@ -890,7 +945,7 @@ def _drill(
 
 
 def _pitch(
-    run: TurnRun, values: dict[str, float], d: list[Diagnostic], span: Span, code: str
+    run: CycleRun, values: dict[str, float], d: list[Diagnostic], span: Span, code: str
 ) -> float | None:
     state = run.cycles
     p = values.get("F", values.get("E"))
@@ -904,7 +959,7 @@ def _pitch(
 
 
 def _g33(
-    run: TurnRun, o: _Out, values: dict[str, float], words: dict[str, Word], d: list[Diagnostic], span: Span
+    run: CycleRun, o: _Out, values: dict[str, float], words: dict[str, Word], d: list[Diagnostic], span: Span
 ) -> None:
     pitch = _pitch(run, values, d, span, "G33")
     if pitch is None:
@@ -915,7 +970,7 @@ def _g33(
 
 
 def _thread_cycle(
-    run: TurnRun,
+    run: CycleRun,
     o: _Out,
     code: str,
     values: dict[str, float],
@@ -1036,7 +1091,7 @@ def _chamfer_pass(
 
 
 def _chamfer(
-    run: TurnRun,
+    run: CycleRun,
     o: _Out,
     code: str,
     values: dict[str, float],

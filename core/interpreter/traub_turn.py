@@ -365,7 +365,7 @@ class TurnRun:
             last = self._state = ModalState(t.codes, t.feed, speed, t.tool, t.offset)
         return last
 
-    def _ref(self) -> XZ:
+    def ref(self) -> XZ:
         """The workpiece zero of the output frame: the zero point active at the first motion."""
         if self.reference is None:
             self.reference = self.turn.zero()
@@ -377,7 +377,7 @@ class TurnRun:
         assert ref is not None
         return (p[0] - ref[0], 0.0, p[1] - ref[1])
 
-    def _template(self, kind: str, span: Span, exact: bool = False) -> Move:
+    def template(self, kind: str, span: Span, exact: bool = False) -> Move:
         t = self.turn
         p = self.last_known
         pos: Vec3 = self._out(p)
@@ -617,7 +617,7 @@ class TurnRun:
             else (owner if owner is not None and owner.cycle else None)
         )
         if cycle is not None:  # cycles and threads: core.interpreter.traub_cycles
-            traub_cycles.execute(self, block, cycle, words, values, out)
+            out.items.extend(traub_cycles.execute(self, block, cycle, words, values, d))
             t.first_after_t = False
         elif moving and motion is not None:
             self._motion(motion.name, words, values, span, out)
@@ -669,7 +669,7 @@ class TurnRun:
         self, code: str, words: dict[str, Word], values: dict[str, float], span: Span, out: Outcome
     ) -> None:
         t = self.turn
-        rx, rz = self._ref()
+        rx, rz = self.ref()
         zx, zz = t.zero()
         zx, zz = zx - rx, zz - rz  # the active zero point in the output frame
         start = None if self.position is None else (self.position[0] - rx, self.position[1] - rz)
@@ -716,7 +716,7 @@ class TurnRun:
         ):
             out.diagnostics.append(diag("TX-W105", span, limit=f"{MAX_SPINDLE:g} 1/min"))
         kind = "rapid" if code == "G0" else "arc" if is_arc else "feed"
-        template = self._template(kind, span, exact=code in ("G0", "G9"))
+        template = self.template(kind, span, exact=code in ("G0", "G9"))
         item = TurnItem(
             template,
             code,  # type: ignore[arg-type]
@@ -787,11 +787,11 @@ class TurnRun:
             points.append(target)
         else:  # G53: machine coordinates
             points = [(values["X"] / 2 if "X" in values else here[0], values.get("Z", here[1]))]
-        self._ref()
+        self.ref()
         for p in points:
             if p == here:
                 continue
-            template = self._template("rapid", span, exact=True)
+            template = self.template("rapid", span, exact=True)
             out.items.append(dataclasses.replace(template, start=self._out(here), end=self._out(p)))
             here = p
         self.position = self.last_known = here
@@ -1109,7 +1109,7 @@ def run_program(  # noqa: C901
         diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
     for n, (late_span, late_program) in run.late.items():
         diags.append(diag("TX-W107", late_span, number=n, program=late_program))
-    dx, dz = run._ref()
+    dx, dz = run.ref()
     commands = resolve(items, diags)
     early = run.early
     result.commands = [_to_workpiece(c, dx, dz) if early and id(c) in early else c for c in commands]
