@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any, Literal, NotRequired
 
 # pydantic (server/schemas.py: MoveOut) reads the wire's TypedDicts, and wants typing_extensions' before Python 3.12
@@ -104,6 +104,9 @@ class MoveJson(_MoveFields, total=False):
 WIRE_RESHAPED = {"span": ("line",), "cycle_definition": ("cycle",), "cycle_point": ("cycle",)}
 
 
+_set = object.__setattr__  # (a frozen dataclass's own __setattr__ refuses)
+
+
 @dataclass(frozen=True, slots=True)
 class Move:
     kind: MoveKind
@@ -136,6 +139,17 @@ class Move:
     @property
     def line(self) -> int:
         return self.span.line
+
+    def with_fields(self, **changes: Any) -> Move:
+        """`dataclasses.replace(self, **changes)` for the interpreter's hot paths (a move made from its block's
+        template): the same move, three times as fast, because the fields are copied without the constructor's
+        keyword handling. Unknown field names raise TypeError as there."""
+        new = object.__new__(Move)
+        for name in _MOVE_FIELDS:
+            _set(new, name, changes.pop(name) if name in changes else getattr(self, name))
+        if changes:
+            raise TypeError(f"Move has no field {', '.join(changes)}")
+        return new
 
     def chords(self, tolerance: float) -> int:
         """How many segments `points(tolerance)` makes: 1 for a straight move. Computed, not drawn, so that a
@@ -291,3 +305,6 @@ class Toolpath:
         partial = copy.copy(self)
         partial.commands = commands
         return partial
+
+
+_MOVE_FIELDS = tuple(f.name for f in fields(Move))

@@ -100,7 +100,7 @@ class Turn:
             return 0.0
         if self.codes.get("spindle_mode") != "G96":
             return self.speed
-        return _constant_cutting_speed(self.cutting_speed, self.limit)(x)
+        return _rpm(self.cutting_speed, self.limit, x)
 
     @property
     def spindle_on(self) -> bool:
@@ -802,13 +802,18 @@ class TurnRun:
 def _constant_cutting_speed(v: float, limit: float | None, axis: float = 0.0) -> Callable[[float], float]:
     """The speed (1/min) at x under G96 V`v`, clamped by G92 S`limit` (or the machine's highest); x + `axis` is
     the radius (distance from the spindle axis)."""
-    top = limit if limit is not None else MAX_SPINDLE
 
     def at(x: float) -> float:
-        d = 2 * abs(x + axis)
-        return top if d < 1e-9 else min(top, v * 1000.0 / (math.pi * d))
+        return _rpm(v, limit, x + axis)
 
     return at
+
+
+def _rpm(v: float, limit: float | None, radius: float) -> float:
+    """The speed (1/min) of cutting speed `v` (m/min) at `radius`, clamped by `limit` or the machine's highest."""
+    top = limit if limit is not None else MAX_SPINDLE
+    d = 2 * abs(radius)
+    return top if d < 1e-9 else min(top, v * 1000.0 / (math.pi * d))
 
 
 def resolve(items: list[Item], diagnostics: list[Diagnostic]) -> list[turn_contour.Command]:

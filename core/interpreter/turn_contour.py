@@ -737,7 +737,7 @@ def _move(seg: _Seg, e: Element, programmed: Point, feed: float | None = None) -
         fields["feed"] = feed
     if seg.item.spindle_at is not None:
         fields["spindle"] = seg.item.spindle_at(programmed[1])
-    return dataclasses.replace(t, **fields)  # type: ignore[arg-type]
+    return t.with_fields(**fields)
 
 
 def _session_side(seq: Seq, i: int, nose: Nose, span: Span, d: list[Diagnostic]) -> int:

@@ -1,0 +1,33 @@
+"""Move.with_fields, the interpreter's fast copy of a move, makes exactly what dataclasses.replace makes."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import pytest
+
+from core.pipeline import run
+from core.syntax.blocks import Span
+from core.toolpath import Move
+
+
+def test_with_fields_is_dataclasses_replace() -> None:
+    m = Move("feed", (0, 0, 0), (1, 1, 1), 100, "mm/min", 1000, "cw", False, 1, Span(3, 1, 3, 9))
+    changes = {"kind": "arc", "end": (2, 0, 1), "center": (1, 0, 1), "radius": 1.0, "plane": "G18"}
+    copied = m.with_fields(**changes)
+    assert copied == dataclasses.replace(m, **changes)  # type: ignore[arg-type]
+    assert copied.span == m.span and copied.tool == 1 and m.kind == "feed"  # the original stays
+    with pytest.raises(TypeError):
+        m.with_fields(colour="red")
+
+
+def test_a_turned_contour_keeps_its_technology_on_every_move() -> None:
+    tp = run(
+        "%\nO1\nN10 G59 Z100\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nN40 G0 X40 Z2\n"
+        "N50 G1 Z-20 F0.2\nN60 G2 X50 Z-25 R5\nN70 G0 X100 Z100\nN80 M30\n",
+        "traub-tx8d",
+    )
+    feeds = [m for m in tp.moves if m.kind in ("feed", "arc")]
+    assert [m.kind for m in feeds] == ["feed", "arc"]
+    assert all(m.feed == 0.2 and m.tool == 1 and m.plane == "G18" for m in feeds)
+    assert round(feeds[0].spindle) == round(200_000 / (3.141592653589793 * 40))  # G96 at Ø40: 1592 1/min
