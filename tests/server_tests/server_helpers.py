@@ -11,6 +11,7 @@ import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import create_engine, text
 
+from bench.cluster import own_schema
 from server import repository as repo
 from server.config import Settings
 from server.security import hash_password, make_token
@@ -35,11 +36,15 @@ def unique(prefix: str) -> str:
     return f"{prefix}{next(_names)}"
 
 
-def reset_postgres(url: str) -> None:
+# the schema of this test process in the PostgreSQL test database, fresh for every app made on it: its own, so
+# that parallel test workers (pytest -n) and other test runs on the same database never share tables
+SCHEMA = f"tests_{os.environ.get('PYTEST_XDIST_WORKER', 'main')}_{os.getpid()}"
+
+
+def drop_schema(url: str, name: str) -> None:
     engine = create_engine(url.replace("postgresql://", "postgresql+psycopg://", 1))
     with engine.begin() as conn:
-        conn.execute(text("DROP SCHEMA public CASCADE"))
-        conn.execute(text("CREATE SCHEMA public"))
+        conn.execute(text(f"DROP SCHEMA IF EXISTS {name} CASCADE"))
     engine.dispose()
 
 
@@ -62,8 +67,7 @@ def make_settings(tmp: Path, backend: str, **overrides: Any) -> Settings:
     }  # the tests run the finaliser's rounds themselves
     if backend == "postgresql":
         assert POSTGRES_URL
-        reset_postgres(POSTGRES_URL)
-        values["database_url"] = POSTGRES_URL
+        values["database_url"] = own_schema(POSTGRES_URL, SCHEMA)
     values.update(overrides)
     return Settings(**values)
 
