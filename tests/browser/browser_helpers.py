@@ -45,6 +45,31 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+# `paltrainer admin create-user NAME --role ROLE --password PASSWORD` for each (name, role) of the arguments, in
+# one Python process: each start imports the whole server
+_CREATE_USERS = """
+import sys
+from core.cli import main
+for name, role in zip(sys.argv[2::2], sys.argv[3::2]):
+    code = main(["admin", "create-user", name, "--role", role, "--password", sys.argv[1]])
+    if code:
+        sys.exit(code)
+"""
+
+
+def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password: str = PASSWORD) -> None:
+    """The users ((name, role) pairs) made with the admin CLI in the data folder of `env` (PALTRAINER_DATA_DIR)."""
+    names = [field for user in users for field in user]
+    if names:
+        subprocess.run(
+            [sys.executable, "-c", _CREATE_USERS, password, *names],
+            cwd=ROOT,
+            env=env,
+            check=True,
+            capture_output=True,
+        )
+
+
 @contextmanager
 def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: int = 1) -> Iterator[str]:
     """`paltrainer serve` on a free loopback port with `users` ((name, role) pairs, password PASSWORD); its URL."""
@@ -56,25 +81,7 @@ def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: i
         "PALTRAINER_WORKERS": str(workers),
         "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"),
     }
-    for name, role in users:
-        subprocess.run(
-            [
-                sys.executable,
-                "-m",
-                "core.cli",
-                "admin",
-                "create-user",
-                name,
-                "--role",
-                role,
-                "--password",
-                PASSWORD,
-            ],
-            cwd=ROOT,
-            env=env,
-            check=True,
-            capture_output=True,
-        )
+    create_users(env, users)
     proc = subprocess.Popen(
         [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
         cwd=ROOT,

@@ -23,8 +23,6 @@ from __future__ import annotations
 import json
 import os
 import re
-import subprocess
-import sys
 import time
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
@@ -32,6 +30,7 @@ from typing import Any
 
 import httpx
 import pytest
+from browser_helpers import create_users
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
@@ -61,13 +60,6 @@ EDITOR_TEXT = "[...document.querySelectorAll('.cm-content .cm-line')].map((l) =>
 SAVED = "document.getElementById('save-state')?.textContent.includes('Entwurf gespeichert')"
 
 
-def admin(*args: str) -> None:
-    env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run(
-        [sys.executable, "-m", "core.cli", "admin", *args], cwd=ROOT, env=env, check=True, capture_output=True
-    )
-
-
 def client(server: str, user: str) -> httpx.Client:  # noqa: F811
     c = httpx.Client(base_url=f"{server}/api/v1", timeout=60)
     r = c.post("/auth/token", data={"username": user, "password": PASSWORD})
@@ -77,8 +69,10 @@ def client(server: str, user: str) -> httpx.Client:  # noqa: F811
 
 @pytest.fixture(scope="module")
 def teacher(server: str) -> httpx.Client:  # noqa: F811
-    admin("create-user", TEACHER, "--role", "instructor", "--password", PASSWORD)
-    admin("create-user", COLLEAGUE, "--role", "instructor", "--password", PASSWORD)
+    create_users(
+        {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]},
+        [(TEACHER, "instructor"), (COLLEAGUE, "instructor")],
+    )
     c = client(server, TEACHER)
     for name in (
         FIRST,
