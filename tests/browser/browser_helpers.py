@@ -139,3 +139,15 @@ def call(
     request = urllib.request.Request(f"{server}/api/v1{path}", data=data, headers=headers, method=method)
     with urllib.request.urlopen(request, timeout=120) as r:
         return json.loads(r.read() or b"null")
+
+
+def completion_labels(page: Any) -> list[str]:
+    """The labels of the editor's open completion list (it follows the last key after a short delay)."""
+    page.wait_for_timeout(400)
+    page.wait_for_selector(".cm-tooltip-autocomplete li", timeout=5000)
+    return [
+        str(x)
+        for x in page.eval_on_selector_all(
+            ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)"
+        )
+    ]

@@ -10,7 +10,7 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, running_server
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, completion_labels, running_server
 
 pytestmark = [NEEDS_CHROMIUM]
 
@@ -66,17 +66,6 @@ def test_hover_on_rn_shows_its_sign_rule(editor: Any) -> None:
     assert "Regel: + Rundung, − Fase" in text and "Einheit: mm" in text
 
 
-def _labels(page: Any) -> list[str]:
-    page.wait_for_timeout(400)  # the list follows the last key after a short delay
-    page.wait_for_selector(".cm-tooltip-autocomplete li", timeout=5000)
-    return [
-        str(x)
-        for x in page.eval_on_selector_all(
-            ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)"
-        )
-    ]
-
-
 def _doc(page: Any) -> list[str]:
     return [str(x) for x in page.eval_on_selector_all(".cm-line", "els => els.map(e => e.textContent)")]
 
@@ -84,17 +73,17 @@ def _doc(page: Any) -> list[str]:
 def test_completion_narrows_by_prefix_in_numeric_order(editor: Any) -> None:
     editor.keyboard.press("Control+End")
     editor.keyboard.type("N60 G")
-    labels = _labels(editor)
+    labels = completion_labels(editor)
     assert labels[:8] == ["G0", "G1", "G2", "G3", "G4", "G9", "G10", "G11"]
     editor.keyboard.type("4")
     editor.wait_for_timeout(300)
-    assert _labels(editor) == ["G4", "G40", "G41", "G42", "G45", "G46", "G47", "G48"]
+    assert completion_labels(editor) == ["G4", "G40", "G41", "G42", "G45", "G46", "G47", "G48"]
 
 
 def test_enter_at_line_end_starts_a_new_line(editor: Any) -> None:
     editor.keyboard.press("Control+End")
     editor.keyboard.type("N60 G4")
-    _labels(editor)  # the list is open by itself
+    completion_labels(editor)  # the list is open by itself
     editor.keyboard.press("Enter")
     editor.keyboard.type("N70")
     assert _doc(editor)[-2:] == ["N60 G4", "N70"]
@@ -103,11 +92,11 @@ def test_enter_at_line_end_starts_a_new_line(editor: Any) -> None:
 def test_enter_takes_the_entry_after_ctrl_space(editor: Any) -> None:
     editor.keyboard.press("Control+End")
     editor.keyboard.type("N60 G1")
-    _labels(editor)
+    completion_labels(editor)
     editor.keyboard.press("Escape")
     editor.wait_for_selector(".cm-tooltip-autocomplete", state="detached")
     editor.keyboard.press("Control+Space")
-    assert _labels(editor)[:2] == ["G1", "G10"]
+    assert completion_labels(editor)[:2] == ["G1", "G10"]
     editor.keyboard.press("ArrowDown")
     editor.keyboard.press("Enter")
     assert _doc(editor)[-2:] == ["N50 G40", "N60 G10"]

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, running_server
+from browser_helpers import NEEDS_CHROMIUM, completion_labels, running_server
 
 pytestmark = [NEEDS_CHROMIUM]
 
@@ -98,24 +98,13 @@ def _no_hover(page: Any, editor: str, line: int, word: str, occurrence: int = 0)
     return page.locator(".pal-help").count() == 0
 
 
-def _labels(page: Any) -> list[str]:
-    page.wait_for_timeout(400)  # the list follows the last key after a short delay
-    page.wait_for_selector(".cm-tooltip-autocomplete li", timeout=5000)
-    return [
-        str(x)
-        for x in page.eval_on_selector_all(
-            ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)"
-        )
-    ]
-
-
 def _type_at_end(page: Any, editor: str, text: str) -> list[str]:
     page.keyboard.press("Escape")
     page.click(f"{editor} .cm-line >> nth=-1")
     page.keyboard.press("Control+End")
     page.keyboard.press("Enter")
     page.keyboard.type(text)
-    return _labels(page)
+    return completion_labels(page)
 
 
 def test_each_editor_hovers_with_its_own_dialect(server: str, browser: Any) -> None:
