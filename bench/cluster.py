@@ -21,7 +21,7 @@ import time
 import urllib.request
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Self
+from typing import Any, Self
 
 from sqlalchemy import create_engine, text
 
@@ -243,3 +243,52 @@ class Cluster:
 
     def __exit__(self, *exc: object) -> None:
         self.stop()
+
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+def scene_failover(cluster: Cluster, program: str, bound: float = 30.0) -> tuple[float, float]:
+    """In Chromium (Debian's package): the practice page's 3D view shows `program`; its replica is killed.
+    Answers the seconds until the frame shows a scene of another replica and until that scene shows the
+    program (issue 21's target: a new scene within 2 s; bench/scale.py prints it). AssertionError when either
+    takes longer than `bound` seconds: the page did not recover."""
+    from playwright.sync_api import sync_playwright
+
+    assert CHROMIUM is not None, "Chromium is not installed"
+    with sync_playwright() as p:
+        browser = p.chromium.launch(
+            executable_path=CHROMIUM, args=["--headless", "--no-sandbox", "--disable-gpu"]
+        )
+        try:
+            page = browser.new_page(viewport={"width": 1366, "height": 768})
+            page.goto(f"{cluster.url}/practice")
+            page.wait_for_selector(".cm-content")
+            page.click(".cm-content")
+            page.keyboard.press("Control+a")
+            page.keyboard.insert_text(program)
+            page.click("#viz-on", timeout=30000)  # off by itself in a headless browser (software WebGL)
+            segments = "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5"
+            poll(page, segments, bound)
+            replica = page.evaluate("document.getElementById('viz-frame').getAttribute('src')").split("/")[2]
+            replica = replica.split(".")[0]
+            cluster.kill(replica)
+            killed = time.monotonic()
+            moved_away = (
+                f"!document.getElementById('viz-frame').getAttribute('src').startsWith('/viz/{replica}.')"
+            )
+            poll(page, moved_away, bound)
+            moved = time.monotonic() - killed
+            poll(page, segments, bound)
+            shown = time.monotonic() - killed
+        finally:
+            browser.close()
+    return moved, shown
+
+
+def poll(page: Any, expression: str, seconds: float) -> None:
+    """Wait for a JavaScript expression (the pages' Content-Security-Policy forbids Playwright's eval)."""
+    deadline = time.monotonic() + seconds
+    while not page.evaluate(expression):
+        assert time.monotonic() < deadline, f"not within {seconds} s: {expression}"
+        time.sleep(0.05)
