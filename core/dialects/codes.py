@@ -116,6 +116,10 @@ class CodeTable:
     technology_words: frozenset[str] = field(init=False)  # a block of only these moves nothing
     pairs: dict[str, tuple[tuple[str, str], ...]] = field(init=False)  # code → (group, member) it switches
     non_negative: tuple[str, ...] = field(init=False)  # the addresses whose values must not be negative
+    # the interpreter's lookups, built once per table instead of once per block:
+    numbered: dict[str, dict[float, Code]] = field(init=False)  # "G"/"M" → whole number → code (G1: 1)
+    takes: dict[str, frozenset[str]] = field(init=False)  # code → the addresses allowed in its block
+    has_cycles: bool = field(init=False)  # a modal group "cycle" (ISO drilling cycles), which G0–G3 end
 
     def __post_init__(self) -> None:
         group_of = {m: g.name for g in self.groups for m in g.members}
@@ -132,6 +136,16 @@ class CodeTable:
                 for name, code in self.codes.items()
             },
         )
+        numbered: dict[str, dict[float, Code]] = {}
+        for name, code in self.codes.items():
+            # (G50.1 and other decimal codes are looked up by their name)
+            if name[1:].isdigit() and name == f"{name[0]}{int(name[1:])}":
+                numbered.setdefault(name[0], {})[int(name[1:])] = code
+        object.__setattr__(self, "numbered", numbered)
+        object.__setattr__(
+            self, "takes", {name: code.words | self.always_allowed for name, code in self.codes.items()}
+        )
+        object.__setattr__(self, "has_cycles", "cycle" in group_of.values())
 
     def activates(self, code: Code) -> tuple[str, ...]:
         """The modal group members that `code` switches on."""

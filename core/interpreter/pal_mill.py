@@ -533,6 +533,9 @@ def _read(
 ) -> Reading:
     """Sort and check the words of `block` (`modal_motion`/`modal_plane`/`modal_cycle`: what is active before it)."""
     sorted_words = _sort_words(block, table, setup, new_params)
+    plain = _plain_motion(block, table, sorted_words, modal_motion, modal_plane, modal_cycle)
+    if plain is not None:
+        return plain
     gs, ms, words, values = sorted_words.gs, sorted_words.ms, sorted_words.words, sorted_words.values
     flags, has_expr, d = sorted_words.flags, sorted_words.has_expr, sorted_words.d
     code_diags, unknown = sorted_words.code_diags, sorted_words.unknown
@@ -642,13 +645,10 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
     limit = setup.limits.max_abs_value
     code_diags: list[Diagnostic] = []  # about the G and M words themselves
     unknown: list[Word] = []  # words of addresses the dialect does not have
-    bare_dwell = any(w.address == "" for w in block.words) and any(
-        w.address == "G" and w.value == 4 for w in block.words
-    )
     for w in block.words:
         a = w.address
-        if a == "" and bare_dwell:  # Beckhoff: G04 3.0 is G04 X3.0
-            w = w._replace(address="X")
+        if a == "" and any(v.address == "G" and v.value == 4 for v in block.words):
+            w = w._replace(address="X")  # Beckhoff: G04 3.0 is G04 X3.0
             a = "X"
         elif a == "":
             d.append(
@@ -692,6 +692,97 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
         values.setdefault(a, v)
     return _Words(gs, ms, words, values, flags, has_expr, code_diags, unknown, d)
+
+
+_PLAIN_MOTIONS = frozenset({"G0", "G1", "G2", "G3"})
+_PLAIN_WORDS = frozenset({"X", "Y", "Z", "I", "J", "K", "R", "F", "S", "RN"})
+
+
+def _plain_motion(
+    block: Block,
+    table: CodeTable,
+    sorted_words: _Words,
+    modal_motion: str | None,
+    modal_plane: str | None,
+    modal_cycle: str | None,
+) -> Reading | None:
+    """The reading of the most common block, a move G0–G3 (written or modal) with plain words of the end
+    point, the centre, the radius, F, S and RN, that breaks no rule; None for every other block, which the
+    general path (`_owner`, `_addresses`, `_tool_and_plane`, `_switches`) reads. It exists because most
+    blocks are such moves, and they need none of the general path's cases."""
+    gs, words, values = sorted_words.gs, sorted_words.words, sorted_words.values
+    if (
+        len(gs) > 1
+        or sorted_words.ms
+        or sorted_words.d
+        or sorted_words.flags
+        or sorted_words.code_diags
+        or sorted_words.unknown
+        or not words.keys() <= _PLAIN_WORDS
+        or len(words) < len(block.words) - len(gs)  # an address given twice
+    ):
+        return None
+    if gs:
+        owner_word, owner = gs[0]
+        motion = owner
+        if (
+            owner.name not in _PLAIN_MOTIONS
+            or owner.group != "motion"
+            or not owner.owns_block
+            or owner.alone
+            or owner.support is not Support.YES
+            or table.max_g_words == 0
+        ):
+            return None
+        activations = list(table.pairs[owner.name])
+        if table.has_cycles:
+            activations.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
+    else:
+        modal = table.codes.get(modal_motion or "G1")
+        if (
+            modal is None
+            or modal.name not in _PLAIN_MOTIONS
+            or modal_cycle not in (None, "G80")
+            or words.keys() <= table.technology_words  # (a block of only F and S moves nothing)
+        ):
+            return None
+        motion, owner, owner_word, activations = modal, None, None, []
+    if not words.keys() <= table.takes[motion.name]:
+        return None
+    found: list[Diagnostic] = []
+    missing_words(gs, words, found)
+    negative_values(table, values, lambda a: words[a][0], found)
+    arc_plane, alt_plane = "G17", None
+    if motion.name in ("G2", "G3"):
+        plane = modal_plane or "G17"
+        if table.din:
+            arc_plane, alt_plane = _din_arc_plane(plane, words)
+        else:
+            arc_plane = _arc_plane(plane, words, table)
+        if not words.keys().isdisjoint(_CENTRE_WORDS - PLANE_WORDS[arc_plane].centre_words):
+            return None  # a centre word of another plane (PAL-E204)
+    if found:
+        return None
+    return Reading(
+        gs,
+        [],
+        words,
+        values,
+        owner,
+        owner_word,
+        motion,
+        None,
+        arc_plane,
+        [],
+        not sorted_words.has_expr,
+        frozenset((owner.name,)) if owner is not None else frozenset(),
+        [],
+        activations,
+        {},
+        not words.keys().isdisjoint(_GEOMETRY_WORDS),
+        None,
+        alt_plane,
+    )
 
 
 def _owner(
@@ -924,8 +1015,15 @@ def _in_range(value: float, address: str, span: Span, setup: RunSetup, d: list[D
     return False
 
 
+_NO_CODES: dict[float, Code] = {}
+
+
 def _code_word(w: Word, table: CodeTable, d: list[Diagnostic]) -> Code | None:
     """The code table entry of a G or M word, or None after a diagnostic."""
+    if w.expr is None and w.value is not None:  # the common case: a whole number the table has
+        code = table.numbered.get(w.address, _NO_CODES).get(w.value)
+        if code is not None:
+            return code
     if w.value is None or w.expr is not None:
         d.append(
             diag("PAL-E111", w.span, address=w.address)
