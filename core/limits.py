@@ -92,11 +92,13 @@ class Budget:
 
 def block_steps(block: Block) -> int:
     """The evaluation steps of one execution of `block`: one per word, one per term of each expression."""
-    return (
-        len(block.words)
-        + sum(_terms(w.expr) for w in block.words if w.expr is not None)
-        + sum(1 + _terms(a.expr) for a in block.assignments)
-    )
+    steps = len(block.words)
+    for w in block.words:  # (a loop, not sum() over a generator: this runs for every block)
+        if w.expr is not None:
+            steps += _terms(w.expr)
+    for a in block.assignments:
+        steps += 1 + _terms(a.expr)
+    return steps
 
 
 def _terms(expr: Expr) -> int:

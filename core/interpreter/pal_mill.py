@@ -81,7 +81,7 @@ def execute_block(
         and not table.din
         and (owner.name in pal_cycles.DEFINITIONS or owner.name in pal_cycles.CALLS)
     )
-    step = _Step(setup, table, block, reading, values, new_params, pal_cycle, out)
+    step = _Step(setup, table, block, block.span, reading, values, new_params, pal_cycle, out)
     _check_in_state(step, state)
     if d and any(x.severity is Severity.ERROR for x in d):
         out.executed = False
@@ -111,6 +111,7 @@ class _Step:
     setup: RunSetup
     table: CodeTable
     block: Block
+    span: Span  # the block's (made once)
     reading: Reading
     values: dict[str, float]  # in mm
     params: dict[int, float]  # after the block's assignments
@@ -178,7 +179,7 @@ def _check_in_state(step: _Step, state: ModalState) -> None:
             )
         pal_cycles.check_block(
             owner.name,
-            owner_word.span if owner_word else step.block.span,
+            owner_word.span if owner_word else step.span,
             words,
             values,
             state,
@@ -205,7 +206,7 @@ def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
     r, values, table, out = step.reading, step.values, step.table, step.out
     owner = r.owner
     codes = state.codes
-    changes = {g: m for g, m in r.activations if codes.get(g) != m}
+    changes = {g: m for g, m in r.activations if codes.get(g) != m} if r.activations else {}
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
     if "F" in values and not (
         step.pal_cycle and owner is not None and owner.name == "G84"
@@ -259,7 +260,7 @@ def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
         if frame is not state.frame:
             state = dataclasses.replace(state, frame=frame)
     if "T" in values:
-        out.commands.append(ToolChange(tool, tc, tr, tl, position, step.block.span))
+        out.commands.append(ToolChange(tool, tc, tr, tl, position, step.span))
     if changes.get("spindle") in ("M3", "M4") and speed == 0:
         span = next(w.span for w, c in r.ms if c.name in ("M3", "M4", "M13", "M14"))
         out.diagnostics.append(diag("PAL-E306", span))
@@ -269,7 +270,7 @@ def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
 def _act(step: _Step, before: ModalState, state: ModalState, position: Vec3) -> tuple[ModalState, Vec3]:
     """The motion, dwell, cycle or program flow of the block."""
     r, values, words, setup, out = step.reading, step.values, step.reading.words, step.setup, step.out
-    owner, span, d = r.owner, step.block.span, out.diagnostics
+    owner, span, d = r.owner, step.span, out.diagnostics
     name = owner.name if owner is not None else None
     if name == "G4":
         out.commands.append(Dwell(position, _dwell_seconds(step, state), span))
@@ -321,7 +322,7 @@ def _dwell_seconds(step: _Step, state: ModalState) -> float:
     if int(values.get("O", 1)) == 2:  # U in spindle revolutions
         if state.speed == 0:
             owner_word = step.reading.owner_word
-            step.out.diagnostics.append(diag("PAL-E305", owner_word.span if owner_word else step.block.span))
+            step.out.diagnostics.append(diag("PAL-E305", owner_word.span if owner_word else step.span))
             return 0.0
         return values["U"] * 60.0 / state.speed
     return seconds
@@ -329,15 +330,8 @@ def _dwell_seconds(step: _Step, state: ModalState) -> float:
 
 def _contour_motion(step: _Step, motion: Code, state: ModalState, position: Vec3) -> tuple[ModalState, Vec3]:
     """A G0–G3 move (a contour element under compensation, with its transition to the next one)."""
-    r, values, words, setup, table, out = (
-        step.reading,
-        step.values,
-        step.reading.words,
-        step.setup,
-        step.table,
-        step.out,
-    )
-    span, d = step.block.span, out.diagnostics
+    r, values, setup, table, out = step.reading, step.values, step.setup, step.table, step.out
+    words, span, d = r.words, step.span, out.diagnostics
     exact = "G9" in r.in_block or state.codes.get("path_mode") == "G61"
     frame = state.frame
     here = position if frame.identity else frame.to_program(position)
@@ -367,7 +361,8 @@ def _contour_motion(step: _Step, motion: Code, state: ModalState, position: Vec3
         state = dataclasses.replace(state, pole=pole)
     if move is None:
         return state, position
-    move = frame.map_move(move)
+    if not frame.identity:
+        move = frame.map_move(move)
     side, radius = _compensation(setup, state)
     rn, element, by_length = _transition(values, words)
     out.commands.append(
@@ -396,7 +391,7 @@ def _blend(step: _Step, state: ModalState) -> ModalState:
     size = step.values.get("I", state.blend)
     if size <= 0:
         out.diagnostics.append(
-            diag("PAL-E501", owner_word.span if owner_word else step.block.span, command=owner.name)
+            diag("PAL-E501", owner_word.span if owner_word else step.span, command=owner.name)
         )
         out.stopped = True  # an error that stops decoding
         return state
@@ -406,7 +401,7 @@ def _blend(step: _Step, state: ModalState) -> ModalState:
             size if owner.name == "G302" else -size,
             element,
             step.values.get("#FRC", state.feed),
-            step.block.span,
+            step.span,
         )
     )
     return dataclasses.replace(state, blend=size)
@@ -536,6 +531,19 @@ def _read(
     plain = _plain_motion(block, table, sorted_words, modal_motion, modal_plane, modal_cycle)
     if plain is not None:
         return plain
+    return _checked(block, table, setup, sorted_words, modal_motion, modal_plane, modal_cycle)
+
+
+def _checked(
+    block: Block,
+    table: CodeTable,
+    setup: RunSetup,
+    sorted_words: _Words,
+    modal_motion: str | None,
+    modal_plane: str | None,
+    modal_cycle: str | None,
+) -> Reading:
+    """The reading of any block, its sorted words checked by every rule (the general path of `_read`)."""
     gs, ms, words, values = sorted_words.gs, sorted_words.ms, sorted_words.words, sorted_words.values
     flags, has_expr, d = sorted_words.flags, sorted_words.has_expr, sorted_words.d
     code_diags, unknown = sorted_words.code_diags, sorted_words.unknown
@@ -643,6 +651,7 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
     flags: list[Word] = []
     has_expr = False
     limit = setup.limits.max_abs_value
+    addresses = table.addresses
     code_diags: list[Diagnostic] = []  # about the G and M words themselves
     unknown: list[Word] = []  # words of addresses the dialect does not have
     for w in block.words:
@@ -666,7 +675,7 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
             if code is not None:
                 (gs if a == "G" else ms).append((w, code))
             continue
-        spec = table.addresses.get(a)
+        spec = addresses.get(a)
         if spec is None:
             if a.startswith(table.unsupported_prefixes) and table.unsupported_prefixes:
                 text = w.raw if len(w.raw) <= 40 else w.raw[:39] + "…"
@@ -759,7 +768,7 @@ def _plain_motion(
             arc_plane, alt_plane = _din_arc_plane(plane, words)
         else:
             arc_plane = _arc_plane(plane, words, table)
-        if not words.keys().isdisjoint(_CENTRE_WORDS - PLANE_WORDS[arc_plane].centre_words):
+        if not words.keys().isdisjoint(_FOREIGN_CENTRE_WORDS[arc_plane]):
             return None  # a centre word of another plane (PAL-E204)
     if found:
         return None
@@ -905,7 +914,7 @@ def _tool_and_plane(
         else:
             arc_plane = _arc_plane(plane or "G17", words, table)
         pw = PLANE_WORDS[arc_plane]
-        for a in _CENTRE_WORDS - pw.centre_words:
+        for a in _FOREIGN_CENTRE_WORDS[arc_plane]:
             if a in words:
                 d.append(
                     diag(
@@ -1066,7 +1075,16 @@ def _target(
     d: list[Diagnostic],
 ) -> Vec3:
     """The end point from X/XI/XA, Y/YI/YA, Z/ZI/ZA under G90 or G91."""
-    incremental = state.active("dimensions") == "G91"
+    incremental = state.codes.get("dimensions") == "G91"
+    if values.keys().isdisjoint(_SPELLINGS):  # the common case, X Y Z only: no loop over the spellings
+        x, y, z = position
+        if "X" in values:
+            x = x + values["X"] if incremental else values["X"]
+        if "Y" in values:
+            y = y + values["Y"] if incremental else values["Y"]
+        if "Z" in values:
+            z = z + values["Z"] if incremental else values["Z"]
+        return (x, y, z)
     out = list(position)
     for i, (plain, inc, absolute) in enumerate(_AXES):
         if plain in values:
@@ -1106,7 +1124,7 @@ def _motion(
 ) -> tuple[Move | None, tuple[float, float] | None]:
     """The programmed move of a motion block, and the pole it programs (G10–G13)."""
     end = _target(state, position, values, words, d)
-    spindle_code = state.active("spindle")
+    spindle_code = state.codes.get("spindle")
     spindle_on = spindle_code in ("M3", "M4")
     pole: tuple[float, float] | None = None
     if name in ("G10", "G11", "G12", "G13"):
@@ -1288,15 +1306,16 @@ def _move(
 ) -> Move:
     """A move carrying the technology active in `state`."""
     spindle_on = spindle_code == "M3" or spindle_code == "M4"
+    codes = state.codes
     return Move(
         kind,
         start,
         end,
         state.feed,
-        "mm/rev" if state.active("feed_mode") == "G95" else "mm/min",
+        "mm/rev" if codes.get("feed_mode") == "G95" else "mm/min",
         state.speed if spindle_on else 0.0,
         ("cw" if spindle_code == "M3" else "ccw") if spindle_on else None,
-        state.active("coolant") in ("M7", "M8"),
+        codes.get("coolant") in ("M7", "M8"),
         state.tool,
         span,
         center,
@@ -1304,7 +1323,7 @@ def _move(
         radius,
         angle,
         exact_stop,
-        plane or state.codes.get("plane") or "G17",
+        plane or codes.get("plane") or "G17",
     )
 
 
@@ -1340,14 +1359,14 @@ def _arc(
     or else O1/O2 picks the shorter or longer arc, then H1/H2 the smaller or larger start tangent angle.
     """
     s = (position[0], position[1])
-    has_x = any(a in words for a in pw.u)
-    has_y = any(a in words for a in pw.v)
+    has_x = not words.keys().isdisjoint(pw.u)
+    has_y = not words.keys().isdisjoint(pw.v)
     cx = _centre(values, pw.cu, s[0])
     cy = _centre(values, pw.cv, s[1])
     r_word = words["R"][0] if "R" in words else None
     radius = abs(values["R"]) if "R" in values else None
     ao = values.get("AO")
-    given = sum((has_x, has_y, cx is not None, cy is not None, radius is not None, ao is not None))
+    given = has_x + has_y + (cx is not None) + (cy is not None) + (radius is not None) + (ao is not None)
     tol = setup.arc_tolerance
     full_circle = not has_x and not has_y and cx is not None and cy is not None and ao is None
     if given < 3 and not full_circle:
@@ -1439,6 +1458,8 @@ PLANE_WORDS = {
     "G19": PlaneWords(_AXES[1], _AXES[2], ("J", "JA"), ("K", "KA")),
 }
 _CENTRE_WORDS = frozenset({"I", "J", "K", "IA", "JA", "KA"})
+# plane → the centre words of the other planes (PAL-E204)
+_FOREIGN_CENTRE_WORDS = {name: _CENTRE_WORDS - pw.centre_words for name, pw in PLANE_WORDS.items()}
 
 
 def _arc_plane(plane: str, words: dict[str, list[Word]], table: CodeTable) -> str:
