@@ -1446,10 +1446,10 @@ class PlaneWords:
     v: tuple[str, ...]
     cu: tuple[str, str]
     cv: tuple[str, str]
+    centre_words: frozenset[str] = field(init=False)  # cu and cv
 
-    @property
-    def centre_words(self) -> frozenset[str]:
-        return frozenset((*self.cu, *self.cv))
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "centre_words", frozenset((*self.cu, *self.cv)))
 
 
 PLANE_WORDS = {
@@ -1458,8 +1458,17 @@ PLANE_WORDS = {
     "G19": PlaneWords(_AXES[1], _AXES[2], ("J", "JA"), ("K", "KA")),
 }
 _CENTRE_WORDS = frozenset({"I", "J", "K", "IA", "JA", "KA"})
+_IJK = frozenset({"I", "J", "K"})
 # plane → the centre words of the other planes (PAL-E204)
 _FOREIGN_CENTRE_WORDS = {name: _CENTRE_WORDS - pw.centre_words for name, pw in PLANE_WORDS.items()}
+_PLANE_OF_AXES = {frozenset((i, j)): name for name, (i, j, _) in AXES.items()}  # {0, 1} → G17 …
+
+
+def _axes_named(words: dict[str, list[Word]]) -> str | None:
+    """The plane of the block's end-point axes when they are two (X and Y: G17), else None."""
+    keys = words.keys()
+    axes = frozenset(i for i in (0, 1, 2) if not keys.isdisjoint(_AXES[i]))
+    return _PLANE_OF_AXES.get(axes)
 
 
 def _arc_plane(plane: str, words: dict[str, list[Word]], table: CodeTable) -> str:
@@ -1467,12 +1476,7 @@ def _arc_plane(plane: str, words: dict[str, list[Word]], table: CodeTable) -> st
     (an arc "outside the selected plane", where the dialect has more than one plane)."""
     if "G18" not in table.codes:
         return plane
-    axes = frozenset(i for i, spellings in enumerate(_AXES) if any(a in words for a in spellings))
-    if len(axes) == 2:
-        for name, (i, j, _) in AXES.items():
-            if axes == {i, j}:
-                return name
-    return plane
+    return _axes_named(words) or plane
 
 
 def _centre(values: dict[str, float], words: tuple[str, str], start: float) -> float | None:
@@ -1648,11 +1652,8 @@ def _din_arc_plane(plane: str, words: dict[str, list[Word]]) -> tuple[str, str |
     its end-point axes if they hold the centre words, else in the plane that does (G17 X.. Z.. I.. J.. is a helix
     in G17, G17 Z.. X.. K.. I.. an arc in G18). An arc with R (its centre words then have no effect) leaves the
     plane only where R is impossible in it (decided with the geometry, core.interpreter.pal_mill._din_motion)."""
-    axes = frozenset(i for i, spellings in enumerate(_AXES) if any(a in words for a in spellings))
-    named = (
-        next((name for name, (i, j, _) in AXES.items() if axes == {i, j}), None) if len(axes) == 2 else None
-    )
-    centre = frozenset(a for a in ("I", "J", "K") if a in words and "R" not in words)  # (with R: no centre)
+    named = _axes_named(words)
+    centre: set[str] = set() if "R" in words else words.keys() & _IJK  # (with R: no centre)
     if not centre:
         return plane, named if named != plane else None
     if centre <= PLANE_WORDS[plane].centre_words:
