@@ -745,10 +745,20 @@ def _depart(p: Planned, start: Vec3, side: int, out: list[Command]) -> Vec3:
 
 def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
     """Both stages in order: transitions on the programmed contour, then compensation in each plane."""
-    if not any(
-        isinstance(p, Blend) or (isinstance(p, Planned) and (p.rn or p.side or p.departure)) for p in items
-    ):
-        return [p.move if isinstance(p, Planned) else p for p in items if not isinstance(p, Blend)]
+    as_programmed: list[Command] = []
+    for (
+        p
+    ) in items:  # the common case, no transition and no compensation: the moves as programmed, in one pass
+        if isinstance(p, Planned):
+            if p.rn or p.side or p.departure:
+                break
+            as_programmed.append(p.move)
+        elif isinstance(p, Blend):
+            break
+        else:
+            as_programmed.append(p)
+    else:
+        return as_programmed
     contour = insert_transitions(items, d)
     out: list[Command] = []
     segment: list[Planned | Dwell | ToolChange] = []

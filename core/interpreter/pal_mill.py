@@ -704,6 +704,7 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
 
 
 _PLAIN_MOTIONS = frozenset({"G0", "G1", "G2", "G3"})
+_ALONE = {name: frozenset((name,)) for name in _PLAIN_MOTIONS}  # the G names of a block with one of them
 _PLAIN_WORDS = frozenset({"X", "Y", "Z", "I", "J", "K", "R", "F", "S", "RN"})
 
 
@@ -784,7 +785,7 @@ def _plain_motion(
         arc_plane,
         [],
         not sorted_words.has_expr,
-        frozenset((owner.name,)) if owner is not None else frozenset(),
+        _ALONE[owner.name] if owner is not None else frozenset(),
         [],
         activations,
         {},
