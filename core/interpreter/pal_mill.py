@@ -201,12 +201,22 @@ def _skips_planned(step: _Step) -> bool:
     return False
 
 
+_TECHNOLOGY = frozenset({"F", "S", "T", "TC", "TR", "TL", "D"})  # the words `_commit` takes (D: DIN's offset)
+_FRAME_OWNERS = frozenset({"G50", "G58", "G59", "G66"})  # the codes that change the frame by their words
+
+
 def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
     """Technology and modes at the block start: F, S, the tool change with TC/TR/TL, modal codes, the frame."""
     r, values, table, out = step.reading, step.values, step.table, step.out
     owner = r.owner
     codes = state.codes
     changes = {g: m for g, m in r.activations if codes.get(g) != m} if r.activations else {}
+    if (
+        not changes
+        and values.keys().isdisjoint(_TECHNOLOGY)
+        and (owner is None or owner.name not in _FRAME_OWNERS)
+    ):
+        return _din_modes(state) if table.din else state  # nothing to commit: most moves
     feed, speed, tool, tc, tr, tl = state.feed, state.speed, state.tool, state.tc, state.tr, state.tl
     if "F" in values and not (
         step.pal_cycle and owner is not None and owner.name == "G84"
@@ -255,7 +265,7 @@ def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
         )
     if table.din:
         state = _din_modes(state)
-    if "zero_offset" in changes or (owner is not None and owner.name in ("G50", "G58", "G59", "G66")):
+    if "zero_offset" in changes or (owner is not None and owner.name in _FRAME_OWNERS):
         frame = _frame(step.setup, state.frame, changes.get("zero_offset"), owner, r.words, values)
         if frame is not state.frame:
             state = dataclasses.replace(state, frame=frame)
