@@ -745,10 +745,9 @@ def _depart(p: Planned, start: Vec3, side: int, out: list[Command]) -> Vec3:
 
 def finish(items: list[Item], d: list[Diagnostic]) -> list[Command]:
     """Both stages in order: transitions on the programmed contour, then compensation in each plane."""
+    # the common case, no transition and no compensation: the moves as programmed, found in one pass
     as_programmed: list[Command] = []
-    for (
-        p
-    ) in items:  # the common case, no transition and no compensation: the moves as programmed, in one pass
+    for p in items:
         if isinstance(p, Planned):
             if p.rn or p.side or p.departure:
                 break

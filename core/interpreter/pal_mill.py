@@ -714,7 +714,7 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
 
 
 _PLAIN_MOTIONS = frozenset({"G0", "G1", "G2", "G3"})
-_ALONE = {name: frozenset((name,)) for name in _PLAIN_MOTIONS}  # the G names of a block with one of them
+_SINGLE_NAMES = {name: frozenset((name,)) for name in _PLAIN_MOTIONS}  # a block's G names: this move only
 _PLAIN_WORDS = frozenset({"X", "Y", "Z", "I", "J", "K", "R", "F", "S", "RN"})
 
 
@@ -795,7 +795,7 @@ def _plain_motion(
         arc_plane,
         [],
         not sorted_words.has_expr,
-        _ALONE[owner.name] if owner is not None else frozenset(),
+        _SINGLE_NAMES[owner.name] if owner is not None else frozenset(),
         [],
         activations,
         {},
