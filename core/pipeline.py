@@ -18,11 +18,12 @@ from core.dialects.codes import CodeTable
 from core.dialects.pal_mill import TABLE as PAL_MILL_TABLE
 from core.dialects.sinumerik_iso import TABLE as ISO_TABLE
 from core.dialects.traub_tx8d import TABLE as TRAUB_TABLE
-from core.interpreter import BlockExecutor, interpret
 from core.interpreter.checkpoints import Keep
+from core.interpreter.loop import Machine, run_loop
+from core.interpreter.mill_machine import MillMachine
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
-from core.interpreter.traub_turn import run_program as traub_run
+from core.interpreter.traub_turn import TurnMachine
 from core.syntax.blocks import Block, Program
 from core.syntax.parser import BlockParser, parser_for
 from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
@@ -35,13 +36,9 @@ class Dialect:
     title_en: str
     grammar: str  # core/syntax/<grammar>.lark
     table: CodeTable
-    execute: BlockExecutor
+    # the machine of a run (core/interpreter/loop.py), made for its set-up and the memo's readings of blocks
+    machine: Callable[[RunSetup, dict[Any, Any] | None], Machine]
     valued_codes: frozenset[str] = frozenset()  # codes the grammar takes with a value (G301=20)
-    # a dialect with its own run loop (TRAUB: programs in one file, sections, L parameters) instead of
-    # the shared one with `execute`
-    runner: (
-        Callable[[Program, RunSetup, list[Diagnostic], dict[int, Program], Keep | None], Toolpath] | None
-    ) = None
     skip_blocks: bool = False  # the default of the skip switch: True = "/" blocks are not executed
     library_prefix: str = "L"  # --lib DIR: the files <prefix><n>.nc are the programs of the library
     lathe: bool = False  # turning: X is shown as a diameter (the moves' x is the radius, DECISIONS §15)
@@ -53,14 +50,21 @@ class Dialect:
 
 
 DIALECTS: dict[str, Dialect] = {
-    "pal-mill": Dialect("pal-mill", "PAL Fräsen", "PAL milling", "pal_mill", PAL_MILL_TABLE, pal_mill_block),
+    "pal-mill": Dialect(
+        "pal-mill",
+        "PAL Fräsen",
+        "PAL milling",
+        "pal_mill",
+        PAL_MILL_TABLE,
+        partial(MillMachine, PAL_MILL_TABLE, pal_mill_block),
+    ),
     "sinumerik-iso": Dialect(
         "sinumerik-iso",
         "SINUMERIK 808D ISO Fräsen",
         "SINUMERIK 808D ISO milling",
         "iso",
         ISO_TABLE,
-        partial(pal_mill_block, table=ISO_TABLE),
+        partial(MillMachine, ISO_TABLE, partial(pal_mill_block, table=ISO_TABLE)),
         library_prefix="O",
         program_numbers=True,
         code_prefix="ISO",
@@ -71,7 +75,7 @@ DIALECTS: dict[str, Dialect] = {
         "Beckhoff TwinCAT CNC",
         "beckhoff",
         BECKHOFF_TABLE,
-        partial(pal_mill_block, table=BECKHOFF_TABLE),
+        partial(MillMachine, BECKHOFF_TABLE, partial(pal_mill_block, table=BECKHOFF_TABLE)),
         BECKHOFF_VALUED,
         code_prefix="BK",
     ),
@@ -81,8 +85,7 @@ DIALECTS: dict[str, Dialect] = {
         "TRAUB TX 8 D turning",
         "traub",
         TRAUB_TABLE,
-        pal_mill_block,
-        runner=traub_run,
+        TurnMachine,
         skip_blocks=True,
         library_prefix="O",
         lathe=True,
@@ -126,21 +129,12 @@ def run(
         sub, sub_diagnostics = parser.parse_program(sub_text, setup.limits)
         library[number] = sub
         diagnostics += [dataclasses.replace(x, source=f"{d.library_prefix}{number}") for x in sub_diagnostics]
-    if d.runner is not None:
-        if setup.skip_blocks is None:
-            setup = dataclasses.replace(setup, skip_blocks=d.skip_blocks)
-        toolpath = d.runner(program, setup, diagnostics, library, memo.runs if memo is not None else None)
-    else:
-        toolpath = interpret(
-            program,
-            d.table,
-            d.execute,
-            setup,
-            diagnostics,
-            library,
-            memo.readings if memo is not None else None,
-            memo.runs if memo is not None else None,
-        )
+    if setup.skip_blocks is None and d.skip_blocks:
+        setup = dataclasses.replace(setup, skip_blocks=True)
+    machine = d.machine(setup, memo.readings if memo is not None else None)
+    toolpath = run_loop(
+        program, machine, setup, diagnostics, library, memo.runs if memo is not None else None
+    )
     toolpath.diagnostics = sorted(
         (in_dialect(x, d.code_prefix) for x in toolpath.diagnostics),
         key=lambda x: (x.span.line, x.span.column),

@@ -345,7 +345,7 @@ def test_typing_in_a_long_program_takes_over_the_previous_run() -> None:
         text = "\n".join(doc) + "\n"
         assert live_json(text, "pal-mill", RunSetup(), memo) == live_json(text, "pal-mill", RunSetup(), None)
     assert STATS["incremental"] - before["incremental"] == len(docs)
-    assert memo.runs.trace is not None and len(memo.runs.trace.checkpoints) > 490
+    assert memo.runs.trace is not None and len(memo.runs.trace.points) > 490
 
 
 def test_a_loop_across_the_edit_runs_to_the_end_and_stays_correct() -> None:
@@ -477,3 +477,17 @@ def test_typing_in_a_long_traub_program_takes_over_the_previous_run() -> None:
         )
     assert STATS["full"] == before["full"]
     assert STATS["incremental"] - before["incremental"] >= len(docs) - 2
+
+
+def test_a_dwell_in_a_library_subprogram_keeps_its_line_when_lines_before_the_call_move() -> None:
+    """A dwell of a library subprogram taken over from the previous run names a line of the library's file:
+    a line inserted into the program before the call moves the program's lines, not the library's."""
+    setup = RunSetup(subprograms=((30, "G1 X1\nG1 X2\nG1 X3\nG1 X4\nG4 U2\nM17\n"),))
+    lines = ["N10 T1 TC1 M6", "N20 S1200 F150 M3", "G0 X0 Y0 Z2", "G1 Z-1", "G1 X5", "G22 L30", "M30"]
+    memo = Memo()
+    run("\n".join(lines) + "\n", "pal-mill", setup, memo)
+    text = "\n".join([*lines[:2], "(Kommentar)", *lines[2:]]) + "\n"
+    before = STATS.copy()
+    assert live_json(text, "pal-mill", setup, memo) == live_json(text, "pal-mill", setup, None)
+    assert STATS["incremental"] - before["incremental"] == 1  # it met the previous run before the call
+    assert run(text, "pal-mill", setup).dwells[0].span.line == 5  # the G4 U2 of L30

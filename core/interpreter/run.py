@@ -34,6 +34,7 @@ class Unit:
     prefix: str = "L"  # how its programs are called: L (PAL) or O (ISO, TRAUB)
     main: bool = False
     _numbers: dict[int, int] | None = None
+    _lines: dict[int, int] | None = None
 
     @property
     def numbers(self) -> dict[int, int]:
@@ -44,6 +45,14 @@ class Unit:
                 if b.number is not None:
                     self._numbers.setdefault(b.number, i)
         return self._numbers
+
+    def index_of(self, line: int) -> int:
+        """The index of its block at `line` (-1: past its last block); KeyError where none is there."""
+        if line < 0:
+            return len(self.blocks)
+        if self._lines is None:
+            self._lines = {b.line: i for i, b in enumerate(self.blocks)}
+        return self._lines[line]
 
     @property
     def first(self) -> int:

@@ -36,7 +36,7 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Protocol
 
 from core.diagnostics import Diagnostic, diag
-from core.interpreter.traub_trace import INF as INF_LINE
+from core.interpreter.checkpoints import INF as INF_LINE
 from core.syntax.blocks import Block, Span, Word
 from core.toolpath import Dwell, Move, MoveKind
 
@@ -342,7 +342,7 @@ def _contour(
         blocks = unit.blocks[i : j + 1]
     # the same contour read again from the same state gives the same points (a cycle repeated by G22)
     plain = all(w.expr is None for b in blocks for w in b.words) and all(not b.assignments for b in blocks)
-    if unit.source is None and blocks:  # the lines it reads (checkpoints: core/interpreter/traub_trace.py)
+    if unit.source is None and blocks:  # the lines it reads (checkpoints: core/interpreter/checkpoints.py)
         run.read.append((unit.line, INF_LINE) if "A" in values else (blocks[0].line - 1, blocks[-1].line))
     key = (
         unit.source,

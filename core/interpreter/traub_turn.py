@@ -27,35 +27,13 @@ from core.diagnostics import Diagnostic, Severity, diag
 from core.dialects.codes import Code, Support
 from core.dialects.traub_tx8d import TABLE
 from core.interpreter import traub_cycles, turn_contour
-from core.interpreter.checkpoints import STATS, Keep, LineMap, Unmappable, changed_lines
+from core.interpreter.checkpoints import LineMap, Unmappable
+from core.interpreter.loop import FlowCodes, Machine, Step
 from core.interpreter.params import evaluate as evaluate_expression
-from core.interpreter.run import (
-    Cursor,
-    Frame,
-    Unit,
-    cap_diagnostics,
-    dedupe,
-    finish_toolpath,
-    program_number,
-    split_programs,
-)
+from core.interpreter.run import Unit, finish_toolpath, split_programs
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
-from core.interpreter.traub_trace import (
-    INF,
-    FramePoint,
-    Key,
-    TurnPoint,
-    TurnTrace,
-    carry_contours,
-    map_contours,
-    map_diagnostic,
-    map_item,
-    map_point,
-    touches,
-)
 from core.interpreter.turn_contour import XZ, Nose, SrkSwitch, TransitionSpec, TurnItem
 from core.interpreter.words import group_conflicts, missing_words, negative_values
-from core.limits import Budget
 from core.syntax.blocks import Block, Expr, ParamRef, Program, Span, Word
 from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
 from core.tools import ToolTable
@@ -841,301 +819,126 @@ def _to_workpiece(c: turn_contour.Command, dx: float, dz: float) -> turn_contour
 # -- the run: programs, calls, sections --------------------------------------------------------
 
 
-def run_program(  # noqa: C901
-    program: Program,
-    setup: RunSetup,
-    diagnostics: list[Diagnostic] | None = None,
-    library: dict[int, Program] | None = None,
-    keep: Keep | None = None,
-) -> Toolpath:
-    """Execute a TRAUB program from its first block; never raises on user input.
+# the program flow's diagnostics of TRAUB programs
+FLOW = FlowCodes(
+    "TX-E301", "TX-E303", "TX-E302", "TX-E304", "TX-E305", "TX-W302", "TX-E306", "TX-W301", True, True, True
+)
 
-    `keep` holds the checkpoints of the previous run of the same document (core/interpreter/traub_trace.py):
-    this run executes only what the change can affect and takes the rest over; the result is a full run's."""
-    limits = setup.limits
-    result = Toolpath(diagnostics=list(diagnostics or []))
-    diags = result.diagnostics
-    run = TurnRun(setup)
-    result.initial = run.modal_state()
-    main, others = split_programs(program)
-    units: dict[int, Unit] = {}
-    for u in others:
-        assert u.number is not None
-        units.setdefault(u.number, u)
-        if not 8000 <= u.number <= 9999:
-            diags.append(diag("TX-W103", Span(u.line, 1, u.line, 2), number=u.number))
-    for number, prog in (library or {}).items():
-        lib_main, lib_others = split_programs(prog, f"O{number}")
-        lib_main.number = lib_main.number or number
-        for u in (lib_main, *lib_others):
-            if u.number is not None:
-                units.setdefault(u.number, u)
-    run.programs = [main, *units.values()]
-    n_lines = len(program.blocks)
-    states: list[ModalState | None] = [None] * n_lines
-    positions: list[Vec3 | None] = [None] * n_lines
-    items: list[Item] = []
-    cur = Cursor(main)  # where the run is, and the calls in progress
-    ended = False
-    budget = Budget(limits)
-    last_line, last_set = 0, -1
-    # -- checkpoints: this run's, and where the previous run's let it start and stop -----------------
-    n_initial = len(diags)
-    keys: dict[Key, Unit] = {(None, None): main, **{(u.source, u.number): u for u in units.values()}}
-    trace = TurnTrace(program.blocks, setup) if keep is not None else None
-    if trace is not None:
-        trace.units = ((main.number, 0), *((u.number, u.line) for u in others))
-    old = keep.trace if keep is not None and isinstance(keep.trace, TurnTrace) else None
-    kind = "full"
-    step = 0
-    lm = LineMap(1, 1, 0)
-    meet: dict[tuple[Key, int], list[int]] = {}
-    came_from: int | None = 0  # the program-file line the run passed last on its way (None: a jump)
-    if trace is not None:
-        resumed = _resume(old, trace, program.blocks, setup, keys) if old is not None else None
-        if resumed is None or old is None:
-            STATS["full"] += 1
-        else:
-            kind = "to_end"
-            STATS["to_end"] += 1  # until it meets the previous run
-            r, lm, meet, cp = resumed
-            if cp is not None:
-                cur.unit, cur.index, cur.frames = _place(cp, keys)
-                _restore(run, cp.run, map_contours(lm, old.contours[r], {}))
-                budget.executed, budget.steps, budget.moves = old.counters[r]
-                for s in range(r):
-                    lib = bool(old.library[s])
-                    for it in old.items[old.n_items[s] : old.n_items[s + 1]]:
-                        new = map_item(lm, it, lib)
-                        items.append(new)
-                        if id(it) in old.early:
-                            run.early.add(id(new))
-                    was_set = old.sets[s]
-                    if was_set is not None:
-                        at = lm.line(was_set[0] + 1) - 1
-                        states[at], positions[at] = was_set[1], was_set[2]
-                diags.extend(map_diagnostic(lm, x) for x in old.loop_diags[: old.n_diags[r]])
-                last_line = lm.line(old.lasts[r][0]) if old.lasts[r][0] else 0
-                last_set = old.lasts[r][1]
-                came_from = None
-                step = r
 
-    def report(d: Diagnostic) -> None:
-        diags.append(d if cur.unit.source is None else dataclasses.replace(d, source=cur.unit.source))
+class TurnMachine(Machine):
+    """TRAUB turning for the run loop (core/interpreter/loop.py): a `TurnRun` and its state as a value."""
 
-    def arrived(how: str | None) -> int | None:
-        """The program-file line the run passed last after a move of the cursor (None: a jump)."""
-        if how == "returned" and cur.unit.source is None:
-            line: int = cur.returned_from  # on after the calling block
-            return line
-        return None
+    codes = FLOW
+    resolves_numbers = True  # the cycles find their contours by block number
+    carries_as_is = False  # the contour cache of a later step: this run's and what the previous run added
 
-    def call(what: tuple[int | None, int | None, int | None, int], block: Block) -> bool:
-        """G22 (A, P, Q, H) or a macro: enter the program or its section; False after an error or H0."""
-        target, first_n, last_n, count = what
-        unit = cur.unit
-        callee = unit if target is None else units.get(target)
-        if callee is None:
-            report(diag("TX-E301", block.span, number=target))
-            return False
-        if target is not None and cur.active(callee):
-            report(diag("TX-E303", block.span, number=target))
-            return False
-        if cur.depth() >= setup.max_call_depth:
-            report(diag("TX-E302", block.span, limit=setup.max_call_depth))
-            return False
-        missing = [n for n in (first_n, last_n) if n is not None and n not in callee.numbers]
-        for n in missing:
-            report(diag("TX-E304", block.span, number=n, program=callee.name))
-        if missing:
-            return False
-        start = 0 if first_n is None else callee.numbers[first_n]
-        stop = None if last_n is None else callee.numbers[last_n]
-        if stop is not None and stop < start:
-            report(diag("TX-E305", block.span, start=first_n, end=last_n))
-            return False
-        if count < 1:
-            return False
-        cur.enter(Frame(unit, cur.index, callee, start, stop, count - 1, block.line))
-        return True
+    def __init__(self, setup: RunSetup, readings: dict[Any, Any] | None = None) -> None:
+        self.setup = self.identity = setup
+        self.run = TurnRun(setup)
+        self.initial = self.run.modal_state()
+        self.marks = self.run.early
+        self._contours: dict[Any, Any] | None = None  # the cycles' contour cache as the last snap kept it
+        self._ref: XZ = (0.0, 0.0)
 
-    while True:
-        unit, index = cur.unit, cur.index
-        if index >= len(unit.blocks):
-            if trace is not None and unit.source is None:
-                trace.touches.append((step, unit.tail, INF, True))  # the lines after its last block
-            if not cur.frames:
-                break
-            if cur.frames[-1].end is None and unit is not main:
-                line = unit.blocks[-1].line if unit.blocks else 1
-                report(diag("TX-W302", Span(line, 1, line, 1), number=unit.number))
-            came_from = arrived(cur.leave())
-            continue
-        block = unit.blocks[index]
-        if trace is not None:
-            if unit.source is None:
-                if came_from is None and index == 0:
-                    came_from = unit.line if unit is not main else 0
-                # (after a jump by block number: the block itself, which may have changed but kept its N)
-                scan = block.line - 1 if came_from is None else came_from
-                if scan < block.line:
-                    trace.touches.append((step, scan, block.line, True))
-            end_index = cur.frames[-1].end if cur.frames else None
-            cp = TurnPoint(
-                (unit.source, None if unit is main else unit.number),
-                block.line,
-                None if end_index is None else unit.blocks[end_index].line,
-                tuple(_frame_point(c, main) for c in cur.frames),
-                snapshot(run),
-            )
-            if meet and old is not None:
-                candidates = meet.get((cp.unit, cp.line))
-                if candidates:
-                    done = _take_over(
-                        old,
-                        trace,
-                        candidates,
-                        cp,
-                        lm,
-                        step,
-                        budget,
-                        run,
-                        items,
-                        diags,
-                        states,
-                        positions,
-                        limits,
-                        n_initial,
-                        (last_line, last_set),
-                    )
-                    if done is not None:
-                        STATS["to_end"] -= 1
-                        STATS["incremental"] += 1
-                        kind = "incremental"
-                        ended, took_last = done
-                        if took_last is not None:
-                            last_line, last_set = took_last
-                        break
-            if step < MAX_TRACE:
-                trace.points.append(cp)
-                contours = run.cycles.contours  # it only grows: a copy when it has
-                same = trace.contours and len(trace.contours[-1]) == len(contours)
-                trace.contours.append(trace.contours[-1] if same else dict(contours))
-                trace.counters.append(budget.counters)
-                trace.n_items.append(len(items))
-                trace.n_diags.append(len(diags) - n_initial)
-                trace.lasts.append((last_line, last_set))
-                trace.library.append(unit.source is not None)
-                trace.sets.append(None)
-            else:
-                trace = None  # too long to keep: the next run is a full one
-        came_from = block.line if unit.source is None else None
-        cur.index += 1
-        step += 1
-        if block.is_empty:
-            continue
-        if block.skip is not None and not run.turn.skip_on:
-            continue
-        if unit is main:
-            last_line, last_set = block.line, step - 1
-        spent = budget.block(block)
-        if spent is not None:
-            report(spent)
-            ended = True
-            break
-        run.program = cur.frames[-1].callee.name if cur.frames else None
+    def units(
+        self, program: Program, library: dict[int, Program], diags: list[Diagnostic]
+    ) -> tuple[Unit, dict[int, Unit], list[Unit]]:
+        main, others = split_programs(program)
+        units: dict[int, Unit] = {}
+        for u in others:
+            assert u.number is not None
+            units.setdefault(u.number, u)
+            if not 8000 <= u.number <= 9999:
+                diags.append(diag("TX-W103", Span(u.line, 1, u.line, 2), number=u.number))
+        for number, prog in library.items():
+            lib_main, lib_others = split_programs(prog, f"O{number}")
+            lib_main.number = lib_main.number or number
+            for u in (lib_main, *lib_others):
+                if u.number is not None:
+                    units.setdefault(u.number, u)
+        self.run.programs = [main, *units.values()]
+        return main, units, [main, *others]
+
+    def step(self, block: Block, unit: Unit, program: str | None) -> Step:
+        run = self.run
+        run.program = program
         out = run.execute(block)
+        reads = None
         if run.read:
-            if trace is not None:
-                trace.touches.extend((step - 1, lo, hi, False) for lo, hi in run.read)
+            reads = list(run.read)
             run.read.clear()
-        budget.reported(len(out.diagnostics))
-        spent = budget.made(sum(type(c) is TurnItem or type(c) is Move for c in out.items), block)
-        if spent is not None:
-            report(spent)
-            ended = True
-            break
-        if cur.frames or unit.source is not None:
-            stack = cur.call_stack()
-            for k, it in enumerate(out.items):
-                if isinstance(it, TurnItem):
-                    out.items[k] = dataclasses.replace(
-                        it, template=dataclasses.replace(it.template, source=unit.source, call_stack=stack)
-                    )
-                elif isinstance(it, Move):
-                    out.items[k] = dataclasses.replace(it, source=unit.source, call_stack=stack)
-        items.extend(out.items)
-        for d in out.diagnostics:
-            report(d)
-        if unit.source is None:
-            p = run.last_known
-            line_state, line_position = run.modal_state(), (p[0], 0.0, p[1])
-            states[block.line - 1], positions[block.line - 1] = line_state, line_position
-            if trace is not None:
-                trace.sets[-1] = (block.line - 1, line_state, line_position)
-        if out.call is not None:
-            if call(out.call, block):
-                came_from = None
-                continue
-        elif out.sub_end:
-            if not cur.frames:
-                report(diag("TX-W301", block.span))
-                ended = True
-                break
-            came_from = arrived(cur.leave())
-            continue
-        elif out.ended:
-            if cur.frames and unit is not main:
-                report(diag("TX-E306", block.span, number=unit.number))
-                ended = True
-                break
-            ended = True
-            if trace is not None and unit.source is None:
-                trace.touches.append((step - 1, block.line, INF, False))  # PAL-W101 looks at the rest
-            rest = next((b for b in unit.blocks[cur.index :] if not b.is_empty), None)
-            if rest is not None:
-                diags.append(diag("PAL-W101", rest.span))
-            break
-        how = cur.after(index)
-        if how is not None:
-            came_from = arrived(how)
-    if trace is not None and keep is not None:
-        trace.items, trace.loop_diags, trace.early = items, diags[n_initial:], set(run.early)
-        trace.final, trace.final_contours = (
-            TurnPoint((None, None), 0, None, (), snapshot(run)),
-            run.cycles.contours,
+        moves = sum(type(c) is TurnItem or type(c) is Move for c in out.items)
+        call = None if out.call is None else (*out.call, False)
+        return Step(out.items, out.diagnostics, moves, call, None, out.sub_end, out.ended, False, reads)
+
+    def commit(self) -> tuple[ModalState, Vec3]:
+        p = self.run.last_known
+        return self.run.modal_state(), (p[0], 0.0, p[1])
+
+    def skipped(self, block: Block) -> bool:
+        return block.skip is not None and not self.run.turn.skip_on
+
+    def stamp(self, items: list[Any], source: str | None, stack: tuple[tuple[str | None, int], ...]) -> None:
+        for k, it in enumerate(items):
+            if isinstance(it, TurnItem):
+                items[k] = dataclasses.replace(
+                    it, template=it.template.with_fields(source=source, call_stack=stack)
+                )
+            elif isinstance(it, Move):
+                items[k] = it.with_fields(source=source, call_stack=stack)
+
+    # -- checkpoints: the run's state and the cycles' contour cache ---------------------------------
+
+    def snap(self) -> tuple[tuple[Any, ...], dict[Any, Any]]:
+        contours = self.run.cycles.contours  # it only grows: a copy when it has
+        kept = self._contours
+        if kept is None or len(kept) != len(contours):
+            kept = self._contours = dict(contours)
+        return snapshot(self.run), kept
+
+    def restore(self, snap: tuple[tuple[Any, ...], dict[Any, Any]]) -> None:
+        _restore(self.run, snap[0], snap[1])
+        self._contours = snap[1]
+
+    def shift(self, lm: LineMap, snap: Any, done: dict[int, Any]) -> Any:
+        return _shift_run(lm, snap[0]), map_contours(lm, snap[1], done)
+
+    def same(self, lm: LineMap, old: Any, now: Any) -> bool:
+        if _shift_run(lm, old[0]) != now[0]:
+            return False
+        then, contours = old[1], now[1]
+        return then is contours or {(k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]) for k in then} == set(
+            contours
         )
-        trace.ended, trace.end_counters, trace.last = ended, budget.counters, (last_line, last_set)
-        trace.spent = any(x.code in ("PAL-E013", "PAL-E016", "PAL-E017") for x in trace.loop_diags)
-    if keep is not None:
-        keep.trace, keep.kind, keep.shifted = trace, kind, {}
-    if not ended and program.has_content:
-        line = last_line or 1
-        diags.append(diag("PAL-W102", Span(line, 1, line, 1)))
-    for n, (late_span, late_program) in run.late.items():
-        diags.append(diag("TX-W107", late_span, number=n, program=late_program))
-    dx, dz = run.ref()
-    commands = resolve(items, diags)
-    early = run.early
-    result.commands = [_to_workpiece(c, dx, dz) if early and id(c) in early else c for c in commands]
-    result.work = budget.counters
-    # the positions of the lines in the workpiece frame (the run kept machine coordinates)
-    for i, ps in enumerate(positions):
-        if ps is not None:
-            positions[i] = (ps[0] - dx, 0.0, ps[2] - dz)
-    tcp = setup.tool_change_point  # where the run starts
-    finish_toolpath(result, states, positions, (tcp[0] / 2 - dx, 0.0, tcp[1] - dz))
-    result.params = dict(run.params)
-    final = run.last_known
-    result.final_position = (final[0] - dx, 0.0, final[1] - dz)
-    dedupe(diags)
-    cap_diagnostics(diags, limits.max_diagnostics)
-    return result
+
+    def carry(self, lm: LineMap, base: Any, now: Any, later: Any, done: dict[int, Any]) -> Any:
+        return _shift_run(lm, later[0]), carry_contours(lm, base[1], now[1], later[1], done)
+
+    # -- the end -------------------------------------------------------------------------------
+
+    def commands(self, items: list[Any], diags: list[Diagnostic]) -> list[Any]:
+        run = self.run
+        for n, (late_span, late_program) in run.late.items():
+            diags.append(diag("TX-W107", late_span, number=n, program=late_program))
+        dx, dz = self._ref = run.ref()
+        early = run.early
+        return [_to_workpiece(c, dx, dz) if early and id(c) in early else c for c in resolve(items, diags)]
+
+    def finish(self, result: Toolpath, states: list[ModalState | None], positions: list[Vec3 | None]) -> None:
+        dx, dz = self._ref
+        for i, ps in enumerate(
+            positions
+        ):  # the lines' positions in the workpiece frame (the run kept the machine's)
+            if ps is not None:
+                positions[i] = (ps[0] - dx, 0.0, ps[2] - dz)
+        tcp = self.setup.tool_change_point  # where the run starts
+        finish_toolpath(result, states, positions, (tcp[0] / 2 - dx, 0.0, tcp[1] - dz))
+        result.params = dict(self.run.params)
+        final = self.run.last_known
+        result.final_position = (final[0] - dx, 0.0, final[1] - dz)
 
 
-# -- checkpoints (core/interpreter/traub_trace.py) -----------------------------------------------
-
-MAX_TRACE = 10_000  # a run that meets more blocks keeps no trace; the next runs in full
+# -- the run's state as a value (checkpoints) ---------------------------------------------------
 
 
 def snapshot(run: TurnRun) -> tuple[Any, ...]:
@@ -1198,212 +1001,36 @@ def _restore(run: TurnRun, snap: tuple[Any, ...], contours: dict[Any, Any]) -> N
     run._state = None
 
 
-def _key(u: Unit, main: Unit) -> Key:
-    return (u.source, None if u is main else u.number)
+def map_contours(lm: LineMap, contours: dict[Any, Any], done: dict[int, dict[Any, Any]]) -> dict[Any, Any]:
+    """The cycles' contour cache in the new numbering (its keys and points name lines); `done` by id."""
+    if lm.identity or not contours:
+        return contours
+    found = done.get(id(contours))
+    if found is None:
+        found = done[id(contours)] = {
+            (k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]): [(p, lm.line(ln, k[0])) for p, ln in v]
+            for k, v in contours.items()
+        }
+    return found
 
 
-def _frame_point(c: Frame, main: Unit) -> FramePoint:
-    callee = c.callee.blocks
-    return (
-        _key(c.caller, main),
-        c.line,
-        _key(c.callee, main),
-        callee[c.start].line if c.start < len(callee) else -1,
-        None if c.end is None else callee[c.end].line,
-        c.remaining,
-    )
-
-
-def _index(u: Unit, line: int) -> int:
-    if line < 0:
-        return len(u.blocks)
-    for i, b in enumerate(u.blocks):
-        if b.line == line:
-            return i
-    raise Unmappable
-
-
-def _place(cp: TurnPoint, keys: dict[Key, Unit]) -> tuple[Unit, int, list[Frame]]:
-    """The loop's position and call stack at `cp` (Unmappable where a line is no block of its program)."""
-    unit = keys[cp.unit]
-    calls = []
-    for u, c, k, s, e, n in cp.calls:
-        caller, callee = keys[u], keys[k]
-        calls.append(
-            Frame(
-                caller,
-                _index(caller, c) + 1,
-                callee,
-                _index(callee, s),
-                None if e is None else _index(callee, e),
-                n,
-                c,
-            )
-        )
-    if cp.end is not None:
-        _index(unit, cp.end)  # (Unmappable where the section's end is no block of its program)
-    return unit, _index(unit, cp.line), calls
-
-
-def _map_touch(lm: LineMap, lo: int, hi: int) -> tuple[int, int]:
-    return (lo if lo <= 0 else lm.line(lo + 1) - 1), (hi if hi >= INF else lm.line(hi))
-
-
-def _resume(
-    old: TurnTrace,
-    trace: TurnTrace,
-    blocks: list[Block],
-    setup: RunSetup,
-    keys: dict[Key, Unit],
-) -> tuple[int, LineMap, dict[tuple[Key, int], list[int]], TurnPoint | None] | None:
-    """Where this run starts from the previous run's checkpoints: (step, line map, the previous run's steps it
-    may meet by program and line, the checkpoint or None for the start); None: a full run. Fills `trace` with
-    the steps before the start."""
-    if not old.points or old.setup != setup:
-        return None
-    first, old_end, new_end = changed_lines(old.blocks, blocks)
-    lo = max(1, first - 1)
-    was, now = old.blocks[lo - 1 : old_end - 1], blocks[lo - 1 : new_end - 1]
-    for b in (*was, *now):  # programs and block numbers as they were: calls, sections and contours the same
-        if b.header is not None or (b.ok and program_number(b) is not None):
-            return None
-    if [b.number for b in was if b.ok and b.number is not None] != [
-        b.number for b in now if b.ok and b.number is not None
-    ]:
-        return None
-    lm = LineMap(first, old_end, new_end - old_end)
-    try:  # an O block starts a program unless it heads the main program: what the change may decide
-        if tuple((u, lm.line(ln) if ln else 0) for u, ln in old.units) != trace.units:
-            return None
-    except Unmappable:
-        return None
-    n = len(old.points)
-    k, last_exec, last_arrival = n - 1, -1, -1
-    for s, after, upto, arrival in old.touches:
-        if touches(after, upto, first, old_end):
-            k = min(k, s)
-            if arrival:
-                last_arrival = max(last_arrival, s)
-            else:
-                last_exec = max(last_exec, s)
-    start = max(k, last_exec + 1, last_arrival)
-    meet: dict[tuple[Key, int], list[int]] = {}
-    for j in range(start, n):
-        p = old.points[j]
-        try:
-            meet.setdefault((p.unit, p.line if p.unit[0] is not None else lm.line(p.line)), []).append(j)
-        except Unmappable:
-            continue
-    r = k - 1
-    done: dict[int, dict[Any, Any]] = {}
-    try:
-        if r < 0:
-            cp = None
-            r = 0
-        else:
-            cp = map_point(lm, old.points[r], _shift_run)
-            _place(cp, keys)
-            trace.points = [map_point(lm, p, _shift_run) for p in old.points[:r]]
-            trace.touches = [
-                (s, *_map_touch(lm, a, b), arr) for s, a, b, arr in old.touches if s < r or (s == r and arr)
-            ]
-            for d in old.loop_diags[: old.n_diags[r]]:
-                map_diagnostic(lm, d)
-            trace.contours = [map_contours(lm, c, done) for c in old.contours[:r]]
-            map_contours(lm, old.contours[r], done)
-    except (Unmappable, KeyError):
-        return None
-    trace.counters = old.counters[:r]
-    trace.n_items, trace.n_diags, trace.lasts = old.n_items[:r], old.n_diags[:r], old.lasts[:r]
-    trace.library, trace.sets = old.library[:r], old.sets[:r]
-    if lm.delta:
-        trace.lasts = [(lm.line(a) if a else 0, b) for a, b in trace.lasts]
-        trace.sets = [None if x is None else (lm.line(x[0] + 1) - 1, x[1], x[2]) for x in trace.sets]
-    return r, lm, meet, cp
-
-
-def _take_over(
-    old: TurnTrace,
-    trace: TurnTrace,
-    candidates: list[int],
-    now: TurnPoint,
+def carry_contours(
     lm: LineMap,
-    step: int,
-    budget: Budget,
-    run: TurnRun,
-    items: list[Item],
-    diags: list[Diagnostic],
-    states: list[ModalState | None],
-    positions: list[Vec3 | None],
-    limits: Any,
-    n_initial: int,
-    current: tuple[int, int],
-) -> tuple[bool, tuple[int, int] | None] | None:
-    """If the run, about to take step `step` at `now`, is where the previous run was at one of its steps
-    `candidates`, append the rest of the previous run (its lines mapped) and answer (ended, the last main line
-    and its step if the rest set it); else None."""
-    contours = run.cycles.contours
-    for j in candidates:
-        if not old.fits(limits, budget.counters, j):
-            continue
-        try:
-            if map_point(lm, old.points[j], _shift_run) != now:
-                continue
-            then = old.contours[j]
-            if then is not contours and {
-                (k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:]) for k in then
-            } != set(contours):
-                continue
-            assert old.final is not None
-            final = _shift_run(lm, old.final.run)
-            new_items: list[Item] = []
-            early: list[int] = []
-            for s in range(j, len(old.points)):
-                lib = bool(old.library[s])
-                stop = old.n_items[s + 1] if s + 1 < len(old.points) else len(old.items)
-                for it in old.items[old.n_items[s] : stop]:
-                    new = map_item(lm, it, lib)
-                    new_items.append(new)
-                    if id(it) in old.early:
-                        early.append(id(new))
-            found = [map_diagnostic(lm, d) for d in old.loop_diags[old.n_diags[j] :]]
-            done: dict[int, dict[Any, Any]] = {}
-            base = old.contours[j]
-            cache = [carry_contours(lm, base, contours, c, done) for c in old.contours[j:]]
-            final_contours = carry_contours(lm, base, contours, old.final_contours, done)
-            sets = [None if x is None else (lm.line(x[0] + 1) - 1, x[1], x[2]) for x in old.sets[j:]]
-            points = [map_point(lm, p, _shift_run) for p in old.points[j:]]
-            touched = [
-                (s - j + step, *_map_touch(lm, a, b), arr)
-                for s, a, b, arr in old.touches
-                if s > j or (s == j and not arr)
-            ]
-            lasts = [(lm.line(a) if a else 0, b - j + step) if b >= j else current for a, b in old.lasts[j:]]
-            last = (lm.line(old.last[0]), old.last[1] - j + step) if old.last[1] >= j else None
-        except Unmappable:
-            continue
-        d = tuple(x - y for x, y in zip(budget.counters, old.counters[j], strict=True))
-        n_items, n_diags = len(items) - old.n_items[j], len(diags) - n_initial - old.n_diags[j]
-        items.extend(new_items)
-        run.early.update(early)
-        for x in sets:
-            if x is not None:
-                states[x[0]], positions[x[0]] = x[1], x[2]
-        _restore(run, final, final_contours)
-        e, s_, m = old.end_counters
-        budget.executed, budget.steps, budget.moves = e + d[0], s_ + d[1], m + d[2]
-        if len(trace.points) + len(points) <= MAX_TRACE:
-            trace.points.extend(points)
-            trace.contours.extend(cache)
-            trace.counters.extend((a + d[0], b + d[1], c + d[2]) for a, b, c in old.counters[j:])
-            trace.n_items.extend(x + n_items for x in old.n_items[j:])
-            trace.n_diags.extend(x + n_diags for x in old.n_diags[j:])
-            trace.lasts.extend(lasts)
-            trace.library.extend(old.library[j:])
-            trace.sets.extend(sets)
-            trace.touches.extend(touched)
-        else:
-            trace.points.clear()
-        diags.extend(found)
-        return old.ended, last
-    return None
+    base: dict[Any, Any],
+    now: dict[Any, Any],
+    later: dict[Any, Any],
+    done: dict[int, dict[Any, Any]],
+) -> dict[Any, Any]:
+    """The cache of the previous run at a later step (`later`, which grew from `base` where this run met it
+    with `now`) as this run has it there: `now` and what the previous run added, in the new numbering."""
+    if later is base:
+        return now
+    found = done.get(id(later))
+    if found is None:
+        found = done[id(later)] = dict(now)
+        for k, v in later.items():
+            if k not in base:
+                found[(k[0], lm.line(k[1], k[0]) if k[1] else 0, *k[2:])] = [
+                    (p, lm.line(ln, k[0])) for p, ln in v
+                ]
+    return found
