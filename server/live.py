@@ -72,6 +72,7 @@ from server.services import check_program, exercise_spec
 from server.workers import Workers, job_live, job_live_batch, job_live_close
 
 router = APIRouter()
+_NO_PATH = '"moves":[],"dwells":[],"tool_changes":[]'  # a line's toolpath that is gone
 log = logging.getLogger("paltrainer.server")
 TOOL_LIST = TypeAdapter(Annotated[list[ToolSpec], Field(max_length=99)])
 
@@ -266,6 +267,25 @@ def live_batch(workers: Workers, slot: int) -> LiveBatch:
     return batches[slot]
 
 
+def fold(current: dict[str, dict[int, str]], result: dict[str, Any]) -> set[int]:
+    """Fold a worker's answer (changed lines, or all lines when `full`) into `current`: per part ("diagnostics",
+    "toolpath") and line its JSON text, "" where the line has nothing (workers.job_live). The lines it touched."""
+    touched: set[int] = set()
+    for part in ("diagnostics", "toolpath"):
+        lines: dict[int, str] = result[part]
+        now = current[part]
+        if result["full"]:
+            touched |= now.keys()
+            now.clear()
+        for n, value in lines.items():
+            if value:
+                now[n] = value
+            else:
+                now.pop(n, None)
+        touched |= lines.keys()
+    return touched
+
+
 class LiveSession:
     """One editor connection: the document, the last result sent, and the task that re-runs it."""
 
@@ -283,17 +303,20 @@ class LiveSession:
         self.doc_id = ""
         self.slot = 0
         self.gen = 0  # generation of the last result applied below (0: none)
-        # the newest result, per line, and what the client has been sent, per line
-        self.current: dict[str, dict[int, Any]] = {"diagnostics": {}, "toolpath": {}}
-        self.sent: dict[str, dict[int, Any]] = {"diagnostics": {}, "toolpath": {}}
+        # the newest result, per line, and what the client has been sent, per line (JSON text)
+        self.current: dict[str, dict[int, str]] = {"diagnostics": {}, "toolpath": {}}
+        self.sent: dict[str, dict[int, str]] = {"diagnostics": {}, "toolpath": {}}
         self.dirty: set[int] = set()
         self.changed = asyncio.Event()
         self._send_lock = asyncio.Lock()
 
     async def send(self, payload: dict[str, Any]) -> None:
+        # ASCII: whatever a string holds, the frame is valid UTF-8
+        await self.send_text(json.dumps(payload))
+
+    async def send_text(self, frame: str) -> None:
         async with self._send_lock:
-            # ASCII: whatever a string holds, the frame is valid UTF-8
-            await self.ws.send_text(json.dumps(payload))
+            await self.ws.send_text(frame)
 
     async def send_error(self, code: str, at_version: int | None, **params: Any) -> None:
         if code in LIVE_ERRORS:
@@ -384,34 +407,23 @@ class LiveSession:
             raise LiveError("TOO_MANY_LINES", limit=self.settings.max_live_lines)
 
     def apply(self, result: dict[str, Any]) -> None:
-        """Fold a worker's answer (changed lines, or all lines when `full`) into the current result."""
-        for part in ("diagnostics", "toolpath"):
-            lines: dict[int, Any] = result[part]
-            current = self.current[part]
-            if result["full"]:
-                self.dirty |= current.keys()
-                current.clear()
-            for n, value in lines.items():
-                if part == "diagnostics" and not value or part == "toolpath" and not any(value.values()):
-                    current.pop(n, None)
-                else:
-                    current[n] = value
-            self.dirty |= lines.keys()
+        """Fold a worker's answer into the current result."""
+        self.dirty |= fold(self.current, result)
         self.gen = result["gen"]
 
-    def changes(self) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
-        """The lines whose diagnostics, and those whose toolpath, differ from what the client has."""
-        diags: list[dict[str, Any]] = []
-        path: list[dict[str, Any]] = []
-        empty: dict[str, list[Any]] = {"moves": [], "dwells": [], "tool_changes": []}
+    def changes(self) -> tuple[list[str], list[str]]:
+        """The lines whose diagnostics, and those whose toolpath, differ from what the client has: the JSON
+        text of each line's object in the update."""
+        diags: list[str] = []
+        path: list[str] = []
         for n in sorted(self.dirty):
             for part, out in (("diagnostics", diags), ("toolpath", path)):
                 now, sent = self.current[part].get(n), self.sent[part].get(n)
                 if now != sent:
                     if part == "diagnostics":
-                        out.append({"line": n, "items": now or []})
+                        out.append(f'{{"line":{n},"items":{now or "[]"}}}')
                     else:
-                        out.append({"line": n, **(now or empty)})
+                        out.append(f'{{"line":{n},{now or _NO_PATH}}}')
                     if now is None:
                         self.sent[part].pop(n, None)
                     else:
@@ -452,16 +464,11 @@ class LiveSession:
             return  # reopened meanwhile
         self.apply(result)
         diags, path = self.changes()
-        await self.send(
-            {
-                "type": "update",
-                "version": version,
-                "line_count": len(doc.lines),
-                "diagnostics": diags,
-                "toolpath": path,
-                "final": result["final"],
-                "run": result["run"],
-            }
+        head = json.dumps({"type": "update", "version": version, "line_count": len(doc.lines)})
+        tail = json.dumps({"final": result["final"], "run": result["run"]})
+        # the lines' parts are JSON text already (workers.job_live): set into the frame, not encoded again
+        await self.send_text(
+            f'{head[:-1]}, "diagnostics": [{",".join(diags)}], "toolpath": [{",".join(path)}], {tail[1:]}'
         )
 
     async def close(self) -> None:

@@ -434,6 +434,19 @@ def _by_line(items: Any) -> dict[int, tuple[Any, ...]]:
     return {k: tuple(v) for k, v in out.items()}
 
 
+def _text(items: list[dict[str, Any]]) -> str:
+    """A line's diagnostics as JSON text; "" for none. A live answer carries each line's part as text: the
+    server's main process keeps one string per line and session instead of its objects (with 500 sessions
+    their millions of objects made each of its full collections take most of a second)."""
+    return json.dumps(items, separators=(",", ":")) if items else ""
+
+
+def _members(entry: dict[str, list[dict[str, Any]]]) -> str:
+    """A line's toolpath as the members of a JSON object ("moves":[…],"dwells":[…],"tool_changes":[…]), to
+    be set into the update's line object; "" for nothing."""
+    return json.dumps(entry, separators=(",", ":"))[1:-1] if any(entry.values()) else ""
+
+
 def _path_json(
     commands: tuple[Any, ...],
     to_json: Callable[[Any], dict[str, Any]] | None = None,
@@ -489,7 +502,8 @@ class _Json:
 def job_live(
     doc: str, base_gen: int, gen: int, text: str, dialect: str, spec: dict[str, Any]
 ) -> dict[str, Any]:
-    """Re-run live document `doc` and answer the lines whose result differs from generation `base_gen`.
+    """Re-run live document `doc` and answer the lines whose result differs from generation `base_gen`, each
+    line's diagnostics and toolpath as JSON text ("" where the line has none: `_text`, `_members`).
 
     The worker keeps each document's last result (a pool of one process per slot keeps a document
     on one process). If it does not hold generation `base_gen` (a new or restarted worker), the
@@ -507,13 +521,13 @@ def job_live(
     old_c = {} if full or cached is None else cached.commands
     to_json = _Json(cached.json if cached is not None and cached.memo is memo else {}, memo.runs.shifted)
     d_out = {
-        n: [x.to_json() for x in diagnostics.get(n, ())]
+        n: _text([x.to_json() for x in diagnostics.get(n, ())])
         for n in old_d.keys() | diagnostics.keys()
         if old_d.get(n) != diagnostics.get(n)
     }
     empty: tuple[Any, ...] = ()
     c_out = {
-        n: _path_json(commands.get(n, empty), to_json)
+        n: _members(_path_json(commands.get(n, empty), to_json))
         for n in old_c.keys() | commands.keys()
         if old_c.get(n) != commands.get(n)
     }
@@ -546,6 +560,7 @@ def job_live_batch(
     time limit)."""
     start = time.monotonic()
     out: list[dict[str, Any] | None] = []
+    gc.disable()  # (live runs make no cycles: collected once at the end instead of on the way)
     for i, request in enumerate(requests):
         if i and time.monotonic() - start > seconds:
             out.extend([None] * (len(requests) - i))
@@ -555,7 +570,19 @@ def job_live_batch(
         except Exception:  # a defect in one document's run: that document's session says so, the others go on
             log.exception("live run failed")
             out.append({"failed": True})
+    _keep_out_of_the_collector()
     return out
+
+
+def _keep_out_of_the_collector() -> None:
+    """The live documents' memos (~17,000 objects each for 500 blocks) live long and make no reference cycles:
+    moved out of the collector's generations after each batch, so that a collection never walks them. With
+    250 documents in a process, one collection of them took 2 s, and each keystroke waited behind it
+    (bench/live_latency.py). What the batch and jobs before it left in cycles is collected first (young
+    generations only: about 0,2 ms); frozen objects are still freed when nothing refers to them."""
+    gc.collect(1)
+    gc.freeze()
+    gc.enable()
 
 
 # the jobs every page waits for while a trainee types: they may take any process; every other job is heavy and

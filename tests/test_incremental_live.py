@@ -18,6 +18,7 @@ from core.interpreter.checkpoints import STATS
 from core.interpreter.state import RunSetup
 from core.limits import Limits
 from core.pipeline import Memo, run, toolpath_json
+from server import live
 from server.workers import job_live
 
 # small budgets: endless loops end quickly, and the budgets' diagnostics are part of what is compared
@@ -280,18 +281,11 @@ def test_traub_incremental_equals_full_run(program: list[str], sub: bool, steps:
 
 
 def fold(answers: list[dict[str, Any]]) -> dict[str, Any]:
-    """The document a client holds after these live answers (as server/live.py folds them)."""
-    doc: dict[str, dict[int, Any]] = {"diagnostics": {}, "toolpath": {}}
+    """The document a client holds after these live answers (folded as server/live.py folds them)."""
+    doc: dict[str, dict[int, str]] = {"diagnostics": {}, "toolpath": {}}
     final: Any = None
     for a in answers:
-        for part in ("diagnostics", "toolpath"):
-            if a["full"]:
-                doc[part].clear()
-            for n, value in a[part].items():
-                if part == "diagnostics" and not value or part == "toolpath" and not any(value.values()):
-                    doc[part].pop(n, None)
-                else:
-                    doc[part][n] = value
+        live.fold(doc, a)
         final = a["final"]
     return {"diagnostics": doc["diagnostics"], "toolpath": doc["toolpath"], "final": final}
 

@@ -287,14 +287,14 @@ def restart(old: Trace, first: int, end: int) -> tuple[int, int]:
     """(k, start): the first step of the previous run that touched the changed lines first ≤ line < end
     (its last step when none did), and the first step where this run may meet it again: after the last
     step that touched them while it ran, from the last one that touched them on its way."""
-    n = len(old.points)
-    k, last_exec, last_arrival = n - 1, -1, -1
-    for s, lo, hi, arrival in old.touches:
-        if touches(lo, hi, first, end):
+    k, last_exec, last_arrival = len(old.points) - 1, -1, -1
+    insertion, last = first == end, end - 1
+    for s, lo, hi, arrival in old.touches:  # (touches() inline: this loop meets every step; in step order)
+        if (lo < first <= hi) if insertion else (lo < last and hi >= first):
             k = min(k, s)
             if arrival:
-                last_arrival = max(last_arrival, s)
-            elif s > last_exec:
+                last_arrival = s
+            else:
                 last_exec = s
     return k, max(k, last_exec + 1, last_arrival)
 
