@@ -24,8 +24,8 @@ from core.interpreter.mill_machine import MillMachine
 from core.interpreter.pal_mill import execute_block as pal_mill_block
 from core.interpreter.state import RunSetup
 from core.interpreter.traub_turn import TurnMachine
-from core.syntax.blocks import Block, Program
-from core.syntax.parser import BlockParser, parser_for
+from core.syntax.blocks import Program
+from core.syntax.parser import BlockParser, LineMemo, parser_for
 from core.toolpath import Dwell, Move, ToolChange, Toolpath, Vec3
 
 
@@ -111,7 +111,7 @@ class Memo:
     run restarts (core/interpreter/checkpoints.py). Use one memo per document, dialect and set-up.
     """
 
-    lines: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = field(default_factory=dict)
+    lines: LineMemo = field(default_factory=LineMemo)
     readings: dict[Any, Any] = field(default_factory=dict)
     runs: Keep = field(default_factory=Keep)  # the last run's checkpoints (core/interpreter/checkpoints.py)
 

@@ -7,7 +7,7 @@ import pytest
 from core.diagnostics import Diagnostic
 from core.limits import Limits
 from core.syntax.blocks import Block
-from core.syntax.parser import parser_for
+from core.syntax.parser import LineMemo, parser_for
 
 PARSER = parser_for("pal_mill")
 LIMITS = Limits()
@@ -103,3 +103,20 @@ def test_error_points_at_the_bad_word_and_other_blocks_still_parse() -> None:
     program, diags = PARSER.parse_program("N10 G1 X5\nN20 G1 Y1..5\nN30 G1 Z2\n", LIMITS)
     assert [(d.code, d.span.line, d.span.column) for d in diags] == [("PAL-E002", 2, 9)]
     assert [b.ok for b in program.blocks] == [True, False, True]
+
+
+def test_a_memo_parses_only_the_changed_lines_and_moves_the_others() -> None:
+    """The live editor's parse with a memo: a keystroke parses its line only (the others are the same
+    blocks); a new line moves the blocks after it (a line with a diagnostic is parsed again, its span
+    moves); every result equals a parse without the memo."""
+    lines = [f"N{10 * i} G1 X{i} Y{i % 7}" for i in range(1, 200)] + ["N2000 G1 X1..5", "M30"]
+    memo = LineMemo()
+    first, _ = PARSER.parse_program("\n".join(lines) + "\n", LIMITS, memo)
+    typed = [*lines[:50], "N505 G1 X5", *lines[51:]]
+    program, diags = PARSER.parse_program("\n".join(typed) + "\n", LIMITS, memo)
+    assert sum(a is not b for a, b in zip(first.blocks, program.blocks, strict=True)) == 1
+    broken = [*typed[:10], "", *typed[10:]]  # Enter in line 11
+    program, diags = PARSER.parse_program("\n".join(broken) + "\n", LIMITS, memo)
+    fresh, fresh_diags = PARSER.parse_program("\n".join(broken) + "\n", LIMITS)
+    assert program.blocks == fresh.blocks and diags == fresh_diags
+    assert [d.span.line for d in diags] == [201]  # N2000 G1 X1..5, one line further down

@@ -11,6 +11,7 @@ the same blocks; tests/test_parser.py checks that they agree.
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 
@@ -39,6 +40,15 @@ _TERMINAL_NAMES: dict[str, tuple[str, str]] = {
     "COMMENT": ("ein Kommentar", "a comment"),
     "$END": ("das Satzende", "the end of the block"),
 }
+
+
+@dataclass(slots=True)
+class LineMemo:
+    """A document's lines as its last parse read them, with each line's block and diagnostics (the live
+    editor's next parse of the same document reuses the lines that did not change)."""
+
+    lines: list[str] = field(default_factory=list)
+    parsed: list[tuple[Block, list[Diagnostic]]] = field(default_factory=list)
 
 
 class BlockParser:
@@ -75,12 +85,12 @@ class BlockParser:
         self,
         text: str,
         limits: Limits,
-        memo: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] | None = None,
+        memo: LineMemo | None = None,
     ) -> tuple[Program, list[Diagnostic]]:
         """Parse every line of `text`; never raises on user input.
 
-        `memo` (line number and text → block and its diagnostics) lets a program that changed in a few
-        lines reuse the others (the live editor); it is updated to hold exactly this program's lines.
+        `memo` (the lines of the last parse of the same document and their blocks) lets a program that changed
+        in a few lines reuse the others (the live editor); it is updated to hold this program's lines.
         """
         diagnostics: list[Diagnostic] = []
         if len(text) > limits.max_program_chars:
@@ -106,26 +116,53 @@ class BlockParser:
         if memo is None:
             blocks = [self.parse_line(raw, n, limits, diagnostics) for n, raw in enumerate(lines, 1)]
             return Program(blocks, line_count), diagnostics
-        kept: dict[tuple[int, str], tuple[Block, list[Diagnostic]]] = {}
-        blocks = []
-        moved: dict[str, Block] | None = None  # the memo's lines without diagnostics, by text
-        for n, raw in enumerate(lines, 1):
-            known = memo.get((n, raw))
-            if known is None:
-                if moved is None:
-                    moved = {text: b for (_, text), (b, d) in memo.items() if not d}
-                other = moved.get(raw)
-                if other is not None:  # a line that moved (lines inserted or deleted above it)
-                    known = (_relined(other, n), [])
-                else:
-                    found: list[Diagnostic] = []
-                    known = (self.parse_line(raw, n, limits, found), found)
-            kept[(n, raw)] = known
-            blocks.append(known[0])
-            diagnostics.extend(known[1])
-        memo.clear()
-        memo.update(kept)
+        parsed = self._reparse(memo, lines, limits)
+        blocks = [b for b, _ in parsed]
+        for _, found in parsed:
+            if found:
+                diagnostics.extend(found)
+        memo.lines, memo.parsed = lines, parsed
         return Program(blocks, line_count), diagnostics
+
+    def _reparse(
+        self, memo: LineMemo, lines: list[str], limits: Limits
+    ) -> list[tuple[Block, list[Diagnostic]]]:
+        """Each line's block and diagnostics: those before and after the changed lines (the longest common
+        prefix and suffix with the memo's lines) as they were, moved to their new line where lines were
+        inserted or deleted; the changed ones parsed, or found among the memo's changed lines by text."""
+        old, parsed = memo.lines, memo.parsed
+        n_old, n_new = len(old), len(lines)
+        limit = min(n_old, n_new)
+        a = 0
+        while a < limit and old[a] == lines[a]:
+            a += 1
+        b = 0
+        while b < limit - a and old[n_old - 1 - b] == lines[n_new - 1 - b]:
+            b += 1
+        out = parsed[:a]
+        # the memo's changed lines without diagnostics, by text: a line moved within the change
+        moved = {old[i]: parsed[i][0] for i in range(a, n_old - b) if not parsed[i][1]}
+        for i in range(a, n_new - b):
+            raw, n = lines[i], i + 1
+            other = moved.get(raw)
+            if other is not None:
+                out.append((other if other.line == n else _relined(other, n), []))
+            else:
+                found: list[Diagnostic] = []
+                out.append((self.parse_line(raw, n, limits, found), found))
+        delta = n_new - n_old
+        if delta == 0:
+            out.extend(parsed[n_old - b :])
+            return out
+        for i in range(n_old - b, n_old):  # after the change, `delta` lines further
+            block, found = parsed[i]
+            n = i + 1 + delta
+            if found:  # its diagnostics name its line: parsed again
+                again: list[Diagnostic] = []
+                out.append((self.parse_line(old[i], n, limits, again), again))
+            else:
+                out.append((_relined(block, n), []))
+        return out
 
     # -- one line --------------------------------------------------------------------------
 
