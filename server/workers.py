@@ -487,9 +487,12 @@ class _Json:
         self.known[id(c)] = (c, data)
         return data
 
-    def kept(self, commands: dict[int, tuple[Any, ...]]) -> dict[int, tuple[Any, dict[str, Any]]]:
-        """The JSON of these commands that is known (for the next answer)."""
+    def kept(self, commands: dict[int, tuple[Any, ...]], count: int) -> dict[int, tuple[Any, dict[str, Any]]]:
+        """The JSON known for the next answer: all of it while it is not much more than the `count` commands
+        of this answer (a keystroke replaces a few), else that of these commands."""
         known = self.known
+        if len(known) <= 2 * count + 256:
+            return known
         out = {}
         for line in commands.values():
             for c in line:
@@ -531,7 +534,9 @@ def job_live(
         for n in old_c.keys() | commands.keys()
         if old_c.get(n) != commands.get(n)
     }
-    _LIVE[doc] = _LiveCache(gen, diagnostics, commands, memo, memo_key, to_json.kept(commands))
+    _LIVE[doc] = _LiveCache(
+        gen, diagnostics, commands, memo, memo_key, to_json.kept(commands, len(toolpath.commands))
+    )
     while len(_LIVE) > _LIVE_MAX:
         _LIVE.popitem(last=False)
     p = toolpath.final_position
