@@ -136,6 +136,9 @@ def test_locked_lines_stay_and_say_why(server: str, browser: Any) -> None:
     page.click(".cm-line >> nth=7")
     page.keyboard.type("N70 G2 X56.4 Y10 R21")
     page.wait_for_selector(".cm-locked-notice", state="detached")
+    # (the pointer rested where the text was typed: its word's help goes when it moves away)
+    page.mouse.move(5, 5)
+    page.wait_for_selector(".cm-tooltip-hover", state="detached")
     # a new line after a locked one is fine; the locks move with their lines
     page.click(".cm-line >> nth=6")
     page.keyboard.press("End")
