@@ -9,9 +9,10 @@ from typing import Any, Protocol
 from core.diagnostics import Diagnostic
 from core.dialects.codes import CodeTable
 from core.interpreter.checkpoints import LineMap
-from core.interpreter.contour import Item, Planned, finish
+from core.interpreter.contour import Planned, finish
 from core.interpreter.followups import FollowUps
 from core.interpreter.loop import FlowCodes, Machine, Step
+from core.interpreter.pal_mill import Outcome
 from core.interpreter.run import Unit, finish_toolpath, library_unit, split_units
 from core.interpreter.state import ModalState, RunSetup, switch_on_state
 from core.syntax.blocks import Block, Program
@@ -28,30 +29,7 @@ class BlockExecutor(Protocol):
         params: dict[int, float],
         *,
         cache: dict[Any, Any] | None = None,
-    ) -> BlockOutcome: ...
-
-
-class BlockOutcome(Protocol):
-    @property
-    def state(self) -> ModalState: ...
-    @property
-    def position(self) -> Vec3: ...
-    @property
-    def commands(self) -> list[Item]: ...
-    @property
-    def diagnostics(self) -> list[Diagnostic]: ...
-    @property
-    def ended(self) -> bool: ...
-    @property
-    def sub_end(self) -> bool: ...
-    @property
-    def flow(self) -> tuple[str, int, int] | None: ...
-    @property
-    def repeat(self) -> tuple[int, int, int] | None: ...
-    @property
-    def executed(self) -> bool: ...
-    @property
-    def stopped(self) -> bool: ...
+    ) -> Outcome: ...
 
 
 # the program flow's diagnostics of each kind of program: PAL's L<n> … M17, ISO's O<n> … M99
@@ -87,7 +65,7 @@ class MillMachine(Machine):
         # the executor keeps its reading of blocks once the program first goes back (a call, a repeat, a
         # jump): until then every block runs once and keeping them would only cost
         self.readings, self.cache = readings, readings
-        self.outcome: BlockOutcome | None = None
+        self.outcome: Outcome | None = None
 
     def units(
         self, program: Program, library: dict[int, Program], diags: list[Diagnostic]
