@@ -51,8 +51,8 @@ def work_ceiling(limits: Limits) -> tuple[int, int, int]:
 
 @dataclass(slots=True)
 class Budget:
-    """The work one run has done so far against its limits; both run loops (the shared one in
-    core/interpreter/__init__.py and TRAUB's) count through it, in this order per block: `block` before the
+    """The work one run has done so far against its limits; the run loop (core/interpreter/loop.py) counts
+    through it, in this order per block: `block` before the
     block runs, `reported` for its diagnostics, `made` for its moves. A returned diagnostic stops the run."""
 
     limits: Limits
