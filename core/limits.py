@@ -52,8 +52,8 @@ def work_ceiling(limits: Limits) -> tuple[int, int, int]:
 @dataclass(slots=True)
 class Budget:
     """The work one run has done so far against its limits; the run loop (core/interpreter/loop.py) counts
-    through it, in this order per block: `block` before the
-    block runs, `reported` for its diagnostics, `made` for its moves. A returned diagnostic stops the run."""
+    through it, in this order per block: `block` before the block runs, `reported` for its diagnostics,
+    `made` for its moves. A returned diagnostic stops the run."""
 
     limits: Limits
     executed: int = 0  # blocks executed (loops count every pass)
