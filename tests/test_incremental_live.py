@@ -7,6 +7,7 @@ The comparison is of the JSON the live socket is built from: every move, dwell, 
 
 from __future__ import annotations
 
+import gc
 import json
 from typing import Any
 
@@ -485,3 +486,22 @@ def test_a_dwell_in_a_library_subprogram_keeps_its_line_when_lines_before_the_ca
     assert live_json(text, "pal-mill", setup, memo) == live_json(text, "pal-mill", setup, None)
     assert STATS["incremental"] - before["incremental"] == 1  # it met the previous run before the call
     assert run(text, "pal-mill", setup).dwells[0].span.line == 5  # the G4 U2 of L30
+
+
+def test_live_runs_leave_no_reference_cycles() -> None:
+    """The live worker moves its documents' memos out of the garbage collector's way after each batch
+    (server/workers.py: gc.freeze), which is only safe while live runs make no reference cycles: none of
+    the objects of core or server that keystrokes in a long program leave behind is cyclic garbage."""
+    lines = bench_program(300)
+    gc.collect()
+    gc.set_debug(gc.DEBUG_SAVEALL)  # unreachable objects go to gc.garbage instead of being freed
+    try:
+        for gen, doc in enumerate(typing(lines, 150, "N1495 G1 X33 Y44 F200")):
+            job_live("cycles", gen, gen + 1, "\n".join(doc) + "\n", "pal-mill", {"skip_blocks": None})
+        job_live("cycles", 99, 100, "\n".join(lines[:100] + ["G1 X5"] + lines[100:]) + "\n", "pal-mill", {})
+        gc.collect()
+        ours = [x for x in gc.garbage if type(x).__module__.startswith(("core.", "server."))]
+    finally:
+        gc.set_debug(0)
+        gc.garbage.clear()
+    assert ours == []
