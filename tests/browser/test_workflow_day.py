@@ -233,6 +233,7 @@ def test_hints_one_at_a_time_and_the_solution_after_a_submission(server: str, br
     assert "Mittelpunkt des Kreisbogens" in page.inner_text("#hint-list")
     assert not page.locator("#hint-next").is_visible()  # that was the only one
     page.reload()
+    page.wait_for_selector(".cm-content", timeout=20000)  # (the page's script is running: its tabs answer)
     show_tab(page, "tab-hints")
     page.wait_for_selector("#hint-list li")  # still shown after a reload
     # the solution: after the first submission (the server's reason in German until then)
