@@ -66,6 +66,7 @@ class MillMachine(Machine):
         # jump): until then every block runs once and keeping them would only cost
         self.readings, self.cache = readings, readings
         self.outcome: Outcome | None = None
+        self.blocks: list[Block] = []  # the program's (units): the readings of other blocks are pruned
 
     def units(
         self, program: Program, library: dict[int, Program], diags: list[Diagnostic]
@@ -75,7 +76,6 @@ class MillMachine(Machine):
         in_file = [main, *subs.values()]
         for number, prog in library.items():
             subs.setdefault(number, library_unit(number, prog, prefix))
-        self.n_lines = len(program.blocks)
         self.blocks = program.blocks
         return main, subs, in_file
 
@@ -162,7 +162,9 @@ class MillMachine(Machine):
         result.params = self.params
         result.final_position = self.position
         readings = self.readings
-        if readings is not None and len(readings) > 2 * self.n_lines + 256:  # keep what this program can use
+        if (
+            readings is not None and len(readings) > 2 * len(self.blocks) + 256
+        ):  # keep what this program can use
             alive = {id(b) for b in self.blocks}
             for key in [k for k in readings if k[0] not in alive]:
                 del readings[key]
