@@ -24,6 +24,7 @@ from typing_extensions import TypedDict
 from core.diagnostics import Diagnostic
 from core.limits import DEFAULT_LIMITS, Limits
 from core.syntax.blocks import Span
+from core.values import value
 
 if TYPE_CHECKING:  # the interpreter's package imports this module
     from core.interpreter.state import ModalState
@@ -107,7 +108,7 @@ WIRE_RESHAPED = {"span": ("line",), "cycle_definition": ("cycle",), "cycle_point
 _set = object.__setattr__  # (a frozen dataclass's own __setattr__ refuses)
 
 
-@dataclass(frozen=True, slots=True)
+@value
 class Move:
     kind: MoveKind
     start: Vec3

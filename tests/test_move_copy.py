@@ -1,8 +1,9 @@
-"""Move.with_fields, the interpreter's fast copy of a move, makes exactly what dataclasses.replace makes."""
+"""Move.with_fields, the interpreter's fast copy of a move, makes exactly what dataclasses.replace makes; moves are values."""
 
 from __future__ import annotations
 
 import dataclasses
+import pickle
 
 import pytest
 
@@ -31,3 +32,13 @@ def test_a_turned_contour_keeps_its_technology_on_every_move() -> None:
     assert [m.kind for m in feeds] == ["feed", "arc"]
     assert all(m.feed == 0.2 and m.tool == 1 and m.plane == "G18" for m in feeds)
     assert round(feeds[0].spindle) == round(200_000 / (3.141592653589793 * 40))  # G96 at Ø40: 1592 1/min
+
+
+def test_value_classes_compare_hash_and_travel_by_value() -> None:
+    """Moves are plain slots classes at run time (frozen for the type checker, `core.values`): equal moves
+    are one key of a set, and a move survives the pickling that carries it from a worker unchanged."""
+    a = Move("feed", (0, 0, 0), (1, 1, 1), 100, "mm/min", 1000, "cw", False, 1, Span(3, 1, 3, 9))
+    b = Move("feed", (0, 0, 0), (1, 1, 1), 100, "mm/min", 1000, "cw", False, 1, Span(3, 1, 3, 9))
+    assert a == b and len({a, b}) == 1
+    assert a != a.with_fields(end=(1, 1, 2))
+    assert pickle.loads(pickle.dumps(a)) == a

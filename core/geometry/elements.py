@@ -12,13 +12,14 @@ import math
 from dataclasses import dataclass
 
 from core.geometry.arcs import sweep
+from core.values import value
 
 Point = tuple[float, float]
 EPS = 1e-9
 ON_TOL = 1e-6  # mm: a point this close to an element lies on it
 
 
-@dataclass(frozen=True, slots=True)
+@value
 class Line:
     a: Point
     b: Point
@@ -28,7 +29,7 @@ class Line:
         return math.dist(self.a, self.b)
 
 
-@dataclass(frozen=True, slots=True)
+@value
 class Arc:
     a: Point
     b: Point

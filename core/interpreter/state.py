@@ -14,6 +14,7 @@ from core.interpreter.frames import IDENTITY, Frame
 from core.limits import DEFAULT_LIMITS, Limits
 from core.toolpath import Vec3
 from core.tools import DEFAULT_TOOLS, ToolTable
+from core.values import value
 
 if TYPE_CHECKING:
     from core.interpreter.pal_cycles import Definition
@@ -32,7 +33,7 @@ class DrillData:
     p: float | None = None  # dwell in ms
 
 
-@dataclass(frozen=True, slots=True)
+@value
 class ModalState:
     """What is active: the code of each modal group (None: group not set) and the technology values."""
 

@@ -59,6 +59,7 @@ from core.geometry.elements import (
 )
 from core.syntax.blocks import Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
+from core.values import value
 
 XZ = tuple[float, float]  # (x radius, z) in the workpiece frame
 Command = Move | Dwell | ToolChange
@@ -98,7 +99,7 @@ class TransitionSpec:
     feed: float | None = None
 
 
-@dataclass(frozen=True, slots=True)
+@value
 class TurnItem:
     """One motion block as programmed, in the output frame (x radius, z); unknown values are None.
 
