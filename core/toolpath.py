@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import copy
 import math
+import operator
 from dataclasses import dataclass, field, fields
 from typing import TYPE_CHECKING, Any, Literal, NotRequired
 
@@ -105,7 +106,6 @@ class MoveJson(_MoveFields, total=False):
 WIRE_RESHAPED = {"span": ("line",), "cycle_definition": ("cycle",), "cycle_point": ("cycle",)}
 
 
-_set = object.__setattr__  # (a frozen dataclass's own __setattr__ refuses)
 
 
 @value
@@ -143,14 +143,15 @@ class Move:
 
     def with_fields(self, **changes: Any) -> Move:
         """`dataclasses.replace(self, **changes)` for the interpreter's hot paths (a move made from its block's
-        template): the same move, three times as fast, because the fields are copied without the constructor's
-        keyword handling. Unknown field names raise TypeError as there."""
-        new = object.__new__(Move)
-        for name in _MOVE_FIELDS:
-            _set(new, name, changes.pop(name) if name in changes else getattr(self, name))
-        if changes:
-            raise TypeError(f"Move has no field {', '.join(changes)}")
-        return new
+        template): the same move, three times as fast, because the fields are read at once and passed by
+        position, without `replace`'s keyword handling. Unknown field names raise TypeError as there."""
+        values = list(_move_values(self))
+        for name, v in changes.items():
+            i = _MOVE_INDEX.get(name)
+            if i is None:
+                raise TypeError(f"Move has no field {name}")
+            values[i] = v
+        return Move(*values)
 
     def chords(self, tolerance: float) -> int:
         """How many segments `points(tolerance)` makes: 1 for a straight move. Computed, not drawn, so that a
@@ -309,3 +310,5 @@ class Toolpath:
 
 
 _MOVE_FIELDS = tuple(f.name for f in fields(Move))
+_MOVE_INDEX = {name: i for i, name in enumerate(_MOVE_FIELDS)}
+_move_values = operator.attrgetter(*_MOVE_FIELDS)  # a move's fields in order, read in one call
