@@ -158,10 +158,18 @@ def _read(
         values,
         owner,
         owner_word,
-        frozenset(c.name for _, c in gs),
-        frozenset(c.name for _, c in ms),
+        _names(gs),
+        _names(ms),
         speed_code,
     )
+
+
+_NO_NAMES: frozenset[str] = frozenset()
+_NUMBERED = {a: TABLE.numbered.get(a, {}) for a in ("G", "M")}
+
+
+def _names(codes: list[tuple[Word, Code]]) -> frozenset[str]:
+    return frozenset([c.name for _, c in codes]) if codes else _NO_NAMES
 
 
 def _sort(
@@ -175,6 +183,10 @@ def _sort(
     for w in block.words:
         a = w.address
         if a in ("G", "M"):
+            code = _NUMBERED[a].get(w.value) if w.expr is None else None  # (the common case: one lookup)
+            if code is not None:
+                (gs if a == "G" else ms).append((w, code))
+                continue
             if w.value is None or w.value != int(w.value) or not 0 <= w.value <= 9999:
                 d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
                 continue
