@@ -374,6 +374,8 @@ def _without_groups(pattern: str) -> str:
 
 def _loose_number(text: str) -> float:
     """A number as the TRAUB manual writes it: decimal comma or point, blanks inside (`- 1,6`, `02 02`)."""
+    if "," not in text and " " not in text and "\t" not in text:
+        return float(text)  # the common case
     return float(text.replace(",", ".").replace(" ", "").replace("\t", ""))
 
 
