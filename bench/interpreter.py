@@ -63,6 +63,11 @@ TARGET_RUN_VS_PYGCODE = 3.5  # our parse+interpret rate / pygcode Line+Machine r
 TARGET_REALISTIC_MS = 5.0  # one realistic 300-block program, parsed and interpreted
 TARGET_TURNING_MS = 8.0  # one 300-block TRAUB turning program, parsed and interpreted
 TARGET_CYCLES_MS = 15.0  # one 300-block TRAUB program with four roughing cycles and a thread cycle
+# The milliseconds above were set on a machine where pygcode's Line + Machine ran this many blocks/s through the
+# 1k-block program (bench/README.md, 2026-11-22). Machines differ by 2x and more per core (a VM's share of its
+# host), so the script also prints each figure scaled by pygcode's speed on this run: a pure-Python workload
+# like ours, measured in the same run, is the yardstick of the machine.
+REFERENCE_PYGCODE_RUN = 13_459
 
 
 # ----------------------------------------------------------------------------------------------
@@ -578,6 +583,15 @@ def main(argv: list[str] | None = None) -> int:
         f"  300-block TRAUB program with cycles, run (best of 20): {cycles_ms:6.2f} ms "
         f"(target < {TARGET_CYCLES_MS:.0f} ms)  {verdict(ok)}"
     )
+    yardstick = next((r["pygcode_run"] for r in results if r["pygcode_run"]), None)
+    if yardstick is not None:
+        factor = yardstick / REFERENCE_PYGCODE_RUN
+        print(
+            f"  scaled to the targets' machine (pygcode runs here at {factor:.2f}x its speed there): "
+            f"PAL {ms * factor:.2f} ms {verdict(ms * factor < TARGET_REALISTIC_MS)}, "
+            f"TRAUB {turning_ms * factor:.2f} ms {verdict(turning_ms * factor < TARGET_TURNING_MS)}, "
+            f"with cycles {cycles_ms * factor:.2f} ms {verdict(cycles_ms * factor < TARGET_CYCLES_MS)}"
+        )
     # the live editor: the checkpoints cost only where a memo asks for them (figures, no targets: the live
     # WebSocket's latency is bench/live_latency.py's)
     for label, text, dialect, full in (

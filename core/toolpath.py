@@ -106,8 +106,6 @@ class MoveJson(_MoveFields, total=False):
 WIRE_RESHAPED = {"span": ("line",), "cycle_definition": ("cycle",), "cycle_point": ("cycle",)}
 
 
-
-
 @value
 class Move:
     kind: MoveKind

@@ -183,7 +183,9 @@ def _sort(
     for w in block.words:
         a = w.address
         if a in ("G", "M"):
-            code = _NUMBERED[a].get(w.value) if w.expr is None else None  # (the common case: one lookup)
+            code = (
+                _NUMBERED[a].get(w.value) if w.value is not None and w.expr is None else None
+            )  # (one lookup)
             if code is not None:
                 (gs if a == "G" else ms).append((w, code))
                 continue
