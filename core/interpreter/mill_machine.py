@@ -109,7 +109,10 @@ class MillMachine(Machine):
         elif repeat is not None:
             call = (None, repeat[0], repeat[1], repeat[2], True)
         commands = out.commands
-        moves = sum(type(c) is Planned for c in commands)
+        moves = 0
+        for c in commands:  # (a loop, not sum() over a generator: this runs for every block)
+            if type(c) is Planned:
+                moves += 1
         return Step(
             commands, out.diagnostics, moves, call, jump, out.sub_end, out.ended, out.stopped, None, note
         )

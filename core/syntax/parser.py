@@ -207,7 +207,7 @@ class BlockParser:
         new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
         number = _loose_number if self._loose else float
         words = [
-            new(Word, (w[1], number(w[2]), w[2], line, w.start() + 1, w.end() + 1, None))
+            new(Word, (w[1], number(digits := w[2]), digits, line, (at := w.span())[0] + 1, at[1] + 1, None))
             for w in self._fast_word.finditer(text, m.start("body"), m.end("body"))
         ]
         skip = m.group("skip")
