@@ -104,6 +104,7 @@ _PAGE: bytes | None = None
 _PAGE_LOCK = threading.Lock()
 # viser's client page: an inline loader unpacks the application (stylesheet and module script, zstd, in the
 # base-88 attribute data-p; data-ss and data-cs their sizes in bytes) and inserts it as an inline script
+ZSTD_LEVEL = 9
 _PACKED = re.compile(rb'data-p="([^"]*)"|data-ss="(\d+)"|data-cs="(\d+)"')
 BASE88 = b"!#$%()*+,-./0123456789:;=?@ABCDEFGHIJKLMNOPQRSTUVWXYZ[\\]^_abcdefghijklmnopqrstuvwxyz{|}~"
 # The two places where viser's application evaluates text as code (Function(…)), both for what this view never
@@ -196,7 +197,9 @@ def _repacked(page: bytes) -> bytes:
                 extra={"job": pattern.pattern[:60].decode("ascii", "replace")},
             )
             return page
-    packed = base88_encode(zstandard.ZstdCompressor(level=19).compress(style + code))
+    # level 9: 80 ms for viser's 2,7 MB; level 19 packs it 7 % smaller (631 against 679 kB) but takes 1,3 s of CPU at
+    # every server start, and under load several seconds
+    packed = base88_encode(zstandard.ZstdCompressor(level=ZSTD_LEVEL).compress(style + code))
     sizes = {1: b'data-p="' + packed + b'"', 2: b'data-ss="%d"' % len(style), 3: b'data-cs="%d"' % len(code)}
     return _PACKED.sub(lambda m: sizes[m.lastindex or 1], page)
 
