@@ -192,6 +192,37 @@ def test_instructor_lands_on_their_page_with_titles(server: str, browser: Any) -
     page.context.close()
 
 
+def test_a_busy_server_says_so_on_the_exercise_list_and_loads_it_again(server: str, browser: Any) -> None:
+    """The exercise list answered 503 (every worker busy): the page says so, in German, with a button that asks
+    again, instead of an empty page."""
+    page = new_page(browser, "laptop")
+    busy = {"left": 1}
+
+    def answer(route: Any) -> None:
+        if busy["left"]:
+            busy["left"] -= 1
+            route.fulfill(
+                status=503,
+                content_type="application/json",
+                body='{"error": {"code": "BUSY", "message": "Der Server ist ausgelastet.", '
+                '"message_en": "The server is busy."}}',
+            )
+        else:
+            route.continue_()
+
+    page.route(re.compile(r".*/api/v1/exercises$"), answer)
+    log_in(page, server, TRAINEE)
+    page.wait_for_url(f"{server}/")
+    page.wait_for_selector("#list-again")
+    assert page.inner_text("#list p.error").startswith("Der Server ist ausgelastet.")
+    assert page.inner_text("#list-again") == "Erneut laden"
+    shot(page, "list-busy-laptop")
+    page.click("#list-again")
+    page.wait_for_selector("ul.exercises")
+    assert page.locator("#list-again").count() == 0
+    page.context.close()
+
+
 # -- point 17: the drawer after "Abgeben", the editor on the tablet ---------------------------------------------------
 @pytest.mark.parametrize("size", list(SIZES))
 def test_drawer_opens_tall_after_submitting(server: str, browser: Any, size: str) -> None:

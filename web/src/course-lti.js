@@ -50,10 +50,10 @@ function rosterPart(courseId, onRoster) {
       return;
     }
     const b = r.body;
+    await onRoster?.();  // the member list shows the new members before the note says they are there
     note.className = "ok";
     note.textContent = `${t("lti.roster_done", { ...b, updated: b.students + b.instructors - b.created })}${
       b.skipped ? ` ${t("lti.roster_skipped", { n: b.skipped })}` : ""}`;
-    await onRoster?.();
   };
   return el("div", { className: "lti-roster" }, el("p", {}, button), el("p", { className: "meta" }, t("lti.roster_help")), note);
 }

@@ -112,6 +112,13 @@ export async function mountExerciseList(parent) {
     location.href = loginUrl();
     return;
   }
+  if (!r.ok) {  // (a busy server: 429 or 503) said, with a way to ask again, instead of an empty page
+    const again = el("button", { type: "button", className: "link-button", id: "list-again" }, t("home.list_again"));
+    again.onclick = () => mountExerciseList(parent);
+    parent.replaceChildren(el("p", { className: "error", role: "alert" },
+      (r.body?.error && message(r.body.error)) || t("home.list_failed"), " ", again));
+    return;
+  }
   const kinds = { write: t("kind.write"), complete: t("kind.complete"), fix: t("kind.fix") };
   // where the trainee stands on each exercise (not started, draft, best score); the list keeps the API's order
   const progress = await api("/me/progress");

@@ -252,6 +252,8 @@ export const DE = {
   "home.join_button": "Beitreten",
   "home.joined": "Sie sind jetzt im Kurs „{name}“.",
   "home.join_failed": "Beitritt fehlgeschlagen.",
+  "home.list_failed": "Die Aufgabenliste konnte nicht geladen werden.",
+  "home.list_again": "Erneut laden",
   "home.assignments": "Offene Aufträge",
   "home.no_assignments": "Zurzeit keine offenen Aufträge.",
   "home.done": "Abgeschlossene Aufträge ({n})",

@@ -250,6 +250,8 @@ export const EN = {
   "home.join_button": "Join",
   "home.joined": "You are now in the course “{name}”.",
   "home.join_failed": "Joining failed.",
+  "home.list_failed": "The exercise list could not be loaded.",
+  "home.list_again": "Load again",
   "home.assignments": "Open assignments",
   "home.no_assignments": "No open assignments at the moment.",
   "home.done": "Finished assignments ({n})",
