@@ -79,8 +79,7 @@ def test_the_fast_path_reads_blocks_as_the_general_path_does(dialect: str) -> No
             for plane in planes:
                 for cycle in cycles:
                     params = {1: 2.5}
-                    words = pal_mill._sort_words(block, table, SETUP, params)
-                    plain = pal_mill._plain_motion(block, table, words, motion, plane, cycle)
+                    plain = pal_mill._plain_reading(block, table, SETUP, motion, plane, cycle)
                     if plain is None:
                         continue
                     fast += 1
@@ -96,8 +95,7 @@ def test_blocks_that_break_a_rule_take_the_general_path() -> None:
     taken = {}
     for line in LINES:
         block = parser.parse_program(line, SETUP.limits)[0].blocks[0]
-        words = pal_mill._sort_words(block, table, SETUP, {})
-        taken[line] = pal_mill._plain_motion(block, table, words, "G1", "G17", None) is not None
+        taken[line] = pal_mill._plain_reading(block, table, SETUP, "G1", "G17", None) is not None
     assert [line for line, fast in taken.items() if fast] == [
         "G0 X10 Y20 Z5",
         "G1 X10 Y-20 F150",

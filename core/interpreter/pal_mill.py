@@ -537,10 +537,10 @@ def _read(
     modal_cycle: str | None = None,
 ) -> Reading:
     """Sort and check the words of `block` (`modal_motion`/`modal_plane`/`modal_cycle`: what is active before it)."""
-    sorted_words = _sort_words(block, table, setup, new_params)
-    plain = _plain_motion(block, table, sorted_words, modal_motion, modal_plane, modal_cycle)
+    plain = _plain_reading(block, table, setup, modal_motion, modal_plane, modal_cycle)
     if plain is not None:
         return plain
+    sorted_words = _sort_words(block, table, setup, new_params)
     return _checked(block, table, setup, sorted_words, modal_motion, modal_plane, modal_cycle)
 
 
@@ -718,30 +718,42 @@ _SINGLE_NAMES = {name: frozenset((name,)) for name in _PLAIN_MOTIONS}  # a block
 _PLAIN_WORDS = frozenset({"X", "Y", "Z", "I", "J", "K", "R", "F", "S", "RN"})
 
 
-def _plain_motion(
+def _plain_reading(
     block: Block,
     table: CodeTable,
-    sorted_words: _Words,
+    setup: RunSetup,
     modal_motion: str | None,
     modal_plane: str | None,
     modal_cycle: str | None,
 ) -> Reading | None:
     """The reading of the most common block, a move G0–G3 (written or modal) with plain words of the end
-    point, the centre, the radius, F, S and RN, that breaks no rule; None for every other block, which the
-    general path (`_owner`, `_addresses`, `_tool_and_plane`, `_switches`) reads. It exists because most
-    blocks are such moves, and they need none of the general path's cases."""
-    gs, words, values = sorted_words.gs, sorted_words.words, sorted_words.values
-    if (
-        len(gs) > 1
-        or sorted_words.ms
-        or sorted_words.d
-        or sorted_words.flags
-        or sorted_words.code_diags
-        or sorted_words.unknown
-        or not words.keys() <= _PLAIN_WORDS
-        or len(words) < len(block.words) - len(gs)  # an address given twice
-    ):
-        return None
+    point, the centre, the radius, F, S and RN — numbers, no expression — that breaks no rule; None for every
+    other block, which the general path (`_sort_words`, then `_owner`, `_addresses`, `_tool_and_plane`,
+    `_switches`) reads. It exists because most blocks are such moves, and they need none of the general path's
+    cases: their words are sorted and checked here in one pass."""
+    gs: list[tuple[Word, Code]] = []
+    words: dict[str, list[Word]] = {}
+    values: dict[str, float] = {}
+    limit = setup.limits.max_abs_value
+    addresses = table.addresses
+    numbered = table.numbered.get("G", _NO_CODES)
+    for w in block.words:
+        a, v = w.address, w.value
+        if v is None or w.expr is not None:
+            return None
+        if a == "G":
+            code = numbered.get(v)
+            if code is None or gs:  # (not a whole number the table has, or a second G code)
+                return None
+            gs.append((w, code))
+            continue
+        if a not in _PLAIN_WORDS or a in words:  # (an M word, another address, an address given twice)
+            return None
+        spec = addresses.get(a)
+        if spec is None or not -limit <= v <= limit or (spec.integer and v != int(v)):
+            return None
+        words[a] = [w]
+        values[a] = v
     if gs:
         owner_word, owner = gs[0]
         motion = owner
@@ -794,7 +806,7 @@ def _plain_motion(
         None,
         arc_plane,
         [],
-        not sorted_words.has_expr,
+        True,  # (no expression: the same block always reads the same)
         _SINGLE_NAMES[owner.name] if owner is not None else frozenset(),
         [],
         activations,
