@@ -766,9 +766,7 @@ def _plain_reading(
             or table.max_g_words == 0
         ):
             return None
-        activations = list(table.pairs[owner.name])
-        if table.has_cycles:
-            activations.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
+        activations = _plain_activations(table, owner.name)
     else:
         modal = table.codes.get(modal_motion or "G1")
         if (
@@ -781,9 +779,13 @@ def _plain_reading(
         motion, owner, owner_word, activations = modal, None, None, []
     if not words.keys() <= table.takes[motion.name]:
         return None
-    found: list[Diagnostic] = []
-    missing_words(gs, words, found)
-    negative_values(table, values, lambda a: words[a][0], found)
+    for _, code in gs:  # a required address missing (PAL-E102): the general path says so
+        for one_of in code.required:
+            if not any(a in words for a in one_of):
+                return None
+    for a in table.non_negative:  # a value below zero where the address takes none (PAL-E109): the same
+        if a in values and values[a] < 0:
+            return None
     arc_plane, alt_plane = "G17", None
     if motion.name in ("G2", "G3"):
         plane = modal_plane or "G17"
@@ -793,8 +795,6 @@ def _plain_reading(
             arc_plane = _arc_plane(plane, words, table)
         if not words.keys().isdisjoint(_FOREIGN_CENTRE_WORDS[arc_plane]):
             return None  # a centre word of another plane (PAL-E204)
-    if found:
-        return None
     return Reading(
         gs,
         [],
@@ -815,6 +815,23 @@ def _plain_reading(
         None,
         alt_plane,
     )
+
+
+_ACTIVATIONS: dict[
+    tuple[int, str], list[tuple[str, str]]
+] = {}  # (id of a dialect's table, G0–G3) → what it switches
+
+
+def _plain_activations(table: CodeTable, name: str) -> list[tuple[str, str]]:
+    """The modal switches of a written G0–G3 (shared by its readings, which do not change them); the tables live
+    as long as the program, so their ids are theirs."""
+    key = (id(table), name)
+    found = _ACTIVATIONS.get(key)
+    if found is None:
+        found = _ACTIVATIONS[key] = list(table.pairs[name])
+        if table.has_cycles:
+            found.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
+    return found
 
 
 def _owner(
