@@ -475,12 +475,27 @@ def _storable(value: str) -> bool:
     return True
 
 
+# libyaml's safe loader where PyYAML has it (ten times as fast: the server reads every built-in exercise at its start),
+# else PyYAML's own
+_LOADER: Any = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
 def _check_structure(text: str) -> None:
     """Refuse what would exhaust the loader or what no database can store, from the parser's events, before
     anything is built: building a document recurses once per nesting level, validation walks every alias again,
     and NUL or a lone surrogate ("\\ud800" in a quoted string) cannot be stored."""
+    try:
+        _walk(text, _LOADER)
+    except yaml.YAMLError:
+        # libyaml reads ahead and has limits of its own: PyYAML's parser streams, so it says what is wrong as
+        # before (our limits first, with their message, or the error with its line and column)
+        _walk(text, yaml.SafeLoader)
+        raise
+
+
+def _walk(text: str, loader: Any) -> None:
     depth = aliases = 0
-    for event in yaml.parse(text, Loader=yaml.SafeLoader):
+    for event in yaml.parse(text, Loader=loader):
         if isinstance(event, yaml.CollectionStartEvent):
             depth += 1
             if depth > MAX_NESTING:
@@ -509,7 +524,7 @@ def parse_exercise(text: str, folder: Path | None = None) -> Exercise:
     """An exercise from YAML text; `reference_file`/`start_file` are read from `folder`."""
     try:
         _check_structure(text)
-        data = yaml.safe_load(text)
+        data = yaml.load(text, Loader=_LOADER)  # (a safe loader)
     except yaml.YAMLError as err:
         mark = getattr(err, "problem_mark", None)
         where = f" (Zeile {mark.line + 1}, Spalte {mark.column + 1})" if mark is not None else ""
