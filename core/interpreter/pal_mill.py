@@ -817,20 +817,19 @@ def _plain_reading(
     )
 
 
-_ACTIVATIONS: dict[
-    tuple[int, str], list[tuple[str, str]]
-] = {}  # (id of a dialect's table, G0–G3) → what it switches
+# (id of a dialect's table, G0–G3) → the table (kept, so that no other object gets its id) and what the code switches
+_ACTIVATIONS: dict[tuple[int, str], tuple[CodeTable, list[tuple[str, str]]]] = {}
 
 
 def _plain_activations(table: CodeTable, name: str) -> list[tuple[str, str]]:
-    """The modal switches of a written G0–G3 (shared by its readings, which do not change them); the tables live
-    as long as the program, so their ids are theirs."""
-    key = (id(table), name)
-    found = _ACTIVATIONS.get(key)
-    if found is None:
-        found = _ACTIVATIONS[key] = list(table.pairs[name])
-        if table.has_cycles:
-            found.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
+    """The modal switches of a written G0–G3, made once per table (its readings share them and change nothing)."""
+    hit = _ACTIVATIONS.get((id(table), name))
+    if hit is not None:
+        return hit[1]
+    found = list(table.pairs[name])
+    if table.has_cycles:
+        found.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
+    _ACTIVATIONS[(id(table), name)] = (table, found)
     return found
 
 
