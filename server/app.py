@@ -20,6 +20,7 @@ from server import errors, live, viz
 from server.config import Settings
 from server.courses import finalizer as exam_finalizer
 from server.db import Database, migrate, startup_lock
+from server.loopwatch import LoopWatch
 from server.lti import ags as lti_ags
 from server.middleware import RequestMiddleware, SecurityHeadersMiddleware
 from server.ratelimit import RateLimiter
@@ -107,6 +108,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         app.state.db = prepare_database(settings)
         app.state.workers.start()
+        watch = LoopWatch(settings.loop_stall_seconds) if settings.loop_stall_seconds else None
+        if watch is not None:
+            watch.start()
         # ended exams: the last drafts are submitted even when nobody asks (issue 19)
         finalizer = asyncio.create_task(
             exam_finalizer(app.state.db, app.state.workers, settings.finalize_seconds)
@@ -120,6 +124,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         finally:
             finalizer.cancel()
             score_drainer.cancel()
+            if watch is not None:
+                watch.stop()
             app.state.scenes.stop_all()
             app.state.workers.stop()
             app.state.db.engine.dispose()

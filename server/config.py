@@ -89,6 +89,8 @@ class Settings(BaseSettings):
     viz_idle_seconds: float = 900.0  # a 3D session unused this long is stopped
     # how often the server looks for ended exams to submit their last drafts (pages say "wird abgegeben" till then)
     finalize_seconds: float = 3.0
+    # a warning with the blocking code's stack when the event loop stops this long (server/loopwatch.py); 0: off
+    loop_stall_seconds: float = Field(default=2.0, ge=0)
     log_level: str = "INFO"
 
     @cached_property

@@ -70,9 +70,24 @@ def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password
         )
 
 
+SERVER_LOGS: list[Path] = []  # the logs of the servers running now
+
+
+def server_log_tails(lines: int = 120) -> str:
+    """The last `lines` lines of each running server's log."""
+    parts = []
+    for log in SERVER_LOGS:
+        text = log.read_text("utf-8", errors="replace").splitlines()[-lines:] if log.exists() else []
+        parts.append(f"--- {log} (last {len(text)} lines)\n" + "\n".join(text))
+    return "\n".join(parts)
+
+
 @contextmanager
 def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: int = 1) -> Iterator[str]:
-    """`paltrainer serve` on a free loopback port with `users` ((name, role) pairs, password PASSWORD); its URL."""
+    """`paltrainer serve` on a free loopback port with `users` ((name, role) pairs, password PASSWORD); its URL.
+    Its log (one JSON line per request, with its duration) goes to data/server.log: a failing test's report
+    shows the end of it (conftest.py). With KEEP_SERVER_LOGS=<folder> in the environment each log is kept there,
+    named by the server's port (to look for slow requests and stalls of a whole run)."""
     assert BUNDLE.exists(), "the editor is not built: npm --prefix web ci && npm --prefix web run build"
     port = free_port()
     env = {
@@ -82,14 +97,17 @@ def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: i
         "PALTRAINER_EXERCISES_DIR": str(ROOT / "exercises"),
     }
     create_users(env, users)
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
-        cwd=ROOT,
-        env=env,
-        stdout=subprocess.DEVNULL,
-        stderr=subprocess.DEVNULL,
-    )
+    log = data / "server.log"
+    with log.open("ab") as out:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "core.cli", "serve", "--host", "127.0.0.1", "--port", str(port)],
+            cwd=ROOT,
+            env=env,
+            stdout=out,
+            stderr=subprocess.STDOUT,
+        )
     url = f"http://127.0.0.1:{port}"
+    SERVER_LOGS.append(log)
     try:
         for _ in range(600):  # up to a minute: on a busy CI machine the first start imports slowly
             try:
@@ -101,6 +119,9 @@ def running_server(data: Path, users: Iterable[tuple[str, str]] = (), workers: i
             pytest.fail("the server did not start")
         yield url
     finally:
+        SERVER_LOGS.remove(log)
+        if os.environ.get("KEEP_SERVER_LOGS"):
+            shutil.copy(log, Path(os.environ["KEEP_SERVER_LOGS"]) / f"{port}.log")
         proc.terminate()
         proc.wait(timeout=10)
 
@@ -116,6 +137,16 @@ def chromium() -> Iterator[Any]:
             yield b
         finally:
             b.close()
+
+
+def log_in(page: Any, server: str, user: str, password: str = PASSWORD) -> None:
+    """Log `user` in on the login page and wait until the page has left it: the login's request is answered and
+    the session cookie set (a page opened sooner would be anonymous, and land on the login page again)."""
+    page.goto(f"{server}/login")
+    page.fill("input[name=username]", user)
+    page.fill("input[name=password]", password)
+    page.click("button[type=submit]")
+    page.wait_for_url(lambda url: urllib.parse.urlsplit(url).path != "/login", timeout=60000)
 
 
 def call(

@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, call, running_server
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, call, log_in, running_server
 from test_viz_view import wait_until
 
 pytestmark = [NEEDS_CHROMIUM]
@@ -54,11 +54,7 @@ def server() -> Iterator[str]:
 def login(browser: Any, server: str, user: str, size: str = "laptop") -> Any:
     width, height = SIZES[size]
     page = browser.new_context(viewport={"width": width, "height": height}).new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
-    page.wait_for_load_state("networkidle")
+    log_in(page, server, user)
     return page
 
 
@@ -200,11 +196,7 @@ def test_editor_has_no_serious_accessibility_problems(server: str, browser: Any)
     """axe-core on the editor of a new exercise and on an existing one (its errors shown)."""
     axe = ROOT / "web" / "node_modules" / "axe-core" / "axe.min.js"
     page = browser.new_context(viewport={"width": 1366, "height": 768}, bypass_csp=True).new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", "ed-kollege")
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
-    page.wait_for_load_state("networkidle")
+    log_in(page, server, "ed-kollege")
     page.goto(f"{server}/exercises/new")
     page.wait_for_selector("#reference-editor .cm-content", timeout=60000)
     for errors in (False, True):

@@ -184,10 +184,19 @@ def test_learner_launch_opens_the_exercise_inside_the_platform_frame(
         ),
     )
     page.goto(f"{issuer}/course")
-    page.frame_locator("#tool").locator("#title:not(:empty)").wait_for(timeout=30000)
+    page.frame_locator("#tool").locator("#title").wait_for(timeout=30000)
     tool_frame = next(f for f in page.frames if f.url.startswith(f"{tool}/lti/exercise/pal-01-g1-gerade"))
-    assert tool_frame.locator("#title").inner_text(timeout=30000).strip()
-    me = tool_frame.evaluate("fetch('/api/v1/me').then(r => r.json())")
+    # the page's script has run (the title is the exercise's, no longer the page's placeholder "Aufgabe"): its
+    # requests carry the token from here on
+    tool_frame.wait_for_function(
+        "() => { const t = document.getElementById('title').textContent.trim(); return t && t !== 'Aufgabe'; }",
+        timeout=30000,
+    )
+    answer = tool_frame.evaluate(
+        "fetch('/api/v1/me').then(async r => ({status: r.status, body: await r.text()}))"
+    )
+    assert answer["status"] == 200, answer  # (the error's code and message, if not)
+    me = json.loads(answer["body"])
     assert me["role"] == "student" and me["username"].startswith("lti")
     # no cookie was needed (the tool set none): the token came in the URL fragment, which no server sees
     assert not [c for c in context.cookies() if c["domain"] in ("127.0.0.1", "localhost")]

@@ -23,7 +23,7 @@ from typing import Any
 
 import httpx
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, running_server
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, log_in, running_server
 
 pytestmark = [NEEDS_CHROMIUM]
 
@@ -69,13 +69,6 @@ def wait_until(page: Any, expression: str, timeout: float = 20.0) -> None:
 def new_page(browser: Any, size: str) -> Any:
     width, height = SIZES[size]
     return browser.new_context(viewport={"width": width, "height": height}).new_page()
-
-
-def log_in(page: Any, server: str, user: str) -> None:
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
 
 
 def shot(page: Any, name: str) -> None:
