@@ -17,7 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, running_server
+from browser_helpers import NEEDS_CHROMIUM, PASSWORD, ROOT, log_in, running_server
 from test_viz_view import wait_until
 
 pytestmark = [NEEDS_CHROMIUM]
@@ -77,10 +77,7 @@ def logged_in(browser: Any, server: str, user: str, size: str = "laptop") -> Any
     # axe-core comes in as a script (the pages' Content-Security-Policy allows only our own)
     page = browser.new_context(viewport={"width": width, "height": height}, bypass_csp=True).new_page()
     page.on("dialog", lambda dialog: dialog.accept())  # the confirmations of reset, deactivate, revoke
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, user)
     page.wait_for_url(lambda url: not url.endswith("/login"))
     return page
 

@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import call
+from browser_helpers import call, log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER
 
@@ -73,10 +73,7 @@ def teacher(server: str) -> str:  # noqa: F811
 def login(browser: Any, server: str, size: str = "laptop", **context: Any) -> Any:  # noqa: F811
     width, height = SIZES[size]
     page = browser.new_context(viewport={"width": width, "height": height}, **context).new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", TEACHER)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, TEACHER)
     page.wait_for_url(f"{server}/instructor")  # an instructor lands on their page
     return page
 

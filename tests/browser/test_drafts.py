@@ -9,6 +9,7 @@ import json
 import time
 
 import pytest
+from browser_helpers import log_in
 from test_practice_page import CHROMIUM, PASSWORD, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
@@ -22,10 +23,7 @@ SLUG = "ergaenzen-01-kreisbogen"
 def login(browser: object, server: str) -> tuple[object, object]:  # noqa: F811
     ctx = browser.new_context(viewport={"width": 1366, "height": 768})  # type: ignore[attr-defined]
     page = ctx.new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", "schueler")
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, "schueler")
     page.wait_for_url(f"{server}/")
     return ctx, page
 

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from browser_helpers import log_in
 from test_practice_page import CHROMIUM, PASSWORD, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
@@ -64,10 +65,7 @@ def _watch(page: Any) -> list[str]:
 def _login(browser: Any, server: str, size: str) -> Any:  # noqa: F811
     width, height = SIZES[size]
     page = browser.new_context(viewport={"width": width, "height": height}).new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", "schueler")
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, "schueler")
     page.wait_for_url(lambda url: "/login" not in url)
     return page
 

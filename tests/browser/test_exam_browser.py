@@ -30,7 +30,7 @@ from typing import Any
 
 import httpx
 import pytest
-from browser_helpers import create_users
+from browser_helpers import create_users, log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
@@ -107,10 +107,7 @@ def login(browser: Any, server: str, user: str, size: tuple[int, int] = (1366, 7
         viewport={"width": size[0], "height": size[1]}, bypass_csp=True
     )  # axe as a script
     page = ctx.new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, user)
     page.wait_for_url(
         lambda url: url in (f"{server}/", f"{server}/instructor")
     )  # instructors land on their page

@@ -23,6 +23,7 @@ from typing import Any
 
 import httpx
 import pytest
+from browser_helpers import log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
@@ -95,10 +96,7 @@ def login(browser: Any, server: str, user: str, size: str = "laptop") -> Any:  #
     width, height = SIZES[size]
     # axe-core is injected as a script of its own: the pages' policy forbids inline script
     page = browser.new_context(viewport={"width": width, "height": height}, bypass_csp=True).new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, user)
     page.wait_for_url(
         lambda url: url in (f"{server}/", f"{server}/instructor")
     )  # instructors land on their page

@@ -11,7 +11,7 @@ from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from browser_helpers import NEEDS_CHROMIUM, PASSWORD, running_server
+from browser_helpers import NEEDS_CHROMIUM, log_in, running_server
 
 pytestmark = [NEEDS_CHROMIUM]
 
@@ -39,10 +39,7 @@ def _errors(page: Any) -> list[str]:
 
 
 def _login(page: Any, server: str, user: str) -> None:
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, user)
     page.wait_for_url(
         lambda url: url in (f"{server}/", f"{server}/instructor")
     )  # instructors land on their page

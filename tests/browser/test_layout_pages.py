@@ -12,6 +12,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from browser_helpers import log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
@@ -68,10 +69,7 @@ def open_page(browser: object, server: str, user: str, name: str, size: str, **c
     ctx = browser.new_context(viewport={"width": width, "height": height}, **context)  # type: ignore[attr-defined]
     page = ctx.new_page()
     if name != "login":
-        page.goto(f"{server}/login")
-        page.fill("input[name=username]", user)
-        page.fill("input[name=password]", PASSWORD)
-        page.click("button[type=submit]")
+        log_in(page, server, user)
         page.wait_for_url(f"{server}/instructor")  # an instructor lands on their page
     page.goto(f"{server}{PAGES[name]}")
     page.wait_for_selector(

@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import CHROMIUM, PASSWORD, ROOT, running_server
+from browser_helpers import CHROMIUM, PASSWORD, ROOT, log_in, running_server
 from test_course_page import call, token
 from test_viz_view import wait_until
 
@@ -81,12 +81,9 @@ def context_for(browser: Any, problems: list[Problems], size: tuple[int, int] = 
     return context
 
 
-def log_in(context: Any, server: str, user: str) -> Any:
+def logged_in_page(context: Any, server: str, user: str) -> Any:
     page = context.new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", PASSWORD)
-    page.click("button[type=submit]")
+    log_in(page, server, user)
     page.wait_for_url(lambda url: "/login" not in url, timeout=20000)
     return page
 
@@ -161,7 +158,7 @@ def test_every_page_runs_without_error_or_policy_violation(server: str, browser:
 
     # a trainee: the exercise list, an exercise page with 3D on (the reference typed, playback, views)
     student = context_for(browser, problems)
-    page = log_in(student, server, STUDENT)
+    page = logged_in_page(student, server, STUDENT)
     page.goto(f"{server}/")
     page.wait_for_selector("ul.exercises a", timeout=20000)
     page.wait_for_timeout(500)
@@ -183,7 +180,7 @@ def test_every_page_runs_without_error_or_policy_violation(server: str, browser:
 
     # the instructor: their page and a course page
     instructor = context_for(browser, problems)
-    page = log_in(instructor, server, TEACHER)
+    page = logged_in_page(instructor, server, TEACHER)
     page.goto(f"{server}/instructor")
     page.wait_for_selector("#submission-list :is(table, p)", state="attached", timeout=20000)
     page.wait_for_timeout(500)

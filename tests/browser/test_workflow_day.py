@@ -15,6 +15,7 @@ import time
 from pathlib import Path
 
 import pytest
+from browser_helpers import log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
@@ -50,10 +51,7 @@ def people(server: str) -> tuple[str, str]:  # noqa: F811
 def login(browser: object, server: str, user: str, password: str = PASSWORD) -> tuple[object, object]:  # noqa: F811
     ctx = browser.new_context(viewport={"width": 1366, "height": 768}, accept_downloads=True)  # type: ignore[attr-defined]
     page = ctx.new_page()
-    page.goto(f"{server}/login")
-    page.fill("input[name=username]", user)
-    page.fill("input[name=password]", password)
-    page.click("button[type=submit]")
+    log_in(page, server, user, password)
     page.wait_for_url(
         lambda url: url in (f"{server}/", f"{server}/instructor")
     )  # instructors land on their page
