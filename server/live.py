@@ -49,9 +49,12 @@ import asyncio
 import contextlib
 import json
 import logging
+import math
+import time
 import uuid
 import weakref
 from collections import Counter
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Annotated, Any
 from urllib.parse import urlsplit
@@ -124,23 +127,38 @@ class Refused(Exception):
 class Gate:
     """server/access.py for one live connection, asked at every message: the trainee's situation is read on
     connect and again every `refresh` seconds (an exam created meanwhile counts from then on), and the rules are
-    applied to it at each message's moment (an exam that starts while the socket is open stops it at its start)."""
+    applied to it at each message's moment (an exam that starts while the socket is open stops it at its start).
+
+    The reads are shared by the connections of one user (or of every anonymous trainee) and exercise in this
+    process (`_Reads`), so that 500 editors typing at once make one read every `refresh` seconds, not 500 that
+    their keystrokes wait for. A connection takes only reads made since it connected (a new connection, an
+    exercise opened: a read of its own). A read older than `refresh` still serves for `stale` seconds more
+    while the next one is made in the background; after that a message waits for it."""
 
     refresh = 10.0
+    stale = 5.0
 
     def __init__(self, database: Database, principal: Principal) -> None:
         self.database, self.user = database, access.acting_user(principal)
-        self.read: tuple[float, str | None, access.Situation] | None = None
+        self.reads = _READS.setdefault(database, _Reads())
+        self.since = time.monotonic()
 
     def _situation(self, slug: str | None) -> access.Situation:
         with self.database.session() as db:
             return access.situation(db, self.user, slug)
 
     async def situation(self, slug: str | None) -> access.Situation:
-        loop = asyncio.get_running_loop()
-        if self.read is None or loop.time() - self.read[0] > self.refresh or self.read[1] != slug:
-            self.read = (loop.time(), slug, await run_in_threadpool(self._situation, slug))
-        return self.read[2]
+        key = (self.user.id if self.user is not None else None, slug)
+        read = self.reads.done.get(key)
+        if read is not None and read[0] < self.since:
+            read = None  # read before this connection: not its own
+        age = time.monotonic() - read[0] if read is not None else math.inf
+        if read is not None and age <= self.refresh:
+            return read[1]
+        task = self.reads.start(key, lambda: self._situation(slug), self.since)
+        if read is not None and age <= self.refresh + self.stale:
+            return read[1]  # (the next read is under way)
+        return await asyncio.shield(task)
 
     async def on_connect(self) -> ApiError | None:
         """Refused at once only where a running exam switches live diagnostics off (the exercise comes later)."""
@@ -156,6 +174,61 @@ class Gate:
             access.decide(await self.situation(slug), "live", slug)
         except ApiError as err:
             raise Refused(err) from None
+
+
+class _Reads:
+    """The situations read for the live connections of one database: by (user id, exercise) the last read
+    (its start time, the situation) and the read under way."""
+
+    def __init__(self) -> None:
+        self.done: dict[tuple[int | None, str | None], tuple[float, access.Situation]] = {}
+        self.running: dict[tuple[int | None, str | None], tuple[float, asyncio.Task[access.Situation]]] = {}
+
+    def start(
+        self, key: tuple[int | None, str | None], read: Callable[[], access.Situation], since: float
+    ) -> asyncio.Task[access.Situation]:
+        """The read of `key` under way in this event loop that started at `since` or later; started now where
+        none is."""
+        loop = asyncio.get_running_loop()
+        running = self.running.get(key)
+        if (
+            running is not None
+            and running[0] >= since
+            and not running[1].done()
+            and running[1].get_loop() is loop
+        ):
+            return running[1]
+        at = time.monotonic()
+        task = loop.create_task(self._read(key, read, at))
+        task.add_done_callback(
+            _retrieved
+        )  # (a failed background read is not news; a waiting message gets it)
+        self.running[key] = (at, task)
+        return task
+
+    async def _read(
+        self, key: tuple[int | None, str | None], read: Callable[[], access.Situation], at: float
+    ) -> access.Situation:
+        try:
+            value = await run_in_threadpool(read)
+        finally:
+            if self.running.get(key, (0.0,))[0] == at:
+                del self.running[key]
+        if key not in self.done or self.done[key][0] < at:
+            self.done[key] = (at, value)
+        if len(self.done) > _READS_KEPT:  # the oldest reads go first
+            for old in sorted(self.done, key=lambda k: self.done[k][0])[: len(self.done) - _READS_KEPT]:
+                del self.done[old]
+        return value
+
+
+def _retrieved(task: asyncio.Task[Any]) -> None:
+    if not task.cancelled():
+        task.exception()
+
+
+_READS: weakref.WeakKeyDictionary[Database, _Reads] = weakref.WeakKeyDictionary()
+_READS_KEPT = 10_000  # (user, exercise) situations kept per database
 
 
 @dataclass
