@@ -14,12 +14,14 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import dataclasses
 import gc
 import hashlib
 import importlib.util
 import json
 import logging
 import multiprocessing
+import operator
 import threading
 import time
 from collections import Counter, OrderedDict, defaultdict, deque
@@ -405,21 +407,28 @@ def job_validate_exercise(text: str, graded: bool = True) -> dict[str, Any]:
 
 
 class _LiveCache:
-    """One live document's last result in this worker: per line, its diagnostics and its commands, and
-    the pipeline's memo (parsed lines, block readings) for the next run of the same dialect and set-up."""
+    """One live document's last result in this worker: per line, its diagnostics and its commands (and the
+    list of commands they group), and the pipeline's memo (parsed lines, block readings) for the next run of
+    the same dialect and set-up."""
 
-    __slots__ = ("commands", "diagnostics", "gen", "json", "memo", "memo_key")
+    __slots__ = ("command_list", "commands", "diagnostics", "gen", "json", "memo", "memo_key")
 
     def __init__(
         self,
         gen: int,
         diagnostics: dict[int, tuple[Any, ...]],
         commands: dict[int, tuple[Any, ...]],
+        command_list: list[Any],
         memo: Memo,
         memo_key: str,
         json: dict[int, tuple[Any, dict[str, Any]]] | None = None,
     ) -> None:
-        self.gen, self.diagnostics, self.commands = gen, diagnostics, commands
+        self.gen, self.diagnostics, self.commands, self.command_list = (
+            gen,
+            diagnostics,
+            commands,
+            command_list,
+        )
         self.memo, self.memo_key, self.json = memo, memo_key, json or {}
 
 
@@ -432,6 +441,41 @@ def _by_line(items: Any) -> dict[int, tuple[Any, ...]]:
     for x in items:
         out[x.span.line].append(x)
     return {k: tuple(v) for k, v in out.items()}
+
+
+def _regroup(
+    old: list[Any], new: list[Any], by_line: dict[int, tuple[Any, ...]]
+) -> dict[int, tuple[Any, ...]] | None:
+    """Make `by_line` (the items of `old` by their line) group `new`, looking only at the items between the two
+    lists' common prefix and suffix of the same objects (a live run takes the previous run's commands over
+    where the edit changed nothing); answer the lines it changed with their items before. None, with
+    `by_line` untouched, where that middle is most of the lists or a line has items outside it: the caller
+    groups `new` whole."""
+    n_old, n_new = len(old), len(new)
+    limit = min(n_old, n_new)
+    same = list(map(operator.is_, old, new))  # (map over both lists: no Python loop over the program)
+    a = same.index(False) if False in same else limit
+    same = list(map(operator.is_, reversed(old), reversed(new)))
+    b = min(same.index(False) if False in same else limit, limit - a)
+    was, now = old[a : n_old - b], new[a : n_new - b]
+    if len(was) + len(now) > limit // 2 + 16:
+        return None
+    gone = Counter(x.span.line for x in was)
+    fresh: dict[int, list[Any]] = defaultdict(list)
+    for x in now:
+        fresh[x.span.line].append(x)
+    changed: dict[int, tuple[Any, ...]] = {}
+    for n in gone.keys() | fresh.keys():
+        before = by_line.get(n, ())
+        if len(before) != gone[n]:
+            return None  # the line has items before or after the middle too (a subprogram's line)
+        changed[n] = before
+    for n in changed:
+        if n in fresh:
+            by_line[n] = tuple(fresh[n])
+        else:
+            del by_line[n]
+    return changed
 
 
 def _text(items: list[dict[str, Any]]) -> str:
@@ -515,27 +559,44 @@ def job_live(
     cached = _LIVE.pop(doc, None)
     memo_key = json.dumps([dialect, spec], sort_keys=True, default=str)
     memo = cached.memo if cached is not None and cached.memo_key == memo_key else Memo()
-    toolpath = summarised(
-        run(text, dialect, make_setup(spec), memo)
-    )  # at most max_answer_commands (PAL-I018)
-    diagnostics, commands = _by_line(toolpath.diagnostics), _by_line(toolpath.commands)
+    setup = dataclasses.replace(
+        make_setup(spec), answer_only=True
+    )  # (no state per line: the answer has none)
+    toolpath = summarised(run(text, dialect, setup, memo))  # at most max_answer_commands (PAL-I018)
+    diagnostics, command_list = _by_line(toolpath.diagnostics), toolpath.commands
     full = cached is None or cached.gen != base_gen
     old_d = {} if full or cached is None else cached.diagnostics
-    old_c = {} if full or cached is None else cached.commands
     to_json = _Json(cached.json if cached is not None and cached.memo is memo else {}, memo.runs.shifted)
     d_out = {
         n: _text([x.to_json() for x in diagnostics.get(n, ())])
         for n in old_d.keys() | diagnostics.keys()
         if old_d.get(n) != diagnostics.get(n)
     }
+    # the commands by line: regrouped where the run changed a few of them, else grouped anew
+    grouped = cached.commands if cached is not None else None
+    changed = None if cached is None else _regroup(cached.command_list, command_list, cached.commands)
+    if changed is None or grouped is None:
+        commands = _by_line(command_list)
+        old_c = {} if full or cached is None else cached.commands
+        changed = {n: old_c.get(n, ()) for n in old_c.keys() | commands.keys()}
+    else:
+        commands = grouped
+        if full:
+            changed = dict.fromkeys(commands, ())
     empty: tuple[Any, ...] = ()
     c_out = {
         n: _members(_path_json(commands.get(n, empty), to_json))
-        for n in old_c.keys() | commands.keys()
-        if old_c.get(n) != commands.get(n)
+        for n, before in changed.items()
+        if before != commands.get(n, empty)
     }
     _LIVE[doc] = _LiveCache(
-        gen, diagnostics, commands, memo, memo_key, to_json.kept(commands, len(toolpath.commands))
+        gen,
+        diagnostics,
+        commands,
+        command_list,
+        memo,
+        memo_key,
+        to_json.kept(commands, len(command_list)),
     )
     while len(_LIVE) > _LIVE_MAX:
         _LIVE.popitem(last=False)

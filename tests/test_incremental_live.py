@@ -505,3 +505,57 @@ def test_live_runs_leave_no_reference_cycles() -> None:
         gc.set_debug(0)
         gc.garbage.clear()
     assert ours == []
+
+
+def test_an_answer_only_run_makes_the_same_answer_and_no_line_states() -> None:
+    """The live worker's runs make only what an answer shows (RunSetup.answer_only): the same commands,
+    diagnostics and final position as a whole run, incremental runs included, and no state per line."""
+    lines = bench_program(120)
+    answer = RunSetup(answer_only=True)
+    memo, kinds = Memo(), []
+    for doc in [lines, *typing(lines, 60, "N595 G1 X33 Y44 F200"), lines[:30] + ["G1 X5"] + lines[30:]]:
+        text = "\n".join(doc) + "\n"
+        whole, quick = run(text, "pal-mill"), run(text, "pal-mill", answer, memo)
+        kinds.append(memo.runs.kind)
+        assert quick.commands == whole.commands
+        assert quick.diagnostics == whole.diagnostics
+        assert quick.final_position == whole.final_position
+        assert quick.line_states == [] and quick.moves == []
+        assert len(whole.line_states) == len(doc) and len(whole.moves) > 100
+    assert kinds.count("incremental") >= 15  # (most keystrokes' runs met the previous ones)
+
+
+class _Item:
+    def __init__(self, line: int) -> None:
+        self.span = type("S", (), {"line": line})()
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    st.lists(st.integers(1, 30), max_size=60),
+    st.integers(0, 60),
+    st.integers(0, 8),
+    st.lists(st.integers(1, 30), max_size=8),
+)
+def test_a_live_answer_regroups_only_the_commands_a_run_changed(
+    lines: list[int], at: int, removed: int, added: list[int]
+) -> None:
+    """The worker groups a run's commands by line from the previous grouping where the run took most of them
+    over (the same objects): the grouping equals one made anew, and the lines it names as changed are every
+    line whose commands differ, each with its commands before. Where it cannot tell (a line with commands
+    outside the changed ones, as a subprogram's line called twice), it says so and changes nothing."""
+    from server.workers import _by_line, _regroup
+
+    old = [_Item(n) for n in lines]
+    at = min(at, len(old))
+    new = old[:at] + [_Item(n) for n in added] + old[at + removed :]
+    grouped = _by_line(old)
+    before = dict(grouped)
+    changed = _regroup(old, new, grouped)
+    if changed is None:
+        assert grouped == before
+        return
+    assert grouped == _by_line(new)
+    differ = {n for n in before.keys() | grouped.keys() if before.get(n) != grouped.get(n)}
+    assert differ <= changed.keys()
+    assert all(before.get(n, ()) == was for n, was in changed.items())

@@ -115,8 +115,12 @@ def test_a_memo_parses_only_the_changed_lines_and_moves_the_others() -> None:
     typed = [*lines[:50], "N505 G1 X5", *lines[51:]]
     program, diags = PARSER.parse_program("\n".join(typed) + "\n", LIMITS, memo)
     assert sum(a is not b for a, b in zip(first.blocks, program.blocks, strict=True)) == 1
+    # the run need not compare the programs again: the parse says which lines changed (line 51)
+    assert program.base is first.blocks and program.changed == (51, 52, 52)
     broken = [*typed[:10], "", *typed[10:]]  # Enter in line 11
+    before = program.blocks
     program, diags = PARSER.parse_program("\n".join(broken) + "\n", LIMITS, memo)
+    assert program.base is before and program.changed == (11, 11, 12)
     fresh, fresh_diags = PARSER.parse_program("\n".join(broken) + "\n", LIMITS)
     assert program.blocks == fresh.blocks and diags == fresh_diags
     assert [d.span.line for d in diags] == [201]  # N2000 G1 X1..5, one line further down

@@ -567,7 +567,10 @@ class Loop:
         if not old.points or old.identity != trace.identity:
             return False
         blocks = self.program.blocks
-        first, old_end, new_end = changed_lines(old.blocks, blocks)
+        if self.program.base is old.blocks and self.program.changed is not None:
+            first, old_end, new_end = self.program.changed  # (the parse compared the lines already)
+        else:
+            first, old_end, new_end = changed_lines(old.blocks, blocks)
         if not structure_kept(old, blocks, first, old_end, new_end):
             return False
         lm = LineMap(first, old_end, new_end - old_end)
@@ -622,6 +625,8 @@ class Loop:
         return None if x is None else (self.lm.line(x[0] + 1) - 1, x[1], x[2])
 
     def _set_lines(self, sets: list[tuple[int, ModalState, Vec3] | None]) -> None:
+        if self.setup.answer_only:
+            return  # (no state per line)
         states, positions = self.states, self.positions
         for x in sets:
             if x is not None:

@@ -161,7 +161,7 @@ class MillMachine(Machine):
         return finish(items, diags)
 
     def finish(self, result: Toolpath, states: list[ModalState | None], positions: list[Vec3 | None]) -> None:
-        finish_toolpath(result, states, positions, self.setup.start)
+        finish_toolpath(result, states, positions, self.setup.start, self.setup.answer_only)
         result.params = self.params
         result.final_position = self.position
         readings = self.readings

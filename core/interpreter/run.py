@@ -50,6 +50,11 @@ class Unit:
         """The index of its block at `line` (-1: past its last block); KeyError where none is there."""
         if line < 0:
             return len(self.blocks)
+        blocks = self.blocks
+        if blocks:  # (PAL and ISO units are consecutive lines: found without a map of them)
+            i = line - blocks[0].line
+            if 0 <= i < len(blocks) and blocks[i].line == line:
+                return i
         if self._lines is None:
             self._lines = {b.line: i for i, b in enumerate(self.blocks)}
         return self._lines[line]
@@ -243,9 +248,13 @@ def finish_toolpath(
     states: list[ModalState | None],
     positions: list[Vec3 | None],
     start: Vec3,
+    answer_only: bool = False,
 ) -> None:
     """Sort the commands into the toolpath's lists; the lines no block set hold the state and position of the
-    line before them (the first ones: the switch-on state at `start`)."""
+    line before them (the first ones: the switch-on state at `start`). Nothing of it for a run that makes
+    only an answer (RunSetup.answer_only)."""
+    if answer_only:
+        return
     for command in result.commands:
         if type(command) is Move:
             result.moves.append(command)

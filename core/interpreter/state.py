@@ -111,6 +111,9 @@ class RunSetup:
     # of G53; None: the start position
     reference_point: Vec3 | None = None
     peck_retract: float = 1.0  # mm: the back-off of G73 and the clearance of G83 (machine data d)
+    # True: the run makes only what an answer of the live editor shows — the commands, the diagnostics and the
+    # final position; the state after every line and the lists of moves, dwells and tool changes stay empty
+    answer_only: bool = False
 
     @property
     def reference(self) -> Vec3:

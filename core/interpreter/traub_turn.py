@@ -940,13 +940,16 @@ class TurnMachine(Machine):
 
     def finish(self, result: Toolpath, states: list[ModalState | None], positions: list[Vec3 | None]) -> None:
         dx, dz = self._ref
-        for i, ps in enumerate(
-            positions
+        if (
+            not self.setup.answer_only
         ):  # the lines' positions in the workpiece frame (the run kept the machine's)
-            if ps is not None:
-                positions[i] = (ps[0] - dx, 0.0, ps[2] - dz)
+            for i, ps in enumerate(positions):
+                if ps is not None:
+                    positions[i] = (ps[0] - dx, 0.0, ps[2] - dz)
         tcp = self.setup.tool_change_point  # where the run starts
-        finish_toolpath(result, states, positions, (tcp[0] / 2 - dx, 0.0, tcp[1] - dz))
+        finish_toolpath(
+            result, states, positions, (tcp[0] / 2 - dx, 0.0, tcp[1] - dz), self.setup.answer_only
+        )
         result.params = dict(self.run.params)
         final = self.run.last_known
         result.final_position = (final[0] - dx, 0.0, final[1] - dz)

@@ -7,7 +7,7 @@ These types are what the parser produces and the interpreter consumes. They carr
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import NamedTuple
 
 
@@ -135,6 +135,10 @@ class Program:
 
     blocks: list[Block]
     line_count: int
+    # a parse with a memo (the live editor): the blocks of the last parse and the lines that differ from them,
+    # (first, old end, new end) as checkpoints.changed_lines finds them, so that the run need not compare
+    base: list[Block] | None = field(default=None, compare=False, repr=False)
+    changed: tuple[int, int, int] | None = field(default=None, compare=False, repr=False)
 
     @property
     def has_content(self) -> bool:

@@ -10,9 +10,11 @@ the same blocks; tests/test_parser.py checks that they agree.
 
 from __future__ import annotations
 
+import operator
 import re
 from dataclasses import dataclass, field
 from functools import cache
+from itertools import chain
 from pathlib import Path
 
 from lark import Lark, Token, Tree
@@ -48,7 +50,8 @@ class LineMemo:
     editor's next parse of the same document reuses the lines that did not change)."""
 
     lines: list[str] = field(default_factory=list)
-    parsed: list[tuple[Block, list[Diagnostic]]] = field(default_factory=list)
+    blocks: list[Block] = field(default_factory=list)
+    found: list[list[Diagnostic]] = field(default_factory=list)  # per line its diagnostics
 
 
 class BlockParser:
@@ -116,53 +119,55 @@ class BlockParser:
         if memo is None:
             blocks = [self.parse_line(raw, n, limits, diagnostics) for n, raw in enumerate(lines, 1)]
             return Program(blocks, line_count), diagnostics
-        parsed = self._reparse(memo, lines, limits)
-        blocks = [b for b, _ in parsed]
-        for _, found in parsed:
-            if found:
-                diagnostics.extend(found)
-        memo.lines, memo.parsed = lines, parsed
-        return Program(blocks, line_count), diagnostics
+        old_blocks = memo.blocks
+        blocks, found, changed = self._reparse(memo, lines, limits)
+        diagnostics.extend(chain.from_iterable(filter(None, found)))
+        memo.lines, memo.blocks, memo.found = lines, blocks, found
+        return Program(blocks, line_count, old_blocks, changed), diagnostics
 
     def _reparse(
         self, memo: LineMemo, lines: list[str], limits: Limits
-    ) -> list[tuple[Block, list[Diagnostic]]]:
-        """Each line's block and diagnostics: those before and after the changed lines (the longest common
-        prefix and suffix with the memo's lines) as they were, moved to their new line where lines were
-        inserted or deleted; the changed ones parsed, or found among the memo's changed lines by text."""
-        old, parsed = memo.lines, memo.parsed
+    ) -> tuple[list[Block], list[list[Diagnostic]], tuple[int, int, int]]:
+        """Each line's block and diagnostics, and the changed lines (first, old end, new end): those before and
+        after the changed lines (the longest common prefix and suffix with the memo's lines) as they were,
+        moved to their new line where lines were inserted or deleted; the changed ones parsed, or found among
+        the memo's changed lines by text."""
+        old, old_blocks, old_found = memo.lines, memo.blocks, memo.found
         n_old, n_new = len(old), len(lines)
         limit = min(n_old, n_new)
-        a = 0
-        while a < limit and old[a] == lines[a]:
-            a += 1
-        b = 0
-        while b < limit - a and old[n_old - 1 - b] == lines[n_new - 1 - b]:
-            b += 1
-        out = parsed[:a]
+        same = list(map(operator.eq, old, lines))  # (map over both lists: no Python loop over the program)
+        a = same.index(False) if False in same else limit
+        same = list(map(operator.eq, reversed(old), reversed(lines)))
+        b = min(same.index(False) if False in same else limit, limit - a)
+        blocks, found = old_blocks[:a], old_found[:a]
         # the memo's changed lines without diagnostics, by text: a line moved within the change
-        moved = {old[i]: parsed[i][0] for i in range(a, n_old - b) if not parsed[i][1]}
+        moved = {old[i]: old_blocks[i] for i in range(a, n_old - b) if not old_found[i]}
         for i in range(a, n_new - b):
             raw, n = lines[i], i + 1
             other = moved.get(raw)
             if other is not None:
-                out.append((other if other.line == n else _relined(other, n), []))
+                blocks.append(other if other.line == n else _relined(other, n))
+                found.append([])
             else:
-                found: list[Diagnostic] = []
-                out.append((self.parse_line(raw, n, limits, found), found))
+                now: list[Diagnostic] = []
+                blocks.append(self.parse_line(raw, n, limits, now))
+                found.append(now)
+        changed = (a + 1, n_old - b + 1, n_new - b + 1)
         delta = n_new - n_old
         if delta == 0:
-            out.extend(parsed[n_old - b :])
-            return out
+            blocks += old_blocks[n_old - b :]
+            found += old_found[n_old - b :]
+            return blocks, found, changed
         for i in range(n_old - b, n_old):  # after the change, `delta` lines further
-            block, found = parsed[i]
             n = i + 1 + delta
-            if found:  # its diagnostics name its line: parsed again
+            if old_found[i]:  # its diagnostics name its line: parsed again
                 again: list[Diagnostic] = []
-                out.append((self.parse_line(old[i], n, limits, again), again))
+                blocks.append(self.parse_line(old[i], n, limits, again))
+                found.append(again)
             else:
-                out.append((_relined(block, n), []))
-        return out
+                blocks.append(_relined(old_blocks[i], n))
+                found.append([])
+        return blocks, found, changed
 
     # -- one line --------------------------------------------------------------------------
 
