@@ -5,15 +5,17 @@ restart of the server."""
 from __future__ import annotations
 
 import asyncio
+import threading
 from collections.abc import Iterator
 from dataclasses import dataclass
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
+from typing import Any
 
 import pytest
 from lti_platform import CLIENT_ID, PlatformState, Served, free_port, platform_app
 from server_tests.server_helpers import BACKENDS, POSTGRES_URL, make_settings
-from sqlalchemy import create_engine, select, text
+from sqlalchemy import create_engine, event, select, text
 
 from server.config import Settings
 from server.db import Database, migrate
@@ -199,6 +201,36 @@ def test_score_arrives_at_the_platform_with_a_client_credentials_token(world: Wo
     assert world.drain(datetime.now(UTC)) == 1
     assert world.state.token_requests == 1
     assert [s["scoreGiven"] for _, s in world.state.scores] == [70.0, 90.0]
+
+
+def test_the_sender_leaves_the_database_to_threads_and_the_event_loop_free(world: World) -> None:
+    """Sending scores runs in the server's event loop: every database call of it (claiming, the key, the line
+    item, the outcome) runs in a thread, so that a database waiting for a lock stops no other request."""
+    loop_thread = threading.get_ident()  # (asyncio.run runs the loop in this thread)
+    on_the_loop: list[str] = []
+
+    def seen(_conn: Any, _cursor: Any, statement: str, *_: Any) -> None:
+        if threading.get_ident() == loop_thread:
+            on_the_loop.append(statement)
+
+    with world.database.session() as db:  # no line item yet: the sender finds the platform's
+        link = db.get(LtiResourceLink, world.link_id)
+        assert link is not None
+        link.lineitem_url, link.ags_scopes = None, [ags.SCORE_SCOPE, ags.LINEITEM_SCOPE]
+        db.commit()
+    world.enqueue(world.submit(6))
+    event.listen(world.database.engine, "before_cursor_execute", seen)
+    try:
+        t0 = datetime.now(UTC)
+        assert world.drain(t0) == 0  # the platform is down: a failed attempt recorded
+        world.platform.start()
+        sent = world.drain(t0 + timedelta(minutes=1))
+        assert sent == 1, world.rows()[0].last_error  # a token, the line item, the score, the outcome
+    finally:
+        event.remove(world.database.engine, "before_cursor_execute", seen)
+    assert [s["scoreGiven"] for _, s in world.state.scores] == [60.0]
+    assert world.rows()[0].attempts == 2
+    assert on_the_loop == []
 
 
 def test_backoff_while_the_platform_is_down_then_delivered_once(world: World) -> None:

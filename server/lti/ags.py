@@ -368,10 +368,10 @@ async def access_token(
     form = {
         "grant_type": "client_credentials",
         "client_assertion_type": ASSERTION_TYPE,
-        "client_assertion": client_assertion(db, platform),
+        "client_assertion": await asyncio.to_thread(client_assertion, db, platform),
         "scope": scope,
     }
-    db.commit()  # no pooled connection is held while the platform answers
+    await asyncio.to_thread(db.commit)  # no pooled connection is held while the platform answers
     try:
         resp = await client.post(platform.token_url, data=form, headers={"Accept": "application/json"})
     except httpx.HTTPError as err:
@@ -394,7 +394,11 @@ async def ensure_lineitem(
 ) -> str:
     """The line item of the row's link: the one the link has, else the platform's line item for this resource
     link (found by resource_link_id, or made with a maximum of 100) — kept on the link for all its rows."""
-    link = db.get(LtiResourceLink, row.resource_link_pk) if row.resource_link_pk is not None else None
+    link = (
+        await asyncio.to_thread(db.get, LtiResourceLink, row.resource_link_pk)
+        if row.resource_link_pk is not None
+        else None
+    )
     if link is None or not link.lineitems_url:
         raise PassbackError(
             "Der Link hat keine Bewertungsspalte, und keine lässt sich anlegen. / "
@@ -405,7 +409,7 @@ async def ensure_lineitem(
             raise foreign_url(LINEITEMS)
         token = await access_token(client, db, platform, [LINEITEM_SCOPE])
         auth = {"Authorization": f"Bearer {token}"}
-        db.commit()
+        await asyncio.to_thread(db.commit)
         try:
             found = await client.get(
                 link.lineitems_url,
@@ -452,7 +456,7 @@ async def ensure_lineitem(
             raise foreign_url(LINEITEMS)
         link.lineitem_url = made_id
     row.lineitem_url = link.lineitem_url
-    db.commit()
+    await asyncio.to_thread(db.commit)
     return row.lineitem_url
 
 
@@ -465,7 +469,7 @@ async def post_score(client: httpx.AsyncClient, db: Session, platform: LtiPlatfo
     ):  # checked again before each request: stored rows may predate a change
         raise foreign_url(SCORE)
     token = await access_token(client, db, platform, [SCORE_SCOPE])
-    db.commit()
+    await asyncio.to_thread(db.commit)
     try:
         resp = await client.post(
             url,
@@ -531,7 +535,7 @@ def _failed(db: Session, row: LtiScore, at: datetime, error: str) -> None:
 
 async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: datetime) -> bool:
     """One attempt at a claimed row; the row records the outcome. True if the platform took the score."""
-    platform = db.get(LtiPlatform, row.platform_id)
+    platform = await asyncio.to_thread(db.get, LtiPlatform, row.platform_id)
     try:
         if platform is None:
             raise PassbackError(
@@ -541,11 +545,12 @@ async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: dateti
         await post_score(client, db, platform, row)
     except PassbackError as err:
         log.info("LTI score not taken", extra={"job": f"score {row.id}: {err} {err.__cause__!r}"[:500]})
-        _failed(db, row, at, str(err))
+        await asyncio.to_thread(_failed, db, row, at, str(err))
         return False
     except Exception as err:  # our key unreadable, a database hiccup …: retried the same way
         log.exception("sending an LTI score failed", extra={"job": f"score {row.id}"})
-        _failed(
+        await asyncio.to_thread(
+            _failed,
             db,
             row,
             at,
@@ -557,7 +562,7 @@ async def send(client: httpx.AsyncClient, db: Session, row: LtiScore, at: dateti
     row.state = "sent"
     row.sent_at = datetime.now(UTC)
     row.last_error = None
-    db.commit()
+    await asyncio.to_thread(db.commit)
     return True
 
 
