@@ -50,6 +50,7 @@ from core.scene.payload import (
     turned_deviation,
 )
 from core.scene.turned import TURNED_RESOLUTION, TurnedProfile, ViewBlank, turned_chunks, view_blank
+from core.sequences import common_ends
 from core.tools import DEFAULT_TOOLS, Tool, ToolTable
 from server.errors import ApiError
 
@@ -452,13 +453,9 @@ def _regroup(
     `by_line` untouched, where that middle is most of the lists or a line has items outside it: the caller
     groups `new` whole."""
     n_old, n_new = len(old), len(new)
-    limit = min(n_old, n_new)
-    same = list(map(operator.is_, old, new))  # (map over both lists: no Python loop over the program)
-    a = same.index(False) if False in same else limit
-    same = list(map(operator.is_, reversed(old), reversed(new)))
-    b = min(same.index(False) if False in same else limit, limit - a)
+    a, b = common_ends(old, new, operator.is_)
     was, now = old[a : n_old - b], new[a : n_new - b]
-    if len(was) + len(now) > limit // 2 + 16:
+    if len(was) + len(now) > min(n_old, n_new) // 2 + 16:
         return None
     gone = Counter(x.span.line for x in was)
     fresh: dict[int, list[Any]] = defaultdict(list)

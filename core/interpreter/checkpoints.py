@@ -37,6 +37,7 @@ from core.interpreter.contour import Blend, Planned
 from core.interpreter.state import ModalState
 from core.interpreter.turn_contour import SrkSwitch, TurnItem
 from core.limits import Limits
+from core.sequences import common_ends
 from core.syntax.blocks import Block, Span
 from core.toolpath import Dwell, Move, ToolChange, Vec3
 
@@ -249,17 +250,12 @@ _LINE_PARAM = ("TX-E404", "TX-W405", "TX-E410")  # their message names a line of
 def changed_lines(old: list[Block], new: list[Block]) -> tuple[int, int, int]:
     """(first, old end, new end): the 1-based line range [first, end) that differs between the programs
     (their longest common prefix and suffix of line texts apart)."""
-    n_old, n_new = len(old), len(new)
-    a = 0
-    limit = min(n_old, n_new)
-    while a < limit and (old[a] is new[a] or old[a].text == new[a].text):
-        a += 1
-    b = 0
-    while b < limit - a and (
-        old[n_old - 1 - b] is new[n_new - 1 - b] or old[n_old - 1 - b].text == new[n_new - 1 - b].text
-    ):
-        b += 1
-    return a + 1, n_old - b + 1, n_new - b + 1
+    a, b = common_ends(old, new, _same_line)
+    return a + 1, len(old) - b + 1, len(new) - b + 1
+
+
+def _same_line(old: Block, new: Block) -> bool:
+    return old is new or old.text == new.text
 
 
 def touches(lo: int, hi: int, first: int, end: int) -> bool:

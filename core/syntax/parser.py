@@ -10,7 +10,6 @@ the same blocks; tests/test_parser.py checks that they agree.
 
 from __future__ import annotations
 
-import operator
 import re
 from dataclasses import dataclass, field
 from functools import cache
@@ -22,6 +21,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from core.diagnostics import Diagnostic, diag
 from core.limits import Limits
+from core.sequences import common_ends
 from core.syntax.blocks import Assignment, BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
 
 _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f\ufffd]")
@@ -134,11 +134,7 @@ class BlockParser:
         the memo's changed lines by text."""
         old, old_blocks, old_found = memo.lines, memo.blocks, memo.found
         n_old, n_new = len(old), len(lines)
-        limit = min(n_old, n_new)
-        same = list(map(operator.eq, old, lines))  # (map over both lists: no Python loop over the program)
-        a = same.index(False) if False in same else limit
-        same = list(map(operator.eq, reversed(old), reversed(lines)))
-        b = min(same.index(False) if False in same else limit, limit - a)
+        a, b = common_ends(old, lines)
         blocks, found = old_blocks[:a], old_found[:a]
         # the memo's changed lines without diagnostics, by text: a line moved within the change
         moved = {old[i]: old_blocks[i] for i in range(a, n_old - b) if not old_found[i]}
