@@ -124,3 +124,17 @@ def test_a_memo_parses_only_the_changed_lines_and_moves_the_others() -> None:
     fresh, fresh_diags = PARSER.parse_program("\n".join(broken) + "\n", LIMITS)
     assert program.blocks == fresh.blocks and diags == fresh_diags
     assert [d.span.line for d in diags] == [201]  # N2000 G1 X1..5, one line further down
+
+
+@pytest.mark.parametrize("grammar", ["pal_mill", "iso", "beckhoff", "traub"])
+@pytest.mark.parametrize("raw", ["%", "  %\t", "%\r"])
+def test_a_lone_percent_line_reads_as_the_grammar_reads_it(grammar: str, raw: str) -> None:
+    """The start and end mark `%` of a program file (TRAUB, ISO) is read without the grammar's parser, as
+    the grammar reads it: a header line with no words."""
+    parser = parser_for(grammar)
+    found: list[Diagnostic] = []
+    block = parser.parse_line(raw, 3, LIMITS, found)
+    text = raw.removesuffix("\r")
+    expected = parser._tree_block(text, 3, parser._lark.parse(text.upper()), [])
+    assert block == expected and found == []
+    assert block.header == "" and block.words == () and block.ok

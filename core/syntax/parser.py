@@ -184,6 +184,10 @@ class BlockParser:
         fast = self._fast_line.fullmatch(text)
         if fast is not None:
             return self._fast_block(raw, text, line, fast, diagnostics)
+        if (
+            text.strip(" \t") == "%"
+        ):  # a program's start or end mark alone, as the grammar reads it (TRAUB, ISO)
+            return _finish_block(raw, line, [], (), None, None, "", diagnostics, self._programs)
         bad = _CONTROL.search(text)
         if bad is not None:
             col = bad.start() + 1
