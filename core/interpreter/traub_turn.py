@@ -940,9 +940,8 @@ class TurnMachine(Machine):
 
     def finish(self, result: Toolpath, states: list[ModalState | None], positions: list[Vec3 | None]) -> None:
         dx, dz = self._ref
-        if (
-            not self.setup.answer_only
-        ):  # the lines' positions in the workpiece frame (the run kept the machine's)
+        if not self.setup.answer_only:
+            # the lines' positions in the workpiece frame (the run kept the machine's)
             for i, ps in enumerate(positions):
                 if ps is not None:
                     positions[i] = (ps[0] - dx, 0.0, ps[2] - dz)
