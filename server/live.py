@@ -200,9 +200,8 @@ class _Reads:
             return running[1]
         at = time.monotonic()
         task = loop.create_task(self._read(key, read, at))
-        task.add_done_callback(
-            _retrieved
-        )  # (a failed background read is not news; a waiting message gets it)
+        # a failed background read is not news; a message that waits for it gets the error
+        task.add_done_callback(_retrieved)
         self.running[key] = (at, task)
         return task
 

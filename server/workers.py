@@ -424,12 +424,8 @@ class _LiveCache:
         memo_key: str,
         json: dict[int, tuple[Any, dict[str, Any]]] | None = None,
     ) -> None:
-        self.gen, self.diagnostics, self.commands, self.command_list = (
-            gen,
-            diagnostics,
-            commands,
-            command_list,
-        )
+        self.gen, self.diagnostics = gen, diagnostics
+        self.commands, self.command_list = commands, command_list
         self.memo, self.memo_key, self.json = memo, memo_key, json or {}
 
 
@@ -556,9 +552,8 @@ def job_live(
     cached = _LIVE.pop(doc, None)
     memo_key = json.dumps([dialect, spec], sort_keys=True, default=str)
     memo = cached.memo if cached is not None and cached.memo_key == memo_key else Memo()
-    setup = dataclasses.replace(
-        make_setup(spec), answer_only=True
-    )  # (no state per line: the answer has none)
+    # the answer has no state per line: the run makes none
+    setup = dataclasses.replace(make_setup(spec), answer_only=True)
     toolpath = summarised(run(text, dialect, setup, memo))  # at most max_answer_commands (PAL-I018)
     diagnostics, command_list = _by_line(toolpath.diagnostics), toolpath.commands
     full = cached is None or cached.gen != base_gen
@@ -570,16 +565,15 @@ def job_live(
         if old_d.get(n) != diagnostics.get(n)
     }
     # the commands by line: regrouped where the run changed a few of them, else grouped anew
-    grouped = cached.commands if cached is not None else None
-    changed = None if cached is None else _regroup(cached.command_list, command_list, cached.commands)
-    if changed is None or grouped is None:
+    changed = _regroup(cached.command_list, command_list, cached.commands) if cached is not None else None
+    if changed is not None and cached is not None:
+        commands = cached.commands
+        if full:
+            changed = dict.fromkeys(commands, ())
+    else:
         commands = _by_line(command_list)
         old_c = {} if full or cached is None else cached.commands
         changed = {n: old_c.get(n, ()) for n in old_c.keys() | commands.keys()}
-    else:
-        commands = grouped
-        if full:
-            changed = dict.fromkeys(commands, ())
     empty: tuple[Any, ...] = ()
     c_out = {
         n: _members(_path_json(commands.get(n, empty), to_json))
