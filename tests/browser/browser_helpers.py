@@ -1,6 +1,6 @@
 """What the browser tests share: Debian's Chromium, a PAL Trainer server started on 127.0.0.1 with its own data
-folder, the built-in exercises and the users a test module needs (made with the admin CLI before it starts), and
-calls of its API to set a scene up."""
+folder, the built-in exercises and the users a test module needs (made as the admin CLI makes them, before it
+starts), and calls of its API to set a scene up."""
 
 from __future__ import annotations
 
@@ -45,29 +45,25 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-# `paltrainer admin create-user NAME --role ROLE --password PASSWORD` for each (name, role) of the arguments, in
-# one Python process: each start imports the whole server
-_CREATE_USERS = """
-import sys
-from core.cli import main
-for name, role in zip(sys.argv[2::2], sys.argv[3::2]):
-    code = main(["admin", "create-user", name, "--role", role, "--password", sys.argv[1]])
-    if code:
-        sys.exit(code)
-"""
-
-
 def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password: str = PASSWORD) -> None:
-    """The users ((name, role) pairs) made with the admin CLI in the data folder of `env` (PALTRAINER_DATA_DIR)."""
-    names = [field for user in users for field in user]
-    if names:
-        subprocess.run(
-            [sys.executable, "-c", _CREATE_USERS, password, *names],
-            cwd=ROOT,
-            env=env,
-            check=True,
-            capture_output=True,
-        )
+    """The users ((name, role) pairs) made in the data folder of `env` (PALTRAINER_DATA_DIR) as the admin CLI
+    makes them (`paltrainer admin create-user`, tested in tests/server_tests/test_server_cli.py), in this
+    process: a process of its own would import the whole server again for each test module."""
+    from server import services
+    from server.app import prepare_database
+    from server.config import Settings
+
+    users = list(users)
+    if not users:
+        return
+    settings = Settings(data_dir=Path(env["PALTRAINER_DATA_DIR"]), load_exercises=False)
+    database = prepare_database(settings)
+    try:
+        with database.session() as db:
+            for name, role in users:
+                services.create_user(db, name, password, role, None)
+    finally:
+        database.engine.dispose()
 
 
 SERVER_LOGS: list[Path] = []  # the logs of the servers running now
@@ -182,3 +178,27 @@ def completion_labels(page: Any) -> list[str]:
             ".cm-tooltip-autocomplete li .cm-completionLabel", "els => els.map(e => e.textContent)"
         )
     ]
+
+
+def steady_picture(page: Any, selector: str = "#viz-frame", timeout: float = 30.0) -> bytes:
+    """The element's picture once it has stopped changing: three screenshots in a row alike, with something drawn
+    (not one colour). The 3D view draws with software WebGL here, in its own time: waiting for a steady picture
+    replaces a fixed pause, and takes as long as the drawing does, whatever the machine's load."""
+    import io
+
+    from PIL import Image
+
+    deadline = time.monotonic() + timeout
+    shots: list[bytes] = []
+    while True:
+        shot = page.locator(selector).screenshot()
+        shots = [*shots[-2:], shot]
+        if len(shots) == 3 and shots[0] == shots[1] == shots[2]:
+            image = Image.open(io.BytesIO(shot)).convert("L")
+            low, high = image.crop(
+                (3, 3, image.width - 3, image.height - 3)
+            ).getextrema()  # inside the border
+            if low != high:
+                return shot
+        assert time.monotonic() < deadline, f"{selector}: no steady picture within {timeout} s"
+        time.sleep(0.2)

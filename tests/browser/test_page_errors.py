@@ -16,7 +16,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import CHROMIUM, PASSWORD, ROOT, log_in, running_server
+from browser_helpers import CHROMIUM, PASSWORD, ROOT, log_in, running_server, steady_picture
 from test_course_page import call, token
 from test_viz_view import wait_until
 
@@ -95,7 +95,8 @@ def switch_3d_on(page: Any) -> Any:
     page.click("#viz-on")
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 0", 30)
     page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
-    page.wait_for_timeout(5000)
+    steady_picture(page)
+    page.wait_for_timeout(1000)
     frame = page.frame(url=lambda u: "/viz/" in u)
     assert frame is not None
     return frame

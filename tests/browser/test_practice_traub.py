@@ -9,6 +9,7 @@ import os
 from pathlib import Path
 
 import pytest
+from browser_helpers import steady_picture
 from test_practice_page import CHROMIUM, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
@@ -97,7 +98,7 @@ def test_turning_on_the_practice_page(server: str, browser: object) -> None:  # 
     assert "X44 Z-35" in state and "X22" not in state and "G18" in state and " Y" not in state, state
     assert "S1447" in state  # G96 V200 at Ø44: 1446.86 1/min, shown whole
     assert "Durchmesser" in (page.get_attribute("#modal-state", "title") or "")
-    page.wait_for_timeout(5000)  # viser's client has drawn (software rendering is slow)
+    steady_picture(page)  # viser's client has drawn (software rendering is slow)
     page.screenshot(path=str(SHOTS / "traub-practice-laptop.png"))
     context.close()
 

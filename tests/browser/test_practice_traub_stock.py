@@ -8,6 +8,7 @@ import os
 from pathlib import Path
 
 import pytest
+from browser_helpers import steady_picture
 from test_practice_page import CHROMIUM, server  # noqa: F401 (fixtures)
 from test_viz_view import wait_until
 
@@ -66,14 +67,14 @@ def test_turned_part_blank_playback_and_half_section(server: str, browser: objec
     wait_until(page, "document.getElementById('viz-blank').textContent.includes('70,5')")
     assert page.inner_text("#viz-blank") == "Rohteil: Ø50 × 70,5 mm, Bohrung Ø20"  # type: ignore[attr-defined]
     assert page.is_visible("#viz-half") and page.get_attribute("#viz-half", "aria-pressed") == "false"  # type: ignore[attr-defined]
-    page.wait_for_timeout(4000)  # type: ignore[attr-defined]
+    steady_picture(page)
     SHOTS.mkdir(parents=True, exist_ok=True)
     page.screenshot(path=str(SHOTS / "traub-stock-laptop.png"))  # type: ignore[attr-defined]
 
     # playback: a click on a block in the editor shows the part after it (the groove's first flank, N110)
     page.click(".cm-line:has-text('N110')")  # type: ignore[attr-defined]
     wait_until(page, "document.getElementById('modal-state').textContent.includes('X30 Z-30')", timeout=20)
-    page.wait_for_timeout(2500)  # type: ignore[attr-defined]
+    steady_picture(page)
     page.screenshot(path=str(SHOTS / "traub-stock-playback-laptop.png"))  # type: ignore[attr-defined]
     page.click("#play")  # type: ignore[attr-defined]
     wait_until(
@@ -85,7 +86,7 @@ def test_turned_part_blank_playback_and_half_section(server: str, browser: objec
     # the half section: the part cut open along the drawing plane, the bore in sight
     page.click("#viz-half")  # type: ignore[attr-defined]
     wait_until(page, "document.getElementById('viz-half').getAttribute('aria-pressed') === 'true'")
-    page.wait_for_timeout(4000)  # type: ignore[attr-defined]
+    steady_picture(page)
     page.screenshot(path=str(SHOTS / "traub-stock-half-laptop.png"))  # type: ignore[attr-defined]
     page.click("#viz-half")  # type: ignore[attr-defined]
     wait_until(page, "document.getElementById('viz-half').getAttribute('aria-pressed') === 'false'")
@@ -100,6 +101,6 @@ def test_turned_part_blank_playback_and_half_section(server: str, browser: objec
     page.click("#viz-half")  # type: ignore[attr-defined]
     wait_until(page, "document.getElementById('viz-half').getAttribute('aria-pressed') === 'true'")
     page.locator("#viz").scroll_into_view_if_needed()  # type: ignore[attr-defined]
-    page.wait_for_timeout(4000)  # type: ignore[attr-defined]
+    steady_picture(page)
     page.screenshot(path=str(SHOTS / "traub-stock-half-tablet.png"))  # type: ignore[attr-defined]
     page.context.close()  # type: ignore[attr-defined]

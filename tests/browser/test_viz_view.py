@@ -13,6 +13,7 @@ import time
 from pathlib import Path
 
 import pytest
+from browser_helpers import steady_picture
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, server  # noqa: F401 (fixtures)
 
 pytestmark = [
@@ -74,8 +75,7 @@ def frame_fit(page: object) -> dict[str, float]:
 
     for layer in ("rapid", "feed", "contour"):
         page.uncheck(f"#layer-{layer}")  # type: ignore[attr-defined]
-    page.wait_for_timeout(1500)  # type: ignore[attr-defined]
-    shot = page.locator("#viz-frame").screenshot()  # type: ignore[attr-defined]
+    shot = steady_picture(page)
     for layer in ("rapid", "feed", "contour"):
         page.check(f"#layer-{layer}")  # type: ignore[attr-defined]
     image = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"), dtype=np.int32)[
@@ -134,7 +134,7 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5")
     frame = page.frame_locator("#viz-frame")
     frame.locator("canvas").first.wait_for(timeout=30000)
-    page.wait_for_timeout(6000)  # viser's client has connected and drawn (software rendering is slow)
+    steady_picture(page)  # viser's client has connected and drawn (software rendering is slow)
     text = visible_frame_text(page)
     for clutter in DEVELOPER_TEXT:
         assert clutter not in text, clutter
@@ -170,7 +170,7 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
         ("iso", ("left", "right", "bottom")),
     ):
         page.click(f"#view-{view}")
-        page.wait_for_timeout(2500)
+        steady_picture(page)
         page.locator("#viz").scroll_into_view_if_needed()
         page.screenshot(path=str(SHOTS / f"viz-view-{view}-{size}.png"))
         fit = frame_fit(page)
@@ -185,7 +185,7 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
 
     page.click("#view-top")
     page.uncheck("#layer-rapid")
-    page.wait_for_timeout(2500)
+    steady_picture(page)
     page.screenshot(path=str(SHOTS / f"viz-top-no-rapid-{size}.png"))
     page.check("#layer-rapid")
     page.click("#view-reset")
@@ -200,7 +200,7 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     legend = page.wait_for_selector("#deviation", timeout=20000)
     message = legend.inner_text()
     assert "mm³" in message and "größte Abweichung" in message and "Felder" not in message, message
-    page.wait_for_timeout(3000)
+    steady_picture(page)
     page.locator("#viz").scroll_into_view_if_needed()
     page.screenshot(path=str(SHOTS / f"viz-graded-{size}.png"))
     page.close()
@@ -246,7 +246,7 @@ def test_free_practice_3d_view_for_an_anonymous_browser(server: str, browser: ob
     page.click("#viz-on")
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 3")
     page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
-    page.wait_for_timeout(5000)
+    steady_picture(page)
     text = visible_frame_text(page)
     assert not [c for c in DEVELOPER_TEXT if c in text]
     page.locator("#viz").scroll_into_view_if_needed()
