@@ -1,6 +1,6 @@
 """`common_ends`: how far two versions of a sequence agree from the front and from the back — how the live
 editor's next parse, run and answer find the few lines a keystroke changed (core/syntax/parser.py,
-core/interpreter/checkpoints.py, server/workers.py)."""
+core/interpreter/checkpoints.py, server/jobs.py)."""
 
 from __future__ import annotations
 

@@ -19,10 +19,11 @@ from server.db import Database
 from server.deps import Principal
 from server.errors import ApiError
 from server.export import excel_csv
+from server.jobs import job_submission
 from server.lti import ags as lti_ags
 from server.models import Assignment, Course, Exercise, User, now
 from server.schemas import CLEAN, ImportedUser, OverrideOut, Slug, Time, Title, Username, length, utc
-from server.workers import Workers, job_submission
+from server.workers import Workers
 
 log = logging.getLogger("paltrainer.server")
 

@@ -69,10 +69,11 @@ from server.config import Settings
 from server.db import Database
 from server.deps import ANONYMOUS, SESSION_COOKIE, Principal, resolve
 from server.errors import ApiError
+from server.jobs import job_live, job_live_batch, job_live_close
 from server.models import now
 from server.schemas import ToolSpec
 from server.services import check_program, exercise_spec
-from server.workers import Workers, job_live, job_live_batch, job_live_close
+from server.workers import Workers
 
 router = APIRouter()
 _NO_PATH = '"moves":[],"dwells":[],"tool_changes":[]'  # a line's toolpath that is gone
@@ -341,7 +342,7 @@ def live_batch(workers: Workers, slot: int) -> LiveBatch:
 
 def fold(current: dict[str, dict[int, str]], result: dict[str, Any]) -> set[int]:
     """Fold a worker's answer (changed lines, or all lines when `full`) into `current`: per part ("diagnostics",
-    "toolpath") and line its JSON text, "" where the line has nothing (workers.job_live). The lines it touched."""
+    "toolpath") and line its JSON text, "" where the line has nothing (jobs.job_live). The lines it touched."""
     touched: set[int] = set()
     for part in ("diagnostics", "toolpath"):
         lines: dict[int, str] = result[part]
@@ -538,7 +539,7 @@ class LiveSession:
         diags, path = self.changes()
         head = json.dumps({"type": "update", "version": version, "line_count": len(doc.lines)})
         tail = json.dumps({"final": result["final"], "run": result["run"]})
-        # the lines' parts are JSON text already (workers.job_live): set into the frame, not encoded again
+        # the lines' parts are JSON text already (jobs.job_live): set into the frame, not encoded again
         await self.send_text(
             f'{head[:-1]}, "diagnostics": [{",".join(diags)}], "toolpath": [{",".join(path)}], {tail[1:]}'
         )

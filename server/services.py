@@ -26,6 +26,14 @@ from server.config import Settings
 from server.deps import Principal
 from server.errors import ApiError
 from server.export import excel_cell, excel_csv
+from server.jobs import (
+    job_drawing,
+    job_merge_pdfs,
+    job_picture,
+    job_sheet,
+    job_submission,
+    job_validate_exercise,
+)
 from server.lti import ags as lti_ags
 from server.models import ApiKey, Exercise, Submission, User, now
 from server.schemas import (
@@ -62,16 +70,7 @@ from server.schemas import (
 from server.security import hash_password, new_api_key, password_problem, verify_password
 from server.seed import document_from_fields, exercise_fields
 from server.tasktext import task_view
-from server.workers import (
-    Workers,
-    content_key,
-    job_drawing,
-    job_merge_pdfs,
-    job_picture,
-    job_sheet,
-    job_submission,
-    job_validate_exercise,
-)
+from server.workers import Workers, content_key
 
 VERSION_NOTE = ("Version {v}", "version {v}")
 

@@ -4,7 +4,7 @@ Each session gets a `ViserServer` on 127.0.0.1 (port chosen by the system), made
 and stopped after it has been idle. The page embeds `/viz/{token}/`; the token is signed and short-lived
 and names the session. The WebSocket `/viz/{token}` bridges to the session's viser and lets only the
 client→server messages through that the view needs (never the share-tunnel request). The geometry is
-core/scene's, computed in worker processes (server/workers.py); this module only hands its arrays to viser:
+core/scene's, computed in worker processes (server/jobs.py); this module only hands its arrays to viser:
 the nodes, their colours and materials, the camera and what the layers and the playhead show.
 """
 

@@ -20,7 +20,7 @@ from core.interpreter.state import RunSetup
 from core.limits import Limits
 from core.pipeline import Memo, run, toolpath_json
 from server import live
-from server.workers import job_live
+from server.jobs import job_live
 
 # small budgets: endless loops end quickly, and the budgets' diagnostics are part of what is compared
 SMALL = RunSetup(
@@ -362,7 +362,7 @@ def test_a_batch_of_live_documents_answers_each_and_a_failing_one_fails_alone() 
     """The documents waiting for one worker go in one job (server/live.py LiveBatch): each gets its own
     answer, a run that raises fails only its own document, and once the job's time is up the rest waits
     for the next job (None) instead of running over the job's time limit."""
-    from server.workers import job_live_batch
+    from server.jobs import job_live_batch
 
     good = ("batch-a", 0, 1, "N10 G0 X5 Y0 Z2\nN20 M30\n", "pal-mill", {"skip_blocks": None})
     bad = ("batch-b", 0, 1, None, "pal-mill", {"skip_blocks": None})  # no text: the run raises
@@ -490,7 +490,7 @@ def test_a_dwell_in_a_library_subprogram_keeps_its_line_when_lines_before_the_ca
 
 def test_live_runs_leave_no_reference_cycles() -> None:
     """The live worker moves its documents' memos out of the garbage collector's way after each batch
-    (server/workers.py: gc.freeze), which is only safe while live runs make no reference cycles: none of
+    (server/jobs.py: gc.freeze), which is only safe while live runs make no reference cycles: none of
     the objects of core or server that keystrokes in a long program leave behind is cyclic garbage."""
     lines = bench_program(300)
     gc.collect()
@@ -544,7 +544,7 @@ def test_a_live_answer_regroups_only_the_commands_a_run_changed(
     over (the same objects): the grouping equals one made anew, and the lines it names as changed are every
     line whose commands differ, each with its commands before. Where it cannot tell (a line with commands
     outside the changed ones, as a subprogram's line called twice), it says so and changes nothing."""
-    from server.workers import _by_line, _regroup
+    from server.jobs import _by_line, _regroup
 
     old = [_Item(n) for n in lines]
     at = min(at, len(old))

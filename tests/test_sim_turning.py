@@ -403,7 +403,7 @@ def test_cycle_time_g96_along_a_taper_and_an_arc() -> None:
 def test_a_runaway_program_stops_at_the_work_limit() -> None:
     from core.sim.turning import LatheLimits
 
-    program = "G95\nG97 S1000 T0101 M4 F0.2\nG0 X40 Z0\n" + "G2 X40 Z-90 R46\nG3 X40 Z0 R46\n" * 50 + "M30\n"
+    program = "G95\nG97 S1000 T0101 M4 F0.2\nG0 X40 Z0\n" + "G2 X40 Z-90 R46\nG3 X40 Z0 R46\n" * 10 + "M30\n"
     toolpath = run(program, "traub-tx8d", RunSetup(tools=OUTSIDE))
     result = simulate_turning(toolpath, Blank(100, 100), OUTSIDE, limits=LatheLimits(max_updates=200_000))
     assert not result.complete

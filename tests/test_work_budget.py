@@ -185,7 +185,7 @@ def test_arc_points_can_be_bounded() -> None:
 
 @pytest.mark.parametrize("program", [CIRCLES, SEVEN_LINES], ids=["circles", "seven-lines"])
 def test_run_live_and_scene_jobs_stay_small(program: str) -> None:
-    from server.workers import job_live, job_run, job_scene
+    from server.jobs import job_live, job_run, job_scene
 
     answer = job_run(program, "pal-mill", {})
     assert len(answer["moves"]) <= DEFAULT_LIMITS.max_answer_commands and json_size(answer) < MB

@@ -16,8 +16,8 @@ from server import access, services
 from server.config import Settings
 from server.deps import HEAVY, AppSettings, AppWorkers, DbSession, PracticePrincipal, Principal, rate_limit
 from server.errors import responses
+from server.jobs import HAS_SIM, job_check, job_run, job_simulate
 from server.schemas import CheckResponse, ProgramRequest, RunResponse, SimulateRequest, SimulateResponse
-from server.workers import HAS_SIM, job_check, job_run, job_simulate
 
 router = APIRouter(tags=["pipeline"])
 ERRORS = responses(401, 403, 404, 413, 422, 429, 503)

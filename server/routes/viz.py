@@ -41,8 +41,7 @@ from server.deps import (
     resolve,
 )
 from server.errors import ApiError, responses
-from server.schemas import ProgramRequest, SimulateRequest
-from server.workers import (
+from server.jobs import (
     is_lathe,
     job_picture_now,
     job_picture_svg,
@@ -52,6 +51,7 @@ from server.workers import (
     job_turned_chunks,
     job_view_deviation,
 )
+from server.schemas import ProgramRequest, SimulateRequest
 
 log = logging.getLogger("paltrainer.server")
 router = APIRouter(prefix="/viz", tags=["3d view"])

@@ -20,8 +20,8 @@ from starlette.websockets import WebSocketDisconnect
 
 from server import repository as repo
 from server.courses import finalize_ended_exams
+from server.jobs import HAS_SIM, job_submission
 from server.models import SCOPES
-from server.workers import HAS_SIM, job_submission
 
 REFERENCE = reference_of()
 

@@ -10,7 +10,7 @@ from typing import Any
 from server_helpers import GOOD, Api, auth, builtin_exercise, error_code
 
 from server import repository as repo
-from server.workers import HAS_SIM
+from server.jobs import HAS_SIM
 
 
 def _exam(api: Api, student: dict[str, str], **settings: Any) -> tuple[int, str]:

@@ -12,7 +12,7 @@ from exam_helpers import assign, course_with
 from server_helpers import GOOD, Api, auth, builtin_exercise, error_code
 
 from server import viz
-from server.workers import HAS_SIM, picture_resolution
+from server.jobs import HAS_SIM, picture_resolution
 
 pytestmark = pytest.mark.skipif(not HAS_SIM, reason="the simulation (numpy) is not installed")
 SVG = "{http://www.w3.org/2000/svg}"

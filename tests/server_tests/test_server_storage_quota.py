@@ -17,7 +17,7 @@ from server_helpers import BAD, Api, auth, builtin_exercise
 from sqlalchemy import event
 
 from server import repository as repo
-from server.workers import STORED_DIAGNOSTICS
+from server.jobs import STORED_DIAGNOSTICS
 
 # one PAL-E010 (decimal comma) in every line: the interpreter stops at its 1,000 diagnostics
 FLOOD = "N10 T1 TC1 M6\n" + "G1 X1,5\n" * 1500 + "M30\n"

@@ -10,7 +10,7 @@ from server_helpers import GOOD, Api, auth, unique
 from test_server_lms import ROOT, exercise_file
 
 from server import viz
-from server.workers import job_scene
+from server.jobs import job_scene
 
 
 def test_viz_session_page_scene_and_playhead(api: Api) -> None:
@@ -94,7 +94,7 @@ def test_exercise_scene_shows_the_stock(api: Api) -> None:
     assert scene.playback is not None and len(scene.playback.segments) == r.json()["segments"]
     assert scene.has_stock  # the stock as cut by the program is in the scene
     # playing: the stock after the current block (the first moves are rapids above the part: uncut)
-    from server.workers import job_stock_after
+    from server.jobs import job_stock_after
 
     assert scene.program is not None
     text, dialect, spec = scene.program
