@@ -117,3 +117,23 @@ def test_the_traub_cycles_see_the_run_only_through_their_own_narrow_view() -> No
     assert "core.interpreter.traub_turn" not in imported
     private = re.findall(r"\brun\._[a-z]\w*", ast.unparse(tree))
     assert private == []
+
+
+def test_a_worker_process_imports_no_web_framework_and_no_database() -> None:
+    """A worker process (spawned) reads server/jobs.py and the core: FastAPI, SQLAlchemy and the models would
+    double the time it takes to start, and it is started with every server and again after every crash."""
+    import subprocess
+    import sys
+
+    heavy = (
+        "fastapi",
+        "starlette",
+        "sqlalchemy",
+        "alembic",
+        "server.models",
+        "server.errors",
+        "server.workers",
+    )
+    probe = f"import sys, server.jobs; print(' '.join(m for m in {heavy!r} if m in sys.modules))"
+    out = subprocess.run([sys.executable, "-c", probe], cwd=ROOT, capture_output=True, text=True, check=True)
+    assert out.stdout.split() == []

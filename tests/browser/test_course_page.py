@@ -11,14 +11,12 @@ PALTRAINER_SCREENSHOTS, else tests/browser/screenshots/."""
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any
 
 import pytest
-from browser_helpers import call, log_in
+from browser_helpers import call, create_users, log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER
 
@@ -49,24 +47,7 @@ def token(server: str, user: str, password: str) -> str:  # noqa: F811
 @pytest.fixture(scope="module")
 def teacher(server: str) -> str:  # noqa: F811
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "core.cli",
-            "admin",
-            "create-user",
-            TEACHER,
-            "--role",
-            "instructor",
-            "--password",
-            PASSWORD,
-        ],
-        cwd=ROOT,
-        env=env,
-        check=True,
-        capture_output=True,
-    )
+    create_users(env, [(TEACHER, "instructor")])
     return TEACHER
 
 

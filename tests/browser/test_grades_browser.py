@@ -15,15 +15,13 @@ from __future__ import annotations
 
 import os
 import re
-import subprocess
-import sys
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any
 
 import httpx
 import pytest
-from browser_helpers import log_in
+from browser_helpers import create_users, log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
@@ -52,24 +50,7 @@ def percent(total: int, of: int) -> str:
 @pytest.fixture(scope="module")
 def course(server: str) -> dict[str, Any]:  # noqa: F811
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "core.cli",
-            "admin",
-            "create-user",
-            TEACHER,
-            "--role",
-            "instructor",
-            "--password",
-            PASSWORD,
-        ],
-        cwd=ROOT,
-        env=env,
-        check=True,
-        capture_output=True,
-    )
+    create_users(env, [(TEACHER, "instructor")])
     with httpx.Client(base_url=f"{server}/api/v1", timeout=60) as c:
         r = c.post("/auth/token", data={"username": TEACHER, "password": PASSWORD})
         c.headers["Authorization"] = f"Bearer {r.json()['access_token']}"

@@ -7,12 +7,10 @@ prints programs. Screenshots of every page at every size: PALTRAINER_SCREENSHOTS
 from __future__ import annotations
 
 import os
-import subprocess
-import sys
 from pathlib import Path
 
 import pytest
-from browser_helpers import log_in
+from browser_helpers import create_users, log_in
 from test_practice_page import CHROMIUM, PASSWORD, ROOT, SERVER_DATA, server  # noqa: F401 (fixtures)
 from test_viz_view import WIDER, wait_until
 
@@ -43,24 +41,7 @@ READY = {
 @pytest.fixture(scope="module")
 def instructor(server: str) -> str:  # noqa: F811
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "core.cli",
-            "admin",
-            "create-user",
-            "layout-lehrer",
-            "--role",
-            "instructor",
-            "--password",
-            PASSWORD,
-        ],
-        cwd=ROOT,
-        env=env,
-        check=True,
-        capture_output=True,
-    )
+    create_users(env, [("layout-lehrer", "instructor")])
     return "layout-lehrer"
 
 

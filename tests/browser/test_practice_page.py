@@ -6,19 +6,17 @@ from __future__ import annotations
 
 import json
 import os
-import subprocess
-import sys
 import urllib.parse
 import urllib.request
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
-from browser_helpers import CHROMIUM, NEEDS_CHROMIUM, PASSWORD, ROOT, running_server  # noqa: F401 (shared)
+from browser_helpers import CHROMIUM, NEEDS_CHROMIUM, PASSWORD, ROOT, create_users, running_server  # noqa: F401 (shared)
 
 pytestmark = [NEEDS_CHROMIUM]
 
-SERVER_DATA: list[str] = []  # the started server's data directory (users are made there with the admin CLI)
+SERVER_DATA: list[str] = []  # the started server's data directory (tests make their users there)
 SHOTS = (
     Path(os.environ.get("PALTRAINER_SCREENSHOTS", "")) if os.environ.get("PALTRAINER_SCREENSHOTS") else None
 )
@@ -175,24 +173,7 @@ def test_instructor_uploads_an_exercise_and_filters_submissions(
     server: str, browser: object, tmp_path: Path
 ) -> None:
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "core.cli",
-            "admin",
-            "create-user",
-            "lehrer",
-            "--role",
-            "instructor",
-            "--password",
-            PASSWORD,
-        ],
-        cwd=ROOT,
-        env=env,
-        check=True,
-        capture_output=True,
-    )
+    create_users(env, [("lehrer", "instructor")])
     page = browser.new_page()  # type: ignore[attr-defined]
     page.goto(f"{server}/login?next=/instructor")
     page.fill("input[name=username]", "lehrer")
@@ -235,24 +216,7 @@ def test_instructor_uploads_an_exercise_and_filters_submissions(
 def test_instructor_page_names_the_learner_of_a_platform_submission(server: str, browser: object) -> None:
     """A learning platform submits through an instructor's key for its learner: the page shows the learner."""
     env = {**os.environ, "PALTRAINER_DATA_DIR": SERVER_DATA[0]}
-    subprocess.run(
-        [
-            sys.executable,
-            "-m",
-            "core.cli",
-            "admin",
-            "create-user",
-            "lehrerin",
-            "--role",
-            "instructor",
-            "--password",
-            PASSWORD,
-        ],
-        cwd=ROOT,
-        env=env,
-        check=True,
-        capture_output=True,
-    )
+    create_users(env, [("lehrerin", "instructor")])
 
     def call(path: str, body: dict[str, object], headers: dict[str, str]) -> dict[str, object]:
         request = urllib.request.Request(
