@@ -180,7 +180,7 @@ def completion_labels(page: Any) -> list[str]:
     ]
 
 
-def steady_picture(page: Any, selector: str = "#viz-frame", timeout: float = 30.0) -> bytes:
+def steady_picture(page: Any, selector: str = "#viz-frame", timeout: float = 60.0) -> bytes:
     """The element's picture once it has stopped changing: three screenshots in a row alike, with something drawn
     (not one colour). The 3D view draws with software WebGL here, in its own time: waiting for a steady picture
     replaces a fixed pause, and takes as long as the drawing does, whatever the machine's load."""
@@ -191,7 +191,8 @@ def steady_picture(page: Any, selector: str = "#viz-frame", timeout: float = 30.
     deadline = time.monotonic() + timeout
     shots: list[bytes] = []
     while True:
-        shot = page.locator(selector).screenshot()
+        left = max(1.0, deadline - time.monotonic())
+        shot = page.locator(selector).screenshot(timeout=left * 1000)
         shots = [*shots[-2:], shot]
         if len(shots) == 3 and shots[0] == shots[1] == shots[2]:
             image = Image.open(io.BytesIO(shot)).convert("L")

@@ -9,22 +9,12 @@ import pytest
 from browser_helpers import chromium, server_log_tails
 
 
-@pytest.fixture(scope="session")
-def _chromium() -> Iterator[Any]:
-    """One Chromium for all browser test modules of a test process: a start costs seconds."""
+@pytest.fixture(scope="module")
+def browser() -> Iterator[Any]:
+    # per module, not per session: the sync API holds an event loop in this thread while Chromium runs, and
+    # the server tests after a browser module on the same test process use asyncio.run
     with chromium() as b:
         yield b
-
-
-@pytest.fixture(scope="module")
-def browser(_chromium: Any) -> Iterator[Any]:
-    """The browser of a test module: what the module opened in it (its windows, with their sockets and 3D
-    views) is closed at its end."""
-    before = set(_chromium.contexts)
-    yield _chromium
-    for context in _chromium.contexts:
-        if context not in before:
-            context.close()
 
 
 @pytest.hookimpl(wrapper=True)
