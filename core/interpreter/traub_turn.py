@@ -137,6 +137,7 @@ class _Reading:
     g_names: frozenset[str] = frozenset()
     m_names: frozenset[str] = frozenset()
     speed_code: Code | None = None  # G92, G96 or G97 (codes.Code.speed)
+    cacheable: bool = True  # no parameter expression: the same block always reads the same
 
 
 def _read(
@@ -148,7 +149,7 @@ def _read(
     modal_motion: str = "G1",
 ) -> _Reading:
     """Sort and check the words of `block`: codes, addresses, values, what the block may hold."""
-    gs, ms, words, values = _sort(block, params, d, reads, limit)
+    gs, ms, words, values, cacheable = _sort(block, params, d, reads, limit)
     owner, owner_word = _owner(gs, ms, d)
     speed_code = _check_words(gs, ms, words, values, owner, owner_word, modal_motion, d)
     return _Reading(
@@ -161,6 +162,7 @@ def _read(
         _names(gs),
         _names(ms),
         speed_code,
+        cacheable,
     )
 
 
@@ -174,8 +176,10 @@ def _names(codes: list[tuple[Word, Code]]) -> frozenset[str]:
 
 def _sort(
     block: Block, params: dict[int, float], d: list[Diagnostic], reads: set[int] | None, limit: float
-) -> tuple[list[tuple[Word, Code]], list[tuple[Word, Code]], dict[str, Word], dict[str, float]]:
-    """The G and M codes of the block, its address words and their values (each checked on its own)."""
+) -> tuple[list[tuple[Word, Code]], list[tuple[Word, Code]], dict[str, Word], dict[str, float], bool]:
+    """The G and M codes of the block, its address words and their values (each checked on its own), and
+    whether it has no parameter expression."""
+    cacheable = True
     gs: list[tuple[Word, Code]] = []
     ms: list[tuple[Word, Code]] = []
     words: dict[str, Word] = {}
@@ -211,6 +215,7 @@ def _sort(
             continue
         words[a] = w
         if w.expr is not None:
+            cacheable = False
             v = evaluate(w.expr, params, w.line, d, reads)
             if v is None:
                 continue
@@ -224,7 +229,7 @@ def _sort(
             d.append(diag("PAL-E108", w.span, address=a, raw=w.raw))
             continue
         values[a] = v
-    return gs, ms, words, values
+    return gs, ms, words, values, cacheable
 
 
 def _owner(
@@ -264,7 +269,11 @@ def _check_words(
     d: list[Diagnostic],
 ) -> Code | None:
     """Which addresses the block may hold, which it must, and the rules of single words; the speed code."""
-    speed_code = next((c for _, c in gs if c.speed), None)
+    speed_code: Code | None = None
+    for _, c in gs:  # (a loop, not next() over a generator: this runs for every block)
+        if c.speed:
+            speed_code = c
+            break
     if owner is not None:
         allowed = owner.words | TABLE.always_allowed
         if speed_code is not None:
@@ -330,8 +339,10 @@ class TurnRun:
     def contour_reader(self, cycles: traub_cycles.CycleState) -> TurnRun:
         """A copy of this run that reads a cycle's contour blocks (traub_cycles): the same position, frame,
         parameters and programs, no tools (the contour is the programmed one, without nose radius) and `cycles`
-        as its own cycle state."""
+        as its own cycle state. It shares the readings of blocks: a reading depends on the block and the modal
+        motion alone, and the run executes the contour's blocks itself as well."""
         scratch = TurnRun(dataclasses.replace(self.setup, tools=ToolTable({})))
+        scratch.readings = self.readings
         scratch.turn = dataclasses.replace(self.turn)
         scratch.position, scratch.last_known = self.position, self.last_known
         scratch.reference = self.reference
@@ -456,7 +467,7 @@ class TurnRun:
         if known is None:
             found: list[Diagnostic] = []
             r = _read(block, params, found, reads, self.setup.limits.max_abs_value, modal)
-            if all(w.expr is None for w in block.words):  # the same words always read the same
+            if r.cacheable:
                 self.readings[(id(block), modal)] = (r, found)
             d.extend(found)
             return r
