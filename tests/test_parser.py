@@ -99,6 +99,31 @@ def test_fast_path_and_grammar_agree(line: str) -> None:
     assert fast == slow(line)
 
 
+@pytest.mark.parametrize(
+    ("grammar", "line"),
+    [
+        ("pal_mill", "N10 P1=5 P2 = -2.5 X=P1 Y=-P2 ; c"),
+        ("pal_mill", "/ p12=p3 g1 x=.5"),
+        ("pal_mill", "X5=3 P1.5=2 P4=1"),  # PAL-E009 twice: not an address of parameters, not a whole number
+        ("traub", "L1 = 11"),
+        ("traub", "N3 G97 V30 X L2 T0505 M3"),
+        ("traub", "G1 Z- L 4 F0,1 (Einstich)"),
+        ("traub", "L 2 = L1 L3=-2,5 L1 2 = 5"),
+        ("beckhoff", "G301=20 #CHR=2 X=P1 P7=-P1 (c)"),
+    ],
+)
+def test_simple_parameter_lines_read_as_the_grammar_reads_them(grammar: str, line: str) -> None:
+    """Assignments and parameter words whose value is one number or parameter take the second fast path;
+    they read as lark reads them, diagnostics included."""
+    parser = parser_for(grammar)
+    assert parser._simple_line is not None and parser._simple_line.fullmatch(line.upper())
+    fast: list[Diagnostic] = []
+    block = parser.parse_line(line, 3, LIMITS, fast)
+    slow: list[Diagnostic] = []
+    assert block == parser._tree_block(line, 3, parser._lark.parse(line.upper()), slow) and fast == slow
+    assert block.assignments or any(w.expr is not None for w in block.words)
+
+
 def test_error_points_at_the_bad_word_and_other_blocks_still_parse() -> None:
     program, diags = PARSER.parse_program("N10 G1 X5\nN20 G1 Y1..5\nN30 G1 Z2\n", LIMITS)
     assert [(d.code, d.span.line, d.span.column) for d in diags] == [("PAL-E002", 2, 9)]

@@ -4,8 +4,10 @@ The grammar of a dialect lives in a `.lark` file beside this module (LALR, conte
 Each line is parsed on its own, so a bad block yields its diagnostic and the others still
 parse. Lines made only of plain words (`N10 G1 X5 Y-3 F150 ; comment`), by far the most common
 kind, take a fast path: one regular expression assembled from the grammar's own terminals.
-Every other line (assignments, expressions, flags, errors) goes through lark. Both paths build
-the same blocks; tests/test_parser.py checks that they agree.
+Lines whose assignments and parameter words have one number or parameter as their value
+(`L1 = 11`, `X L2`, `Z-L4`, `P3=-P1`) take a second one, assembled the same way. Every other line
+(expressions, flags, errors) goes through lark, whose parser costs ten times as much. All paths
+build the same blocks; tests/test_parser.py checks that they agree.
 """
 
 from __future__ import annotations
@@ -81,6 +83,7 @@ class BlockParser:
         # a dialect whose numbers take a decimal comma or blanks (TRAUB: `F0,2`, `T02 02`) reads them loosely
         self._loose = "," in term["NUMBER"]
         self._param = term["PREF"][0] if "PREF" in term else "P"  # the letter of parameters: P1 or L1
+        self._simple_line, self._simple_item = _simple_patterns(self._lark, term, address, number)
 
     # -- whole programs --------------------------------------------------------------------
 
@@ -188,6 +191,9 @@ class BlockParser:
             text.strip(" \t") == "%"
         ):  # a program's start or end mark alone, as the grammar reads it (TRAUB, ISO)
             return _finish_block(raw, line, [], (), None, None, "", diagnostics, self._programs)
+        simple = self._simple_line.fullmatch(text) if self._simple_line is not None else None
+        if simple is not None:
+            return self._simple_block(raw, text, line, simple, diagnostics)
         bad = _CONTROL.search(text)
         if bad is not None:
             col = bad.start() + 1
@@ -228,6 +234,69 @@ class BlockParser:
             diagnostics,
             self._programs,
         )
+
+    def _simple_block(
+        self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
+    ) -> Block:
+        """A line of words, assignments and parameter words whose value is one number or parameter with an
+        optional sign (`_simple_patterns`), as `_tree_block` reads it from lark's tree."""
+        words: list[Word] = []
+        assignments: list[Assignment] = []
+        item = self._simple_item
+        assert item is not None
+        for w in item.finditer(text, m.start("body"), m.end("body")):
+            addr, num, start = w["address"], w["number"], w.start() + 1
+            if num is not None and w["value"] is None:  # a word
+                value = _loose_number(num) if self._loose else float(num)
+                words.append(Word(addr, value, num, line, start, w.end("number") + 1))
+                continue
+            group, sign = ("value", "sign") if num is not None else ("param", "param_sign")
+            at, end = w.start(group) + 1, w.end(group) + 1
+            operand: Expr = (
+                ParamRef(int(w[group][1:]), at, end)
+                if w[group].startswith(self._param)
+                else Num(_loose_number(w[group]), at, end)
+            )
+            expr = operand if w[sign] is None else Neg(operand, w.start(sign) + 1, end)
+            if num is None:  # a parameter word: X=P1, X L2
+                words.append(Word(addr, None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start, end, expr))
+            else:
+                self._assignment(raw, line, addr, num, start, expr, words, assignments, diagnostics)
+        skip = m.group("skip")
+        comment_start = m.start("comment")
+        return _finish_block(
+            raw,
+            line,
+            words,
+            tuple(assignments),
+            None if skip is None else _skip_level(skip),
+            None if comment_start < 0 else _comment_text(raw[comment_start:]),
+            None,
+            diagnostics,
+            self._programs,
+        )
+
+    def _assignment(
+        self,
+        raw: str,
+        line: int,
+        addr: str,
+        num: str,
+        start: int,
+        expr: Expr,
+        words: list[Word],
+        assignments: list[Assignment],
+        diagnostics: list[Diagnostic],
+    ) -> None:
+        """`addr num = expr`: a valued code (Beckhoff's G301=20) is a word, P<n> (TRAUB: L<n>) an assignment,
+        anything else PAL-E009."""
+        if num.isdigit() and f"{addr}{int(num)}" in self._valued:
+            text = "=" + raw[expr[-2] - 1 : expr[-1] - 1]
+            words.append(Word(f"{addr}{int(num)}", None, text, line, start, expr[-1], expr))
+        elif str(addr) != self._param or not num.isdigit():
+            diagnostics.append(diag("PAL-E009", Span(line, start, line, expr[-1]), address=f"{addr}{num}"))
+        else:
+            assignments.append(Assignment(int(num), expr, line, start, expr[-1]))
 
     def _tree_block(self, raw: str, line: int, tree: Tree[Token], diagnostics: list[Diagnostic]) -> Block:
         words: list[Word] = []
@@ -275,25 +344,7 @@ class BlockParser:
             else:  # assign
                 num = child.children[1]  # type: ignore[assignment]
                 expr = _expr(child.children[2])
-                if num.isdigit() and f"{addr}{int(num)}" in self._valued:
-                    words.append(
-                        Word(
-                            f"{addr}{int(num)}",
-                            None,
-                            "=" + raw[expr[-2] - 1 : expr[-1] - 1],
-                            line,
-                            start,
-                            expr[-1],
-                            expr,
-                        )
-                    )
-                    continue
-                if str(addr) != self._param or not num.isdigit():
-                    diagnostics.append(
-                        diag("PAL-E009", Span(line, start, line, expr[-1]), address=f"{addr}{num}")
-                    )
-                    continue
-                assignments.append(Assignment(int(num), expr, line, start, expr[-1]))
+                self._assignment(raw, line, addr, num, start, expr, words, assignments, diagnostics)
         return _finish_block(
             raw, line, words, tuple(assignments), skip, comment, header, diagnostics, self._programs
         )
@@ -367,6 +418,33 @@ def _finish_block(
             )
         return Block(line, raw, number, (), assignments, skip, comment, f"O{int(first.raw)}")
     return Block(line, raw, number, tuple(words), assignments, skip, comment, header)
+
+
+def _simple_patterns(
+    lark: Lark, term: dict[str, str], address: str, number: str
+) -> tuple[re.Pattern[str] | None, re.Pattern[str] | None]:
+    """The line and the item of the second fast path, assembled from the grammar's terminals: words,
+    assignments `ADDRESS NUMBER = value` and parameter words `ADDRESS = value` (TRAUB: `ADDRESS value`, whose
+    value is a parameter: `X 5` is a word), the value one number or parameter with an optional sign (NEG).
+    (None, None) for a grammar without parameters."""
+    if "PREF" not in term or "UNUM" not in term:
+        return None, None
+    ws = "[ \t]*"
+    exprword = next(r.expansion for r in lark.rules if r.origin.name == "exprword")
+    equal = any(t.name == "EQUAL" for t in exprword)  # PAL: X=P1; TRAUB: X L2
+    pref = _without_groups(term["PREF"])
+    value = f"{_without_groups(term['UNUM'])}|{pref}"
+    param = value if equal else pref
+    lead = f"={ws}" if equal else ""
+    item = f"(?:{address}){ws}(?:(?:{number})(?:{ws}={ws}(?:-{ws})?(?:{value}))?|{lead}(?:-{ws})?(?:{param}))"
+    line = re.compile(
+        f"{ws}(?P<skip>{term['SKIP']})?(?P<body>(?:{ws}{item})*){ws}(?P<comment>{term['COMMENT']})?"
+    )
+    read = re.compile(
+        f"(?P<address>{address}){ws}(?:(?P<number>{number})(?:{ws}={ws}(?P<sign>-{ws})?(?P<value>{value}))?"
+        f"|{lead}(?P<param_sign>-{ws})?(?P<param>{param}))"
+    )
+    return line, read
 
 
 def _without_groups(pattern: str) -> str:
