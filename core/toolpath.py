@@ -151,6 +151,50 @@ class Move:
             values[i] = v
         return Move(*values)
 
+    def with_path(
+        self,
+        kind: MoveKind,
+        start: Vec3,
+        end: Vec3,
+        center: Vec3 | None,
+        direction: Literal["cw", "ccw"] | None,
+        radius: float | None,
+        angle: float | None,
+        plane: str,
+        programmed_end: Vec3 | None,
+        feed: float,
+        spindle: float,
+    ) -> Move:
+        """This move's technology and origin on another path: `with_fields` of the geometry, the feed and the
+        speed, for the moves a contour stage makes from their block's template (one or more per block), passed
+        by position: a third of `with_fields`' time. tests/test_move_copy.py checks the two agree."""
+        return Move(
+            kind,
+            start,
+            end,
+            feed,
+            self.feed_unit,
+            spindle,
+            self.spindle_direction,
+            self.coolant,
+            self.tool,
+            self.span,
+            center,
+            direction,
+            radius,
+            angle,
+            self.exact_stop,
+            plane,
+            programmed_end,
+            self.source,
+            self.call_stack,
+            self.cycle,
+            self.cycle_definition,
+            self.cycle_point,
+            self.thread,
+            self.pitch,
+        )
+
     def chords(self, tolerance: float) -> int:
         """How many segments `points(tolerance)` makes: 1 for a straight move. Computed, not drawn, so that a
         consumer can keep within a budget before it builds a point."""

@@ -22,6 +22,32 @@ def test_with_fields_is_dataclasses_replace() -> None:
         m.with_fields(colour="red")
 
 
+def test_with_path_is_with_fields_of_the_path() -> None:
+    """with_path keeps every other field: a move with all of them set, made again on another path."""
+    m = Move(
+        "feed", (0, 0, 0), (1, 1, 1), 100, "mm/rev", 1000, "cw", True, 1, Span(3, 1, 3, 9), None, None, None,
+        None, True, "G17", (1, 1, 1), "L12", (("L1", 4),), ("G71", 2, 5), 7, (1, 3), True, 1.5,
+    )  # fmt: skip
+    path = {
+        "kind": "arc",
+        "start": (2, 0, 1),
+        "end": (3, 0, 2),
+        "center": (2, 0, 2),
+        "direction": "ccw",
+        "radius": 1.0,
+        "angle": 90.0,
+        "plane": "G18",
+        "programmed_end": (3, 0, 2),
+        "feed": 0.3,
+        "spindle": 800.0,
+    }
+    kept = [f for f in dataclasses.fields(m) if f.name not in path]
+    assert all(
+        getattr(m, f.name) != f.default for f in kept
+    )  # (every kept field is set: none is lost unseen)
+    assert m.with_path(**path) == m.with_fields(**path)  # type: ignore[arg-type]
+
+
 def test_a_turned_contour_keeps_its_technology_on_every_move() -> None:
     tp = run(
         "%\nO1\nN10 G59 Z100\nN20 G96 V200 T0101 M4\nN30 G92 S3000\nN40 G0 X40 Z2\n"

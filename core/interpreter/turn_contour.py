@@ -58,7 +58,7 @@ from core.geometry.elements import (
     with_start,
 )
 from core.syntax.blocks import Span
-from core.toolpath import Dwell, Move, ToolChange, Vec3
+from core.toolpath import Dwell, Move, MoveKind, ToolChange, Vec3
 from core.values import value
 
 XZ = tuple[float, float]  # (x radius, z) in the workpiece frame
@@ -716,29 +716,40 @@ QUADRANT: dict[int, Point] = {1: (1.0, 1.0), 2: (-1.0, 1.0), 3: (-1.0, -1.0), 4:
 
 def _move(seg: _Seg, e: Element, programmed: Point, feed: float | None = None) -> Move:
     """The block's template with the geometry of `e` (plane points) and the contour point `programmed`."""
-    t = seg.item.template
-    fields: dict[str, object] = {
-        "start": _vec(e.a),
-        "end": _vec(e.b),
-        "programmed_end": _vec(programmed),
-        "plane": "G18",
-    }
-    if isinstance(e, Arc):
-        fields.update(
-            kind="arc", center=_vec(e.c), direction="cw" if e.cw else "ccw", radius=e.radius, angle=e.angle
-        )
-    else:
-        fields.update(
-            kind="rapid" if seg.rapid else "feed", center=None, direction=None, radius=None, angle=None
-        )
+    item = seg.item
+    t = item.template
     if seg.inserted:
-        spec = seg.item.transition
+        spec = item.transition
         feed = spec.feed if spec is not None and spec.feed is not None else t.feed
-    if feed is not None:
-        fields["feed"] = feed
-    if seg.item.spindle_at is not None:
-        fields["spindle"] = seg.item.spindle_at(programmed[1])
-    return t.with_fields(**fields)
+    spindle = t.spindle if item.spindle_at is None else item.spindle_at(programmed[1])
+    if isinstance(e, Arc):
+        return t.with_path(
+            "arc",
+            _vec(e.a),
+            _vec(e.b),
+            _vec(e.c),
+            "cw" if e.cw else "ccw",
+            e.radius,
+            e.angle,
+            "G18",
+            _vec(programmed),
+            t.feed if feed is None else feed,
+            spindle,
+        )
+    kind: MoveKind = "rapid" if seg.rapid else "feed"
+    return t.with_path(
+        kind,
+        _vec(e.a),
+        _vec(e.b),
+        None,
+        None,
+        None,
+        None,
+        "G18",
+        _vec(programmed),
+        t.feed if feed is None else feed,
+        spindle,
+    )
 
 
 def _session_side(seq: Seq, i: int, nose: Nose, span: Span, d: list[Diagnostic]) -> int:
