@@ -124,6 +124,27 @@ def test_simple_parameter_lines_read_as_the_grammar_reads_them(grammar: str, lin
     assert block.assignments or any(w.expr is not None for w in block.words)
 
 
+@pytest.mark.parametrize(
+    "lines",
+    [
+        ["N10 G1 X5 Y3 ; a", "N20 G1 X5 Y3 ; a", "N100G1 X5 Y3 ; a", "G1 X5 Y3 ; a", "n30 g1 x5 y3 ; a"],
+        ["N5 N10 G1", " N10 G1", "N10 G1", "N7 N10 G1", "N10.5 G1", "N11.5 G1", "N1 G1\r", "N2 G1\r\r"],
+        ["G1 X5", "N1 P1=2", "N2 P1=2", "N3 G1 X5", "N4 G1 X=P1", "N5 G1 X=P1", "/N6 G1 X5", "/N6 G1 X5"],
+        ["N1 G1 X" + "1" * 20, "N12345 G1 X" + "1" * 20, "N1 %", "N2 %", "N1 O5", "N2 O5"],
+    ],
+)
+def test_a_repeated_line_reads_as_its_own_parse(lines: list[str]) -> None:
+    """A program's parse takes the words of a line read before with the same text after the block number, moved
+    to its line and columns: the same blocks and diagnostics as every line parsed on its own (a line limit of 30
+    characters: the longer number makes the last but three lines too long)."""
+    for parser in (PARSER, parser_for("iso", program_numbers=True), parser_for("traub")):
+        limits = Limits(max_line_length=30)
+        alone: list[Diagnostic] = []
+        blocks = [parser.parse_line(raw, n, limits, alone) for n, raw in enumerate(lines, 1)]
+        program, found = parser.parse_program("\n".join(lines), limits)
+        assert program.blocks == blocks and found == alone
+
+
 def test_error_points_at_the_bad_word_and_other_blocks_still_parse() -> None:
     program, diags = PARSER.parse_program("N10 G1 X5\nN20 G1 Y1..5\nN30 G1 Z2\n", LIMITS)
     assert [(d.code, d.span.line, d.span.column) for d in diags] == [("PAL-E002", 2, 9)]

@@ -12,6 +12,7 @@ build the same blocks; tests/test_parser.py checks that they agree.
 
 from __future__ import annotations
 
+import operator
 import re
 from dataclasses import dataclass, field
 from functools import cache
@@ -26,6 +27,7 @@ from core.limits import Limits
 from core.sequences import common_ends
 from core.syntax.blocks import Assignment, BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
 
+_expression = operator.attrgetter("expr")  # a word's expression (None: a number or a flag)
 _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f\ufffd]")
 _LOOSE_WORD = re.compile(r"([A-Z]+)[ \t]*([-+0-9.,]+)")
 
@@ -120,13 +122,52 @@ class BlockParser:
             )
             lines = lines[: limits.max_blocks]
         if memo is None:
-            blocks = [self.parse_line(raw, n, limits, diagnostics) for n, raw in enumerate(lines, 1)]
-            return Program(blocks, line_count), diagnostics
+            return Program(self._parse_lines(lines, limits, diagnostics), line_count), diagnostics
         old_blocks = memo.blocks
         blocks, found, changed = self._reparse(memo, lines, limits)
         diagnostics.extend(chain.from_iterable(filter(None, found)))
         memo.lines, memo.blocks, memo.found = lines, blocks, found
         return Program(blocks, line_count, old_blocks, changed), diagnostics
+
+    def _parse_lines(self, lines: list[str], limits: Limits, diagnostics: list[Diagnostic]) -> list[Block]:
+        """Each line's block. A program repeats its lines, most often under another block number (a contour's
+        passes at the next depth, the holes of a pattern): a line of plain words whose text after the number
+        was read before takes that block's words, moved to its line and columns, as its parse would make them.
+        """
+        blocks: list[Block] = []
+        # the text after a line's block number → the first block of that text, and where the text begins
+        seen: dict[str, tuple[Block, int]] = {}
+        number_word = self._fast_word
+        new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
+        for n, raw in enumerate(lines, 1):
+            text = raw.removesuffix("\r")  # (as parse_line reads it)
+            lead = number_word.match(text) if text.startswith("N") else None
+            cut = lead.end() if lead is not None and lead[1] == "N" and lead[2].isdigit() else 0
+            rest = text[cut:] if cut else text
+            hit = seen.get(rest)
+            # (both numbered, or the same text: a number read as part of the other's text is not its number)
+            if hit is not None and (hit[1] > 0) == (cut > 0) and len(text) <= limits.max_line_length:
+                first, at = hit
+                shift = cut - at
+                words = tuple(
+                    [new(Word, (w[0], w[1], w[2], n, w[4] + shift, w[5] + shift, None)) for w in first.words]
+                )
+                number = int(lead[2]) if lead is not None and cut else first.number
+                blocks.append(Block(n, text, number, words, (), None, first.comment))
+                continue
+            count = len(diagnostics)
+            block = self.parse_line(raw, n, limits, diagnostics)
+            blocks.append(block)
+            if (
+                len(diagnostics) == count
+                and block.ok
+                and not block.assignments
+                and block.skip is None
+                and block.header is None
+                and not any(map(_expression, block.words))
+            ):
+                seen[rest] = (block, cut)
+        return blocks
 
     def _reparse(
         self, memo: LineMemo, lines: list[str], limits: Limits
