@@ -9,6 +9,7 @@ segments (PAL-I019), counted before a point is made.
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass, field
 
 from core.diagnostics import Diagnostic, diag
@@ -37,6 +38,8 @@ DIAGNOSTIC_STEPS = 20  # making a diagnostic costs about as much as evaluating t
 
 DEFAULT_LIMITS = Limits()
 
+_expression = operator.attrgetter("expr")  # a word's expression (None: a number or a flag)
+
 
 def work_ceiling(limits: Limits) -> tuple[int, int, int]:
     """The most work (blocks executed, evaluation steps, moves; Budget.counters) a run does under `limits`: the
@@ -59,16 +62,19 @@ class Budget:
     executed: int = 0  # blocks executed (loops count every pass)
     steps: int = 0  # evaluation steps
     moves: int = 0  # programmed moves
-    costs: dict[int, int] = field(default_factory=dict)  # id(block) → the evaluation steps of its words
+    costs: dict[int, int] = field(default_factory=dict)  # id(block) → the steps of a block with expressions
 
     def block(self, block: Block) -> Diagnostic | None:
         """Count one execution of `block`: PAL-E013 or PAL-E016 when that spends a budget."""
         self.executed += 1
         if self.executed > self.limits.max_executed_blocks:
             return diag("PAL-E013", block.span, limit=self.limits.max_executed_blocks)
-        cost = self.costs.get(id(block))
-        if cost is None:
-            cost = self.costs[id(block)] = block_steps(block)
+        if block.assignments or any(map(_expression, block.words)):
+            cost = self.costs.get(id(block))
+            if cost is None:
+                cost = self.costs[id(block)] = block_steps(block)
+        else:  # one step per word (most blocks: counted without a loop)
+            cost = len(block.words)
         self.steps += cost
         if self.steps > self.limits.max_evaluation_steps:
             return diag("PAL-E016", block.span, limit=self.limits.max_evaluation_steps)

@@ -210,7 +210,10 @@ def _commit(step: _Step, state: ModalState, position: Vec3) -> ModalState:
     r, values, table, out = step.reading, step.values, step.table, step.out
     owner = r.owner
     codes = state.codes
-    changes = {g: m for g, m in r.activations if codes.get(g) != m} if r.activations else {}
+    changes: dict[str, str] = {}
+    for g, m in r.activations:  # (a loop, not a comprehension: this runs for every block)
+        if codes.get(g) != m:
+            changes[g] = m
     if (
         not changes
         and values.keys().isdisjoint(_TECHNOLOGY)
@@ -714,8 +717,51 @@ def _sort_words(block: Block, table: CodeTable, setup: RunSetup, new_params: dic
 
 
 _PLAIN_MOTIONS = frozenset({"G0", "G1", "G2", "G3"})
-_SINGLE_NAMES = {name: frozenset((name,)) for name in _PLAIN_MOTIONS}  # a block's G names: this move only
 _PLAIN_WORDS = frozenset({"X", "Y", "Z", "I", "J", "K", "R", "F", "S", "RN"})
+
+
+@dataclass(frozen=True, slots=True)
+class _PlainLookups:
+    """What `_plain_reading` asks of a dialect's table, made once per table: the plain words the table has, with
+    their rules, and the written G0–G3 that may own a plain block, with what each switches and its G names."""
+
+    rules: dict[str, tuple[bool, bool]]  # address → (a whole number, not negative)
+    motions: dict[
+        float, tuple[Code, list[tuple[str, str]], frozenset[str]]
+    ]  # G number → code, switches, names
+
+
+# id of a dialect's table → the table (kept, so that no other object gets its id) and its lookups
+_PLAIN: dict[int, tuple[CodeTable, _PlainLookups]] = {}
+
+
+def _plain_lookups(table: CodeTable) -> _PlainLookups:
+    hit = _PLAIN.get(id(table))
+    if hit is not None:
+        return hit[1]
+    rules = {
+        a: (spec.integer, spec.non_negative)
+        for a in _PLAIN_WORDS
+        if (spec := table.addresses.get(a)) is not None
+    }
+    motions: dict[float, tuple[Code, list[tuple[str, str]], frozenset[str]]] = {}
+    for number, code in table.numbered.get("G", _NO_CODES).items():
+        if (
+            code.name in _PLAIN_MOTIONS
+            and code.group == "motion"
+            and code.owns_block
+            and not code.alone
+            and code.support is Support.YES
+            and table.max_g_words != 0
+        ):
+            switches = list(table.pairs[code.name])
+            if table.has_cycles:
+                switches.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
+            # (its readings share the switches and the names, and change nothing)
+            motions[number] = (code, switches, frozenset((code.name,)))
+    lookups = _PlainLookups(rules, motions)
+    _PLAIN[id(table)] = (table, lookups)
+    return lookups
 
 
 def _plain_reading(
@@ -731,42 +777,34 @@ def _plain_reading(
     other block, which the general path (`_sort_words`, then `_owner`, `_addresses`, `_tool_and_plane`,
     `_switches`) reads. It exists because most blocks are such moves, and they need none of the general path's
     cases: their words are sorted and checked here in one pass."""
-    gs: list[tuple[Word, Code]] = []
+    lookups = _plain_lookups(table)
+    rules = lookups.rules
+    written: tuple[Word, tuple[Code, list[tuple[str, str]], frozenset[str]]] | None = None
     words: dict[str, list[Word]] = {}
     values: dict[str, float] = {}
     limit = setup.limits.max_abs_value
-    addresses = table.addresses
-    numbered = table.numbered.get("G", _NO_CODES)
     for w in block.words:
         a, v = w.address, w.value
         if v is None or w.expr is not None:
             return None
         if a == "G":
-            code = numbered.get(v)
-            if code is None or gs:  # (not a whole number the table has, or a second G code)
+            motion_of = lookups.motions.get(v)
+            if motion_of is None or written is not None:  # (another G code, or a second G word)
                 return None
-            gs.append((w, code))
+            written = (w, motion_of)
             continue
-        if a not in _PLAIN_WORDS or a in words:  # (an M word, another address, an address given twice)
+        rule = rules.get(a)
+        if rule is None or a in words:  # (an M word, another address, an address given twice)
             return None
-        spec = addresses.get(a)
-        if spec is None or not -limit <= v <= limit or (spec.integer and v != int(v)):
-            return None
+        if not -limit <= v <= limit or (rule[0] and v != int(v)) or (rule[1] and v < 0):
+            return None  # (out of range, not a whole number, negative: the general path says so)
         words[a] = [w]
         values[a] = v
-    if gs:
-        owner_word, owner = gs[0]
+    gs: list[tuple[Word, Code]]
+    if written is not None:
+        owner_word, (owner, activations, names) = written
         motion = owner
-        if (
-            owner.name not in _PLAIN_MOTIONS
-            or owner.group != "motion"
-            or not owner.owns_block
-            or owner.alone
-            or owner.support is not Support.YES
-            or table.max_g_words == 0
-        ):
-            return None
-        activations = _plain_activations(table, owner.name)
+        gs = [(owner_word, owner)]
     else:
         modal = table.codes.get(modal_motion or "G1")
         if (
@@ -776,15 +814,11 @@ def _plain_reading(
             or words.keys() <= table.technology_words  # (a block of only F and S moves nothing)
         ):
             return None
-        motion, owner, owner_word, activations = modal, None, None, []
+        motion, owner, owner_word, activations, names, gs = modal, None, None, [], frozenset(), []
     if not words.keys() <= table.takes[motion.name]:
         return None
-    for _, code in gs:  # a required address missing (PAL-E102): the general path says so
-        for one_of in code.required:
-            if not any(a in words for a in one_of):
-                return None
-    for a in table.non_negative:  # a value below zero where the address takes none (PAL-E109): the same
-        if a in values and values[a] < 0:
+    for one_of in owner.required if owner is not None else ():
+        if not any(a in words for a in one_of):  # a required address missing (PAL-E102): the general path
             return None
     arc_plane, alt_plane = "G17", None
     if motion.name in ("G2", "G3"):
@@ -807,7 +841,7 @@ def _plain_reading(
         arc_plane,
         [],
         True,  # (no expression: the same block always reads the same)
-        _SINGLE_NAMES[owner.name] if owner is not None else frozenset(),
+        names,
         [],
         activations,
         {},
@@ -815,22 +849,6 @@ def _plain_reading(
         None,
         alt_plane,
     )
-
-
-# (id of a dialect's table, G0–G3) → the table (kept, so that no other object gets its id) and what the code switches
-_ACTIVATIONS: dict[tuple[int, str], tuple[CodeTable, list[tuple[str, str]]]] = {}
-
-
-def _plain_activations(table: CodeTable, name: str) -> list[tuple[str, str]]:
-    """The modal switches of a written G0–G3, made once per table (its readings share them and change nothing)."""
-    hit = _ACTIVATIONS.get((id(table), name))
-    if hit is not None:
-        return hit[1]
-    found = list(table.pairs[name])
-    if table.has_cycles:
-        found.append(("cycle", "G80"))  # G00–G03 end a drilling cycle
-    _ACTIVATIONS[(id(table), name)] = (table, found)
-    return found
 
 
 def _owner(
