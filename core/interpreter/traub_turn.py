@@ -42,6 +42,12 @@ Item = turn_contour.Item
 
 MAX_SPINDLE = 6000.0  # 1/min: the machine's highest speed when no G92 limits it (SET UP-Bild 5 #5)
 _GEOMETRY = frozenset({"X", "U", "Z", "W", "A", "R", "P", "Q", "I", "K", "D", "C", "H"})
+_AXES = frozenset({"X", "U", "Z", "W"})
+# (the sets the block's names are tested against, made once: a set written in the test is made at every block)
+_STOPS = frozenset({"M0", "M1", "M30"})
+_DRIVEN_ON = frozenset({"M21", "M22"})
+_DRIVEN_DIRECTION = frozenset({"M23", "M24"})
+_ZERO_POINTS = frozenset({"G54", "G55", "G56", "G57"})
 
 
 # -- the state of a run --------------------------------------------------------------------
@@ -418,7 +424,7 @@ class TurnRun:
         params = self._assign(block, d, reads)
         r = self._reading(block, params, d, reads)
         motion, moving = self._check(block, r, d)
-        if any(x.severity is Severity.ERROR for x in d) or self._planned(r, d):
+        if (d and any(x.severity is Severity.ERROR for x in d)) or self._planned(r, d):
             return out  # the block is not executed
         self.params = params
         if (
@@ -435,7 +441,7 @@ class TurnRun:
         self._srk_window(srk, moving, span, d)
         # -- block end
         mnames = r.m_names
-        if mnames & {"M0", "M1", "M30"}:  # they include M05 and M09 (L1178)
+        if not mnames.isdisjoint(_STOPS):  # they include M05 and M09 (L1178)
             t.codes = {**t.codes, "spindle": "M5", "coolant": "M9"}
         out.ended = "M30" in mnames
         out.sub_end = "M99" in mnames
@@ -488,14 +494,14 @@ class TurnRun:
         if "M17" in mnames and t.spindle_on and "M5" not in mnames:
             d.append(diag("TX-E109", next(w.span for w, c in ms if c.name == "M17")))
         if "B" in values and int(values["B"]) // 10000 == 6:
-            on = t.driven_on or bool(mnames & {"M21", "M22"})
-            direction = t.driven_direction or bool(mnames & {"M23", "M24"})
+            on = t.driven_on or not mnames.isdisjoint(_DRIVEN_ON)
+            direction = t.driven_direction or not mnames.isdisjoint(_DRIVEN_DIRECTION)
             if not (on and direction):
                 d.append(diag("TX-E107", words["B"].span))
         motion: Code | None = owner if owner is not None and owner.group == "motion" else None
-        if owner is None and r.speed_code is None and words.keys() & _GEOMETRY:
+        if owner is None and r.speed_code is None and not words.keys().isdisjoint(_GEOMETRY):
             motion = TABLE.codes[t.codes.get("motion") or "G1"]
-        moving = motion is not None and bool(words.keys() & _GEOMETRY)
+        moving = motion is not None and not words.keys().isdisjoint(_GEOMETRY)
         if moving and not t.tool_called and t.deselected_by is not None and "T" not in values:
             d.append(diag("TX-E102", block.span, command=t.deselected_by))
         if moving and (t.first_after_t or "T" in values):
@@ -543,9 +549,9 @@ class TurnRun:
             if c.group is not None and c.group != "program_end" and t.codes.get(c.group) != c.name:
                 t.codes = {**t.codes, c.group: c.name}
         self._speed(span, r, d)
-        if mnames & {"M21", "M22"}:
+        if not mnames.isdisjoint(_DRIVEN_ON):
             t.driven_on = True
-        if mnames & {"M23", "M24"}:
+        if not mnames.isdisjoint(_DRIVEN_DIRECTION):
             t.driven_direction = True
         if "M25" in mnames:
             t.driven_on = t.driven_direction = False
@@ -568,7 +574,7 @@ class TurnRun:
             t.tool_called, t.deselected_by, t.first_after_t = True, None, True
             if owner is None or not owner.change_point:  # else at the change point, below
                 out.items.append(self._early(ToolChange(t.tool, t.offset, 0.0, 0.0, self._vec(), span)))
-        if names & {"G54", "G55", "G56", "G57"}:
+        if not names.isdisjoint(_ZERO_POINTS):
             zero = next(c.name for _, c in gs if c.name in ("G54", "G55", "G56", "G57"))
             base = self.setup.zero_offset(zero)
             t.zero_base = (base[0], base[2])
@@ -744,7 +750,7 @@ class TurnRun:
             else None,
         )
         out.items.append(item)
-        end = self._known_end(start, item, has_axis=bool(words.keys() & {"X", "U", "Z", "W"}))
+        end = self._known_end(start, item, has_axis=not words.keys().isdisjoint(_AXES))
         self.position = None if end is None else (end[0] + rx, end[1] + rz)
         if self.position is not None:
             self.last_known = self.position
@@ -783,7 +789,7 @@ class TurnRun:
             points = [(here[0], target[1]), target]
         elif name == "G28":
             zx, zz = t.zero()
-            if words.keys() & {"X", "U", "Z", "W"}:
+            if not words.keys().isdisjoint(_AXES):
                 ax = values["X"] / 2 + zx if "X" in values else here[0] + values.get("U", 0.0)
                 az = values["Z"] + zz if "Z" in values else here[1] + values.get("W", 0.0)
                 points = [(ax, az)]
