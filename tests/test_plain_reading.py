@@ -7,7 +7,8 @@ from pathlib import Path
 
 import pytest
 
-from core.interpreter import pal_mill
+from core.diagnostics import Diagnostic
+from core.interpreter import pal_mill, traub_turn
 from core.interpreter.state import RunSetup
 from core.pipeline import DIALECTS
 
@@ -107,4 +108,65 @@ def test_blocks_that_break_a_rule_take_the_general_path() -> None:
         "X10 Y10",
         "Z-3",
         "G01 X.5 Y-0.25",
+    ]
+
+
+TURNING_LINES = [
+    "G0 X79 Z2",
+    "G1 Z-20.5 F0.3",
+    "G1 W-0,5 F0,3",
+    "G0 U1",
+    "G2 X40 Z-20 R5",
+    "G1 X40 D-2 E0,1",
+    "X40 Z-3",
+    "F0,2",
+    "G1 F-0,2 X4",
+    "G1 X4 X5",
+    "G1 X4 Q5",
+    "G0 X4 T0303",
+    "G0 X4 M8",
+    "G96 V200 X40",
+    "G1 G0 X4",
+    "G71 P10 Q20 I0,5 K0,1 D2 F0,3",
+    "G1 X L2",
+    "G1 X4 H1,5",
+    "G4 X0,5",
+]
+
+
+def test_the_turning_fast_path_reads_blocks_as_the_general_path_does() -> None:
+    """TRAUB's plain moves (core/interpreter/traub_turn.py, _plain_read): the same reading as _read, or none."""
+    parser = DIALECTS["traub-tx8d"].parser()
+    texts = ["\n".join(TURNING_LINES)]
+    for folder in ("exercises/traub-tx8d", "tests/seeds/traub"):
+        texts += [p.read_text(encoding="utf-8") for p in sorted((ROOT / folder).glob("*.nc"))]
+    blocks = [
+        b
+        for text in texts
+        for b in parser.parse_program(text, SETUP.limits)[0].blocks
+        if b.ok and b.words and b.header is None
+    ]
+    fast = 0
+    for block in blocks:
+        for motion in ("G0", "G1", "G2", "G9"):
+            plain = traub_turn._plain_read(block, SETUP.limits.max_abs_value, motion)
+            if plain is None:
+                continue
+            fast += 1
+            found: list[Diagnostic] = []
+            general = traub_turn._read(block, {}, found, None, SETUP.limits.max_abs_value, motion)
+            assert plain == general and found == [], (block.text, motion)
+    assert fast > 100  # most moves take the fast path
+    taken = [
+        line for line, b in zip(TURNING_LINES, blocks, strict=False) if traub_turn._plain_read(b, 1e5, "G1")
+    ]
+    assert taken == [
+        "G0 X79 Z2",
+        "G1 Z-20.5 F0.3",
+        "G1 W-0,5 F0,3",
+        "G0 U1",
+        "G2 X40 Z-20 R5",
+        "G1 X40 D-2 E0,1",
+        "X40 Z-3",
+        "F0,2",
     ]

@@ -174,6 +174,61 @@ def _read(
 
 _NO_NAMES: frozenset[str] = frozenset()
 _NUMBERED = {a: TABLE.numbered.get(a, {}) for a in ("G", "M")}
+# a plain block (`_plain_read`): its G code by number, a motion that owns the block (no cycle, no speed code),
+# with its names; its addresses with their rules (a whole number, not negative)
+_PLAIN_MOTIONS = {
+    number: (code, frozenset((code.name,)))
+    for number, code in _NUMBERED["G"].items()
+    if code.group == "motion"
+    and code.owns_block
+    and not code.alone
+    and code.support is Support.YES
+    and not code.cycle
+    and not code.speed
+}
+_PLAIN_RULES = {
+    a: (spec.integer, a in TABLE.non_negative)
+    for a, spec in TABLE.addresses.items()
+    if a not in ("G", "M", "O", "T")  # (codes, a program number, a tool call: the general path)
+}
+
+
+def _plain_read(block: Block, limit: float, modal_motion: str) -> _Reading | None:
+    """The reading of the most common block, a move (a G0-G3 written or modal) of address words with numbers
+    that breaks no rule, as `_read` makes it; None for every other block, which `_read` reads. Most blocks are
+    such moves, and they need none of the general path's cases: their words are sorted and checked in one
+    pass. tests/test_plain_reading.py checks both paths agree."""
+    written: tuple[Word, Code, frozenset[str]] | None = None
+    words: dict[str, Word] = {}
+    values: dict[str, float] = {}
+    for w in block.words:
+        a, v = w.address, w.value
+        if v is None or w.expr is not None:
+            return None
+        if a == "G":
+            motion = _PLAIN_MOTIONS.get(v)
+            if motion is None or written is not None:  # (another G code, or a second G word)
+                return None
+            written = (w, *motion)
+            continue
+        rule = _PLAIN_RULES.get(a)
+        if rule is None or a in words:  # (an M word, an unknown address, an address given twice)
+            return None
+        if not math.isfinite(v) or abs(v) > limit or (rule[0] and v != int(v)) or (rule[1] and v < 0):
+            return None  # (out of range, not a whole number, negative: the general path says so)
+        words[a] = w
+        values[a] = v
+    if written is None:
+        if not words.keys() <= TABLE.always_allowed and not words.keys() <= TABLE.takes[modal_motion]:
+            return None  # a word the modal motion does not take (PAL-E101)
+        return _Reading([], [], words, values, None, None)
+    owner_word, owner, names = written
+    if not words.keys() <= TABLE.takes[owner.name]:
+        return None
+    for one_of in owner.required:
+        if not any(a in words for a in one_of):  # a required address missing (PAL-E102)
+            return None
+    return _Reading([(owner_word, owner)], [], words, values, owner, owner_word, names)
 
 
 def _names(codes: list[tuple[Word, Code]]) -> frozenset[str]:
@@ -472,7 +527,8 @@ class TurnRun:
         known = self.readings.get((id(block), modal))
         if known is None:
             found: list[Diagnostic] = []
-            r = _read(block, params, found, reads, self.setup.limits.max_abs_value, modal)
+            limit = self.setup.limits.max_abs_value
+            r = _plain_read(block, limit, modal) or _read(block, params, found, reads, limit, modal)
             if r.cacheable:
                 self.readings[(id(block), modal)] = (r, found)
             d.extend(found)
