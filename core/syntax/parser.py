@@ -12,7 +12,6 @@ build the same blocks; tests/test_parser.py checks that they agree.
 
 from __future__ import annotations
 
-import operator
 import re
 from dataclasses import dataclass, field
 from functools import cache
@@ -27,7 +26,6 @@ from core.limits import Limits
 from core.sequences import common_ends
 from core.syntax.blocks import Assignment, BinOp, Block, Expr, Neg, Num, ParamRef, Program, Span, Word
 
-_expression = operator.attrgetter("expr")  # a word's expression (None: a number or a flag)
 _CONTROL = re.compile(r"[\x00-\x08\x0b-\x1f\x7f\ufffd]")
 _LOOSE_WORD = re.compile(r"([A-Z]+)[ \t]*([-+0-9.,]+)")
 
@@ -156,16 +154,11 @@ class BlockParser:
                 blocks.append(Block(n, text, number, words, (), None, first.comment))
                 continue
             count = len(diagnostics)
-            block = self.parse_line(raw, n, limits, diagnostics)
+            block, plain = self._read_line(raw, n, limits, diagnostics)
             blocks.append(block)
             if (
-                len(diagnostics) == count
-                and block.ok
-                and not block.assignments
-                and block.skip is None
-                and block.header is None
-                and not any(map(_expression, block.words))
-            ):
+                plain and len(diagnostics) == count
+            ):  # (diagnostics name their line: such a line is read again)
                 seen[rest] = (block, cut)
         return blocks
 
@@ -213,6 +206,13 @@ class BlockParser:
 
     def parse_line(self, raw: str, line: int, limits: Limits, diagnostics: list[Diagnostic]) -> Block:
         """Parse one line into a block, appending any diagnostics."""
+        return self._read_line(raw, line, limits, diagnostics)[0]
+
+    def _read_line(
+        self, raw: str, line: int, limits: Limits, diagnostics: list[Diagnostic]
+    ) -> tuple[Block, bool]:
+        """`parse_line`, and whether the line is plain words without a skip mark (read by the first fast path:
+        no expression, assignment or header), which `_parse_lines` may move to another line."""
         raw = raw.removesuffix("\r")
         if len(raw) > limits.max_line_length:
             diagnostics.append(
@@ -223,35 +223,36 @@ class BlockParser:
                     limit=limits.max_line_length,
                 )
             )
-            return Block(line, raw[: limits.max_line_length], None, (), ok=False)
+            return Block(line, raw[: limits.max_line_length], None, (), ok=False), False
         text = raw.upper() if raw.isascii() else "".join(c.upper() if c.isascii() else c for c in raw)
         fast = self._fast_line.fullmatch(text)
         if fast is not None:
-            return self._fast_block(raw, text, line, fast, diagnostics)
+            block = self._fast_block(raw, text, line, fast, diagnostics)
+            return block, fast.start("skip") < 0 and block.header is None  # (ISO: O<n> is a header)
         if (
             text.strip(" \t") == "%"
         ):  # a program's start or end mark alone, as the grammar reads it (TRAUB, ISO)
-            return _finish_block(raw, line, [], (), None, None, "", diagnostics, self._programs)
+            return _finish_block(raw, line, [], (), None, None, "", diagnostics, self._programs), False
         simple = self._simple_line.fullmatch(text) if self._simple_line is not None else None
         if simple is not None:
-            return self._simple_block(raw, text, line, simple, diagnostics)
+            return self._simple_block(raw, text, line, simple, diagnostics), False
         bad = _CONTROL.search(text)
         if bad is not None:
             col = bad.start() + 1
             diagnostics.append(diag("PAL-E008", Span(line, col, line, col + 1), char_code=ord(bad.group())))
-            return Block(line, raw, None, (), ok=False)
+            return Block(line, raw, None, (), ok=False), False
         try:
             tree = self._lark.parse(text)
         except UnexpectedInput as err:
             diagnostics.append(self._syntax_diagnostic(err, text, line))
-            return Block(line, raw, None, (), ok=False)
+            return Block(line, raw, None, (), ok=False), False
         try:
-            return self._tree_block(raw, line, tree, diagnostics)
+            return self._tree_block(raw, line, tree, diagnostics), False
         except _TooDeep as err:
             diagnostics.append(
                 diag("PAL-E014", Span(line, err.column, line, len(raw) + 1), limit=MAX_EXPR_DEPTH)
             )
-            return Block(line, raw, None, (), ok=False)
+            return Block(line, raw, None, (), ok=False), False
 
     def _fast_block(
         self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
