@@ -263,19 +263,7 @@ class BlockParser:
             new(Word, (w[1], number(digits := w[2]), digits, line, (at := w.span())[0] + 1, at[1] + 1, None))
             for w in self._fast_word.finditer(text, m.start("body"), m.end("body"))
         ]
-        skip = m.group("skip")
-        comment_start = m.start("comment")
-        return _finish_block(
-            raw,
-            line,
-            words,
-            (),
-            None if skip is None else _skip_level(skip),
-            None if comment_start < 0 else _comment_text(raw[comment_start:]),
-            None,
-            diagnostics,
-            self._programs,
-        )
+        return self._finish_fast(raw, line, m, words, (), diagnostics)
 
     def _simple_block(
         self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
@@ -304,13 +292,25 @@ class BlockParser:
                 words.append(Word(addr, None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start, end, expr))
             else:
                 self._assignment(raw, line, addr, num, start, expr, words, assignments, diagnostics)
+        return self._finish_fast(raw, line, m, words, tuple(assignments), diagnostics)
+
+    def _finish_fast(
+        self,
+        raw: str,
+        line: int,
+        m: re.Match[str],
+        words: list[Word],
+        assignments: tuple[Assignment, ...],
+        diagnostics: list[Diagnostic],
+    ) -> Block:
+        """The block of a line read without lark: its skip mark and comment from the fast path's match `m`."""
         skip = m.group("skip")
         comment_start = m.start("comment")
         return _finish_block(
             raw,
             line,
             words,
-            tuple(assignments),
+            assignments,
             None if skip is None else _skip_level(skip),
             None if comment_start < 0 else _comment_text(raw[comment_start:]),
             None,
