@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from core.diagnostics import Diagnostic
@@ -184,3 +186,84 @@ def test_a_lone_percent_line_reads_as_the_grammar_reads_it(grammar: str, raw: st
     expected = parser._tree_block(text, 3, parser._lark.parse(text.upper()), [])
     assert block == expected and found == []
     assert block.header == "" and block.words == () and block.ok
+
+
+# lines at the edges of the word-by-word reading: blanks, comments, skip marks, numbers with blanks (TRAUB),
+# a comment in the middle (ISO), words run together, a word that is not one, lower case and umlauts
+EDGE_LINES = [
+    "G1 X5 ",
+    "G1 X5\t; Kontur fräsen",
+    "G1 X5 ;",
+    "G1X5;a;b",
+    "N10G1X5",
+    "X5.;c",
+    "T02 02 M6",
+    "X1 2",
+    "G1 X5 (Fase)",
+    "G1 (a) X5",
+    "(a) G1",
+    "G1 X5 (offen",
+    "G1 X=5",
+    "G1 X5 %",
+    "g1 x5 ; Überlauf",
+    "G1 XÄ5",
+    "/G1 X5",
+    "\tG1 X5",
+    "G1\tX5",
+    "/1 N5 M3",
+    " / G1",
+    "/",
+    "   ",
+    "; nur ein Kommentar",
+    "G1 / X5",
+]
+
+
+# the grammar of the programs in each folder (a program's folder names its dialect)
+GRAMMAR_OF_FOLDER = {
+    "beckhoff": "beckhoff",
+    "traub": "traub",
+    "traub-tx8d": "traub",
+    "iso": "iso",
+    "sinumerik-iso": "iso",
+}
+
+
+def _program_lines() -> list[tuple[str, str]]:
+    """(grammar, line) of every built-in exercise (and its start program), seed and test program, and the edge
+    lines in every grammar."""
+    root = Path(__file__).parents[1]
+    found: set[tuple[str, str]] = set()
+    for folder in ("exercises", "tests/seeds", "tests/programs"):
+        for path in (*(root / folder).rglob("*.nc"), *(root / folder).rglob("*-start.txt")):
+            grammar = GRAMMAR_OF_FOLDER.get(path.parent.name, "pal_mill")
+            found.update(
+                (grammar, line.removesuffix("\r")) for line in path.read_text(encoding="utf-8").split("\n")
+            )
+    for grammar in ("pal_mill", "iso", "beckhoff", "traub"):
+        found.update((grammar, line) for line in EDGE_LINES)
+    return sorted(found)
+
+
+def test_the_word_by_word_reading_reads_every_line_as_the_grammar_reads_it() -> None:
+    """A line of plain words (an optional skip mark, words, at most a comment at the end) is read word by word;
+    every such line of every program we have reads as lark reads it, and the rest are left to the other paths."""
+    taken, kinds = 0, set()
+    for grammar, line in _program_lines():
+        parser = parser_for(grammar)
+        text = line.upper()
+        found: list[Diagnostic] = []
+        block = parser._plain_block(line, text, 4, found)
+        if block is None:
+            continue
+        taken += 1
+        kinds.add(grammar)
+        slow: list[Diagnostic] = []
+        assert block == parser._tree_block(line, 4, parser._lark.parse(text), slow), (grammar, line)
+        assert found == slow, (grammar, line)
+    assert taken > 1000 and kinds == {
+        "pal_mill",
+        "iso",
+        "beckhoff",
+        "traub",
+    }  # most lines are read word by word

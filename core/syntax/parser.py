@@ -74,12 +74,12 @@ class BlockParser:
         term = {t.name: t.pattern.to_regexp() for t in self._lark.terminals}
         ws = "[ \t]*"
         address, number = _without_groups(term["ADDRESS"]), _without_groups(term["NUMBER"])
-        # the line's pattern only checks the words, the word's pattern reads them: groups only where read
-        self._fast_line = re.compile(
-            f"{ws}(?P<skip>{term['SKIP']})?(?P<body>(?:{ws}(?:{address}){ws}(?:{number}))*){ws}"
-            f"(?P<comment>{term['COMMENT']})?"
-        )
         self._fast_word = re.compile(f"({address}){ws}({number})")
+        # the commonest lines are read word by word (`_plain_block`): an optional skip mark, words with blanks
+        # between them and at most a comment at the end
+        self._plain_head = re.compile(f"{ws}(?P<skip>{term['SKIP']})?{ws}")
+        self._plain_word = re.compile(f"({address}){ws}({number}){ws}")
+        self._plain_tail = re.compile(f"(?:{term['COMMENT']})?")
         # a dialect whose numbers take a decimal comma or blanks (TRAUB: `F0,2`, `T02 02`) reads them loosely
         self._loose = "," in term["NUMBER"]
         self._param = term["PREF"][0] if "PREF" in term else "P"  # the letter of parameters: P1 or L1
@@ -136,29 +136,31 @@ class BlockParser:
         # the text after a line's block number → the first block of that text, and where the text begins
         seen: dict[str, tuple[Block, int]] = {}
         number_word = self._fast_word
+        read = self._read_line
         new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
         for n, raw in enumerate(lines, 1):
-            text = raw.removesuffix("\r")  # (as parse_line reads it)
-            lead = number_word.match(text) if text.startswith("N") else None
-            cut = lead.end() if lead is not None and lead[1] == "N" and lead[2].isdigit() else 0
-            rest = text[cut:] if cut else text
+            cut, digits = 0, ""
+            if raw[:1] == "N":
+                lead = number_word.match(raw)
+                if lead is not None and lead[1] == "N" and lead[2].isdigit():
+                    cut, digits = lead.end(), lead[2]
+            rest = raw[cut:] if cut else raw
             hit = seen.get(rest)
             # (both numbered, or the same text: a number read as part of the other's text is not its number)
-            if hit is not None and (hit[1] > 0) == (cut > 0) and len(text) <= limits.max_line_length:
+            if hit is not None and (hit[1] > 0) == (cut > 0) and len(raw) <= limits.max_line_length:
                 first, at = hit
                 shift = cut - at
                 words = tuple(
                     [new(Word, (w[0], w[1], w[2], n, w[4] + shift, w[5] + shift, None)) for w in first.words]
                 )
-                number = int(lead[2]) if lead is not None and cut else first.number
-                blocks.append(Block(n, text, number, words, (), None, first.comment))
+                number = int(digits) if cut else first.number
+                blocks.append(Block(n, raw.removesuffix("\r"), number, words, (), None, first.comment))
                 continue
             count = len(diagnostics)
-            block, plain = self._read_line(raw, n, limits, diagnostics)
+            block, plain = read(raw, n, limits, diagnostics)
             blocks.append(block)
-            if (
-                plain and len(diagnostics) == count
-            ):  # (diagnostics name their line: such a line is read again)
+            # (diagnostics name their line: such a line is read again)
+            if plain and len(diagnostics) == count:
                 seen[rest] = (block, cut)
         return blocks
 
@@ -225,10 +227,9 @@ class BlockParser:
             )
             return Block(line, raw[: limits.max_line_length], None, (), ok=False), False
         text = raw.upper() if raw.isascii() else "".join(c.upper() if c.isascii() else c for c in raw)
-        fast = self._fast_line.fullmatch(text)
-        if fast is not None:
-            block = self._fast_block(raw, text, line, fast, diagnostics)
-            return block, fast.start("skip") < 0 and block.header is None  # (ISO: O<n> is a header)
+        plain = self._plain_block(raw, text, line, diagnostics)
+        if plain is not None:
+            return plain, plain.skip is None and plain.header is None  # (ISO: O<n> is a header)
         if (
             text.strip(" \t") == "%"
         ):  # a program's start or end mark alone, as the grammar reads it (TRAUB, ISO)
@@ -254,16 +255,35 @@ class BlockParser:
             )
             return Block(line, raw, None, (), ok=False), False
 
-    def _fast_block(
-        self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
-    ) -> Block:
-        new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
+    def _plain_block(self, raw: str, text: str, line: int, diagnostics: list[Diagnostic]) -> Block | None:
+        """The block of a line of plain words (an optional skip mark, words with blanks between them and at most
+        a comment at the end), as the grammar reads it; None for any other line. The words are matched one
+        after the other, each where the last one ended: the line is read in one pass."""
+        pos, size, skip = 0, len(text), None
+        if text[:1] in " \t/":  # (and an empty line)
+            head = self._plain_head.match(text)
+            assert head is not None  # (all of it is optional)
+            pos, mark = head.end(), head["skip"]
+            skip = None if mark is None else _skip_level(mark)
+        match = self._plain_word.match
         number = _loose_number if self._loose else float
-        words = [
-            new(Word, (w[1], number(digits := w[2]), digits, line, (at := w.span())[0] + 1, at[1] + 1, None))
-            for w in self._fast_word.finditer(text, m.start("body"), m.end("body"))
-        ]
-        return self._finish_fast(raw, line, m, words, (), diagnostics)
+        new = tuple.__new__  # the hot path: skips NamedTuple's argument handling
+        words: list[Word] = []
+        append = words.append
+        while pos < size:
+            w = match(text, pos)
+            if w is None:
+                break
+            address, digits = w.groups()
+            end = w.end(2)
+            append(new(Word, (address, number(digits), digits, line, pos + 1, end + 1, None)))
+            pos = w.end()
+        comment = None
+        if pos < size:
+            if self._plain_tail.fullmatch(text, pos) is None:
+                return None
+            comment = _comment_text(raw[pos:])
+        return _finish_block(raw, line, words, (), skip, comment, None, diagnostics, self._programs)
 
     def _simple_block(
         self, raw: str, text: str, line: int, m: re.Match[str], diagnostics: list[Diagnostic]
@@ -292,25 +312,12 @@ class BlockParser:
                 words.append(Word(addr, None, "=" + raw[expr[-2] - 1 : expr[-1] - 1], line, start, end, expr))
             else:
                 self._assignment(raw, line, addr, num, start, expr, words, assignments, diagnostics)
-        return self._finish_fast(raw, line, m, words, tuple(assignments), diagnostics)
-
-    def _finish_fast(
-        self,
-        raw: str,
-        line: int,
-        m: re.Match[str],
-        words: list[Word],
-        assignments: tuple[Assignment, ...],
-        diagnostics: list[Diagnostic],
-    ) -> Block:
-        """The block of a line read without lark: its skip mark and comment from the fast path's match `m`."""
-        skip = m.group("skip")
-        comment_start = m.start("comment")
+        skip, comment_start = m.group("skip"), m.start("comment")
         return _finish_block(
             raw,
             line,
             words,
-            assignments,
+            tuple(assignments),
             None if skip is None else _skip_level(skip),
             None if comment_start < 0 else _comment_text(raw[comment_start:]),
             None,
