@@ -23,6 +23,9 @@ pytestmark = [
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "screenshots")
 SIZES = {"laptop": (1366, 768), "tablet": (768, 1024)}
 SLUG = "pal-01-g1-gerade"
+# counts the animation frames a page draws (viser's scene draws on request only, in requestAnimationFrame)
+COUNT_FRAMES = """(() => { window.framesDrawn = 0; const request = window.requestAnimationFrame.bind(window);
+  window.requestAnimationFrame = (callback) => request((t) => { window.framesDrawn++; callback(t); }); })();"""
 # text a trainee must never see in the view: viser's panel, its status, its address, its notices
 DEVELOPER_TEXT = (
     "Connected",
@@ -239,6 +242,7 @@ def test_free_practice_3d_view_for_an_anonymous_browser(server: str, browser: ob
     """Without an account the browser's 3D cookie binds the scene to it: the view connects and shows the
     sample program; another browser cannot open the same scene."""
     context = browser.new_context(viewport={"width": 1366, "height": 768})  # type: ignore[attr-defined]
+    context.add_init_script(COUNT_FRAMES)
     page = context.new_page()
     page.goto(f"{server}/practice")
     page.wait_for_selector("#viz-on")
@@ -247,6 +251,12 @@ def test_free_practice_3d_view_for_an_anonymous_browser(server: str, browser: ob
     wait_until(page, "Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 3")
     page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
     steady_picture(page)
+    # an idle view draws nothing (a redraw every 10 s at most): without graphics acceleration every frame costs
+    # the processor, once a second it was half a core
+    scene = next(f for f in page.frames if "/viz/" in f.url)
+    drawn = scene.evaluate("window.framesDrawn")
+    page.wait_for_timeout(3000)
+    assert scene.evaluate("window.framesDrawn") - drawn <= 1
     text = visible_frame_text(page)
     assert not [c for c in DEVELOPER_TEXT if c in text]
     page.locator("#viz").scroll_into_view_if_needed()

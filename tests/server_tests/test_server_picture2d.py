@@ -5,6 +5,7 @@ viser's client page: unpacked, patched (no string evaluation) and packed again l
 
 from __future__ import annotations
 
+import re
 from xml.etree import ElementTree as ET
 
 import pytest
@@ -104,6 +105,10 @@ def test_viser_client_round_trip() -> None:
     new_style, new_code = viz.viser_client(patched)  # type: ignore[misc]
     assert new_style == style
     assert b"Function(" not in new_code.split(b"RunJavascriptMessage", 1)[1][:80]  # runs no script it is sent
+    # an idle view redraws every 10 s, not every second
+    assert re.search(
+        rb"requestRender\(\);let [\w$]+=setInterval\(\(\)=>[\w$]+\(\),%d\)" % viz.VIEW_REDRAW_MS, new_code
+    )
     for pattern, _ in viz.CLIENT_PATCHES:
         assert pattern.search(code) and not pattern.search(new_code)
     # the same page around it: only the packed attributes differ
