@@ -138,7 +138,7 @@ def test_exercise_page_submit_and_score(server: str, browser: object, tmp_path: 
     page.wait_for_function(
         "() => Number(document.getElementById('viz-frame')?.dataset.segments || 0) > 5", timeout=10000
     )
-    page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=15000)
+    page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
     page.click("#step-back")
     page.wait_for_function("() => document.getElementById('playhead-info').textContent.includes('Zeile')")
     first = page.inner_text("#playhead-info")
