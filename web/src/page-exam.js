@@ -70,6 +70,7 @@ function verdict(item) {
 }
 
 const pause = (ms) => new Promise((done) => { setTimeout(done, ms); });
+const RECHECK = 15000;  // ms between two looks at the exam's end while it runs (an instructor may change it)
 const POLL = 2000;  // ms between two looks at the list while the server submits
 const POLLS = 60;  // about 2 minutes, then the start page has the answer
 
@@ -111,7 +112,7 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
   root.querySelector(".editor-pane").insertBefore(el("div", { className: "exam-bar", id: "exam-bar" },
     el("div", { className: "exam-head" }, el("strong", {}, t("exam.title", { title: a.title })),
       phase === "running" ? countdown : null,
-      el("span", { className: "meta" }, t("exam.ends", { time: formatTime(a.deadline) })), saved),
+      el("span", { id: "exam-ends", className: "meta" }, t("exam.ends", { time: formatTime(a.deadline) })), saved),
     phase === "running" ? el("p", { className: "meta exam-rules" }, t("exam.rules", { rules: rules(s) })) : null,
     note), root.querySelector("#editor-toolbar"));
   submit.hidden = phase !== "running";
@@ -201,17 +202,33 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
   };
 
   // the countdown to the server's end (its seconds_left, so the computer's clock does not matter)
-  const endAt = Date.now() + a.seconds_left * 1000;
+  let endAt = Date.now() + a.seconds_left * 1000;
+  // the end as the server has it now: an instructor may extend (or shorten) a running exam; the page follows
+  // within RECHECK, and asks once more before it ends (without an answer it ends by its own count)
+  const recheck = async () => {
+    const now = await myAssignments(true).then((list) => list?.find((x) => x.id === a.id), () => null);
+    if (!now) return;
+    endAt = Date.now() + (now.seconds_left ?? 0) * 1000;
+    if (now.deadline) root.querySelector("#exam-ends").textContent = t("exam.ends", { time: formatTime(now.deadline) });
+  };
+  let asking = false;
   const tick = () => {
     const left = (endAt - Date.now()) / 1000;
-    countdown.textContent = t("exam.left", { left: clock(Math.ceil(left)) });
-    barClock.textContent = clock(Math.ceil(left));
+    countdown.textContent = t("exam.left", { left: clock(Math.max(0, Math.ceil(left))) });
+    barClock.textContent = clock(Math.max(0, Math.ceil(left)));
     for (const c of [countdown, barClock]) c.classList.toggle("soon", left < 300);
-    if (left > 0) return;
-    clearInterval(timer);
-    ended();
+    if (left > 0 || asking) return;
+    asking = true;
+    recheck().then(() => {
+      asking = false;
+      if (endAt > Date.now()) return;  // extended
+      clearInterval(timer);
+      clearInterval(rechecks);
+      ended();
+    });
   };
   const timer = setInterval(tick, 1000);
+  const rechecks = setInterval(recheck, RECHECK);
   tick();
 
   // the end: nothing more to type or hand in; the page waits for the server's word on what was submitted
