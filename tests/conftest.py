@@ -10,17 +10,6 @@ from core.pipeline import run
 from core.toolpath import Toolpath
 
 SEEDS = Path(__file__).with_name("seeds")
-# the folders whose files take longest, first: pytest-xdist hands out whole files (--dist loadfile) in this order,
-# so the long browser files start early and the many short ones fill the end of the run on every worker
-FIRST = ("browser", "scale", "server_tests")
-
-
-def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
-    def rank(item: pytest.Item) -> int:
-        folder = item.path.parent.name
-        return FIRST.index(folder) if folder in FIRST else len(FIRST)
-
-    items.sort(key=rank)  # (stable: the order within a file, and of the files within a folder, stays)
 
 
 def codes(toolpath: Toolpath) -> list[tuple[str, int]]:
