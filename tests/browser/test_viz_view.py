@@ -252,11 +252,17 @@ def test_free_practice_3d_view_for_an_anonymous_browser(server: str, browser: ob
     page.frame_locator("#viz-frame").locator("canvas").first.wait_for(timeout=30000)
     steady_picture(page)
     # an idle view draws nothing (a redraw every 10 s at most): without graphics acceleration every frame costs
-    # the processor, once a second it was half a core
+    # the processor, once a second it was half a core. (Up to five windows of 3 s: the fine level of the stock
+    # may still arrive and be drawn on a loaded machine; with a redraw every second no window is quiet.)
     scene = next(f for f in page.frames if "/viz/" in f.url)
-    drawn = scene.evaluate("window.framesDrawn")
-    page.wait_for_timeout(3000)
-    assert scene.evaluate("window.framesDrawn") - drawn <= 1
+    counts = []
+    for _ in range(5):
+        drawn = scene.evaluate("window.framesDrawn")
+        page.wait_for_timeout(3000)
+        counts.append(scene.evaluate("window.framesDrawn") - drawn)
+        if counts[-1] <= 1:
+            break
+    assert counts[-1] <= 1, counts
     text = visible_frame_text(page)
     assert not [c for c in DEVELOPER_TEXT if c in text]
     page.locator("#viz").scroll_into_view_if_needed()

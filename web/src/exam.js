@@ -31,7 +31,9 @@ let mine = null;
 export function myAssignments(fresh = false) {
   if (!loggedIn()) return Promise.resolve(null);
   if (!mine || fresh) {
-    mine = api("/me/assignments").then((r) => (r.ok ? r.body.map((a) => ({ ...a, received: Date.now() })) : null));
+    // (null also when the server cannot be reached, as when it refuses)
+    mine = api("/me/assignments").then((r) => (r.ok ? r.body.map((a) => ({ ...a, received: Date.now() })) : null),
+      () => null);
   }
   return mine;
 }

@@ -206,7 +206,7 @@ export async function mountExam(root, slug, ex, ctx, { drawer, title }) {
   // the end as the server has it now: an instructor may extend (or shorten) a running exam; the page follows
   // within RECHECK, and asks once more before it ends (without an answer it ends by its own count)
   const recheck = async () => {
-    const now = await myAssignments(true).then((list) => list?.find((x) => x.id === a.id), () => null);
+    const now = (await myAssignments(true))?.find((x) => x.id === a.id);
     if (!now) return;
     endAt = Date.now() + (now.seconds_left ?? 0) * 1000;
     if (now.deadline) root.querySelector("#exam-ends").textContent = t("exam.ends", { time: formatTime(now.deadline) });
