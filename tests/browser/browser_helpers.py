@@ -45,13 +45,18 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
+_HASHES: dict[str, str] = {}  # password → its argon2 hash, made once per test process (a quarter second each)
+
+
 def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password: str = PASSWORD) -> None:
-    """The users ((name, role) pairs) made in the data folder of `env` (PALTRAINER_DATA_DIR) as the admin CLI
-    makes them (`paltrainer admin create-user`, tested in tests/server_tests/test_server_cli.py), in this
-    process: a process of its own would import the whole server again for each test module."""
-    from server import services
+    """The users ((name, role) pairs) made in the data folder of `env` (PALTRAINER_DATA_DIR), the rows the admin
+    CLI makes (`paltrainer admin create-user`, tested in tests/server_tests/test_server_cli.py), in this
+    process: a process of its own would import the whole server again for each test module. The users of one
+    password share its hash (argon2 salts each hash: the server verifies any of them alike)."""
+    from server import repository
     from server.app import prepare_database
     from server.config import Settings
+    from server.security import hash_password
 
     users = list(users)
     if not users:
@@ -61,7 +66,8 @@ def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password
     try:
         with database.session() as db:
             for name, role in users:
-                services.create_user(db, name, password, role, None)
+                hashed = _HASHES.get(password) or _HASHES.setdefault(password, hash_password(password))
+                repository.create_user(db, name, hashed, role, None)
     finally:
         database.engine.dispose()
 

@@ -45,13 +45,32 @@ def instructor(server: str) -> str:  # noqa: F811
     return "layout-lehrer"
 
 
-def open_page(browser: object, server: str, user: str, name: str, size: str, **context: object) -> object:  # noqa: F811
+@pytest.fixture(scope="module")
+def signed_in(server: str, browser: object, instructor: str) -> dict[str, object]:  # noqa: F811
+    """The browser's storage after the instructor logged in once (its session cookie): each page's context
+    starts from it. Logging in is the login tests' subject; here it would only cost a login per page."""
+    ctx = browser.new_context()  # type: ignore[attr-defined]
+    page = ctx.new_page()
+    log_in(page, server, instructor)
+    page.wait_for_url(f"{server}/instructor")  # an instructor lands on their page
+    state = dict(ctx.storage_state())
+    ctx.close()
+    return state
+
+
+def open_page(
+    browser: object,
+    server: str,  # noqa: F811 (the fixture's value)
+    state: dict[str, object],
+    name: str,
+    size: str,
+    **context: object,
+) -> object:
     width, height = SIZES[size]
+    if name != "login":  # the login page is the page of someone not logged in
+        context = {"storage_state": state, **context}
     ctx = browser.new_context(viewport={"width": width, "height": height}, **context)  # type: ignore[attr-defined]
     page = ctx.new_page()
-    if name != "login":
-        log_in(page, server, user)
-        page.wait_for_url(f"{server}/instructor")  # an instructor lands on their page
     page.goto(f"{server}{PAGES[name]}")
     page.wait_for_selector(
         READY[name], state="attached", timeout=20000
@@ -72,8 +91,14 @@ def box(page: object, selector: str) -> dict[str, float]:
 
 @pytest.mark.parametrize("size", list(SIZES))
 @pytest.mark.parametrize("name", list(PAGES))
-def test_page_fits_the_window(server: str, browser: object, instructor: str, name: str, size: str) -> None:  # noqa: F811
-    page = open_page(browser, server, instructor, name, size)
+def test_page_fits_the_window(
+    server: str,  # noqa: F811 (the fixture)
+    browser: object,
+    signed_in: dict[str, object],
+    name: str,
+    size: str,
+) -> None:
+    page = open_page(browser, server, signed_in, name, size)
     width, height = SIZES[size]
     assert page.evaluate("document.documentElement.scrollWidth <= innerWidth"), page.evaluate(WIDER)
     page.screenshot(path=str(SHOTS / f"layout-{name}-{size}.png"))
@@ -94,9 +119,14 @@ def test_page_fits_the_window(server: str, browser: object, instructor: str, nam
 
 
 @pytest.mark.parametrize("name", list(PAGES))
-def test_no_serious_accessibility_problems(server: str, browser: object, instructor: str, name: str) -> None:  # noqa: F811
+def test_no_serious_accessibility_problems(
+    server: str,  # noqa: F811 (the fixture)
+    browser: object,
+    signed_in: dict[str, object],
+    name: str,
+) -> None:
     # axe is injected as a script of its own: the pages' policy forbids inline script, so this browser ignores it
-    page = open_page(browser, server, instructor, name, "laptop", bypass_csp=True)
+    page = open_page(browser, server, signed_in, name, "laptop", bypass_csp=True)
     page.add_script_tag(path=str(AXE))
     result = page.evaluate("axe.run(document, {resultTypes: ['violations']})")
     serious = [
@@ -111,10 +141,10 @@ def test_no_serious_accessibility_problems(server: str, browser: object, instruc
 def test_practice_loads_an_example_opens_saves_and_prints(
     server: str,  # noqa: F811 (the fixture)
     browser: object,
-    instructor: str,
+    signed_in: dict[str, object],
     tmp_path: Path,
 ) -> None:
-    page = open_page(browser, server, instructor, "practice", "laptop", accept_downloads=True)
+    page = open_page(browser, server, signed_in, "practice", "laptop", accept_downloads=True)
     page.select_option(
         "#example", SLUG
     )  # a built-in example: its program and, in the Zeichnung tab, its drawing
@@ -151,9 +181,9 @@ def test_practice_loads_an_example_opens_saves_and_prints(
 def test_exercise_columns_resize_collapse_and_are_remembered(
     server: str,  # noqa: F811 (the fixture)
     browser: object,
-    instructor: str,
+    signed_in: dict[str, object],
 ) -> None:
-    page = open_page(browser, server, instructor, "exercise", "laptop")
+    page = open_page(browser, server, signed_in, "exercise", "laptop")
     editor = box(page, "#editor")["width"]
     page.focus(".viz-pane > .splitter")  # between editor and 3D view: the arrow keys move it
     for _ in range(5):
@@ -179,8 +209,8 @@ def test_exercise_columns_resize_collapse_and_are_remembered(
     page.context.close()
 
 
-def test_exercise_page_in_english(server: str, browser: object, instructor: str) -> None:  # noqa: F811
-    page = open_page(browser, server, instructor, "exercise", "laptop")
+def test_exercise_page_in_english(server: str, browser: object, signed_in: dict[str, object]) -> None:  # noqa: F811
+    page = open_page(browser, server, signed_in, "exercise", "laptop")
     page.click("#lang")
     page.wait_for_selector("#tab-task >> text=Task")
     page.wait_for_selector(".diag", timeout=20000)
