@@ -65,9 +65,10 @@ def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password
     database = prepare_database(settings)
     try:
         with database.session() as db:
+            if password not in _HASHES:
+                _HASHES[password] = hash_password(password)
             for name, role in users:
-                hashed = _HASHES.get(password) or _HASHES.setdefault(password, hash_password(password))
-                repository.create_user(db, name, hashed, role, None)
+                repository.create_user(db, name, _HASHES[password], role, None)
     finally:
         database.engine.dispose()
 
