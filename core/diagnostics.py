@@ -518,6 +518,13 @@ CATALOGUE: dict[str, Entry] = {
         "Vergleich O{value} gibt es nicht (O1 =, O2 ≠, O3 >, O4 <).",
         "Comparison O{value} does not exist (O1 =, O2 ≠, O3 >, O4 <).",
     ),
+    "PAL-E411": Entry(
+        E,
+        "G23 steht im eigenen Abschnitt N{start} bis N{end}: die Wiederholung würde sich ohne Ende selbst "
+        "wiederholen; der Satz wird übersprungen.",
+        "G23 lies inside its own section N{start} to N{end}: the repeat would repeat itself without end; the "
+        "block is skipped.",
+    ),
     # --- Beckhoff --------------------------------------------------------------------------
     "PAL-E501": Entry(
         E,

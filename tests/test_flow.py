@@ -211,3 +211,15 @@ def test_m17_inside_a_g23_section_ends_the_subprogram_with_its_section() -> None
     feeds = [(xy(m.start), xy(m.end)) for m in tp.moves if m.kind == "feed"]
     assert feeds == [((0, 0), (1, 0)), ((1, 0), (1, 1)), ((1, 1), (2, 1)), ((2, 1), (2, 2))]
     assert xy(tp.final_position) == (2, 2)
+
+
+def test_a_g23_inside_its_own_section_is_skipped_where_it_would_repeat_itself() -> None:
+    # N20 repeats N10…N30, itself among them: each pass would open a repeat of its own without end (a loop of
+    # ever deeper repeats until a budget stops it). The first G23 runs; inside its passes it is skipped.
+    program = READY + "G0 X0 Y0 Z0\nN10 G1 XI1\nN20 G23 N10 N30 H3\nN30 G1 YI1\nM30\n"
+    tp = run(program)
+    assert codes(tp) == [("PAL-E411", 5)]
+    feeds = [xy(m.end) for m in tp.moves if m.kind == "feed"]
+    assert feeds == [(1, 0), (2, 0), (2, 1), (3, 1), (3, 2), (4, 2), (4, 3), (4, 4)]
+    executed, _, _ = tp.work
+    assert executed == 16  # 5 up to N20, 3 passes of 3, N30 after the section and M30: no budget spent

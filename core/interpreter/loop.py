@@ -57,6 +57,7 @@ class FlowCodes:
     return_ends: bool = False  # whether that ends the run (ISO, TRAUB: the control would start again)
     fell_off_again: bool = False  # a called program that ends without its return runs its next runs (TRAUB)
     names_program: bool = False  # `no_number` also names the program
+    repeat_in_itself: str = "PAL-E411"  # a section repeat inside its own section (start, end)
 
 
 @dataclass(slots=True)
@@ -349,6 +350,11 @@ class Loop:
                 self.report(diag(codes.recursion, block.span, number=target))
                 return False
             callee = found
+        if repeat and cur.repeating(unit, block.line):
+            # the section holds its own G23: each pass would open another repeat, never ending (and never nested
+            # too deep, a repeat being no call) — skipped, so that the section runs its passes once each
+            self.report(diag(codes.repeat_in_itself, block.span, start=first_n, end=last_n))
+            return False
         if not repeat and cur.depth() >= self.setup.max_call_depth:
             self.report(diag(codes.depth, block.span, limit=self.setup.max_call_depth))
             return False

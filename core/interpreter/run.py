@@ -115,6 +115,11 @@ class Cursor:
         """Whether `callee` runs already (a call of it now would be a recursion)."""
         return callee is self.unit or any(f.callee is callee and not f.repeat for f in self.frames)
 
+    def repeating(self, unit: Unit, line: int) -> bool:
+        """Whether the section repeat of `unit`'s block at `line` is in progress (a repeat of it now would be
+        nested in itself)."""
+        return any(f.repeat and f.line == line and f.caller is unit for f in self.frames)
+
     def call_stack(self) -> tuple[tuple[str | None, int], ...]:
         """The calling blocks (source, line), outermost first."""
         return tuple((f.caller.source, f.line) for f in self.frames if not f.repeat)

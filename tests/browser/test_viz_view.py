@@ -68,19 +68,15 @@ def visible_frame_text(page: object) -> str:
     return str(frame.evaluate("document.body.innerText"))
 
 
-def frame_fit(page: object) -> dict[str, float]:
-    """Where the part is in the 3D frame (the path layers hidden): its margins left, right, top and bottom and
-    its size, as fractions of the frame's width and height (whatever differs from the backdrop's colour)."""
+def frame_fit(shot: bytes) -> dict[str, float]:
+    """Where the part is in a picture of the 3D frame (taken with the path layers hidden): its margins left, right,
+    top and bottom and its size, as fractions of the frame's width and height (whatever differs from the
+    backdrop's colour)."""
     import io
 
     import numpy as np
     from PIL import Image
 
-    for layer in ("rapid", "feed", "contour"):
-        page.uncheck(f"#layer-{layer}")  # type: ignore[attr-defined]
-    shot = steady_picture(page)
-    for layer in ("rapid", "feed", "contour"):
-        page.check(f"#layer-{layer}")  # type: ignore[attr-defined]
     image = np.asarray(Image.open(io.BytesIO(shot)).convert("RGB"), dtype=np.int32)[
         3:-3, 3:-3
     ]  # inside the border
@@ -166,17 +162,19 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
     page.screenshot(path=str(SHOTS / f"viz-iso-{size}.png"))
 
     # every preset view frames the stock with a margin: nothing of it cut off, and it fills the view
-    # (the zero's Z axis and the tool stand above the part in the views from the side: their tops not counted)
+    # (the zero's Z axis and the tool stand above the part in the views from the side: their tops not counted).
+    # The path layers are hidden for all three (each switch redraws the scene, in software here).
+    for layer in ("rapid", "feed", "contour"):
+        page.uncheck(f"#layer-{layer}")
+    page.locator("#viz").scroll_into_view_if_needed()
     for view, sides in (
         ("top", ("left", "right", "top", "bottom")),
         ("front", ("left", "right", "bottom")),
         ("iso", ("left", "right", "bottom")),
     ):
         page.click(f"#view-{view}")
-        steady_picture(page)
-        page.locator("#viz").scroll_into_view_if_needed()
+        fit = frame_fit(steady_picture(page))
         page.screenshot(path=str(SHOTS / f"viz-view-{view}-{size}.png"))
-        fit = frame_fit(page)
         for side in sides:
             assert fit[side] > 0.02, (view, side, fit)
         assert max(fit["width"], fit["height"]) > 0.6, (view, fit)
@@ -186,8 +184,9 @@ def test_the_3d_view_without_developer_clutter(server: str, browser: object, siz
         )
         assert abs(fit["left"] - fit["right"]) < 0.08, (view, fit)  # centred
 
+    for layer in ("feed", "contour"):
+        page.check(f"#layer-{layer}")
     page.click("#view-top")
-    page.uncheck("#layer-rapid")
     steady_picture(page)
     page.screenshot(path=str(SHOTS / f"viz-top-no-rapid-{size}.png"))
     page.check("#layer-rapid")
