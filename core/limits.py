@@ -21,8 +21,10 @@ class Limits:
     max_program_chars: int = 5_000_000  # whole program text
     max_line_length: int = 1_000  # characters in one block
     max_blocks: int = 20_000  # lines in one program (as many as the live editor takes); then PAL-E006
-    # blocks executed in one run (loops count every pass); an endless loop stops here in about a quarter second
-    max_executed_blocks: int = 50_000
+    # blocks executed in one run (loops count every pass): as many as a program may have lines, so that any program
+    # the editor takes runs straight through; an endless loop stops here (50,000 before: up to 1.6 s of a loop
+    # of cheap blocks, bench/fuzz.py)
+    max_executed_blocks: int = 20_000
     # evaluation steps of one run: each word of an executed block, each number, parameter and operator of
     # its expressions, and DIAGNOSTIC_STEPS for each diagnostic it reports (loops count every pass)
     max_evaluation_steps: int = 300_000
