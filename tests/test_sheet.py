@@ -6,6 +6,7 @@ tests/browser/screenshots/) to look at."""
 
 from __future__ import annotations
 
+import base64
 import io
 import os
 import re
@@ -21,6 +22,7 @@ from core.cli import main
 from core.exercises import Exercise, builtin_exercises
 from core.sheet import FORM_ROWS, SheetUnavailable, pdf_engine, task_sheet_html, task_sheet_pdf
 
+LINE = r'<line x1="([-\d.]+)" y1="([-\d.]+)" x2="([-\d.]+)" y2="([-\d.]+)" stroke-width="([\d.]+)"/>'
 SHOTS = Path(os.environ.get("PALTRAINER_SCREENSHOTS") or Path(__file__).parent / "browser" / "screenshots")
 
 
@@ -135,11 +137,20 @@ def test_form_has_25_rows_of_13_columns_and_the_task_is_escaped() -> None:
     page = task_sheet_html([odd], "de")
     assert "<p>Erst &lt;b&gt;das&lt;/b&gt;\nund &amp; dies.</p>" in page and "<p>Zweiter Absatz.</p>" in page
     form = page.split('class="pal"', 1)[1]
-    body = form.split("<tbody>", 1)[1].split("</tbody>", 1)[0]
-    assert body.count("<tr>") == FORM_ROWS
-    assert all(row.count("<td>") == 13 for row in body.split("</tr>")[:-1])
     columns = ["N", "G", "X", "Y", "Z", "I", "J", "K / R", "F", "S", "T", "M", "Bemerkung"]
     assert re.findall(r"<th>([^<]*)</th>", form) == columns
+    widths = [float(w) for w in re.findall(r'<col style="width: ([\d.]+)mm">', form)]
+    # the rows below: one drawn grid, its lines on the headings' column borders, a heavier one every fifth row
+    grid = base64.b64decode(
+        re.search(r'class="grid" src="data:image/svg\+xml;base64,([^"]+)"', form)[1]
+    ).decode()
+    lines = [tuple(map(float, m[:4])) + (float(m[4]),) for m in re.findall(LINE, grid)]
+    across = sorted((y1, w) for x1, y1, x2, y2, w in lines if y1 == y2 and x1 == 0 and x2 == sum(widths))
+    down = sorted(x1 for x1, y1, x2, y2, w in lines if x1 == x2)
+    assert len(across) == FORM_ROWS + 1 and len(down) == 13 + 1
+    assert down == pytest.approx([sum(widths[:k]) for k in range(14)])
+    assert [w for _, w in across] == [0.4 if r % 5 == 0 else 0.25 for r in range(FORM_ROWS + 1)]
+    assert across[-1][0] / FORM_ROWS >= 9.5  # mm a row: room for a handwritten block
 
 
 def test_without_weasyprint_it_says_what_is_missing(
