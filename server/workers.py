@@ -30,6 +30,12 @@ from server.jobs import LIGHT_JOBS, job_warm
 log = logging.getLogger("paltrainer.server")
 T = TypeVar("T")
 
+# Workers fork from one process that imported the jobs' modules once (multiprocessing's fork server, itself a
+# fresh interpreter: none of the server's threads or connections): a new or replacing worker is ready in a
+# twentieth of a second, not after the second of imports a fresh interpreter takes for each one.
+_PROCESSES = multiprocessing.get_context("forkserver")
+_PROCESSES.set_forkserver_preload(["server.jobs", "core.sim", "core.grading"])
+
 
 def content_key(*parts: Any) -> str:
     """A key for job results that depend on nothing but `parts` (an exercise's document, the language …)."""
@@ -245,7 +251,7 @@ class Workers:
 
     def _spawn(self, slot: _Slot) -> Future[bool]:
         """A new process for `slot`, warming up; the slot takes jobs once it is warm."""
-        pool = ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn"))
+        pool = ProcessPoolExecutor(1, mp_context=_PROCESSES)
         warm = pool.submit(job_warm)  # starts the process
         slot.generation += 1
         slot.pool, slot.ready, slot.job = pool, False, None

@@ -120,8 +120,9 @@ def test_the_traub_cycles_see_the_run_only_through_their_own_narrow_view() -> No
 
 
 def test_a_worker_process_imports_no_web_framework_and_no_database() -> None:
-    """A worker process (spawned) reads server/jobs.py and the core: FastAPI, SQLAlchemy and the models would
-    double the time it takes to start, and it is started with every server and again after every crash."""
+    """A worker process (forked from the fork server, which imports its modules) reads server/jobs.py and the
+    core: FastAPI, SQLAlchemy and the models would double the time the fork server takes to start, with every
+    server."""
     import subprocess
     import sys
 

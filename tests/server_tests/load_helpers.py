@@ -1,7 +1,7 @@
 """Holding the server's heavy work where it waits: a gate in front of every heavy worker job, so that a test can
 look at the server while those jobs are held (and see that light requests still answer), then open it.
 
-`held` runs inside the worker processes (they import this module by name: the spawned processes get the
+`held` runs inside the worker processes (they import this module by name: the forked processes get the
 tests' sys.path), `Gate` on the test's side wraps the app's `Workers.call`."""
 
 from __future__ import annotations
