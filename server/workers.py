@@ -31,8 +31,8 @@ log = logging.getLogger("paltrainer.server")
 T = TypeVar("T")
 
 # Workers fork from one process that imported the jobs' modules once (multiprocessing's fork server, itself a
-# fresh interpreter: none of the server's threads or connections): a new or replacing worker is ready in a
-# twentieth of a second, not after the second of imports a fresh interpreter takes for each one.
+# fresh interpreter: none of the server's threads or connections): a new or replacing worker costs a tenth of a
+# second of processor time, not the second of imports a fresh interpreter takes for each one.
 _PROCESSES = multiprocessing.get_context("forkserver")
 _PROCESSES.set_forkserver_preload(["server.jobs", "core.sim", "core.grading"])
 
