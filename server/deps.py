@@ -3,7 +3,7 @@ the cap on heavy requests."""
 
 from __future__ import annotations
 
-from collections.abc import AsyncIterator, Callable, Iterator
+from collections.abc import AsyncIterator, Awaitable, Callable, Iterator
 from dataclasses import dataclass
 from typing import Annotated
 
@@ -26,12 +26,14 @@ _bearer = HTTPBearer(auto_error=False, description="A token from POST /api/v1/au
 _api_key_header = APIKeyHeader(name="X-API-Key", auto_error=False, description="An API key")
 
 
-def get_settings(request: Request) -> Settings:
+# the dependencies that do no I/O are coroutines: FastAPI runs a plain function in a thread of the pool, a hop that
+# costs more than the function
+async def get_settings(request: Request) -> Settings:
     settings: Settings = request.app.state.settings
     return settings
 
 
-def get_workers(request: Request) -> Workers:
+async def get_workers(request: Request) -> Workers:
     workers: Workers = request.app.state.workers
     return workers
 
@@ -153,7 +155,7 @@ PASSWORD_CHANGE_PATHS = frozenset({"/api/v1/me", "/api/v1/me/password", "/api/v1
 OptionalPrincipal = Annotated[Principal, Depends(get_principal)]
 
 
-def require_login(principal: OptionalPrincipal) -> Principal:
+async def require_login(principal: OptionalPrincipal) -> Principal:
     if principal is ANONYMOUS:
         raise ApiError("NOT_AUTHENTICATED", headers={"WWW-Authenticate": "Bearer"})
     return principal
@@ -162,8 +164,8 @@ def require_login(principal: OptionalPrincipal) -> Principal:
 CurrentPrincipal = Annotated[Principal, Depends(require_login)]
 
 
-def require_scope(scope: str) -> Callable[[Principal], Principal]:
-    def check(principal: CurrentPrincipal) -> Principal:
+def require_scope(scope: str) -> Callable[[Principal], Awaitable[Principal]]:
+    async def check(principal: CurrentPrincipal) -> Principal:
         if not principal.has_scope(scope):
             raise ApiError("MISSING_SCOPE", scope=scope)
         return principal
@@ -171,13 +173,13 @@ def require_scope(scope: str) -> Callable[[Principal], Principal]:
     return check
 
 
-def require_admin(principal: CurrentPrincipal) -> Principal:
+async def require_admin(principal: CurrentPrincipal) -> Principal:
     if not principal.is_admin():
         raise ApiError("FORBIDDEN")
     return principal
 
 
-def practice_principal(principal: OptionalPrincipal, settings: AppSettings) -> Principal:
+async def practice_principal(principal: OptionalPrincipal, settings: AppSettings) -> Principal:
     """check/run/simulate: anyone while free practice is on; else a user or a key with scope practice."""
     if principal is ANONYMOUS:
         if not settings.free_practice:

@@ -3,6 +3,7 @@ one rule for where the browser may be sent after logging in."""
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import hmac
 import re
@@ -16,12 +17,19 @@ from pwdlib.exceptions import UnknownHashError
 from pwdlib.hashers.argon2 import Argon2Hasher
 
 _passwords = PasswordHash((Argon2Hasher(),))
-_DUMMY_HASH = _passwords.hash("not a password")
 API_KEY_PREFIX = "pal_"
 
 
 def hash_password(password: str) -> str:
     return _passwords.hash(password)
+
+
+@functools.cache
+def _dummy_hash() -> str:
+    """A hash to check a password against when there is no user: made at the first such login, not at import
+    (an argon2 hash costs a tenth of a second in every process that imports this module: the server, each
+    command, each worker)."""
+    return _passwords.hash("not a password")
 
 
 PASSWORD_MIN, PASSWORD_MAX = 8, 1000
@@ -48,7 +56,7 @@ def password_problem(password: str) -> tuple[str, str] | None:
 def verify_password(password: str, hashed: str | None) -> bool:
     """True if `password` matches; with no hash it still spends the time of one check."""
     if hashed is None:
-        _passwords.verify(password, _DUMMY_HASH)
+        _passwords.verify(password, _dummy_hash())
         return False
     try:
         return _passwords.verify(password, hashed)
