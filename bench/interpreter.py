@@ -592,6 +592,9 @@ def main(argv: list[str] | None = None) -> int:
             f"TRAUB {turning_ms * factor:.2f} ms {verdict(turning_ms * factor < TARGET_TURNING_MS)}, "
             f"with cycles {cycles_ms * factor:.2f} ms {verdict(cycles_ms * factor < TARGET_CYCLES_MS)}"
         )
+    print(
+        "  (side by side with the code the targets were set on, whatever the machine: python bench/against.py)"
+    )
     # the live editor: the checkpoints cost only where a memo asks for them (figures, no targets: the live
     # WebSocket's latency is bench/live_latency.py's)
     for label, text, dialect, full in (
