@@ -64,6 +64,7 @@ def child(code: str, programs_file: str, repeats: int) -> None:
     best: dict[str, float] = {}
     for name, (dialect, text) in programs.items():
         run(text, dialect)  # (imports and tables made before the clock runs)
+        # (bench/interpreter.py's best_time, written out: importing that module would import this tree's core)
         times = []
         for _ in range(repeats):
             gc.collect()
