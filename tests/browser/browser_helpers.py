@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+from pwdlib.hashers.argon2 import Argon2Hasher
 
 ROOT = Path(__file__).parents[2]
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
@@ -45,7 +46,13 @@ def free_port() -> int:
         return int(s.getsockname()[1])
 
 
-_HASHES: dict[str, str] = {}  # password → its argon2 hash, made once per test process (a quarter second each)
+_HASHES: dict[str, str] = {}  # password → its argon2 hash, made once per test process
+# The users made here carry an argon2 hash of the lightest parameters (1 MiB, one pass, one lane): the server
+# verifies it with the parameters written in the hash, by the same code as any other, in a millisecond instead of
+# a quarter of a second of CPU — once for each of the browser tests' hundred and more logins. What a login costs
+# is not what these tests check; users made through the product (sign-up, class lists, the admin page, the CLI)
+# get the full parameters.
+_LIGHT_HASHER = Argon2Hasher(time_cost=1, memory_cost=1024, parallelism=1)
 
 
 def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password: str = PASSWORD) -> None:
@@ -56,7 +63,6 @@ def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password
     from server import repository
     from server.app import prepare_database
     from server.config import Settings
-    from server.security import hash_password
 
     users = list(users)
     if not users:
@@ -66,7 +72,7 @@ def create_users(env: dict[str, str], users: Iterable[tuple[str, str]], password
     try:
         with database.session() as db:
             if password not in _HASHES:
-                _HASHES[password] = hash_password(password)
+                _HASHES[password] = _LIGHT_HASHER.hash(password)
             for name, role in users:
                 repository.create_user(db, name, _HASHES[password], role, None)
     finally:
