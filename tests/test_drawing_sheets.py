@@ -19,15 +19,15 @@ from core.drawing.frame import Numbers, written_decimals
 from core.exercises import Exercise, builtin_exercises
 
 SVG = "{http://www.w3.org/2000/svg}"
-EXERCISES = sorted(builtin_exercises())
-MILLING = [e for e in EXERCISES if not builtin_exercises()[e].lathe]
-TURNING = [e for e in EXERCISES if builtin_exercises()[e].lathe]
+BUILTIN = builtin_exercises()  # (read once: each reading parses every exercise file)
+EXERCISES = sorted(BUILTIN)
+MILLING = [e for e in EXERCISES if not BUILTIN[e].lathe]
+TURNING = [e for e in EXERCISES if BUILTIN[e].lathe]
 NUMBER = re.compile(r"\d+(?:[.,]\d+)?")
 
 
-@cache
 def _exercise(eid: str) -> Exercise:
-    return builtin_exercises()[eid]
+    return BUILTIN[eid]
 
 
 @cache
