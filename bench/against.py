@@ -143,7 +143,13 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         programs = programs_json(folder)
-        past = past_core(args.revision, folder)
+        try:
+            past = past_core(args.revision, folder)
+        except subprocess.CalledProcessError as err:  # an unknown revision, or no git clone
+            print(
+                f"git archive {args.revision}: {err.stderr.decode(errors='replace').strip()}", file=sys.stderr
+            )
+            return 2
         theirs: dict[str, float] = {}
         ours: dict[str, float] = {}
         for k in range(args.rounds):
